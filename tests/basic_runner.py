@@ -1,0 +1,150 @@
+"""Run legacy_basic/LINKAGE.BAS (or a variant of it) under PC-BASIC, the reference interpreter.
+
+One place knows how PC-BASIC is invoked, so that the golden generator, the golden test, the
+physics tests and the errata mutation test all run the listing the same way:
+
+    pcbasic LINKAGE.BAS --interface=none -q --input=keys.txt --output=STDOUT --sound=False
+
+in a fresh directory, which is where the program's OPEN "O" files land. Standard output is the
+screen transcript (PC-BASIC's --output=FILE loses the end of the screen text, so it is not used).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import re
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+LISTING = ROOT / "legacy_basic" / "LINKAGE.BAS"
+DAT_FILES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
+
+# A hard error stops the program and names the line ("Syntax error in 1250"); the soft ones
+# ("Overflow", "Division by zero") are printed alone and the program carries on.
+HARD_ERROR = re.compile(rb"^[A-Z][A-Za-z ]+ in \d+", re.MULTILINE)
+
+
+def pcbasic_command() -> list[str]:
+    """The PC-BASIC entry point of the Python running the tests (so a venv's copy is used)."""
+    return [sys.executable, "-m", "pcbasic"]
+
+
+def pcbasic_version() -> str:
+    out = subprocess.run(pcbasic_command() + ["--version"], capture_output=True, check=True)
+    return out.stdout.decode().splitlines()[0].strip()
+
+
+def _environment() -> dict[str, str]:
+    env = dict(os.environ)
+    env.update(LANG="C.UTF-8", LC_ALL="C.UTF-8", PYTHONIOENCODING="utf-8", SDL_VIDEODRIVER="dummy")
+    return env
+
+
+@dataclasses.dataclass(frozen=True)
+class Run:
+    """What one PC-BASIC run left behind: the screen text and every file it wrote."""
+
+    screen: bytes
+    files: dict[str, bytes]
+    returncode: int
+
+    @property
+    def hard_errors(self) -> list[bytes]:
+        return HARD_ERROR.findall(self.screen)
+
+
+def run_listing(keys: bytes, listing: bytes | None = None, *, double: bool = False,
+                quit_at_end: bool = True, timeout: float = 600.0) -> Run:
+    """Type `keys` into the listing (LINKAGE.BAS unless given) and collect screen and files.
+
+    `double` passes --double (double-precision SIN/COS/TAN/ATN, GW-BASIC's /d switch).
+    Without `quit_at_end` the interpreter drops to direct mode when the program ends and reads
+    the rest of `keys` as commands, which is how `run_batch` chains sessions.
+    """
+    source = LISTING.read_bytes() if listing is None else listing
+    with tempfile.TemporaryDirectory(prefix="linkage-pcbasic-") as tmp:
+        work = Path(tmp)
+        (work / "PROGRAM.BAS").write_bytes(source)
+        (work / "keys.txt").write_bytes(keys)
+        args = pcbasic_command() + ["PROGRAM.BAS", "--interface=none", "--input=keys.txt",
+                                    "--output=STDOUT", "--sound=False"]
+        if quit_at_end:
+            args.append("-q")
+        if double:
+            args.append("--double")
+        proc = subprocess.run(args, cwd=work, capture_output=True, timeout=timeout,
+                              env=_environment(), stdin=subprocess.DEVNULL)
+        files = {p.name: p.read_bytes() for p in sorted(work.iterdir())
+                 if p.name not in ("PROGRAM.BAS", "keys.txt")}
+    return Run(screen=proc.stdout, files=files, returncode=proc.returncode)
+
+
+def _batch_name(session: int, name: str) -> str:
+    """An 8.3 file name for session's copy of name: S007ANG.DAT."""
+    return "S%03d%s" % (session, name)
+
+
+def run_batch(sessions: list[bytes], listing: bytes | None = None, *, double: bool = False,
+              timeout: float = 600.0) -> list[dict[str, bytes]]:
+    """Run several sessions in one interpreter (start-up is a third of a short run's time).
+
+    After each session the three DAT files are renamed in direct mode (NAME ... AS ...) and
+    the program is started again with RUN, which clears all variables as a fresh start does.
+    Returns, per session, the DAT files it wrote (missing ones are absent) and, under the key
+    "SCREEN", the whole transcript (shared by all sessions).
+    """
+    keys = b""
+    for i, session in enumerate(sessions):
+        keys += session
+        for name in DAT_FILES:
+            keys += b'NAME "%s" AS "%s"\r' % (name.encode(), _batch_name(i, name).encode())
+        keys += b"RUN\r" if i + 1 < len(sessions) else b"SYSTEM\r"
+    run = run_listing(keys, listing, double=double, quit_at_end=False, timeout=timeout)
+    results = []
+    for i in range(len(sessions)):
+        got = {"SCREEN": run.screen}
+        for name in DAT_FILES:
+            renamed = _batch_name(i, name)
+            if renamed in run.files:
+                got[name] = run.files[renamed]
+        results.append(got)
+    return results
+
+
+def double_precision_variant(listing: bytes) -> bytes:
+    """The listing with its arithmetic in double precision, every formula line untouched.
+
+    Three edits, each forced by GW-BASIC: DEFDBL for all variables but the L... loop counter
+    (a FOR counter may not be double: "Type mismatch"); PI to double precision; and the FOR PHI
+    loop (whose counter is PHI) written as an explicit loop so that PHI can be double.
+    Run it with double=True so that SIN, COS, TAN and ATN are double precision too.
+    """
+    edits = {
+        b"110 PI=3.141592654#:CIM=0": b"110 PI=4#*ATN(1#):CIM=0",
+        b"1050 FOR PHI=PHIB(1) TO PHIB(2) STEP INC":
+            b"1050 PHI=PHIB(1)-INC\r\n1055 PHI=PHI+INC:IF PHI>PHIB(2)+INC/1000000# THEN 1350",
+        b"1340 UIM=0:NEXT PHI": b"1340 UIM=0:GOTO 1055",
+    }
+    for old, new in edits.items():
+        if listing.count(old) != 1:
+            raise ValueError(f"listing has no unique line {old!r}")
+        listing = listing.replace(old, new)
+    return b"5 DEFDBL A-K,M-Z\r\n" + listing
+
+
+def read_dat(data: bytes) -> list[tuple[float, float]]:
+    """Parse a WRITE # file: 'x,y' lines ended by CRLF, then the 0x1A end-of-file byte.
+
+    Double-precision values are written with a D exponent (6.647498685352924D-02).
+    """
+    text = data.rstrip(b"\x1a").decode("ascii").replace("D", "E")
+    rows = []
+    for line in text.split("\r\n"):
+        if line:
+            x, y = line.split(",")
+            rows.append((float(x), float(y)))
+    return rows
