@@ -132,6 +132,9 @@ CASES = {
     "slider": ("slider", dict(b=2, c=7, e=1.5)),
     "skew-slider": ("skew-slider", dict(a=6, b=1, c=7.5, f=3, ksi=45)),
 }
+# Typed before the first case's session so that the menu's other paths run too: an invalid key
+# (the bell, line 240) and an illegal linkage (lines 500-510), then back to the menu.
+DETOUR = b"x" + b"11\r1\r1\r20\r" + b" "
 COARSE = (3.0, 357.0, 24.0)        # from, to, step (degrees): avoids t = tan(phi/2) infinite
 STENCIL_CENTRES = (41.0, 233.0)
 
@@ -153,18 +156,27 @@ class Sweep:
     branch: int
     kind: str          # "coarse" or "stencil"
     keys: bytes
+    points: int = 5    # how many points the session writes
 
 
-def sweeps(cases=CASES, centres=STENCIL_CENTRES, branches=(1, 2)) -> list[Sweep]:
+def sweeps(cases=tuple(CASES), centres=STENCIL_CENTRES, branches=(1, 2),
+           coarse=COARSE) -> list[Sweep]:
+    """The sessions that check `cases`: a coarse sweep and a 5-point stencil per centre, for
+    each branch; the very first session takes the DETOUR through the menu's other paths."""
     out = []
-    for case, (kind, dims) in cases.items():
+    for case in cases:
+        kind, dims = CASES[case]
         mech = MECHANISMS[kind]
         for branch in branches:
-            out.append(Sweep(case, branch, "coarse", session_keys(mech, dims, *COARSE, branch)))
+            start, stop, step = coarse
+            points = int((stop - start) // step) + 1
+            out.append(Sweep(case, branch, "coarse", session_keys(mech, dims, *coarse, branch),
+                             points))
             for centre in centres:
                 keys = session_keys(mech, dims, centre - 2 * H_DEG, centre + 2 * H_DEG, H_DEG,
                                     branch)
                 out.append(Sweep(case, branch, "stencil", keys))
+    out[0] = dataclasses.replace(out[0], keys=DETOUR + out[0].keys)
     return out
 
 
@@ -190,7 +202,7 @@ def check_sweep(sweep: Sweep, files: dict[str, bytes]) -> list[str]:
     if missing:
         return [f"{where}: the listing wrote no {', '.join(missing)}"]
     ang, vel, acc = (basic_runner.read_dat(files[n]) for n in basic_runner.DAT_FILES)
-    expected = 5 if sweep.kind == "stencil" else len(range(3, 358, 24))
+    expected = 5 if sweep.kind == "stencil" else sweep.points
     if not len(ang) == len(vel) == len(acc) == expected:
         return [f"{where}: {len(ang)}, {len(vel)}, {len(acc)} lines, expected {expected} each"]
     problems = []
