@@ -1,0 +1,291 @@
+"""The faithful program: `python3 linkage.py` writes what legacy_basic/LINKAGE.BAS writes under
+PC-BASIC 2.0.8, byte for byte, and stops cleanly where the original would hang or lose data.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+import typing
+
+import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+import basic_runner
+import linkage
+import make_golden
+
+PROGRAM = [sys.executable, str(basic_runner.ROOT / "linkage.py")]
+CASES = make_golden.load_cases()
+
+
+class FreeSpace(typing.NamedTuple):
+    free: int
+
+
+def run_port(keys: bytes, directory) -> subprocess.CompletedProcess:
+    return subprocess.run(PROGRAM, input=keys, cwd=directory, capture_output=True, timeout=300)
+
+
+def dat_files(directory) -> dict[str, bytes]:
+    return {n: (directory / n).read_bytes() for n in sorted(os.listdir(directory))
+            if n.endswith(".DAT")}
+
+
+def first_difference(name: str, want: bytes, got: bytes) -> str:
+    for i, (w, g) in enumerate(zip(want.split(b"\r\n"), got.split(b"\r\n")), 1):
+        if w != g:
+            return f"{name} line {i}: expected {w!r}, got {g!r}"
+    return f"{name}: lengths differ ({len(want)} and {len(got)} bytes)"
+
+
+# ---- the golden corpus ---------------------------------------------------------------------
+
+@pytest.mark.parametrize("case", CASES, ids=[c["name"] for c in CASES])
+def test_the_port_writes_the_golden_bytes(case, tmp_path):
+    folder = make_golden.GOLDEN / case["name"]
+    result = run_port((folder / "keys.txt").read_bytes(), tmp_path)
+    assert result.returncode == 0, result.stderr.decode()
+    want = {p.name: p.read_bytes() for p in folder.iterdir() if p.name.endswith(".DAT")}
+    got = dat_files(tmp_path)
+    assert sorted(got) == sorted(want)
+    for name in want:
+        assert got[name] == want[name], first_difference(f"{case['name']}/{name}", want[name],
+                                                         got[name])
+    screen = (folder / "SCREEN.TXT").read_bytes()
+    assert result.stdout == screen, first_difference(f"{case['name']}/SCREEN.TXT", screen,
+                                                     result.stdout)
+
+
+# ---- the run command -------------------------------------------------------------------------
+
+STRAIGHT = re.compile(rb"^([1-5])((?:[0-9.Ee+-]+\r)+)([12])$")
+
+
+def run_options(keys: bytes) -> list[str] | None:
+    """The `run` options that type the same answers as a straight golden session, if it is one."""
+    match = STRAIGHT.match(keys)
+    if not match:
+        return None
+    key, answers, branch = match[1].decode(), match[2].decode().split("\r")[:-1], match[3]
+    name, (_, dims) = next((n, m) for n, m in linkage.MECHANISM_TYPES.items() if m[0] == key)
+    if len(answers) != len(dims) + 3:
+        return None
+    options = [name]
+    for option, answer in zip([f"--{d}" for d in dims] + ["--from", "--to", "--step"], answers):
+        options += [option, answer]
+    return options + ["--branch", branch.decode()]
+
+
+RUN_CASES = [c for c in CASES
+             if run_options((make_golden.GOLDEN / c["name"] / "keys.txt").read_bytes())]
+
+
+@pytest.mark.parametrize("case", RUN_CASES, ids=[c["name"] for c in RUN_CASES])
+def test_run_writes_what_the_menu_writes(case, tmp_path):
+    folder = make_golden.GOLDEN / case["name"]
+    options = run_options((folder / "keys.txt").read_bytes())
+    result = subprocess.run(PROGRAM + ["run"] + options + ["--dir", str(tmp_path)],
+                            capture_output=True, timeout=300)
+    assert result.returncode == 0, result.stderr.decode()
+    want = {p.name: p.read_bytes() for p in folder.iterdir() if p.name.endswith(".DAT")}
+    assert dat_files(tmp_path) == want
+
+
+def test_run_covers_every_mechanism():
+    kinds = {run_options((make_golden.GOLDEN / c["name"] / "keys.txt").read_bytes())[0]
+             for c in RUN_CASES}
+    assert kinds == set(linkage.MECHANISM_TYPES)
+
+
+@pytest.mark.parametrize("options, message", [
+    (["plane", "--b", "2", "--c", "7", "--d", "9"], "plane needs --b --c --d --a: missing --a"),
+    (["slider", "--b", "2", "--c", "7", "--e", "1", "--d", "3"], "no use for --d"),
+    (["skew", "--b", "2"], "skew needs --b --c --d --a --f --skew"),
+    (["plane", "--b", "two", "--c", "7", "--d", "9", "--a", "6"], "--b 'two' is not a number"),
+    (["hexagon"], "'hexagon' is not one of plane, spherical, skew, slider, skew-slider"),
+])
+def test_run_rejects_meaningless_options(options, message, tmp_path):
+    base = ["--from", "0", "--to", "10", "--step", "5", "--branch", "1"]
+    result = subprocess.run(PROGRAM + ["run"] + options + base, capture_output=True, cwd=tmp_path)
+    assert result.returncode == 2
+    assert message in result.stderr.decode()
+    assert "Traceback" not in result.stderr.decode()
+    assert os.listdir(tmp_path) == []
+
+
+def test_run_reports_an_illegal_linkage(tmp_path):
+    result = subprocess.run(PROGRAM + ["run", "plane", "--a", "20", "--b", "1", "--c", "1",
+                                       "--d", "1", "--from", "0", "--to", "90", "--step", "15",
+                                       "--branch", "1", "--dir", str(tmp_path)],
+                            capture_output=True)
+    assert result.returncode == 1
+    assert "Illegal linkage (impossible to assemble)" in result.stderr.decode()
+    assert os.listdir(tmp_path) == []
+
+
+# ---- where the original would hang or lose data (ERRATA Part 3) ------------------------------
+
+@pytest.mark.parametrize("keys, message", [
+    (b"12\r7\r9\r6\r0\r90\r0\r1", "the increment is 0"),
+    (b"12\r7\r9\r6\r0\r1e30\r1\r1", "too small for single precision"),
+    (b"12\r7\r9\r6\r0\r90", "the keystrokes ended before the program did"),
+    (b"x", "the keystrokes ended before the program did"),
+    (b"11\r1\r1\r20\r", "the keystrokes ended before the program did"),
+])
+def test_the_port_stops_cleanly(keys, message, tmp_path):
+    result = run_port(keys, tmp_path)
+    assert result.returncode == 1
+    assert message in result.stderr.decode()
+    assert "Traceback" not in result.stderr.decode()
+    assert os.listdir(tmp_path) == []
+
+
+def test_a_directory_it_cannot_write():
+    """/proc takes no new files, even from root (CI runs as root, so chmod would not do)."""
+    result = subprocess.run(PROGRAM, input=b"12\r7\r9\r6\r0\r90\r10\r1", cwd="/proc",
+                            capture_output=True, timeout=60)
+    assert result.returncode == 1
+    assert "cannot write the DAT files in '.'" in result.stderr.decode()
+    assert "Traceback" not in result.stderr.decode()
+
+
+def test_run_into_a_directory_it_cannot_write():
+    result = subprocess.run(PROGRAM + ["run", "slider", "--b", "2", "--c", "7", "--e", "1",
+                                       "--from", "0", "--to", "90", "--step", "10",
+                                       "--branch", "1", "--dir", "/proc"], capture_output=True)
+    assert result.returncode == 1
+    assert "cannot write the DAT files in '/proc'" in result.stderr.decode()
+
+
+def test_a_sweep_larger_than_the_disk(tmp_path, monkeypatch):
+    monkeypatch.setattr(linkage.shutil, "disk_usage", lambda d: FreeSpace(10_000))
+    out = io.BytesIO()
+    status = linkage.redirected_program(io.BytesIO(b"12\r7\r9\r6\r0\r360\r1\r1"), out,
+                                        str(tmp_path))
+    assert status == 1
+    assert os.listdir(tmp_path) == []
+
+
+def test_ctrl_c_during_a_sweep_leaves_no_file(tmp_path):
+    keys = b"12\r7\r9\r6\r0\r3600\r.01\r1"       # 360,000 points: a minute or more
+    proc = subprocess.Popen(PROGRAM, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, cwd=tmp_path)
+    proc.stdin.write(keys)
+    proc.stdin.close()
+    deadline = time.monotonic() + 30
+    while not any(n.endswith(".partial") for n in os.listdir(tmp_path)):
+        assert time.monotonic() < deadline and proc.poll() is None
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    assert proc.wait(timeout=30) == 130
+    assert "interrupted" in proc.stderr.read().decode()
+    assert os.listdir(tmp_path) == []
+
+
+# ---- any keys at all -------------------------------------------------------------------------
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(keys=st.binary(max_size=60) | st.lists(
+    st.sampled_from([b"1", b"2", b"3", b"4", b"5", b"6", b"0", b"\r", b"\n", b"\x08", b"\x1b",
+                     b"\t", b"\0", b"x", b" ", b"-", b".", b"e", b"&H", b"9", b"1e30", b"360\r",
+                     b"-90\r", b".5\r", b"\x03", b"\x7f", b"\xff"]), max_size=40).map(b"".join))
+def test_random_keys_never_give_a_traceback(keys, tmp_path_factory, monkeypatch):
+    directory = tmp_path_factory.mktemp("fuzz")
+    monkeypatch.setattr(linkage.shutil, "disk_usage",
+                        lambda d: FreeSpace(200_000))     # sweeps over ~2000 points: refused
+    out = io.BytesIO()
+    status = linkage.redirected_program(io.BytesIO(keys), out, str(directory))
+    assert status in (0, 1)
+    assert not [n for n in os.listdir(directory) if n.endswith(".partial")]
+
+
+# ---- on a real terminal ----------------------------------------------------------------------
+
+class Terminal:
+    """The program in a pseudo-terminal: keys in, the raw screen bytes out."""
+
+    def __init__(self, directory):
+        import termios
+        self.master, self.slave = os.openpty()
+        self.modes_before = termios.tcgetattr(self.slave)
+        self.proc = subprocess.Popen(PROGRAM, stdin=self.slave, stdout=self.slave,
+                                     stderr=self.slave, cwd=directory,
+                                     preexec_fn=self._controlling_terminal)
+        self.seen = b""
+
+    @staticmethod
+    def _controlling_terminal():
+        """In the child: a session of its own whose terminal is the pty, so Ctrl-C signals it."""
+        import fcntl
+        import termios
+        os.setsid()
+        fcntl.ioctl(0, termios.TIOCSCTTY, 0)
+
+    def wait_for(self, text: bytes, timeout: float = 20.0) -> bytes:
+        import select
+        deadline = time.monotonic() + timeout
+        while text not in self.seen:
+            ready, _, _ = select.select([self.master], [], [], max(0.0, deadline - time.monotonic()))
+            assert ready, f"waited for {text!r}; the screen shows {self.seen[-300:]!r}"
+            try:
+                self.seen += os.read(self.master, 4096)
+            except OSError:              # the program has ended and closed the terminal
+                break
+        assert text in self.seen, f"waited for {text!r}; the screen shows {self.seen[-300:]!r}"
+        return self.seen
+
+    def press(self, keys: bytes) -> None:
+        os.write(self.master, keys)
+
+    def modes(self):
+        import termios
+        return termios.tcgetattr(self.slave)
+
+    def close(self):
+        os.close(self.master)
+        os.close(self.slave)
+
+
+def test_the_terminal_program_takes_single_keys_and_rings_the_bell(tmp_path):
+    term = Terminal(tmp_path)
+    try:
+        term.wait_for(b"Enter Option: _")
+        assert b"\x1b[2J" in term.seen and b"\x1b[6;25H1. Plane Four Bar" in term.seen
+        term.press(b"x")
+        term.wait_for(b"\a")
+        term.press(b"1")                                   # no Enter: INKEY$
+        term.wait_for(b"Please enter the input crank length: ")
+        term.press(b"3\x7f2\r")                            # Backspace edits the answer
+        term.wait_for(b"enter the connecting rod length: ")
+        for answer, prompt in ((b"7", b"output crank"), (b"9", b"fixed link"),
+                               (b"6", b"first bound"), (b"0", b"second bound"),
+                               (b"360", b"increment"), (b"10", b"Which solution")):
+            term.press(answer + b"\r")
+            term.wait_for(prompt)
+        term.press(b"1")                                   # no Enter: INPUT$(1)
+        assert term.proc.wait(timeout=60) == 0
+        assert term.modes() == term.modes_before
+    finally:
+        term.close()
+    golden = make_golden.GOLDEN / "plane-b1"
+    assert dat_files(tmp_path) == {n: (golden / n).read_bytes() for n in ("ACC.DAT", "ANG.DAT",
+                                                                         "VEL.DAT")}
+
+
+def test_ctrl_c_restores_the_terminal(tmp_path):
+    term = Terminal(tmp_path)
+    try:
+        term.wait_for(b"Enter Option: _")
+        assert term.modes() != term.modes_before           # single keys, no echo
+        term.press(b"\x03")
+        assert term.proc.wait(timeout=30) == 130
+        assert term.modes() == term.modes_before
+    finally:
+        term.close()
+    assert os.listdir(tmp_path) == []
