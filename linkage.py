@@ -20,10 +20,17 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import decimal
+import fractions
+import functools
 import math
 import os
+import re
 import shutil
 import sys
+from decimal import Decimal
+from fractions import Fraction
+from typing import NamedTuple
 
 __version__ = "0.2.0"
 
@@ -192,17 +199,37 @@ def mbf_mul(x, y, err=_ignore):
 
 
 def mbf_div(x, y, err=_ignore):
-    """X/Y rounded to nearest, ties to even (GW $SDIV).  Division by zero
-    reports the error and gives +-MBF_MAX with the sign of X."""
+    """X/Y as PC-BASIC computes it (observed, exp/e9..e16): restoring long
+    division of the mantissas held with a guard byte (m << 8), where the
+    divisor register is shifted right after each of the 24 quotient bits so
+    that its low bits fall off (the quotient comes out a little too large
+    for divisors with many low 1-bits); it starts one place lower when the
+    dividend mantissa is the smaller.  Rounding compares the remainder with
+    H = (next divisor) + 1: above rounds up, equal rounds to even.  Division
+    by zero reports the error and gives +-MBF_MAX with the sign of X."""
     if y == 0:
         err(DIV_ZERO)
         return -MBF_MAX if x < 0 else MBF_MAX
     if x == 0:
         return 0.0
-    q = x / y                     # double rounding 53->24 is innocuous for /
-    f, e = math.frexp(q)
-    mbf_neg = f < 0
-    return _make(mbf_neg, round((-f if mbf_neg else f) * _T24), e + 128, err)
+    nx, mx, ex = _split(x)
+    ny, my, ey = _split(y)
+    rem = mx << 8
+    dv = my << 8
+    eb = ex - ey + 129
+    if mx < my:
+        dv >>= 1
+        eb -= 1
+    q = 0
+    for _ in range(24):
+        q <<= 1
+        if rem >= dv:
+            rem -= dv
+            q |= 1
+        dv >>= 1
+    if rem > dv + 1 or (rem == dv + 1 and q & 1):
+        q += 1
+    return _make(nx != ny, q, eb, err)
 
 
 def mbf_neg(x):
@@ -327,190 +354,84 @@ def mbf_print_text(x):
 
 
 # --------------------------------------------------------------------------
-# functions: GW-BASIC's single precision Hart polynomials ($POLY), with the
-# double precision range reduction of SIN/COS.  Constants are the
-# interpreter's MBF bytes.
+# functions.  PC-BASIC evaluates SIN, COS, TAN, ATN, EXP, LOG, SQR and X^Y
+# (Y not whole) in IEEE double precision on the exact value of the single
+# argument and converts the result by truncation toward zero to 23
+# significant bits (24 from 2**23 up), so the last mantissa bit of a result
+# below 2**23 is always 0 (NOTES.md, exp/e17..e21).
 
-def _c(*b):
-    """A single constant from its MBF bytes."""
-    return mbf_from_bytes(bytes(b))
-
-
-_SINCN = (_c(0xFB, 0xD7, 0x1E, 0x86), _c(0x65, 0x26, 0x99, 0x87), _c(0x58, 0x34, 0x23, 0x87),
-          _c(0xE1, 0x5D, 0xA5, 0x86), _c(0xDB, 0x0F, 0x49, 0x83))
-_ATNC1 = (_c(0xD7, 0xB3, 0x5D, 0x81), _c(0x00, 0x00, 0x80, 0x81))
-_ATNC2 = (_c(0x62, 0x35, 0x83, 0x7E), _c(0x50, 0x24, 0x4C, 0x7E), _c(0x79, 0xA9, 0xAA, 0x7F), 1.0)
-_EXPCN = (_c(0x7C, 0x88, 0x59, 0x74), _c(0xE0, 0x97, 0x26, 0x77), _c(0xC4, 0x1D, 0x1E, 0x7A),
-          _c(0x5E, 0x50, 0x63, 0x7C), _c(0x1A, 0xFE, 0x75, 0x7E), _c(0x18, 0x72, 0x31, 0x80), 1.0)
-_LOGP = (_c(0x9A, 0xF7, 0x19, 0x83), _c(0x24, 0x63, 0x43, 0x83), _c(0x75, 0xCD, 0x8D, 0x84),
-         _c(0xA9, 0x7F, 0x83, 0x82))
-_LOGQ = (1.0, _c(0xE2, 0xB0, 0x4D, 0x83), _c(0x0A, 0x72, 0x11, 0x83), _c(0xF4, 0x04, 0x35, 0x7F))
-_TWO_PI = _c(0xDB, 0x0F, 0x49, 0x83)
-_HALF_PI = _c(0xDB, 0x0F, 0x49, 0x81)
-_SIXTH_PI = _c(0x92, 0x0A, 0x06, 0x80)
-_TAN_PI12 = _c(0xA2, 0x30, 0x09, 0x7F)
-_SQR3 = _c(0xD7, 0xB3, 0x5D, 0x81)
-_LOG2E = _c(0x3B, 0xAA, 0x38, 0x81)
-_LN2 = _c(0x18, 0x72, 0x31, 0x80)
-# 1/(2*pi) as the interpreter's double: 56-bit mantissa, value = _IN2PI_M * 2**-58
-_IN2PI_M = 0xA2F9836E4E440B
+_TRIG_LIMIT = 5e16       # SIN/COS/TAN of |x| >= this give 0, 1, 0
+_TINY = math.ldexp(1.0, -1001)   # double results this small count as overflow
 
 
-def _poly(x, coeffs, err=_ignore):
-    """$POLY: Horner's rule, highest coefficient first."""
-    r = coeffs[0]
-    for c in coeffs[1:]:
-        r = mbf_add(mbf_mul(r, x, err), c, err)
-    return r
-
-
-def _polyx(x, coeffs, err=_ignore):
-    """$POLYX: x * P(x*x)."""
-    return mbf_mul(_poly(mbf_mul(x, x, err), coeffs, err), x, err)
-
-
-def _quadrant_sin(turns, shift_quarter):
-    """Shared SIN/COS core.  `turns` is the exact reduced angle in turns as
-    (numerator, shift): value = numerator * 2**shift, 0 <= value < 1.
-    Returns the single result before the final sign."""
-    n, sh = turns
-    if shift_quarter:                      # COS: mbf_add a quarter turn, reduce
-        n, sh = _dp_add(n, sh, 1, -2)
-        n, sh = _frac(n, sh)
-    if n == 0:
-        return 0.0, False
-    q4n, q4sh = n, sh + 2                   # times 4: quadrant in integer part
-    quad = q4n >> -q4sh if q4sh < 0 else q4n << q4sh
-    fn, fsh = _frac(q4n, q4sh)
-    if quad & 1:                            # quadrants 1 and 3: 1 - fraction
-        fn, fsh = _dp_add(1, 0, -fn, fsh)
-    negate = quad >= 2
-    if fn == 0:
-        return 0.0, negate
-    m56, s56 = _rne_bits(fn, 56)
-    y = _dp_to_single(m56, s56 + fsh - 2, False, _ignore)   # divide by 4
-    if y == 0:
-        return 0.0, negate
-    if _split(y)[2] < 0x74:
-        return mbf_mul(y, _TWO_PI), negate
-    return _polyx(y, _SINCN), negate
-
-
-def _dp_add(an, ash, bn, bsh):
-    """Sum of a*2**ash and b*2**bsh rounded to 56 bits (GW $FADDD)."""
-    s = min(ash, bsh)
-    v = (an << (ash - s)) + (bn << (bsh - s))
+def _from_float(v, err):
+    """Single from the IEEE double v: truncate toward zero to 23 significant
+    bits (24 bits when |v| >= 2**23).  |v| >= 2**127 and, oddly, also
+    0 < |v| <= 2**-1001 report "Overflow" and give +MBF_MAX whatever the sign;
+    other results below the single range give 0."""
     if v == 0:
-        return 0, 0
-    mbf_neg = v < 0
-    m, sh = _rne_bits(-v if mbf_neg else v, 56)
-    return (-m if mbf_neg else m), sh + s
-
-
-def _frac(n, sh):
-    """Fractional part of the nonnegative n * 2**sh (exact)."""
-    if sh >= 0:
-        return 0, 0
-    return n & ((1 << -sh) - 1), sh
-
-
-def _turns(x):
-    """|x| / (2*pi) reduced to [0, 1) as GW does: double precision product
-    with the double constant 1/(2*pi), rounded to 56 bits, minus its INT."""
-    _, m, eb = _split(x)
-    p, sh = _rne_bits(m * _IN2PI_M, 56)
-    return _frac(p, sh + eb - 152 - 58)
+        return 0.0
+    f, e = math.frexp(abs(v))
+    if e >= 128 or abs(v) <= _TINY:
+        err(OVERFLOW)
+        return MBF_MAX
+    bits = 24 if e >= 24 else 23
+    m = int(f * (1 << bits)) << (24 - bits)
+    return _make(v < 0, m, e + 128, err)
 
 
 def mbf_sin(x, err=_ignore):
-    """SIN as GW-BASIC: tiny arguments returned as they are, otherwise
-    double precision reduction to a quarter turn and Hart 3341."""
-    if x == 0:
-        return 0.0
-    neg_in, _, eb = _split(x)
-    if eb < 0x77:
-        return x
-    y, negate = _quadrant_sin(_turns(x), False)
-    return -y if negate != neg_in else y
+    """SIN: math.sin, truncated to 23 bits; 0 when |x| >= 5E+16."""
+    return 0.0 if abs(x) >= _TRIG_LIMIT else _from_float(math.sin(x), err)
 
 
 def mbf_cos(x, err=_ignore):
-    """COS as GW-BASIC: SIN of the reduced angle plus a quarter turn."""
-    if x == 0:
-        return 1.0
-    y, negate = _quadrant_sin(_turns(x), True)
-    return -y if negate else y
+    """COS: math.cos, truncated to 23 bits; 1 when |x| >= 5E+16."""
+    return 1.0 if abs(x) >= _TRIG_LIMIT else _from_float(math.cos(x), err)
 
 
 def mbf_tan(x, err=_ignore):
-    """TAN as GW-BASIC: SIN(X)/COS(X) with single precision division."""
-    return mbf_div(mbf_sin(x), mbf_cos(x), err)
+    """TAN: math.tan, truncated to 23 bits; 0 when |x| >= 5E+16."""
+    return 0.0 if abs(x) >= _TRIG_LIMIT else _from_float(math.tan(x), err)
 
 
 def mbf_atn(x, err=_ignore):
-    """ATN as GW-BASIC: reduce by 1/x and by pi/6, then Hart 4940."""
-    if x == 0:
-        return 0.0
-    negative = x < 0
-    x = -x if negative else x
-    invert = _split(x)[2] >= 0x81
-    if invert:
-        x = mbf_div(1.0, x, err)
-    shift = x > _TAN_PI12
-    if shift:
-        s = mbf_add(x, _SQR3, err)
-        x = mbf_div(_poly(x, _ATNC1, err), s, err)
-    r = _polyx(x, _ATNC2, err)
-    if shift:
-        r = mbf_add(r, _SIXTH_PI, err)
-    if invert:
-        r = mbf_sub(_HALF_PI, r, err)
-    return -r if negative else r
+    """ATN: math.atan, truncated to 23 bits."""
+    return _from_float(math.atan(x), err)
 
 
 def mbf_exp(x, err=_ignore):
-    """EXP as GW-BASIC: 2**(x*log2 e) split into 2**INT and Hart 1302."""
-    y = mbf_mul(x, _LOG2E, err)
-    if y == 0:
-        return 1.0
-    eb = _split(y)[2]
-    if eb >= 0x88:
-        if y < 0:
-            return 0.0
+    """EXP: math.exp, truncated to 23 bits (24 from 2**23 up); above the
+    single range "Overflow" and +MBF_MAX, below it 0."""
+    try:
+        v = math.exp(x)
+    except OverflowError:
         err(OVERFLOW)
         return MBF_MAX
-    if eb < 0x68:
-        return 1.0
-    n = math.floor(y)
-    if n + 0x81 > 255:
-        err(OVERFLOW)
-        return MBF_MAX
-    f = mbf_sub(y, float(n), err)
-    return mbf_mul(_poly(f, _EXPCN, err), math.ldexp(1.0, n), err)
+    return _from_float(v, err)
 
 
 def mbf_log(x, err=_ignore):
-    """LOG as GW-BASIC (x > 0): Hart 2524 on the mantissa plus the
-    exponent, times ln 2."""
-    if x == 1.0:
-        return 0.0
-    _, m, eb = _split(x)
-    f = math.ldexp(m, -24)
-    r = mbf_div(_poly(f, _LOGP, err), _poly(f, _LOGQ, err), err)
-    return mbf_mul(mbf_add(r, float(eb - 0x80), err), _LN2, err)
+    """LOG: math.log, truncated to 23 bits; X <= 0 is an Illegal function
+    call (ValueError)."""
+    if x <= 0:
+        raise ValueError("Illegal function call")
+    return _from_float(math.log(x), err)
+
+
+def sqr(x, err=_ignore):
+    """SQR: math.sqrt, truncated to 23 bits (24 from 2**23 up); X < 0 is an
+    Illegal function call (ValueError)."""
+    if x < 0:
+        raise ValueError("Illegal function call")
+    return _from_float(math.sqrt(x), err)
 
 
 def mbf_power(x, y, err=_ignore):
-    """X^Y as GW $FPWR: whole Y below 32768 by repeated squaring
-    (T^2 is exactly T*T), otherwise EXP(Y*LOG(X)); negative Y inverts the
-    result.  Overflow inside one ^ is reported once.  A negative X with a
-    fractional Y is an Illegal function call (ValueError)."""
-    seen = []
-
-    def once(message):
-        if not seen:
-            seen.append(message)
-            err(message)
+    """X^Y with a single (or double) exponent Y, whole or not: math.pow
+    truncated to 23 bits.  Y = 0 gives 1; 0^Y is 0 for Y > 0 and "Division
+    by zero" with +MBF_MAX for Y < 0; a negative X with a fractional Y is an
+    Illegal function call (ValueError); overflow gives +MBF_MAX for either sign."""
     if y == 0:
         return 1.0
     if x == 0:
@@ -518,34 +439,35 @@ def mbf_power(x, y, err=_ignore):
             err(DIV_ZERO)
             return MBF_MAX
         return 0.0
-    whole = y == math.floor(y)
-    if x < 0 and not whole:
+    if x < 0 and y != math.floor(y):
         raise ValueError("Illegal function call")
-    if y < 0:
-        r = _power_pos(x, -y, whole, once)
-        if r == 0:
-            once(OVERFLOW)
-            odd = whole and x < 0 and abs(y) < 32768 and int(-y) & 1
-            return -MBF_MAX if odd else MBF_MAX
-        return mbf_div(1.0, r, once)
-    return _power_pos(x, y, whole, once)
+    try:
+        v = math.pow(x, y)
+    except OverflowError:
+        err(OVERFLOW)
+        return MBF_MAX
+    return _from_float(v, err)
 
 
-def _power_pos(x, y, whole, err):
-    """X^Y for Y > 0 (the FP30A part of $FPWR)."""
-    if whole and y < 32768:
-        n = int(y)
-        r, z = 1.0, x
-        while True:
-            if n & 1:
-                r = mbf_mul(r, z, err)
-            n >>= 1
-            if not n or abs(r) == MBF_MAX or abs(z) == MBF_MAX:
-                return MBF_MAX if abs(r) == MBF_MAX or abs(z) == MBF_MAX else r
-            z = mbf_mul(z, z, err)
-    r = mbf_exp(mbf_mul(y, mbf_log(abs(x), err), err), err)
-    if x < 0 and whole and int(y) & 1:
-        return -r
+def ipower(x, n, err=_ignore):
+    """X^N with an integer-typed exponent (an integer literal such as the 2
+    in T^2, or an N% variable).  N >= 1: left-to-right binary powering with
+    single multiplications (square, then times X for each further 1 bit of
+    N); the first overflow ends it with +-MBF_MAX of that product's sign.
+    N = 0 gives 1; N < 0 is computed like mbf_power()."""
+    if n < 0:
+        return mbf_power(x, float(n), err)
+    if n == 0:
+        return 1.0
+    seen = []
+    r = x
+    for bit in bin(n)[3:]:
+        r = mbf_mul(r, r, seen.append)
+        if not seen and bit == "1":
+            r = mbf_mul(r, x, seen.append)
+        if seen:
+            err(OVERFLOW)
+            return r
     return r
 
 
@@ -874,8 +796,8 @@ def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single) -> tup
 # ---- The original program: keys, screen, INPUT, the session, the files ---------------------
 
 
-class EndOfKeys(Exception):
-    """The keystrokes ran out while the program waited for one (ERRATA P4)."""
+class EndOfKeys(Exception):  # ERRATA P4
+    """The keystrokes ran out while the program waited for one."""
 
 
 class ProgramStop(Exception):
@@ -884,16 +806,19 @@ class ProgramStop(Exception):
 
 class Keys:
     """Keystrokes one at a time from a byte stream, as PC-BASIC reads its --input file:
-    CR LF is one Enter, NUL and the byte after it are one extended key."""
+    CR LF is one Enter, NUL and the byte after it are one extended key. On a terminal
+    (`pending` tells whether more bytes are already waiting) an ANSI escape sequence, which is
+    what the arrow and function keys send, is one extended key too; Esc alone stays Esc."""
 
-    def __init__(self, read_byte, fold_crlf: bool):
+    def __init__(self, read_byte, fold_crlf: bool, pending=None):
         self._read = read_byte
         self._fold = fold_crlf
-        self._pending = b""
+        self._ready = pending
+        self._pushed_back = b""
 
     def _byte(self) -> bytes:
-        if self._pending:
-            byte, self._pending = self._pending, b""
+        if self._pushed_back:
+            byte, self._pushed_back = self._pushed_back, b""
             return byte
         byte = self._read()
         if not byte:
@@ -904,17 +829,22 @@ class Keys:
         byte = self._byte()
         if byte == b"\0":
             return "\0" + self._byte().decode("latin-1")
+        if byte == b"\x1b" and self._ready is not None and self._ready():
+            sequence = self._byte()
+            while sequence[-1:] in b"[O0123456789;" and self._ready():
+                sequence += self._byte()
+            return "\0" + sequence.decode("latin-1")
         if byte == b"\r" and self._fold:
             try:
                 after = self._byte()
             except EndOfKeys:
                 after = b""
             if after != b"\n":
-                self._pending = after
+                self._pushed_back = after
         return byte.decode("latin-1")
 
 
-class Screen:
+class Screen:  # ERRATA P6
     """PRINT, CLS, LOCATE and SOUND. On a terminal they draw with ANSI codes; redirected, the
     output is PC-BASIC's own transcript (--output=STDOUT): lines ended by CR LF, no positions."""
 
@@ -963,67 +893,77 @@ def input_number(screen: Screen, keys: Keys, prompt: str) -> Single:
         screen.line("?Redo from start")
 
 
-def _read_line(screen: Screen, keys: Keys, column: int) -> tuple[str, str]:
+def _read_line(screen: Screen, keys: Keys, column: int) -> tuple[str, str]:  # ERRATA P5
     """The line typed up to Enter, and its echo. Backspace deletes, Esc clears, Tab moves to the
-    next of GW-BASIC's 8-column stops, a line feed only breaks the echo (PC-BASIC's behaviour);
-    other control keys and extended keys are ignored (ERRATA P5)."""
-    typed, echo = "", ""
+    next of GW-BASIC's 8-column stops (the echo shows the gap only once something follows it),
+    a line feed only breaks the echo (PC-BASIC's behaviour); other control keys and extended
+    keys are ignored."""
+    pieces: list[str] = []     # typed characters; "\t" + the spaces of a Tab; "\n", a line feed
     while True:
+        typed = "".join(p.lstrip("\t") for p in pieces if p != "\n")
         key = keys.get()
         if key == "\r":
-            return typed, echo
+            while pieces and pieces[-1].startswith("\t"):
+                pieces.pop()
+            return typed, "".join(p.lstrip("\t") for p in pieces)
         if key == "\b" or (key == "\x7f" and screen.terminal):
-            if typed:
-                typed, echo = typed[:-1], echo[:-1]
+            while pieces and pieces[-1] == "\n":
+                pieces.pop()
+            if pieces:
+                pieces[-1] = pieces[-1][:-1]
+                if pieces[-1] in ("", "\t"):
+                    pieces.pop()
                 if screen.terminal:
                     screen.text("\b \b")
-            continue
-        if key == "\x1b":
+        elif key == "\x1b":
             if screen.terminal:
                 screen.text("\b \b" * len(typed))
-            typed, echo = "", ""
-            continue
-        if key == "\t":
-            key = " " * (8 - (column + len(typed)) % 8)
+            pieces = []
+        elif key == "\t":
+            spaces = " " * (8 - (column + len(typed)) % 8)
+            pieces.append("\t" + spaces)
+            if screen.terminal:
+                screen.text(spaces)
         elif key == "\n":
-            echo += "\n"
-            continue
-        elif len(key) != 1 or key < " " or key == "\x7f":
-            continue
-        typed, echo = typed + key, echo + key
-        if screen.terminal:
-            screen.text(key)
+            pieces.append("\n")
+        elif len(key) == 1 and " " <= key != "\x7f":
+            pieces.append(key)
+            if screen.terminal:
+                screen.text(key)
 
 
 def input_value(typed: str) -> Single | None:
     """What INPUT makes of an answer for one numeric variable, or None for "?Redo from start".
     Spaces are ignored; empty is 0; &H and &O (or &) are 16-bit integers; a decimal number may
-    have a sign, a point, an exponent (E or D, whose digits may be missing) and a ! or # after
-    which anything is ignored. Overflow prints "Overflow" and gives 1.701412E+38."""
+    have a sign, points (all but the first ignored), an E or D exponent whose digits may be
+    missing, and a ! or # after which anything is ignored (but not after an exponent).
+    Overflow prints "Overflow" and gives 1.701412E+38 - twice for a double-precision number
+    (eight digits or more, a D exponent or #), which overflows before it is made single."""
     s = typed.replace(" ", "").upper()
     if s.startswith("&"):
         return _input_integer(s[1:])
-    number, suffix = s, ""
-    for mark in "!#":
-        if mark in number:
-            number, suffix = number.split(mark, 1)
-    sign = ""
-    if number[:1] in "+-" and number:
-        sign, number = number[0], number[1:]
-    mantissa, exponent = number, ""
-    for mark in "ED":
-        if mark in mantissa:
-            mantissa, exponent = mantissa.split(mark, 1)
+    number, suffix = re.match(r"([^!#]*)(.?)", s).groups()
+    match = re.fullmatch(r"([+-]?)([0-9.]*)(?:([ED])([+-]?)([0-9]*))?", number)
+    if match is None or (match[3] and suffix) or "," in s:
+        return None
+    sign, mantissa, marker, exp_sign, exp_digits = match.groups(default="")
     whole, _, fraction = mantissa.partition(".")
     fraction = fraction.replace(".", "")
-    exp_sign = exponent[:1] if exponent[:1] in ("+", "-") else ""
-    exp_digits = exponent[len(exp_sign):]
-    if not (whole + fraction + exp_digits).isdigit() and (whole + fraction + exp_digits):
-        return None
-    if not mantissa.strip(".") and exponent:
-        return None                                     # "E5": PC-BASIC's own oddity (P5)
-    text = f"{sign}{whole or '0'}.{fraction or '0'}E{exp_sign}{exp_digits or '0'}"
-    return Single(mbf_parse(text, _soft_error))
+    digits = whole + fraction
+    power = int(exp_sign + (exp_digits or "0")) - len(fraction)
+    double = len(digits.strip("0")) > 7 or marker == "D" or suffix == "#"
+    if not digits.strip("0"):
+        # PC-BASIC reads a zero (or missing) mantissa with an exponent as 2^-129 times its power
+        # of ten, whatever the sign: "E5", "-0E5" are 1.469368E-34; "E", "0E-3" are 0.
+        if not marker or power <= 0:
+            return Single(0.0)
+        sign, digits, power = "", str(5**129), power - 129
+    if double and fractions.Fraction(int(digits)) * fractions.Fraction(10) ** power >= DOUBLE_OVERFLOW:
+        _soft_error(OVERFLOW)
+    return Single(mbf_parse(f"{sign}{digits}E{power}", _soft_error))
+
+
+DOUBLE_OVERFLOW = fractions.Fraction(2**127) * (1 - fractions.Fraction(1, 2**57))
 
 
 def _input_integer(digits: str) -> Single | None:
@@ -1047,10 +987,10 @@ def key_value(key: str) -> int:
     return "0123456789".find(key) if len(key) == 1 and key in "0123456789" else 0
 
 
-class DatFiles:
+class DatFiles:  # ERRATA P3
     """ANG.DAT, VEL.DAT and ACC.DAT written as GW-BASIC's sequential files (CR LF lines, the
     end-of-file byte 1A on CLOSE). They are written under temporary names and renamed on CLOSE,
-    so an interrupted sweep leaves no file that looks complete (ERRATA P3)."""
+    so an interrupted sweep leaves no file that looks complete."""
 
     NAMES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
 
@@ -1155,13 +1095,13 @@ def sweep(screen: Screen, co, PHI1: Single, PHI2: Single, INC: Single, SOL: int,
 
 
 def check_sweep(PHI1: Single, PHI2: Single, INC: Single, directory: str) -> None:
-    """Refuse the sweeps the original would never finish (ERRATA P1, P2)."""
-    if INC == 0:
+    """Refuse the sweeps the original would never finish."""
+    if INC == 0:  # ERRATA P1
         raise ProgramStop("the increment is 0: the original would write points for ever "
                           "(GW-BASIC's FOR never ends with STEP 0)")
     if (INC > 0 and PHI1 > PHI2) or (INC < 0 and PHI1 < PHI2):
         return
-    far = PHI1 if abs(PHI1.v) > abs(PHI2.v) else PHI2
+    far = PHI1 if abs(PHI1.v) > abs(PHI2.v) else PHI2  # ERRATA P2
     if mbf_add(far.v, INC.v) == far.v:
         raise ProgramStop("the increment is too small for single precision: the input angle "
                           "would stop advancing and the original would loop for ever")
@@ -1171,6 +1111,1984 @@ def check_sweep(PHI1: Single, PHI2: Single, INC: Single, directory: str) -> None
         raise ProgramStop(f"the sweep has about {points:,.0f} points, up to "
                           f"{points * BYTES_PER_POINT:,.0f} bytes of DAT files, and only "
                           f"{free:,} bytes are free in {directory!r}")
+
+# ---- The accurate engine ------------------------------------------------------------------
+#
+# The five linkages in IEEE double precision, stable where the
+# listing is not.
+#
+# The listing solves one half-tangent quadratic in u = tan(psi/2) (slider-cranks: u = x) for
+# t = tan(phi/2); that breaks down at phi = 180 (t infinite), psi = 180 (u infinite), where the
+# leading coefficient vanishes, and in the cancellations of its velocity and acceleration
+# formulas. The engine solves the same closure written in cos/sin of the angles instead:
+#
+#   four-bars:      E(phi, psi) = P cos psi + Q sin psi + S = 0
+#   slider-cranks:  G(phi, x)   = x^2 - 2 m x + q = 0
+#
+# where P, Q, S, m, q are each k0 + kc cos phi + ks sin phi with per-linkage constants k
+# (computed once, each rounded once from exact rational arithmetic). E and G are positive
+# multiples of the listing's displacement polynomial F (eq. (2), lines 1070-1090), so its branch
+# choice carries over: the listing's branch 1, U11 + U12 = (-B + sqrt(D)) / 2A, is the root where
+# dF/du = +sqrt(D) >= 0, i.e. dE/dpsi > 0 (dG/dx > 0); branch 2 the root where it is negative.
+# Velocity and acceleration come from implicit differentiation of E (G) in angle form.
+#
+# Near a dead-centre the discriminant D = P^2 + Q^2 - S^2 (c^2 - distance^2 for sliders) is a
+# small difference of large numbers and double precision loses its digits (the velocity goes as
+# 1/sqrt(D)); there, and only there, one point is recomputed in 50-digit decimal arithmetic
+# (standard library decimal), so that the results stay correct to double precision until D is
+# within 1e-33 of its scale, where the engine says DEAD_CENTRE.
+
+
+# The mechanisms, named as tests/test_physics.py names them, with their dimensions: lengths as
+# typed; the spherical linkage's arcs and the skew angle ksi in degrees.
+PLANE_FOUR_BAR = "plane"
+SPHERICAL_FOUR_BAR = "spherical"
+SKEW_FOUR_BAR = "skew"
+PLANE_SLIDER_CRANK = "slider"
+SKEW_SLIDER_CRANK = "skew-slider"
+LINKAGE_DIMENSIONS = {
+    PLANE_FOUR_BAR: ("a", "b", "c", "d"),
+    SPHERICAL_FOUR_BAR: ("a", "b", "c", "d"),
+    SKEW_FOUR_BAR: ("a", "b", "c", "d", "f", "ksi"),
+    PLANE_SLIDER_CRANK: ("b", "c", "e"),
+    SKEW_SLIDER_CRANK: ("a", "b", "c", "f", "ksi"),
+}
+
+# The status of a computed position (Motion.status).
+ASSEMBLED = "assembled"          # output, and the derivatives asked for, are given
+DEAD_CENTRE = "dead-centre"      # output given (the double root: the same on both branches),
+#                                  velocity and acceleration None: the discriminant is zero (to
+#                                  1e-33 of its scale), the velocity infinite or, where the two
+#                                  branches cross (change point), undetermined
+NOT_ASSEMBLED = "not-assembled"  # the linkage cannot be assembled at this input angle: all None
+INDETERMINATE = "indeterminate"  # the output link is free (every psi closes the loop, e.g. the
+#                                  crank tip on the output pivot and c = d): all None
+
+_RAD = math.pi / 180.0
+_DEG = 180.0 / math.pi
+_PRECISE_BELOW = 2.0 ** -12      # relative discriminant under which a point is done in decimal
+_DECIMAL = decimal.Context(prec=50, Emin=-10 ** 6, Emax=10 ** 6)
+_DECIMAL_PI = Decimal("3.141592653589793238462643383279502884197169399375105820974944592307816")
+_DECIMAL_ZERO_BELOW = Decimal("1e-33")   # relative discriminant taken as zero in decimal: above
+#                                          it D keeps 17 digits, and so do the results
+_DECIMAL_TINY = Decimal("1e-60")
+
+
+class Motion(NamedTuple):
+    """One input angle's output: what the listing writes to ANG, VEL and ACC.DAT, unclipped.
+
+    output is psi in degrees in (-180, 180] for the four-bars (the listing's 2 ATN(u)), the slider
+    position x for the slider-cranks; velocity and acceleration are d/dphi and d2/dphi2 of psi
+    (radians per radian) or of x (length per radian). A value not asked for, or that does not
+    exist (see status), is None: the engine never writes a silent finite number or a NaN.
+    """
+
+    phi: float
+    output: float | None
+    velocity: float | None
+    acceleration: float | None
+    status: str
+
+
+# -- cos and sin of degrees, reduced exactly ------------------------------------------------------
+
+def _cos_sin_deg(x):
+    """cos and sin of x degrees (a float), reduced exactly in degrees: exact at multiples of 90."""
+    r = math.fmod(x, 360.0)                 # exact
+    n = round(r / 90.0)
+    y = (r - 90.0 * n) * _RAD               # |r - 90 n| <= 45: the subtraction is exact
+    c, s = math.cos(y), math.sin(y)
+    return ((c, s), (-s, c), (-c, -s), (s, -c))[n & 3]
+
+
+def _trig_double(q):
+    """cos and sin of q degrees (a Fraction, reduced exactly) as exact Fractions of the doubles."""
+    r = q % 360
+    n = round(r / 90)
+    c, s = _cos_sin_deg(float(r - 90 * n))  # the reduced angle, rounded once
+    return tuple(Fraction(v) for v in ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4])
+
+
+def _decimal_cos_sin_deg(q):
+    """cos and sin of q degrees (a Fraction) as 50-digit Decimals: exact reduction, Taylor."""
+    r = q % 360
+    n = round(r / 90)
+    y = r - 90 * n
+    with decimal.localcontext(_DECIMAL):
+        x = Decimal(y.numerator) / Decimal(y.denominator) * _DECIMAL_PI / 180
+        x2, c, s, tc, ts = x * x, Decimal(1), x, Decimal(1), x
+        for k in range(1, 40):               # |x| <= pi/4: the terms fall below 1e-60 by k = 25
+            tc = -tc * x2 / ((2 * k - 1) * (2 * k))
+            ts = -ts * x2 / ((2 * k) * (2 * k + 1))
+            c, s = c + tc, s + ts
+            if abs(tc) + abs(ts) < _DECIMAL_TINY:
+                break
+        return ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4]
+
+
+def _trig_decimal(q):
+    """cos and sin of q degrees (a Fraction) as exact Fractions of 50-digit values."""
+    return tuple(Fraction(v) for v in _decimal_cos_sin_deg(q))
+
+
+# -- the closure's constants ---------------------------------------------------------------------
+
+def _dims_of(kind, dims):
+    """The dimensions of `kind` from `dims`, as finite floats; a ValueError names what is wrong."""
+    if kind not in LINKAGE_DIMENSIONS:
+        raise ValueError(f"unknown linkage kind {kind!r}; one of {', '.join(LINKAGE_DIMENSIONS)}")
+    names = LINKAGE_DIMENSIONS[kind]
+    extra = set(dims) - set(names)
+    missing = [n for n in names if n not in dims]
+    if extra or missing:
+        raise ValueError(f"{kind} linkage takes {', '.join(names)}"
+                         + (f"; missing {', '.join(missing)}" if missing else "")
+                         + (f"; unknown {', '.join(sorted(extra))}" if extra else ""))
+    out = {n: float(dims[n]) for n in names}
+    for n, v in out.items():
+        if not math.isfinite(v):
+            raise ValueError(f"{kind} linkage: {n} = {v} is not finite")
+    return out
+
+
+def _closure_constants(kind, dims, trig):
+    """The closure's constants as exact Fractions, from the typed dimensions and trig(q), the
+    (cos, sin) of q degrees. Four-bars: P, Q, S as (k0, kc, ks) of E = P cos psi + Q sin psi + S.
+    Slider-cranks: m, q of G = x^2 - 2 m x + q = |B - D|^2 - c^2, the vector (u, v) from the crank
+    tip to the slider's line (G = (x - m)^2 - (c^2 - u^2 - v^2)), and the rod c."""
+    a, b, c, d, e, f = (Fraction(dims.get(k, 0.0)) for k in "abcdef")
+    if kind == PLANE_FOUR_BAR:
+        # E = (|B - D|^2 - c^2) / 2 = lines 880-930 over (1 + t^2)(1 + u^2) / 2
+        # (test_physics.plane_four_bar).
+        return (d * a, -d * b, 0, 0, 0, -b * d, (a * a + b * b + d * d - c * c) / 2, -a * b, 0)
+    if kind == SKEW_FOUR_BAR:
+        # E = (|B - D|^2 - c^2) / 2, lines 650-710 (test_physics.skew_four_bar). Line 430's
+        # effective coupler c^2 - f^2 - g^2 + 2fg cos ksi is c^2 - h^2 with h = f tan ksi
+        # (g = f / cos ksi): it enters as such, never square-rooted.
+        cx, sx = trig(Fraction(dims["ksi"]))
+        if cx == 0:
+            raise ValueError("skew linkage: ksi = 90 degrees (mod 180) makes g = f / cos ksi "
+                             "infinite")
+        h = f * sx / cx
+        return (d * a, -d * b, 0, f * d * sx, 0, -b * d * cx,
+                (a * a + b * b + d * d + h * h - c * c) / 2, -a * b, -b * h)
+    if kind == SPHERICAL_FOUR_BAR:
+        # E = cos c - B.D, lines 810-860 over -(1 + t^2)(1 + u^2) / 2
+        # (test_physics.spherical_four_bar). The constant of S, cos c - cos a cos b cos d, is
+        # (A1 + B1 + C1 + E1) / 2 with A1 = sin p7 sin p8 etc. of exact half-sums p: products of
+        # sines keep their relative accuracy for arcs near 0 and 180 degrees, where the cosines
+        # would cancel.
+        ca, sa = trig(a)
+        cb, sb = trig(b)
+        cd, sd = trig(d)
+
+        def sin_p(sign_b, sign_c, sign_d):
+            return trig((a + sign_b * b + sign_c * c + sign_d * d) / 2)[1]
+        s0 = (sin_p(1, 1, 1) * sin_p(1, -1, 1) + sin_p(-1, 1, -1) * sin_p(-1, -1, -1)
+              + sin_p(1, 1, -1) * sin_p(1, -1, -1) + sin_p(-1, 1, 1) * sin_p(-1, -1, 1)) / 2
+        return (sd * sa * cb, -sd * ca * sb, 0, 0, 0, -sb * sd, s0, -cd * sa * sb, 0)
+    if kind == PLANE_SLIDER_CRANK:
+        # Lines 740-790 with a = d = 0: the slider on y = e, I1 = -4eb
+        # (test_physics.plane_slider_crank); c is the rod c* as typed.
+        return (0, b, 0, b * b + e * e - c * c, 0, -2 * e * b, e, 0, -b, 0, 0, 0, c)
+    # Skew slider-crank, lines 740-790: the slider's line through (a, 0, f) along
+    # (0, sin ksi, -cos ksi) (test_physics.skew_slider_crank); line 430 makes c^2 - f^2.
+    cx, sx = trig(Fraction(dims["ksi"]))
+    return (f * cx, 0, b * sx, a * a + b * b + f * f - c * c, -2 * a * b, 0,
+            -a, b, 0, -f * sx, 0, b * cx, c)
+
+
+def _size_squared(kind, k):
+    """A bound on the discriminant's terms (its scale), from the closure's constants."""
+    if kind in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK):
+        reach = abs(k[12]) + sum(abs(v) for v in k[6:12])
+        return reach * reach
+    size = sum(abs(v) for v in k[:9])
+    return size * size
+
+
+class Linkage:
+    """One linkage of the listing's five kinds, with the constants of its closure computed once.
+
+    Linkage(kind, **dims): kind is PLANE_FOUR_BAR ("plane", dims a b c d), SPHERICAL_FOUR_BAR
+    ("spherical", a b c d in degrees), SKEW_FOUR_BAR ("skew", a b c d f ksi; ksi in degrees),
+    PLANE_SLIDER_CRANK ("slider", b c e; c is the rod c* as typed) or SKEW_SLIDER_CRANK
+    ("skew-slider", a b c f ksi). Geometry and signs are the listing's (tests/test_physics.py).
+    No assembly check is made here: each position says whether it assembles (Motion.status).
+    Lengths are divided by a power of two near the largest (exactly) so that no scale overflows.
+    """
+
+    __slots__ = ("kind", "dims", "is_slider", "_unit", "_scaled", "_constants", "_precise_below",
+                 "_decimal")
+
+    def __init__(self, kind, **dims):
+        self.dims = _dims_of(kind, dims)
+        self.kind = kind
+        self.is_slider = kind in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK)
+        largest = max([abs(v) for k, v in self.dims.items() if k != "ksi"]
+                      if kind != SPHERICAL_FOUR_BAR else [0.0])
+        self._unit = math.ldexp(1.0, min(math.frexp(largest)[1], 1023)) if largest else 1.0
+        self._scaled = {k: v if k == "ksi" or kind == SPHERICAL_FOUR_BAR else v / self._unit
+                        for k, v in self.dims.items()}
+        exact = _closure_constants(kind, self._scaled, _trig_double)
+        self._constants = tuple(float(v) for v in exact)
+        self._precise_below = _PRECISE_BELOW * float(_size_squared(kind, exact))
+        self._decimal = None             # the 50-digit constants, made at the first use
+
+    def __repr__(self):
+        return "Linkage(%r, %s)" % (self.kind, ", ".join("%s=%r" % kv for kv in self.dims.items()))
+
+    def motion(self, phi, branch=1, derivatives=2):
+        """The output (and its first `derivatives` derivatives) at input angle phi (degrees)."""
+        return self.sweep((phi,), branch, derivatives)[0]
+
+    def sweep(self, phis, branch=1, derivatives=2):
+        """Motion for each input angle of `phis` (degrees), on the listing's branch 1 (A+B) or 2
+        (A-B); derivatives 0 computes the output only, 1 adds the velocity, 2 the acceleration."""
+        if branch not in (1, 2):
+            raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
+        if derivatives not in (0, 1, 2):
+            raise ValueError("derivatives is 0 (output), 1 (and velocity) or 2 (and acceleration)")
+        phis = [float(p) for p in phis]
+        if not all(math.isfinite(p) for p in phis):
+            raise ValueError("input angles must be finite")
+        sign = 1.0 if branch == 1 else -1.0
+        loop = _sweep_slider if self.is_slider else _sweep_four_bar
+        return loop(self, phis, sign, derivatives)
+
+    def _precise(self, phi, sign, level):
+        """One point in 50-digit decimal arithmetic (near a dead-centre), as a Motion."""
+        if self._decimal is None:
+            exact = _closure_constants(self.kind, self._scaled, _trig_decimal)
+            with decimal.localcontext(_DECIMAL):
+                k = tuple(Decimal(v.numerator) / Decimal(v.denominator) for v in exact)
+                self._decimal = k, _size_squared(self.kind, k) * _DECIMAL_ZERO_BELOW
+        k, zero = self._decimal
+        c, s = _decimal_cos_sin_deg(Fraction(phi))
+        with decimal.localcontext(_DECIMAL):
+            if self.is_slider:
+                return _slider_point(k, zero, phi, c, s, int(sign), level, self._unit)
+            return _four_bar_point(k, zero, phi, c, s, int(sign), level)
+
+
+# -- the double-precision sweeps ------------------------------------------------------------------
+
+def _sweep_four_bar(linkage, phis, sign, level):
+    """The four-bar loop: psi on branch `sign` (+1: dE/dpsi > 0) from P cos psi + Q sin psi = -S,
+    psi' = -E_phi / E_psi and psi'' = -(E_phiphi + 2 E_phipsi psi' + E_psipsi psi'^2) / E_psi,
+    with E_psi = sign sqrt(D), D = P^2 + Q^2 - S^2, and E_psipsi = S on the root."""
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = linkage._constants
+    precise_below = linkage._precise_below
+    fmod, cos, sin, hypot, sqrt, atan2 = (math.fmod, math.cos, math.sin, math.hypot, math.sqrt,
+                                          math.atan2)
+    rad, deg, new = _RAD, _DEG, tuple.__new__
+    out = []
+    append = out.append
+    for phi in phis:
+        r = fmod(phi, 360.0)
+        n = round(r / 90.0)
+        y = (r - 90.0 * n) * rad
+        cy, sy = cos(y), sin(y)
+        n &= 3
+        if n == 0:
+            c, s = cy, sy
+        elif n == 1:
+            c, s = -sy, cy
+        elif n == 2:
+            c, s = -cy, -sy
+        else:
+            c, s = sy, -cy
+        xp, xq, xs = pc * c + ps * s, qc * c + qs * s, sc * c + ss * s
+        p, q, sv = p0 + xp, q0 + xq, s0 + xs
+        rr = hypot(p, q)
+        disc = (rr - sv) * (rr + sv)
+        if disc <= precise_below:
+            if disc < -precise_below:
+                append(new(Motion, (phi, None, None, None, NOT_ASSEMBLED)))
+            else:
+                append(linkage._precise(phi, sign, level))
+            continue
+        root = sqrt(disc)
+        sn = -q * sv - sign * p * root        # (sin psi, cos psi) times P^2 + Q^2
+        cn = -p * sv + sign * q * root
+        psi = atan2(sn, cn) * deg
+        if psi == -180.0:
+            psi = 180.0
+        if level == 0:
+            append(new(Motion, (phi, psi, None, None, ASSEMBLED)))
+            continue
+        r2 = rr * rr
+        cp, sp = cn / r2, sn / r2
+        dp, dq, ds = ps * c - pc * s, qs * c - qc * s, ss * c - sc * s
+        vel = -sign * (dp * cp + dq * sp + ds) / root
+        if level == 1:
+            append(new(Motion, (phi, psi, vel, None, ASSEMBLED)))
+            continue
+        e_ff = -(xp * cp + xq * sp + xs)
+        e_fp = dq * cp - dp * sp
+        acc = -sign * (e_ff + 2.0 * e_fp * vel + sv * vel * vel) / root
+        append(new(Motion, (phi, psi, vel, acc, ASSEMBLED)))
+    return out
+
+
+def _sweep_slider(linkage, phis, sign, level):
+    """The slider-crank loop: x = m + sign sqrt(D), D = c^2 - u^2 - v^2, by the stable quadratic
+    formula (the root away from zero first, the other as q over it); x' = -G_phi / G_x and x''
+    likewise, with G_x = 2 sign sqrt(D)."""
+    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = linkage._constants
+    precise_below, unit = linkage._precise_below, linkage._unit
+    fmod, cos, sin, hypot, sqrt = math.fmod, math.cos, math.sin, math.hypot, math.sqrt
+    rad, new = _RAD, tuple.__new__
+    out = []
+    append = out.append
+    for phi in phis:
+        r = fmod(phi, 360.0)
+        n = round(r / 90.0)
+        y = (r - 90.0 * n) * rad
+        cy, sy = cos(y), sin(y)
+        n &= 3
+        if n == 0:
+            c, s = cy, sy
+        elif n == 1:
+            c, s = -sy, cy
+        elif n == 2:
+            c, s = -cy, -sy
+        else:
+            c, s = sy, -cy
+        xm, xk = mc * c + ms * s, kc * c + ks * s
+        m, q = m0 + xm, k0 + xk
+        dist = hypot(u0 + uc * c + us * s, v0 + vc * c + vs * s)
+        disc = (rod - dist) * (rod + dist)
+        if disc <= precise_below:
+            if disc < -precise_below:
+                append(new(Motion, (phi, None, None, None, NOT_ASSEMBLED)))
+            else:
+                append(linkage._precise(phi, sign, level))
+            continue
+        root = sqrt(disc)
+        if m >= 0.0:
+            big = m + root
+            x = big if sign > 0.0 else q / big
+        else:
+            big = m - root
+            x = big if sign < 0.0 else q / big
+        if level == 0:
+            append(new(Motion, (phi, x * unit, None, None, ASSEMBLED)))
+            continue
+        dm, dk = ms * c - mc * s, ks * c - kc * s
+        vel = sign * (dm * x - 0.5 * dk) / root
+        if level == 1:
+            append(new(Motion, (phi, x * unit, vel * unit, None, ASSEMBLED)))
+            continue
+        acc = sign * (0.5 * xk - xm * x + 2.0 * dm * vel - vel * vel) / root
+        append(new(Motion, (phi, x * unit, vel * unit, acc * unit, ASSEMBLED)))
+    return out
+
+
+# -- the same formulas, one point at a time in 50-digit decimal (near dead-centres) -------------
+
+def _four_bar_point(k, zero, phi, c, s, sign, level):
+    """_sweep_four_bar's formulas for one point in Decimal; decides DEAD_CENTRE/INDETERMINATE."""
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = k
+    xp, xq, xs = pc * c + ps * s, qc * c + qs * s, sc * c + ss * s
+    p, q, sv = p0 + xp, q0 + xq, s0 + xs
+    r2 = p * p + q * q
+    disc = r2 - sv * sv
+    if disc < -zero:
+        return Motion(phi, None, None, None, NOT_ASSEMBLED)
+    if r2 <= zero:
+        return Motion(phi, None, None, None, INDETERMINATE)
+    dead = disc <= zero
+    root = Decimal(0) if dead else disc.sqrt()
+    sn = -q * sv - sign * p * root
+    cn = -p * sv + sign * q * root
+    psi = math.atan2(float(sn), float(cn)) * _DEG
+    if psi == -180.0:
+        psi = 180.0
+    if dead:
+        return Motion(phi, psi, None, None, DEAD_CENTRE)
+    if level == 0:
+        return Motion(phi, psi, None, None, ASSEMBLED)
+    cp, sp = cn / r2, sn / r2
+    dp, dq, ds = ps * c - pc * s, qs * c - qc * s, ss * c - sc * s
+    vel = -sign * (dp * cp + dq * sp + ds) / root
+    if level == 1:
+        return Motion(phi, psi, float(vel), None, ASSEMBLED)
+    e_ff, e_fp = -(xp * cp + xq * sp + xs), dq * cp - dp * sp
+    acc = -sign * (e_ff + 2 * e_fp * vel + sv * vel * vel) / root
+    return Motion(phi, psi, float(vel), float(acc), ASSEMBLED)
+
+
+def _slider_point(k, zero, phi, c, s, sign, level, unit):
+    """_sweep_slider's formulas for one point in Decimal; decides DEAD_CENTRE."""
+    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = k
+    xm, xk = mc * c + ms * s, kc * c + ks * s
+    m, q = m0 + xm, k0 + xk
+    u, v = u0 + uc * c + us * s, v0 + vc * c + vs * s
+    disc = rod * rod - u * u - v * v
+    if disc < -zero:
+        return Motion(phi, None, None, None, NOT_ASSEMBLED)
+    if disc <= zero:
+        return Motion(phi, float(m) * unit, None, None, DEAD_CENTRE)
+    root = disc.sqrt()
+    if m >= 0:
+        big = m + root
+        x = big if sign > 0 else q / big
+    else:
+        big = m - root
+        x = big if sign < 0 else q / big
+    if level == 0:
+        return Motion(phi, float(x) * unit, None, None, ASSEMBLED)
+    dm, dk = ms * c - mc * s, ks * c - kc * s
+    vel = sign * (dm * x - dk / 2) / root
+    if level == 1:
+        return Motion(phi, float(x) * unit, float(vel) * unit, None, ASSEMBLED)
+    acc = sign * (xk / 2 - xm * x + 2 * dm * vel - vel * vel) / root
+    return Motion(phi, float(x) * unit, float(vel) * unit, float(acc) * unit, ASSEMBLED)
+
+
+# -- angles and files ----------------------------------------------------------------------------
+
+def evenly_spaced_angles(start, stop, step):
+    """The input angles start, start + step, ... up to stop (within step / 1e9), each computed
+    as start + i * step: no accumulated rounding (the listing's single-precision FOR drifts,
+    quirk K10)."""
+    if step == 0 or not all(math.isfinite(v) for v in (start, stop, step)):
+        raise ValueError("start, stop and step must be finite and step non-zero")
+    count = math.floor((stop - start) / step + 1e-9) + 1
+    return [start + i * step for i in range(max(count, 0))]
+
+
+def write_dat_files(motions, directory=".", *, clip=False, missing="skip"):
+    """Write ANG.DAT, VEL.DAT and ACC.DAT in the listing's format ("phi,value" lines, CRLF, a 0x1A
+    end byte) at full precision: each number as the shortest text that reads back exactly (repr).
+
+    Unclipped unless clip=True (then VEL and ACC are clipped to +-3 as lines 1200-1300 do). A value
+    that is None (see Motion.status) is left out of its file (missing="skip"), or written as 0 as
+    the listing writes positions it cannot assemble (missing="zero", quirk K8).
+    """
+    if missing not in ("skip", "zero"):
+        raise ValueError('missing is "skip" or "zero"')
+    motions = list(motions)
+    for name, column in (("ANG.DAT", 1), ("VEL.DAT", 2), ("ACC.DAT", 3)):
+        lines = []
+        for row in motions:
+            value = row[column]
+            if value is None:
+                if missing == "skip":
+                    continue
+                value = 0.0
+            elif clip and column > 1:
+                value = min(3.0, max(-3.0, value))
+            lines.append("%r,%r\r\n" % (float(row[0]), float(value)))
+        with open(os.path.join(directory, name), "wb") as fh:
+            fh.write("".join(lines).encode("ascii") + b"\x1a")
+
+
+# ---- Synthesis: four-bar and slider-crank function generators (issue 7) -----------------------
+# The classical analytical synthesis methods collected by E. Pennestrì and P. P. Valentini, "A
+# review of simple analytical methods for the kinematic synthesis of four-bar and slider-crank
+# function generators for two and three prescribed finite positions" (2009): the transmission
+# angle (eqs. 1-4), the crank-rockers FOURB-CR-1..4 (and Volmer's eqs. 6a-6c), the drag-links
+# DRAGLINK-1 and -2, the function generators FOURB-FG2-1, FOURB-FG3-1, SLID-FG2-1, SLID-FG2-2.
+#
+# Names. The review calls the links by other letters than the analysis paper. In every four-bar
+# method of the review (and in its eqs. 1-2, which put a and d beside the input angle)
+#
+#     review  a = input crank   b = coupler   c = output (rocker)   d = frame
+#     paper   b = input crank   c = coupler   d = output            a = frame
+#
+# and in the slider-crank methods the review's crank r, rod l and offset epsilon are the paper's
+# b, c and -e: the review's slider runs on the line y = -epsilon (its eq. 4 has the least
+# transmission angle at theta = 90 degrees), the paper's on y = e. Angles are the paper's
+# (counter-clockwise from the frame line, the output pivot at (a, 0)) except where a method says
+# otherwise: FOURB-FG3-1 measures the output angle from the opposite direction (paper psi =
+# review psi - 180, shown by its worked example), SLID-FG2-1/-2 give at the second dead centre the
+# direction of the slider pin, not of the crank (crank angle = review theta2 - 180).
+# Each design comes converted (FourBar, SliderCrank: the paper's letters and the assembly branch,
+# the engine's branch 1 or 2), with the review's numbers under the review's names beside it.
+#
+# Bad data raise DesignError, naming the condition: a link length <= 0 or complex (a quadratic or
+# a square root with no real value), angles out of a method's range (psi in (0, 180), theta = 0
+# for FOURB-CR-3, mu_min in (0, 90 - psi/2) for FOURB-CR-4, footnote 5's limits for DRAGLINK-2),
+# a design of the wrong type (not a crank-rocker, not a drag-link), a branch defect or a dead
+# centre between the positions, and inconsistent dead-centre data (SLID-FG2-2).
+#
+# Checking. Every design can be run through `analyze`, the one adapter to the analysis (the
+# accurate engine, never the synthesis formulas), and
+# `analyze_design` measures on the analysed linkage what it really does: rocker swing, crank
+# rotation between the dead centres, the prescribed positions met or missed, the
+# transmission-angle extremes. Corrections to the review are marked `# ERRATUM Sn` and justified
+# in SYNTHESIS_ERRATA.md.
+
+
+_R = math.pi / 180.0                    # radians per degree
+MU_MARGIN = 0.1     # degrees: a design whose transmission angle comes this close to 0 or 180 is
+#                     at a dead centre for all practical purposes (and ill-conditioned): refused
+
+
+class DesignError(ValueError):
+    """Data that no design of the method can meet; the message names the condition that failed.
+    `design`, when set, is what the formulas give although it does not meet the data."""
+
+    def __init__(self, message, design=None):
+        super().__init__(message)
+        self.design = design
+
+
+def _require(condition, message, design=None):
+    """Raise DesignError(message) unless condition holds."""
+    if not condition:
+        raise DesignError(message, design)
+
+
+def _method(name):
+    """Decorator: every DesignError of the method's function starts with the method's name."""
+    def decorate(function):
+        @functools.wraps(function)
+        def method(*args, **kwargs):
+            try:
+                return function(*args, **kwargs)
+            except DesignError as error:
+                if str(error).startswith(name + ":"):
+                    raise
+                raise DesignError(f"{name}: {error}", error.design) from None
+        return method
+    return decorate
+
+
+def _require_lengths(**lengths):
+    """Every link length positive: above 1e-6 of the longest (less is a degenerate linkage)."""
+    longest = max(abs(v) for v in lengths.values())
+    for name, value in lengths.items():
+        _require(value > 1e-6 * longest, f"link length {name.replace('_', ' ')} = {value:.6g} "
+                                         f"is not positive" + (" (to 1e-6 of the longest)"
+                                                                if value > 0 else ""))
+
+
+def _require_margin(mu_min, mu_max, design=None):
+    """Refuse a design whose transmission angle comes within MU_MARGIN of 0 or 180 degrees."""
+    _require(min(mu_min, 180.0 - mu_max) >= MU_MARGIN,
+             f"dead centre: the transmission angle comes within {MU_MARGIN:g} degree of 0 or 180 "
+             f"(mu from {mu_min:.6g} to {mu_max:.6g})", design)
+
+
+def _deg(x):
+    """Radians to degrees."""
+    return x / _R
+
+
+def _wrap(angle):
+    """An angle in degrees brought into (-180, 180]."""
+    w = math.fmod(angle, 360.0)
+    if w > 180.0:
+        w -= 360.0
+    elif w <= -180.0:
+        w += 360.0
+    return w
+
+
+def _acos_deg(x, what):
+    """arccos in degrees; a DesignError names `what` when |x| > 1 (the configuration is not
+    reached) beyond round-off."""
+    _require(abs(x) <= 1.0 + 1e-12, f"{what}: cos = {x:.6g} is outside [-1, 1]")
+    return _deg(math.acos(max(-1.0, min(1.0, x))))
+
+
+# -- the designed linkages, in the paper's letters -----------------------------------------------
+
+class FourBar(NamedTuple):
+    """A plane four-bar in the analysis paper's letters: frame a (output pivot at (a, 0)), crank b,
+    coupler c, output d; branch 1 or 2 as the engine's (1: the coupler B->D turns counter-
+    clockwise from the output link, i.e. d(|BD|^2)/d(psi) > 0)."""
+    a: float
+    b: float
+    c: float
+    d: float
+    branch: int = 1
+
+
+class SliderCrank(NamedTuple):
+    """A plane slider-crank in the paper's letters: crank b about the origin, rod c, slider on the
+    line y = e; branch 1 or 2 as the engine's (1: the slider to the right of the crank pin)."""
+    b: float
+    c: float
+    e: float
+    branch: int = 1
+
+
+def four_bar_from_review(a, b, c, d, branch=1):
+    """The review's crank a, coupler b, output c, frame d as the paper's FourBar(a=d, b=a, c=b,
+    d=c)."""
+    return FourBar(a=d, b=a, c=b, d=c, branch=branch)
+
+
+def four_bar_to_review(link):
+    """The paper's FourBar as the review's letters: {'a': crank, 'b': coupler, 'c': output,
+    'd': frame}."""
+    return {"a": link.b, "b": link.c, "c": link.d, "d": link.a}
+
+
+def slider_crank_from_review(r, l, epsilon, branch=1):
+    """The review's crank r, rod l, offset epsilon (slider on y = -epsilon) as the paper's
+    SliderCrank(b=r, c=l, e=-epsilon)."""
+    return SliderCrank(b=r, c=l, e=-epsilon, branch=branch)
+
+
+def _branch_at(link, phi, psi):
+    """The engine's branch of a four-bar position (phi, psi in degrees): 1 when the coupler B->D
+    turns counter-clockwise from the output link, 2 when clockwise."""
+    bx, by = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
+    ux, uy = math.cos(psi * _R), math.sin(psi * _R)
+    dx, dy = link.a + link.d * ux, link.d * uy
+    return 1 if ux * (dy - by) - uy * (dx - bx) > 0 else 2
+
+
+def grashof_type(link):
+    """'crank-rocker', 'drag-link', 'double-rocker' (Grashof, coupler shortest), 'rocker-crank',
+    'change-point' (s + l = p + q) or 'triple-rocker' (non-Grashof), with the crank as input."""
+    lengths = sorted((link.a, link.b, link.c, link.d))
+    excess = lengths[0] + lengths[3] - lengths[1] - lengths[2]
+    if abs(excess) <= 1e-12 * lengths[3]:
+        return "change-point"
+    if excess > 0:
+        return "triple-rocker"
+    shortest = min(("a", "b", "c", "d"), key=lambda k: getattr(link, k))
+    return {"b": "crank-rocker", "a": "drag-link", "c": "double-rocker",
+            "d": "rocker-crank"}[shortest]
+
+
+# -- the transmission angle: eqs. (1)-(4) ---------------------------------------------------------
+
+def _cos_transmission(link, phi):
+    """cos mu by eq. (1), in the review's letters
+    cos mu = (b^2 + c^2 - (a^2 + d^2) + 2ad cos phi) / 2bc."""
+    a, b, c, d = link.b, link.c, link.d, link.a            # the review's letters
+    return (b * b + c * c - (a * a + d * d) + 2 * a * d * math.cos(phi * _R)) / (2 * b * c)
+
+
+def four_bar_transmission_angle(link, phi):
+    """Eq. (1): the angle (degrees) between coupler and output at input angle phi (degrees)."""
+    return _acos_deg(_cos_transmission(link, phi), f"transmission angle at phi = {phi:g}")
+
+
+def four_bar_transmission_extremes(link):
+    """Eqs. (2a), (2b): the least and greatest transmission angles (degrees), at the crank on the
+    frame line, for linkages that reach both (crank-rockers, drag-links)."""
+    a, b, c, d = link.b, link.c, link.d, link.a            # the review's letters (eq. 2: d = 1)
+    mu_min = _acos_deg((b * b + c * c - (d - a) ** 2) / (2 * b * c),
+                       "eq. (2a): the crank does not reach phi = 0")
+    mu_max = _acos_deg((b * b + c * c - (d + a) ** 2) / (2 * b * c),
+                       "eq. (2b): the crank does not reach phi = 180")
+    return min(mu_min, mu_max), max(mu_min, mu_max)
+
+
+def slider_transmission_angle(link, phi):
+    """Eq. (3), crank driving: the angle (degrees) between the rod and the normal to the slider's
+    line at crank angle phi (degrees). ERRATUM S9: 90 - arctan(...), not arctan(...) - 90."""
+    r, l, epsilon = link.b, link.c, -link.e                # the review's letters
+    h = abs(epsilon + r * math.sin(phi * _R))
+    _require(h <= l, f"eq. (3): the rod cannot reach the slider's line at phi = {phi:g}")
+    return 90.0 - _deg(math.atan2(h, math.sqrt(l * l - h * h)))
+
+
+def slider_transmission_extremes(link):
+    """Eq. (4) and its counterpart: least and greatest transmission angles (degrees) over a full
+    crank turn; eq. (4), printed for epsilon >= 0, takes |epsilon| here."""
+    r, l, epsilon = link.b, link.c, abs(link.e)
+    _require(l > r + epsilon, f"eq. (4): the crank cannot turn fully (l = {l:.6g} <= r + "
+                              f"|epsilon| = {r + epsilon:.6g})")
+    mu_min = _deg(math.atan(math.sqrt((l / (r + epsilon)) ** 2 - 1.0)))
+    mu_max = 90.0 if epsilon <= r else 90.0 - _deg(math.asin((epsilon - r) / l))
+    return mu_min, mu_max
+
+
+# -- results --------------------------------------------------------------------------------------
+
+@dataclasses.dataclass(frozen=True)
+class Design:
+    """One linkage a method designs: in the paper's conventions (linkage, positions, travel) and
+    in the review's own names and numbers (review), with the data it was designed for."""
+    method: str                     # e.g. "FOURB-CR-1"
+    data: dict                      # the prescribed data, the review's names (angles in degrees)
+    linkage: object                 # FourBar or SliderCrank: what the analysis takes
+    review: dict                    # the unknowns as the review prints them (ratios, angles)
+    positions: tuple                # design positions (phi, output) in the paper's convention
+    travel: object                  # (phi from, phi to) the method designs for; None: full turn
+    mu_min: float                   # transmission-angle extremes over the travel (degrees),
+    mu_max: float                   # from the review's formulas
+
+
+@dataclasses.dataclass(frozen=True)
+class Synthesis:
+    """A method's answer: every solution it accepts, the one it prefers, and the roots it rejects
+    (each with the reason)."""
+    method: str
+    solutions: tuple
+    preferred: int = 0
+    rejected: tuple = ()
+
+    @property
+    def design(self):
+        """The preferred solution."""
+        return self.solutions[self.preferred]
+
+
+def _one(design):
+    """A Synthesis with a single solution."""
+    return Synthesis(design.method, (design,))
+
+
+def _deviation(design):
+    """The greatest deviation |90 - mu| (degrees) of the design's transmission angle."""
+    return max(90.0 - design.mu_min, design.mu_max - 90.0)
+
+
+# -- crank-rockers: FOURB-CR-1 .. FOURB-CR-4 ------------------------------------------------------
+
+def _crank_rocker(method, data, a, b, c, d, theta0, psi0, theta, psi, review):
+    """Normalise a crank-rocker (review letters, d = frame) to d = 1, convert it, check that it is
+    a crank-rocker, and give its dead-centre positions: extended (theta0, psi0), folded."""
+    _require_lengths(a_crank=a, b_coupler=b, c_rocker=c, d_frame=d)
+    a, b, c = a / d, b / d, c / d
+    link = four_bar_from_review(a, b, c, 1.0)
+    kind = grashof_type(link)
+    _require(kind == "crank-rocker", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
+                                     f"c = {c:.6g}, d = 1 is a {kind}, not a crank-rocker")
+    # ERRATUM S11: both dead centres must lie on one assembly branch: the sine rule also accepts
+    # a folded position on the mirror branch, where this linkage's real folded dead centre is
+    # elsewhere.
+    positions = ((theta0 % 360.0, _wrap(psi0)),
+                 ((theta0 + 180.0 + theta) % 360.0, _wrap(psi0 + psi)))
+    branches = [_branch_at(link, phi, psi_) for phi, psi_ in positions]
+    _require(branches[0] == branches[1],
+             f"{method}: branch defect: the extended and folded dead centres of a = {a:.6g}, "
+             f"b = {b:.6g}, c = {c:.6g}, d = 1 lie on different assembly branches")
+    link = link._replace(branch=branches[0])
+    mu_min, mu_max = four_bar_transmission_extremes(link)
+    _require_margin(mu_min, mu_max)
+    review = dict(review, a=a, b=b, c=c, d=1.0, mu_min=mu_min, mu_max=mu_max)
+    return Design(method, data, link, review, positions, None, mu_min, mu_max)
+
+
+def _chen_links(method, theta, psi, theta0, psi0):
+    """Steps 4-5 of FOURB-CR-1/-2 (the sine rule in the two dead-centre triangles): crank a,
+    coupler b, rocker c for frame d = 1."""
+    t0, t, p, p0 = theta0 * _R, theta * _R, psi * _R, psi0 * _R
+    _require(abs(math.sin(t0)) > 1e-12 and abs(math.sin(t + t0)) > 1e-12,
+             f"{method}: sin(theta0) or sin(theta + theta0) is 0: a dead centre on the frame line")
+    p1 = math.sin(p0) / math.sin(t0)
+    p2 = math.sin(p + p0) / math.sin(t + t0)
+    p3 = math.sin(p0 - t0)
+    _require(abs(p3) > 1e-12,
+             f"{method}: sin(psi0 - theta0) = 0: the extended dead centre is degenerate")
+    c = math.sin(t0) / p3
+    return c * (p1 - p2) / 2, c * (p1 + p2) / 2, c
+
+
+def _check_crank_rocker_data(method, theta, psi):
+    """The data of every FOURB-CR method: 0 < psi < 180, |theta| < 180 (crank rotations
+    180 + theta and 180 - theta both positive)."""
+    _require(0 < psi < 180, f"{method}: the rocker swing psi = {psi:g} is not in (0, 180)")
+    _require(-180 < theta < 180, f"{method}: theta = {theta:g} is not in (-180, 180)")
+
+
+@_method("FOURB-CR-1")
+def fourb_cr_1(theta, psi, theta0):
+    """FOURB-CR-1 (Chen; Pamidi): crank-rocker with rocker swing psi while the crank turns
+    180 + theta, the extended dead centre at crank angle theta0 (degrees)."""
+    method = "FOURB-CR-1"
+    _check_crank_rocker_data(method, theta, psi)
+    data = {"theta": theta, "psi": psi, "theta0": theta0}
+    t, p, t0 = theta * _R, psi * _R, theta0 * _R
+    n1, n2, n3 = math.sin(t0), math.cos(t0), math.sin(t + t0)
+    n4, n5 = math.sin(p - t - t0), math.cos(p - t - t0)
+    # ERRATUM S11: psi0 = atan(...) fixes psi0 modulo 180; psi0 + 180 gives the same a and b and
+    # c < 0, so take the one with c = sin(theta0) / sin(psi0 - theta0) > 0.
+    psi0 = _deg(math.atan2(n1 * (n3 + n4), n2 * n3 - n1 * n5))
+    if math.sin(psi0 * _R - t0) * n1 < 0:
+        psi0 += 180.0
+    psi0 = _wrap(psi0)
+    a, b, c = _chen_links(method, theta, psi, theta0, psi0)
+    return _one(_crank_rocker(method, data, a, b, c, 1.0, theta0, psi0, theta, psi,
+                              {"psi0": psi0}))
+
+
+@_method("FOURB-CR-2")
+def fourb_cr_2(theta, psi, psi0):
+    """FOURB-CR-2 (Chen; Pamidi): crank-rocker with rocker swing psi while the crank turns
+    180 + theta, the rocker at angle psi0 at the extended dead centre (degrees)."""
+    method = "FOURB-CR-2"
+    _check_crank_rocker_data(method, theta, psi)
+    data = {"theta": theta, "psi": psi, "psi0": psi0}
+    theta_f = (theta + 180.0) * _R
+    p0 = psi0 * _R
+    y = p0 + psi * _R - theta_f
+    # ERRATUM S1: the printed m2 and m0 are exchanged; with x = tan(theta0) the quadratic is
+    # m2 x^2 + m1 x + m0 = 0 with these (the printed ones solve for cot(theta0)).
+    m2 = math.cos(p0) * math.cos(theta_f) - math.cos(y)
+    m1 = math.sin(y) + math.cos(p0) * math.sin(theta_f) - math.sin(p0) * math.cos(theta_f)
+    m0 = -math.sin(p0) * math.sin(theta_f)
+    roots = _quadratic_roots(m2, m1, m0, f"{method}: the quadratic in tan(theta0)")
+    solutions, rejected = [], []
+    # ERRATUM S11: theta0 = atan(x) fixes theta0 modulo 180; theta0 + 180 gives -a, -b and the
+    # same c, so both are tried (step 8 keeps the one with all links positive, if any).
+    for theta0 in (_wrap(_deg(math.atan(x)) + turn) for x in roots for turn in (0.0, 180.0)):
+        try:
+            a, b, c = _chen_links(method, theta, psi, theta0, psi0)
+            solutions.append(_crank_rocker(method, data, a, b, c, 1.0, theta0, psi0, theta, psi,
+                                           {"theta0": theta0}))
+        except DesignError as error:                  # step 8: only all-positive links
+            rejected.append(f"theta0 = {theta0:.6g}: {error}")
+    _require(solutions, f"{method}: no root gives a crank-rocker ({'; '.join(rejected)})")
+    return Synthesis(method, tuple(solutions), 0, tuple(rejected))
+
+
+def _quadratic_roots(a2, a1, a0, what):
+    """The real roots of a2 x^2 + a1 x + a0 = 0 (one when a2 = 0); DesignError when complex."""
+    scale = max(abs(a2), abs(a1), abs(a0))
+    _require(scale > 0, f"{what} vanishes identically")
+    if abs(a2) <= 1e-14 * scale:
+        _require(abs(a1) > 1e-14 * scale, f"{what} has no root")
+        return [-a0 / a1]
+    disc = a1 * a1 - 4 * a2 * a0
+    _require(disc >= 0, f"{what} has complex roots (discriminant {disc:.6g} < 0): the data "
+                        f"are inconsistent")
+    q = -0.5 * (a1 + math.copysign(math.sqrt(disc), a1))
+    return sorted([q / a2, a0 / q] if q != 0 else [0.0, 0.0])
+
+
+def _cubic_real_roots(a2, a1, a0):
+    """The real roots of x^3 + a2 x^2 + a1 x + a0 = 0, each polished by Newton's method."""
+    p = a1 - a2 * a2 / 3.0
+    q = 2.0 * a2 ** 3 / 27.0 - a2 * a1 / 3.0 + a0
+    disc = (q / 2.0) ** 2 + (p / 3.0) ** 3
+    if disc > 0:
+        s = math.sqrt(disc)
+        u, v = -q / 2.0 + s, -q / 2.0 - s
+        roots = [math.copysign(abs(u) ** (1 / 3), u) + math.copysign(abs(v) ** (1 / 3), v)]
+    else:
+        m = 2.0 * math.sqrt(-p / 3.0)
+        arg = max(-1.0, min(1.0, 3.0 * q / (p * m))) if m else 0.0
+        w = math.acos(arg) / 3.0
+        roots = [m * math.cos(w - 2.0 * math.pi * k / 3.0) for k in range(3)]
+    out = []
+    for x in (r - a2 / 3.0 for r in roots):
+        for _ in range(8):
+            f = ((x + a2) * x + a1) * x + a0
+            df = (3.0 * x + 2.0 * a2) * x + a1
+            if df == 0:
+                break
+            x -= f / df
+        out.append(x)
+    return sorted(out)
+
+
+def _transmission_cubic(t, u):
+    """Step 2 of FOURB-CR-3 and DRAGLINK-2: the positive real roots x of
+    x^3 + 2x^2 - t^2 x - t^2 (1 + t^2) / u^2 = 0, as lambda = t / sqrt(x)."""
+    roots = _cubic_real_roots(2.0, -t * t, -t * t * (1.0 + t * t) / (u * u))
+    return [t / math.sqrt(x) for x in roots if x > 0]
+
+
+@_method("FOURB-CR-3")
+def fourb_cr_3(theta, psi):
+    """FOURB-CR-3 (Freudenstein & Primrose): crank-rocker with rocker swing psi while the crank
+    turns 180 + theta (degrees), with the least greatest deviation of mu from 90 degrees."""
+    method = "FOURB-CR-3"
+    _check_crank_rocker_data(method, theta, psi)
+    _require(abs(theta) >= 1e-6, f"{method}: theta = 0 (to 1e-6 degree: {theta:g}), the unit time "
+                                 f"ratio, makes t = tan(90 deg) infinite; use FOURB-CR-4")
+    data = {"theta": theta, "psi": psi}
+    theta_f, p = (theta + 180.0) * _R, psi * _R
+    t, u = math.tan(theta_f / 2), math.tan((theta_f - p) / 2)
+    _require(abs(u) > 1e-12, f"{method}: theta + 180 - psi = 0 makes u = 0")
+    solutions, rejected = [], []
+    for lam in _transmission_cubic(t, u):
+        if not 1.0 <= lam * lam <= u * u * t * t:
+            rejected.append(f"lambda = {lam:.6g}: lambda^2 is not in [1, u^2 t^2 = "
+                            f"{u * u * t * t:.6g}] (not a crank-rocker)")
+            continue
+        a = math.sin(p / 2)
+        b = abs(lam * a)
+        c = math.sqrt(math.sin(theta_f / 2) ** 2 + lam * lam * math.cos(theta_f / 2) ** 2)
+        d = math.sqrt(math.sin((theta_f - p) / 2) ** 2
+                      + lam * lam * math.cos((theta_f - p) / 2) ** 2)
+        try:
+            theta0, psi0 = _extended_dead_centre(a / d, b / d, c / d)
+            design = _crank_rocker(method, data, a, b, c, d, theta0, psi0, theta, psi,
+                                   {"lambda": lam})
+        except DesignError as error:
+            rejected.append(f"lambda = {lam:.6g}: {error}")
+            continue
+        # Step 5: sin(Delta) = |(a +- d)^2 - c^2 - b^2| / 2bc, + for theta < 0, - for theta > 0
+        # (d = 1): the deviation at the extreme that is the worse one for the sign of theta.
+        ra = design.review
+        sign = 1.0 if theta < 0 else -1.0
+        delta = _deg(math.asin(min(1.0, abs((ra["a"] + sign) ** 2 - ra["c"] ** 2 - ra["b"] ** 2)
+                                   / (2 * ra["b"] * ra["c"]))))
+        review = dict(ra, Delta=delta, theta0=theta0, psi0=psi0)
+        solutions.append(dataclasses.replace(design, review=review))
+    _require(solutions, f"{method}: no real root lambda of the cubic gives a crank-rocker "
+                        f"({'; '.join(rejected) or 'no positive root'})")
+    best = min(range(len(solutions)), key=lambda i: _deviation(solutions[i]))
+    return Synthesis(method, tuple(solutions), best, tuple(rejected))
+
+
+def _extended_dead_centre(a, b, c):
+    """Crank angle theta0 and rocker angle psi0 (degrees) at the extended dead centre of the
+    crank-rocker (review letters, d = 1), the rocker tip above the frame line."""
+    reach = a + b
+    cos_t0 = (1.0 + reach * reach - c * c) / (2.0 * reach)
+    _require(abs(cos_t0) < 1.0, f"the extended dead centre does not exist (cos = {cos_t0:.6g})")
+    theta0 = _deg(math.acos(cos_t0))
+    x, y = reach * math.cos(theta0 * _R) - 1.0, reach * math.sin(theta0 * _R)
+    return theta0, _deg(math.atan2(y, x))
+
+
+def _check_centric_data(method, psi, mu_min):
+    """FOURB-CR-4's data: 0 < psi < 180 and 0 < mu_min < 90 - psi/2 (degrees)."""
+    _require(0 < psi < 180, f"{method}: the rocker swing psi = {psi:g} is not in (0, 180)")
+    _require(0 < mu_min < 90 - psi / 2, f"{method}: mu_min = {mu_min:g} is not in "
+                                        f"(0, 90 - psi/2 = {90 - psi / 2:g})")
+
+
+@_method("FOURB-CR-4")
+def fourb_cr_4(psi, mu_min):
+    """FOURB-CR-4 (Brodell & Soni): centric crank-rocker (theta = 0, unit time ratio) with rocker
+    swing psi and least transmission angle mu_min (degrees)."""
+    method = "FOURB-CR-4"
+    _check_centric_data(method, psi, mu_min)
+    p, m = psi * _R, mu_min * _R
+    b = math.sqrt((1 - math.cos(p)) / (2 * math.cos(m) ** 2))
+    c = math.sqrt((1 - b * b) / (1 - b * b * math.cos(m) ** 2))
+    a = math.sqrt(b * b + c * c - 1)
+    theta0, psi0 = _extended_dead_centre(a, b, c)
+    return _one(_crank_rocker(method, {"psi": psi, "mu_min": mu_min}, a, b, c, 1.0, theta0, psi0,
+                              0.0, psi, {"theta0": theta0, "psi0": psi0}))
+
+
+@_method("FOURB-CR-4 (Volmer)")
+def volmer_crank_rocker(psi, mu_min):
+    """FOURB-CR-4 by Volmer's eqs. (6a)-(6c): the same centric crank-rocker from the ratios
+    d/a, b/a, c/a (crank a = 1), normalised to d = 1."""
+    method = "FOURB-CR-4 (Volmer)"
+    _check_centric_data(method, psi, mu_min)
+    h, cm2 = psi / 2 * _R, math.cos(mu_min * _R) ** 2
+    denominator = cm2 - math.sin(h) ** 2
+    d_a = math.sqrt(cm2 / math.tan(h) ** 2 / denominator)
+    b_a = math.sqrt(math.cos(h) ** 2 / denominator)
+    c_a = 1 / math.sin(h)
+    theta0, psi0 = _extended_dead_centre(1 / d_a, b_a / d_a, c_a / d_a)
+    return _one(_crank_rocker(method, {"psi": psi, "mu_min": mu_min}, 1.0, b_a, c_a, d_a,
+                              theta0, psi0, 0.0, psi,
+                              {"d/a": d_a, "b/a": b_a, "c/a": c_a, "theta0": theta0,
+                               "psi0": psi0}))
+
+
+# -- drag-links: DRAGLINK-1, DRAGLINK-2 -----------------------------------------------------------
+
+def _drag_link(method, data, a, b, c, d, review):
+    """Normalise a drag-link (review letters: crank a, coupler b, output c, frame d) to d = 1 and
+    check that it is one; the branch is settled by the caller."""
+    _require_lengths(a_crank=a, b_coupler=b, c_output=c, d_frame=d)
+    a, b, c = a / d, b / d, c / d
+    link = four_bar_from_review(a, b, c, 1.0)
+    kind = grashof_type(link)
+    _require(kind == "drag-link", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
+                                  f"c = {c:.6g}, d = 1 is a {kind}, not a drag-link")
+    mu_min, mu_max = four_bar_transmission_extremes(link)
+    _require_margin(mu_min, mu_max)
+    return link, dict(review, a=a, b=b, c=c, d=1.0, mu_min=mu_min, mu_max=mu_max)
+
+
+@_method("DRAGLINK-1")
+def draglink_1(dpsi0, mu_min):
+    """DRAGLINK-1 (Bagci): drag-link whose output turns dpsi0 while the crank turns 180 degrees
+    between the crank-on-frame-line positions, with transmission angles mu_min, 180 - mu_min
+    there."""
+    method = "DRAGLINK-1"
+    _require(0 < dpsi0 < 360, f"{method}: the output rotation dpsi0 = {dpsi0:g} is not in (0, 360)")
+    _require(0 < mu_min < 90, f"{method}: mu_min = {mu_min:g} is not in (0, 90)")
+    data = {"dpsi0": dpsi0, "mu_min": mu_min}
+    dp, m = dpsi0 * _R, mu_min * _R
+    c = 1.0
+    # ERRATUM S3: b = c sqrt(sin dpsi0 / sin(dpsi0 - 2 mu_min)); the print has dpsi0 - mu_min.
+    ratio = math.sin(dp) / math.sin(dp - 2 * m) if math.sin(dp - 2 * m) else -1.0
+    _require(ratio > 0, f"{method}: sin(dpsi0) / sin(dpsi0 - 2 mu_min) = {ratio:.6g} is not "
+                        f"positive (footnote 4: no solution)")
+    b = c * math.sqrt(ratio)
+    lam = math.atan(b * math.sin(m) / (c + b * math.cos(m)))
+    a1 = b * math.sin(m) / math.sin(lam)
+    b1 = (-c * math.cos(dp) + b * math.cos(dp - m)) / math.cos(lam)
+    a = (a1 + b1) / 2
+    d = a1 - a
+    link, review = _drag_link(method, data, a, b, c, d,
+                              {"lambda": _deg(lam), "a1": a1, "b1": b1, "b_for_c1": b,
+                               "a_for_c1": a})
+    # The design positions are the crank on the frame line, phi = 0 (diagonal a - d = b1,
+    # mu = mu_min) and phi = 180 (diagonal a + d = a1, mu = 180 - mu_min). There the output lies
+    # at the triangle's angle at the output pivot (opposite the coupler b: lam2 and lam) from the
+    # frame line, on the side that keeps it on one branch; the branch is the one on which the
+    # output turns dpsi0 (counter-clockwise, with the crank) from phi = 0 to phi = 180.
+    lam2 = _deg(math.atan2(b * math.sin(m), c - b * math.cos(m)))
+    for branch in (1, 2):
+        psi_1 = next(x for x in (lam2, -lam2) if _branch_at(link, 0.0, x) == branch)
+        psi_2 = next(x for x in (180.0 - _deg(lam), 180.0 + _deg(lam))
+                     if _branch_at(link, 180.0, x) == branch)
+        if abs(_wrap(psi_2 - psi_1 - dpsi0)) < 1e-6:
+            break
+    else:
+        raise DesignError(f"{method}: on neither branch does the output turn dpsi0 = {dpsi0:g}")
+    link = link._replace(branch=branch)
+    positions = ((0.0, _wrap(psi_1)), (180.0, _wrap(psi_2)))
+    return _one(Design(method, data, link, review, positions, None,
+                       review["mu_min"], review["mu_max"]))
+
+
+def _draglink_2_links(dphi, dpsi, lam):
+    """DRAGLINK-2's link ratios a/d, b/d, c/d for lambda = b/d, coupler / frame (ERRATUM S4), by
+    step 5 with epsilon = lambda / ut (the same as the procedure without optimisation)."""
+    dl = (dphi - dpsi) * _R
+    t, u = math.tan(dphi * _R / 2), math.tan(dpsi * _R / 2)
+    eps = lam / (u * t)
+    a = math.sin(dpsi * _R / 2) / math.sin(dl / 2) * math.sqrt(1 + t * t * eps * eps)
+    b = u * t * eps
+    c = math.sin(dphi * _R / 2) / math.sin(dl / 2) * math.sqrt(1 + u * u * eps * eps)
+    return a, b, c
+
+
+@_method("DRAGLINK-2")
+def draglink_2(dphi, dpsi, lam=None):
+    """DRAGLINK-2 (Tsai): drag-link with unit velocity ratio at two positions dphi apart on the
+    crank and dpsi on the output (degrees); lambda = b/d given, or chosen for the least greatest
+    deviation of mu from 90 degrees (lam=None)."""
+    method = "DRAGLINK-2"
+    dl = dphi - dpsi
+    # Footnote 5: 0 <= dL <= 180, 90 + dL/2 <= dphi <= 270 + dL/2; the algorithm fails at 180.
+    _require(0 < dl < 180, f"{method}: dL = dphi - dpsi = {dl:g} is not in (0, 180)")
+    _require(90 + dl / 2 <= dphi <= 270 + dl / 2,
+             f"{method}: dphi = {dphi:g} is not in [90 + dL/2, 270 + dL/2] = "
+             f"[{90 + dl / 2:g}, {270 + dl / 2:g}]")
+    _require(abs(dphi - 180) >= 1e-6, f"{method}: dphi = 180 (to 1e-6 degree: {dphi:g}) makes "
+                                      f"t = tan(dphi/2) infinite")
+    _require(0 < dpsi < 360 and dpsi != 180,
+             f"{method}: dpsi = {dpsi:g} is not in (0, 360) without 180")
+    data = {"dphi": dphi, "dpsi": dpsi}
+    t, u = math.tan(dphi * _R / 2), math.tan(dpsi * _R / 2)
+    if lam is None:
+        # ERRATUM S13: lambda = t / sqrt(x) is negative for dphi > 180 (t < 0), and b/d = lambda
+        # with it; the lengths depend on lambda^2 but b: take |lambda| (FOURB-CR-3 takes |b|).
+        lambdas = [abs(x) for x in _transmission_cubic(t, u)]
+    else:
+        _require(lam > 0, f"{method}: lambda = {lam:g} is not positive")
+        data["lambda"] = lam
+        lambdas = [lam]
+    solutions, rejected = [], []
+    for value in lambdas:
+        if lam is None and not 1.0 <= value * value <= u * u * t * t:
+            rejected.append(f"lambda = {value:.6g}: lambda^2 is not in [1, u^2 t^2 = "
+                            f"{u * u * t * t:.6g}]")
+            continue
+        try:
+            solutions.append(_draglink_2_design(method, data, dphi, dpsi, value))
+        except DesignError as error:
+            rejected.append(f"lambda = {value:.6g}: {error}")
+    _require(solutions, f"{method}: no drag-link: {'; '.join(rejected) or 'no positive root'}")
+    best = min(range(len(solutions)), key=lambda i: solutions[i].review["dmu_max"])
+    return Synthesis(method, tuple(solutions), best, tuple(rejected))
+
+
+def _draglink_2_design(method, data, dphi, dpsi, lam):
+    """One DRAGLINK-2 design for lambda: link ratios, greatest deviation of mu, crank angle phi1
+    at the first design position (step 8), the positions and branch."""
+    a, b, c = _draglink_2_links(dphi, dpsi, lam)
+    link, review = _drag_link(method, data, a, b, c, 1.0, {"lambda": lam})
+    a, b, c, d = review["a"], review["b"], review["c"], 1.0
+    # ERRATUM S5: sin(dmu_i) = (a^2 + d^2 - b^2 - c^2 +- 2da) / 2bc (the print wraps the quotient
+    # in a sine) and dmu_max = max(|dmu_1|, |dmu_2|) (the print: max(mu_1, mu_2)).
+    dmu = [_deg(math.asin(max(-1.0, min(1.0, (a * a + d * d - b * b - c * c + s * 2 * d * a)
+                                        / (2 * b * c))))) for s in (1, -1)]
+    dl = (dphi - dpsi) * _R
+    r = -b * math.cos(dpsi * _R / 2) / (a * math.sin(dl / 2))
+    s = -d * math.sin(dpsi * _R / 2) / (a * math.sin(dl / 2))
+    phi1 = (_deg(math.atan2(r, s)) - dphi / 2) % 360.0
+    review.update(dmu_1=dmu[0], dmu_2=dmu[1], dmu_max=max(abs(x) for x in dmu), phi1=phi1)
+    # At a unit-velocity-ratio position the coupler is parallel to the frame: the output pin is
+    # the crank pin moved by the coupler along the frame line.
+    positions = []
+    for phi in (phi1, phi1 + dphi):
+        px, py = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
+        pin = min(((px + sign * link.c, py) for sign in (1, -1)),
+                  key=lambda q: abs(math.hypot(q[0] - link.a, q[1]) - link.d))
+        _require(abs(math.hypot(pin[0] - link.a, pin[1]) - link.d) < 1e-9 * link.d,
+                 f"{method}: the coupler is not parallel to the frame at phi = {phi:g}")
+        psi = _deg(math.atan2(pin[1], pin[0] - link.a))
+        positions.append((phi, psi, _branch_at(link, phi, psi)))
+    _require(positions[0][2] == positions[1][2],
+             f"{method}: the two design positions lie on different branches")
+    _require(abs(_wrap(positions[1][1] - positions[0][1] - dpsi)) < 1e-6,
+             f"{method}: the output turns {positions[1][1] - positions[0][1]:.6g}, not {dpsi:g}")
+    link = link._replace(branch=positions[0][2])
+    psi1 = _wrap(positions[0][1])
+    return Design(method, data, link, review,
+                  ((phi1, psi1), (phi1 + dphi, _wrap(psi1 + dpsi))), None,
+                  review["mu_min"], review["mu_max"])
+
+
+# -- function generators: FOURB-FG2-1, FOURB-FG3-1 -------------------------------------------------
+
+def _limit_angles(link):
+    """Input angles (degrees, in [0, 360)) at which the four-bar meets a dead centre of its input
+    (coupler and output in line, mu = 0 or 180): the ends of its assembly ranges."""
+    out = []
+    for reach in (link.c + link.d, abs(link.c - link.d)):
+        # |B - O2|^2 = a^2 + b^2 - 2ab cos(phi) = reach^2
+        cos_phi = (link.a ** 2 + link.b ** 2 - reach * reach) / (2 * link.a * link.b)
+        if abs(cos_phi) <= 1 + 1e-12:
+            phi = _deg(math.acos(max(-1.0, min(1.0, cos_phi))))
+            out += [phi, (360.0 - phi) % 360.0]
+    return out
+
+
+def _travel_problem(link, positions):
+    """Why the four-bar cannot drive through the positions (phi, psi) in turn on one branch
+    without a dead centre, or None: a branch change, a limit angle inside the travel, or a
+    transmission angle within MU_MARGIN of one."""
+    branches = {_branch_at(link, phi, psi) for phi, psi in positions}
+    if len(branches) > 1:
+        return "branch defect: the positions lie on different assembly branches"
+    lo = min(phi for phi, _ in positions)
+    hi = max(phi for phi, _ in positions)
+    for limit in _limit_angles(link):
+        inside = lo + (limit - lo) % 360.0
+        if inside <= hi:
+            return f"dead centre: the input meets a limit position at phi = {limit:.6g}"
+    try:
+        _require_margin(*_travel_transmission(link, lo, hi))
+    except DesignError as error:
+        return str(error)
+    return None
+
+
+def _travel_transmission(link, lo, hi):
+    """Transmission-angle extremes (degrees) over input angles lo..hi by eq. (1): at the ends, and
+    at phi = 0 or 180 (mod 360) where the travel passes them."""
+    phis = [lo, hi] + [lo + (x - lo) % 360.0 for x in (0.0, 180.0)]
+    values = [_deg(math.acos(max(-1.0, min(1.0, _cos_transmission(link, phi)))))
+              for phi in phis if phi <= hi]
+    return min(values), max(values)
+
+
+@_method("FOURB-FG2-1")
+def fourb_fg2_1(phij, psij, phi0, a, c):
+    """FOURB-FG2-1 (Chiang): four-bar whose output turns psij while the crank turns phij from
+    phi0 (degrees), for given crank a/d and output c/d; finds b/d and the output's psi0."""
+    method = "FOURB-FG2-1"
+    _require(a > 0 and c > 0, f"{method}: link length a = {a:g} or c = {c:g} is not positive")
+    _require(abs(math.sin((phij - psij) * _R / 2)) > 1e-12,
+             f"{method}: phij = psij (mod 360): sin(xi - epsilon) = 0")
+    _require(phij != 0, f"{method}: the crank rotation phij is 0")
+    data = {"phij": phij, "psij": psij, "phi0": phi0, "a": a, "c": c}
+    xi, ej = phij * _R / 2, psij * _R / 2
+    r_a = math.sin(ej) / math.sin(xi - ej)
+    r_b = math.sin(xi) / math.sin(xi - ej)
+    # ERRATUM S12: steps 3-5 multiplied through by cos(phi0), which the printed a1, b1, c1 divide
+    # by, so that phi0 = 90 is no singularity: a1 sin psi0 + b1 cos psi0 + c1 = 0 with
+    f0 = phi0 * _R
+    a1 = r_a * math.cos(ej) / a + math.cos(f0 + xi - ej)
+    b1 = r_a * math.sin(ej) / a - math.sin(f0 + xi - ej)
+    c1 = -r_b / c * math.sin(f0 + xi)
+    radius = math.hypot(a1, b1)
+    _require(radius > 0 and abs(c1) <= radius,
+             f"{method}: a1 sin(psi0) + b1 cos(psi0) + c1 = 0 has no real root (|c1| = "
+             f"{abs(c1):.6g} > sqrt(a1^2 + b1^2) = {radius:.6g})")
+    base = math.atan2(b1, a1)          # a1 sin x + b1 cos x = R sin(x + base)
+    alpha = math.asin(max(-1.0, min(1.0, -c1 / radius)))
+    solutions, rejected = [], []
+    for psi0 in sorted({_wrap(_deg(alpha - base)), _wrap(_deg(math.pi - alpha - base))}):
+        xa, ya = a * math.cos(f0), a * math.sin(f0)
+        xb, yb = 1.0 + c * math.cos(psi0 * _R), c * math.sin(psi0 * _R)
+        b = math.hypot(xb - xa, yb - ya)
+        try:
+            _require_lengths(b_coupler=b, a_crank=a, c_output=c, d_frame=1.0)
+        except DesignError as error:
+            rejected.append(f"psi0 = {psi0:.6g}: {error}")
+            continue
+        link = four_bar_from_review(a, b, c, 1.0)
+        positions = ((phi0, psi0), (phi0 + phij, _wrap(psi0 + psij)))
+        problem = _travel_problem(link, positions)
+        if problem:
+            rejected.append(f"psi0 = {psi0:.6g}, b = {b:.6g}: {problem}")
+            continue
+        link = link._replace(branch=_branch_at(link, phi0, psi0))
+        travel = (min(phi0, phi0 + phij), max(phi0, phi0 + phij))
+        mu_min, mu_max = _travel_transmission(link, *travel)
+        review = {"a": a, "b": b, "c": c, "d": 1.0, "psi0": psi0}
+        solutions.append(Design(method, data, link, review, positions, travel, mu_min, mu_max))
+    _require(solutions, f"{method}: no solution drives through both positions: "
+                        f"{'; '.join(rejected)}")
+    best = min(range(len(solutions)), key=lambda i: _deviation(solutions[i]))
+    return Synthesis(method, tuple(solutions), best, tuple(rejected))
+
+
+def _solve3(matrix, rhs):
+    """The solution of a 3x3 linear system by Cramer's rule; DesignError when singular."""
+    def det(m):
+        return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+    d0 = det(matrix)
+    scale = max(abs(x) for row in matrix for x in row) ** 3
+    _require(abs(d0) > 1e-12 * scale, "the system [A]{k} = {B} is singular: the three positions "
+                                      "do not determine a four-bar")
+    out = []
+    for j in range(3):
+        m = [list(row) for row in matrix]
+        for i in range(3):
+            m[i][j] = rhs[i]
+        out.append(det(m) / d0)
+    return out
+
+
+@_method("FOURB-FG3-1")
+def fourb_fg3_1(phis, psis):
+    """FOURB-FG3-1 (Freudenstein's equation): four-bar whose output is at psis[i] when the crank
+    is at phis[i], three positions (degrees; the review's output angles, see the names above)."""
+    method = "FOURB-FG3-1"
+    _require(len(phis) == 3 and len(psis) == 3, f"{method}: three input and three output angles")
+    data = {"phi1": phis[0], "phi2": phis[1], "phi3": phis[2],
+            "psi1": psis[0], "psi2": psis[1], "psi3": psis[2]}
+    f, p = [x * _R for x in phis], [x * _R for x in psis]
+    matrix = [[math.cos(f[i]), math.cos(p[i]), -1.0] for i in range(3)]
+    rhs = [math.cos(f[i] - p[i]) for i in range(3)]
+    try:
+        k1, k2, k3 = _solve3(matrix, rhs)
+    except DesignError as error:
+        raise DesignError(f"{method}: {error}") from None
+    _require(k1 > 0, f"{method}: k1 = {k1:.6g}: link length c/d = 1/k1 is not positive")
+    _require(k2 > 0, f"{method}: k2 = {k2:.6g}: link length a/d = 1/k2 is not positive")
+    c, a = 1 / k1, 1 / k2
+    b2 = a * a + c * c + 1 - 2 * a * c * k3
+    _require(b2 > 0, f"{method}: b^2 = a^2 + c^2 + d^2 - 2ac k3 = {b2:.6g}: the coupler length "
+                     f"is not real and positive")
+    b = math.sqrt(b2)
+    _require_lengths(a_crank=a, b_coupler=b, c_output=c, d_frame=1.0)
+    mus = [_acos_deg((b * b + c * c - (a * a + 1) + 2 * a * math.cos(x)) / (2 * b * c),
+                     f"{method}: transmission angle") for x in f]
+    # The review's output angle is measured from the opposite direction (S7): paper psi =
+    # psi - 180.
+    positions = tuple((phi, _wrap(psi - 180.0)) for phi, psi in zip(phis, psis))
+    link = four_bar_from_review(a, b, c, 1.0)
+    problem = _travel_problem(link, positions)
+    review = {f"A{i + 1}{j + 1}": matrix[i][j] for i in range(3) for j in range(3)}
+    review.update({f"B{i + 1}": rhs[i] for i in range(3)})
+    review.update(k1=k1, k2=k2, k3=k3, a=a, b=b, c=c, d=1.0, mu1=mus[0], mu2=mus[1], mu3=mus[2])
+    link = link._replace(branch=_branch_at(link, *positions[0]))
+    travel = (min(phis), max(phis))
+    mu_min, mu_max = _travel_transmission(link, *travel)
+    design = Design(method, data, link, review, positions, travel, mu_min, mu_max)
+    _require(problem is None, f"{method}: the design a = {a:.6g}, b = {b:.6g}, c = {c:.6g}, "
+                              f"d = 1 cannot drive through the positions: {problem}", design)
+    return _one(design)
+
+
+# -- slider-cranks: SLID-FG2-1, SLID-FG2-2 -------------------------------------------------------
+
+def _slider_design(method, data, s1, s2, theta1, theta2, review):
+    """Chen's slider-crank from its dead-centre positions (step 4 of SLID-FG2-1, step 1 of
+    SLID-FG2-2): crank r, rod l, checks, conversion to the paper's letters."""
+    c1, c2 = math.cos(theta1 * _R), math.cos(theta2 * _R)
+    _require(abs(c1) > 1e-12 and abs(c2) > 1e-12, f"{method}: cos(theta1) or cos(theta2) is 0")
+    far, near = s1 / c1, s2 / c2          # pivot-to-pin distances l + r and l - r
+    _require(far > 0 and near > 0, f"{method}: s1/cos(theta1) = {far:.6g} and s2/cos(theta2) = "
+                                   f"{near:.6g} (the distances l + r, l - r) are not both "
+                                   f"positive")
+    r = (far - near) / 2
+    l = (far + near) / 2
+    epsilon = review["epsilon"]
+    _require_lengths(r_crank=r, l_rod=l)
+    _require(s1 > 0 and s2 > 0, f"{method}: a slider position s1 = {s1:.6g} or s2 = {s2:.6g} is "
+                                f"not positive (the rod would point backwards)")
+    link = slider_crank_from_review(r, l, epsilon)
+    mu_min, mu_max = slider_transmission_extremes(link)
+    _require_margin(mu_min, mu_max)
+    review = dict(review, r=r, l=l, theta1=theta1, theta2=theta2, s1=s1, s2=s2, mu_min=mu_min)
+    positions = ((theta1, s1), (theta2 - 180.0, s2))      # ERRATUM S10: theta2 is the pin's
+    return Design(method, data, link, review, positions, None, mu_min, mu_max)
+
+
+@_method("SLID-FG2-1")
+def slid_fg2_1(dtheta, ds, epsilon):
+    """SLID-FG2-1 (Chen): slider-crank whose slider moves ds between the dead centres while the
+    crank turns dtheta (degrees), for the assumed offset epsilon."""
+    method = "SLID-FG2-1"
+    _require(ds > 0, f"{method}: the slider displacement ds = {ds:g} is not positive")
+    _require(0 < dtheta < 360 and abs(math.sin(dtheta * _R)) > 1e-12,
+             f"{method}: dtheta = {dtheta:g} is not in (0, 360) without 180: cot(dtheta) is "
+             f"infinite")
+    data = {"dtheta": dtheta, "ds": ds, "epsilon": epsilon}
+    disc = ds * ds - 4 * (epsilon * ds / math.tan(dtheta * _R) + epsilon * epsilon)
+    _require(disc >= 0, f"{method}: s1 is complex (ds^2 - 4(epsilon ds cot(dtheta) + "
+                        f"epsilon^2) = {disc:.6g} < 0)")
+    s1 = ds / 2 + math.sqrt(disc) / 2
+    s2 = s1 - ds
+    theta1 = _deg(math.atan(-epsilon / s1))
+    theta2 = theta1 + dtheta + 180.0
+    return _one(_slider_design(method, data, s1, s2, theta1, theta2, {"epsilon": epsilon}))
+
+
+@_method("SLID-FG2-2")
+def slid_fg2_2(theta1, theta2, s1, s2, tolerance=1e-9):
+    """SLID-FG2-2 (Chen): slider-crank with dead centres at crank theta1, slider s1 and (the
+    review's theta2: the pin's direction, crank at theta2 - 180) slider s2 (degrees)."""
+    method = "SLID-FG2-2"
+    data = {"theta1": theta1, "theta2": theta2, "s1": s1, "s2": s2}
+    _require(abs(math.cos(theta1 * _R)) > 1e-12, f"{method}: cos(theta1) = 0")
+    epsilon = -s1 * math.tan(theta1 * _R)
+    # ERRATUM S8: both pins lie on the slider's line y = -epsilon, so the data must have
+    # s1 tan(theta1) = s2 tan(theta2); the formulas use only the first.
+    epsilon_2 = -s2 * math.tan(theta2 * _R)
+    if abs(epsilon - epsilon_2) > tolerance * max(abs(s1), abs(s2)):
+        try:                                   # what the formulas give, for the error to show
+            design = _slider_design(method, data, s1, s2, theta1, theta2, {"epsilon": epsilon})
+        except DesignError:
+            design = None
+        raise DesignError(f"{method}: inconsistent dead centres: the offset from position 1, "
+                          f"-s1 tan(theta1) = {epsilon:.6g}, differs from that from position 2, "
+                          f"-s2 tan(theta2) = {epsilon_2:.6g}", design)
+    design = _slider_design(method, data, s1, s2, theta1, theta2, {"epsilon": epsilon})
+    return _one(design)
+
+
+# -- the analysis adapter ------------------------------------------------------------------------
+
+def analyze(kind, dims, phis, branch=1):
+    """The adapter to the analysis: output angle psi (degrees, (-180, 180]) of the plane
+    four-bar ("plane", dims a b c d) or slider position x ("slider", dims b c e) at each input
+    angle phi (degrees) on branch 1 or 2, computed by the accurate engine; None where the
+    linkage cannot be assembled."""
+    if kind not in ("plane", "slider"):
+        raise ValueError(f"analyze: kind {kind!r} is neither 'plane' nor 'slider'")
+    linkage = _engine_linkage(kind, tuple(dims[name] for name in LINKAGE_DIMENSIONS[kind]))
+    return [m.output if m.status in (ASSEMBLED, DEAD_CENTRE) else None
+            for m in linkage.sweep(phis, branch, derivatives=0)]
+
+
+@functools.lru_cache(maxsize=256)
+def _engine_linkage(kind, values):
+    """The engine's Linkage, built once per design (its constants take exact arithmetic)."""
+    return Linkage(kind, **dict(zip(LINKAGE_DIMENSIONS[kind], values)))
+
+
+# -- measuring the analysed linkage ---------------------------------------------------------------
+
+def _kind_dims(link):
+    """The adapter's kind and dims of a FourBar or SliderCrank."""
+    if isinstance(link, FourBar):
+        return "plane", {"a": link.a, "b": link.b, "c": link.c, "d": link.d}
+    return "slider", {"b": link.b, "c": link.c, "e": link.e}
+
+
+def _outputs(link, phis):
+    """The analysed output at each input angle (degrees), None where not assembled."""
+    kind, dims = _kind_dims(link)
+    return analyze(kind, dims, list(phis), link.branch)
+
+
+def _output(link, phi):
+    """The analysed output at one input angle."""
+    return _outputs(link, (phi,))[0]
+
+
+def measured_transmission_angle(link, phi, output):
+    """The transmission angle (degrees) measured on the positions of the analysed linkage: at the
+    coupler-output joint (four-bar); between the rod and the normal to the slider's line."""
+    bx, by = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
+    if isinstance(link, FourBar):
+        dx, dy = link.a + link.d * math.cos(output * _R), link.d * math.sin(output * _R)
+        u, v = (bx - dx, by - dy), (link.a - dx, -dy)
+        return _deg(math.atan2(abs(u[0] * v[1] - u[1] * v[0]), u[0] * v[0] + u[1] * v[1]))
+    wx, wy = output - bx, link.e - by
+    return _deg(math.atan2(abs(wx), abs(wy)))
+
+
+def _continuous(values, angular):
+    """Values along a path with 360-degree jumps of angles removed."""
+    out = [values[0]]
+    for v in values[1:]:
+        out.append(v + 360.0 * round((out[-1] - v) / 360.0) if angular else v)
+    return out
+
+
+def _golden(f, lo, hi, maximum):
+    """The extreme of f on [lo, hi] by golden-section search: (x, f(x))."""
+    g = (math.sqrt(5) - 1) / 2
+    sign = -1.0 if maximum else 1.0
+    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
+    f1, f2 = sign * f(x1), sign * f(x2)
+    for _ in range(80):
+        if f1 < f2:
+            hi, x2, f2 = x2, x1, f1
+            x1 = hi - g * (hi - lo)
+            f1 = sign * f(x1)
+        else:
+            lo, x1, f1 = x1, x2, f2
+            x2 = lo + g * (hi - lo)
+            f2 = sign * f(x2)
+        if hi - lo < 1e-12:
+            break
+    x = (lo + hi) / 2
+    return x, f(x)
+
+
+def _stationary(f, lo, hi, maximum, h=1e-3):
+    """The extreme of f on [lo, hi]: golden-section search, then the zero of the central
+    difference of f (step h) by bisection, which places a smooth extreme to ~1e-10 rather than
+    ~1e-8; the better of the two is kept (a kink, |.|, is better left to the first)."""
+    x, fx = _golden(f, lo, hi, maximum)
+    slope = lambda z: f(z + h) - f(z - h)                      # noqa: E731
+    left, right = x - 1e-4, x + 1e-4
+    if left - h < lo or right + h > hi:                        # f is known on [lo, hi] only
+        return x, fx
+    sl, sr = slope(left), slope(right)
+    if sl * sr < 0:
+        for _ in range(60):
+            mid = (left + right) / 2
+            sm = slope(mid)
+            if sm == 0:
+                left = right = mid
+                break
+            if (sm > 0) == (sl > 0):
+                left, sl = mid, sm
+            else:
+                right = mid
+        z = (left + right) / 2
+        fz = f(z)
+        if (fz >= fx) if maximum else (fz <= fx):
+            x, fx = z, fz
+    return x, fx
+
+
+class Extreme(NamedTuple):
+    """An extreme of a measured quantity: where (input angle, degrees) and its value."""
+    phi: float
+    value: float
+
+
+class Measured(NamedTuple):
+    """What the analysed linkage does over an input range (degrees): whether it assembles
+    throughout, the output's and the transmission angle's extremes, the net output change."""
+    assembled: bool
+    output_min: Extreme
+    output_max: Extreme
+    output_change: float          # output at the end minus at the start, followed continuously
+    mu_min: Extreme
+    mu_max: Extreme
+
+
+def _in_line(link, phi):
+    """cross(B, P - B) for the analysed linkage at phi: zero where crank and coupler are in line
+    (a dead centre of the output), B the crank pin, P the output pin or slider; None if not
+    assembled."""
+    out = _output(link, phi)
+    if out is None:
+        return None
+    bx, by = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
+    if isinstance(link, FourBar):
+        px, py = link.a + link.d * math.cos(out * _R), link.d * math.sin(out * _R)
+    else:
+        px, py = out, link.e
+    return bx * (py - by) - by * (px - bx)
+
+
+def _dead_centre(link, lo, hi):
+    """The crank angle in [lo, hi] at which crank and coupler come in line (bisection on the
+    analysed positions), or None when they do not change sides there."""
+    g_lo, g_hi = _in_line(link, lo), _in_line(link, hi)
+    if g_lo is None or g_hi is None or g_lo * g_hi > 0:
+        return None
+    for _ in range(200):
+        mid = (lo + hi) / 2
+        if mid in (lo, hi):
+            break
+        g_mid = _in_line(link, mid)
+        if g_mid is None:
+            return None
+        if (g_mid > 0) == (g_lo > 0):
+            lo, g_lo = mid, g_mid
+        else:
+            hi = mid
+    return (lo + hi) / 2
+
+
+def measure(link, lo=0.0, hi=360.0, samples=720):
+    """Measure the analysed linkage over input angles lo..hi (default: a full turn) by dense
+    sampling: the output's extremes at the dead centres (crank and coupler in line, located by
+    bisection) or the travel's ends, the transmission angle's refined on the analysis."""
+    angular = isinstance(link, FourBar)
+    step = (hi - lo) / samples
+    phis = [lo + step * i for i in range(samples)] + [hi]
+    outputs = _outputs(link, phis)
+    if any(o is None for o in outputs):
+        nan = Extreme(math.nan, math.nan)
+        return Measured(False, nan, nan, math.nan, nan, nan)
+    outputs = _continuous(outputs, angular)
+    full_turn = abs(hi - lo - 360.0) < 1e-9
+
+    def output_near(phi, reference):
+        """The output at phi, continuous with `reference`."""
+        value = _output(link, phi)
+        return value + 360.0 * round((reference - value) / 360.0) if angular else value
+
+    if full_turn and angular and abs(outputs[-1] - outputs[0]) > 180.0:
+        out_min = out_max = Extreme(math.nan, math.nan)      # the output turns fully
+    else:
+        in_line = [_in_line(link, phi) for phi in phis]
+        candidates = [] if full_turn else [Extreme(phis[0], outputs[0]),
+                                           Extreme(phis[-1], outputs[-1])]
+        for i in range(samples + 1):
+            if in_line[i] == 0:                                # a sample on a dead centre
+                x = phis[i]
+            elif i < samples and in_line[i] * in_line[i + 1] < 0:
+                x = _dead_centre(link, phis[i], phis[i + 1])
+            else:
+                continue
+            if x is not None:
+                candidates.append(Extreme(x % 360.0 if full_turn else x,
+                                          output_near(x, outputs[i])))
+        if not candidates:                                     # a constant output
+            candidates = [Extreme(phi, o) for phi, o in zip(phis, outputs)]
+        out_min = min(candidates, key=lambda e: e.value)
+        out_max = max(candidates, key=lambda e: e.value)
+
+    def mu_at(phi):
+        return measured_transmission_angle(link, phi, _output(link, phi))
+
+    def mu_extreme(values, maximum):
+        """The greatest (least) transmission angle: every sampled local extreme (the ends
+        included) refined within its neighbouring samples."""
+        candidates = []
+        last = len(values) - 1
+        for i, v in enumerate(values):
+            if full_turn:
+                neighbours = [values[i - 1 if i else last - 1], values[i + 1 if i < last else 1]]
+            else:
+                neighbours = [values[j] for j in (i - 1, i + 1) if 0 <= j <= last]
+            if all((v >= n) if maximum else (v <= n) for n in neighbours):
+                left = phis[i] - step if full_turn or i > 0 else phis[i]
+                right = phis[i] + step if full_turn or i < last else phis[i]
+                candidates.append(Extreme(phis[i], v))
+                if right > left:
+                    x, value = _stationary(mu_at, left, right, maximum)
+                    candidates.append(Extreme(x % 360.0 if full_turn else x, value))
+        pick = max if maximum else min
+        return pick(candidates, key=lambda e: e.value)
+
+    mus = [measured_transmission_angle(link, phi, o) for phi, o in zip(phis, outputs)]
+    return Measured(True, out_min, out_max, outputs[-1] - outputs[0],
+                    mu_extreme(mus, False), mu_extreme(mus, True))
+
+
+def output_change(link, phi_from, phi_to, samples=720):
+    """The change of the analysed output while the input turns from phi_from to phi_to (degrees),
+    followed continuously; None if the linkage does not assemble throughout."""
+    phis = [phi_from + (phi_to - phi_from) * i / samples for i in range(samples + 1)]
+    values = _outputs(link, phis)
+    if any(v is None for v in values):
+        return None
+    values = _continuous(values, isinstance(link, FourBar))
+    return values[-1] - values[0]
+
+
+def velocity_ratio(link, phi):
+    """d(output)/d(input) of the analysed linkage at phi (degrees per degree, or length per
+    degree) from its positions: the velocities of crank and output pins along the coupler agree,
+    b sin(phi - theta3) = d sin(psi - theta3) dpsi/dphi (slider: x' cos theta3)."""
+    out = _output(link, phi)
+    if out is None:
+        return None
+    bx, by = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
+    if isinstance(link, FourBar):
+        px, py = link.a + link.d * math.cos(out * _R), link.d * math.sin(out * _R)
+        theta3 = math.atan2(py - by, px - bx)
+        return (link.b * math.sin(phi * _R - theta3)) / (link.d * math.sin(out * _R - theta3))
+    theta3 = math.atan2(link.e - by, out - bx)
+    return -link.b * math.sin(phi * _R - theta3) / math.cos(theta3) * _R
+
+
+class Check(NamedTuple):
+    """One thing the analysed linkage should do: measured against expected; miss is the absolute
+    difference (angles: modulo 360), None when it could not be measured."""
+    name: str
+    measured: object
+    expected: float
+    unit: str                     # "deg" (modulo 360), "rotation" (degrees), "length", "ratio"
+
+    @property
+    def miss(self):
+        if self.measured is None or (isinstance(self.measured, float)
+                                     and math.isnan(self.measured)):
+            return math.inf
+        difference = self.measured - self.expected
+        return abs(_wrap(difference)) if self.unit == "deg" else abs(difference)
+
+
+def analyze_design(design):
+    """Run the design through the analysis and measure what it really does against what its
+    method prescribes and what the design claims: a list of Check."""
+    link, data, checks = design.linkage, design.data, []
+    method = design.method
+    add = lambda name, measured, expected, unit="deg": checks.append(        # noqa: E731
+        Check(name, measured, expected, unit))
+    if method.startswith("FOURB-CR"):
+        # Full turn: the rocker's extremes are the dead centres; from the extended one (least
+        # rocker angle) the crank turns 180 + theta, counter-clockwise, to the folded one while
+        # the rocker turns with it (the sense in which the review's theta is signed).
+        m = measure(link)
+        add("assembled", float(m.assembled), 1.0, "ratio")
+        add("rocker_swing", m.output_max.value - m.output_min.value, data["psi"])
+        add("crank_rotation", (m.output_max.phi - m.output_min.phi) % 360.0,
+            180.0 + data.get("theta", 0.0))
+        for (phi, psi), extreme, where in ((design.positions[0], m.output_min, "extended"),
+                                           (design.positions[1], m.output_max, "folded")):
+            add(f"{where}_dead_centre_phi", extreme.phi, phi)
+            add(f"{where}_dead_centre_psi", extreme.value, psi)
+        add("mu_min", m.mu_min.value, design.mu_min)
+        add("mu_max", m.mu_max.value, design.mu_max)
+        if "mu_min" in data:
+            add("mu_min_prescribed", m.mu_min.value, data["mu_min"])
+    elif method.startswith("DRAGLINK"):
+        m = measure(link)
+        add("assembled", float(m.assembled), 1.0, "ratio")
+        add("output_turn", m.output_change, 360.0, "rotation")
+        (phi1, psi1), (phi2, psi2) = design.positions
+        add("position1_psi", _output(link, phi1), psi1)
+        add("position2_psi", _output(link, phi2), psi2)
+        add("output_rotation", output_change(link, phi1, phi2),
+            data["dpsi0"] if method == "DRAGLINK-1" else data["dpsi"], "rotation")
+        add("mu_min", m.mu_min.value, design.mu_min)
+        add("mu_max", m.mu_max.value, design.mu_max)
+        if method == "DRAGLINK-1":
+            # cos(mu_min) = -cos(mu_max) at the design positions: mu_min at one, 180 - mu_min at
+            # the other.
+            mus = [measured_transmission_angle(link, phi, _output(link, phi))
+                   for phi in (phi1, phi2)]
+            add("position1_mu", mus[0], data["mu_min"])
+            add("position2_mu", mus[1], 180.0 - data["mu_min"])
+        else:
+            add("crank_rotation", phi2 - phi1, data["dphi"], "rotation")
+            add("position1_velocity_ratio", velocity_ratio(link, phi1), 1.0, "ratio")
+            add("position2_velocity_ratio", velocity_ratio(link, phi2), 1.0, "ratio")
+            add("dmu_max", max(90.0 - m.mu_min.value, m.mu_max.value - 90.0),
+                design.review["dmu_max"])
+    elif method.startswith("FOURB-FG"):
+        # Over the travel only: one branch, no dead centre (the input's dead centre is mu = 0 or
+        # 180), every prescribed position met.
+        lo, hi = design.travel
+        m = measure(link, lo, hi, samples=max(60, int(4 * (hi - lo))))
+        add("assembled", float(m.assembled), 1.0, "ratio")
+        add("no_dead_centre", float(min(m.mu_min.value, 180.0 - m.mu_max.value) > 1e-6), 1.0,
+            "ratio")
+        first_phi = design.positions[0][0]
+        rotations = ([data["psij"]] if "psij" in data
+                     else [data["psi2"] - data["psi1"], data["psi3"] - data["psi1"]])
+        for i, (phi, psi) in enumerate(design.positions, 1):
+            add(f"position{i}_psi", _output(link, phi), psi)
+            if i > 1:
+                # modulo 360: the methods' equations (cosines, half-angle sines) cannot tell
+                # a rotation from one 360 degrees less
+                add(f"rotation_1_to_{i}", output_change(link, first_phi, phi), rotations[i - 2])
+            if f"mu{i}" in design.review:
+                add(f"position{i}_mu", measured_transmission_angle(link, phi, _output(link, phi)),
+                    design.review[f"mu{i}"])
+        add("mu_min", m.mu_min.value, design.mu_min)
+        add("mu_max", m.mu_max.value, design.mu_max)
+    else:
+        # SLID-FG2-1, SLID-FG2-2: the slider's extremes are the dead centres; from the outer one
+        # the crank turns dtheta counter-clockwise to the inner one.
+        m = measure(link)
+        add("assembled", float(m.assembled), 1.0, "ratio")
+        stroke = m.output_max.value - m.output_min.value
+        if "ds" in data:
+            add("stroke", stroke, data["ds"], "length")
+            add("crank_rotation", (m.output_min.phi - m.output_max.phi) % 360.0, data["dtheta"])
+        else:
+            add("stroke", stroke, data["s1"] - data["s2"], "length")
+        (phi1, s1), (phi2, s2) = design.positions
+        add("outer_dead_centre_phi", m.output_max.phi, phi1)
+        add("outer_dead_centre_x", m.output_max.value, s1, "length")
+        add("inner_dead_centre_phi", m.output_min.phi, phi2)
+        add("inner_dead_centre_x", m.output_min.value, s2, "length")
+        add("mu_min", m.mu_min.value, design.mu_min)
+        add("mu_max", m.mu_max.value, design.mu_max)
+    return checks
+
+
+ANGLE_TOLERANCE = 1e-7            # degrees
+LENGTH_TOLERANCE = 1e-9           # times the largest link
+RATIO_TOLERANCE = 1e-6            # velocity ratios
+
+
+def conditioning(design):
+    """How much the tolerances grow for a near-locking design, whose transmission angle comes
+    within 1 degree of 0 or 180: its positions are ill-conditioned, as 1 / sin(mu)."""
+    worst = min(design.mu_min, 180.0 - design.mu_max)
+    return max(1.0, math.sin(_R) / max(math.sin(worst * _R), 1e-300))
+
+
+def misses(design, checks=None):
+    """The checks of the design that miss beyond tolerance (an empty list: it does what it
+    should)."""
+    checks = analyze_design(design) if checks is None else checks
+    size = max(abs(x) for x in design.linkage[:-1])
+    scale = conditioning(design)
+    limits = {"deg": ANGLE_TOLERANCE * scale, "rotation": ANGLE_TOLERANCE * scale,
+              "length": LENGTH_TOLERANCE * size * scale, "ratio": RATIO_TOLERANCE * scale}
+    return [check for check in checks if not check.miss <= limits[check.unit]]
+
+
+# -- the command line: python3 linkage.py design METHOD --name value ... -------------------------
+
+METHODS = {
+    # name: (function, [(option, help)])
+    "fourb-cr-1": (fourb_cr_1, [("theta", "crank rotation is 180 + theta"),
+                                ("psi", "rocker swing"),
+                                ("theta0", "crank angle at the extended dead centre")]),
+    "fourb-cr-2": (fourb_cr_2, [("theta", "crank rotation is 180 + theta"),
+                                ("psi", "rocker swing"),
+                                ("psi0", "rocker angle at the extended dead centre")]),
+    "fourb-cr-3": (fourb_cr_3, [("theta", "crank rotation is 180 + theta (not 0)"),
+                                ("psi", "rocker swing")]),
+    "fourb-cr-4": (fourb_cr_4, [("psi", "rocker swing"),
+                                ("mu_min", "least transmission angle, 0 < mu_min < 90 - psi/2")]),
+    "volmer": (volmer_crank_rocker, [("psi", "rocker swing"),
+                                     ("mu_min", "least transmission angle")]),
+    "draglink-1": (draglink_1, [("dpsi0", "output rotation while the crank turns 180"),
+                                ("mu_min", "transmission angle at the design positions")]),
+    "draglink-2": (draglink_2, [("dphi", "crank rotation between the unit-ratio positions"),
+                                ("dpsi", "output rotation between them"),
+                                ("lam", "lambda = b/d, coupler/frame (omitted: optimised)")]),
+    "fourb-fg2-1": (fourb_fg2_1, [("phij", "crank rotation"), ("psij", "output rotation"),
+                                  ("phi0", "initial crank angle"), ("a", "crank a/d"),
+                                  ("c", "output c/d")]),
+    "fourb-fg3-1": (fourb_fg3_1, [("phi", "three crank angles"),
+                                  ("psi", "three output angles (the review's)")]),
+    "slid-fg2-1": (slid_fg2_1, [("dtheta", "crank rotation between the dead centres"),
+                                ("ds", "slider displacement s1 - s2"),
+                                ("epsilon", "offset (slider on y = -epsilon)")]),
+    "slid-fg2-2": (slid_fg2_2, [("theta1", "crank angle at the outer dead centre"),
+                                ("theta2", "pin direction at the inner dead centre"),
+                                ("s1", "slider at the outer dead centre"),
+                                ("s2", "slider at the inner dead centre")]),
+}
+_OPTIONAL = {("draglink-2", "lam")}
+_THREE = {("fourb-fg3-1", "phi"), ("fourb-fg3-1", "psi")}
+
+
+def _number(x):
+    """A number for `name = value` output: up to 10 significant digits."""
+    if isinstance(x, bool):
+        return str(x).lower()
+    if isinstance(x, int):
+        return str(x)
+    return f"{x:.10g}"
+
+
+class _UsageError(Exception):
+    """A command line argparse refuses."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that raises instead of exiting, so that design_command returns its code."""
+
+    def error(self, message):
+        raise _UsageError(f"{message} (see {self.prog} --help)")
+
+
+def _design_parser():
+    """The parser of `design METHOD --name value ... [--analyze]`."""
+    parser = _Parser(prog="linkage.py design",
+                     description="Synthesis of four-bar and slider-crank function generators "
+                                 "(Pennestri & Valentini's review); angles in degrees.")
+    methods = parser.add_subparsers(dest="method", metavar="METHOD", parser_class=_Parser)
+    methods.required = True
+    for name, (function, options) in METHODS.items():
+        summary = " ".join(function.__doc__.split())
+        sub = methods.add_parser(name, help=summary, description=summary)
+        for option, text in options:
+            flag = "--lambda" if option == "lam" else "--" + option.replace("_", "-")
+            if (name, option) in _THREE:
+                sub.add_argument(flag, dest=option, type=float, nargs=3, required=True, help=text)
+            else:
+                sub.add_argument(flag, dest=option, type=float,
+                                 required=(name, option) not in _OPTIONAL, help=text)
+        sub.add_argument("--analyze", action="store_true",
+                         help="run the design through the analysis and print what it does")
+    return parser
+
+
+def _design_lines(design):
+    """The `name = value` lines of one design: the paper's letters, branch, the review's
+    unknowns, the design positions and the transmission-angle extremes."""
+    link = design.linkage
+    names = ("a", "b", "c", "d") if isinstance(link, FourBar) else ("b", "c", "e")
+    lines = [f"{n} = {_number(getattr(link, n))}" for n in names]
+    lines.append(f"branch = {link.branch}")
+    lines += [f"review.{k} = {_number(v)}" for k, v in design.review.items()]
+    for i, (phi, out) in enumerate(design.positions, 1):
+        lines.append(f"position{i}.phi = {_number(phi)}")
+        lines.append(f"position{i}.{'psi' if isinstance(link, FourBar) else 'x'} = "
+                     f"{_number(out)}")
+    if design.travel is not None:
+        lines.append(f"travel.from = {_number(design.travel[0])}")
+        lines.append(f"travel.to = {_number(design.travel[1])}")
+    lines.append(f"mu_min = {_number(design.mu_min)}")
+    lines.append(f"mu_max = {_number(design.mu_max)}")
+    return lines
+
+
+def design_command(argv):
+    """`python3 linkage.py design METHOD --name value ... [--analyze]` (argv: the words after
+    `design`): print the design, `name = value` a line; exit 0, 1 bad data, 2 usage, 3 a miss."""
+    argv = list(argv)
+    if argv[:1] == ["design"]:
+        argv = argv[1:]
+    try:
+        args = _design_parser().parse_args(argv)
+        function, options = METHODS[args.method]
+        values = {option: getattr(args, option) for option, _ in options
+                  if getattr(args, option) is not None}
+        for option, value in values.items():
+            for v in (value if isinstance(value, list) else [value]):
+                _require(math.isfinite(v), f"{option} = {v} is not finite")
+        if args.method == "fourb-fg3-1":
+            result = function(values["phi"], values["psi"])
+        else:
+            result = function(**values)
+    except DesignError as error:
+        print(f"linkage.py design: error: {error}", file=sys.stderr)
+        return 1
+    except _UsageError as error:
+        print(f"linkage.py design: error: {error}", file=sys.stderr)
+        return 2
+    except SystemExit as exit_:                     # argparse's --help
+        return int(exit_.code or 0)
+    print(f"method = {result.method}")
+    for key, value in result.design.data.items():
+        print(f"data.{key} = {_number(value)}")
+    print(f"solutions = {len(result.solutions)}")
+    print(f"preferred = {result.preferred + 1}")
+    for reason in result.rejected:
+        print(f"rejected = {reason}")
+    code = 0
+    for number, design in enumerate(result.solutions, 1):
+        print(f"solution = {number}")
+        for line in _design_lines(design):
+            print(line)
+        if args.analyze:
+            checks = analyze_design(design)
+            bad = misses(design, checks)
+            for check in checks:
+                measured = "none" if check.measured is None else _number(check.measured)
+                print(f"measured.{check.name} = {measured}  # expected {_number(check.expected)}"
+                      f", miss {check.miss:.2g}")
+            print(f"verdict = {'meets' if not bad else 'misses ' + ', '.join(c.name for c in bad)}")
+            code = code or (3 if bad else 0)
+    return code
+
+
+# ---- Benchmarks ---------------------------------------------------------------------------
+
+BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
+
+
+def _best_of(repeats: int, function) -> float:
+    """The fastest of `repeats` runs of function(), in seconds."""
+    import time
+    best = math.inf
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+def bench_mbf(out) -> None:
+    """Time each single-precision operation and one sweep point of lines 1060-1330."""
+    import random
+    rng = random.Random(1)
+    xs = [mbf_parse(f"{rng.uniform(-100, 100):.6g}") for _ in range(1000)]
+    ys = [mbf_parse(f"{rng.uniform(0.5, 100):.6g}") for _ in range(1000)]
+    pairs = list(zip(xs, ys))
+    operations = {
+        "X+Y": lambda: [mbf_add(x, y) for x, y in pairs],
+        "X*Y": lambda: [mbf_mul(x, y) for x, y in pairs],
+        "X/Y": lambda: [mbf_div(x, y) for x, y in pairs],
+        "X^2": lambda: [mbf_power(x, 2.0) for x in xs],
+        "Y^.5": lambda: [mbf_power(y, 0.5) for y in ys],
+        "TAN(X)": lambda: [mbf_tan(x) for x in xs],
+        "ATN(X)": lambda: [mbf_atn(x) for x in xs],
+        "WRITE # text": lambda: [mbf_write_text(x) for x in xs],
+    }
+    print("operation        microseconds", file=out)
+    for name, function in operations.items():
+        print(f"{name:16} {_best_of(5, function) / len(xs) * 1e6:12.2f}", file=out)
+    v = Variables()
+    answers = iter(["2", "7", "9", "6"])
+    dimensions(v, 1, lambda prompt: input_value(next(answers)))
+    co = coefficients(v, 1)
+    angles = list(sweep_angles(ZERO, degrees_to_radians(Single(360.0)),
+                               degrees_to_radians(Single(1.0))))
+    seconds = _best_of(5, lambda: [sweep_point(co, phi, 1, v.S) for phi in angles])
+    print(f"{'sweep point':16} {seconds / len(angles) * 1e6:12.2f}   (lines 1060-1330 with "
+          f"the three WRITE #, plane four-bar a=6 b=2 c=7 d=9)", file=out)
+    Single.errors.clear()
+
+
+def bench_port(out) -> None:
+    """The 3601-point session (0 to 360 degrees by 0.1) in the port and in PC-BASIC."""
+    import io
+    import subprocess
+    import tempfile
+    with tempfile.TemporaryDirectory() as port_dir:
+        port = _best_of(3, lambda: redirected_program(io.BytesIO(BENCH_KEYS), io.BytesIO(),
+                                                      port_dir))
+        print(f"port:     {port:8.2f} s for 3601 points ({port / 3601 * 1e3:.3f} ms a point)",
+              file=out)
+        listing = os.path.join(os.path.dirname(os.path.abspath(__file__)), "legacy_basic",
+                               "LINKAGE.BAS")
+        with tempfile.TemporaryDirectory() as basic_dir:
+            with open(os.path.join(basic_dir, "keys.txt"), "wb") as f:
+                f.write(BENCH_KEYS)
+            command = [sys.executable, "-m", "pcbasic", listing, "--interface=none", "-q",
+                       "--input=keys.txt", "--output=STDOUT", "--sound=False"]
+            try:
+                basic = _best_of(1, lambda: subprocess.run(command, cwd=basic_dir, check=True,
+                                                           capture_output=True))
+            except (OSError, subprocess.CalledProcessError):
+                print("PC-BASIC: not installed (pip install pcbasic==2.0.8)", file=out)
+                return
+            same = all(open(os.path.join(port_dir, n), "rb").read()
+                       == open(os.path.join(basic_dir, n), "rb").read() for n in DatFiles.NAMES)
+    print(f"PC-BASIC: {basic:8.2f} s for 3601 points ({basic / 3601 * 1e3:.3f} ms a point)",
+          file=out)
+    print(f"the port is {basic / port:.0f} times faster; the DAT files are "
+          f"{'identical' if same else 'DIFFERENT'}", file=out)
+
+
+BENCHMARKS = {"mbf": bench_mbf, "port": bench_port}
+
+
+def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py bench [NAME ...]`: print the benchmarks' numbers and how they ran."""
+    import platform
+    print(f"linkage.py {__version__} bench, Python {platform.python_version()}, "
+          f"{platform.machine()}, {os.cpu_count()} CPUs; best of repeated runs")
+    for name in args.names or list(BENCHMARKS):
+        print(f"\n== {name}: {BENCHMARKS[name].__doc__.splitlines()[0]}")
+        BENCHMARKS[name](sys.stdout)
+    return 0
 
 # ---- The command line ---------------------------------------------------------------------
 
@@ -1195,6 +3113,7 @@ def menu_program(stdin=None, stdout=None, directory: str = ".") -> int:
     stdout = sys.stdout if stdout is None else stdout
     if not (stdin.isatty() and stdout.isatty()):
         return redirected_program(stdin.buffer, stdout.buffer, directory)
+    import select
     import termios
     fd = stdin.fileno()
     saved = termios.tcgetattr(fd)
@@ -1208,7 +3127,8 @@ def menu_program(stdin=None, stdout=None, directory: str = ".") -> int:
         def write(s: str) -> None:
             stdout.write(s)
             stdout.flush()
-        keys = Keys(lambda: os.read(fd, 1), fold_crlf=False)
+        keys = Keys(lambda: os.read(fd, 1), fold_crlf=False,
+                    pending=lambda: bool(select.select([fd], [], [], 0.05)[0]))
         return _run_guarded(Screen(write, terminal=True), keys, directory)
     finally:
         termios.tcsetattr(fd, termios.TCSAFLUSH, saved)
@@ -1257,6 +3177,10 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
     for name, text in zip(list(needed) + ["from", "to", "step"], answers):
         if input_value(text) is None:
             parser.error(f"--{name} {text!r} is not a number")
+    if args.precision == "double":
+        return _run_double(args, needed)
+    if args.clip:
+        parser.error("--clip goes with --precision double (the original always clips VEL and ACC)")
     keystrokes = (key + "".join(a + "\r" for a in answers) + args.branch).encode("latin-1")
     stream = iter(keystrokes[i:i + 1] for i in range(len(keystrokes)))
     keys = Keys(lambda: next(stream, b""), fold_crlf=True)
@@ -1276,6 +3200,25 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
     return 0
 
 
+def _run_double(args: argparse.Namespace, needed: tuple[str, ...]) -> int:
+    """`run ... --precision double`: the accurate engine's numbers in the same three files,
+    shortest round-trip text, unclipped unless --clip; positions that do not exist are left out
+    (the original writes zeros there, ERRATA K8)."""
+    dims = {("ksi" if n == "skew" else n): float(getattr(args, n)) for n in needed}
+    start, stop, step = float(args.start), float(args.stop), float(args.step)
+    if step and (stop - start) / step > 10**7:
+        print("linkage.py: more than 10 million points: choose a larger step", file=sys.stderr)
+        return 1
+    try:
+        linkage = Linkage(args.type, **dims)
+        angles = evenly_spaced_angles(start, stop, step)
+        write_dat_files(linkage.sweep(angles, int(args.branch)), args.dir, clip=args.clip)
+    except (ValueError, OSError) as e:
+        print(f"linkage.py: {e}", file=sys.stderr)
+        return 1
+    return 0
+
+
 def _mechanism_type(text: str) -> str:
     by_number = {key: name for name, (key, _) in MECHANISM_TYPES.items()}
     name = by_number.get(text, text)
@@ -1283,6 +3226,12 @@ def _mechanism_type(text: str) -> str:
         raise argparse.ArgumentTypeError(
             f"{text!r} is not one of {', '.join(MECHANISM_TYPES)} (or 1-5)")
     return name
+
+
+def _benchmark_name(text: str) -> str:
+    if text not in BENCHMARKS:
+        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(BENCHMARKS)}")
+    return text
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -1309,7 +3258,19 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--branch", required=True, choices=("1", "2"),
                      help="1: the (A+B) solution, 2: the (A-B) solution")
     run.add_argument("--dir", default=".", metavar="OUT", help="where to write the DAT files")
+    run.add_argument("--precision", choices=("basic", "double"), default="basic",
+                     help="basic: the original's GW-BASIC single precision, byte for byte "
+                          "(default); double: the accurate engine")
+    run.add_argument("--clip", action="store_true",
+                     help="with --precision double: clip VEL and ACC to +-3 as the original does")
     run.set_defaults(handler=run_command, parser=run)
+    commands.add_parser("design", help="synthesise a linkage by one of the review's methods "
+                                      "(python3 linkage.py design --help)", add_help=False)
+    bench = commands.add_parser("bench", help="measure speed (and, later, accuracy)",
+                                description="Run the benchmarks and print their numbers.")
+    bench.add_argument("names", nargs="*", type=_benchmark_name, metavar="NAME",
+                       help=f"which: {', '.join(BENCHMARKS)} (default: all)")
+    bench.set_defaults(handler=bench_command, parser=bench)
     return parser
 
 
@@ -1317,6 +3278,8 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if not argv:
         return menu_program()
+    if argv[0] == "design":
+        return design_command(argv[1:])
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command is None:
@@ -1325,4 +3288,8 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except BrokenPipeError:                      # the reader (head, less) stopped reading
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        sys.exit(141)

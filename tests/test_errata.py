@@ -181,3 +181,10 @@ def test_reverting_a_correction_is_caught(reverts, entry):
         assert reverts[entry.name] == [], f"{entry.name} is said to be neutral but is not"
     else:
         assert reverts[entry.name], f"{entry.name} reverted, yet its check passes"
+
+
+def test_every_deviation_of_the_port_is_tagged_in_the_code():
+    """Part 3 of ERRATA.md and the `# ERRATA Pn` tags in linkage.py name the same deviations."""
+    documented = set(re.findall(r"^### (P\d+)\.", (LEGACY / "ERRATA.md").read_text(), re.M))
+    tagged = set(re.findall(r"# ERRATA (P\d+)", (basic_runner.ROOT / "linkage.py").read_text()))
+    assert documented and documented == tagged

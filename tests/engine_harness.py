@@ -1,0 +1,104 @@
+"""Shared by test_engine.py and bench_engine.py: the hard-case catalogue, the ordinary sweep, and
+how an answer is scored against the 50-digit reference."""
+
+from __future__ import annotations
+
+import functools
+import math
+import tomllib
+from pathlib import Path
+
+import engine_reference as reference
+
+DATA = Path(__file__).resolve().parent.parent / "data"
+SLIDERS = ("slider", "skew-slider")
+KINDS = ("plane", "spherical", "skew", "slider", "skew-slider")
+
+# Within this margin (closure's extreme over the linkage's squared size) a position is a
+# dead-centre to rounding: the reference may call it not assembled, or two roots 1e-8 apart,
+# where the engine reports DEAD_CENTRE.
+ROUNDING_MARGIN = 1e-40
+
+# The ordinary sweep: the linkages of tests/test_physics.py, both branches, phi = 3, 11, ..., 355.
+ORDINARY_CASES = {
+    "plane-crank-rocker": ("plane", dict(a=6, b=2, c=7, d=9)),
+    "plane-second": ("plane", dict(a=4, b=1, c=3.5, d=3)),
+    "spherical": ("spherical", dict(a=80, b=20, c=75, d=60)),
+    "spherical-wobble": ("spherical", dict(a=90, b=15, c=90, d=90)),
+    "skew": ("skew", dict(a=6, b=2, c=7, d=9, f=1.5, ksi=25)),
+    "skew-imaginary": ("skew", dict(a=3, b=0.5, c=1.5, d=3, f=3, ksi=30)),
+    "slider": ("slider", dict(b=2, c=7, e=1.5)),
+    "skew-slider": ("skew-slider", dict(a=6, b=1, c=7.5, f=3, ksi=45)),
+}
+ORDINARY_PHIS = [3.0 + 8.0 * i for i in range(45)]
+
+
+def load_hard_cases():
+    with open(DATA / "hard_cases.toml", "rb") as fh:
+        return tomllib.load(fh)["case"]
+
+
+def size(kind, dims):
+    """The linkage's size: the largest length (sliders' position errors are relative to it)."""
+    return max(abs(v) for k, v in dims.items() if k != "ksi")
+
+
+@functools.lru_cache(maxsize=None)
+def _ref_cached(kind, dims_items, phi, dps):
+    return reference.solve(kind, dict(dims_items), phi, dps)
+
+
+def ref(kind, dims, phi, dps=50):
+    """reference.solve (50 digits, 10 guard digits), cached: several tests use the same points."""
+    return _ref_cached(kind, tuple(sorted((k, float(v)) for k, v in dims.items())), float(phi), dps)
+
+
+def output_error(kind, dims, got, want):
+    """Output error: degrees (wrapped) for the four-bars; relative to the size for sliders."""
+    if kind in SLIDERS:
+        return abs(float(got - want)) / size(kind, dims)
+    d = float(got - want)
+    return abs((d + 180.0) % 360.0 - 180.0)
+
+
+def ratio_error(got, want):
+    """Velocity/acceleration error: absolute below 1, relative above."""
+    return abs(float(got - want)) / max(1.0, abs(float(want)))
+
+
+def points():
+    """Every (case, phi, branch) of the hard catalogue."""
+    for case in load_hard_cases():
+        for phi in case["phis"]:
+            for branch in (1, 2):
+                yield case, float(phi), branch
+
+
+def score(kind, dims, phi, branch, status, output, velocity, acceleration, r):
+    """Compare one computed answer with the reference point r.
+
+    Returns (verdict, errors): verdict "ok" when the status is consistent with the reference
+    (a dead-centre or missing assembly within ROUNDING_MARGIN may be called either way), else a
+    message; errors maps "output", "velocity", "acceleration" to the error where both exist.
+    """
+    errors = {}
+    near = r.extreme is not None and abs(float(r.extreme)) <= ROUNDING_MARGIN
+    if r.status == "not-assembled":
+        if status == "not-assembled" or (near and status in ("dead-centre", "assembled")):
+            return "ok", errors
+        return f"reference: not assembled; got {status}", errors
+    if status == "not-assembled":
+        if near:
+            return "ok", errors
+        return f"reference: {r.status}; got not assembled", errors
+    if status not in ("assembled", "dead-centre"):
+        return f"reference: {r.status}; got {status}", errors
+    if r.status == "dead-centre" and status != "dead-centre" and not near:
+        return "reference: dead-centre; got assembled", errors
+    errors["output"] = output_error(kind, dims, output, r.output)
+    if status == "assembled" and r.status == "assembled":
+        if velocity is not None:
+            errors["velocity"] = ratio_error(velocity, r.velocity)
+        if acceleration is not None:
+            errors["acceleration"] = ratio_error(acceleration, r.acceleration)
+    return "ok", errors

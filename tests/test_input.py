@@ -1,0 +1,72 @@
+"""INPUT as GW-BASIC does it: answers drawn at random are typed into PC-BASIC and into the port's
+INPUT; the screen (echo, "?Redo from start", "Overflow") and the numbers stored must agree.
+"""
+
+from __future__ import annotations
+
+import io
+
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+import basic_runner
+import linkage
+
+# One INPUT after another; each value is written as its four MBF bytes (MKS$), so equality is exact.
+PROGRAM = b"\r\n".join([
+    b'10 OPEN "O",#1,"V.DAT"',
+    b'20 INPUT "",X:A$=MKS$(X)',
+    b'30 WRITE #1,ASC(A$),ASC(MID$(A$,2)),ASC(MID$(A$,3)),ASC(MID$(A$,4))',
+    b'40 N=N+1:IF N<COUNT THEN 20',
+    b'50 CLOSE',
+]).replace(b"COUNT", b"%d") + b"\r\n"
+
+characters = st.sampled_from(list("0123456789") * 3 + list(".+-eEdD &Hh!#,xO \t") + ["\x08"])
+answers = st.one_of(
+    st.text(characters, max_size=12),
+    st.floats(allow_nan=False, allow_infinity=False).map(repr),
+    st.integers(-10**12, 10**12).map(str),
+    st.sampled_from(["", " ", "1e38", "1.7e38", "1e39", "-1e39", "1e-38", "1e-39", "&HFFFF",
+                     "&H8000", "&O777", "&777", "1,2", "3!x", ".5", "-.", "+", "1e", "1d-3"]),
+)
+
+
+def port_session(keys: bytes, count: int) -> tuple[bytes, list[bytes]]:
+    """The port's INPUT, `count` times on `keys`: the transcript and each value's MBF bytes."""
+    out = io.BytesIO()
+    screen = linkage.Screen(lambda s: out.write(s.encode("utf-8")), terminal=False)
+    key_stream = io.BytesIO(keys)
+    keyboard = linkage.Keys(lambda: key_stream.read(1), fold_crlf=True)
+    values = []
+    for _ in range(count):
+        value = linkage.input_number(screen, keyboard, "")
+        values.append(linkage.mbf_to_bytes(value.v))
+    screen.show_soft_errors()
+    return out.getvalue(), values
+
+
+@settings(max_examples=2, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.lists(answers.filter(lambda a: "\r" not in a and "\n" not in a), min_size=60,
+                max_size=60))
+def test_input_reads_answers_as_pcbasic_does(typed):
+    keys = b"".join(a.encode("latin-1") + b"\r" for a in typed)
+    # Every answer might be refused: end with enough plain numbers to fill the INPUTs.
+    count = len(typed)
+    keys += b"1\r" * count
+    run = basic_runner.run_listing(keys, PROGRAM % count)
+    assert not run.hard_errors, run.screen[-300:]
+    expected_values = [bytes(int(b) for b in row) for row in _rows_of_four(run.files["V.DAT"])]
+    screen, values = port_session(keys, count)
+    assert screen == run.screen, _first_difference(run.screen, screen)
+    assert values == expected_values
+
+
+def _rows_of_four(data: bytes) -> list[list[str]]:
+    text = data.rstrip(b"\x1a").decode("ascii")
+    return [line.split(",") for line in text.split("\r\n") if line]
+
+
+def _first_difference(want: bytes, got: bytes) -> str:
+    for i, (w, g) in enumerate(zip(want.split(b"\r\n"), got.split(b"\r\n")), 1):
+        if w != g:
+            return f"screen line {i}: PC-BASIC {w!r}, port {g!r}"
+    return "the screens differ in length"
