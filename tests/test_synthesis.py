@@ -883,3 +883,15 @@ def test_command_in_a_fresh_interpreter():
     assert done.stderr.startswith("linkage.py design: error: DRAGLINK-1: ")
     helped = subprocess.run(program + ["fourb-cr-1", "--help"], capture_output=True, text=True)
     assert helped.returncode == 0 and "--theta0" in helped.stdout
+
+
+def test_command_writes_the_designs_dat_files(tmp_path):
+    """--dat hands the design to the engine: its ANG.DAT swings the rocker through psi = 50."""
+    done = subprocess.run([sys.executable, str(ROOT / "linkage.py"), "design", "fourb-cr-1",
+                           "--theta", "10", "--psi", "50", "--theta0", "30", "--dat",
+                           str(tmp_path)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    rows = (tmp_path / "ANG.DAT").read_bytes().rstrip(b"\x1a").decode().split("\r\n")[:-1]
+    psis = [float(row.split(",")[1]) for row in rows]
+    assert len(psis) == 361
+    assert 49.9 < max(psis) - min(psis) <= 50.0 + 1e-9
