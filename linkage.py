@@ -5,15 +5,20 @@ Machine Theory, 1980s).
 
     python3 linkage.py                  the original program: menu 1-6, prompts, ANG/VEL/ACC.DAT
     python3 linkage.py run TYPE ...     the same program driven by options (see --help)
+    python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
+    python3 linkage.py bench            speed measurements
 
-Fidelity: ANG.DAT, VEL.DAT and ACC.DAT are byte-identical to those legacy_basic/LINKAGE.BAS
-writes under PC-BASIC 2.0.8 given the same keystrokes (tests/test_port.py holds the port to
-every case of data/golden/). The arithmetic is GW-BASIC's own single precision. Deviations from
-the original, all where it would hang or lose data, are marked `# ERRATA Pn` here and listed in
-legacy_basic/ERRATA.md, Part 3.
+Fidelity: the aim is ANG.DAT, VEL.DAT and ACC.DAT byte-identical to those
+legacy_basic/LINKAGE.BAS writes under PC-BASIC 2.0.8 given the same keystrokes, computed in
+GW-BASIC's own single precision. Today the screen transcript is identical for 42 of the 44
+golden cases and the files for 8; the rest differ in last digits because the model of
+PC-BASIC's division and SIN/COS/TAN/ATN/^ is not finished (tests/test_port.py lists them).
+Deviations from the original, all where it would hang or lose data, are marked `# ERRATA Pn`
+here and listed in legacy_basic/ERRATA.md, Part 3.
 
 Sections: GW-BASIC single precision; the listing's computation; the original program
-(screen, keys, INPUT, the menu session, files); the command line.
+(screen, keys, INPUT, the menu session, files); the accurate engine; synthesis; benchmarks;
+the command line.
 """
 
 from __future__ import annotations
@@ -116,8 +121,14 @@ def mbf_to_bytes(x):
 # the four operations
 
 def mbf_add(x, y, err=_ignore):
-    """X+Y as GW $FADDS: align the smaller operand right keeping a guard byte
-    whose bit 5 is sticky, mbf_add or subtract, normalise, round ($ROUNS)."""
+    """X+Y as PC-BASIC computes it (observed, exp/e24..e32).
+    Equal signs: the exact sum rounded to nearest, ties to even.
+    Opposite signs: the smaller operand is aligned keeping one guard byte
+    (bits below it are dropped; bit 5 of the guard is set when any of its
+    bits 0-4 is), subtracted, normalised and rounded by GW's $ROUNS.  Two
+    quirks: a one-bit normalisation whose guard reads as a tie (100xxxxx,
+    not exactly 80h) on an even mantissa drops the guard first; and a small
+    operand of exactly half an ulp 24 places down leaves X unchanged."""
     if x == 0:
         return y
     if y == 0:
@@ -127,52 +138,38 @@ def mbf_add(x, y, err=_ignore):
     if ex < ey or (ex == ey and mx < my):
         x, nx, mx, ex, ny, my, ey = y, ny, my, ey, nx, mx, ex
     c = ex - ey
-    if c >= 25:
-        return x
-    ah = _guard(my, c)
-    small = my >> c
     if nx == ny:
-        m = mx + small
-        if m >> 24:
-            ah = (m & 1) << 7 | ah >> 1
-            m >>= 1
-            ex += 1
-            if ex > 255:
-                err(OVERFLOW)
-                return -MBF_MAX if nx else MBF_MAX
-        return _make(nx, _round3(m, ah), ex, err)
-    v = (mx << 8) - ((small << 8) | ah)
-    if v == 0:
+        if c > 26:
+            return x
+        s = (mx << c) + my                   # exact sum in units of y's ulp
+        sh = s.bit_length() - 24
+        m, rest = s >> sh, s & ((1 << sh) - 1)
+        half = 1 << (sh - 1)
+        if rest > half or (rest == half and m & 1):
+            m += 1
+        return _make(nx, m, ex + sh - c, err)
+    if c >= 25 or (c == 24 and my == 1 << 23):
+        return x
+    v = (my << 8) >> c
+    d = (mx << 8) - ((v >> 8) << 8 | _sticky(v & 0xFF))
+    if d == 0:
         return 0.0
-    shift = 32 - v.bit_length()
-    v <<= shift
-    ex -= shift
+    m, g = d >> 8, d & 0xFF
+    if m < 1 << 23:
+        if g & 0xE0 == 0x80 and g != 0x80 and not m & 1:
+            g = 0
+        while m < 1 << 23:
+            m = m << 1 | g >> 7
+            g = _sticky((g << 1) & 0xFF)
+            ex -= 1
     if ex <= 0:
         return 0.0
-    return _make(nx, _round3(v >> 8, v & 0xFF), ex, err)
+    return _make(nx, _round3(m, g), ex, err)
 
 
-def _guard(m, c):
-    """Guard byte left by GW's right shift of mantissa m by c (0..24) bits:
-    the exact bits, with bit 5 (and the bits it has since been shifted into)
-    set when any lower or lost bit was set."""
-    if c == 0:
-        return 0
-    k, j = divmod(c, 8)
-    if k:
-        b = (m >> (8 * k - 8)) & 0xFF
-        if b & 0x1F or m & ((1 << (8 * k - 8)) - 1):
-            b |= 0x20
-        w = ((m >> 8 * k) << 8) | b
-    else:
-        w = m << 8
-    ah = (w >> j) & 0xFF
-    if j and w:
-        low = (w & -w).bit_length() - 1          # lowest set bit of w
-        if low <= 5 + j:
-            p0 = max(0, 5 - j, low - j)
-            ah |= (0x3F >> p0 << p0) & 0x3F      # fill bits p0..5
-    return ah
+def _sticky(g):
+    """Guard byte with its sticky bit 5 set when any of bits 0-4 is set."""
+    return g | 0x20 if g & 0x1F else g
 
 
 def mbf_sub(x, y, err=_ignore):
@@ -270,60 +267,46 @@ def _dp_to_single(m56, sh, mbf_neg, err):
     return _make(mbf_neg, m, eb, err)
 
 
-def _pow10_dp(k):
-    """10**k (k >= 0) as the interpreter's double constant: (mantissa, shift)."""
-    return _rne_bits(10 ** k, 56)
-
-
-def _scale10(x, k, err=_ignore):
-    """GW MDPTEN on a single: x * 10**k (k > 0) or x / 10**-k (k < 0) in
-    double precision, then back to single with $CSD."""
-    mbf_neg, m, eb = _split(x)
-    e2 = eb - 152
-    if k > 0:
-        pm, psh = _pow10_dp(k)
-        m56, sh = _rne_bits(m * pm, 56)
-        return _dp_to_single(m56, sh + psh + e2, mbf_neg, err)
-    d = 10 ** -k
-    s = 60 + d.bit_length()
-    q, r = divmod(m << s, d)
-    q = q << 1 | (r != 0)                       # sticky bit
-    m56, sh = _rne_bits(q, 56)
-    return _dp_to_single(m56, sh - s - 1 + e2, mbf_neg, err)
-
-
 def _digits(x):
     """Seven decimal digits and the decimal exponent k of |x| (x != 0), so
-    that |x| ~ 0.ddddddd * 10**k: scale by the one mbf_power of ten that brings
-    |x| into [1e6, 1e7) in double precision, round to single ($CSD), mbf_add .5
-    if not whole, truncate (observed PC-BASIC behaviour, see NOTES.md)."""
-    x = abs(x)
-    _, m, eb = _split(x)
-    e2 = eb - 152                      # x = m * 2**e2 exactly
-    k = 6 - math.floor(math.log10(x))
-    while _cmp_pow10(m, e2, k, 7) >= 0:
-        k -= 1
-    while _cmp_pow10(m, e2, k, 6) < 0:
+    that |x| ~ 0.ddddddd * 10**k, as PC-BASIC makes them (observed,
+    exp/e27..e38, fmtAB.py).  The mantissa is held in a 32-bit register
+    (24 bits + a guard byte): while the value is >= 999999.5 it is divided
+    by ten (the quotient truncated to 32 bits and one unit low when exact:
+    the largest register value strictly below m/10); then, while below
+    999999.5, it is multiplied by ten as x*4 + x: the sum truncated to 32
+    bits, with the
+    two bits shifted out of the aligned x kept as a sticky low bit.  The
+    register is rounded half up to 24 bits and the single is rounded like
+    WRITE does it: mbf_add .5 in single if not whole, truncate."""
+    _, m, eb = _split(abs(x))
+    m <<= 8
+    e = eb - 160                       # |x| = m * 2**e
+    k = 0
+    while _at_least_lim(m, e):
+        q = ((m << 36) - 1) // 10
+        sh = q.bit_length() - 32
+        m, e = q >> sh, e - 36 + sh
         k += 1
-    y = _scale10(x, k) if k else x
+    while not _at_least_lim(m, e):
+        s = m + (m >> 2)
+        e += 3
+        if s >> 32:
+            s >>= 1
+            e += 1
+        m = s | (m & 3 != 0)
+        k -= 1
+    q = (m >> 8) + ((m & 0xFF) >= 0x80)
+    y = math.ldexp(q, e + 8)
     if y != math.floor(y):
         y = mbf_add(y, 0.5)
     s = str(int(y))
-    return s, len(s) - k
+    return s, len(s) + k
 
 
-def _cmp_pow10(m, e2, k, p):
-    """Sign of m * 2**e2 * 10**k - 10**p, in exact integer arithmetic."""
-    a, b = m, 10 ** p
-    if k >= 0:
-        a *= 10 ** k
-    else:
-        b *= 10 ** -k
-    if e2 >= 0:
-        a <<= e2
-    else:
-        b <<= -e2
-    return (a > b) - (a < b)
+def _at_least_lim(m, e):
+    """m * 2**e >= 999999.5, the bound of the decimal scaling loops."""
+    return (m << (e + 1) if e >= -1 else m) >= (1999999 if e >= -1 else 1999999 << (-1 - e))
 
 
 def _text(x):

@@ -15,7 +15,9 @@ import math
 import os
 import tempfile
 
-from hypothesis import HealthCheck, assume, given, settings, strategies as st
+import pytest
+
+from hypothesis import HealthCheck, Phase, assume, given, settings, strategies as st
 
 import basic_runner
 import linkage
@@ -89,8 +91,11 @@ def run_pcbasic(keys: bytes) -> dict[str, bytes]:
     return dict(run.files, SCREEN=run.screen, status=bytes([0]))
 
 
-@settings(max_examples=3, deadline=None, suppress_health_check=list(HealthCheck))
+# No shrinking: every PC-BASIC run costs half a second, and the message names the keys anyway.
+@settings(max_examples=3, deadline=None, suppress_health_check=list(HealthCheck),
+          phases=[Phase.explicit, Phase.reuse, Phase.generate])
 @given(st.lists(sessions(), min_size=SESSIONS, max_size=SESSIONS))
+@pytest.mark.xfail(strict=True, reason="MBF division and functions not yet PC-BASIC's (issue 3)")
 def test_random_sessions_write_the_same_bytes(batch):
     with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
         expected = list(pool.map(run_pcbasic, batch))
