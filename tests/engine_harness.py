@@ -9,6 +9,7 @@ import tomllib
 from pathlib import Path
 
 import engine_reference as reference
+import test_physics
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 SLIDERS = ("slider", "skew-slider")
@@ -20,16 +21,7 @@ KINDS = ("plane", "spherical", "skew", "slider", "skew-slider")
 ROUNDING_MARGIN = 1e-40
 
 # The ordinary sweep: the linkages of tests/test_physics.py, both branches, phi = 3, 11, ..., 355.
-ORDINARY_CASES = {
-    "plane-crank-rocker": ("plane", dict(a=6, b=2, c=7, d=9)),
-    "plane-second": ("plane", dict(a=4, b=1, c=3.5, d=3)),
-    "spherical": ("spherical", dict(a=80, b=20, c=75, d=60)),
-    "spherical-wobble": ("spherical", dict(a=90, b=15, c=90, d=90)),
-    "skew": ("skew", dict(a=6, b=2, c=7, d=9, f=1.5, ksi=25)),
-    "skew-imaginary": ("skew", dict(a=3, b=0.5, c=1.5, d=3, f=3, ksi=30)),
-    "slider": ("slider", dict(b=2, c=7, e=1.5)),
-    "skew-slider": ("skew-slider", dict(a=6, b=1, c=7.5, f=3, ksi=45)),
-}
+ORDINARY_CASES = test_physics.CASES
 ORDINARY_PHIS = [3.0 + 8.0 * i for i in range(45)]
 
 
