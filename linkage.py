@@ -130,7 +130,7 @@ def mbf_add(x, y, err=_ignore):
     not exactly 80h) on an even mantissa drops the guard first; and a small
     operand of exactly half an ulp 24 places down leaves X unchanged."""
     if x == 0:
-        return y
+        return y if y != 0 else 0.0          # a sum of zeros is +0, whatever their signs
     if y == 0:
         return x
     nx, mx, ex = _split(x)
@@ -173,9 +173,9 @@ def _sticky(g):
 
 
 def mbf_sub(x, y, err=_ignore):
-    """X-Y: GW returns X when Y is zero, else flips the sign of Y and adds."""
+    """X-Y: X when Y is zero (+0 for a zero X), else X plus the negated Y."""
     if y == 0:
-        return x
+        return x if x != 0 else 0.0
     return mbf_add(x, -y, err)
 
 
@@ -203,10 +203,11 @@ def mbf_div(x, y, err=_ignore):
     for divisors with many low 1-bits); it starts one place lower when the
     dividend mantissa is the smaller.  Rounding compares the remainder with
     H = (next divisor) + 1: above rounds up, equal rounds to even.  Division
-    by zero reports the error and gives +-MBF_MAX with the sign of X."""
+    by zero reports the error and gives +-MBF_MAX with the sign bit of X (so -0/0 is
+    -MBF_MAX; the sign of a zero Y does not matter)."""
     if y == 0:
         err(DIV_ZERO)
-        return -MBF_MAX if x < 0 else MBF_MAX
+        return math.copysign(MBF_MAX, x)
     if x == 0:
         return 0.0
     nx, mx, ex = _split(x)
@@ -305,8 +306,8 @@ def _digits(x):
 
 
 def _at_least_lim(m, e):
-    """m * 2**e >= 999999.5, the bound of the decimal scaling loops."""
-    return (m << (e + 1) if e >= -1 else m) >= (1999999 if e >= -1 else 1999999 << (-1 - e))
+    """m * 2**e >= 1000000, the bound of the decimal scaling loops."""
+    return (m << e if e >= 0 else m) >= (1000000 if e >= 0 else 1000000 << -e)
 
 
 def _text(x):
@@ -549,7 +550,11 @@ class Single:
     def __rmul__(self, other): return Single(mbf_mul(_value(other), self.v, _soft_error))
     def __truediv__(self, other): return Single(mbf_div(self.v, _value(other), _soft_error))
     def __rtruediv__(self, other): return Single(mbf_div(_value(other), self.v, _soft_error))
-    def __pow__(self, other): return Single(mbf_power(self.v, _value(other), _soft_error))
+    def __pow__(self, other):
+        if isinstance(other, int):     # an integer literal (T^2): repeated multiplication
+            return Single(ipower(self.v, other, _soft_error))
+        return Single(mbf_power(self.v, _value(other), _soft_error))
+
     def __rpow__(self, other): return Single(mbf_power(_value(other), self.v, _soft_error))
     def __neg__(self): return Single(mbf_neg(self.v))
     def __lt__(self, other): return self.v < _value(other)

@@ -95,7 +95,6 @@ def run_pcbasic(keys: bytes) -> dict[str, bytes]:
 @settings(max_examples=3, deadline=None, suppress_health_check=list(HealthCheck),
           phases=[Phase.explicit, Phase.reuse, Phase.generate])
 @given(st.lists(sessions(), min_size=SESSIONS, max_size=SESSIONS))
-@pytest.mark.xfail(strict=True, reason="MBF division and functions not yet PC-BASIC's (issue 3)")
 def test_random_sessions_write_the_same_bytes(batch):
     with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
         expected = list(pool.map(run_pcbasic, batch))

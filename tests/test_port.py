@@ -46,25 +46,7 @@ def first_difference(name: str, want: bytes, got: bytes) -> str:
 
 # ---- the golden corpus ---------------------------------------------------------------------
 
-# The golden cases whose numbers still differ from PC-BASIC's in the last digit: the model of
-# PC-BASIC's single-precision division and functions is not finished (issue 3). Strict: a case
-# that starts to pass fails here until it is taken off this list.
-NOT_YET_IDENTICAL = set("""
-    branch-invalid-keys exponent-answers illegal-then-plane menu-invalid-keys plane-3601-points
-    plane-b1 plane-b2 plane-change-point plane-cross-0-360 plane-dead-centre-clip
-    plane-double-rocker plane-fractional plane-large-lengths plane-negative-step
-    plane-parallelogram plane-small-lengths plane-spike-180 plane-two-turns redo-from-start
-    skew-b1 skew-b2 skew-flat skew-imaginary-coupler skew-slider-b1 skew-slider-b2
-    skew-slider-illegal-rod skew-steep slider-b1 slider-b2 slider-no-offset
-    slider-rod-shorter-than-offset spherical-arcs-over-180 spherical-b1 spherical-b2
-    spherical-illegal-then-spherical spherical-wobble-plate""".split())
-GOLDEN_PARAMS = [
-    pytest.param(c, id=c["name"], marks=pytest.mark.xfail(
-        strict=True, reason="MBF division and functions not yet PC-BASIC's (issue 3)"))
-    if c["name"] in NOT_YET_IDENTICAL else pytest.param(c, id=c["name"]) for c in CASES]
-
-
-@pytest.mark.parametrize("case", GOLDEN_PARAMS)
+@pytest.mark.parametrize("case", CASES, ids=[c["name"] for c in CASES])
 def test_the_port_writes_the_golden_bytes(case, tmp_path):
     folder = make_golden.GOLDEN / case["name"]
     result = run_port((folder / "keys.txt").read_bytes(), tmp_path)
