@@ -3008,15 +3008,20 @@ def design_command(argv):
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
 
 
-def _best_of(repeats: int, function) -> float:
-    """The fastest of `repeats` runs of function(), in seconds."""
+def _timed(repeats: int, function):
+    """The fastest of `repeats` runs of function(), in seconds, and what the last run returned."""
     import time
-    best = math.inf
+    best, result = math.inf, None
     for _ in range(repeats):
         start = time.perf_counter()
-        function()
+        result = function()
         best = min(best, time.perf_counter() - start)
-    return best
+    return best, result
+
+
+def _best_of(repeats: int, function) -> float:
+    """The fastest of `repeats` runs of function(), in seconds."""
+    return _timed(repeats, function)[0]
 
 
 def bench_mbf(out) -> None:
@@ -3082,9 +3087,13 @@ def bench_port(out) -> None:
           f"{'identical' if same else 'DIFFERENT'}", file=out)
 
 
+ENGINE_TARGET = 100_000    # points per second, displacement, velocity and acceleration (issue 5)
+
+
 def bench_engine(out) -> None:
     """The accurate engine's speed on a 100,001-point sweep, by what is asked of it."""
     angles = evenly_spaced_angles(0.0, 360.0, 0.0036)
+    slowest = math.inf
     for kind, dims in (("plane", dict(a=6, b=2, c=7, d=9)), ("slider", dict(b=2, c=7, e=1.5)),
                        ("spherical", dict(a=80, b=20, c=75, d=60))):
         linkage = Linkage(kind, **dims)
@@ -3094,9 +3103,443 @@ def bench_engine(out) -> None:
             rates.append(len(angles) / seconds)
         print(f"{kind:10} {rates[0]:10,.0f} points/s displacement only, "
               f"{rates[1]:10,.0f} with velocity and acceleration", file=out)
+        slowest = min(slowest, rates[1])
+    print(f"target: >= {ENGINE_TARGET:,} points/s with velocity and acceleration on one core "
+          f"(one Python thread): {'met' if slowest >= ENGINE_TARGET else 'NOT MET'}, slowest "
+          f"{slowest:,.0f}", file=out)
 
 
-BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine}
+# -- What accuracy costs in time: `bench accuracy` ------------------------------------------------
+#
+# Six ways of computing the same points, each timed and scored against the 50-digit reference.
+# The measuring instruments are the tests' own, read from tests/ beside this file (imported only
+# here): engine_harness.py (the two sweeps, the scoring rules), engine_reference.py (the mpmath
+# solver written from the geometry, which is the reference), listing_model.py (the listing's
+# formulas in double precision) and basic_runner.py (PC-BASIC). A point is one input angle on one
+# branch.
+
+DIVISION = "division by zero"   # GW-BASIC's soft error (or overflow) at the point, K7; Python's
+#                                 ZeroDivisionError or a non-finite number for the listing in double
+ILLEGAL = "illegal linkage"     # line 480's assembly check refuses the linkage: no point computed
+NO_ANSWER = "no answer"         # the solver gave up, or PC-BASIC wrote no line
+WRONG_STATUS = "wrong status"   # a value where the reference has none, or none where it has one
+FAILURES = (DIVISION, ILLEGAL, NO_ANSWER, WRONG_STATUS)
+CLIP = 3.0                      # lines 1200-1300 write VEL and ACC clipped to +-3 (K9)
+ERROR_COLUMNS = ("angle", "position", "velocity", "acceleration")
+PCBASIC_EVERY = 5               # PC-BASIC's short sweep: every 5th angle of the ordinary sweep
+
+
+class Answer(NamedTuple):
+    """One method's answer at one point: a status (the engine's ASSEMBLED, DEAD_CENTRE,
+    NOT_ASSEMBLED, INDETERMINATE, or DIVISION, ILLEGAL, NO_ANSWER), the values it gives (None
+    where it gives none), whether VEL and ACC are clipped to +-3, and the lines written (the
+    faithful program and PC-BASIC)."""
+
+    status: str
+    output: object = None
+    velocity: object = None
+    acceleration: object = None
+    clipped: bool = False
+    lines: bytes | None = None
+
+
+@dataclasses.dataclass
+class Tally:
+    """One method on one sweep: its time per point and its worst errors against the reference,
+    each with the point where it occurs; the points where it failed, by kind, are not in them."""
+
+    method: str
+    note: str = ""                 # why the row has no numbers, or how it was run
+    seconds: float | None = None   # time for the `computed` points
+    computed: int = 0
+    points: int = 0
+    worst: dict = dataclasses.field(default_factory=dict)   # column: (error, where)
+    failures: dict = dataclasses.field(default_factory=dict)
+    beyond_clip: int = 0           # VEL/ACC values whose reference exceeds +-3, compared clipped
+    first_wrong: str = ""
+
+    @property
+    def per_point(self) -> float | None:
+        return self.seconds / self.computed if self.seconds is not None and self.computed else None
+
+
+def _instruments():
+    """The tests' modules the accuracy bench measures with: (harness, reference, listing_model,
+    basic_runner, why the reference is missing). ImportError names what is missing."""
+    tests = os.path.join(os.path.dirname(os.path.abspath(__file__)), "tests")
+    sys.path.insert(0, tests)
+    try:
+        import basic_runner
+        import engine_harness
+        import listing_model
+        try:
+            import engine_reference
+            missing = ""
+        except ImportError as e:
+            engine_reference, missing = None, f"{e.name} is not installed (pip install mpmath)"
+    finally:
+        sys.path.remove(tests)
+    return engine_harness, engine_reference, listing_model, basic_runner, missing
+
+
+def _typed(x) -> str:
+    """A number as typed at one of the listing's INPUT prompts."""
+    return repr(float(x))
+
+
+def _session_answers(kind: str, dims: dict) -> tuple[str, list[str]]:
+    """The menu key and the dimensions as typed, in the order the listing asks for them."""
+    key, needed = MECHANISM_TYPES[kind]
+    return key, [_typed(dims["ksi" if n == "skew" else n]) for n in needed]
+
+
+def _written(lines: tuple[str, str, str], soft_errors: int) -> Answer:
+    """What the listing wrote for one point ("phi,value" lines of ANG, VEL and ACC.DAT) and the
+    soft errors it printed meanwhile, as an Answer: 0, 0, 0 is its mark of a position that does
+    not assemble (K8); after "Division by zero" or "Overflow" the values are not compared."""
+    text = tuple(line.encode("ascii") if isinstance(line, str) else line for line in lines)
+    output, velocity, acceleration = (float(line.split(b",")[1]) for line in text)
+    if output == velocity == acceleration == 0:
+        return Answer(NOT_ASSEMBLED, clipped=True, lines=b"".join(text))
+    status = DIVISION if soft_errors else ASSEMBLED
+    return Answer(status, output, velocity, acceleration, True, b"".join(text))
+
+
+def _faithful_method(cases, repeats):
+    """GW-BASIC single precision, the port's own lines 250-930 (coefficients) and 1060-1330
+    (sweep_point): what `run --precision basic` computes, each angle typed as the sweep's bounds
+    (--from PHI --to PHI), so without the FOR loop's drift (K10)."""
+    jobs = []
+    for label, kind, dims, phis in cases:
+        key, typed = _session_answers(kind, dims)
+        Single.errors.clear()
+        v = Variables()
+        answers = iter(typed)
+        if dimensions(v, int(key), lambda prompt: input_value(next(answers))):
+            co = coefficients(v, int(key))
+            angles = [degrees_to_radians(input_value(_typed(phi))) for phi in phis]
+            jobs.append((label, phis, (co, v.S, angles), len(Single.errors)))
+        else:
+            jobs.append((label, phis, None, 0))
+
+    def compute():
+        out = []
+        for _, _, job, _ in jobs:
+            rows = []
+            if job is not None:
+                co, S, angles = job
+                for PHI in angles:
+                    for SOL in (1, 2):
+                        del Single.errors[:]
+                        rows.append((sweep_point(co, PHI, SOL, S), len(Single.errors)))
+            out.append(rows)
+        return out
+    seconds, raw = _timed(repeats, compute)
+    Single.errors.clear()
+    answers, computed = {}, 0
+    for (label, phis, job, setup_errors), rows in zip(jobs, raw):
+        for i, phi in enumerate(phis):
+            for branch in (1, 2):
+                if job is None:
+                    answers[label, phi, branch] = Answer(ILLEGAL)
+                    continue
+                lines, soft = rows[2 * i + branch - 1]
+                answers[label, phi, branch] = _written(lines, soft + setup_errors)
+                computed += 1
+    return seconds, computed, answers
+
+
+def _listing_double_method(cases, repeats, model):
+    """The listing's formulas in double precision: tests/listing_model.py, the transcription of
+    lines 250-930 and 1060-1330 that the tests hold against PC-BASIC's DEFDBL variant; unclipped."""
+    coefficients_of = []
+    for _, kind, dims, _ in cases:
+        try:
+            coefficients_of.append(model.coefficients(kind, dims))
+        except (ArithmeticError, ValueError):
+            coefficients_of.append(None)
+
+    def compute():
+        return [[model.point(co, phi, branch) for phi in phis for branch in (1, 2)]
+                if co is not None else [] for co, (_, _, _, phis) in zip(coefficients_of, cases)]
+    seconds, raw = _timed(repeats, compute)
+    status_of = {"ok": ASSEMBLED, "uim": NOT_ASSEMBLED, "division": DIVISION}
+    answers, computed = {}, 0
+    for (label, _, _, phis), co, rows in zip(cases, coefficients_of, raw):
+        for i, phi in enumerate(phis):
+            for branch in (1, 2):
+                if co is None:
+                    answers[label, phi, branch] = Answer(DIVISION)
+                    continue
+                status, *values = rows[2 * i + branch - 1]
+                status = status_of[status]
+                if status == ASSEMBLED and not all(math.isfinite(x) for x in values):
+                    status = DIVISION
+                answers[label, phi, branch] = (Answer(status, *values) if status == ASSEMBLED
+                                               else Answer(status))
+                computed += 1
+    return seconds, computed, answers
+
+
+def _engine_method(cases, repeats):
+    """The accurate engine: Linkage(kind, **dims).sweep(phis, branch), displacement, velocity and
+    acceleration."""
+    links = [Linkage(kind, **dims) for _, kind, dims, _ in cases]
+
+    def compute():
+        return [(link.sweep(phis, 1), link.sweep(phis, 2))
+                for link, (_, _, _, phis) in zip(links, cases)]
+    seconds, raw = _timed(repeats, compute)
+    answers, computed = {}, 0
+    for (label, _, _, phis), branches in zip(cases, raw):
+        for branch, motions in zip((1, 2), branches):
+            for phi, m in zip(phis, motions):
+                answers[label, phi, branch] = Answer(m.status, m.output, m.velocity,
+                                                     m.acceleration)
+                computed += 1
+    return seconds, computed, answers
+
+
+def _mpmath_method(cases, reference, dps):
+    """tests/engine_reference.py's solver at `dps` digits: root finding on the loop closure
+    written from the geometry, implicit differentiation; one solve gives both branches. Returns
+    also the solver's own points (the reference for the others)."""
+    def compute():
+        out = {}
+        for label, kind, dims, phis in cases:
+            for phi in phis:
+                try:
+                    out[label, phi] = reference.solve(kind, dims, phi, dps)
+                except ArithmeticError as e:   # the output link is free ("indeterminate")
+                    out[label, phi] = INDETERMINATE if "indeterminate" in str(e) else NO_ANSWER
+                except ValueError:             # mpmath's root finder gave up
+                    out[label, phi] = NO_ANSWER
+        return out
+    seconds, solved = _timed(1, compute)
+    answers = {}
+    for (label, phi), result in solved.items():
+        for branch in (1, 2):
+            if isinstance(result, str):
+                answers[label, phi, branch] = Answer(result)
+            else:
+                r = result[branch]
+                answers[label, phi, branch] = Answer(r.status, r.output, r.velocity,
+                                                     r.acceleration)
+    return seconds, len(answers), answers, {k: v for k, v in solved.items()
+                                            if not isinstance(v, str)}
+
+
+def _pcbasic_method(cases, runner):
+    """legacy_basic/LINKAGE.BAS under PC-BASIC, one session per point (menu key, dimensions,
+    --from PHI --to PHI, branch) in one interpreter (tests/basic_runner.run_batch); the time is
+    the whole run's, start-up and menus included. Soft errors are read from each session's part
+    of the screen. Linkages the listing refuses (line 480) are not typed in: the program would
+    return to its menu and swallow the next session's keys."""
+    import time
+    sessions, where, answers = [], [], {}
+    for label, kind, dims, phis in cases:
+        key, typed = _session_answers(kind, dims)
+        v, values = Variables(), iter(typed)
+        legal = dimensions(v, int(key), lambda prompt: input_value(next(values)))
+        Single.errors.clear()
+        for phi in phis:
+            for branch in (1, 2):
+                if not legal:
+                    answers[label, phi, branch] = Answer(ILLEGAL)
+                    continue
+                keys = key + "".join(t + "\r" for t in typed + [_typed(phi), _typed(phi), "1"])
+                sessions.append((keys + str(branch)).encode("ascii"))
+                where.append((label, phi, branch))
+    if not sessions:
+        return 0.0, 0, answers
+    start = time.perf_counter()
+    results = runner.run_batch(sessions)
+    seconds = time.perf_counter() - start
+    screens = results[0]["SCREEN"].split(b'NAME "ANG.DAT" AS')
+    for i, (point, files) in enumerate(zip(where, results)):
+        if not all(name in files for name in runner.DAT_FILES):
+            answers[point] = Answer(NO_ANSWER)
+            continue
+        lines = [files[name].rstrip(b"\x1a") for name in runner.DAT_FILES]
+        if not all(line.count(b"\r\n") == 1 for line in lines):
+            answers[point] = Answer(NO_ANSWER)
+            continue
+        soft = screens[i].count(DIV_ZERO.encode()) + screens[i].count(OVERFLOW.encode())
+        answers[point] = _written(tuple(lines), soft)
+    return seconds, len(sessions), answers
+
+
+def _clipped(r):
+    """The reference point r as the listing writes it: VEL and ACC clipped to +-3."""
+    if r.status != ASSEMBLED:
+        return r, 0
+    clip = [max(-CLIP, min(CLIP, x)) for x in (r.velocity, r.acceleration)]
+    beyond = sum(abs(x) > CLIP for x in (r.velocity, r.acceleration))
+    return dataclasses.replace(r, velocity=clip[0], acceleration=clip[1]), beyond
+
+
+def _score(tally, harness, cases, answers, references):
+    """Add each answer of `answers` (those of `cases`' points it has) to `tally`, against
+    `references` {(label, phi): {branch: reference point}} (none: times only)."""
+    for label, kind, dims, phis in cases:
+        for phi in phis:
+            for branch in (1, 2):
+                a = answers.get((label, phi, branch))
+                if a is None:
+                    continue
+                tally.points += 1
+                if a.status in FAILURES:
+                    tally.failures[a.status] = tally.failures.get(a.status, 0) + 1
+                    continue
+                if (label, phi) not in references:
+                    continue
+                r = references[label, phi][branch]
+                if a.clipped:
+                    r, beyond = _clipped(r)
+                    tally.beyond_clip += beyond
+                verdict, errors = harness.score(kind, dims, phi, branch, a.status, a.output,
+                                                a.velocity, a.acceleration, r)
+                here = f"{label} {phi:g}/{branch}"
+                if verdict != "ok":
+                    tally.failures[WRONG_STATUS] = tally.failures.get(WRONG_STATUS, 0) + 1
+                    tally.first_wrong = tally.first_wrong or f"{here}: {verdict}"
+                for quantity, error in errors.items():
+                    column = quantity
+                    if quantity == "output":
+                        column = "position" if kind in harness.SLIDERS else "angle"
+                    if error >= tally.worst.get(column, (-1.0, ""))[0]:
+                        tally.worst[column] = (error, here)
+
+
+METHODS = ("GW-BASIC single precision (the port)", "the listing's formulas in double",
+           "the engine", "mpmath, 30 digits", "mpmath, 50 digits (the reference)",
+           "PC-BASIC running the listing")
+
+
+def measure_accuracy(cases, pcbasic_cases=None, repeats=3) -> list[Tally]:
+    """Time the six methods on `cases` [(label, kind, dims, phis)] and score them against the
+    50-digit reference (the 50-digit row against an 80-digit run). PC-BASIC runs `pcbasic_cases`
+    (None: not at all). One Tally per method, in the order of METHODS."""
+    import subprocess
+    harness, reference, model, runner, missing = _instruments()
+    tallies = [Tally(name) for name in METHODS]
+    faithful, listing, engine, mp30, mp50, basic = tallies
+    runs = [(faithful, _faithful_method(cases, repeats)),
+            (listing, _listing_double_method(cases, repeats, model)),
+            (engine, _engine_method(cases, repeats))]
+    references, truth = {}, {}
+    if reference is None:
+        mp30.note = mp50.note = missing
+    else:
+        *run50, references = _mpmath_method(cases, reference, 50)
+        runs.append((mp50, tuple(run50)))
+        runs.append((mp30, _mpmath_method(cases, reference, 30)[:3]))
+        truth_seconds, truth_points, _, truth = _mpmath_method(cases, reference, 80)
+        mp50.note = (f"errors against an 80-digit run ({_duration(truth_seconds / truth_points)}"
+                     " a point)")
+    if pcbasic_cases is None:
+        basic.note = "not run"
+    else:
+        try:
+            version = runner.pcbasic_version()
+        except (OSError, subprocess.CalledProcessError) as e:
+            basic.note = f"PC-BASIC is not installed (pip install pcbasic==2.0.8): {e}"
+        else:
+            run = _pcbasic_method(pcbasic_cases, runner)
+            runs.append((basic, run))
+            port = runs[0][1][2]
+            same = sum(a.lines is not None and a.lines == port[k].lines
+                       for k, a in run[2].items())
+            basic.note = (f"{version}, one session per point; wrote the port's bytes at {same} "
+                          f"of {len(run[2])} points")
+    for tally, (seconds, computed, answers) in runs:
+        tally.seconds, tally.computed = seconds, computed
+        against = truth if tally is mp50 else references
+        _score(tally, harness, pcbasic_cases if tally is basic else cases, answers, against)
+        if reference is None and not tally.note:
+            tally.note = "no errors: " + missing
+    return tallies
+
+
+def _duration(seconds: float | None) -> str:
+    if seconds is None:
+        return "—"
+    for unit, scale in (("s", 1.0), ("ms", 1e-3), ("µs", 1e-6)):
+        if seconds >= scale or unit == "µs":
+            return f"{seconds / scale:.3g} {unit}"
+    raise AssertionError
+
+
+def _error_text(tally: Tally, column: str, measured: bool) -> str:
+    if column not in tally.worst:
+        return "—" if measured else "n/a"
+    error = tally.worst[column][0]
+    return "0" if error == 0 else f"{error:.1e}"
+
+
+def print_accuracy_table(tallies: list[Tally], out) -> None:
+    """The tallies as a Markdown table, then where each method's worst errors are."""
+    print("| method | time a point | points | angle ° | position | velocity | acceleration "
+          "| not in the errors |", file=out)
+    print("|---|--:|--:|--:|--:|--:|--:|---|", file=out)
+    for t in tallies:
+        failed = ", ".join(f"{n} {kind}" for kind, n in t.failures.items()) or "—"
+        if t.seconds is None:
+            print(f"| {t.method} | {t.note} ||||||||", file=out)
+            continue
+        measured = not t.note.startswith("no errors")
+        errors = " | ".join(_error_text(t, column, measured) for column in ERROR_COLUMNS)
+        print(f"| {t.method} | {_duration(t.per_point)} | {t.points} | {errors} | {failed} |",
+              file=out)
+    for t in tallies:
+        if t.seconds is None:
+            continue
+        where = "; ".join(f"{column} {t.worst[column][1]}" for column in ERROR_COLUMNS
+                          if column in t.worst and t.worst[column][0] > 0)
+        extra = [t.note] if t.note else []
+        if t.beyond_clip:
+            extra.append(f"{t.beyond_clip} VEL/ACC values beyond ±3 compared clipped")
+        if t.first_wrong:
+            extra.append(f"first wrong status: {t.first_wrong}")
+        print(f"  {t.method}: worst at {where or '—'}"
+              + "".join(f"; {e}" for e in extra), file=out)
+
+
+def bench_accuracy(out) -> None:
+    """What accuracy costs in time: six methods, two sweeps, errors against 50 digits."""
+    try:
+        harness = _instruments()[0]
+    except ImportError as e:
+        print(f"the accuracy bench measures with the tests' modules (tests/), which need "
+              f"{e.name}: python3 -m pip install -e '.[test]'", file=out)
+        return
+    ordinary = [(name, kind, dims, harness.ORDINARY_PHIS)
+                for name, (kind, dims) in harness.ORDINARY_CASES.items()]
+    hard = [(c["name"], c["kind"], c["dims"], [float(phi) for phi in c["phis"]])
+            for c in harness.load_hard_cases()]
+    short = [(name, kind, dims, phis[::PCBASIC_EVERY]) for name, kind, dims, phis in ordinary]
+    print(f"""\
+A point is one input angle on one branch. Errors against the 50-digit reference (tests/
+engine_reference.py: root finding on the loop closure written from the geometry, 10 guard
+digits), as tests/test_engine.py measures them: {harness.output_error.__doc__}
+{harness.ratio_error.__doc__} "position" is the slider's output, "angle" the four-bars'.
+Time a point: the sweep's time over its points, best of 3 (mpmath and PC-BASIC: one run), each
+linkage set up beforehand (Linkage(), the coefficients). Points where a method fails are counted
+in the last column, not in the errors: {DIVISION} (GW-BASIC's soft error, or Python's for the
+listing in double), {ILLEGAL} (line 480 refuses it), {WRONG_STATUS} (a value where the reference
+has no position, or none where it has one, beyond rounding). The faithful program and PC-BASIC:
+each angle typed as both bounds; 0, 0, 0 is the listing's "not assembled" (K8); VEL and ACC are
+compared with the reference clipped to ±3 as the listing clips them (K9).""", file=out)
+    for title, cases, pcbasic_cases in (
+            ("ordinary sweep: the linkages of tests/test_physics.py, phi = 3, 11, ..., 355; "
+             f"PC-BASIC every {PCBASIC_EVERY}th angle", ordinary, short),
+            (f"hard catalogue: data/hard_cases.toml, {len(hard)} linkages", hard, hard)):
+        print(f"\n{title}\n", file=out)
+        print_accuracy_table(measure_accuracy(cases, pcbasic_cases), out)
+
+
+BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine,
+              "accuracy": bench_accuracy}
 
 
 def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:

@@ -1,5 +1,6 @@
-"""Shared by test_engine.py and bench_engine.py: the hard-case catalogue, the ordinary sweep, and
-how an answer is scored against the 50-digit reference."""
+"""Shared by test_engine.py and the accuracy bench (python3 linkage.py bench accuracy): the
+hard-case catalogue, the ordinary sweep, and how an answer is scored against the 50-digit
+reference (engine_reference.py, imported at the first use: the bench runs without mpmath)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,6 @@ import math
 import tomllib
 from pathlib import Path
 
-import engine_reference as reference
 import test_physics
 
 DATA = Path(__file__).resolve().parent.parent / "data"
@@ -37,6 +37,7 @@ def size(kind, dims):
 
 @functools.lru_cache(maxsize=None)
 def _ref_cached(kind, dims_items, phi, dps):
+    import engine_reference as reference
     return reference.solve(kind, dict(dims_items), phi, dps)
 
 
@@ -50,7 +51,8 @@ def output_error(kind, dims, got, want):
     if kind in SLIDERS:
         return abs(float(got - want)) / size(kind, dims)
     d = float(got - want)
-    return abs((d + 180.0) % 360.0 - 180.0)
+    # exact for |d| < 180 ((d + 180) % 360 - 180 would round d to a multiple of 180's ulp, 2.8e-14)
+    return abs(d - 360.0 * round(d / 360.0))
 
 
 def ratio_error(got, want):
