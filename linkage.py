@@ -6,7 +6,7 @@ Machine Theory, 1980s).
     python3 linkage.py                  the original program: menu 1-6, prompts, ANG/VEL/ACC.DAT
     python3 linkage.py run TYPE ...     the same program driven by options (see --help)
     python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
-    python3 linkage.py bench            speed measurements
+    python3 linkage.py bench            speed, and what accuracy costs in time
 
 Fidelity: the aim is ANG.DAT, VEL.DAT and ACC.DAT byte-identical to those
 legacy_basic/LINKAGE.BAS writes under PC-BASIC 2.0.8 given the same keystrokes, computed in
@@ -3127,6 +3127,7 @@ FAILURES = (DIVISION, ILLEGAL, NO_ANSWER, WRONG_STATUS)
 CLIP = 3.0                      # lines 1200-1300 write VEL and ACC clipped to +-3 (K9)
 ERROR_COLUMNS = ("angle", "position", "velocity", "acceleration")
 PCBASIC_EVERY = 5               # PC-BASIC's short sweep: every 5th angle of the ordinary sweep
+ACCURACY_REPEATS = 3            # the fast methods' time is the best of this many runs
 
 
 class Answer(NamedTuple):
@@ -3161,6 +3162,9 @@ class Tally:
     @property
     def per_point(self) -> float | None:
         return self.seconds / self.computed if self.seconds is not None and self.computed else None
+
+
+INSTRUMENTS = ("basic_runner", "engine_harness", "listing_model", "test_physics")
 
 
 def _instruments():
@@ -3399,7 +3403,7 @@ def _score(tally, harness, cases, answers, references):
                     tally.beyond_clip += beyond
                 verdict, errors = harness.score(kind, dims, phi, branch, a.status, a.output,
                                                 a.velocity, a.acceleration, r)
-                here = f"{label} {phi:g}/{branch}"
+                here = f"{label} {phi}/{branch}"
                 if verdict != "ok":
                     tally.failures[WRONG_STATUS] = tally.failures.get(WRONG_STATUS, 0) + 1
                     tally.first_wrong = tally.first_wrong or f"{here}: {verdict}"
@@ -3414,9 +3418,26 @@ def _score(tally, harness, cases, answers, references):
 METHODS = ("GW-BASIC single precision (the port)", "the listing's formulas in double",
            "the engine", "mpmath, 30 digits", "mpmath, 50 digits (the reference)",
            "PC-BASIC running the listing")
+ACCURACY_NOTES = f"""\
+How it is measured. A point is one input angle on one branch. Each method's worst error over the
+sweep against the 50-digit reference (tests/engine_reference.py: root finding on the loop closure
+written from the geometry; mpmath rows carry 10 guard digits), as tests/test_engine.py scores:
+  angle         |psi - psi_ref| in degrees, wrapped (the four-bars' output)
+  position      |x - x_ref| / the linkage's largest length (the slider-cranks' output)
+  velocity,     |v - v_ref| where |v_ref| <= 1, |v - v_ref| / |v_ref| above (d/dphi and
+  acceleration  d2/dphi2 of psi in radians per radian, of x in length per radian)
+Time a point: the sweep's time over its points, best of {ACCURACY_REPEATS} (mpmath, PC-BASIC: one run), each
+linkage set up beforehand (Linkage(), the coefficients); the mpmath solver gives both branches
+of an angle at once. Not in the errors, counted in the last column: {DIVISION} (GW-BASIC's
+soft error or overflow; Python's, or a number not finite, for the listing in double), {ILLEGAL}
+(line 480 refuses the linkage), {WRONG_STATUS} (a value where the reference has no position,
+or none where it has one, beyond rounding). The faithful program and PC-BASIC get each angle
+typed as both bounds (no FOR-loop drift, K10); they write 0, 0, 0 where the linkage does not
+assemble (K8), and their VEL and ACC are compared with the reference clipped to +-3 (K9).
+"Worst at" names the point: case phi/branch."""
 
 
-def measure_accuracy(cases, pcbasic_cases=None, repeats=3) -> list[Tally]:
+def measure_accuracy(cases, pcbasic_cases=None, repeats=ACCURACY_REPEATS) -> list[Tally]:
     """Time the six methods on `cases` [(label, kind, dims, phis)] and score them against the
     50-digit reference (the 50-digit row against an 80-digit run). PC-BASIC runs `pcbasic_cases`
     (None: not at all). One Tally per method, in the order of METHODS."""
@@ -3451,7 +3472,7 @@ def measure_accuracy(cases, pcbasic_cases=None, repeats=3) -> list[Tally]:
             same = sum(a.lines is not None and a.lines == port[k].lines
                        for k, a in run[2].items())
             basic.note = (f"{version}, one session per point; wrote the port's bytes at {same} "
-                          f"of {len(run[2])} points")
+                          f"of {run[1]} points")
     for tally, (seconds, computed, answers) in runs:
         tally.seconds, tally.computed = seconds, computed
         against = truth if tally is mp50 else references
@@ -3501,7 +3522,7 @@ def print_accuracy_table(tallies: list[Tally], out) -> None:
             extra.append(f"{t.beyond_clip} VEL/ACC values beyond ±3 compared clipped")
         if t.first_wrong:
             extra.append(f"first wrong status: {t.first_wrong}")
-        print(f"  {t.method}: worst at {where or '—'}"
+        print(f"- {t.method}: worst at {where or '—'}"
               + "".join(f"; {e}" for e in extra), file=out)
 
 
@@ -3510,26 +3531,17 @@ def bench_accuracy(out) -> None:
     try:
         harness = _instruments()[0]
     except ImportError as e:
-        print(f"the accuracy bench measures with the tests' modules (tests/), which need "
-              f"{e.name}: python3 -m pip install -e '.[test]'", file=out)
+        what = ("the repository's tests/ beside linkage.py" if e.name in INSTRUMENTS
+                else f"{e.name}: python3 -m pip install -e '.[test]'")
+        print(f"not measured: the accuracy bench measures with the tests' modules, and needs "
+              f"{what}", file=out)
         return
     ordinary = [(name, kind, dims, harness.ORDINARY_PHIS)
                 for name, (kind, dims) in harness.ORDINARY_CASES.items()]
     hard = [(c["name"], c["kind"], c["dims"], [float(phi) for phi in c["phis"]])
             for c in harness.load_hard_cases()]
     short = [(name, kind, dims, phis[::PCBASIC_EVERY]) for name, kind, dims, phis in ordinary]
-    print(f"""\
-A point is one input angle on one branch. Errors against the 50-digit reference (tests/
-engine_reference.py: root finding on the loop closure written from the geometry, 10 guard
-digits), as tests/test_engine.py measures them: {harness.output_error.__doc__}
-{harness.ratio_error.__doc__} "position" is the slider's output, "angle" the four-bars'.
-Time a point: the sweep's time over its points, best of 3 (mpmath and PC-BASIC: one run), each
-linkage set up beforehand (Linkage(), the coefficients). Points where a method fails are counted
-in the last column, not in the errors: {DIVISION} (GW-BASIC's soft error, or Python's for the
-listing in double), {ILLEGAL} (line 480 refuses it), {WRONG_STATUS} (a value where the reference
-has no position, or none where it has one, beyond rounding). The faithful program and PC-BASIC:
-each angle typed as both bounds; 0, 0, 0 is the listing's "not assembled" (K8); VEL and ACC are
-compared with the reference clipped to ±3 as the listing clips them (K9).""", file=out)
+    print(ACCURACY_NOTES, file=out)
     for title, cases, pcbasic_cases in (
             ("ordinary sweep: the linkages of tests/test_physics.py, phi = 3, 11, ..., 355; "
              f"PC-BASIC every {PCBASIC_EVERY}th angle", ordinary, short),
@@ -3542,11 +3554,27 @@ BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine,
               "accuracy": bench_accuracy}
 
 
+def machine() -> str:
+    """This machine, as the README quotes it: CPU model (/proc/cpuinfo), the CPUs this process may
+    use (what nproc prints), Python's version."""
+    import platform
+    model = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as cpuinfo:
+            model = next((line.split(":", 1)[1].strip() for line in cpuinfo
+                          if line.startswith("model name")), model)
+    except OSError:
+        pass
+    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    load = f", load average {os.getloadavg()[0]:.2f}" if hasattr(os, "getloadavg") else ""
+    return (f"{model} ({platform.machine()}), nproc {usable}, "
+            f"{platform.python_implementation()} {platform.python_version()}{load}")
+
+
 def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py bench [NAME ...]`: print the benchmarks' numbers and how they ran."""
-    import platform
-    print(f"linkage.py {__version__} bench, Python {platform.python_version()}, "
-          f"{platform.machine()}, {os.cpu_count()} CPUs; best of repeated runs")
+    print(f"$ python3 linkage.py bench {' '.join(args.names)}".rstrip())
+    print(f"linkage.py {__version__} on {machine()}")
     for name in args.names or list(BENCHMARKS):
         print(f"\n== {name}: {BENCHMARKS[name].__doc__.splitlines()[0]}")
         BENCHMARKS[name](sys.stdout)
@@ -3728,8 +3756,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.set_defaults(handler=run_command, parser=run)
     commands.add_parser("design", help="synthesise a linkage by one of the review's methods "
                                       "(python3 linkage.py design --help)", add_help=False)
-    bench = commands.add_parser("bench", help="measure speed (and, later, accuracy)",
-                                description="Run the benchmarks and print their numbers.")
+    bench = commands.add_parser("bench", help="measure speed, and what accuracy costs in time",
+                                description="Run the benchmarks and print their numbers. "
+                                            "accuracy takes minutes and needs the repository's "
+                                            "tests/ and their dependencies (mpmath, PC-BASIC).")
     bench.add_argument("names", nargs="*", type=_benchmark_name, metavar="NAME",
                        help=f"which: {', '.join(BENCHMARKS)} (default: all)")
     bench.set_defaults(handler=bench_command, parser=bench)

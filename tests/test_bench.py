@@ -1,0 +1,137 @@
+"""The accuracy bench's machinery (python3 linkage.py bench accuracy), on a tiny sweep: it scores
+the engine within the bounds tests/test_engine.py asserts and the faithful program at single
+precision's error, it counts the points where the listing fails apart from the errors, PC-BASIC's
+row agrees with the port's, and a missing mpmath, PC-BASIC or tests/ is said, not a traceback.
+No time is asserted: the benchmark prints times."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+import basic_runner
+import linkage
+from test_engine import TOL
+
+# (label, kind, dims, input angles): each point is an angle on one branch, so 16 points here.
+TINY = [
+    ("crank-rocker", "plane", dict(a=6.0, b=2.0, c=7.0, d=9.0), [41.0, 180.0]),  # K6 at 180
+    ("change-point", "plane", dict(a=4.0, b=2.0, c=3.0, d=5.0), [0.0, 10.0]),    # K7 at 0
+    ("slider", "slider", dict(b=2.0, c=7.0, e=1.5), [97.0, 233.0]),
+    # ksi = 90: line 400's TAN(KSI) overflows and line 480 refuses the linkage
+    ("skew-slider-ksi-90", "skew-slider", dict(a=-1.5, b=2.0, c=7.0, f=0.0, ksi=90.0), [90.0]),
+    ("spherical", "spherical", dict(a=80.0, b=20.0, c=75.0, d=60.0), [233.0]),
+]
+POINTS = 2 * sum(len(phis) for *_, phis in TINY)
+# velocity 6.3 and -5.3, acceleration -62.5 and 62.5 on the two branches: the listing writes +-3
+CLIPPED = [("double-rocker", "plane", dict(a=2.0, b=2.0, c=2.0, d=0.5), [-75.0])]
+COLUMNS = {"angle": TOL["output"], "position": TOL["slider-output"],
+           "velocity": TOL["velocity"], "acceleration": TOL["acceleration"]}
+
+
+@pytest.fixture(scope="module")
+def tallies():
+    rows = linkage.measure_accuracy(TINY, TINY, repeats=1)
+    return dict(zip(("faithful", "listing", "engine", "mp30", "mp50", "basic"), rows))
+
+
+def test_every_row_is_measured_on_every_point(tallies):
+    assert [t.method for t in tallies.values()] == list(linkage.METHODS)
+    for name, t in tallies.items():
+        assert t.points == POINTS, name
+        assert t.seconds is not None and t.seconds > 0, name
+    assert tallies["engine"].computed == POINTS
+    # the listing refuses skew-slider-ksi-90: neither the port nor PC-BASIC computes it
+    assert tallies["faithful"].computed == tallies["basic"].computed == POINTS - 2
+
+
+def test_the_engine_is_within_test_engines_bounds(tallies):
+    engine = tallies["engine"]
+    assert engine.failures == {}
+    assert set(engine.worst) == set(COLUMNS)
+    for column, bound in COLUMNS.items():
+        assert engine.worst[column][0] <= bound, (column, engine.worst[column])
+
+
+def test_the_faithful_program_has_single_precisions_error(tallies):
+    """Seven written digits and 24-bit arithmetic: the angle is off by 1e-7 to 1e-3 degree, far
+    above the engine's bound; at 180 degrees the listing's spike (K6) is the worst velocity."""
+    faithful, engine = tallies["faithful"], tallies["engine"]
+    angle = faithful.worst["angle"][0]
+    assert 1e-7 <= angle <= 1e-3, faithful.worst
+    assert 1e-9 <= faithful.worst["position"][0] <= 1e-5, faithful.worst
+    for column in COLUMNS:
+        assert faithful.worst[column][0] >= 1000 * COLUMNS[column], (column, faithful.worst)
+        assert faithful.worst[column][0] >= 1000 * engine.worst[column][0], column
+    error, where = faithful.worst["velocity"]
+    assert error >= 0.25 and where.startswith("crank-rocker 180.0/"), faithful.worst
+
+
+def test_failures_are_counted_apart_from_the_errors(tallies):
+    faithful, listing = tallies["faithful"], tallies["listing"]
+    assert faithful.failures[linkage.ILLEGAL] == 2                 # skew-slider-ksi-90, both branches
+    assert faithful.failures[linkage.DIVISION] >= 1                # the change point at 0 (K7)
+    assert listing.failures[linkage.DIVISION] >= 1
+    for t in (faithful, listing):
+        for error, where in t.worst.values():
+            assert not where.startswith("change-point 0.0/"), (t.method, where)
+            assert error < 1e30                                    # no 1.701412E+38 in the errors
+    # the engine says dead-centre there: not a failure, and its output is compared
+    assert tallies["engine"].failures == {}
+
+
+def test_ratios_beyond_3_are_compared_clipped():
+    """The listing clips VEL and ACC to +-3 (K9): there its 3 is right, and the bench counts the
+    values it compared so."""
+    faithful = linkage.measure_accuracy(CLIPPED, None, repeats=1)[0]
+    assert faithful.beyond_clip == 4 and faithful.failures == {}
+    assert faithful.worst["velocity"][0] <= 1e-5 and faithful.worst["acceleration"][0] <= 1e-5
+
+
+def test_the_reference_rows(tallies):
+    """The 50-digit reference against an 80-digit run, the 30-digit run against the reference:
+    each good to its digits."""
+    for name, bound in (("mp50", 1e-45), ("mp30", 1e-25)):
+        t = tallies[name]
+        assert t.failures == {} and set(t.worst) == set(COLUMNS), name
+        for column, (error, where) in t.worst.items():
+            assert error <= bound, (name, column, error, where)
+
+
+def test_pcbasic_row_is_the_ports(tallies):
+    """PC-BASIC's files, with the soft errors read from each session's part of the screen, score
+    as the port's lines: the same failures, the same worst errors to the last written digit."""
+    faithful, basic = tallies["faithful"], tallies["basic"]
+    assert basic.failures == faithful.failures
+    assert basic.worst.keys() == faithful.worst.keys()
+    for column, (error, _) in basic.worst.items():
+        assert error == pytest.approx(faithful.worst[column][0], rel=1e-5, abs=1e-6), column
+
+
+def test_missing_mpmath_and_pcbasic_are_said(monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "mpmath", None)               # import mpmath fails
+    monkeypatch.delitem(sys.modules, "engine_reference", raising=False)
+    monkeypatch.setattr(basic_runner, "pcbasic_command",
+                        lambda: [sys.executable, "-m", "no_pcbasic_here"])
+    rows = linkage.measure_accuracy(TINY[:1], TINY[:1], repeats=1)
+    faithful, listing, engine, mp30, mp50, basic = rows
+    assert "mpmath is not installed" in mp30.note and "mpmath is not installed" in mp50.note
+    assert mp30.seconds is None and mp50.seconds is None
+    assert basic.note.startswith("PC-BASIC is not installed") and basic.seconds is None
+    for t in (faithful, listing, engine):
+        assert t.seconds is not None and t.worst == {} and "mpmath" in t.note
+    linkage.print_accuracy_table(rows, sys.stdout)
+    printed = capsys.readouterr().out
+    assert "mpmath is not installed" in printed and "PC-BASIC is not installed" in printed
+
+
+def test_without_the_tests_directory_the_bench_says_so(tmp_path):
+    """linkage.py alone (no tests/ beside it): a message, exit status 0, no traceback."""
+    (tmp_path / "linkage.py").write_bytes(open(linkage.__file__, "rb").read())
+    run = subprocess.run([sys.executable, str(tmp_path / "linkage.py"), "bench", "accuracy"],
+                         capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    assert run.returncode == 0, run.stderr
+    assert "Traceback" not in run.stderr + run.stdout
+    assert "not measured" in run.stdout and "tests/" in run.stdout
