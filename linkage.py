@@ -3128,6 +3128,7 @@ CLIP = 3.0                      # lines 1200-1300 write VEL and ACC clipped to +
 ERROR_COLUMNS = ("angle", "position", "velocity", "acceleration")
 PCBASIC_EVERY = 5               # PC-BASIC's short sweep: every 5th angle of the ordinary sweep
 ACCURACY_REPEATS = 3            # the fast methods' time is the best of this many runs
+PCBASIC_TIMEOUT = 1800          # seconds: PC-BASIC takes a quarter of a second a session
 
 
 class Answer(NamedTuple):
@@ -3191,15 +3192,20 @@ def _typed(x) -> str:
     return repr(float(x))
 
 
-def _session_answers(kind: str, dims: dict) -> tuple[str, list[str]]:
-    """The menu key and the dimensions as typed, in the order the listing asks for them."""
+def _typed_linkage(kind: str, dims: dict):
+    """Lines 250-480 given the dimensions typed at the prompts: the menu key, the answers typed
+    (in the order the listing asks), and the listing's variables, or None where line 480 refuses
+    the linkage. Soft errors are left in Single.errors."""
     key, needed = MECHANISM_TYPES[kind]
-    return key, [_typed(dims["ksi" if n == "skew" else n]) for n in needed]
+    typed = [_typed(dims["ksi" if n == "skew" else n]) for n in needed]
+    v, answers = Variables(), iter(typed)
+    legal = dimensions(v, int(key), lambda prompt: input_value(next(answers)))
+    return key, typed, v if legal else None
 
 
-def _written(lines: tuple[str, str, str], soft_errors: int) -> Answer:
-    """What the listing wrote for one point ("phi,value" lines of ANG, VEL and ACC.DAT) and the
-    soft errors it printed meanwhile, as an Answer: 0, 0, 0 is its mark of a position that does
+def _written(lines, soft_errors: int) -> Answer:
+    """What the listing wrote for one point (the "phi,value" lines of ANG, VEL and ACC.DAT, str or
+    bytes) and the soft errors it printed meanwhile, as an Answer: 0, 0, 0 is its mark of a position that does
     not assemble (K8); after "Division by zero" or "Overflow" the values are not compared."""
     text = tuple(line.encode("ascii") if isinstance(line, str) else line for line in lines)
     output, velocity, acceleration = (float(line.split(b",")[1]) for line in text)
@@ -3215,11 +3221,9 @@ def _faithful_method(cases, repeats):
     (--from PHI --to PHI), so without the FOR loop's drift (K10)."""
     jobs = []
     for label, kind, dims, phis in cases:
-        key, typed = _session_answers(kind, dims)
         Single.errors.clear()
-        v = Variables()
-        answers = iter(typed)
-        if dimensions(v, int(key), lambda prompt: input_value(next(answers))):
+        key, _, v = _typed_linkage(kind, dims)
+        if v is not None:
             co = coefficients(v, int(key))
             angles = [degrees_to_radians(input_value(_typed(phi))) for phi in phis]
             jobs.append((label, phis, (co, v.S, angles), len(Single.errors)))
@@ -3335,20 +3339,18 @@ def _mpmath_method(cases, reference, dps):
 
 def _pcbasic_method(cases, runner):
     """legacy_basic/LINKAGE.BAS under PC-BASIC, one session per point (menu key, dimensions,
-    --from PHI --to PHI, branch) in one interpreter (tests/basic_runner.run_batch); the time is
-    the whole run's, start-up and menus included. Soft errors are read from each session's part
+    --from PHI --to PHI, branch) in one interpreter (tests/basic_runner.run_batch, at most
+    PCBASIC_TIMEOUT seconds); the time is the whole run's, start-up and menus included. Soft errors are read from each session's part
     of the screen. Linkages the listing refuses (line 480) are not typed in: the program would
     return to its menu and swallow the next session's keys."""
     import time
     sessions, where, answers = [], [], {}
     for label, kind, dims, phis in cases:
-        key, typed = _session_answers(kind, dims)
-        v, values = Variables(), iter(typed)
-        legal = dimensions(v, int(key), lambda prompt: input_value(next(values)))
+        key, typed, v = _typed_linkage(kind, dims)
         Single.errors.clear()
         for phi in phis:
             for branch in (1, 2):
-                if not legal:
+                if v is None:
                     answers[label, phi, branch] = Answer(ILLEGAL)
                     continue
                 keys = key + "".join(t + "\r" for t in typed + [_typed(phi), _typed(phi), "1"])
@@ -3357,7 +3359,7 @@ def _pcbasic_method(cases, runner):
     if not sessions:
         return 0.0, 0, answers
     start = time.perf_counter()
-    results = runner.run_batch(sessions)
+    results = runner.run_batch(sessions, timeout=PCBASIC_TIMEOUT)
     seconds = time.perf_counter() - start
     screens = results[0]["SCREEN"].split(b'NAME "ANG.DAT" AS')
     for i, (point, files) in enumerate(zip(where, results)):
@@ -3456,8 +3458,8 @@ def measure_accuracy(cases, pcbasic_cases=None, repeats=ACCURACY_REPEATS) -> lis
         runs.append((mp50, tuple(run50)))
         runs.append((mp30, _mpmath_method(cases, reference, 30)[:3]))
         truth_seconds, truth_points, _, truth = _mpmath_method(cases, reference, 80)
-        mp50.note = (f"errors against an 80-digit run ({_duration(truth_seconds / truth_points)}"
-                     " a point)")
+        mp50.note = (f"errors against an 80-digit run "
+                     f"({_duration(truth_seconds / max(truth_points, 1))} a point)")
     if pcbasic_cases is None:
         basic.note = "not run"
     else:
@@ -3466,13 +3468,17 @@ def measure_accuracy(cases, pcbasic_cases=None, repeats=ACCURACY_REPEATS) -> lis
         except (OSError, subprocess.CalledProcessError) as e:
             basic.note = f"PC-BASIC is not installed (pip install pcbasic==2.0.8): {e}"
         else:
-            run = _pcbasic_method(pcbasic_cases, runner)
-            runs.append((basic, run))
-            port = runs[0][1][2]
-            same = sum(a.lines is not None and a.lines == port[k].lines
-                       for k, a in run[2].items())
-            basic.note = (f"{version}, one session per point; wrote the port's bytes at {same} "
-                          f"of {run[1]} points")
+            try:
+                run = _pcbasic_method(pcbasic_cases, runner)
+            except subprocess.TimeoutExpired:
+                basic.note = f"{version} did not finish in {PCBASIC_TIMEOUT} s"
+            else:
+                runs.append((basic, run))
+                port = runs[0][1][2]
+                same = sum(a.lines is not None and a.lines == getattr(port.get(k), "lines", None)
+                           for k, a in run[2].items())
+                basic.note = (f"{version}, one session per point; wrote the port's bytes at "
+                              f"{same} of {run[1]} points")
     for tally, (seconds, computed, answers) in runs:
         tally.seconds, tally.computed = seconds, computed
         against = truth if tally is mp50 else references
@@ -3512,6 +3518,7 @@ def print_accuracy_table(tallies: list[Tally], out) -> None:
         errors = " | ".join(_error_text(t, column, measured) for column in ERROR_COLUMNS)
         print(f"| {t.method} | {_duration(t.per_point)} | {t.points} | {errors} | {failed} |",
               file=out)
+    print(file=out)
     for t in tallies:
         if t.seconds is None:
             continue

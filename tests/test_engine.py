@@ -291,7 +291,8 @@ def test_worst_errors_over_the_catalogue():
 
 def test_reference_is_converged():
     """The 50-digit reference agrees with a 70-digit run to 1e-35 on hard points (at 1e-9
-    degree from a change point: to 1e-28; bench_engine.py compares the whole catalogue)."""
+    degree from a change point: to 1e-28; python3 linkage.py bench accuracy compares the
+    whole catalogue with an 80-digit run)."""
     for kind, dims, phi in (("plane", dict(a=4, b=2, c=3, d=5), 0.001),
                             ("plane", dict(a=6, b=2, c=7, d=9), 0.0),         # symmetric
                             ("spherical", dict(a=90, b=15, c=90, d=90), 180.0),
