@@ -270,33 +270,39 @@ def _dp_to_single(m56, sh, mbf_neg, err):
 
 def _digits(x):
     """Seven decimal digits and the decimal exponent k of |x| (x != 0), so
-    that |x| ~ 0.ddddddd * 10**k, as PC-BASIC makes them (observed,
-    exp/e27..e38, fmtAB.py).  The mantissa is held in a 32-bit register
-    (24 bits + a guard byte): while the value is >= 999999.5 it is divided
-    by ten (the quotient truncated to 32 bits and one unit low when exact:
-    the largest register value strictly below m/10); then, while below
-    999999.5, it is multiplied by ten as x*4 + x: the sum truncated to 32
-    bits, with the
-    two bits shifted out of the aligned x kept as a sticky low bit.  The
-    register is rounded half up to 24 bits and the single is rounded like
-    WRITE does it: mbf_add .5 in single if not whole, truncate."""
+    that |x| ~ 0.ddddddd * 10**k, as PC-BASIC makes them (observed; see
+    data/PCBASIC_NOTES.md, "Numbers to text").  The mantissa is held in a
+    32-bit register (24 bits + a guard byte).  A value above 9999999 is
+    divided by ten while it stays above 9999999 (the quotient truncated to
+    32 bits and one unit low when exact: the largest register value strictly
+    below m/10); any other value is multiplied by ten while it is below
+    999999.9375, as x*4 + x: the sum truncated to 32 bits, with the two bits
+    shifted out of the aligned x kept as a sticky low bit.  (So a single just
+    below a power of ten, such as .99999994, can print as that power: "1".)
+    The register is rounded half up to 24 bits and the single is rounded like
+    WRITE does it: mbf_add .5 in single if not whole, truncate.  Known
+    residual: for |x| >= 1E+16 about 0.3 % of values print one unit off in
+    the last digit (the division step is not yet exact; no such value can
+    reach the listing's files but the overflow value, which is exact)."""
     _, m, eb = _split(abs(x))
     m <<= 8
     e = eb - 160                       # |x| = m * 2**e
     k = 0
-    while _at_least_lim(m, e):
-        q = ((m << 36) - 1) // 10
-        sh = q.bit_length() - 32
-        m, e = q >> sh, e - 36 + sh
-        k += 1
-    while not _at_least_lim(m, e):
-        s = m + (m >> 2)
-        e += 3
-        if s >> 32:
-            s >>= 1
-            e += 1
-        m = s | (m & 3 != 0)
-        k -= 1
+    if _above(m, e, 9999999):
+        while _above(m, e, 9999999):
+            q = ((m << 36) - 1) // 10
+            sh = q.bit_length() - 32
+            m, e = q >> sh, e - 36 + sh
+            k += 1
+    else:
+        while _below(m, e + 4, 15999999):          # 16 * 999999.9375 = 15999999
+            s = m + (m >> 2)
+            e += 3
+            if s >> 32:
+                s >>= 1
+                e += 1
+            m = s | (m & 3 != 0)
+            k -= 1
     q = (m >> 8) + ((m & 0xFF) >= 0x80)
     y = math.ldexp(q, e + 8)
     if y != math.floor(y):
@@ -305,9 +311,14 @@ def _digits(x):
     return s, len(s) + k
 
 
-def _at_least_lim(m, e):
-    """m * 2**e >= 1000000, the bound of the decimal scaling loops."""
-    return (m << e if e >= 0 else m) >= (1000000 if e >= 0 else 1000000 << -e)
+def _above(m, e, n):
+    """m * 2**e > n for the register m and the whole number n."""
+    return (m << e if e >= 0 else m) > (n if e >= 0 else n << -e)
+
+
+def _below(m, e, n):
+    """m * 2**e < n for the register m and the whole number n."""
+    return (m << e if e >= 0 else m) < (n if e >= 0 else n << -e)
 
 
 def _text(x):
