@@ -281,9 +281,10 @@ def _digits(x):
     below a power of ten, such as .99999994, can print as that power: "1".)
     The register is rounded half up to 24 bits and the single is rounded like
     WRITE does it: mbf_add .5 in single if not whole, truncate.  Known
-    residual: for |x| >= 1E+16 about 0.3 % of values print one unit off in
-    the last digit (the division step is not yet exact; no such value can
-    reach the listing's files but the overflow value, which is exact)."""
+    residual: of values of 1E+10 and more, a few in a thousand print one
+    unit off in the last digit (the division step is not exactly PC-BASIC's;
+    no such value reaches the listing's files but the overflow value, whose
+    text is exact)."""
     _, m, eb = _split(abs(x))
     m <<= 8
     e = eb - 160                       # |x| = m * 2**e
@@ -414,7 +415,7 @@ def mbf_log(x, err=_ignore):
     return _from_float(math.log(x), err)
 
 
-def sqr(x, err=_ignore):
+def mbf_sqr(x, err=_ignore):
     """SQR: math.sqrt, truncated to 23 bits (24 from 2**23 up); X < 0 is an
     Illegal function call (ValueError)."""
     if x < 0:
@@ -444,7 +445,7 @@ def mbf_power(x, y, err=_ignore):
     return _from_float(v, err)
 
 
-def ipower(x, n, err=_ignore):
+def mbf_ipower(x, n, err=_ignore):
     """X^N with an integer-typed exponent (an integer literal such as the 2
     in T^2, or an N% variable).  N >= 1: left-to-right binary powering with
     single multiplications (square, then times X for each further 1 bit of
@@ -563,7 +564,7 @@ class Single:
     def __rtruediv__(self, other): return Single(mbf_div(_value(other), self.v, _soft_error))
     def __pow__(self, other):
         if isinstance(other, int):     # an integer literal (T^2): repeated multiplication
-            return Single(ipower(self.v, other, _soft_error))
+            return Single(mbf_ipower(self.v, other, _soft_error))
         return Single(mbf_power(self.v, _value(other), _soft_error))
 
     def __rpow__(self, other): return Single(mbf_power(_value(other), self.v, _soft_error))
