@@ -56,6 +56,8 @@ MBF_MAX = math.ldexp(0xFFFFFF, 127 - 24)      # 1.701412E+38, the overflow value
 OVERFLOW = "Overflow"
 DIV_ZERO = "Division by zero"
 _T24 = 16777216.0                        # 2**24
+_TOP = 2.0 ** 127                        # the first magnitude beyond the single range
+_BOTTOM = 2.0 ** -128                    # the smallest magnitude in it
 
 
 def _ignore(message):
@@ -133,21 +135,20 @@ def mbf_add(x, y, err=_ignore):
         return y if y != 0 else 0.0          # a sum of zeros is +0, whatever their signs
     if y == 0:
         return x
+    if (x > 0) is (y > 0):
+        # The double sum is exact while the exponents are at most 28 apart; further apart,
+        # it rounds to within an eighth of X's last place, and the single sum is X anyway.
+        f, e = math.frexp(x + y)
+        v = math.ldexp(round(f * _T24), e - 24)
+        if -_TOP < v < _TOP:
+            return v
+        err(OVERFLOW)
+        return math.copysign(MBF_MAX, x)
     nx, mx, ex = _split(x)
     ny, my, ey = _split(y)
     if ex < ey or (ex == ey and mx < my):
         x, nx, mx, ex, ny, my, ey = y, ny, my, ey, nx, mx, ex
     c = ex - ey
-    if nx == ny:
-        if c > 26:
-            return x
-        s = (mx << c) + my                   # exact sum in units of y's ulp
-        sh = s.bit_length() - 24
-        m, rest = s >> sh, s & ((1 << sh) - 1)
-        half = 1 << (sh - 1)
-        if rest > half or (rest == half and m & 1):
-            m += 1
-        return _make(nx, m, ex + sh - c, err)
     if c >= 25 or (c == 24 and my == 1 << 23):
         return x
     v = (my << 8) >> c
@@ -186,13 +187,17 @@ def mbf_mul(x, y, err=_ignore):
     if p == 0:
         return 0.0
     f, e = math.frexp(p)
-    mbf_neg = f < 0
-    t = int((-f if mbf_neg else f) * 134217728.0)  # 27 bits, truncated
-    m = t >> 3
-    g = t & 7
+    t = int(abs(f) * 134217728.0)                  # 27 bits, truncated
+    m, g = t >> 3, t & 7
     if g > 4 or (g == 4 and m & 1):
         m += 1
-    return _make(mbf_neg, m, e + 128, err)
+    v = math.ldexp(m, e - 24)
+    if v >= _TOP:
+        err(OVERFLOW)
+        return math.copysign(MBF_MAX, p)
+    if v < _BOTTOM:
+        return 0.0
+    return v if p > 0 else -v
 
 
 def mbf_div(x, y, err=_ignore):
@@ -562,8 +567,9 @@ class Single:
     def __rmul__(self, other): return Single(mbf_mul(_value(other), self.v, _soft_error))
     def __truediv__(self, other): return Single(mbf_div(self.v, _value(other), _soft_error))
     def __rtruediv__(self, other): return Single(mbf_div(_value(other), self.v, _soft_error))
+
     def __pow__(self, other):
-        if isinstance(other, int):     # an integer literal (T^2): repeated multiplication
+        if other.__class__ is int:     # an integer literal (T^2): repeated multiplication
             return Single(mbf_ipower(self.v, other, _soft_error))
         return Single(mbf_power(self.v, _value(other), _soft_error))
 
@@ -578,7 +584,7 @@ class Single:
 
 
 def _value(x) -> float:
-    return x.v if isinstance(x, Single) else float(x)
+    return x.v if x.__class__ is Single else float(x)
 
 
 def _soft_error(message: str) -> None:
