@@ -8,13 +8,12 @@ Machine Theory, 1980s).
     python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
     python3 linkage.py bench            speed measurements
 
-Fidelity: the aim is ANG.DAT, VEL.DAT and ACC.DAT byte-identical to those
-legacy_basic/LINKAGE.BAS writes under PC-BASIC 2.0.8 given the same keystrokes, computed in
-GW-BASIC's own single precision. Today the screen transcript is identical for 42 of the 44
-golden cases and the files for 8; the rest differ in last digits because the model of
-PC-BASIC's division and SIN/COS/TAN/ATN/^ is not finished (tests/test_port.py lists them).
-Deviations from the original, all where it would hang or lose data, are marked `# ERRATA Pn`
-here and listed in legacy_basic/ERRATA.md, Part 3.
+Fidelity: ANG.DAT, VEL.DAT and ACC.DAT are byte-identical to those legacy_basic/LINKAGE.BAS
+writes under PC-BASIC 2.0.8 given the same keystrokes, and so is the screen transcript, computed
+in GW-BASIC's own single precision (tests/test_port.py holds the port to all 44 golden cases,
+tests/test_differential.py to random sessions). Deviations from the original are marked
+`# ERRATA Pn` here and listed in legacy_basic/ERRATA.md, Part 3: where it would hang or lose
+data (P1-P6), and the last digit of a few numbers of 1E+10 and more (P7).
 
 Sections: GW-BASIC single precision; the listing's computation; the original program
 (screen, keys, INPUT, the menu session, files); the accurate engine; synthesis; benchmarks;
@@ -123,7 +122,7 @@ def mbf_to_bytes(x):
 # the four operations
 
 def mbf_add(x, y, err=_ignore):
-    """X+Y as PC-BASIC computes it (observed, exp/e24..e32).
+    """X+Y as PC-BASIC computes it (observed; data/PCBASIC_NOTES.md).
     Equal signs: the exact sum rounded to nearest, ties to even.
     Opposite signs: the smaller operand is aligned keeping one guard byte
     (bits below it are dropped; bit 5 of the guard is set when any of its
@@ -201,7 +200,7 @@ def mbf_mul(x, y, err=_ignore):
 
 
 def mbf_div(x, y, err=_ignore):
-    """X/Y as PC-BASIC computes it (observed, exp/e9..e16): restoring long
+    """X/Y as PC-BASIC computes it (observed; data/PCBASIC_NOTES.md): restoring long
     division of the mantissas held with a guard byte (m << 8), where the
     divisor register is shifted right after each of the 24 quotient bits so
     that its low bits fall off (the quotient comes out a little too large
@@ -273,7 +272,7 @@ def _dp_to_single(m56, sh, mbf_neg, err):
     return _make(mbf_neg, m, eb, err)
 
 
-def _digits(x):
+def _digits(x):  # ERRATA P7
     """Seven decimal digits and the decimal exponent k of |x| (x != 0), so
     that |x| ~ 0.ddddddd * 10**k, as PC-BASIC makes them (observed; see
     data/PCBASIC_NOTES.md, "Numbers to text").  The mantissa is held in a
@@ -356,10 +355,11 @@ def mbf_print_text(x):
 
 # --------------------------------------------------------------------------
 # functions.  PC-BASIC evaluates SIN, COS, TAN, ATN, EXP, LOG, SQR and X^Y
-# (Y not whole) in IEEE double precision on the exact value of the single
-# argument and converts the result by truncation toward zero to 23
-# significant bits (24 from 2**23 up), so the last mantissa bit of a result
-# below 2**23 is always 0 (NOTES.md, exp/e17..e21).
+# with a single exponent Y (whole or not: (-1)^(LOP+1) too) in IEEE double
+# precision on the exact value of the single argument and converts the result
+# by truncation toward zero to 23 significant bits (24 from 2**23 up), so the
+# last mantissa bit of a result below 2**23 is always 0.  X^N with an integer
+# exponent (the literal 2 of T^2) is repeated multiplication: mbf_ipower.
 
 _TRIG_LIMIT = 5e16       # SIN/COS/TAN of |x| >= this give 0, 1, 0
 _TINY = math.ldexp(1.0, -1001)   # double results this small count as overflow
