@@ -291,16 +291,16 @@ def _digits(x):  # ERRATA P7
     text is exact)."""
     _, m, eb = _split(abs(x))
     m <<= 8
-    e = eb - 160                       # |x| = m * 2**e
+    e = eb - 160                       # |x| = m * 2**e; ldexp(m, e) is exact (m < 2**32)
     k = 0
-    if _above(m, e, 9999999):
-        while _above(m, e, 9999999):
+    if math.ldexp(m, e) > 9999999:
+        while math.ldexp(m, e) > 9999999:
             q = ((m << 36) - 1) // 10
             sh = q.bit_length() - 32
             m, e = q >> sh, e - 36 + sh
             k += 1
     else:
-        while _below(m, e + 4, 15999999):          # 16 * 999999.9375 = 15999999
+        while math.ldexp(m, e) < 999999.9375:
             s = m + (m >> 2)
             e += 3
             if s >> 32:
@@ -314,16 +314,6 @@ def _digits(x):  # ERRATA P7
         y = mbf_add(y, 0.5)
     s = str(int(y))
     return s, len(s) + k
-
-
-def _above(m, e, n):
-    """m * 2**e > n for the register m and the whole number n."""
-    return (m << e if e >= 0 else m) > (n if e >= 0 else n << -e)
-
-
-def _below(m, e, n):
-    """m * 2**e < n for the register m and the whole number n."""
-    return (m << e if e >= 0 else m) < (n if e >= 0 else n << -e)
 
 
 def _text(x):
@@ -3046,13 +3036,18 @@ def bench_mbf(out) -> None:
     pairs = list(zip(xs, ys))
     operations = {
         "X+Y": lambda: [mbf_add(x, y) for x, y in pairs],
+        "X-Y": lambda: [mbf_sub(x, y) for x, y in pairs],
         "X*Y": lambda: [mbf_mul(x, y) for x, y in pairs],
         "X/Y": lambda: [mbf_div(x, y) for x, y in pairs],
-        "X^2": lambda: [mbf_power(x, 2.0) for x in xs],
+        "X^2": lambda: [mbf_ipower(x, 2) for x in xs],
         "Y^.5": lambda: [mbf_power(y, 0.5) for y in ys],
+        "INT(X)": lambda: [mbf_int(x) for x in xs],
+        "SIN(X)": lambda: [mbf_sin(x) for x in xs],
+        "COS(X)": lambda: [mbf_cos(x) for x in xs],
         "TAN(X)": lambda: [mbf_tan(x) for x in xs],
         "ATN(X)": lambda: [mbf_atn(x) for x in xs],
         "WRITE # text": lambda: [mbf_write_text(x) for x in xs],
+        "PRINT text": lambda: [mbf_print_text(x) for x in xs],
     }
     print("operation        microseconds", file=out)
     for name, function in operations.items():
