@@ -3361,7 +3361,7 @@ def dat_series(directory: str) -> list[Series]:
         match = re.fullmatch(r"(basic|double)-branch([12])", name)
         series.append(Series(name, match[1] if match else _dat_precision(folder),
                              int(match[2]) if match else None, folder))
-    return series
+    return sorted(series, key=lambda s: (s.branch or 3, s.precision != "basic", s.name))
 
 
 # -- the figure: what both renderers draw ---------------------------------------------------------
@@ -3474,20 +3474,18 @@ def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
     series = dat_series(directory)
     present = {q for q, n in zip(QUANTITIES, DatFiles.NAMES)
                for s in series if os.path.exists(os.path.join(s.directory, n))}
-    specs = [PanelSpec(qs, None) for qs in (("displacement",), ("velocity", "acceleration"))
-             if present & set(qs)]
-    specs = [PanelSpec(tuple(q for q in s.quantities if q in present), None) for s in specs]
+    specs = [PanelSpec(tuple(q for q in qs if q in present), None)
+             for qs in (("displacement",), ("velocity", "acceleration")) if present & set(qs)]
     group = ("unknown" if mechanism is None else
              "slider" if mechanism in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK) else "four-bar")
-    if len(series) == 1:
-        what = (f"precision {series[0].precision or 'unknown'} (from the number format); "
-                "branch not recorded in the files")
-    else:
-        what = "series " + ", ".join(s.name for s in series)
+    precisions = " and ".join(dict.fromkeys(s.precision or "unknown" for s in series))
+    branches = sorted({s.branch for s in series if s.branch})
+    what = (f"precision {precisions}" + (" (from the number format)" if len(series) == 1 else "")
+            + (f"; branch{'es' * (len(branches) > 1)} {', '.join(map(str, branches))}"
+               if branches else ", branch not recorded"))
     if mechanism:
         what = f"{MECHANISM_NAMES[mechanism]}; {what}"
-    return build_figure(f"{', '.join(DatFiles.NAMES)} in {directory}", what, group, specs,
-                        series)
+    return build_figure(f"The DAT files in {directory}", what, group, specs, series)
 
 
 # -- the plain-text plot ---------------------------------------------------------------------------
