@@ -6,6 +6,8 @@ Machine Theory, 1980s).
     python3 linkage.py                  the original program: menu 1-6, prompts, ANG/VEL/ACC.DAT
     python3 linkage.py run TYPE ...     the same program driven by options (see --help)
     python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
+    python3 linkage.py scene FILE       a figure of the paper (data/scenes), text or PNG
+    python3 linkage.py plot [DIR]       the figure of DAT files already written
     python3 linkage.py bench            speed measurements
 
 Fidelity: the aim is ANG.DAT, VEL.DAT and ACC.DAT byte-identical to those
@@ -17,8 +19,8 @@ Deviations from the original, all where it would hang or lose data, are marked `
 here and listed in legacy_basic/ERRATA.md, Part 3.
 
 Sections: GW-BASIC single precision; the listing's computation; the original program
-(screen, keys, INPUT, the menu session, files); the accurate engine; synthesis; benchmarks;
-the command line.
+(screen, keys, INPUT, the menu session, files); the accurate engine; synthesis; scenes and
+plots; benchmarks; the command line.
 """
 
 from __future__ import annotations
@@ -3003,7 +3005,7 @@ def design_command(argv):
     return code
 
 
-# ---- Scenes and plots: the paper's Figures 3-6 (issue 6) --------------------------------------
+# ---- Scenes and plots: the paper's Figures 3-6 (issue 6) -------------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a mechanism and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -3092,7 +3094,7 @@ class Scene:
         return 2 if "acceleration" in shown else 1 if "velocity" in shown else 0
 
 
-# -- reading a scene ------------------------------------------------------------------------------
+# -- reading a scene ---------------------------------------------------------------------------
 
 def _is_number(x) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
@@ -3207,7 +3209,7 @@ def load_scene(path: str) -> Scene:
                  PRECISIONS[precision], tuple(specs))
 
 
-# -- computing a scene: the DAT files ------------------------------------------------------------
+# -- computing a scene: the DAT files ----------------------------------------------------------
 
 def _typed(x: float) -> str:
     """A number as it would be typed at the original's INPUT prompt."""
@@ -3248,9 +3250,11 @@ def _accurate_motions(scene: Scene, branch: int, derivatives: int) -> list[Motio
 def _check_assembles(scene: Scene, motions: list[Motion]) -> None:
     if not any(m.output is not None for m in motions):
         dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
-        raise _scene_error(scene.path, "dimensions", "a linkage that can be assembled somewhere "
-                           f"from {scene.start:g} to {scene.stop:g} degrees; the {scene.mechanism} "
-                           f"linkage {dims} assembles at none of those {len(motions)} input angles")
+        raise _scene_error(scene.path, "dimensions",
+                           "a linkage that can be assembled somewhere from "
+                           f"{scene.start:g} to {scene.stop:g} degrees; the {scene.mechanism} "
+                           f"linkage {dims} assembles at none of those {len(motions)} input "
+                           "angles")
 
 
 class Series(NamedTuple):
@@ -3264,10 +3268,14 @@ class Series(NamedTuple):
 
 def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
     """Write the scene's DAT files under `directory` (in it for one series, else one folder a
-    series); `report(message)` hears the original's soft errors. Returns the series."""
+    series); `report(message)` hears the original's soft errors. Returns the series. Nothing is
+    written for a linkage that assembles nowhere in the range."""
+    accurate = {b: _accurate_motions(scene, b, scene.derivatives) for b in scene.branches
+                if "double" in scene.precisions}
+    _check_assembles(scene, accurate.get(scene.branches[0])
+                     or _accurate_motions(scene, scene.branches[0], 0))
     plan = [(p, b) for b in scene.branches for p in scene.precisions]
     series = []
-    checked = False
     for precision, branch in plan:
         name = f"{precision}-branch{branch}"
         where = directory if len(plan) == 1 else os.path.join(directory, name)
@@ -3276,28 +3284,22 @@ def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
         except OSError as e:
             raise SceneError(f"cannot make the folder {where!r}: {e.strerror}") from None
         if precision == "double":
-            motions = _accurate_motions(scene, branch, scene.derivatives)
-            _check_assembles(scene, motions)
-            checked = True
-            write_dat_files(motions, where)
+            write_dat_files(accurate[branch], where)
             for file, level in (("VEL.DAT", 1), ("ACC.DAT", 2)):     # not computed: no file
                 if scene.derivatives < level:
                     os.remove(os.path.join(where, file))
         else:
-            if not checked:
-                _check_assembles(scene, _accurate_motions(scene, branch, 0))
-                checked = True
             errors = _faithful_files(scene, branch, where)
             if errors and report is not None:
                 counts = {e: errors.count(e) for e in dict.fromkeys(errors)}
-                report(f"the original printed " + ", ".join(f'"{e}" {n} time{"s" * (n > 1)}'
-                                                            for e, n in counts.items())
+                report("the original printed " + ", ".join(f'"{e}" {n} time{"s" * (n > 1)}'
+                                                           for e, n in counts.items())
                        + f" ({name})")
         series.append(Series(name, precision, branch, where))
     return series
 
 
-# -- reading DAT files ---------------------------------------------------------------------------
+# -- reading DAT files -------------------------------------------------------------------------
 
 def read_dat(path: str) -> list[tuple[float, float]]:
     """The (input angle, value) pairs of a DAT file as WRITE # writes them (CRLF lines "x,y", the
@@ -3317,6 +3319,8 @@ def read_dat(path: str) -> list[tuple[float, float]]:
             if len(fields) != 2:
                 raise ValueError
             x, y = (float(f.strip().upper().replace("D", "E")) for f in fields)
+            if not (math.isfinite(x) and math.isfinite(y)):
+                raise ValueError
         except ValueError:
             raise SceneError(f"{path}: line {number}: expected two numbers \"angle,value\", "
                              f"got {line[:40]!r}") from None
@@ -3364,7 +3368,7 @@ def dat_series(directory: str) -> list[Series]:
     return sorted(series, key=lambda s: (s.branch or 3, s.precision != "basic", s.name))
 
 
-# -- the figure: what both renderers draw ---------------------------------------------------------
+# -- the figure: what both renderers draw ------------------------------------------------------
 
 class Curve(NamedTuple):
     label: str
@@ -3448,11 +3452,12 @@ def build_figure(title: str, subtitle: str, group: str, specs, series: list[Seri
                 if len(spec.quantities) > 1 or not label:
                     label = f"{quantity}, {label}" if label else quantity
                 angles = quantity == "displacement" and group != "slider"
-                curve = Curve(label, quantity, s.precision, s.branch, _runs(read_dat(path), angles))
+                runs = _runs(read_dat(path), angles)
+                curve = Curve(label, quantity, s.precision, s.branch, runs)
                 reference = next((c for c in curves if c.quantity == quantity), None)
                 curves.append(_turned(curve, reference) if angles and reference else curve)
-        panels.append(Panel(letter, spec.quantities, tuple(AXIS_LABELS[group][q] for q in spec.quantities),
-                            tuple(curves), spec.limits))
+        labels = tuple(AXIS_LABELS[group][q] for q in spec.quantities)
+        panels.append(Panel(letter, spec.quantities, labels, tuple(curves), spec.limits))
     return Figure(title, subtitle, INPUT_AXIS, tuple(panels))
 
 
@@ -3488,7 +3493,7 @@ def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
     return build_figure(f"The DAT files in {directory}", what, group, specs, series)
 
 
-# -- the plain-text plot ---------------------------------------------------------------------------
+# -- the plain-text plot -----------------------------------------------------------------------
 
 TEXT_WIDTH, TEXT_HEIGHT = 80, 24
 MARKERS = "*o+x#@%&"
@@ -3581,14 +3586,15 @@ def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIG
     """The figure in plain text, at most `width` x `height` characters: the title; each panel's
     header (quantities, units, legend) and plot, tick values on the y axis; the shared x axis's
     tick values under the last panel, and its label."""
-    top = _wrapped(figure.title, width) + _wrapped(figure.subtitle, width, "  ")
+    top = _wrapped(figure.title, width)[:2] + _wrapped(figure.subtitle, width, "  ")[:2]
     name, symbol, unit = figure.xlabel
     bottom = [f"x axes: {name} {symbol} [{unit}]"[:width]]
     headers = [_panel_lines(panel, width) for panel in figure.panels]
     fixed = len(top) + sum(len(h) + 1 for h in headers) + 1 + len(bottom)
     rows = (height - fixed) // len(figure.panels)
     if rows < 3:
-        raise ValueError(f"the figure does not fit in {width} x {height} characters")
+        raise SceneError(f"the text plot does not fit in {width} x {height} characters: show "
+                         "fewer panels or series, or draw a PNG (--png)")
 
     y_axes = []
     for panel in figure.panels:
@@ -3630,7 +3636,7 @@ def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIG
     return "\n".join(out) + "\n"
 
 
-# -- the PNG ---------------------------------------------------------------------------------------
+# -- the PNG -----------------------------------------------------------------------------------
 
 def _pretty(text: str) -> str:
     """Greek letters and superscripts for the PNG's labels."""
@@ -3663,7 +3669,7 @@ def png_figure(figure: Figure, path: str) -> None:
     n = len(figure.panels)
     mpl = MplFigure(figsize=(7.2, 0.7 + 2.6 * n), dpi=90, layout="constrained")
     FigureCanvasAgg(mpl)
-    mpl.suptitle(f"{figure.title}\n{_pretty(figure.subtitle)}", fontsize=10)
+    mpl.suptitle(_pretty(f"{figure.title}\n{figure.subtitle}"), fontsize=10)
     name, symbol, unit = figure.xlabel
     for i, panel in enumerate(figure.panels):
         ax = mpl.add_subplot(n, 1, i + 1)
@@ -3689,27 +3695,22 @@ def png_figure(figure: Figure, path: str) -> None:
         ax.tick_params(labelsize=8)
         if len(panel.curves) > 1:
             ax.legend(fontsize=7, loc="best")
-    mpl.savefig(path)
+    mpl.savefig(path, format="png")
 
 
-# -- the commands ----------------------------------------------------------------------------------
+# -- the commands ------------------------------------------------------------------------------
 
-def _show(figure: Figure, args: argparse.Namespace) -> None:
-    if args.png:
-        png_figure(figure, args.png)
-    if args.text or not args.png:
-        sys.stdout.write(text_figure(figure))
-
-
-def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py scene FILE`: compute the scene, write its DAT files, draw it."""
+def _draw_command(args: argparse.Namespace, make_figure) -> int:
+    """Make the figure and draw it: the PNG with --png, the text plot with --text or without
+    --png. Every way it can fail is a message and exit status 1 (130 for Ctrl-C)."""
     try:
         if args.png:
             _matplotlib()                       # fail before any work
-        scene = load_scene(args.file)
-        series = compute_scene(scene, args.dir,
-                               report=lambda m: print(f"linkage.py: {m}", file=sys.stderr))
-        _show(scene_figure(scene, series), args)
+        figure = make_figure()
+        if args.png:
+            png_figure(figure, args.png)
+        if args.text or not args.png:
+            sys.stdout.write(text_figure(figure))
     except (SceneError, PlotUnavailable) as e:
         print(f"linkage.py: {e}", file=sys.stderr)
         return 1
@@ -3722,20 +3723,20 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     return 0
 
 
+def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py scene FILE`: compute the scene, write its DAT files, draw it."""
+    def make_figure():
+        scene = load_scene(args.file)
+        return scene_figure(scene, compute_scene(scene, args.dir, report))
+
+    def report(message):
+        print(f"linkage.py: {message}", file=sys.stderr)
+    return _draw_command(args, make_figure)
+
+
 def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR."""
-    try:
-        if args.png:
-            _matplotlib()
-        _show(dat_figure(args.directory, args.mechanism), args)
-    except (SceneError, PlotUnavailable) as e:
-        print(f"linkage.py: {e}", file=sys.stderr)
-        return 1
-    except OSError as e:
-        print(f"linkage.py: {e.filename or ''}: {e.strerror}", file=sys.stderr)
-        return 1
-    return 0
-
+    return _draw_command(args, lambda: dat_figure(args.directory, args.mechanism))
 
 
 # ---- Benchmarks ---------------------------------------------------------------------------
@@ -3831,7 +3832,34 @@ def bench_engine(out) -> None:
               f"{rates[1]:10,.0f} with velocity and acceleration", file=out)
 
 
-BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine}
+def bench_scene(out) -> None:
+    """A displacement-only scene against the same scene drawing velocity and acceleration."""
+    import tempfile
+    panels = {"displacement only": (PanelSpec(("displacement",), None),),
+              "all three": (PanelSpec(("displacement",), None),
+                            PanelSpec(("velocity", "acceleration"), None))}
+    print("plane four-bar a=6 b=2 c=7 d=9, branch 1, precision double, 0 to 360 by 0.01 degree "
+          "(36,001 points); seconds, best of 5 (engine) or 3", file=out)
+    print(f"{'panels':18} {'engine':>8} {'+ DAT files':>12} {'+ text plot':>12}", file=out)
+    times = {}
+    for name, specs in panels.items():
+        scene = Scene("bench", "bench", PLANE_FOUR_BAR, dict(a=6.0, b=2.0, c=7.0, d=9.0),
+                      0.0, 360.0, 0.01, (1,), ("double",), specs)
+        angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
+        linkage = Linkage(scene.mechanism, **scene.dimensions)
+        with tempfile.TemporaryDirectory() as directory:
+            times[name] = (
+                _best_of(5, lambda: linkage.sweep(angles, 1, scene.derivatives)),
+                _best_of(3, lambda: compute_scene(scene, directory)),
+                _best_of(3, lambda: text_figure(scene_figure(scene,
+                                                             compute_scene(scene, directory)))))
+        print(f"{name:18} {times[name][0]:8.3f} {times[name][1]:12.3f} {times[name][2]:12.3f}",
+              file=out)
+    saved = [1 - d / a for d, a in zip(times["displacement only"], times["all three"])]
+    print(f"{'time saved':18} {saved[0]:8.0%} {saved[1]:12.0%} {saved[2]:12.0%}", file=out)
+
+
+BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene}
 
 
 def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
@@ -4018,31 +4046,31 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--clip", action="store_true",
                      help="with --precision double: clip VEL and ACC to +-3 as the original does")
     run.set_defaults(handler=run_command, parser=run)
-    for name, text in (("scene", "draw a scene (data/scenes/*.toml): compute, write the DAT "
-                                 "files, plot"),
-                       ("plot", "draw the figure of existing ANG.DAT, VEL.DAT and ACC.DAT")):
-        command = commands.add_parser(name, help=text, description=text[0].upper() + text[1:]
-                                      + ". Draws a plain-text plot (80 x 24) unless --png is "
-                                      "given.")
-        if name == "scene":
-            command.add_argument("file", metavar="FILE", help="the scene, a TOML file")
-            command.add_argument("--dir", default=".", metavar="DIR",
-                                 help="where to write the DAT files (default: here); a scene "
-                                      "that overlays several series writes one folder each")
-        else:
-            command.add_argument("directory", nargs="?", default=".", metavar="DIR",
-                                 help="the folder of the DAT files, or of folders of them "
-                                      "(default: here)")
-            command.add_argument("--mechanism", type=_mechanism_type, metavar="TYPE",
-                                 help="plane, spherical, skew, slider or skew-slider: labels "
-                                      "the axes with the right units")
-        command.add_argument("--png", metavar="OUT",
-                             help="write the figure as a PNG (needs matplotlib: "
-                                  "pip install 'linkage[plot]')")
+    scene = commands.add_parser(
+        "scene", help="draw a scene of data/scenes: the paper's figures, the hard cases",
+        description="Compute a scene (a TOML file, see data/scenes), write its DAT files and "
+                    "draw its figure: a plain-text plot of 80 x 24 characters unless --png "
+                    "is given.")
+    scene.add_argument("file", metavar="FILE", help="the scene")
+    scene.add_argument("--dir", default=".", metavar="DIR",
+                       help="where to write the DAT files (default: here); a scene that "
+                            "overlays several series writes one folder each")
+    scene.set_defaults(handler=scene_command, parser=scene)
+    plot = commands.add_parser(
+        "plot", help="draw the figure of ANG.DAT, VEL.DAT and ACC.DAT already written",
+        description="Draw the figure of the DAT files in DIR (the menu program's, run's or a "
+                    "scene's): a plain-text plot of 80 x 24 characters unless --png is given.")
+    plot.add_argument("directory", nargs="?", default=".", metavar="DIR",
+                      help="the folder of the DAT files, or of folders of them (default: here)")
+    plot.add_argument("--mechanism", type=_mechanism_type, metavar="TYPE",
+                      help="plane, spherical, skew, slider or skew-slider (or 1-5): gives the "
+                           "axes their units")
+    plot.set_defaults(handler=plot_command, parser=plot)
+    for command in (scene, plot):
+        command.add_argument("--png", metavar="OUT", help="write the figure as a PNG "
+                             "(needs matplotlib: pip install 'linkage[plot]')")
         command.add_argument("--text", action="store_true",
                              help="draw the plain-text plot (the default without --png)")
-        command.set_defaults(handler=scene_command if name == "scene" else plot_command,
-                             parser=command)
     commands.add_parser("design", help="synthesise a linkage by one of the review's methods "
                                       "(python3 linkage.py design --help)", add_help=False)
     bench = commands.add_parser("bench", help="measure speed (and, later, accuracy)",

@@ -194,7 +194,7 @@ def test_the_figure_is_labelled(drawn):
     assert text.splitlines()[-1] == "x axes: input angle phi [deg]"
 
 
-# ---- the text plot puts the curve in the right cells ------------------------------------------
+# ---- the text plot puts the curve in the right cells -----------------------------------------
 
 def read_axes(text: str):
     """From a text plot, reading only the tick values printed on its axes: for each panel its
@@ -317,7 +317,7 @@ def test_a_straight_line_is_drawn_cell_by_cell():
     assert sum(line.count("*") for line in lines) <= 2 * (last - first + 1)
 
 
-# ---- derivatives only where a panel shows them ------------------------------------------------
+# ---- derivatives only where a panel shows them -----------------------------------------------
 
 SCENE_TEXT = """
 mechanism = "{mechanism}"
@@ -393,7 +393,7 @@ def test_the_committed_displacement_only_scene(engine_calls, tmp_path, capsys):
     assert [(n, level) for _, n, level in engine_calls] == [(361, 0), (361, 0)]
 
 
-# ---- the numbers: PC-BASIC's and the engine's ---------------------------------------------------
+# ---- the numbers: PC-BASIC's and the engine's ------------------------------------------------
 
 GOLDEN_TWINS = {  # scene: the golden case with the same linkage (same answers, other range)
     "fig3-plane-four-bar": "plane-b1",
@@ -440,7 +440,7 @@ def test_the_spike_scene_shows_the_spike_and_the_true_value(drawn):
     assert abs(double[180.0] - true) < 1e-8 and abs(true - 0.25) < 1e-8
 
 
-# ---- plot: the figure of existing DAT files -------------------------------------------------------
+# ---- plot: the figure of existing DAT files --------------------------------------------------
 
 def test_read_dat_reads_gw_basic_and_double_files(tmp_path):
     path = tmp_path / "VEL.DAT"
@@ -489,6 +489,7 @@ def test_plot_overlays_the_series_of_a_scene(tmp_path):
     (None, "no ANG.DAT, VEL.DAT or ACC.DAT here"),
     (b"0,.5\r\n10;3\r\n\x1a", "ANG.DAT: line 2: expected two numbers"),
     (b"0,.5\r\nten,3\r\n\x1a", "ANG.DAT: line 2: expected two numbers"),
+    (b"0,.5\r\n1,nan\r\n\x1a", "ANG.DAT: line 2: expected two numbers"),
 ])
 def test_plot_of_bad_files_says_which_line(content, message, tmp_path):
     if content is not None:
@@ -499,7 +500,7 @@ def test_plot_of_bad_files_says_which_line(content, message, tmp_path):
     assert message in result.stderr and "Traceback" not in result.stderr
 
 
-# ---- PNG or text -----------------------------------------------------------------------------------
+# ---- PNG or text -----------------------------------------------------------------------------
 
 def test_png_without_matplotlib_names_the_extra(tmp_path):
     scene = ROOT / "data" / "scenes" / "fig3-plane-four-bar.toml"
@@ -524,7 +525,7 @@ def test_png_alone_draws_no_text_and_text_is_the_default(tmp_path, capsys):
     assert capsys.readouterr().out.startswith("Fig. 4")
 
 
-# ---- scene files with mistakes ------------------------------------------------------------------
+# ---- scene files with mistakes ---------------------------------------------------------------
 
 GOOD = {
     "title": '"t"',
@@ -589,6 +590,26 @@ MISTAKES = [
       "Illegal linkage (impossible to assemble)"]),
     ("not TOML", "mechanism = plane\n", ["not a TOML file", "line 1"]),
 ]
+
+
+def test_a_figure_too_big_for_the_terminal_is_explained(tmp_path, capsys):
+    """Three panels of two quantities, four series each: no room for the plots in 80 x 24."""
+    panel = '[[panels]]\nquantities = ["velocity", "acceleration"]\n'
+    path = tmp_path / "big.toml"
+    path.write_text(scene_file(precision='"both"', branches="[1, 2]", panels=panel * 3))
+    assert linkage.main(["scene", str(path), "--dir", str(tmp_path)]) == 1
+    assert "the text plot does not fit in 80 x 24 characters" in capsys.readouterr().err
+    assert linkage.main(["scene", str(path), "--dir", str(tmp_path), "--png",
+                         str(tmp_path / "big.png")]) == 0
+    assert (tmp_path / "big.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_png_that_cannot_be_written_is_explained(tmp_path, capsys):
+    path = tmp_path / "s.toml"
+    path.write_text(scene_file())
+    out = tmp_path / "no such folder" / "f.png"
+    assert linkage.main(["scene", str(path), "--dir", str(tmp_path), "--png", str(out)]) == 1
+    assert capsys.readouterr().err == f"linkage.py: {out}: No such file or directory\n"
 
 
 @pytest.mark.parametrize("what, content, fragments", MISTAKES, ids=[m[0] for m in MISTAKES])
