@@ -3839,7 +3839,7 @@ def bench_scene(out) -> None:
               "all three": (PanelSpec(("displacement",), None),
                             PanelSpec(("velocity", "acceleration"), None))}
     print("plane four-bar a=6 b=2 c=7 d=9, branch 1, precision double, 0 to 360 by 0.01 degree "
-          "(36,001 points); seconds, best of 5 (engine) or 3", file=out)
+          "(36,001 points); seconds, best of 15 (engine) or 5", file=out)
     print(f"{'panels':18} {'engine':>8} {'+ DAT files':>12} {'+ text plot':>12}", file=out)
     times = {}
     for name, specs in panels.items():
@@ -3849,9 +3849,9 @@ def bench_scene(out) -> None:
         linkage = Linkage(scene.mechanism, **scene.dimensions)
         with tempfile.TemporaryDirectory() as directory:
             times[name] = (
-                _best_of(5, lambda: linkage.sweep(angles, 1, scene.derivatives)),
-                _best_of(3, lambda: compute_scene(scene, directory)),
-                _best_of(3, lambda: text_figure(scene_figure(scene,
+                _best_of(15, lambda: linkage.sweep(angles, 1, scene.derivatives)),
+                _best_of(5, lambda: compute_scene(scene, directory)),
+                _best_of(5, lambda: text_figure(scene_figure(scene,
                                                              compute_scene(scene, directory)))))
         print(f"{name:18} {times[name][0]:8.3f} {times[name][1]:12.3f} {times[name][2]:12.3f}",
               file=out)

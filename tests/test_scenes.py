@@ -638,3 +638,14 @@ def test_the_mistakes_leave_no_traceback(tmp_path):
         assert result.returncode == 1, what
         assert "Traceback" not in result.stderr and result.stderr.count("\n") == 1, what
         assert fragments[0] in result.stderr, what
+
+
+def test_the_readme_shows_a_current_terminal_plot():
+    """The README's terminal plot is the stored snapshot of its scene, and its PNG exists."""
+    readme = (ROOT / "README.md").read_text()
+    snapshot = make_scene_snapshots.SNAPSHOTS / "hard-spike-180.txt"
+    assert "".join("    " + line for line in snapshot.read_text().splitlines(True)) in readme
+    png = re.search(r"!\[[^]]*\]\(([^)]+\.png)\)", readme)[1]
+    data = (ROOT / png).read_bytes()
+    assert png.startswith("data/") and len(data) < 100_000
+    assert png_chunks(data)[0] >= 400
