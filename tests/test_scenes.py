@@ -160,7 +160,7 @@ def test_the_text_plot_matches_its_snapshot(drawn):
     assert len(lines) <= 24 and max(len(line) for line in lines) <= 80
     assert all(ch.isascii() for ch in text)
     snapshot = make_scene_snapshots.snapshot_path(Path(scene.path))
-    assert snapshot.exists(), f"no snapshot: python3 tests/make_scene_snapshots.py"
+    assert snapshot.exists(), "no snapshot: python3 tests/make_scene_snapshots.py"
     want = snapshot.read_text(encoding="ascii")
     assert text == want, (f"{snapshot.name} differs (if the change is intended: python3 "
                           "tests/make_scene_snapshots.py):\n"
