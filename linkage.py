@@ -5,9 +5,9 @@ Machine Theory, 1980s).
 
     python3 linkage.py                  the original program: menu 1-6, prompts, ANG/VEL/ACC.DAT
     python3 linkage.py run TYPE ...     the same program driven by options (see --help)
-    python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
     python3 linkage.py scene FILE       a figure of the paper (data/scenes), text or PNG
     python3 linkage.py plot [DIR]       the figure of DAT files already written
+    python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
     python3 linkage.py bench            speed measurements
 
 Fidelity: the aim is ANG.DAT, VEL.DAT and ACC.DAT byte-identical to those
@@ -3787,6 +3787,33 @@ def bench_mbf(out) -> None:
     Single.errors.clear()
 
 
+def bench_scene(out) -> None:
+    """A displacement-only scene against the same scene drawing velocity and acceleration."""
+    import tempfile
+    panels = {"displacement only": (PanelSpec(("displacement",), None),),
+              "all three": (PanelSpec(("displacement",), None),
+                            PanelSpec(("velocity", "acceleration"), None))}
+    print("plane four-bar a=6 b=2 c=7 d=9, branch 1, precision double, 0 to 360 by 0.01 degree "
+          "(36,001 points); seconds, best of 15 (engine) or 5", file=out)
+    print(f"{'panels':18} {'engine':>8} {'+ DAT files':>12} {'+ text plot':>12}", file=out)
+    times = {}
+    for name, specs in panels.items():
+        scene = Scene("bench", "bench", PLANE_FOUR_BAR, dict(a=6.0, b=2.0, c=7.0, d=9.0),
+                      0.0, 360.0, 0.01, (1,), ("double",), specs)
+        angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
+        linkage = Linkage(scene.mechanism, **scene.dimensions)
+        with tempfile.TemporaryDirectory() as directory:
+            times[name] = (
+                _best_of(15, lambda: linkage.sweep(angles, 1, scene.derivatives)),
+                _best_of(5, lambda: compute_scene(scene, directory)),
+                _best_of(5, lambda: text_figure(scene_figure(scene,
+                                                             compute_scene(scene, directory)))))
+        print(f"{name:18} {times[name][0]:8.3f} {times[name][1]:12.3f} {times[name][2]:12.3f}",
+              file=out)
+    saved = [1 - d / a for d, a in zip(times["displacement only"], times["all three"])]
+    print(f"{'time saved':18} {saved[0]:8.0%} {saved[1]:12.0%} {saved[2]:12.0%}", file=out)
+
+
 def bench_port(out) -> None:
     """The 3601-point session (0 to 360 degrees by 0.1) in the port and in PC-BASIC."""
     import io
@@ -3830,33 +3857,6 @@ def bench_engine(out) -> None:
             rates.append(len(angles) / seconds)
         print(f"{kind:10} {rates[0]:10,.0f} points/s displacement only, "
               f"{rates[1]:10,.0f} with velocity and acceleration", file=out)
-
-
-def bench_scene(out) -> None:
-    """A displacement-only scene against the same scene drawing velocity and acceleration."""
-    import tempfile
-    panels = {"displacement only": (PanelSpec(("displacement",), None),),
-              "all three": (PanelSpec(("displacement",), None),
-                            PanelSpec(("velocity", "acceleration"), None))}
-    print("plane four-bar a=6 b=2 c=7 d=9, branch 1, precision double, 0 to 360 by 0.01 degree "
-          "(36,001 points); seconds, best of 15 (engine) or 5", file=out)
-    print(f"{'panels':18} {'engine':>8} {'+ DAT files':>12} {'+ text plot':>12}", file=out)
-    times = {}
-    for name, specs in panels.items():
-        scene = Scene("bench", "bench", PLANE_FOUR_BAR, dict(a=6.0, b=2.0, c=7.0, d=9.0),
-                      0.0, 360.0, 0.01, (1,), ("double",), specs)
-        angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
-        linkage = Linkage(scene.mechanism, **scene.dimensions)
-        with tempfile.TemporaryDirectory() as directory:
-            times[name] = (
-                _best_of(15, lambda: linkage.sweep(angles, 1, scene.derivatives)),
-                _best_of(5, lambda: compute_scene(scene, directory)),
-                _best_of(5, lambda: text_figure(scene_figure(scene,
-                                                             compute_scene(scene, directory)))))
-        print(f"{name:18} {times[name][0]:8.3f} {times[name][1]:12.3f} {times[name][2]:12.3f}",
-              file=out)
-    saved = [1 - d / a for d, a in zip(times["displacement only"], times["all three"])]
-    print(f"{'time saved':18} {saved[0]:8.0%} {saved[1]:12.0%} {saved[2]:12.0%}", file=out)
 
 
 BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene}
