@@ -743,9 +743,12 @@ def sweep_angles(PHI1: Single, PHI2: Single, INC: Single):
         yield Single(phi)
 
 
-def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single) -> tuple[str, str, str]:
+def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
+                derivatives: int = 2) -> tuple[str, str | None, str | None]:
     """Lines 1060-1330 at one input angle: the lines WRITE # puts in ANG.DAT, VEL.DAT, ACC.DAT
-    for solution SOL (1 is (A+B), 2 is (A-B))."""
+    for solution SOL (1 is (A+B), 2 is (A-B)). The program always computes all three; a scene
+    that shows fewer asks for `derivatives` 0 (lines 1060-1150 only) or 1 (without lines
+    1220-1300), and gets None for what it did not ask for."""
     A1, B1, C1, D1, E1, F1, G1, H1, I1, J1 = co
     T = TAN(.5 * PHI)                                                                    # 1060
     U11 = -(D1*T + (G1+J1)*T**2 + (G1+H1)) / (2*(B1 + C1*(T**2) + F1*T))                # 1070
@@ -761,6 +764,8 @@ def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single) -> tup
         PSI = tuple((2*ATN(u)/PI)*180 for u in U)
     angle = mbf_write_text(((PHI/PI)*180).v)
     ang = f"{angle},{mbf_write_text(PSI[SOL - 1].v)}\r\n"                               # 1150
+    if derivatives == 0:
+        return ang, None, None
     M11, M22 = [ZERO, ZERO], [ZERO, ZERO]
     for k, u in enumerate(U):                                                            # 1160
         M1 = -(1 + T**2)*(A1*T + C1*T*u**2 + .5*D1*u + .5*F1*(u**2 + 1) + (G1+J1)*T*u + .5*I1) / ((1 + u**2)*(B1*u + C1*u*T**2 + .5*D1*T + F1*u*T + .5*(G1+J1)*T**2 + .5*(G1+H1)))  # 1170
@@ -773,6 +778,8 @@ def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single) -> tup
             M11[k] = Single(3.0)
         if M11[k] < -3:                                                                  # 1210
             M11[k] = Single(-3.0)
+        if derivatives == 1:
+            continue
         P1 = (3*u**2 + 1)*(B1 + C1*T**2 + F1*T) + u*((G1+J1)*T**2 + D1*T + G1 + H1)      # 1220
         Q1 = 2*(1 + T**2)*(2*C1*T*u + .5*D1 + F1*u + (G1+J1)*T)                          # 1230
         R1 = ((1 + T**2)/(1 + u**2))*((3*T**2 + 1)*(A1 + C1*u**2 + (G1+J1)*u) + T*(F1*(u**2 + 1) + D1*u + I1))  # 1240
@@ -788,6 +795,8 @@ def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single) -> tup
         if M22[k] < -3:                                                                  # 1300
             M22[k] = Single(-3.0)
     vel = f"{angle},{mbf_write_text(M11[SOL - 1].v)}\r\n"                               # 1320
+    if derivatives == 1:
+        return ang, vel, None
     acc = f"{angle},{mbf_write_text(M22[SOL - 1].v)}\r\n"                               # 1330
     return ang, vel, acc
 
@@ -992,9 +1001,11 @@ class DatFiles:  # ERRATA P3
 
     NAMES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
 
-    def __init__(self, directory: str):
-        self._final = [os.path.join(directory, n) for n in self.NAMES]
-        self._partial = [os.path.join(directory, f".{n}.partial") for n in self.NAMES]
+    def __init__(self, directory: str, count: int = 3):
+        """The first `count` of the three files (a scene may ask for fewer)."""
+        names = self.NAMES[:count]
+        self._final = [os.path.join(directory, n) for n in names]
+        self._partial = [os.path.join(directory, f".{n}.partial") for n in names]
         self._files = []
         try:
             for path in self._partial:
@@ -1006,7 +1017,7 @@ class DatFiles:  # ERRATA P3
             self.discard()
             raise
 
-    def write(self, lines: tuple[str, str, str]) -> None:
+    def write(self, lines: tuple[str, str | None, str | None]) -> None:
         for f, line in zip(self._files, lines):
             f.write(line)
 
@@ -1032,10 +1043,11 @@ BYTES_PER_POINT = 3 * len("-1.234567E+38,-1.234567E+38\r\n")
 
 
 def run_session(screen: Screen, keys: Keys, directory: str = ".",
-                stop_if_illegal: bool = False) -> None:
+                stop_if_illegal: bool = False, derivatives: int = 2) -> None:
     """The whole program, lines 100-1360, driven by `keys`: the menu until a linkage assembles
     (or 6), its sweep, the three files. `stop_if_illegal` turns "Illegal linkage" into a
-    ProgramStop instead of a return to the menu (for the run command)."""
+    ProgramStop instead of a return to the menu (for the run command); `derivatives` below 2
+    leaves out ACC.DAT (and VEL.DAT), for a scene that does not show them."""
     v = Variables()
     while True:
         screen.cls()                                                        # 130-190
@@ -1074,17 +1086,17 @@ def run_session(screen: Screen, keys: Keys, directory: str = ".",
             break
         screen.beep()
     sweep(screen, co, degrees_to_radians(PHI1), degrees_to_radians(PHI2), INC, SOL, v.S,
-          directory)                                                        # 1000-1350
+          directory, derivatives)                                           # 1000-1350
 
 
 def sweep(screen: Screen, co, PHI1: Single, PHI2: Single, INC: Single, SOL: int, S: Single,
-          directory: str) -> None:
+          directory: str, derivatives: int = 2) -> None:
     """Lines 1020-1350: open the files, sweep PHI, close."""
-    files = DatFiles(directory)                                             # 1020-1040
+    files = DatFiles(directory, 1 + derivatives)                            # 1020-1040
     try:
         check_sweep(PHI1, PHI2, INC, directory)
         for PHI in sweep_angles(PHI1, PHI2, INC):                           # 1050, 1340
-            files.write(sweep_point(co, PHI, SOL, S))
+            files.write(sweep_point(co, PHI, SOL, S, derivatives))
             screen.show_soft_errors()
     except BaseException:
         files.discard()
@@ -3023,9 +3035,10 @@ def design_command(argv):
 #
 # The numbers come from the two places that already make them, never from a copy of a formula:
 # `basic` runs the menu program's own session (run_session, as the `run` command does) and reads
-# back the files it wrote - the listing computes the three quantities at every point, as the
-# original did; `double` asks the engine for only the derivatives the panels show
-# (Linkage.sweep(..., derivatives=0) for a displacement-only scene) and writes only those files.
+# back the files it wrote; `double` asks the engine. Each computes only what the panels show: a
+# displacement-only scene runs lines 1060-1150 of the listing and no further
+# (sweep_point(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
+# those files are written.
 #
 # Every figure is drawn from DAT files, so `scene` and `plot` draw alike: one series a folder
 # (the scene's DIR itself, or DIR/<precision>-branch<n> when it overlays several). A curve breaks
@@ -3236,7 +3249,7 @@ def _faithful_files(scene: Scene, branch: int, directory: str) -> list[str]:
     screen = Screen(lambda s: None, terminal=False, soft_errors=soft_errors.append)
     try:
         run_session(screen, Keys(lambda: next(stream, b""), fold_crlf=True), directory,
-                    stop_if_illegal=True)
+                    stop_if_illegal=True, derivatives=scene.derivatives)
     except ProgramStop as stop:
         where = "dimensions" if "Illegal linkage" in str(stop) else "input"
         raise _scene_error(scene.path, where, "what the original program accepts (precision "

@@ -116,12 +116,9 @@ def test_the_scene_writes_its_dat_files(drawn):
     for precision, branch in plan:
         folder = directory if len(plan) == 1 else directory / f"{precision}-branch{branch}"
         names = sorted(n for n in os.listdir(folder) if n.endswith(".DAT"))
-        if precision == "basic":      # the listing writes its three files whatever is shown
-            want = ["ACC.DAT", "ANG.DAT", "VEL.DAT"]
-        else:
-            shown = {q for panel in scene.panels for q in panel.quantities}
-            level = 2 if "acceleration" in shown else 1 if "velocity" in shown else 0
-            want = sorted(["ANG.DAT", "VEL.DAT", "ACC.DAT"][:level + 1])
+        shown = {q for panel in scene.panels for q in panel.quantities}
+        level = 2 if "acceleration" in shown else 1 if "velocity" in shown else 0
+        want = sorted(["ANG.DAT", "VEL.DAT", "ACC.DAT"][:level + 1])
         assert names == want, folder
         for name in names:
             data = (folder / name).read_bytes()
@@ -386,6 +383,47 @@ def test_a_faithful_scene_asks_the_engine_only_whether_it_assembles(engine_calls
     assert [level for _, _, level in engine_calls] == [0]
 
 
+@pytest.mark.parametrize("panels, level", [
+    ((["displacement"],), 0),
+    ((["displacement"], ["velocity"]), 1),
+    ((["velocity", "acceleration"],), 2),
+])
+def test_the_listing_computes_only_what_the_panels_show(panels, level, monkeypatch, tmp_path,
+                                                        capsys):
+    """A faithful scene runs the listing's sweep point only as far as its panels need: the
+    lines past 1150 (velocity) and past 1210 (acceleration) never run for a scene without them,
+    and their files are not written."""
+    computed = []
+    point = linkage.sweep_point
+
+    def counted(co, PHI, SOL, S, derivatives=2):
+        lines = point(co, PHI, SOL, S, derivatives)
+        computed.append((derivatives, tuple(line is not None for line in lines)))
+        return lines
+    monkeypatch.setattr(linkage, "sweep_point", counted)
+    scene = tmp_path / "scene.toml"
+    scene.write_text(SCENE_TEXT.format(mechanism="plane", dims="{ a = 6, b = 2, c = 7, d = 9 }",
+                                       precision="basic", panels=panels_text(*panels)))
+    assert linkage.main(["scene", str(scene), "--dir", str(tmp_path)]) == 0
+    shown = tuple(i <= level for i in range(3))
+    assert computed == [(level, shown)] * 73                        # 0 to 360 by 5
+    written = sorted(n for n in os.listdir(tmp_path) if n.endswith(".DAT"))
+    assert written == sorted(["ANG.DAT", "VEL.DAT", "ACC.DAT"][:level + 1])
+
+
+def test_the_listing_s_lines_do_not_depend_on_what_is_left_out():
+    """ANG.DAT's line (and VEL.DAT's) is the same whether or not the rest is computed."""
+    v = linkage.Variables()
+    answers = iter(["2", "7", "9", "6"])
+    linkage.dimensions(v, 1, lambda prompt: linkage.input_value(next(answers)))
+    co = linkage.coefficients(v, 1)
+    for degrees in (0, 40, 180, 275.5):
+        phi = linkage.degrees_to_radians(linkage.Single(degrees))
+        full = linkage.sweep_point(co, phi, 1, v.S)
+        assert linkage.sweep_point(co, phi, 1, v.S, 0) == (full[0], None, None)
+        assert linkage.sweep_point(co, phi, 1, v.S, 1) == (full[0], full[1], None)
+
+
 def test_the_committed_displacement_only_scene(engine_calls, tmp_path, capsys):
     path = ROOT / "data" / "scenes" / "plane-both-assemblies.toml"
     assert linkage.load_scene(str(path)).derivatives == 0
@@ -420,7 +458,9 @@ def test_the_basic_numbers_are_pc_basic_s(name, case, tmp_path):
     twin = dataclasses.replace(scene, start=start, stop=stop, step=step,
                                branches=(int(answers[-1]),), precisions=("basic",))
     linkage.compute_scene(twin, str(tmp_path))
-    for name_ in ("ANG.DAT", "VEL.DAT", "ACC.DAT"):
+    written = sorted(n for n in os.listdir(tmp_path) if n.endswith(".DAT"))
+    assert written == sorted(["ANG.DAT", "VEL.DAT", "ACC.DAT"][:scene.derivatives + 1])
+    for name_ in written:
         assert (tmp_path / name_).read_bytes() == (GOLDEN / case / name_).read_bytes(), name_
 
 
