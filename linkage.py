@@ -145,6 +145,15 @@ def mbf_add(x, y, err=_ignore):
             return v
         err(OVERFLOW)
         return math.copysign(MBF_MAX, x)
+    if -3 <= math.frexp(x)[1] - math.frexp(y)[1] <= 3:
+        # Exponents at most 3 apart: no bit reaches the guard byte's low 5, so the guard
+        # arithmetic below rounds the exact difference half to even.
+        d = x + y
+        if d == 0:
+            return 0.0
+        f, e = math.frexp(d)
+        v = math.ldexp(round(f * _T24), e - 24)
+        return v if not -_BOTTOM < v < _BOTTOM else 0.0
     nx, mx, ex = _split(x)
     ny, my, ey = _split(y)
     if ex < ey or (ex == ey and mx < my):
@@ -448,6 +457,8 @@ def mbf_ipower(x, n, err=_ignore):
     single multiplications (square, then times X for each further 1 bit of
     N); the first overflow ends it with +-MBF_MAX of that product's sign.
     N = 0 gives 1; N < 0 is computed like mbf_power()."""
+    if n == 2:
+        return mbf_mul(x, x, err)        # the same, one overflow at most
     if n < 0:
         return mbf_power(x, float(n), err)
     if n == 0:
@@ -542,30 +553,57 @@ def mbf_for_final(start, stop, step, err=_ignore):
 class Single:
     """A GW-BASIC single-precision value; arithmetic rounds as PC-BASIC 2.0.8 does."""
 
-    __slots__ = ("v",)
+    __slots__ = ("v", "_square")
     errors: list[str] = []
 
     def __init__(self, v: float = 0.0):
         self.v = v
+        self._square = None
 
     def __repr__(self) -> str:
         return f"Single({mbf_write_text(self.v)})"
 
-    def __add__(self, other): return Single(mbf_add(self.v, _value(other), _soft_error))
-    def __radd__(self, other): return Single(mbf_add(_value(other), self.v, _soft_error))
-    def __sub__(self, other): return Single(mbf_sub(self.v, _value(other), _soft_error))
-    def __rsub__(self, other): return Single(mbf_sub(_value(other), self.v, _soft_error))
-    def __mul__(self, other): return Single(mbf_mul(self.v, _value(other), _soft_error))
-    def __rmul__(self, other): return Single(mbf_mul(_value(other), self.v, _soft_error))
-    def __truediv__(self, other): return Single(mbf_div(self.v, _value(other), _soft_error))
-    def __rtruediv__(self, other): return Single(mbf_div(_value(other), self.v, _soft_error))
+    # The other operand is a Single or a literal of the listing (2, .5).
+    def __add__(self, other):
+        return Single(mbf_add(self.v, other.v if other.__class__ is Single else float(other),
+                              _soft_error))
+
+    def __radd__(self, other): return Single(mbf_add(float(other), self.v, _soft_error))
+
+    def __sub__(self, other):
+        return Single(mbf_sub(self.v, other.v if other.__class__ is Single else float(other),
+                              _soft_error))
+
+    def __rsub__(self, other): return Single(mbf_sub(float(other), self.v, _soft_error))
+
+    def __mul__(self, other):
+        return Single(mbf_mul(self.v, other.v if other.__class__ is Single else float(other),
+                              _soft_error))
+
+    def __rmul__(self, other): return Single(mbf_mul(float(other), self.v, _soft_error))
+
+    def __truediv__(self, other):
+        return Single(mbf_div(self.v, other.v if other.__class__ is Single else float(other),
+                              _soft_error))
+
+    def __rtruediv__(self, other): return Single(mbf_div(float(other), self.v, _soft_error))
 
     def __pow__(self, other):
-        if other.__class__ is int:     # an integer literal (T^2): repeated multiplication
+        if other.__class__ is not int:
+            return Single(mbf_power(self.v, _value(other), _soft_error))
+        if other != 2:                 # an integer literal: repeated multiplication
             return Single(mbf_ipower(self.v, other, _soft_error))
-        return Single(mbf_power(self.v, _value(other), _soft_error))
+        # T^2 comes twenty times a point: remembered, unless it overflowed (the interpreter
+        # says "Overflow" each time it evaluates it)
+        if self._square is None:
+            before = len(Single.errors)
+            square = Single(mbf_mul(self.v, self.v, _soft_error))
+            if len(Single.errors) > before:
+                return square
+            self._square = square
+        return self._square
 
-    def __rpow__(self, other): return Single(mbf_power(_value(other), self.v, _soft_error))
+    def __rpow__(self, other): return Single(mbf_power(float(other), self.v, _soft_error))
     def __neg__(self): return Single(mbf_neg(self.v))
     def __lt__(self, other): return self.v < _value(other)
     def __le__(self, other): return self.v <= _value(other)
