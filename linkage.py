@@ -5,20 +5,21 @@ Machine Theory, 1980s).
 
     python3 linkage.py                  the original program: menu 1-6, prompts, ANG/VEL/ACC.DAT
     python3 linkage.py run TYPE ...     the same program driven by options (see --help)
+    python3 linkage.py scene FILE       a figure of the paper (data/scenes), text or PNG
+    python3 linkage.py plot [DIR]       the figure of DAT files already written
     python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
     python3 linkage.py bench            speed, and what accuracy costs in time
 
-Fidelity: the aim is ANG.DAT, VEL.DAT and ACC.DAT byte-identical to those
-legacy_basic/LINKAGE.BAS writes under PC-BASIC 2.0.8 given the same keystrokes, computed in
-GW-BASIC's own single precision. Today the screen transcript is identical for 42 of the 44
-golden cases and the files for 8; the rest differ in last digits because the model of
-PC-BASIC's division and SIN/COS/TAN/ATN/^ is not finished (tests/test_port.py lists them).
-Deviations from the original, all where it would hang or lose data, are marked `# ERRATA Pn`
-here and listed in legacy_basic/ERRATA.md, Part 3.
+Fidelity: ANG.DAT, VEL.DAT and ACC.DAT are byte-identical to those legacy_basic/LINKAGE.BAS
+writes under PC-BASIC 2.0.8 given the same keystrokes, and so is the screen transcript, computed
+in GW-BASIC's own single precision (tests/test_port.py holds the port to all 44 golden cases,
+tests/test_differential.py to random sessions). Deviations from the original are marked
+`# ERRATA Pn` here and listed in legacy_basic/ERRATA.md, Part 3: where it would hang or lose
+data (P1-P6), and the last digit of a few numbers of 1E+10 and more (P7).
 
 Sections: GW-BASIC single precision; the listing's computation; the original program
-(screen, keys, INPUT, the menu session, files); the accurate engine; synthesis; benchmarks;
-the command line.
+(screen, keys, INPUT, the menu session, files); the accurate engine; synthesis; scenes and
+plots; benchmarks; the command line.
 """
 
 from __future__ import annotations
@@ -56,6 +57,8 @@ MBF_MAX = math.ldexp(0xFFFFFF, 127 - 24)      # 1.701412E+38, the overflow value
 OVERFLOW = "Overflow"
 DIV_ZERO = "Division by zero"
 _T24 = 16777216.0                        # 2**24
+_TOP = 2.0 ** 127                        # the first magnitude beyond the single range
+_BOTTOM = 2.0 ** -128                    # the smallest magnitude in it
 
 
 def _ignore(message):
@@ -121,7 +124,7 @@ def mbf_to_bytes(x):
 # the four operations
 
 def mbf_add(x, y, err=_ignore):
-    """X+Y as PC-BASIC computes it (observed, exp/e24..e32).
+    """X+Y as PC-BASIC computes it (observed; data/PCBASIC_NOTES.md).
     Equal signs: the exact sum rounded to nearest, ties to even.
     Opposite signs: the smaller operand is aligned keeping one guard byte
     (bits below it are dropped; bit 5 of the guard is set when any of its
@@ -133,21 +136,29 @@ def mbf_add(x, y, err=_ignore):
         return y if y != 0 else 0.0          # a sum of zeros is +0, whatever their signs
     if y == 0:
         return x
+    if (x > 0) is (y > 0):
+        # The double sum is exact while the exponents are at most 28 apart; further apart,
+        # it rounds to within an eighth of X's last place, and the single sum is X anyway.
+        f, e = math.frexp(x + y)
+        v = math.ldexp(round(f * _T24), e - 24)
+        if -_TOP < v < _TOP:
+            return v
+        err(OVERFLOW)
+        return math.copysign(MBF_MAX, x)
+    if -3 <= math.frexp(x)[1] - math.frexp(y)[1] <= 3:
+        # Exponents at most 3 apart: no bit reaches the guard byte's low 5, so the guard
+        # arithmetic below rounds the exact difference half to even.
+        d = x + y
+        if d == 0:
+            return 0.0
+        f, e = math.frexp(d)
+        v = math.ldexp(round(f * _T24), e - 24)
+        return v if not -_BOTTOM < v < _BOTTOM else 0.0
     nx, mx, ex = _split(x)
     ny, my, ey = _split(y)
     if ex < ey or (ex == ey and mx < my):
         x, nx, mx, ex, ny, my, ey = y, ny, my, ey, nx, mx, ex
     c = ex - ey
-    if nx == ny:
-        if c > 26:
-            return x
-        s = (mx << c) + my                   # exact sum in units of y's ulp
-        sh = s.bit_length() - 24
-        m, rest = s >> sh, s & ((1 << sh) - 1)
-        half = 1 << (sh - 1)
-        if rest > half or (rest == half and m & 1):
-            m += 1
-        return _make(nx, m, ex + sh - c, err)
     if c >= 25 or (c == 24 and my == 1 << 23):
         return x
     v = (my << 8) >> c
@@ -186,17 +197,21 @@ def mbf_mul(x, y, err=_ignore):
     if p == 0:
         return 0.0
     f, e = math.frexp(p)
-    mbf_neg = f < 0
-    t = int((-f if mbf_neg else f) * 134217728.0)  # 27 bits, truncated
-    m = t >> 3
-    g = t & 7
+    t = int(abs(f) * 134217728.0)                  # 27 bits, truncated
+    m, g = t >> 3, t & 7
     if g > 4 or (g == 4 and m & 1):
         m += 1
-    return _make(mbf_neg, m, e + 128, err)
+    v = math.ldexp(m, e - 24)
+    if v >= _TOP:
+        err(OVERFLOW)
+        return math.copysign(MBF_MAX, p)
+    if v < _BOTTOM:
+        return 0.0
+    return v if p > 0 else -v
 
 
 def mbf_div(x, y, err=_ignore):
-    """X/Y as PC-BASIC computes it (observed, exp/e9..e16): restoring long
+    """X/Y as PC-BASIC computes it (observed; data/PCBASIC_NOTES.md): restoring long
     division of the mantissas held with a guard byte (m << 8), where the
     divisor register is shifted right after each of the 24 quotient bits so
     that its low bits fall off (the quotient comes out a little too large
@@ -268,46 +283,48 @@ def _dp_to_single(m56, sh, mbf_neg, err):
     return _make(mbf_neg, m, eb, err)
 
 
-def _digits(x):
+def _digits(x):  # ERRATA P7
     """Seven decimal digits and the decimal exponent k of |x| (x != 0), so
-    that |x| ~ 0.ddddddd * 10**k, as PC-BASIC makes them (observed,
-    exp/e27..e38, fmtAB.py).  The mantissa is held in a 32-bit register
-    (24 bits + a guard byte): while the value is >= 999999.5 it is divided
-    by ten (the quotient truncated to 32 bits and one unit low when exact:
-    the largest register value strictly below m/10); then, while below
-    999999.5, it is multiplied by ten as x*4 + x: the sum truncated to 32
-    bits, with the
-    two bits shifted out of the aligned x kept as a sticky low bit.  The
-    register is rounded half up to 24 bits and the single is rounded like
-    WRITE does it: mbf_add .5 in single if not whole, truncate."""
+    that |x| ~ 0.ddddddd * 10**k, as PC-BASIC makes them (observed; see
+    data/PCBASIC_NOTES.md, "Numbers to text").  The mantissa is held in a
+    32-bit register (24 bits + a guard byte).  A value above 9999999 is
+    divided by ten while it stays above 9999999 (the quotient truncated to
+    32 bits and one unit low when exact: the largest register value strictly
+    below m/10); any other value is multiplied by ten while it is below
+    999999.9375, as x*4 + x: the sum truncated to 32 bits, with the two bits
+    shifted out of the aligned x kept as a sticky low bit.  (So a single just
+    below a power of ten, such as .99999994, can print as that power: "1".)
+    The register is rounded half up to 24 bits and the single is rounded like
+    WRITE does it: mbf_add .5 in single if not whole, truncate.  Known
+    residual: of values of 1E+10 and more, a few in a thousand print one
+    unit off in the last digit (the division step is not exactly PC-BASIC's;
+    no such value reaches the listing's files but the overflow value, whose
+    text is exact)."""
     _, m, eb = _split(abs(x))
     m <<= 8
-    e = eb - 160                       # |x| = m * 2**e
+    e = eb - 160                       # |x| = m * 2**e; ldexp(m, e) is exact (m < 2**32)
     k = 0
-    while _at_least_lim(m, e):
-        q = ((m << 36) - 1) // 10
-        sh = q.bit_length() - 32
-        m, e = q >> sh, e - 36 + sh
-        k += 1
-    while not _at_least_lim(m, e):
-        s = m + (m >> 2)
-        e += 3
-        if s >> 32:
-            s >>= 1
-            e += 1
-        m = s | (m & 3 != 0)
-        k -= 1
+    if math.ldexp(m, e) > 9999999:
+        while math.ldexp(m, e) > 9999999:
+            q = ((m << 36) - 1) // 10
+            sh = q.bit_length() - 32
+            m, e = q >> sh, e - 36 + sh
+            k += 1
+    else:
+        while math.ldexp(m, e) < 999999.9375:
+            s = m + (m >> 2)
+            e += 3
+            if s >> 32:
+                s >>= 1
+                e += 1
+            m = s | (m & 3 != 0)
+            k -= 1
     q = (m >> 8) + ((m & 0xFF) >= 0x80)
     y = math.ldexp(q, e + 8)
     if y != math.floor(y):
         y = mbf_add(y, 0.5)
     s = str(int(y))
     return s, len(s) + k
-
-
-def _at_least_lim(m, e):
-    """m * 2**e >= 1000000, the bound of the decimal scaling loops."""
-    return (m << e if e >= 0 else m) >= (1000000 if e >= 0 else 1000000 << -e)
 
 
 def _text(x):
@@ -339,10 +356,11 @@ def mbf_print_text(x):
 
 # --------------------------------------------------------------------------
 # functions.  PC-BASIC evaluates SIN, COS, TAN, ATN, EXP, LOG, SQR and X^Y
-# (Y not whole) in IEEE double precision on the exact value of the single
-# argument and converts the result by truncation toward zero to 23
-# significant bits (24 from 2**23 up), so the last mantissa bit of a result
-# below 2**23 is always 0 (NOTES.md, exp/e17..e21).
+# with a single exponent Y (whole or not: (-1)^(LOP+1) too) in IEEE double
+# precision on the exact value of the single argument and converts the result
+# by truncation toward zero to 23 significant bits (24 from 2**23 up), so the
+# last mantissa bit of a result below 2**23 is always 0.  X^N with an integer
+# exponent (the literal 2 of T^2) is repeated multiplication: mbf_ipower.
 
 _TRIG_LIMIT = 5e16       # SIN/COS/TAN of |x| >= this give 0, 1, 0
 _TINY = math.ldexp(1.0, -1001)   # double results this small count as overflow
@@ -403,7 +421,7 @@ def mbf_log(x, err=_ignore):
     return _from_float(math.log(x), err)
 
 
-def sqr(x, err=_ignore):
+def mbf_sqr(x, err=_ignore):
     """SQR: math.sqrt, truncated to 23 bits (24 from 2**23 up); X < 0 is an
     Illegal function call (ValueError)."""
     if x < 0:
@@ -433,12 +451,14 @@ def mbf_power(x, y, err=_ignore):
     return _from_float(v, err)
 
 
-def ipower(x, n, err=_ignore):
+def mbf_ipower(x, n, err=_ignore):
     """X^N with an integer-typed exponent (an integer literal such as the 2
     in T^2, or an N% variable).  N >= 1: left-to-right binary powering with
     single multiplications (square, then times X for each further 1 bit of
     N); the first overflow ends it with +-MBF_MAX of that product's sign.
     N = 0 gives 1; N < 0 is computed like mbf_power()."""
+    if n == 2:
+        return mbf_mul(x, x, err)        # the same, one overflow at most
     if n < 0:
         return mbf_power(x, float(n), err)
     if n == 0:
@@ -533,29 +553,57 @@ def mbf_for_final(start, stop, step, err=_ignore):
 class Single:
     """A GW-BASIC single-precision value; arithmetic rounds as PC-BASIC 2.0.8 does."""
 
-    __slots__ = ("v",)
+    __slots__ = ("v", "_square")
     errors: list[str] = []
 
     def __init__(self, v: float = 0.0):
         self.v = v
+        self._square = None
 
     def __repr__(self) -> str:
         return f"Single({mbf_write_text(self.v)})"
 
-    def __add__(self, other): return Single(mbf_add(self.v, _value(other), _soft_error))
-    def __radd__(self, other): return Single(mbf_add(_value(other), self.v, _soft_error))
-    def __sub__(self, other): return Single(mbf_sub(self.v, _value(other), _soft_error))
-    def __rsub__(self, other): return Single(mbf_sub(_value(other), self.v, _soft_error))
-    def __mul__(self, other): return Single(mbf_mul(self.v, _value(other), _soft_error))
-    def __rmul__(self, other): return Single(mbf_mul(_value(other), self.v, _soft_error))
-    def __truediv__(self, other): return Single(mbf_div(self.v, _value(other), _soft_error))
-    def __rtruediv__(self, other): return Single(mbf_div(_value(other), self.v, _soft_error))
-    def __pow__(self, other):
-        if isinstance(other, int):     # an integer literal (T^2): repeated multiplication
-            return Single(ipower(self.v, other, _soft_error))
-        return Single(mbf_power(self.v, _value(other), _soft_error))
+    # The other operand is a Single or a literal of the listing (2, .5).
+    def __add__(self, other):
+        return Single(mbf_add(self.v, other.v if other.__class__ is Single else float(other),
+                              _soft_error))
 
-    def __rpow__(self, other): return Single(mbf_power(_value(other), self.v, _soft_error))
+    def __radd__(self, other): return Single(mbf_add(float(other), self.v, _soft_error))
+
+    def __sub__(self, other):
+        return Single(mbf_sub(self.v, other.v if other.__class__ is Single else float(other),
+                              _soft_error))
+
+    def __rsub__(self, other): return Single(mbf_sub(float(other), self.v, _soft_error))
+
+    def __mul__(self, other):
+        return Single(mbf_mul(self.v, other.v if other.__class__ is Single else float(other),
+                              _soft_error))
+
+    def __rmul__(self, other): return Single(mbf_mul(float(other), self.v, _soft_error))
+
+    def __truediv__(self, other):
+        return Single(mbf_div(self.v, other.v if other.__class__ is Single else float(other),
+                              _soft_error))
+
+    def __rtruediv__(self, other): return Single(mbf_div(float(other), self.v, _soft_error))
+
+    def __pow__(self, other):
+        if other.__class__ is not int:
+            return Single(mbf_power(self.v, _value(other), _soft_error))
+        if other != 2:                 # an integer literal: repeated multiplication
+            return Single(mbf_ipower(self.v, other, _soft_error))
+        # T^2 comes twenty times a point: remembered, unless it overflowed (the interpreter
+        # says "Overflow" each time it evaluates it)
+        if self._square is None:
+            before = len(Single.errors)
+            square = Single(mbf_mul(self.v, self.v, _soft_error))
+            if len(Single.errors) > before:
+                return square
+            self._square = square
+        return self._square
+
+    def __rpow__(self, other): return Single(mbf_power(float(other), self.v, _soft_error))
     def __neg__(self): return Single(mbf_neg(self.v))
     def __lt__(self, other): return self.v < _value(other)
     def __le__(self, other): return self.v <= _value(other)
@@ -566,7 +614,7 @@ class Single:
 
 
 def _value(x) -> float:
-    return x.v if isinstance(x, Single) else float(x)
+    return x.v if x.__class__ is Single else float(x)
 
 
 def _soft_error(message: str) -> None:
@@ -733,9 +781,12 @@ def sweep_angles(PHI1: Single, PHI2: Single, INC: Single):
         yield Single(phi)
 
 
-def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single) -> tuple[str, str, str]:
+def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
+                derivatives: int = 2) -> tuple[str, str | None, str | None]:
     """Lines 1060-1330 at one input angle: the lines WRITE # puts in ANG.DAT, VEL.DAT, ACC.DAT
-    for solution SOL (1 is (A+B), 2 is (A-B))."""
+    for solution SOL (1 is (A+B), 2 is (A-B)). The program always computes all three; a scene
+    that shows fewer asks for `derivatives` 0 (lines 1060-1150 only) or 1 (without lines
+    1220-1300), and gets None for what it did not ask for."""
     A1, B1, C1, D1, E1, F1, G1, H1, I1, J1 = co
     T = TAN(.5 * PHI)                                                                    # 1060
     U11 = -(D1*T + (G1+J1)*T**2 + (G1+H1)) / (2*(B1 + C1*(T**2) + F1*T))                # 1070
@@ -751,6 +802,8 @@ def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single) -> tup
         PSI = tuple((2*ATN(u)/PI)*180 for u in U)
     angle = mbf_write_text(((PHI/PI)*180).v)
     ang = f"{angle},{mbf_write_text(PSI[SOL - 1].v)}\r\n"                               # 1150
+    if derivatives == 0:
+        return ang, None, None
     M11, M22 = [ZERO, ZERO], [ZERO, ZERO]
     for k, u in enumerate(U):                                                            # 1160
         M1 = -(1 + T**2)*(A1*T + C1*T*u**2 + .5*D1*u + .5*F1*(u**2 + 1) + (G1+J1)*T*u + .5*I1) / ((1 + u**2)*(B1*u + C1*u*T**2 + .5*D1*T + F1*u*T + .5*(G1+J1)*T**2 + .5*(G1+H1)))  # 1170
@@ -763,6 +816,8 @@ def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single) -> tup
             M11[k] = Single(3.0)
         if M11[k] < -3:                                                                  # 1210
             M11[k] = Single(-3.0)
+        if derivatives == 1:
+            continue
         P1 = (3*u**2 + 1)*(B1 + C1*T**2 + F1*T) + u*((G1+J1)*T**2 + D1*T + G1 + H1)      # 1220
         Q1 = 2*(1 + T**2)*(2*C1*T*u + .5*D1 + F1*u + (G1+J1)*T)                          # 1230
         R1 = ((1 + T**2)/(1 + u**2))*((3*T**2 + 1)*(A1 + C1*u**2 + (G1+J1)*u) + T*(F1*(u**2 + 1) + D1*u + I1))  # 1240
@@ -778,6 +833,8 @@ def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single) -> tup
         if M22[k] < -3:                                                                  # 1300
             M22[k] = Single(-3.0)
     vel = f"{angle},{mbf_write_text(M11[SOL - 1].v)}\r\n"                               # 1320
+    if derivatives == 1:
+        return ang, vel, None
     acc = f"{angle},{mbf_write_text(M22[SOL - 1].v)}\r\n"                               # 1330
     return ang, vel, acc
 
@@ -982,9 +1039,11 @@ class DatFiles:  # ERRATA P3
 
     NAMES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
 
-    def __init__(self, directory: str):
-        self._final = [os.path.join(directory, n) for n in self.NAMES]
-        self._partial = [os.path.join(directory, f".{n}.partial") for n in self.NAMES]
+    def __init__(self, directory: str, count: int = 3):
+        """The first `count` of the three files (a scene may ask for fewer)."""
+        names = self.NAMES[:count]
+        self._final = [os.path.join(directory, n) for n in names]
+        self._partial = [os.path.join(directory, f".{n}.partial") for n in names]
         self._files = []
         try:
             for path in self._partial:
@@ -996,7 +1055,7 @@ class DatFiles:  # ERRATA P3
             self.discard()
             raise
 
-    def write(self, lines: tuple[str, str, str]) -> None:
+    def write(self, lines: tuple[str, str | None, str | None]) -> None:
         for f, line in zip(self._files, lines):
             f.write(line)
 
@@ -1022,10 +1081,11 @@ BYTES_PER_POINT = 3 * len("-1.234567E+38,-1.234567E+38\r\n")
 
 
 def run_session(screen: Screen, keys: Keys, directory: str = ".",
-                stop_if_illegal: bool = False) -> None:
+                stop_if_illegal: bool = False, derivatives: int = 2) -> None:
     """The whole program, lines 100-1360, driven by `keys`: the menu until a linkage assembles
     (or 6), its sweep, the three files. `stop_if_illegal` turns "Illegal linkage" into a
-    ProgramStop instead of a return to the menu (for the run command)."""
+    ProgramStop instead of a return to the menu (for the run command); `derivatives` below 2
+    leaves out ACC.DAT (and VEL.DAT), for a scene that does not show them."""
     v = Variables()
     while True:
         screen.cls()                                                        # 130-190
@@ -1064,17 +1124,17 @@ def run_session(screen: Screen, keys: Keys, directory: str = ".",
             break
         screen.beep()
     sweep(screen, co, degrees_to_radians(PHI1), degrees_to_radians(PHI2), INC, SOL, v.S,
-          directory)                                                        # 1000-1350
+          directory, derivatives)                                           # 1000-1350
 
 
 def sweep(screen: Screen, co, PHI1: Single, PHI2: Single, INC: Single, SOL: int, S: Single,
-          directory: str) -> None:
+          directory: str, derivatives: int = 2) -> None:
     """Lines 1020-1350: open the files, sweep PHI, close."""
-    files = DatFiles(directory)                                             # 1020-1040
+    files = DatFiles(directory, 1 + derivatives)                            # 1020-1040
     try:
         check_sweep(PHI1, PHI2, INC, directory)
         for PHI in sweep_angles(PHI1, PHI2, INC):                           # 1050, 1340
-            files.write(sweep_point(co, PHI, SOL, S))
+            files.write(sweep_point(co, PHI, SOL, S, derivatives))
             screen.show_soft_errors()
     except BaseException:
         files.discard()
@@ -3003,6 +3063,741 @@ def design_command(argv):
     return code
 
 
+# ---- Scenes and plots: the paper's Figures 3-6 (issue 6) -------------------------------------
+#
+# A scene (data/scenes/*.toml) is one figure: a mechanism and its dimensions, the input range,
+# the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
+# DAT files, and draws the figure as the paper does - (a) displacement, (b) velocity and
+# acceleration against the input angle - as a plain-text plot (80 x 24, no dependency) or a PNG
+# (matplotlib, the `plot` extra). `plot` draws the same figure from DAT files already written.
+#
+# The numbers come from the two places that already make them, never from a copy of a formula:
+# `basic` runs the menu program's own session (run_session, as the `run` command does) and reads
+# back the files it wrote; `double` asks the engine. Each computes only what the panels show: a
+# displacement-only scene runs lines 1060-1150 of the listing and no further
+# (sweep_point(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
+# those files are written.
+#
+# Every figure is drawn from DAT files, so `scene` and `plot` draw alike: one series a folder
+# (the scene's DIR itself, or DIR/<precision>-branch<n> when it overlays several). A curve breaks
+# where the input angle skips a step (the engine leaves out positions that do not exist). Output
+# angles are drawn unwrapped: whole turns are added so that a curve is continuous across +-180
+# degrees, and so that the curves of a panel lie within half a turn of the first one.
+
+SCENE_KEYS = {  # key: what is expected (the error messages quote it)
+    "title": "a string (the figure's title)",
+    "mechanism": f"one of {', '.join(LINKAGE_DIMENSIONS)}",
+    "dimensions": "a table of the mechanism's dimensions",
+    "input": "a table with from, to and step (degrees)",
+    "branches": "a list of branches, 1 (A+B) and/or 2 (A-B)",
+    "precision": "basic, double or both",
+    "panels": "a list of 1 to 3 tables [[panels]], each with quantities and optional limits",
+}
+REQUIRED_SCENE_KEYS = ("mechanism", "dimensions", "input", "branches", "precision", "panels")
+QUANTITIES = ("displacement", "velocity", "acceleration")      # ANG.DAT, VEL.DAT, ACC.DAT
+PRECISIONS = {"basic": ("basic",), "double": ("double",), "both": ("basic", "double")}
+MAX_SCENE_POINTS = 100_000
+MECHANISM_NAMES = {PLANE_FOUR_BAR: "plane four-bar", SPHERICAL_FOUR_BAR: "spherical four-bar",
+                   SKEW_FOUR_BAR: "skew four-bar", PLANE_SLIDER_CRANK: "plane slider-crank",
+                   SKEW_SLIDER_CRANK: "skew slider-crank"}
+DIMENSION_NAMES = {"a": "the fixed link", "b": "the input crank", "c": "the coupler",
+                   "d": "the output crank", "e": "the slider offset",
+                   "f": "the vertical sector of the fixed link", "ksi": "the skew angle, degrees"}
+# Axis labels (name, symbol, unit) by quantity, for four-bars, slider-cranks and DAT files of an
+# unknown mechanism.
+AXIS_LABELS = {
+    "four-bar": {"displacement": ("output angle", "psi", "deg"),
+                 "velocity": ("velocity", "dpsi/dphi", "rad/rad"),
+                 "acceleration": ("acceleration", "d2psi/dphi2", "rad/rad^2")},
+    "slider": {"displacement": ("slider position", "x", "length"),
+               "velocity": ("velocity", "dx/dphi", "length/rad"),
+               "acceleration": ("acceleration", "d2x/dphi2", "length/rad^2")},
+    "unknown": {"displacement": ("output", "ANG.DAT", "deg, or length for a slider"),
+                "velocity": ("velocity", "VEL.DAT", "per rad"),
+                "acceleration": ("acceleration", "ACC.DAT", "per rad^2")},
+}
+INPUT_AXIS = ("input angle", "phi", "deg")
+
+
+class SceneError(ValueError):
+    """A scene file, or a DAT file, that cannot be drawn; the message names the file and the key
+    (or line) and what was expected."""
+
+
+class PlotUnavailable(RuntimeError):
+    """--png without matplotlib."""
+
+
+class PanelSpec(NamedTuple):
+    quantities: tuple[str, ...]
+    limits: tuple[float, float] | None      # the y range, or None: from the data
+
+
+@dataclasses.dataclass(frozen=True)
+class Scene:
+    path: str
+    title: str
+    mechanism: str
+    dimensions: dict
+    start: float
+    stop: float
+    step: float
+    branches: tuple[int, ...]
+    precisions: tuple[str, ...]
+    panels: tuple[PanelSpec, ...]
+
+    @property
+    def derivatives(self) -> int:
+        """How many derivatives the panels show: 0 (displacement only), 1 or 2."""
+        shown = {q for panel in self.panels for q in panel.quantities}
+        return 2 if "acceleration" in shown else 1 if "velocity" in shown else 0
+
+
+# -- reading a scene ---------------------------------------------------------------------------
+
+def _is_number(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _kind_of(x) -> str:
+    names = {bool: "a boolean", int: "an integer", float: "a number", str: "the string",
+             list: "a list", dict: "a table"}
+    what = next((n for t, n in names.items() if isinstance(x, t)), type(x).__name__)
+    return f"{what} {x!r}" if isinstance(x, (str, int, float)) else what
+
+
+def _scene_error(path, key, expected, got=None) -> SceneError:
+    return SceneError(f"{path}: key '{key}': expected {expected}"
+                      + ("" if got is None else f", got {_kind_of(got)}"))
+
+
+def _unknown_keys(path, table, allowed, prefix=""):
+    for key in table:
+        if key not in allowed:
+            raise SceneError(f"{path}: unknown key '{prefix}{key}'; expected one of "
+                             + ", ".join(f"'{prefix}{k}'" for k in allowed))
+
+
+def load_scene(path: str) -> Scene:
+    """Read and check a scene file; a SceneError names the file, the key and what it expects."""
+    import tomllib
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except OSError as e:
+        raise SceneError(f"{path}: cannot read the scene: {e.strerror}") from None
+    except tomllib.TOMLDecodeError as e:
+        raise SceneError(f"{path}: not a TOML file: {e}") from None
+    _unknown_keys(path, data, SCENE_KEYS)
+    for key in REQUIRED_SCENE_KEYS:
+        if key not in data:
+            raise SceneError(f"{path}: key '{key}' is missing: expected {SCENE_KEYS[key]}")
+
+    mechanism = data["mechanism"]
+    if mechanism not in LINKAGE_DIMENSIONS:
+        raise _scene_error(path, "mechanism", SCENE_KEYS["mechanism"], mechanism)
+    names = LINKAGE_DIMENSIONS[mechanism]
+    given = data["dimensions"]
+    if not isinstance(given, dict):
+        raise _scene_error(path, "dimensions", SCENE_KEYS["dimensions"], given)
+    takes = f"a {mechanism} linkage takes {', '.join(names)}"
+    for key in given:
+        if key not in names:
+            raise SceneError(f"{path}: unknown key 'dimensions.{key}': {takes}")
+    for key in names:
+        if key not in given:
+            raise SceneError(f"{path}: key 'dimensions.{key}' is missing: expected a number, "
+                             f"{DIMENSION_NAMES[key]} ({takes})")
+        if not _is_number(given[key]):
+            raise _scene_error(path, f"dimensions.{key}",
+                               f"a number, {DIMENSION_NAMES[key]}", given[key])
+    dims = {k: float(given[k]) for k in names}
+
+    sweep = data["input"]
+    if not isinstance(sweep, dict):
+        raise _scene_error(path, "input", SCENE_KEYS["input"], sweep)
+    _unknown_keys(path, sweep, ("from", "to", "step"), "input.")
+    for key in ("from", "to", "step"):
+        if key not in sweep:
+            raise SceneError(f"{path}: key 'input.{key}' is missing: expected a number (degrees)")
+        if not _is_number(sweep[key]):
+            raise _scene_error(path, f"input.{key}", "a number (degrees)", sweep[key])
+    start, stop, step = (float(sweep[k]) for k in ("from", "to", "step"))
+    if step == 0 or (stop - start) / step < 0:
+        raise _scene_error(path, "input.step", f"a step that goes from {start:g} to {stop:g} "
+                           "(non-zero, with the sign of to - from)", sweep["step"])
+    if (stop - start) / step >= MAX_SCENE_POINTS:
+        raise _scene_error(path, "input.step", f"a step giving at most {MAX_SCENE_POINTS:,} "
+                           "points", sweep["step"])
+
+    branches = data["branches"]
+    if (not isinstance(branches, list) or not branches or len(set(branches)) != len(branches)
+            or not all(b in (1, 2) and not isinstance(b, bool) for b in branches)):
+        raise _scene_error(path, "branches", "[1], [2] or [1, 2]", branches)
+    precision = data["precision"]
+    if precision not in PRECISIONS:
+        raise _scene_error(path, "precision", SCENE_KEYS["precision"], precision)
+
+    panels = data["panels"]
+    if (not isinstance(panels, list) or not 1 <= len(panels) <= 3
+            or not all(isinstance(p, dict) for p in panels)):
+        raise _scene_error(path, "panels", SCENE_KEYS["panels"], panels)
+    specs = []
+    for i, panel in enumerate(panels, 1):
+        key = f"panels[{i}]"
+        _unknown_keys(path, panel, ("quantities", "limits"), f"{key}.")
+        quantities = panel.get("quantities")
+        if (not isinstance(quantities, list) or not quantities
+                or not all(q in QUANTITIES for q in quantities)
+                or len(set(quantities)) != len(quantities)):
+            raise _scene_error(path, f"{key}.quantities",
+                               f"a list of one or more of {', '.join(QUANTITIES)}", quantities)
+        limits = panel.get("limits")
+        if limits is not None and not (isinstance(limits, list) and len(limits) == 2
+                                       and all(_is_number(v) for v in limits)
+                                       and limits[0] < limits[1]):
+            raise _scene_error(path, f"{key}.limits", "[low, high], two numbers, low < high",
+                               limits)
+        specs.append(PanelSpec(tuple(quantities),
+                               None if limits is None else (float(limits[0]), float(limits[1]))))
+
+    title = data.get("title", MECHANISM_NAMES[mechanism].capitalize())
+    if not isinstance(title, str):
+        raise _scene_error(path, "title", SCENE_KEYS["title"], title)
+    return Scene(path, title, mechanism, dims, start, stop, step, tuple(branches),
+                 PRECISIONS[precision], tuple(specs))
+
+
+# -- computing a scene: the DAT files ----------------------------------------------------------
+
+def _typed(x: float) -> str:
+    """A number as it would be typed at the original's INPUT prompt."""
+    return repr(float(x))
+
+
+def _faithful_files(scene: Scene, branch: int, directory: str) -> list[str]:
+    """The menu program's session with the scene's answers (as `run` gives them): it writes the
+    three DAT files in `directory`. Returns the soft errors it printed."""
+    key, asked = MECHANISM_TYPES[scene.mechanism]
+    answers = [_typed(scene.dimensions["ksi" if n == "skew" else n]) for n in asked]
+    answers += [_typed(v) for v in (scene.start, scene.stop, scene.step)]
+    keystrokes = (key + "".join(a + "\r" for a in answers) + str(branch)).encode("ascii")
+    stream = iter(keystrokes[i:i + 1] for i in range(len(keystrokes)))
+    soft_errors: list[str] = []
+    screen = Screen(lambda s: None, terminal=False, soft_errors=soft_errors.append)
+    try:
+        run_session(screen, Keys(lambda: next(stream, b""), fold_crlf=True), directory,
+                    stop_if_illegal=True, derivatives=scene.derivatives)
+    except ProgramStop as stop:
+        where = "dimensions" if "Illegal linkage" in str(stop) else "input"
+        raise _scene_error(scene.path, where, "what the original program accepts (precision "
+                           f"basic): it says \"{stop}\"") from None
+    screen.show_soft_errors()
+    return [e.strip() for e in soft_errors]
+
+
+def _accurate_motions(scene: Scene, branch: int, derivatives: int) -> list[Motion]:
+    try:
+        linkage = Linkage(scene.mechanism, **scene.dimensions)
+        return linkage.sweep(evenly_spaced_angles(scene.start, scene.stop, scene.step), branch,
+                             derivatives)
+    except ValueError as e:
+        raise _scene_error(scene.path, "dimensions", f"dimensions the engine accepts: {e}") \
+            from None
+
+
+def _check_assembles(scene: Scene, motions: list[Motion]) -> None:
+    if not any(m.output is not None for m in motions):
+        dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
+        raise _scene_error(scene.path, "dimensions",
+                           "a linkage that can be assembled somewhere from "
+                           f"{scene.start:g} to {scene.stop:g} degrees; the {scene.mechanism} "
+                           f"linkage {dims} assembles at none of those {len(motions)} input "
+                           "angles")
+
+
+class Series(NamedTuple):
+    """One curve family of a figure: the DAT files in `directory`, made at `precision` (basic,
+    double, or "" if unknown) on `branch` (None if unknown)."""
+    name: str
+    precision: str
+    branch: int | None
+    directory: str
+
+
+def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
+    """Write the scene's DAT files under `directory` (in it for one series, else one folder a
+    series); `report(message)` hears the original's soft errors. Returns the series. Nothing is
+    written for a linkage that assembles nowhere in the range."""
+    accurate = {b: _accurate_motions(scene, b, scene.derivatives) for b in scene.branches
+                if "double" in scene.precisions}
+    _check_assembles(scene, accurate.get(scene.branches[0])
+                     or _accurate_motions(scene, scene.branches[0], 0))
+    plan = [(p, b) for b in scene.branches for p in scene.precisions]
+    series = []
+    for precision, branch in plan:
+        name = f"{precision}-branch{branch}"
+        where = directory if len(plan) == 1 else os.path.join(directory, name)
+        try:
+            os.makedirs(where, exist_ok=True)
+        except OSError as e:
+            raise SceneError(f"cannot make the folder {where!r}: {e.strerror}") from None
+        if precision == "double":
+            write_dat_files(accurate[branch], where)
+            for file, level in (("VEL.DAT", 1), ("ACC.DAT", 2)):     # not computed: no file
+                if scene.derivatives < level:
+                    os.remove(os.path.join(where, file))
+        else:
+            errors = _faithful_files(scene, branch, where)
+            if errors and report is not None:
+                counts = {e: errors.count(e) for e in dict.fromkeys(errors)}
+                report("the original printed " + ", ".join(f'"{e}" {n} time{"s" * (n > 1)}'
+                                                           for e, n in counts.items())
+                       + f" ({name})")
+        series.append(Series(name, precision, branch, where))
+    return series
+
+
+# -- reading DAT files -------------------------------------------------------------------------
+
+def read_dat(path: str) -> list[tuple[float, float]]:
+    """The (input angle, value) pairs of a DAT file as WRITE # writes them (CRLF lines "x,y", the
+    end-of-file byte 1A; numbers like .5, -1.713751E-02) or as the engine writes them (repr)."""
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read()
+    except OSError as e:
+        raise SceneError(f"{path}: cannot read: {e.strerror}") from None
+    text = data.split(b"\x1a", 1)[0].decode("latin-1")
+    points = []
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line.strip():
+            continue
+        fields = line.split(",")
+        try:
+            if len(fields) != 2:
+                raise ValueError
+            x, y = (float(f.strip().upper().replace("D", "E")) for f in fields)
+            if not (math.isfinite(x) and math.isfinite(y)):
+                raise ValueError
+        except ValueError:
+            raise SceneError(f"{path}: line {number}: expected two numbers \"angle,value\", "
+                             f"got {line[:40]!r}") from None
+        points.append((x, y))
+    return points
+
+
+def _dat_precision(directory: str) -> str:
+    """basic or double from how the numbers are written (GW-BASIC's .5 and 1E-02, or Python's
+    repr 0.5, 2.0 and 1e-02), "" if the files do not tell."""
+    try:
+        with open(os.path.join(directory, "ANG.DAT"), "rb") as fh:
+            text = fh.read(4096).decode("latin-1")
+    except OSError:
+        return ""
+    numbers = re.split(r"[,\r\n\x1a]+", text)
+    if any(re.fullmatch(r"-?(0\.\d+|\d+\.0|[\d.]+e[-+]\d+)", n) for n in numbers):
+        return "double"
+    if any(re.fullmatch(r"-?(\.\d+|\d+|[\d.]+E[-+]\d+)", n) for n in numbers):
+        return "basic"
+    return ""
+
+
+def dat_series(directory: str) -> list[Series]:
+    """The DAT files of `directory`: one series, or (if it holds none) one for each folder in it
+    that does, named after the folder ("basic-branch1" tells its precision and branch)."""
+    def has_dat(d):
+        return any(os.path.exists(os.path.join(d, n)) for n in DatFiles.NAMES)
+    if has_dat(directory):
+        return [Series(os.path.basename(os.path.abspath(directory)), _dat_precision(directory),
+                       None, directory)]
+    try:
+        folders = sorted(e.path for e in os.scandir(directory) if e.is_dir() and has_dat(e.path))
+    except OSError as e:
+        raise SceneError(f"{directory}: cannot read: {e.strerror}") from None
+    if not folders:
+        raise SceneError(f"{directory}: no ANG.DAT, VEL.DAT or ACC.DAT here, nor in a folder "
+                         "in it")
+    series = []
+    for folder in folders:
+        name = os.path.basename(folder)
+        match = re.fullmatch(r"(basic|double)-branch([12])", name)
+        series.append(Series(name, match[1] if match else _dat_precision(folder),
+                             int(match[2]) if match else None, folder))
+    return sorted(series, key=lambda s: (s.branch or 3, s.precision != "basic", s.name))
+
+
+# -- the figure: what both renderers draw ------------------------------------------------------
+
+class Curve(NamedTuple):
+    label: str
+    quantity: str
+    precision: str
+    branch: int | None
+    runs: tuple[tuple[tuple[float, float], ...], ...]   # unbroken pieces of (x, y)
+
+
+class Panel(NamedTuple):
+    letter: str
+    quantities: tuple[str, ...]
+    labels: tuple[tuple[str, str, str], ...]             # (name, symbol, unit) per quantity
+    curves: tuple[Curve, ...]
+    limits: tuple[float, float] | None
+
+
+class Figure(NamedTuple):
+    title: str
+    subtitle: str
+    xlabel: tuple[str, str, str]
+    panels: tuple[Panel, ...]
+
+
+def _runs(points, angles: bool):
+    """Split (x, y) points where x skips more than 1.5 typical steps. Angles (angles=True) are
+    unwrapped: whole turns added so that each point, and each run's first, is within 180 degrees
+    of the point before it."""
+    steps = sorted(abs(b[0] - a[0]) for a, b in zip(points, points[1:]))
+    typical = steps[len(steps) // 2] if steps else 0.0
+    runs, run = [], []
+    for x, y in points:
+        if run and abs(x - run[-1][0]) > 1.5 * typical:
+            runs.append(tuple(run))
+            run = []
+        previous = run[-1] if run else runs[-1][-1] if runs else None
+        if angles and previous is not None:
+            y += 360.0 * round((previous[1] - y) / 360.0)
+        run.append((x, y))
+    if run:
+        runs.append(tuple(run))
+    return tuple(runs)
+
+
+def _turned(curve: Curve, reference: Curve) -> Curve:
+    """The angle curve moved by whole turns to lie nearest `reference` (so that two branches
+    that meet at psi = 180 are drawn meeting, not one at +180 and the other at -180)."""
+    def mean(c):
+        ys = [y for r in c.runs for _, y in r]
+        return sum(ys) / len(ys) if ys else 0.0
+    turn = 360.0 * round((mean(reference) - mean(curve)) / 360.0)
+    if not turn:
+        return curve
+    return curve._replace(runs=tuple(tuple((x, y + turn) for x, y in r) for r in curve.runs))
+
+
+def _series_label(series: Series, several_precisions: bool, several_branches: bool) -> str:
+    parts = []
+    if several_precisions or series.precision == "" or series.branch is None:
+        parts.append(series.precision or series.name)
+    if several_branches and series.branch is not None:
+        parts.append(f"branch {series.branch}")
+    return ", ".join(parts)
+
+
+def build_figure(title: str, subtitle: str, group: str, specs, series: list[Series]) -> Figure:
+    """The figure of `specs` (PanelSpecs) from the DAT files of `series`; group is "four-bar",
+    "slider" or "unknown" (the axis labels, and whether outputs are angles)."""
+    several_precisions = len({s.precision for s in series}) > 1
+    several_branches = len({s.branch for s in series}) > 1
+    panels = []
+    for letter, spec in zip("abc", specs):
+        curves = []
+        for quantity in spec.quantities:
+            name = DatFiles.NAMES[QUANTITIES.index(quantity)]
+            for s in series:
+                path = os.path.join(s.directory, name)
+                if not os.path.exists(path):
+                    continue
+                label = _series_label(s, several_precisions, several_branches)
+                if len(spec.quantities) > 1 or not label:
+                    label = f"{quantity}, {label}" if label else quantity
+                angles = quantity == "displacement" and group != "slider"
+                runs = _runs(read_dat(path), angles)
+                curve = Curve(label, quantity, s.precision, s.branch, runs)
+                reference = next((c for c in curves if c.quantity == quantity), None)
+                curves.append(_turned(curve, reference) if angles and reference else curve)
+        labels = tuple(AXIS_LABELS[group][q] for q in spec.quantities)
+        panels.append(Panel(letter, spec.quantities, labels, tuple(curves), spec.limits))
+    return Figure(title, subtitle, INPUT_AXIS, tuple(panels))
+
+
+def scene_figure(scene: Scene, series: list[Series]) -> Figure:
+    dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
+    branches = ", ".join(f"{b} ({'A+B' if b == 1 else 'A-B'})" for b in scene.branches)
+    precision = {("basic",): "basic (GW-BASIC single precision)",
+                 ("double",): "double (the accurate engine)",
+                 ("basic", "double"): "basic and double, overlaid"}[scene.precisions]
+    subtitle = (f"{MECHANISM_NAMES[scene.mechanism]}; "
+                f"branch{'es' * (len(scene.branches) > 1)} {branches}; precision {precision}")
+    group = "slider" if scene.mechanism in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK) else "four-bar"
+    return build_figure(f"{scene.title}: {dims}", subtitle, group, scene.panels, series)
+
+
+def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
+    """The figure of the DAT files in `directory` (see dat_series): (a) ANG.DAT, (b) VEL.DAT and
+    ACC.DAT, the panels of the files there are."""
+    series = dat_series(directory)
+    present = {q for q, n in zip(QUANTITIES, DatFiles.NAMES)
+               for s in series if os.path.exists(os.path.join(s.directory, n))}
+    specs = [PanelSpec(tuple(q for q in qs if q in present), None)
+             for qs in (("displacement",), ("velocity", "acceleration")) if present & set(qs)]
+    group = ("unknown" if mechanism is None else
+             "slider" if mechanism in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK) else "four-bar")
+    precisions = " and ".join(dict.fromkeys(s.precision or "unknown" for s in series))
+    branches = sorted({s.branch for s in series if s.branch})
+    what = (f"precision {precisions}" + (" (from the number format)" if len(series) == 1 else "")
+            + (f"; branch{'es' * (len(branches) > 1)} {', '.join(map(str, branches))}"
+               if branches else ", branch not recorded"))
+    if mechanism:
+        what = f"{MECHANISM_NAMES[mechanism]}; {what}"
+    return build_figure(f"The DAT files in {directory}", what, group, specs, series)
+
+
+# -- the plain-text plot -----------------------------------------------------------------------
+
+TEXT_WIDTH, TEXT_HEIGHT = 80, 24
+MARKERS = "*o+x#@%&"
+
+
+class _Axis(NamedTuple):
+    low: float          # the value at cell 0, a tick
+    step: float         # the value between ticks
+    ticks: int          # intervals between ticks
+    per: int            # cells per interval
+
+    @property
+    def cells(self) -> int:
+        return self.ticks * self.per + 1
+
+    def cell(self, v: float) -> float:
+        """The fractional cell of value v (cell 0 is `low`)."""
+        return (v - self.low) / self.step * self.per
+
+    def tick_values(self):
+        return [self.low + i * self.step for i in range(self.ticks + 1)]
+
+
+ANGLE_STEPS = (15.0, 30.0, 45.0, 60.0, 90.0, 180.0, 360.0)     # tick steps for input angles
+
+
+def _nice_axis(lo: float, hi: float, cells: int, spacing: int, angles: bool = False) -> _Axis:
+    """An axis over lo..hi in at most `cells` cells: ticks 1, 2 or 5 times a power of ten apart
+    (or, for angles, also 15, 30, 45 ... degrees), each on a cell, at least `spacing` apart."""
+    if hi - lo <= 1e-12 * max(abs(lo), abs(hi)):
+        pad = abs(lo) * 0.1 or 1.0
+        lo, hi = lo - pad, hi + pad
+    most = max(2, (cells - 1) // spacing)
+    exponent = math.floor(math.log10((hi - lo) / most))
+    steps = {m * 10.0 ** e for e in range(exponent, exponent + 3) for m in (1, 2, 5)}
+    for step in sorted(steps | set(ANGLE_STEPS if angles else ())):
+        if step * most < (hi - lo) * (1 - 1e-9):
+            continue
+        first = math.floor(lo / step + 1e-9)
+        ticks = max(1, math.ceil(hi / step - 1e-9) - first)
+        if ticks <= most:
+            return _Axis(first * step, step, ticks, max(1, (cells - 1) // ticks))
+    raise AssertionError("unreachable: with most >= 2, a step of 10 ** (exponent + 2) fits")
+
+
+def _tick_text(v: float, step: float) -> str:
+    decimals = max(0, -math.floor(math.log10(step) + 1e-9))
+    if decimals > 6 or abs(v) >= 1e7:
+        return f"{v:.3g}"
+    return f"{abs(v) if abs(v) < step / 2 else v:.{decimals}f}"
+
+
+def _wrapped(text: str, width: int, indent: str = "") -> list[str]:
+    import textwrap
+    return textwrap.wrap(text, width, subsequent_indent=indent, break_on_hyphens=False) or [""]
+
+
+def _panel_lines(panel: Panel, width: int) -> list[str]:
+    """The panel's header: its quantities and units, and which marker is which curve (before
+    each quantity when there is one curve of each, else in a legend)."""
+    labels = [f"{n} {s} [{u}]" for n, s, u in panel.labels]
+    legend = "  ".join(f"{MARKERS[i % len(MARKERS)]} {c.label}"
+                       for i, c in enumerate(panel.curves)) if len(panel.curves) > 1 else ""
+    if len(panel.curves) > 1 and [c.quantity for c in panel.curves] == list(panel.quantities):
+        labels = [f"{MARKERS[i]} {text}" for i, text in enumerate(labels)]
+        legend = ""
+    header = f"({panel.letter}) " + ", ".join(labels)
+    if len(header) + 3 + len(legend) <= width:
+        return [header + " " * (width - len(header) - len(legend)) + legend if legend else header]
+    return _wrapped(header, width, "    ") + (_wrapped(legend, width, "  ") if legend else [])
+
+
+def _draw(grid, x_axis: _Axis, y_axis: _Axis, runs, marker: str) -> None:
+    """Put `marker` in the cells the curve passes through: at each point, and between two
+    points of a run at steps of at most half a cell."""
+    rows, columns = len(grid), len(grid[0])
+    for run in runs:
+        cells = [(x_axis.cell(x), y_axis.cell(y)) for x, y in run]
+        for (c0, r0), (c1, r1) in zip(cells, cells[1:] + cells[-1:]):
+            n = min(math.ceil(2 * max(abs(c1 - c0), abs(r1 - r0))), 4 * (rows + columns))
+            for i in range(max(n, 1) + 1):
+                t = i / max(n, 1)
+                c = math.floor(c0 + (c1 - c0) * t + 0.5)
+                r = math.floor(r0 + (r1 - r0) * t + 0.5)
+                if 0 <= c < columns and 0 <= r < rows:
+                    grid[rows - 1 - r][c] = marker
+
+
+def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIGHT) -> str:
+    """The figure in plain text, at most `width` x `height` characters: the title; each panel's
+    header (quantities, units, legend) and plot, tick values on the y axis; the shared x axis's
+    tick values under the last panel, and its label."""
+    top = _wrapped(figure.title, width)[:2] + _wrapped(figure.subtitle, width, "  ")[:2]
+    name, symbol, unit = figure.xlabel
+    bottom = [f"x axes: {name} {symbol} [{unit}]"[:width]]
+    headers = [_panel_lines(panel, width) for panel in figure.panels]
+    fixed = len(top) + sum(len(h) + 1 for h in headers) + 1 + len(bottom)
+    rows = (height - fixed) // len(figure.panels)
+    if rows < 3:
+        raise SceneError(f"the text plot does not fit in {width} x {height} characters: show "
+                         "fewer panels or series, or draw a PNG (--png)")
+
+    y_axes = []
+    for panel in figure.panels:
+        ys = [y for c in panel.curves for r in c.runs for _, y in r if math.isfinite(y)]
+        lo, hi = panel.limits or (min(ys, default=0.0), max(ys, default=0.0))
+        y_axes.append(_nice_axis(lo, hi, rows, 2 if rows >= 5 else 1))
+    y_texts = [[_tick_text(v, a.step) for v in a.tick_values()] for a in y_axes]
+    margin = max(len(t) for texts in y_texts for t in texts) + 1   # the y axis's column
+    xs = [x for p in figure.panels for c in p.curves for r in c.runs for x, _ in r] or [0.0]
+    spacing, right = 6, 4                  # cells between x ticks; room for the last tick value
+    while True:
+        x_axis = _nice_axis(min(xs), max(xs), width - margin - right, spacing, angles=True)
+        x_texts = [_tick_text(v, x_axis.step) for v in x_axis.tick_values()]
+        longest = max(len(t) for t in x_texts)
+        if x_axis.per > longest and (longest - 1) // 2 < right or spacing > width:
+            break
+        spacing, right = longest + 2, max(right, longest // 2 + 1)
+
+    out = list(top)
+    for k, (panel, header, y_axis, texts) in enumerate(zip(figure.panels, headers, y_axes,
+                                                          y_texts)):
+        out += header
+        grid = [[" "] * x_axis.cells for _ in range(y_axis.cells)]
+        for r, row in enumerate(grid):
+            row[0] = "+" if (y_axis.cells - 1 - r) % y_axis.per == 0 else "|"
+        for i, curve in enumerate(panel.curves):
+            _draw(grid, x_axis, y_axis, curve.runs, MARKERS[i % len(MARKERS)])
+        for r, row in enumerate(grid):
+            tick, off = divmod(y_axis.cells - 1 - r, y_axis.per)
+            out.append(f"{texts[tick] if off == 0 else '':>{margin - 1}} " + "".join(row).rstrip())
+        out.append(" " * margin + "".join("+" if c % x_axis.per == 0 else "-"
+                                          for c in range(x_axis.cells)))
+    labels = [" "] * (width + 8)
+    for i, text in enumerate(x_texts):
+        start = max(0, margin + i * x_axis.per - (len(text) - 1) // 2)
+        labels[start:start + len(text)] = text
+    out.append("".join(labels).rstrip())
+    out += bottom
+    return "\n".join(out) + "\n"
+
+
+# -- the PNG -----------------------------------------------------------------------------------
+
+def _pretty(text: str) -> str:
+    """Greek letters and superscripts for the PNG's labels."""
+    for ascii_, shown in (("dphi2", "dφ²"), ("d2", "d²"), ("^2", "²"), ("psi", "ψ"),
+                          ("phi", "φ"), ("ksi", "ξ")):
+        text = text.replace(ascii_, shown)
+    return text
+
+
+def _matplotlib():
+    """matplotlib's Figure and Agg canvas (no pyplot: no global state), or PlotUnavailable."""
+    try:
+        from matplotlib.figure import Figure as MplFigure
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+    except ImportError:
+        raise PlotUnavailable("--png needs matplotlib, which is not installed: "
+                              "pip install 'linkage[plot]' (or pip install matplotlib)") from None
+    return MplFigure, FigureCanvasAgg
+
+
+def png_figure(figure: Figure, path: str) -> None:
+    """Render the figure with matplotlib (the `plot` extra) into the PNG file `path`."""
+    MplFigure, FigureCanvasAgg = _matplotlib()
+    from matplotlib.ticker import MultipleLocator
+    xs_all = [x for p in figure.panels for c in p.curves for r in c.runs for x, _ in r]
+    x_step = _nice_axis(min(xs_all), max(xs_all), 73, 8, angles=True).step if xs_all else 1.0
+    colours = {("displacement", 1): "black", ("displacement", 2): "tab:gray",
+               ("velocity", 1): "tab:blue", ("velocity", 2): "tab:cyan",
+               ("acceleration", 1): "tab:red", ("acceleration", 2): "tab:orange"}
+    n = len(figure.panels)
+    mpl = MplFigure(figsize=(7.2, 0.7 + 2.6 * n), dpi=90, layout="constrained")
+    FigureCanvasAgg(mpl)
+    mpl.suptitle(_pretty(f"{figure.title}\n{figure.subtitle}"), fontsize=10)
+    name, symbol, unit = figure.xlabel
+    for i, panel in enumerate(figure.panels):
+        ax = mpl.add_subplot(n, 1, i + 1)
+        for curve in panel.curves:
+            xs, ys = [], []
+            for run in curve.runs:
+                xs += [x for x, _ in run] + [math.nan]
+                ys += [y for _, y in run] + [math.nan]
+            style = (dict(linewidth=0.8, marker="o", markersize=2.2, zorder=3)
+                     if curve.precision == "basic" else dict(linewidth=1.6, zorder=2))
+            ax.plot(xs, ys, color=colours.get((curve.quantity, curve.branch or 1), "black"),
+                    label=_pretty(curve.label), **style)
+        ax.set_title(f"({panel.letter}) " + " and ".join(n_ for n_, _, _ in panel.labels)
+                     + " vs input angle", loc="left", fontsize=10)
+        ax.set_ylabel(_pretty(", ".join(f"{s} [{u}]" for _, s, u in panel.labels)), fontsize=9)
+        ax.set_xlabel(_pretty(f"{name} {symbol} [{unit}]"), fontsize=9)
+        if panel.limits:
+            ax.set_ylim(*panel.limits)
+        if xs_all:
+            ax.set_xlim(min(xs_all), max(xs_all))
+            ax.xaxis.set_major_locator(MultipleLocator(x_step))
+        ax.grid(True, linewidth=0.4, alpha=0.5)
+        ax.tick_params(labelsize=8)
+        if len(panel.curves) > 1:
+            ax.legend(fontsize=7, loc="best")
+    mpl.savefig(path, format="png")
+
+
+# -- the commands ------------------------------------------------------------------------------
+
+def _draw_command(args: argparse.Namespace, make_figure) -> int:
+    """Make the figure and draw it: the PNG with --png, the text plot with --text or without
+    --png. Every way it can fail is a message and exit status 1 (130 for Ctrl-C)."""
+    try:
+        if args.png:
+            _matplotlib()                       # fail before any work
+        figure = make_figure()
+        if args.png:
+            png_figure(figure, args.png)
+        if args.text or not args.png:
+            sys.stdout.write(text_figure(figure))
+    except (SceneError, PlotUnavailable) as e:
+        print(f"linkage.py: {e}", file=sys.stderr)
+        return 1
+    except OSError as e:
+        print(f"linkage.py: {e.filename or ''}: {e.strerror}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("linkage.py: interrupted", file=sys.stderr)
+        return 130
+    return 0
+
+
+def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py scene FILE`: compute the scene, write its DAT files, draw it."""
+    def make_figure():
+        scene = load_scene(args.file)
+        return scene_figure(scene, compute_scene(scene, args.dir, report))
+
+    def report(message):
+        print(f"linkage.py: {message}", file=sys.stderr)
+    return _draw_command(args, make_figure)
+
+
+def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR."""
+    return _draw_command(args, lambda: dat_figure(args.directory, args.mechanism))
+
+
 # ---- Benchmarks ---------------------------------------------------------------------------
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
@@ -3033,13 +3828,18 @@ def bench_mbf(out) -> None:
     pairs = list(zip(xs, ys))
     operations = {
         "X+Y": lambda: [mbf_add(x, y) for x, y in pairs],
+        "X-Y": lambda: [mbf_sub(x, y) for x, y in pairs],
         "X*Y": lambda: [mbf_mul(x, y) for x, y in pairs],
         "X/Y": lambda: [mbf_div(x, y) for x, y in pairs],
-        "X^2": lambda: [mbf_power(x, 2.0) for x in xs],
+        "X^2": lambda: [mbf_ipower(x, 2) for x in xs],
         "Y^.5": lambda: [mbf_power(y, 0.5) for y in ys],
+        "INT(X)": lambda: [mbf_int(x) for x in xs],
+        "SIN(X)": lambda: [mbf_sin(x) for x in xs],
+        "COS(X)": lambda: [mbf_cos(x) for x in xs],
         "TAN(X)": lambda: [mbf_tan(x) for x in xs],
         "ATN(X)": lambda: [mbf_atn(x) for x in xs],
         "WRITE # text": lambda: [mbf_write_text(x) for x in xs],
+        "PRINT text": lambda: [mbf_print_text(x) for x in xs],
     }
     print("operation        microseconds", file=out)
     for name, function in operations.items():
@@ -3054,6 +3854,33 @@ def bench_mbf(out) -> None:
     print(f"{'sweep point':16} {seconds / len(angles) * 1e6:12.2f}   (lines 1060-1330 with "
           f"the three WRITE #, plane four-bar a=6 b=2 c=7 d=9)", file=out)
     Single.errors.clear()
+
+
+def bench_scene(out) -> None:
+    """A displacement-only scene against the same scene drawing velocity and acceleration."""
+    import tempfile
+    panels = {"displacement only": (PanelSpec(("displacement",), None),),
+              "all three": (PanelSpec(("displacement",), None),
+                            PanelSpec(("velocity", "acceleration"), None))}
+    print("plane four-bar a=6 b=2 c=7 d=9, branch 1, precision double, 0 to 360 by 0.01 degree "
+          "(36,001 points); seconds, best of 15 (engine) or 5", file=out)
+    print(f"{'panels':18} {'engine':>8} {'+ DAT files':>12} {'+ text plot':>12}", file=out)
+    times = {}
+    for name, specs in panels.items():
+        scene = Scene("bench", "bench", PLANE_FOUR_BAR, dict(a=6.0, b=2.0, c=7.0, d=9.0),
+                      0.0, 360.0, 0.01, (1,), ("double",), specs)
+        angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
+        linkage = Linkage(scene.mechanism, **scene.dimensions)
+        with tempfile.TemporaryDirectory() as directory:
+            times[name] = (
+                _best_of(15, lambda: linkage.sweep(angles, 1, scene.derivatives)),
+                _best_of(5, lambda: compute_scene(scene, directory)),
+                _best_of(5, lambda: text_figure(scene_figure(scene,
+                                                             compute_scene(scene, directory)))))
+        print(f"{name:18} {times[name][0]:8.3f} {times[name][1]:12.3f} {times[name][2]:12.3f}",
+              file=out)
+    saved = [1 - d / a for d, a in zip(times["displacement only"], times["all three"])]
+    print(f"{'time saved':18} {saved[0]:8.0%} {saved[1]:12.0%} {saved[2]:12.0%}", file=out)
 
 
 def bench_port(out) -> None:
@@ -3557,7 +4384,7 @@ def bench_accuracy(out) -> None:
         print_accuracy_table(measure_accuracy(cases, pcbasic_cases), out)
 
 
-BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine,
+BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
               "accuracy": bench_accuracy}
 
 
@@ -3761,6 +4588,31 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--clip", action="store_true",
                      help="with --precision double: clip VEL and ACC to +-3 as the original does")
     run.set_defaults(handler=run_command, parser=run)
+    scene = commands.add_parser(
+        "scene", help="draw a scene of data/scenes: the paper's figures, the hard cases",
+        description="Compute a scene (a TOML file, see data/scenes), write its DAT files and "
+                    "draw its figure: a plain-text plot of 80 x 24 characters unless --png "
+                    "is given.")
+    scene.add_argument("file", metavar="FILE", help="the scene")
+    scene.add_argument("--dir", default=".", metavar="DIR",
+                       help="where to write the DAT files (default: here); a scene that "
+                            "overlays several series writes one folder each")
+    scene.set_defaults(handler=scene_command, parser=scene)
+    plot = commands.add_parser(
+        "plot", help="draw the figure of ANG.DAT, VEL.DAT and ACC.DAT already written",
+        description="Draw the figure of the DAT files in DIR (the menu program's, run's or a "
+                    "scene's): a plain-text plot of 80 x 24 characters unless --png is given.")
+    plot.add_argument("directory", nargs="?", default=".", metavar="DIR",
+                      help="the folder of the DAT files, or of folders of them (default: here)")
+    plot.add_argument("--mechanism", type=_mechanism_type, metavar="TYPE",
+                      help="plane, spherical, skew, slider or skew-slider (or 1-5): gives the "
+                           "axes their units")
+    plot.set_defaults(handler=plot_command, parser=plot)
+    for command in (scene, plot):
+        command.add_argument("--png", metavar="OUT", help="write the figure as a PNG "
+                             "(needs matplotlib: pip install 'linkage[plot]')")
+        command.add_argument("--text", action="store_true",
+                             help="draw the plain-text plot (the default without --png)")
     commands.add_parser("design", help="synthesise a linkage by one of the review's methods "
                                       "(python3 linkage.py design --help)", add_help=False)
     bench = commands.add_parser("bench", help="measure speed, and what accuracy costs in time",

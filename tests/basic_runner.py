@@ -66,10 +66,21 @@ def run_listing(keys: bytes, listing: bytes | None = None, *, double: bool = Fal
     the rest of `keys` as commands, which is how `run_batch` chains sessions.
     """
     source = LISTING.read_bytes() if listing is None else listing
+    return run_program(source, keys, double=double, quit_at_end=quit_at_end, timeout=timeout)
+
+
+def run_program(source: bytes, keys: bytes = b"", inputs: dict[str, bytes] | None = None, *,
+                double: bool = False, quit_at_end: bool = True, timeout: float = 600.0) -> Run:
+    """Run the GW-BASIC program `source` (CRLF lines) in a fresh directory holding the files
+    `inputs`, typing `keys`; return the screen and every file the program left (the program,
+    the keys and the input files excluded)."""
+    inputs = inputs or {}
     with tempfile.TemporaryDirectory(prefix="linkage-pcbasic-") as tmp:
         work = Path(tmp)
         (work / "PROGRAM.BAS").write_bytes(source)
         (work / "keys.txt").write_bytes(keys)
+        for name, data in inputs.items():
+            (work / name).write_bytes(data)
         args = pcbasic_command() + ["PROGRAM.BAS", "--interface=none", "--input=keys.txt",
                                     "--output=STDOUT", "--sound=False"]
         if quit_at_end:
@@ -79,7 +90,7 @@ def run_listing(keys: bytes, listing: bytes | None = None, *, double: bool = Fal
         proc = subprocess.run(args, cwd=work, capture_output=True, timeout=timeout,
                               env=_environment(), stdin=subprocess.DEVNULL)
         files = {p.name: p.read_bytes() for p in sorted(work.iterdir())
-                 if p.name not in ("PROGRAM.BAS", "keys.txt")}
+                 if p.name not in ("PROGRAM.BAS", "keys.txt") and p.name not in inputs}
     return Run(screen=proc.stdout, files=files, returncode=proc.returncode)
 
 
