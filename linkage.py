@@ -4014,11 +4014,6 @@ def _instruments():
     return engine_harness, engine_reference, listing_model, basic_runner, missing
 
 
-def _typed(x) -> str:
-    """A number as typed at one of the listing's INPUT prompts."""
-    return repr(float(x))
-
-
 def _typed_linkage(kind: str, dims: dict):
     """Lines 250-480 given the dimensions typed at the prompts: the menu key, the answers typed
     (in the order the listing asks), and the listing's variables, or None where line 480 refuses
@@ -4032,8 +4027,9 @@ def _typed_linkage(kind: str, dims: dict):
 
 def _written(lines, soft_errors: int) -> Answer:
     """What the listing wrote for one point (the "phi,value" lines of ANG, VEL and ACC.DAT, str or
-    bytes) and the soft errors it printed meanwhile, as an Answer: 0, 0, 0 is its mark of a position that does
-    not assemble (K8); after "Division by zero" or "Overflow" the values are not compared."""
+    bytes) and the soft errors it printed meanwhile, as an Answer: 0, 0, 0 is its mark of a
+    position that does not assemble (K8); after "Division by zero" or "Overflow" the values are
+    not compared."""
     text = tuple(line.encode("ascii") if isinstance(line, str) else line for line in lines)
     output, velocity, acceleration = (float(line.split(b",")[1]) for line in text)
     if output == velocity == acceleration == 0:
@@ -4167,9 +4163,10 @@ def _mpmath_method(cases, reference, dps):
 def _pcbasic_method(cases, runner):
     """legacy_basic/LINKAGE.BAS under PC-BASIC, one session per point (menu key, dimensions,
     --from PHI --to PHI, branch) in one interpreter (tests/basic_runner.run_batch, at most
-    PCBASIC_TIMEOUT seconds); the time is the whole run's, start-up and menus included. Soft errors are read from each session's part
-    of the screen. Linkages the listing refuses (line 480) are not typed in: the program would
-    return to its menu and swallow the next session's keys."""
+    PCBASIC_TIMEOUT seconds); the time is the whole run's, start-up and menus included. Soft
+    errors are read from each session's part of the screen. Linkages the listing refuses (line
+    480) are not typed in: the program would return to its menu and swallow the next session's
+    keys."""
     import time
     sessions, where, answers = [], [], {}
     for label, kind, dims, phis in cases:
@@ -4180,7 +4177,8 @@ def _pcbasic_method(cases, runner):
                 if v is None:
                     answers[label, phi, branch] = Answer(ILLEGAL)
                     continue
-                keys = key + "".join(t + "\r" for t in typed + [_typed(phi), _typed(phi), "1"])
+                answers_typed = typed + [_typed(phi), _typed(phi), "1"]      # from, to, step
+                keys = key + "".join(t + "\r" for t in answers_typed)
                 sessions.append((keys + str(branch)).encode("ascii"))
                 where.append((label, phi, branch))
     if not sessions:
@@ -4244,9 +4242,9 @@ def _score(tally, harness, cases, answers, references):
                         tally.worst[column] = (error, here)
 
 
-METHODS = ("GW-BASIC single precision (the port)", "the listing's formulas in double",
-           "the engine", "mpmath, 30 digits", "mpmath, 50 digits (the reference)",
-           "PC-BASIC running the listing")
+ACCURACY_METHODS = ("GW-BASIC single precision (the port)", "the listing's formulas in double",
+                    "the engine", "mpmath, 30 digits", "mpmath, 50 digits (the reference)",
+                    "PC-BASIC running the listing")
 ACCURACY_NOTES = f"""\
 How it is measured. A point is one input angle on one branch. Each method's worst error over the
 sweep against the 50-digit reference (tests/engine_reference.py: root finding on the loop closure
@@ -4255,9 +4253,9 @@ written from the geometry; mpmath rows carry 10 guard digits), as tests/test_eng
   position      |x - x_ref| / the linkage's largest length (the slider-cranks' output)
   velocity,     |v - v_ref| where |v_ref| <= 1, |v - v_ref| / |v_ref| above (d/dphi and
   acceleration  d2/dphi2 of psi in radians per radian, of x in length per radian)
-Time a point: the sweep's time over its points, best of {ACCURACY_REPEATS} (mpmath, PC-BASIC: one run), each
-linkage set up beforehand (Linkage(), the coefficients); the mpmath solver gives both branches
-of an angle at once. Not in the errors, counted in the last column: {DIVISION} (GW-BASIC's
+Time a point: the sweep's time over its points, best of {ACCURACY_REPEATS} (mpmath, PC-BASIC: one
+run), each linkage set up beforehand (Linkage(), the coefficients); the mpmath solver gives both
+branches of an angle at once. Not in the errors, counted in the last column: {DIVISION} (GW-BASIC's
 soft error or overflow; Python's, or a number not finite, for the listing in double), {ILLEGAL}
 (line 480 refuses the linkage), {WRONG_STATUS} (a value where the reference has no position,
 or none where it has one, beyond rounding). The faithful program and PC-BASIC get each angle
@@ -4269,10 +4267,10 @@ assemble (K8), and their VEL and ACC are compared with the reference clipped to 
 def measure_accuracy(cases, pcbasic_cases=None, repeats=ACCURACY_REPEATS) -> list[Tally]:
     """Time the six methods on `cases` [(label, kind, dims, phis)] and score them against the
     50-digit reference (the 50-digit row against an 80-digit run). PC-BASIC runs `pcbasic_cases`
-    (None: not at all). One Tally per method, in the order of METHODS."""
+    (None: not at all). One Tally per method, in the order of ACCURACY_METHODS."""
     import subprocess
     harness, reference, model, runner, missing = _instruments()
-    tallies = [Tally(name) for name in METHODS]
+    tallies = [Tally(name) for name in ACCURACY_METHODS]
     faithful, listing, engine, mp30, mp50, basic = tallies
     runs = [(faithful, _faithful_method(cases, repeats)),
             (listing, _listing_double_method(cases, repeats, model)),
