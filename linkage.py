@@ -4245,23 +4245,26 @@ def _score(tally, harness, cases, answers, references):
 ACCURACY_METHODS = ("GW-BASIC single precision (the port)", "the listing's formulas in double",
                     "the engine", "mpmath, 30 digits", "mpmath, 50 digits (the reference)",
                     "PC-BASIC running the listing")
-ACCURACY_NOTES = f"""\
-How it is measured. A point is one input angle on one branch. Each method's worst error over the
-sweep against the 50-digit reference (tests/engine_reference.py: root finding on the loop closure
-written from the geometry; mpmath rows carry 10 guard digits), as tests/test_engine.py scores:
+ACCURACY_NOTES = (
+    "How it is measured. A point is one input angle on one branch. Each method's worst error over "
+    "the sweep against the 50-digit reference (tests/engine_reference.py: root finding on the "
+    "loop closure written from the geometry; mpmath rows carry 10 guard digits), as "
+    "tests/test_engine.py scores:",
+    """\
   angle         |psi - psi_ref| in degrees, wrapped (the four-bars' output)
   position      |x - x_ref| / the linkage's largest length (the slider-cranks' output)
   velocity,     |v - v_ref| where |v_ref| <= 1, |v - v_ref| / |v_ref| above (d/dphi and
-  acceleration  d2/dphi2 of psi in radians per radian, of x in length per radian)
-Time a point: the sweep's time over its points, best of {ACCURACY_REPEATS} (mpmath, PC-BASIC: one
-run), each linkage set up beforehand (Linkage(), the coefficients); the mpmath solver gives both
-branches of an angle at once. Not in the errors, counted in the last column: {DIVISION} (GW-BASIC's
-soft error or overflow; Python's, or a number not finite, for the listing in double), {ILLEGAL}
-(line 480 refuses the linkage), {WRONG_STATUS} (a value where the reference has no position,
-or none where it has one, beyond rounding). The faithful program and PC-BASIC get each angle
-typed as both bounds (no FOR-loop drift, K10); they write 0, 0, 0 where the linkage does not
-assemble (K8), and their VEL and ACC are compared with the reference clipped to +-3 (K9).
-"Worst at" names the point: case phi/branch."""
+  acceleration  d2/dphi2 of psi in radians per radian, of x in length per radian)""",
+    f"Time a point: the sweep's time over its points, best of {ACCURACY_REPEATS} (mpmath, "
+    "PC-BASIC: one run), each linkage set up beforehand (Linkage(), the coefficients); the mpmath "
+    "solver gives both branches of an angle at once. Not in the errors, counted in the last "
+    f"column: {DIVISION} (GW-BASIC's soft error or overflow; Python's, or a number not finite, "
+    f"for the listing in double), {ILLEGAL} (line 480 refuses the linkage), {WRONG_STATUS} (a "
+    "value where the reference has no position, or none where it has one, beyond rounding). The "
+    "faithful program and PC-BASIC get each angle typed as both bounds (no FOR-loop drift, K10); "
+    "they write 0, 0, 0 where the linkage does not assemble (K8), and their VEL and ACC are "
+    "compared with the reference clipped to +-3 (K9). \"Worst at\" names the point: case "
+    "phi/branch.")
 
 
 def measure_accuracy(cases, pcbasic_cases=None, repeats=ACCURACY_REPEATS) -> list[Tally]:
@@ -4373,10 +4376,12 @@ def bench_accuracy(out) -> None:
     hard = [(c["name"], c["kind"], c["dims"], [float(phi) for phi in c["phis"]])
             for c in harness.load_hard_cases()]
     short = [(name, kind, dims, phis[::PCBASIC_EVERY]) for name, kind, dims, phis in ordinary]
-    print(ACCURACY_NOTES, file=out)
+    import textwrap
+    intro, definitions, rules = ACCURACY_NOTES
+    print(textwrap.fill(intro, 100), definitions, textwrap.fill(rules, 100), sep="\n", file=out)
     for title, cases, pcbasic_cases in (
-            ("ordinary sweep: the linkages of tests/test_physics.py, phi = 3, 11, ..., 355; "
-             f"PC-BASIC every {PCBASIC_EVERY}th angle", ordinary, short),
+            ("ordinary sweep: tests/test_physics.py's linkages, phi = 3, 11, ..., 355; PC-BASIC "
+             f"every {PCBASIC_EVERY}th angle", ordinary, short),
             (f"hard catalogue: data/hard_cases.toml, {len(hard)} linkages", hard, hard)):
         print(f"\n{title}\n", file=out)
         print_accuracy_table(measure_accuracy(cases, pcbasic_cases), out)
