@@ -3986,6 +3986,7 @@ class Tally:
     failures: dict = dataclasses.field(default_factory=dict)
     beyond_clip: int = 0           # VEL/ACC values whose reference exceeds +-3, compared clipped
     first_wrong: str = ""
+    unscored: str = ""             # why there are no errors (no reference)
 
     @property
     def per_point(self) -> float | None:
@@ -4311,8 +4312,7 @@ def measure_accuracy(cases, pcbasic_cases=None, repeats=ACCURACY_REPEATS) -> lis
         tally.seconds, tally.computed = seconds, computed
         against = truth if tally is mp50 else references
         _score(tally, harness, pcbasic_cases if tally is basic else cases, answers, against)
-        if reference is None and not tally.note:
-            tally.note = "no errors: " + missing
+        tally.unscored = missing
     return tallies
 
 
@@ -4325,9 +4325,9 @@ def _duration(seconds: float | None) -> str:
     raise AssertionError
 
 
-def _error_text(tally: Tally, column: str, measured: bool) -> str:
+def _error_text(tally: Tally, column: str) -> str:
     if column not in tally.worst:
-        return "—" if measured else "n/a"
+        return "n/a" if tally.unscored else "—"
     error = tally.worst[column][0]
     return "0" if error == 0 else f"{error:.1e}"
 
@@ -4342,8 +4342,7 @@ def print_accuracy_table(tallies: list[Tally], out) -> None:
         if t.seconds is None:
             print(f"| {t.method} | {t.note} ||||||||", file=out)
             continue
-        measured = not t.note.startswith("no errors")
-        errors = " | ".join(_error_text(t, column, measured) for column in ERROR_COLUMNS)
+        errors = " | ".join(_error_text(t, column) for column in ERROR_COLUMNS)
         print(f"| {t.method} | {_duration(t.per_point)} | {t.points} | {errors} | {failed} |",
               file=out)
     print(file=out)
@@ -4353,6 +4352,8 @@ def print_accuracy_table(tallies: list[Tally], out) -> None:
         where = "; ".join(f"{column} {t.worst[column][1]}" for column in ERROR_COLUMNS
                           if column in t.worst and t.worst[column][0] > 0)
         extra = [t.note] if t.note else []
+        if t.unscored:
+            extra.append(f"no errors: {t.unscored}")
         if t.beyond_clip:
             extra.append(f"{t.beyond_clip} VEL/ACC values beyond ±3 compared clipped")
         if t.first_wrong:
