@@ -298,8 +298,7 @@ def _digits(x):  # ERRATA P7
     WRITE does it: mbf_add .5 in single if not whole, truncate.  Known
     residual: of values of 1E+10 and more, a few in a thousand print one
     unit off in the last digit (the division step is not exactly PC-BASIC's;
-    no such value reaches the listing's files but the overflow value, whose
-    text is exact)."""
+    the overflow value's text is exact)."""
     _, m, eb = _split(abs(x))
     m <<= 8
     e = eb - 160                       # |x| = m * 2**e; ldexp(m, e) is exact (m < 2**32)
