@@ -1126,6 +1126,17 @@ def run_session(screen: Screen, keys: Keys, directory: str = ".",
           directory, derivatives)                                           # 1000-1350
 
 
+def answered_session(screen: Screen, key: str, answers: list[str], branch: str,
+                     directory: str, derivatives: int = 2) -> None:
+    """The program given its menu key, the answers to its prompts in the order it asks them
+    (dimensions, first and second bound, increment) and the branch key, as the `run` command
+    and the scenes drive it. "Illegal linkage" is a ProgramStop."""
+    keystrokes = (key + "".join(a + "\r" for a in answers) + branch).encode("latin-1")
+    stream = iter(keystrokes[i:i + 1] for i in range(len(keystrokes)))
+    run_session(screen, Keys(lambda: next(stream, b""), fold_crlf=True), directory,
+                stop_if_illegal=True, derivatives=derivatives)
+
+
 def sweep(screen: Screen, co, PHI1: Single, PHI2: Single, INC: Single, SOL: int, S: Single,
           directory: str, derivatives: int = 2) -> None:
     """Lines 1020-1350: open the files, sweep PHI, close."""
@@ -3274,19 +3285,21 @@ def _typed(x: float) -> str:
     return repr(float(x))
 
 
+def _typed_dimensions(mechanism: str, dims: dict) -> tuple[str, list[str]]:
+    """The menu key and the dimensions as typed, in the order the listing asks for them."""
+    key, asked = MECHANISM_TYPES[mechanism]
+    return key, [_typed(dims["ksi" if n == "skew" else n]) for n in asked]
+
+
 def _faithful_files(scene: Scene, branch: int, directory: str) -> list[str]:
     """The menu program's session with the scene's answers (as `run` gives them): it writes the
-    three DAT files in `directory`. Returns the soft errors it printed."""
-    key, asked = MECHANISM_TYPES[scene.mechanism]
-    answers = [_typed(scene.dimensions["ksi" if n == "skew" else n]) for n in asked]
+    DAT files the panels need in `directory`. Returns the soft errors it printed."""
+    key, answers = _typed_dimensions(scene.mechanism, scene.dimensions)
     answers += [_typed(v) for v in (scene.start, scene.stop, scene.step)]
-    keystrokes = (key + "".join(a + "\r" for a in answers) + str(branch)).encode("ascii")
-    stream = iter(keystrokes[i:i + 1] for i in range(len(keystrokes)))
     soft_errors: list[str] = []
     screen = Screen(lambda s: None, terminal=False, soft_errors=soft_errors.append)
     try:
-        run_session(screen, Keys(lambda: next(stream, b""), fold_crlf=True), directory,
-                    stop_if_illegal=True, derivatives=scene.derivatives)
+        answered_session(screen, key, answers, str(branch), directory, scene.derivatives)
     except ProgramStop as stop:
         where = "dimensions" if "Illegal linkage" in str(stop) else "input"
         raise _scene_error(scene.path, where, "what the original program accepts (precision "
@@ -4018,8 +4031,7 @@ def _typed_linkage(kind: str, dims: dict):
     """Lines 250-480 given the dimensions typed at the prompts: the menu key, the answers typed
     (in the order the listing asks), and the listing's variables, or None where line 480 refuses
     the linkage. Soft errors are left in Single.errors."""
-    key, needed = MECHANISM_TYPES[kind]
-    typed = [_typed(dims["ksi" if n == "skew" else n]) for n in needed]
+    key, typed = _typed_dimensions(kind, dims)
     v, answers = Variables(), iter(typed)
     legal = dimensions(v, int(key), lambda prompt: input_value(next(answers)))
     return key, typed, v if legal else None
@@ -4508,15 +4520,12 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
         return _run_double(args, needed)
     if args.clip:
         parser.error("--clip goes with --precision double (the original always clips VEL and ACC)")
-    keystrokes = (key + "".join(a + "\r" for a in answers) + args.branch).encode("latin-1")
-    stream = iter(keystrokes[i:i + 1] for i in range(len(keystrokes)))
-    keys = Keys(lambda: next(stream, b""), fold_crlf=True)
     screen = Screen(lambda s: None, terminal=False,
                     soft_errors=lambda s: sys.stderr.write(s.replace("\r\n", "\n")))
     if not os.path.isdir(args.dir):
         parser.error(f"--dir {args.dir!r} is not a directory")
     try:
-        run_session(screen, keys, args.dir, stop_if_illegal=True)
+        answered_session(screen, key, answers, args.branch, args.dir)
     except ProgramStop as stop:
         print(f"linkage.py: {stop}", file=sys.stderr)
         return 1
