@@ -15,7 +15,8 @@ writes under PC-BASIC 2.0.8 given the same keystrokes, and so is the screen tran
 in GW-BASIC's own single precision (tests/test_port.py holds the port to all 44 golden cases,
 tests/test_differential.py to random sessions). Deviations from the original are marked
 `# ERRATA Pn` here and listed in legacy_basic/ERRATA.md, Part 3: where it would hang or lose
-data (P1-P6), and the last digit of a few numbers of 1E+10 and more (P7).
+data (P1-P6), and two known limits of the model of PC-BASIC's numbers: the last digit of a few
+numbers of 1E+10 and more (P7), and the last bit of about 1 % of typed decimals (P8).
 
 Sections: GW-BASIC single precision; the listing's computation; the original program
 (screen, keys, INPUT, the menu session, files); the accurate engine; synthesis; scenes and
@@ -477,11 +478,13 @@ def mbf_ipower(x, n, err=_ignore):
 # --------------------------------------------------------------------------
 # text to number, FOR loops
 
-def mbf_parse(text, err=_ignore):
+def mbf_parse(text, err=_ignore):  # ERRATA P8
     """A number typed at INPUT or written as a program literal (`.5`, `180!`,
     `2`, `1e3`, `3.141592654#`, `  -12  `) as the single it becomes: the
     decimal value rounded to a 56-bit double, then to single rounding half up
-    on the 25th bit ($CSD).  Integers and up to 7 digits are exact."""
+    on the 25th bit ($CSD).  Integers and up to 7 digits are exact.  Known
+    residual: about 1 % of decimal texts become the neighbouring single in
+    PC-BASIC (8.954, for one)."""
     s = text.strip().upper().rstrip("!#%")
     mbf_neg = s.startswith("-")
     s = s.lstrip("+-")
