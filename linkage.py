@@ -14,9 +14,8 @@ Fidelity: ANG.DAT, VEL.DAT and ACC.DAT are byte-identical to those legacy_basic/
 writes under PC-BASIC 2.0.8 given the same keystrokes, and so is the screen transcript, computed
 in GW-BASIC's own single precision (tests/test_port.py holds the port to all 44 golden cases,
 tests/test_differential.py to random sessions). Deviations from the original are marked
-`# ERRATA Pn` here and listed in legacy_basic/ERRATA.md, Part 3: where it would hang or lose
-data (P1-P6), and two known limits of the model of PC-BASIC's numbers: the last digit of a few
-numbers of 1E+10 and more (P7), and the last bit of about 1 % of typed decimals (P8).
+`# ERRATA Pn` here and listed in legacy_basic/ERRATA.md, Part 3: only where the original would
+hang or lose data (P1-P6).
 
 Sections: GW-BASIC single precision; the listing's computation; the original program
 (screen, keys, INPUT, the menu session, files); the accurate engine; synthesis; scenes and
@@ -257,67 +256,64 @@ def mbf_int(x):
 
 
 # --------------------------------------------------------------------------
-# double precision helpers (56-bit mantissa) used by number <-> text
+# decimal scaling: the register PC-BASIC multiplies and divides by ten in
+#
+# Numbers are turned into text and text into numbers by scaling a mantissa register by ten
+# (observed; data/PCBASIC_NOTES.md, "The decimal register"). The register holds a single's 24
+# bits and a guard byte (32 bits), or a double's 56 bits and a guard byte (64 bits); a value
+# is (m, e) with m * 2**e, m normalised to the register's width.
 
-def _rne_bits(n, bits):
-    """Round the positive integer n to `bits` significant bits, ties to even.
-    Returns (mantissa, shift) with n ~= mantissa * 2**shift."""
-    sh = n.bit_length() - bits
-    if sh <= 0:
-        return n << -sh, sh
-    m = n >> sh
-    rest = n & ((1 << sh) - 1)
-    half = 1 << (sh - 1)
-    if rest > half or (rest == half and m & 1):
-        m += 1
-        if m >> bits:
-            m >>= 1
-            sh += 1
-    return m, sh
-
-
-def _dp_to_single(m56, sh, mbf_neg, err):
-    """GW $CSD: double (56-bit mantissa m56 * 2**sh) to single, rounding half
-    up on the 25th bit only."""
-    m = ((m56 >> 31) + 1) >> 1
-    eb = sh + 32 + 152
-    return _make(mbf_neg, m, eb, err)
+def _times_ten(m, e, width):
+    """x*4 + x: the aligned x loses its two low bits, which survive as a sticky low bit; a
+    carry out of the register shifts the sum right, dropping its low bit."""
+    s = m + (m >> 2)
+    e += 3
+    if s >> width:
+        s >>= 1
+        e += 1
+    return s | (m & 3 != 0), e
 
 
-def _digits(x):  # ERRATA P7
+def _tenth(m, e, width):
+    """x/10: the quotient of m*8 by ten, one unit low when that is exact, cut to the
+    register's width; when m is below ten's mantissa (0xA0...) the quotient has one bit
+    fewer and the register is filled with a zero bit."""
+    q = ((m << 3) - 1) // 10
+    sh = q.bit_length() - width
+    return (q >> sh if sh > 0 else q << -sh), e - 3 + sh
+
+
+def _round_register(m, e, drop):
+    """Drop the low `drop` bits of the register, rounding to nearest, ties to even."""
+    q = m >> drop
+    rest = m & ((1 << drop) - 1)
+    half = 1 << (drop - 1)
+    if rest > half or (rest == half and q & 1):
+        q += 1
+    return q, e + drop
+
+
+def _digits(x):
     """Seven decimal digits and the decimal exponent k of |x| (x != 0), so
     that |x| ~ 0.ddddddd * 10**k, as PC-BASIC makes them (observed; see
-    data/PCBASIC_NOTES.md, "Numbers to text").  The mantissa is held in a
-    32-bit register (24 bits + a guard byte).  A value above 9999999 is
-    divided by ten while it stays above 9999999 (the quotient truncated to
-    32 bits and one unit low when exact: the largest register value strictly
-    below m/10); any other value is multiplied by ten while it is below
-    999999.9375, as x*4 + x: the sum truncated to 32 bits, with the two bits
-    shifted out of the aligned x kept as a sticky low bit.  (So a single just
-    below a power of ten, such as .99999994, can print as that power: "1".)
-    The register is rounded half up to 24 bits and the single is rounded like
-    WRITE does it: mbf_add .5 in single if not whole, truncate.  Known
-    residual: of values of 1E+10 and more, a few in a thousand print one
-    unit off in the last digit (the division step is not exactly PC-BASIC's;
-    the overflow value's text is exact)."""
+    data/PCBASIC_NOTES.md, "Numbers to text").  The mantissa goes into the
+    32-bit decimal register; a value above 9999999 is divided by ten while it
+    stays above 9999999, any other value is multiplied by ten while it is
+    below 999999.9375 (so a single just below a power of ten, such as
+    .99999994, can print as that power: "1").  The register is rounded half
+    up to 24 bits and the single is rounded like WRITE does it: mbf_add .5 in
+    single if not whole, truncate."""
     _, m, eb = _split(abs(x))
     m <<= 8
     e = eb - 160                       # |x| = m * 2**e; ldexp(m, e) is exact (m < 2**32)
     k = 0
     if math.ldexp(m, e) > 9999999:
         while math.ldexp(m, e) > 9999999:
-            q = ((m << 36) - 1) // 10
-            sh = q.bit_length() - 32
-            m, e = q >> sh, e - 36 + sh
+            m, e = _tenth(m, e, 32)
             k += 1
     else:
         while math.ldexp(m, e) < 999999.9375:
-            s = m + (m >> 2)
-            e += 3
-            if s >> 32:
-                s >>= 1
-                e += 1
-            m = s | (m & 3 != 0)
+            m, e = _times_ten(m, e, 32)
             k -= 1
     q = (m >> 8) + ((m & 0xFF) >= 0x80)
     y = math.ldexp(q, e + 8)
@@ -478,32 +474,63 @@ def mbf_ipower(x, n, err=_ignore):
 # --------------------------------------------------------------------------
 # text to number, FOR loops
 
-def mbf_parse(text, err=_ignore):  # ERRATA P8
-    """A number typed at INPUT or written as a program literal (`.5`, `180!`,
-    `2`, `1e3`, `3.141592654#`, `  -12  `) as the single it becomes: the
-    decimal value rounded to a 56-bit double, then to single rounding half up
-    on the 25th bit ($CSD).  Integers and up to 7 digits are exact.  Known
-    residual: about 1 % of decimal texts become the neighbouring single in
-    PC-BASIC (8.954, for one)."""
-    s = text.strip().upper().rstrip("!#%")
-    mbf_neg = s.startswith("-")
+def decimal_parts(text):
+    """A decimal number's text as (negative, N, k, double): its value is N * 10**k, and
+    `double` tells that it is read in double precision: a # after it, a D exponent, or eight
+    digits or more without a ! after it, counted from the first nonzero one and not counting
+    zeros that end the fraction ("7105.4530" has seven, "71054530" eight)."""
+    s = text.strip().upper()
+    suffix = s[-1:]
+    s = s.rstrip("!#%")
+    negative = s.startswith("-")
     s = s.lstrip("+-")
-    mant, _, ex = s.replace("D", "E").partition("E")
-    whole, _, frac = mant.partition(".")
-    digits = (whole + frac).lstrip("0") or "0"
-    k = (int(ex) if ex.strip("+-") else 0) - len(frac)
-    n = int(digits)
+    mantissa, _, exponent = s.replace("D", "E").partition("E")
+    whole, _, fraction = mantissa.partition(".")
+    digits = (whole + fraction).lstrip("0")
+    counted = len(digits) - min(len(fraction) - len(fraction.rstrip("0")), len(digits))
+    k = (int(exponent) if exponent.strip("+-") else 0) - len(fraction)
+    double = suffix == "#" or "D" in s or (counted >= 8 and suffix != "!")
+    return negative, int(digits or "0"), k, double
+
+
+def mbf_parse(text, err=_ignore):
+    """A number typed at INPUT or written as a program literal (`.5`, `180!`,
+    `2`, `1e3`, `3.141592654#`, `  -12  `) as the single it becomes (observed;
+    data/PCBASIC_NOTES.md, "Text to numbers"): the digits as an integer N in
+    the decimal register (a double's 64 bits, or a single's 32 with N first
+    cut to 24 bits), multiplied or divided by ten once a decimal place, then
+    rounded to nearest, ties to even: a double to 56 bits, then to 24."""
+    negative, n, k, double = decimal_parts(text)
+    return _scaled_to_single(negative, n, k, double, err)
+
+
+def _scaled_to_single(negative, n, k, double, err):
+    """N * 10**k through the decimal register (see mbf_parse); n may be 0 only with the
+    zero-mantissa quirk of input_value (n=0 reads as 2**-129)."""
+    width = 64 if double else 32
     if n == 0:
-        return 0.0
-    if k >= 0:
-        m56, sh = _rne_bits(n * 10 ** k, 56)
+        m, e = 1 << (width - 1), -129 - (width - 1)
     else:
-        d = 10 ** -k
-        s2 = 60 + d.bit_length()
-        q, r = divmod(n << s2, d)
-        m56, sh = _rne_bits(q << 1 | (r != 0), 56)
-        sh -= s2 + 1
-    return _dp_to_single(m56, sh, mbf_neg, err)
+        if not double and n.bit_length() > 24:     # only with zeros ending the fraction
+            cut = n.bit_length() - 24
+            n = n >> cut << cut
+        sh = n.bit_length() - width
+        m, e = (n >> sh, sh) if sh > 0 else (n << -sh, sh)
+    for _ in range(-k):
+        m, e = _tenth(m, e, width)
+        if e < -400:                                # far below the single range
+            return 0.0
+    for _ in range(k):
+        m, e = _times_ten(m, e, width)
+        if e > 400:                                 # far above it
+            break
+    if double:
+        m, e = _round_register(m, e, 8)             # the double: 56 bits
+        if m >> 56:
+            m, e = m >> 1, e + 1
+        width = 56
+    m, e = _round_register(m, e, width - 24)
+    return _make(negative, m, e + 152, err)
 
 
 def mbf_for_values(start, stop, step, err=_ignore):
@@ -1019,18 +1046,17 @@ def input_value(typed: str) -> Single | None:
     sign, mantissa, marker, exp_sign, exp_digits = match.groups(default="")
     whole, _, fraction = mantissa.partition(".")
     fraction = fraction.replace(".", "")
-    digits = whole + fraction
-    power = int(exp_sign + (exp_digits or "0")) - len(fraction)
-    double = len(digits.strip("0")) > 7 or marker == "D" or suffix == "#"
-    if not digits.strip("0"):
+    exponent = f"{marker}{exp_sign}{exp_digits or '0'}" if marker else ""
+    negative, n, power, double = decimal_parts(f"{sign}{whole}.{fraction}{exponent}{suffix}")
+    if n == 0:
         # PC-BASIC reads a zero (or missing) mantissa with an exponent as 2^-129 times its power
         # of ten, whatever the sign: "E5", "-0E5" are 1.469368E-34; "E", "0E-3" are 0.
         if not marker or power <= 0:
             return Single(0.0)
-        sign, digits, power = "", str(5**129), power - 129
-    if double and fractions.Fraction(int(digits)) * fractions.Fraction(10) ** power >= DOUBLE_OVERFLOW:
+        negative = False
+    elif double and fractions.Fraction(n) * fractions.Fraction(10) ** power >= DOUBLE_OVERFLOW:
         _soft_error(OVERFLOW)
-    return Single(mbf_parse(f"{sign}{digits}E{power}", _soft_error))
+    return Single(_scaled_to_single(negative, n, power, double, _soft_error))
 
 
 DOUBLE_OVERFLOW = fractions.Fraction(2**127) * (1 - fractions.Fraction(1, 2**57))

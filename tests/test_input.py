@@ -5,6 +5,7 @@ INPUT; the screen (echo, "?Redo from start", "Overflow") and the numbers stored 
 from __future__ import annotations
 
 import io
+import os
 
 from hypothesis import HealthCheck, given, settings, strategies as st
 
@@ -48,6 +49,35 @@ def port_session(keys: bytes, count: int) -> tuple[bytes, list[bytes]]:
 @given(st.lists(answers.filter(lambda a: "\r" not in a and "\n" not in a), min_size=60,
                 max_size=60))
 def test_input_reads_answers_as_pcbasic_does(typed):
+    _check_answers(typed)
+
+
+@st.composite
+def decimals(draw):
+    """A number as a user types it: 1 to 10 digits, the point anywhere (or none), zeros ending
+    the fraction, an E or D exponent, a sign, ! or #. These are the texts whose single depends on
+    the decimal register's rounding (data/PCBASIC_NOTES.md, "Text to numbers")."""
+    digits = str(draw(st.integers(1, 10**draw(st.integers(1, 10)) - 1)))
+    point = draw(st.integers(0, len(digits)))
+    text = digits[:point] + "." + digits[point:] if draw(st.booleans()) else digits
+    text += "0" * draw(st.sampled_from([0, 0, 0, 1, 2, 3]))
+    if draw(st.booleans()):
+        text += draw(st.sampled_from("EED")) + str(draw(st.integers(-45, 38)))
+    elif draw(st.integers(0, 5)) == 0:
+        text += draw(st.sampled_from("!#"))
+    return draw(st.sampled_from(["", "", "-", "+"])) + text
+
+
+@settings(max_examples=int(os.environ.get("INPUT_SAMPLES", "400")) // 200, deadline=None,
+          suppress_health_check=list(HealthCheck))
+@given(st.lists(decimals(), min_size=200, max_size=200))
+def test_input_reads_decimals_as_pcbasic_does(typed):
+    """The single each decimal answer becomes, bit for bit. INPUT_SAMPLES sets the number of
+    answers (default 400); the documented long run is in data/PCBASIC_NOTES.md."""
+    _check_answers(typed)
+
+
+def _check_answers(typed):
     keys = b"".join(a.encode("latin-1") + b"\r" for a in typed)
     # Every answer might be refused: end with enough plain numbers to fill the INPUTs.
     count = len(typed)
