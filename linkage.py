@@ -499,9 +499,10 @@ def mbf_parse(text, err=_ignore):
     data/PCBASIC_NOTES.md, "Text to numbers"): the digits as an integer N in
     the decimal register (a double's 64 bits, or a single's 32 with N first
     cut to 24 bits), multiplied or divided by ten once a decimal place, then
-    rounded to nearest, ties to even: a double to 56 bits, then to 24."""
+    rounded to nearest, ties to even, on the guard byte of the 32 bits (a
+    double is first rounded so to 56 bits, and its top 32 bits kept)."""
     negative, n, k, double = decimal_parts(text)
-    return _scaled_to_single(negative, n, k, double, err)
+    return _scaled_to_single(negative, n, k, double, err) if n else 0.0
 
 
 def _scaled_to_single(negative, n, k, double, err):
@@ -528,8 +529,8 @@ def _scaled_to_single(negative, n, k, double, err):
         m, e = _round_register(m, e, 8)             # the double: 56 bits
         if m >> 56:
             m, e = m >> 1, e + 1
-        width = 56
-    m, e = _round_register(m, e, width - 24)
+        m, e = m >> 24, e + 24                      # made single: its top 32 bits
+    m, e = _round_register(m, e, 8)
     return _make(negative, m, e + 152, err)
 
 
