@@ -305,3 +305,34 @@ def test_ctrl_c_restores_the_terminal(tmp_path):
     finally:
         term.close()
     assert os.listdir(tmp_path) == []
+
+
+# ---- the sweep point with each repeated subexpression computed once ------------------------
+
+coefficient = st.one_of(
+    st.just(0.0),
+    st.floats(-100, 100).map(lambda x: linkage.mbf_parse(f"{x:.5g}")),
+    st.floats(-1e30, 1e30).map(lambda x: linkage.mbf_parse(f"{x:.3g}")),
+    st.sampled_from([1.0, -1.0, 0.5, 2.0, 1e-30, 1.7e38]),
+)
+
+
+@settings(max_examples=3000, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.tuples(*[coefficient] * 10), st.floats(-7, 7), st.sampled_from([0.0, 1.0]),
+       st.sampled_from([1, 2]), st.sampled_from([0, 1, 2]))
+def test_the_fast_sweep_point_is_the_listed_one(co, phi, s, sol, derivatives):
+    """sweep_point (each repeated subexpression once; the listing's own order when a soft error
+    occurs) writes the lines and the messages of lines 1060-1330 evaluated as listed."""
+    co = tuple(linkage.Single(c) for c in co)
+    PHI, S = linkage.Single(linkage.mbf_parse(f"{phi:.6g}")), linkage.Single(s)
+    linkage.Single.errors.clear()
+    listed = linkage.sweep_point_as_listed(co, PHI, sol, S, derivatives)
+    listed_errors = list(linkage.Single.errors)
+    linkage.Single.errors.clear()
+    fast = linkage.sweep_point(co, PHI, sol, S, derivatives)
+    assert (fast, linkage.Single.errors) == (listed, listed_errors)
+    linkage.Single.errors.clear()
+    if not listed_errors:                  # no fallback was needed: the fast path alone
+        assert linkage.sweep_point_fast(co, PHI, sol, S, derivatives) == listed
+        assert not linkage.Single.errors
+    linkage.Single.errors.clear()
