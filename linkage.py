@@ -233,8 +233,12 @@ def mbf_div(x, y, err=_ignore):
     if mx < my:
         dv >>= 1
         eb -= 1
-    q = 0
-    for _ in range(24):
+    # The first 8 quotient bits in one division: dv >> i is exact for i < 8 (dv has at least
+    # 7 low zero bits), so they are the exact quotient's; the other 16 follow the register.
+    q, rem = divmod(rem << 7, dv)
+    rem >>= 7
+    dv >>= 8
+    for _ in range(16):
         q <<= 1
         if rem >= dv:
             rem -= dv
