@@ -838,6 +838,25 @@ def sweep_angles(PHI1: Single, PHI2: Single, INC: Single):
         yield Single(phi)
 
 
+def _clip3(m: Single) -> Single:
+    """Lines 1200-1210 and 1290-1300: VEL and ACC are clipped to +-3."""
+    if m > 3:
+        return Single(3.0)
+    if m < -3:
+        return Single(-3.0)
+    return m
+
+
+def _write_lines(angle: str, ang: str, m1: Single, m2: Single,
+                 derivatives: int) -> tuple[str, str, str | None]:
+    """Lines 1320-1330: the VEL.DAT and ACC.DAT lines beside the ANG.DAT line (ACC's only if
+    `derivatives` is 2)."""
+    vel = f"{angle},{mbf_write_text(m1.v)}\r\n"
+    if derivatives == 1:
+        return ang, vel, None
+    return ang, vel, f"{angle},{mbf_write_text(m2.v)}\r\n"
+
+
 def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
                 derivatives: int = 2) -> tuple[str, str | None, str | None]:
     """Lines 1060-1330 at one input angle: the lines WRITE # puts in ANG.DAT, VEL.DAT, ACC.DAT
@@ -911,10 +930,7 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
             M11[k] = OU*M1/2
         if UIM:                                                                          # 1180
             M11[k] = M1 = ZERO
-        if M11[k] > 3:                                                                   # 1200
-            M11[k] = Single(3.0)
-        if M11[k] < -3:                                                                  # 1210
-            M11[k] = Single(-3.0)
+        M11[k] = _clip3(M11[k])                                                          # 1200-1210
         if derivatives == 1:
             continue
         P1 = (3*U2 + 1)*DEN + u*P1B                                                      # 1220
@@ -928,15 +944,8 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
             M22[k] = (M1S*u + M2)*OU/2
         if UIM:                                                                          # 1270
             M2 = M22[k] = ZERO
-        if M22[k] > 3:                                                                   # 1290
-            M22[k] = Single(3.0)
-        if M22[k] < -3:                                                                  # 1300
-            M22[k] = Single(-3.0)
-    vel = f"{angle},{mbf_write_text(M11[SOL - 1].v)}\r\n"                               # 1320
-    if derivatives == 1:
-        return ang, vel, None
-    acc = f"{angle},{mbf_write_text(M22[SOL - 1].v)}\r\n"                               # 1330
-    return ang, vel, acc
+        M22[k] = _clip3(M22[k])                                                          # 1290-1300
+    return _write_lines(angle, ang, M11[SOL - 1], M22[SOL - 1], derivatives)            # 1320-1330
 
 
 def sweep_point_as_listed(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
@@ -969,10 +978,7 @@ def sweep_point_as_listed(co: tuple[Single, ...], PHI: Single, SOL: int, S: Sing
             M11[k] = (1 + u**2)*M1/2
         if UIM:                                                                          # 1180
             M11[k] = M1 = ZERO
-        if M11[k] > 3:                                                                   # 1200
-            M11[k] = Single(3.0)
-        if M11[k] < -3:                                                                  # 1210
-            M11[k] = Single(-3.0)
+        M11[k] = _clip3(M11[k])                                                          # 1200-1210
         if derivatives == 1:
             continue
         P1 = (3*u**2 + 1)*(B1 + C1*T**2 + F1*T) + u*((G1+J1)*T**2 + D1*T + G1 + H1)      # 1220
@@ -985,15 +991,8 @@ def sweep_point_as_listed(co: tuple[Single, ...], PHI: Single, SOL: int, S: Sing
             M22[k] = ((M1**2)*u + M2)*(1 + u**2)/2
         if UIM:                                                                          # 1270
             M2 = M22[k] = ZERO
-        if M22[k] > 3:                                                                   # 1290
-            M22[k] = Single(3.0)
-        if M22[k] < -3:                                                                  # 1300
-            M22[k] = Single(-3.0)
-    vel = f"{angle},{mbf_write_text(M11[SOL - 1].v)}\r\n"                               # 1320
-    if derivatives == 1:
-        return ang, vel, None
-    acc = f"{angle},{mbf_write_text(M22[SOL - 1].v)}\r\n"                               # 1330
-    return ang, vel, acc
+        M22[k] = _clip3(M22[k])                                                          # 1290-1300
+    return _write_lines(angle, ang, M11[SOL - 1], M22[SOL - 1], derivatives)            # 1320-1330
 
 # ---- The original program: keys, screen, INPUT, the session, the files ---------------------
 
