@@ -838,6 +838,18 @@ def sweep_angles(PHI1: Single, PHI2: Single, INC: Single):
         yield Single(phi)
 
 
+def _roots_and_angle_line(U11: Single, U12: Single, PHI: Single, SOL: int,
+                          S: Single) -> tuple[tuple[Single, Single], str, str]:
+    """Lines 1100-1150: the two roots U(1), U(2), the input angle's text and the ANG.DAT line
+    (the output angle in degrees for the four-bars, S = 0; the root itself for the sliders)."""
+    U = (U11 + U12, U11 - U12)                                                           # 1100-1110
+    PSI = U                                                                              # 1120
+    if S == 0:                                                                           # 1130-1140
+        PSI = tuple((2*ATN(u)/PI)*180 for u in U)
+    angle = mbf_write_text(((PHI/PI)*180).v)
+    return U, angle, f"{angle},{mbf_write_text(PSI[SOL - 1].v)}\r\n"                   # 1150
+
+
 def _clip3(m: Single) -> Single:
     """Lines 1200-1210 and 1290-1300: VEL and ACC are clipped to +-3."""
     if m > 3:
@@ -898,12 +910,7 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
     else:
         UIM = False
         U12 = ((NUM2 - DISC)**.5) / (2*DEN)                                              # 1090
-    U = (U11 + U12, U11 - U12)                                                           # 1100-1110
-    PSI = U                                                                              # 1120
-    if S == 0:                                                                           # 1130-1140
-        PSI = tuple((2*ATN(u)/PI)*180 for u in U)
-    angle = mbf_write_text(((PHI/PI)*180).v)
-    ang = f"{angle},{mbf_write_text(PSI[SOL - 1].v)}\r\n"                               # 1150
+    U, angle, ang = _roots_and_angle_line(U11, U12, PHI, SOL, S)                         # 1100-1150
     if derivatives == 0:
         return ang, None, None
     OT = 1 + T2
@@ -962,12 +969,7 @@ def sweep_point_as_listed(co: tuple[Single, ...], PHI: Single, SOL: int, S: Sing
     else:
         UIM = False
         U12 = ((((D1*T + (G1+J1)*T**2 + (G1+H1))**2) - 4*(B1 + C1*(T**2) + F1*T)*(A1*(T**2) + E1 + F1*T + I1*T))**.5) / (2*(B1 + C1*(T**2) + F1*T))  # 1090
-    U = (U11 + U12, U11 - U12)                                                           # 1100-1110
-    PSI = U                                                                              # 1120
-    if S == 0:                                                                           # 1130-1140
-        PSI = tuple((2*ATN(u)/PI)*180 for u in U)
-    angle = mbf_write_text(((PHI/PI)*180).v)
-    ang = f"{angle},{mbf_write_text(PSI[SOL - 1].v)}\r\n"                               # 1150
+    U, angle, ang = _roots_and_angle_line(U11, U12, PHI, SOL, S)                         # 1100-1150
     if derivatives == 0:
         return ang, None, None
     M11, M22 = [ZERO, ZERO], [ZERO, ZERO]
