@@ -1369,6 +1369,9 @@ LINKAGE_DIMENSIONS = {
     PLANE_SLIDER_CRANK: ("b", "c", "e"),
     SKEW_SLIDER_CRANK: ("a", "b", "c", "f", "ksi"),
 }
+MECHANISM_NAMES = {PLANE_FOUR_BAR: "plane four-bar", SPHERICAL_FOUR_BAR: "spherical four-bar",
+                   SKEW_FOUR_BAR: "skew four-bar", PLANE_SLIDER_CRANK: "plane slider-crank",
+                   SKEW_SLIDER_CRANK: "skew slider-crank"}
 
 # The status of a computed position (Motion.status).
 ASSEMBLED = "assembled"          # output, and the derivatives asked for, are given
@@ -1799,6 +1802,483 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip"):
             lines.append("%r,%r\r\n" % (float(row[0]), float(value)))
         with open(os.path.join(directory, name), "wb") as fh:
             fh.write("".join(lines).encode("ascii") + b"\x1a")
+
+
+# ---- The mechanism view: joint positions, drawings, and their renderers ----------------------
+#
+# What the engine computes, made visible. joint_positions() places every joint of a linkage in
+# 3-D, in the frame the listing's coefficients imply (tests/test_physics.py derives it): the input
+# axis is z and the crank b turns in the plane z = 0 from +x; the output link's angle psi (the
+# slider's x) is the engine's. mechanism_drawing() projects the poses of a sweep onto the page -
+# plane linkages as they are, the spherical linkage on its sphere seen obliquely, the skew
+# linkages in a fixed isometric view with their two shaft axes - and gives a Drawing: the ground
+# (fixed pivots hatched, axes, labels), drawn once, and one Frame a pose. The renderers draw a
+# Drawing: the terminal (Unicode braille, or ASCII), an animated SVG, a PNG (matplotlib).
+
+class Pose(NamedTuple):
+    """Where every joint of a linkage is at one input angle (see joint_positions).
+
+    joints: name -> (x, y, z). Always the ground joints and the crank pin A; the output side (B,
+    or the slider C) only where the linkage assembles (status ASSEMBLED or DEAD_CENTRE).
+    axes: name -> (point, unit direction): "input" and "output" (the four-bars' shafts),
+    "guide" (the slider's line).
+    """
+
+    phi: float
+    status: str
+    output: float | None
+    joints: dict
+    axes: dict
+
+
+def _rot_y(c, s, v):
+    """v rotated about the y axis by the angle of cosine c, sine s (z turns toward +x)."""
+    return (c * v[0] + s * v[2], v[1], -s * v[0] + c * v[2])
+
+
+def joint_positions(linkage: Linkage, phi: float, branch: int = 1) -> Pose:
+    """The 3-D position of every joint of `linkage` at input angle phi (degrees) on `branch`.
+
+    plane:        A0 = (0, 0, 0) the input pivot, A the crank pin, B the output crank pin,
+                  B0 = (a, 0, 0) the output pivot.
+    spherical:    on the unit sphere about O = (0, 0, 0): A0 = (0, 0, 1) where the input axis
+                  meets it, B0 = (sin a, 0, cos a) the output axis's, A and B the pins.
+    skew:         A0 = (0, 0, 0) on the input axis z; the common perpendicular (length a) runs
+                  along x from F0 = (0, 0, f) to F1 = (a, 0, f) on the output axis, of direction
+                  (0, -sin ksi, cos ksi); B0 = (a, f tan ksi, 0), g = f / cos ksi along it from F1,
+                  is the centre of the output crank's circle, in the plane z = 0 as the crank's.
+    slider:       A0, A; the slider C = (x, e, 0) on the guide y = e.
+    skew-slider:  A0, A, F0 = (0, 0, f); the slider C = F1 + x (0, sin ksi, -cos ksi) on the
+                  guide through F1 = (a, 0, f).
+    """
+    motion = linkage.motion(phi, branch, derivatives=0)
+    dims, kind = linkage.dims, linkage.kind
+    cf, sf = _cos_sin_deg(motion.phi)
+    out = motion.output
+    z_axis = (0.0, 0.0, 1.0)
+    if kind == SPHERICAL_FOUR_BAR:
+        ca, sa = _cos_sin_deg(dims["a"])
+        cb, sb = _cos_sin_deg(dims["b"])
+        cd, sd = _cos_sin_deg(dims["d"])
+        b0 = (sa, 0.0, ca)
+        joints = {"O": (0.0, 0.0, 0.0), "A0": z_axis, "B0": b0, "A": (sb * cf, sb * sf, cb)}
+        if out is not None:
+            cp, sp = _cos_sin_deg(out)
+            joints["B"] = _rot_y(ca, sa, (sd * cp, sd * sp, cd))
+        axes = {"input": ((0.0, 0.0, 0.0), z_axis), "output": ((0.0, 0.0, 0.0), b0)}
+        return Pose(motion.phi, motion.status, out, joints, axes)
+    b = dims["b"]
+    joints = {"A0": (0.0, 0.0, 0.0), "A": (b * cf, b * sf, 0.0)}
+    if kind == PLANE_FOUR_BAR:
+        a, d = dims["a"], dims["d"]
+        joints["B0"] = (a, 0.0, 0.0)
+        if out is not None:
+            cp, sp = _cos_sin_deg(out)
+            joints["B"] = (a + d * cp, d * sp, 0.0)
+        axes = {"input": (joints["A0"], z_axis), "output": (joints["B0"], z_axis)}
+    elif kind == SKEW_FOUR_BAR:
+        a, d, f = dims["a"], dims["d"], dims["f"]
+        cx, sx = _cos_sin_deg(dims["ksi"])
+        joints.update(F0=(0.0, 0.0, f), F1=(a, 0.0, f), B0=(a, f * sx / cx, 0.0))
+        if out is not None:
+            cp, sp = _cos_sin_deg(out)
+            joints["B"] = (a + d * cp, joints["B0"][1] + d * sp * cx, d * sp * sx)
+        axes = {"input": (joints["A0"], z_axis), "output": (joints["F1"], (0.0, -sx, cx))}
+    elif kind == PLANE_SLIDER_CRANK:
+        e = dims["e"]
+        if out is not None:
+            joints["C"] = (out, e, 0.0)
+        axes = {"input": (joints["A0"], z_axis), "guide": ((0.0, e, 0.0), (1.0, 0.0, 0.0))}
+    else:
+        a, f = dims["a"], dims["f"]
+        cx, sx = _cos_sin_deg(dims["ksi"])
+        joints.update(F0=(0.0, 0.0, f), F1=(a, 0.0, f))
+        if out is not None:
+            joints["C"] = (a, out * sx, f - out * cx)
+        axes = {"input": (joints["A0"], z_axis), "guide": (joints["F1"], (0.0, sx, -cx))}
+    return Pose(motion.phi, motion.status, out, joints, axes)
+
+
+# -- the drawing: what every renderer draws ------------------------------------------------------
+
+class Stroke(NamedTuple):
+    """A polyline on the page; style is one of STROKE_STYLES."""
+    points: tuple
+    style: str
+
+
+class Mark(NamedTuple):
+    """A joint on the page: kind "pivot" (on a fixed axis) or "joint" (a moving pin); name is
+    joint_positions()'s."""
+    at: tuple
+    kind: str
+    name: str
+
+
+class Label(NamedTuple):
+    """A letter of the paper (a, b, c, d, e, f, g, ξ, c*) centred at `at`."""
+    at: tuple
+    text: str
+
+
+class Layer(NamedTuple):
+    strokes: tuple
+    marks: tuple
+    labels: tuple
+
+
+class Frame(NamedTuple):
+    """One pose drawn: its layer, a caption (the angles), and a message where the position does
+    not exist or is singular (then only the crank is drawn)."""
+    pose: Pose
+    layer: Layer
+    caption: str
+    message: str | None
+
+
+class Drawing(NamedTuple):
+    """A linkage drawn at a sequence of poses: the ground (fixed links hatched, shaft axes,
+    traced paths, the fixed letters), drawn once, and one Frame a pose, all in page units (x to
+    the right, y up) within bounds (x0, y0, x1, y1); size is the ground symbols' size."""
+    title: str
+    subtitle: str
+    kind: str
+    ground: Layer
+    frames: tuple
+    bounds: tuple
+    size: float
+
+
+# link: a moving link; ground: the fixed link and the slider's guide; hatch: the ground's
+# hatching; axis: a shaft axis (dash-dot); path: a joint's traced path (dotted); hidden: a link
+# behind the sphere (dashed); outline: the sphere; dimension: a dimension line (thin).
+STROKE_STYLES = ("link", "ground", "hatch", "axis", "path", "hidden", "outline", "dimension")
+
+# Oblique views (azimuth, elevation in degrees) of the 3-D linkages: the input axis z upright on
+# the page, seen from a little above.
+VIEWS = {SPHERICAL_FOUR_BAR: (-62.0, 18.0), SKEW_FOUR_BAR: (-32.0, 24.0),
+         SKEW_SLIDER_CRANK: (-32.0, 24.0)}
+
+
+@functools.cache
+def _view(kind):
+    """(right, up, toward the viewer) unit vectors of the kind's view; None for plane ones."""
+    if kind not in VIEWS:
+        return None
+    ca, sa = _cos_sin_deg(VIEWS[kind][0])
+    ce, se = _cos_sin_deg(VIEWS[kind][1])
+    return (-sa, ca, 0.0), (-se * ca, -se * sa, ce), (ce * ca, ce * sa, se)
+
+
+def _dot(u, v):
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def project(kind: str, point) -> tuple:
+    """The page position (x, y) of a 3-D point in the kind's view: plane linkages as they lie,
+    the others by orthographic projection (VIEWS)."""
+    view = _view(kind)
+    if view is None:
+        return (point[0], point[1])
+    return (_dot(point, view[0]), _dot(point, view[1]))
+
+
+def _along(p, q, t):
+    return tuple(a + (b - a) * t for a, b in zip(p, q))
+
+
+def _page_normal(p, q):
+    """The unit normal to the left of the page segment p -> q ((0, 1) if it is a point)."""
+    dx, dy = q[0] - p[0], q[1] - p[1]
+    n = math.hypot(dx, dy)
+    return (-dy / n, dx / n) if n else (0.0, 1.0)
+
+
+def _shifted(p, direction, by):
+    return (p[0] + direction[0] * by, p[1] + direction[1] * by)
+
+
+def _hatched(p, q, side, size):
+    """The ground line p -> q (page points) hatched on its `side` (+1 left, -1 right)."""
+    normal = _page_normal(p, q)
+    length = math.dist(p, q)
+    count = max(2, int(length / (0.45 * size)))
+    tangent = ((q[0] - p[0]) / length, (q[1] - p[1]) / length) if length else (1.0, 0.0)
+    hatch = []
+    for i in range(count + 1):
+        start = _along(p, q, i / count)
+        end = (start[0] + side * normal[0] * 0.5 * size - tangent[0] * 0.5 * size,
+               start[1] + side * normal[1] * 0.5 * size - tangent[1] * 0.5 * size)
+        hatch.append(Stroke((start, end), "hatch"))
+    return [Stroke((p, q), "ground")] + hatch
+
+
+def _ground_symbol(at, away, size):
+    """A fixed pivot as textbooks draw it: a triangle from the pivot `at` (page point) to a base
+    `size` away in the unit direction `away`, the base hatched on its far side."""
+    normal = (-away[1], away[0])
+    base = _shifted(at, away, size)
+    left, right = _shifted(base, normal, 0.6 * size), _shifted(base, normal, -0.6 * size)
+    wide_left, wide_right = _shifted(base, normal, 0.9 * size), _shifted(base, normal, -0.9 * size)
+    return [Stroke((left, at, right), "ground")] + _hatched(wide_left, wide_right, -1, size)
+
+
+def _label_beside(p, q, text, size, side=1.0):
+    """The letter of the link p -> q (page points), beside its middle on `side`."""
+    return Label(_shifted(_along(p, q, 0.5), _page_normal(p, q), side * 0.7 * size), text)
+
+
+def _great_arc(p, q, steps=24):
+    """Points along the shorter great-circle arc from p to q (unit vectors)."""
+    angle = math.atan2(math.sqrt(sum(c * c for c in _cross(p, q))), _dot(p, q))
+    if angle < 1e-12:
+        return [p, q]
+    s = math.sin(angle)
+    out = []
+    for i in range(steps + 1):
+        t = i / steps
+        wp, wq = math.sin((1 - t) * angle) / s, math.sin(t * angle) / s
+        out.append(tuple(wp * a + wq * b for a, b in zip(p, q)))
+    return out
+
+
+def _cross(u, v):
+    return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+
+
+def _circle_3d(centre, u, v, radius, steps=72):
+    """Points of the circle about `centre` in the plane of the unit vectors u, v."""
+    out = []
+    for i in range(steps + 1):
+        c, s = _cos_sin_deg(360.0 * i / steps)
+        out.append(tuple(m + radius * (c * a + s * b) for m, a, b in zip(centre, u, v)))
+    return out
+
+
+def _sphere_strokes(kind, points, style):
+    """3-D points on the unit sphere as page strokes: `style` where they face the viewer, hidden
+    (dashed) behind the sphere."""
+    toward = _view(kind)[2]
+    strokes, run, front = [], [], None
+    for p in points:
+        facing = _dot(p, toward) >= 0.0
+        if run and facing != front:
+            strokes.append(Stroke(tuple(run), style if front else "hidden"))
+            run = run[-1:]
+        run.append(project(kind, p))
+        front = facing
+    if len(run) > 1:
+        strokes.append(Stroke(tuple(run), style if front else "hidden"))
+    return strokes
+
+
+def _page_strokes(kind, points, style):
+    return [Stroke(tuple(project(kind, p) for p in points), style)]
+
+
+def _slider_block(centre, direction, size):
+    """The slider: a rectangle about `centre` (page) with its long side along `direction`."""
+    n = math.hypot(*direction)
+    t = (direction[0] / n, direction[1] / n) if n else (1.0, 0.0)
+    w = (-t[1], t[0])
+    corners = [(centre[0] + i * 0.8 * size * t[0] + j * 0.45 * size * w[0],
+                centre[1] + i * 0.8 * size * t[1] + j * 0.45 * size * w[1])
+               for i, j in ((-1, -1), (1, -1), (1, 1), (-1, 1), (-1, -1))]
+    return Stroke(tuple(corners), "link")
+
+
+# -- the five linkages on the page ----------------------------------------------------------------
+
+def _dimension(p, q, text, size, side=1.0):
+    """A dimension line beside the page segment p -> q: the line, its end ticks, its letter."""
+    normal = _page_normal(p, q)
+    p1, q1 = _shifted(p, normal, side * 0.9 * size), _shifted(q, normal, side * 0.9 * size)
+    ticks = [Stroke((_shifted(e, normal, -0.25 * size), _shifted(e, normal, 0.25 * size)),
+                    "dimension") for e in (p1, q1)]
+    return [Stroke((p1, q1), "dimension")] + ticks, _label_beside(p1, q1, text, size, side)
+
+
+def _unit(v):
+    n = math.sqrt(_dot(v, v))
+    return tuple(c / n for c in v)
+
+
+def _plane_ground(linkage, poses, size):
+    a0, b0 = (0.0, 0.0), (linkage.dims["a"], 0.0)
+    strokes = _ground_symbol(a0, (0.0, -1.0), size) + _ground_symbol(b0, (0.0, -1.0), size)
+    strokes.append(Stroke((a0, b0), "ground"))
+    strokes.append(Stroke(tuple(project(PLANE_FOUR_BAR, p) for p in _circle_3d(
+        (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), linkage.dims["b"])), "path"))
+    marks = (Mark(a0, "pivot", "A0"), Mark(b0, "pivot", "B0"))
+    return Layer(tuple(strokes), marks, (_label_beside(a0, b0, "a", size, 0.6),))
+
+
+def _slider_range(poses, linkage, size):
+    """The page extent (along the guide) of the slider's travel, and a margin."""
+    xs = [p.output for p in poses if p.output is not None] or [-linkage.dims["b"],
+                                                                 linkage.dims["b"]]
+    return min(xs) - 2.5 * size, max(xs) + 2.5 * size
+
+
+def _slider_ground(linkage, poses, size):
+    e, b = linkage.dims["e"], linkage.dims["b"]
+    lo, hi = _slider_range(poses, linkage, size)
+    lo = min(lo, -b - size)
+    below = e - 0.45 * size
+    strokes = _ground_symbol((0.0, 0.0), (0.0, -1.0), size)
+    strokes += _hatched((lo, below), (hi, below), -1, size)
+    strokes.append(Stroke(((lo, 0.0), (hi, 0.0)), "axis"))
+    strokes.append(Stroke(tuple((b * c, b * s) for c, s in (
+        _cos_sin_deg(5.0 * i) for i in range(73))), "path"))
+    labels = []
+    if e:
+        lines, label = _dimension((lo + 0.5 * size, e), (lo + 0.5 * size, 0.0), "e", size)
+        strokes += lines
+        labels.append(label)
+    return Layer(tuple(strokes), (Mark((0.0, 0.0), "pivot", "A0"),), tuple(labels))
+
+
+def _spherical_ground(linkage, poses, size):
+    kind = SPHERICAL_FOUR_BAR
+    joints = poses[0].joints
+    strokes = [Stroke(tuple(_cos_sin_deg(5.0 * i) for i in range(73)), "outline")]
+    for name in ("A0", "B0"):
+        axis = joints[name]
+        strokes.append(Stroke((project(kind, tuple(-1.35 * c for c in axis)),
+                               project(kind, tuple(1.35 * c for c in axis))), "axis"))
+        at = project(kind, axis)
+        away = _unit(at + (0.0,))[:2] if math.hypot(*at) > 1e-9 else (0.0, 1.0)
+        strokes += _ground_symbol(at, away, size)
+    strokes += _sphere_strokes(kind, _great_arc(joints["A0"], joints["B0"]), "ground")
+    cb, sb = _cos_sin_deg(linkage.dims["b"])
+    strokes += _sphere_strokes(kind, [(sb * c, sb * s, cb) for c, s in (
+        _cos_sin_deg(5.0 * i) for i in range(73))], "path")
+    middle = _great_arc(joints["A0"], joints["B0"], 2)[1]
+    labels = (Label(project(kind, tuple(1.15 * c for c in middle)), "a"),)
+    marks = (Mark((0.0, 0.0), "pivot", "O"), Mark(project(kind, joints["A0"]), "pivot", "A0"),
+             Mark(project(kind, joints["B0"]), "pivot", "B0"))
+    return Layer(tuple(strokes), marks, labels)
+
+
+def _skew_ground(linkage, poses, size):
+    """Both skew linkages: the input axis, the fixed link a (the common perpendicular, hatched),
+    f along the input axis, the output axis or the slider's guide, and the angle ksi."""
+    kind, dims = linkage.kind, linkage.dims
+    joints, axes = poses[0].joints, poses[0].axes
+    f, b = dims["f"], dims["b"]
+    a0, f0, f1 = (project(kind, joints[n]) for n in ("A0", "F0", "F1"))
+    reach = 4.0 * size
+    strokes = _page_strokes(kind, [(0.0, 0.0, min(0.0, f) - reach),
+                                   (0.0, 0.0, max(0.0, f) + reach)], "axis")
+    strokes += _hatched(f0, f1, 1, size)
+    lines, f_label = _dimension(a0, f0, "f", size, -1.0)
+    strokes += lines
+    strokes += _page_strokes(kind, _circle_3d((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0),
+                                              b), "path")
+    labels = [_label_beside(f0, f1, "a", size, -0.8), f_label]
+    marks = [Mark(a0, "pivot", "A0")]
+    point, direction = axes["output" if "output" in axes else "guide"]
+    if kind == SKEW_FOUR_BAR:
+        g = -f / _cos_sin_deg(dims["ksi"])[0]      # B0 = F1 + g w
+        ts = (min(0.0, g) - reach, max(0.0, g) + reach)
+        strokes += _page_strokes(kind, [tuple(p + t * w for p, w in zip(point, direction))
+                                        for t in ts], "axis")
+        b0 = project(kind, joints["B0"])
+        lines, g_label = _dimension(f1, b0, "g", size, 1.0)
+        strokes += lines
+        labels.append(g_label)
+        cx, sx = _cos_sin_deg(dims["ksi"])
+        strokes += _page_strokes(kind, _circle_3d(joints["B0"], (1.0, 0.0, 0.0), (0.0, cx, sx),
+                                                  dims["d"]), "path")
+        marks.append(Mark(b0, "pivot", "B0"))
+        upright = (0.0, 0.0, 1.0)
+    else:
+        lo, hi = _slider_range(poses, linkage, size)
+        ends = [project(kind, tuple(p + t * w for p, w in zip(point, direction)))
+                for t in (lo, hi)]
+        strokes += _hatched(ends[0], ends[1], 1, size)
+        upright = (0.0, 0.0, -1.0)
+    # ksi: between the shaft (the guide) and a parallel to the input axis through F1
+    strokes += _page_strokes(kind, [joints["F1"], tuple(p + 3.0 * size * u for p, u in zip(
+        joints["F1"], upright))], "dimension")
+    between = _unit(tuple(u + w for u, w in zip(upright, direction)))
+    labels.append(Label(project(kind, tuple(p + 2.2 * size * u for p, u in zip(
+        joints["F1"], between))), "ξ"))
+    return Layer(tuple(strokes), tuple(marks), tuple(labels))
+
+
+def _links(linkage, pose, size):
+    """The moving links of one pose: the crank b, the coupler c (c* for the plane slider's rod),
+    the output crank d or the slider block, their pins and letters."""
+    kind, joints = linkage.kind, pose.joints
+    at = {name: project(kind, p) for name, p in joints.items()}
+    output = "C" if linkage.is_slider else "B"
+    pairs = [("A0", "A", "b")]
+    if output in joints:
+        pairs.append(("A", output, "c*" if kind == PLANE_SLIDER_CRANK else "c"))
+        if output == "B":
+            pairs.append(("B0", "B", "d"))
+    strokes, labels = [], []
+    for p, q, text in pairs:
+        if kind == SPHERICAL_FOUR_BAR:
+            strokes += _sphere_strokes(kind, _great_arc(joints[p], joints[q]), "link")
+            middle = _great_arc(joints[p], joints[q], 2)[1]
+            labels.append(Label(project(kind, tuple(1.15 * c for c in middle)), text))
+        else:
+            strokes.append(Stroke((at[p], at[q]), "link"))
+            labels.append(_label_beside(at[p], at[q], text, size))
+    if output == "C" and output in joints:
+        guide = pose.axes["guide"][1]
+        strokes.append(_slider_block(at["C"], project(kind, guide), size))
+    marks = tuple(Mark(at[n], "joint", n) for n in ("A", output) if n in joints)
+    return Layer(tuple(strokes), marks, tuple(labels))
+
+
+_GROUNDS = {PLANE_FOUR_BAR: _plane_ground, PLANE_SLIDER_CRANK: _slider_ground,
+            SPHERICAL_FOUR_BAR: _spherical_ground, SKEW_FOUR_BAR: _skew_ground,
+            SKEW_SLIDER_CRANK: _skew_ground}
+
+
+def _frame(linkage, pose, size):
+    where = f"φ = {pose.phi:g}°"
+    caption = where
+    if pose.output is not None:
+        caption += (f"  x = {pose.output:.4g}" if linkage.is_slider
+                    else f"  ψ = {pose.output:.2f}°")
+    message = {NOT_ASSEMBLED: f"not assembled at {where}",
+               INDETERMINATE: f"the output link is free at {where} (indeterminate)",
+               DEAD_CENTRE: f"dead centre at {where}"}.get(pose.status)
+    return Frame(pose, _links(linkage, pose, size), caption, message)
+
+
+def _extent(points):
+    xs, ys = [p[0] for p in points], [p[1] for p in points]
+    return min(xs), min(ys), max(xs), max(ys)
+
+
+def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None = None,
+                      subtitle: str | None = None) -> Drawing:
+    """The linkage drawn at each input angle of `phis` (degrees) on `branch`: one Frame a pose
+    over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS)."""
+    kind = linkage.kind
+    poses = [joint_positions(linkage, phi, branch) for phi in phis]
+    if not poses:
+        raise ValueError("a drawing needs at least one input angle")
+    x0, y0, x1, y1 = _extent([project(kind, p) for pose in poses for p in pose.joints.values()])
+    size = 0.07 * max(x1 - x0, y1 - y0, 2.0 if kind == SPHERICAL_FOUR_BAR else 1e-300)
+    ground = _GROUNDS[kind](linkage, poses, size)
+    frames = tuple(_frame(linkage, pose, size) for pose in poses)
+    points = [p for layer in (ground,) + tuple(f.layer for f in frames)
+              for p in [q for s in layer.strokes for q in s.points]
+              + [m.at for m in layer.marks] + [label.at for label in layer.labels]]
+    x0, y0, x1, y1 = _extent(points)
+    if title is None:
+        title = (MECHANISM_NAMES[kind] + ": "
+                 + " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in linkage.dims.items()))
+    if subtitle is None:
+        subtitle = f"branch {branch} ({'A+B' if branch == 1 else 'A-B'})"
+    return Drawing(title, subtitle, kind, ground, frames,
+                   (x0 - size, y0 - size, x1 + size, y1 + size), size)
 
 
 # ---- Synthesis: four-bar and slider-crank function generators (issue 7) -----------------------
@@ -3265,9 +3745,6 @@ REQUIRED_SCENE_KEYS = ("mechanism", "dimensions", "input", "branches", "precisio
 QUANTITIES = ("displacement", "velocity", "acceleration")      # ANG.DAT, VEL.DAT, ACC.DAT
 PRECISIONS = {"basic": ("basic",), "double": ("double",), "both": ("basic", "double")}
 MAX_SCENE_POINTS = 100_000
-MECHANISM_NAMES = {PLANE_FOUR_BAR: "plane four-bar", SPHERICAL_FOUR_BAR: "spherical four-bar",
-                   SKEW_FOUR_BAR: "skew four-bar", PLANE_SLIDER_CRANK: "plane slider-crank",
-                   SKEW_SLIDER_CRANK: "skew slider-crank"}
 DIMENSION_NAMES = {"a": "the fixed link", "b": "the input crank", "c": "the coupler",
                    "d": "the output crank", "e": "the slider offset",
                    "f": "the vertical sector of the fixed link", "ksi": "the skew angle, degrees"}
