@@ -2281,6 +2281,18 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
                    (x0 - size, y0 - size, x1 + size, y1 + size), size)
 
 
+# -- the terminal view ---------------------------------------------------------------------------
+# (drawn in Unicode braille, or ASCII; animated in place on a terminal)
+
+
+# -- the SVG -------------------------------------------------------------------------------------
+# (one self-contained animated SVG, standard library only)
+
+
+# -- the PNG -------------------------------------------------------------------------------------
+# (the positions overlaid, faint to solid; matplotlib, the `plot` extra)
+
+
 # ---- Synthesis: four-bar and slider-crank function generators (issue 7) -----------------------
 # The classical analytical synthesis methods collected by E. Pennestrì and P. P. Valentini, "A
 # review of simple analytical methods for the kinematic synthesis of four-bar and slider-crank
