@@ -25,6 +25,7 @@ plots; benchmarks; the command line.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import decimal
 import fractions
@@ -1372,6 +1373,9 @@ LINKAGE_DIMENSIONS = {
 MECHANISM_NAMES = {PLANE_FOUR_BAR: "plane four-bar", SPHERICAL_FOUR_BAR: "spherical four-bar",
                    SKEW_FOUR_BAR: "skew four-bar", PLANE_SLIDER_CRANK: "plane slider-crank",
                    SKEW_SLIDER_CRANK: "skew slider-crank"}
+DIMENSION_NAMES = {"a": "the fixed link", "b": "the input crank", "c": "the coupler",
+                   "d": "the output crank", "e": "the slider offset",
+                   "f": "the vertical sector of the fixed link", "ksi": "the skew angle, degrees"}
 
 # The status of a computed position (Motion.status).
 ASSEMBLED = "assembled"          # output, and the derivatives asked for, are given
@@ -1778,6 +1782,33 @@ def evenly_spaced_angles(start, stop, step):
     return [start + i * step for i in range(max(count, 0))]
 
 
+def _umask():
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+@contextlib.contextmanager
+def written_whole(path):
+    """Open `path` for writing (bytes) so that it is written whole or not at all: into a
+    temporary file of a unique name in the same folder, flushed to the disk and renamed over
+    `path` when the block ends; removed on any failure or interrupt, leaving `path` as it was."""
+    import tempfile
+    fd, temporary = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.", suffix=".partial",
+                                     dir=os.path.dirname(os.path.abspath(path)))
+    try:
+        os.fchmod(fd, 0o666 & ~_umask())
+        with os.fdopen(fd, "wb") as fh:
+            yield fh
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(temporary, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        raise
+
+
 def write_dat_files(motions, directory=".", *, clip=False, missing="skip"):
     """Write ANG.DAT, VEL.DAT and ACC.DAT in the listing's format ("phi,value" lines, CRLF, a 0x1A
     end byte) at full precision: each number as the shortest text that reads back exactly (repr).
@@ -1949,6 +1980,15 @@ class Drawing(NamedTuple):
     size: float
 
 
+# One linkage of each kind that turns fully, as Figs. 1 and 2 draw them (data/scenes/fig1*, fig2*).
+MECHANISM_EXAMPLES = {
+    PLANE_FOUR_BAR: dict(a=6.0, b=2.0, c=7.0, d=9.0),
+    SPHERICAL_FOUR_BAR: dict(a=80.0, b=20.0, c=75.0, d=60.0),
+    SKEW_FOUR_BAR: dict(a=4.0, b=1.5, c=4.0, d=2.5, f=2.0, ksi=40.0),
+    PLANE_SLIDER_CRANK: dict(b=2.0, c=7.0, e=1.5),
+    SKEW_SLIDER_CRANK: dict(a=6.0, b=1.0, c=7.5, f=3.0, ksi=45.0),
+}
+
 # link: a moving link; ground: the fixed link and the slider's guide; hatch: the ground's
 # hatching; axis: a shaft axis (dash-dot); path: a joint's traced path (dotted); hidden: a link
 # behind the sphere (dashed); outline: the sphere; dimension: a dimension line (thin).
@@ -1956,8 +1996,8 @@ STROKE_STYLES = ("link", "ground", "hatch", "axis", "path", "hidden", "outline",
 
 # Oblique views (azimuth, elevation in degrees) of the 3-D linkages: the input axis z upright on
 # the page, seen from a little above.
-VIEWS = {SPHERICAL_FOUR_BAR: (-62.0, 18.0), SKEW_FOUR_BAR: (-32.0, 24.0),
-         SKEW_SLIDER_CRANK: (-32.0, 24.0)}
+VIEWS = {SPHERICAL_FOUR_BAR: (-62.0, 18.0), SKEW_FOUR_BAR: (-60.0, 20.0),
+         SKEW_SLIDER_CRANK: (-60.0, 20.0)}
 
 
 @functools.cache
@@ -2193,9 +2233,9 @@ def _skew_ground(linkage, poses, size):
         marks.append(Mark(b0, "pivot", "B0"))
         upright = (0.0, 0.0, 1.0)
     else:
-        lo, hi = _slider_range(poses, linkage, size)
+        lo, hi = _slider_range(poses, linkage, size)          # from F1 past the travel
         ends = [project(kind, tuple(p + t * w for p, w in zip(point, direction)))
-                for t in (lo, hi)]
+                for t in (min(lo, -size), max(hi, size))]
         strokes += _hatched(ends[0], ends[1], 1, size)
         upright = (0.0, 0.0, -1.0)
     # ksi: between the shaft (the guide) and a parallel to the input axis through F1
@@ -2261,6 +2301,14 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
     """The linkage drawn at each input angle of `phis` (degrees) on `branch`: one Frame a pose
     over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS)."""
     kind = linkage.kind
+    for key in ("a", "b", "c", "d"):
+        value = linkage.dims.get(key)
+        if kind == SPHERICAL_FOUR_BAR and not 0 < value < 180:
+            raise ValueError(f"the arc {key} = {value:g} degrees cannot be drawn: arcs are "
+                             "drawn between 0 and 180 degrees")
+        if value is not None and kind != SPHERICAL_FOUR_BAR and not value > 0:
+            raise ValueError(f"{DIMENSION_NAMES[key]} {key} = {value:g} cannot be drawn: "
+                             "links are drawn with lengths greater than 0")
     poses = [joint_positions(linkage, phi, branch) for phi in phis]
     if not poses:
         raise ValueError("a drawing needs at least one input angle")
@@ -3636,6 +3684,11 @@ def _design_parser():
         sub.add_argument("--dat", metavar="DIR",
                          help="write ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution there "
                               "(engine, 0 to 360 by 1 degree)")
+        sub.add_argument("--svg", metavar="OUT", help="draw the preferred solution at its "
+                         "design positions as an animated SVG")
+        sub.add_argument("--png", metavar="OUT", help="draw it as a PNG, the positions "
+                         "overlaid (needs matplotlib)")
+        sub.add_argument("--text", action="store_true", help="draw it in the terminal")
     return parser
 
 
@@ -3720,7 +3773,22 @@ def design_command(argv):
             return 1
         print(f"dat = {args.dat}  # ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution, "
               f"0 to 360 by 1 degree, branch {link.branch}, double precision")
+    if args.svg or args.png or args.text:
+        sys.stdout.flush()
+        args.frames = len(result.design.positions) if args.text else None
+        return drawing_command(args, lambda: design_drawing(result)) or code
     return code
+
+
+def design_drawing(result) -> Drawing:
+    """The preferred solution of a Synthesis drawn at its design positions."""
+    link = result.design.linkage
+    kind, dims = _kind_dims(link)
+    text = " ".join(f"{k}={v:.4g}" for k, v in dims.items())
+    return mechanism_drawing(Linkage(kind, **dims), [phi for phi, _ in result.design.positions],
+                             link.branch, f"{result.method}: {text}",
+                             f"{MECHANISM_NAMES[kind]}; branch {link.branch}; the "
+                             f"{len(result.design.positions)} design positions")
 
 
 # ---- Scenes and plots: the paper's Figures 3-6 (issue 6) -------------------------------------
@@ -3751,15 +3819,15 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "input": "a table with from, to and step (degrees)",
     "branches": "a list of branches, 1 (A+B) and/or 2 (A-B)",
     "precision": "basic, double or both",
-    "panels": "a list of 1 to 3 tables [[panels]], each with quantities and optional limits",
+    "panels": "a list of 1 to 3 tables [[panels]], each with quantities and optional limits; "
+              "or one [[panels]] with quantities = [\"mechanism\"] and optional angles",
 }
-REQUIRED_SCENE_KEYS = ("mechanism", "dimensions", "input", "branches", "precision", "panels")
+REQUIRED_SCENE_KEYS = ("mechanism", "dimensions", "input", "branches", "panels")
 QUANTITIES = ("displacement", "velocity", "acceleration")      # ANG.DAT, VEL.DAT, ACC.DAT
+MECHANISM_PANEL = "mechanism"    # the linkage drawn (a scene of its own, mechanism_drawing)
+MAX_FRAMES = 3600                # the most poses a mechanism scene draws
 PRECISIONS = {"basic": ("basic",), "double": ("double",), "both": ("basic", "double")}
 MAX_SCENE_POINTS = 100_000
-DIMENSION_NAMES = {"a": "the fixed link", "b": "the input crank", "c": "the coupler",
-                   "d": "the output crank", "e": "the slider offset",
-                   "f": "the vertical sector of the fixed link", "ksi": "the skew angle, degrees"}
 # Axis labels (name, symbol, unit) by quantity, for four-bars, slider-cranks and DAT files of an
 # unknown mechanism.
 AXIS_LABELS = {
@@ -3788,6 +3856,7 @@ class PlotUnavailable(RuntimeError):
 class PanelSpec(NamedTuple):
     quantities: tuple[str, ...]
     limits: tuple[float, float] | None      # the y range, or None: from the data
+    angles: tuple[float, ...] | None = None  # a mechanism panel's input angles (None: the sweep)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -3808,6 +3877,17 @@ class Scene:
         """How many derivatives the panels show: 0 (displacement only), 1 or 2."""
         shown = {q for panel in self.panels for q in panel.quantities}
         return 2 if "acceleration" in shown else 1 if "velocity" in shown else 0
+
+    @property
+    def draws_mechanism(self) -> bool:
+        """A mechanism scene: the linkage drawn (and animated) rather than curves plotted."""
+        return self.panels[0].quantities == (MECHANISM_PANEL,)
+
+    def angles(self) -> list[float]:
+        """The input angles of the sweep (or of a mechanism panel's `angles`)."""
+        if self.panels[0].angles is not None:
+            return list(self.panels[0].angles)
+        return evenly_spaced_angles(self.start, self.stop, self.step)
 
 
 # -- reading a scene ---------------------------------------------------------------------------
@@ -3891,14 +3971,17 @@ def load_scene(path: str) -> Scene:
     if (not isinstance(branches, list) or not branches or len(set(branches)) != len(branches)
             or not all(b in (1, 2) and not isinstance(b, bool) for b in branches)):
         raise _scene_error(path, "branches", "[1], [2] or [1, 2]", branches)
-    precision = data["precision"]
-    if precision not in PRECISIONS:
-        raise _scene_error(path, "precision", SCENE_KEYS["precision"], precision)
-
     panels = data["panels"]
     if (not isinstance(panels, list) or not 1 <= len(panels) <= 3
             or not all(isinstance(p, dict) for p in panels)):
         raise _scene_error(path, "panels", SCENE_KEYS["panels"], panels)
+    if any(p.get("quantities") == [MECHANISM_PANEL] for p in panels):
+        return _mechanism_scene(path, data, dims, start, stop, step, tuple(branches))
+    if "precision" not in data:
+        raise SceneError(f"{path}: key 'precision' is missing: expected {SCENE_KEYS['precision']}")
+    precision = data["precision"]
+    if precision not in PRECISIONS:
+        raise _scene_error(path, "precision", SCENE_KEYS["precision"], precision)
     specs = []
     for i, panel in enumerate(panels, 1):
         key = f"panels[{i}]"
@@ -3918,11 +4001,40 @@ def load_scene(path: str) -> Scene:
         specs.append(PanelSpec(tuple(quantities),
                                None if limits is None else (float(limits[0]), float(limits[1]))))
 
-    title = data.get("title", MECHANISM_NAMES[mechanism].capitalize())
+    return Scene(path, _scene_title(path, data), mechanism, dims, start, stop, step,
+                 tuple(branches), PRECISIONS[precision], tuple(specs))
+
+
+def _scene_title(path, data) -> str:
+    title = data.get("title", MECHANISM_NAMES[data["mechanism"]].capitalize())
     if not isinstance(title, str):
         raise _scene_error(path, "title", SCENE_KEYS["title"], title)
-    return Scene(path, title, mechanism, dims, start, stop, step, tuple(branches),
-                 PRECISIONS[precision], tuple(specs))
+    return title
+
+
+def _mechanism_scene(path, data, dims, start, stop, step, branches) -> Scene:
+    """The rest of a mechanism scene: one panel, quantities = ["mechanism"], optional angles; the
+    positions are the accurate engine's (precision double, or no precision key)."""
+    if len(data["panels"]) != 1:
+        raise _scene_error(path, "panels", "one [[panels]] only: a mechanism panel is a scene "
+                           "of its own", data["panels"])
+    panel = data["panels"][0]
+    _unknown_keys(path, panel, ("quantities", "angles"), "panels[1].")
+    if data.get("precision", "double") != "double":
+        raise _scene_error(path, "precision", "double, or no precision: a mechanism scene draws "
+                           "the accurate engine's positions", data["precision"])
+    angles = panel.get("angles")
+    if angles is not None and not (isinstance(angles, list) and 1 <= len(angles) <= MAX_FRAMES
+                                   and all(_is_number(v) for v in angles)):
+        raise _scene_error(path, "panels[1].angles", f"a list of 1 to {MAX_FRAMES:,} input "
+                           "angles (degrees)", angles)
+    if angles is None and (stop - start) / step >= MAX_FRAMES:
+        raise _scene_error(path, "input.step", f"a step giving at most {MAX_FRAMES:,} positions "
+                           "to draw (or a list panels[1].angles)", data["input"]["step"])
+    spec = PanelSpec((MECHANISM_PANEL,), None,
+                     None if angles is None else tuple(float(v) for v in angles))
+    return Scene(path, _scene_title(path, data), data["mechanism"], dims, start, stop, step,
+                 branches, ("double",), (spec,))
 
 
 # -- computing a scene: the DAT files ----------------------------------------------------------
@@ -4441,15 +4553,75 @@ def _draw_command(args: argparse.Namespace, make_figure) -> int:
     return 0
 
 
+def scene_drawing(scene: Scene) -> Drawing:
+    """A mechanism scene's drawing: the linkage at each of its angles on its first branch."""
+    dims = " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in scene.dimensions.items())
+    branch = scene.branches[0]
+    try:
+        drawing = mechanism_drawing(
+            Linkage(scene.mechanism, **scene.dimensions), scene.angles(), branch,
+            f"{scene.title}: {dims}", f"{MECHANISM_NAMES[scene.mechanism]}; branch {branch} "
+            f"({'A+B' if branch == 1 else 'A-B'}); positions by the accurate engine")
+    except ValueError as e:
+        raise _scene_error(scene.path, "dimensions", f"dimensions that can be drawn: {e}") \
+            from None
+    _check_assembles(scene, [frame.pose for frame in drawing.frames])
+    return drawing
+
+
+def _check_frames(frames) -> None:
+    if frames is not None and not 1 <= frames <= MAX_FRAMES:
+        raise SceneError(f"--frames {frames}: expected 1 to {MAX_FRAMES:,} frames")
+
+
+def drawing_command(args: argparse.Namespace, make_drawing) -> int:
+    """Draw the mechanism: an animated SVG with --svg, a PNG with --png, the terminal view with
+    --text or neither (animated on a terminal; piped, --frames N stills). Files are written
+    whole or not at all; every way it can fail is a message and exit status 1 (130: Ctrl-C)."""
+    try:
+        _check_frames(args.frames)
+        if args.png:
+            _matplotlib()                       # fail before any work
+        drawing = make_drawing()
+        for path, render in ((args.svg, lambda: svg_drawing(drawing).encode("utf-8")),
+                             (args.png, lambda: png_drawing(drawing))):
+            if path:
+                with written_whole(path) as fh:
+                    fh.write(render())
+                print(f"linkage.py: wrote {path} ({len(drawing.frames)} position"
+                      f"{'s' * (len(drawing.frames) > 1)})", file=sys.stderr)
+        if args.text or not (args.svg or args.png):
+            return show_drawing(drawing, frames=args.frames)
+    except (SceneError, PlotUnavailable) as e:
+        print(f"linkage.py: {e}", file=sys.stderr)
+        return 1
+    except OSError as e:
+        print(f"linkage.py: {e.filename or ''}: {e.strerror}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("linkage.py: interrupted", file=sys.stderr)
+        return 130
+    return 0
+
+
 def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py scene FILE`: compute the scene, write its DAT files, draw it."""
-    def make_figure():
+    """`python3 linkage.py scene FILE`: compute the scene, write its DAT files, draw it; a
+    mechanism scene is drawn (and animated) instead, and writes no DAT file."""
+    try:
         scene = load_scene(args.file)
-        return scene_figure(scene, compute_scene(scene, args.dir, report))
+    except SceneError as e:
+        print(f"linkage.py: {e}", file=sys.stderr)
+        return 1
+    if scene.draws_mechanism:
+        return drawing_command(args, lambda: scene_drawing(scene))
+    if args.svg or args.frames is not None:
+        parser.error(f"--svg and --frames draw a mechanism scene; {args.file} plots curves "
+                     "(--png, --text)")
 
     def report(message):
         print(f"linkage.py: {message}", file=sys.stderr)
-    return _draw_command(args, make_figure)
+    return _draw_command(args, lambda: scene_figure(scene, compute_scene(scene, args.dir,
+                                                                         report)))
 
 
 def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
@@ -4540,6 +4712,26 @@ def bench_scene(out) -> None:
               file=out)
     saved = [1 - d / a for d, a in zip(times["displacement only"], times["all three"])]
     print(f"{'time saved':18} {saved[0]:8.0%} {saved[1]:12.0%} {saved[2]:12.0%}", file=out)
+    _bench_mechanism_view(out)
+
+
+def _bench_mechanism_view(out) -> None:
+    """What drawing the mechanism costs: 72 poses of each kind (the Figs. 1-2 scenes' sweep)."""
+    angles = evenly_spaced_angles(30.0, 385.0, 5.0)
+    print(f"\nthe mechanism view, {len(angles)} positions (30 to 385 by 5 degrees, the Figs. 1-2 "
+          "scenes); milliseconds, best of 5", file=out)
+    print(f"{'linkage':12} {'engine':>8} {'+ joints':>9} {'drawing':>9} {'text frame':>11} "
+          f"{'SVG':>8} {'SVG bytes':>10}", file=out)
+    for kind, dims in MECHANISM_EXAMPLES.items():
+        linkage = Linkage(kind, **dims)
+        drawing = mechanism_drawing(linkage, angles)
+        times = (_best_of(5, lambda: linkage.sweep(angles, 1, 0)),
+                 _best_of(5, lambda: [joint_positions(linkage, phi) for phi in angles]),
+                 _best_of(5, lambda: mechanism_drawing(linkage, angles)),
+                 _best_of(5, lambda: text_drawing(drawing, 0, 80, 24, True)),
+                 _best_of(5, lambda: svg_drawing(drawing)))
+        print(f"{kind:12} " + " ".join(f"{1e3 * t:{w}.2f}" for t, w in zip(times, (8, 9, 9, 11, 8)))
+              + f" {len(svg_drawing(drawing).encode()):10,}", file=out)
 
 
 def bench_port(out) -> None:
@@ -5248,11 +5440,22 @@ def build_parser() -> argparse.ArgumentParser:
                      help="with --precision double: clip VEL and ACC to +-3 as the original does")
     run.set_defaults(handler=run_command, parser=run)
     scene = commands.add_parser(
-        "scene", help="draw a scene of data/scenes: the paper's figures, the hard cases",
+        "scene", help="draw a scene of data/scenes: the paper's figures, the hard cases, "
+                      "the linkage moving",
         description="Compute a scene (a TOML file, see data/scenes), write its DAT files and "
                     "draw its figure: a plain-text plot of 80 x 24 characters unless --png "
-                    "is given.")
+                    "is given. A mechanism scene (panels = [{quantities = [\"mechanism\"]}], "
+                    "e.g. data/scenes/fig1a-plane-four-bar.toml) draws the linkage itself at "
+                    "each input angle of its sweep (or its panel's angles) and writes no DAT "
+                    "file: on a terminal it moves until you press q; piped, one still frame "
+                    "(--frames N: N frames); --svg OUT an animated SVG; --png OUT the positions "
+                    "overlaid.")
     scene.add_argument("file", metavar="FILE", help="the scene")
+    scene.add_argument("--svg", metavar="OUT",
+                       help="a mechanism scene: write it as one animated SVG")
+    scene.add_argument("--frames", type=int, metavar="N",
+                       help="a mechanism scene, output piped: print N frames evenly over the "
+                            "sweep (default 1)")
     scene.add_argument("--dir", default=".", metavar="DIR",
                        help="where to write the DAT files (default: here); a scene that "
                             "overlays several series writes one folder each")
