@@ -1794,8 +1794,12 @@ def written_whole(path):
     temporary file of a unique name in the same folder, flushed to the disk and renamed over
     `path` when the block ends; removed on any failure or interrupt, leaving `path` as it was."""
     import tempfile
-    fd, temporary = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.", suffix=".partial",
-                                     dir=os.path.dirname(os.path.abspath(path)))
+    try:
+        fd, temporary = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.",
+                                         suffix=".partial",
+                                         dir=os.path.dirname(os.path.abspath(path)))
+    except OSError as e:                        # say the file asked for, not the temporary
+        raise OSError(e.errno, e.strerror, path) from None
     try:
         os.fchmod(fd, 0o666 & ~_umask())
         with os.fdopen(fd, "wb") as fh:

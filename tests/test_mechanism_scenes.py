@@ -1,0 +1,181 @@
+"""The mechanism view from the command line (issue 12): the Figs. 1-2 scenes, `scene FILE --svg`,
+`--frames`, `design ... --svg/--text`, and what each refuses. The geometry itself is checked in
+test_mechanism_geometry.py, the renderers in test_mechanism_text.py and test_mechanism_svg.py.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+import linkage
+
+ROOT = Path(__file__).resolve().parent.parent
+SCENES = ROOT / "data" / "scenes"
+FIGURES_1_2 = sorted(SCENES.glob("fig[12]*.toml"))
+PROGRAM = [sys.executable, str(ROOT / "linkage.py")]
+SVG = "{http://www.w3.org/2000/svg}"
+
+
+def run(argv):
+    """linkage.main(argv) in this process: (status, standard output, standard error)."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = linkage.main(argv)
+    return status, out.getvalue(), err.getvalue()
+
+
+def frames_of(svg_path):
+    root = ET.parse(svg_path).getroot()
+    return [g for g in root.iter(f"{SVG}g") if g.get("class") == "frame"]
+
+
+def test_figures_1_and_2_are_the_five_linkages_lettered_as_the_paper_letters_them():
+    scenes = [linkage.load_scene(str(p)) for p in FIGURES_1_2]
+    assert [s.mechanism for s in scenes] == ["plane", "spherical", "skew", "slider",
+                                             "skew-slider"]
+    letters = {"plane": {"a", "b", "c", "d"}, "spherical": {"a", "b", "c", "d"},
+               "skew": {"a", "b", "c", "d", "f", "ξ"}, "slider": {"b", "c*", "e"},
+               "skew-slider": {"a", "b", "c", "f", "ξ"}}
+    for scene in scenes:
+        assert scene.draws_mechanism
+        drawing = linkage.scene_drawing(scene)
+        shown = {label.text for label in drawing.ground.labels}
+        shown |= {label.text for label in drawing.frames[0].layer.labels}
+        assert letters[scene.mechanism] <= shown, (scene.path, shown)
+        assert all(f.message is None for f in drawing.frames), scene.path   # they turn fully
+
+
+@pytest.mark.parametrize("path", FIGURES_1_2, ids=lambda p: p.stem)
+def test_a_mechanism_scene_writes_an_animated_svg_and_no_dat_file(path, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    status, out, err = run(["scene", str(path), "--svg", "fig.svg"])
+    assert status == 0, err
+    assert out == "" and "wrote fig.svg (72 positions)" in err
+    assert sorted(os.listdir(tmp_path)) == ["fig.svg"]              # no DAT file, no temporary
+    assert len(frames_of(tmp_path / "fig.svg")) == 72
+
+
+def test_piped_a_mechanism_scene_prints_one_still_frame_or_n(tmp_path):
+    scene = str(SCENES / "fig1a-plane-four-bar.toml")
+    status, one, err = run(["scene", scene])
+    assert status == 0, err
+    status, three, err = run(["scene", scene, "--frames", "3"])
+    assert status == 0, err
+    assert one.count("φ = ") + one.count("phi = ") == 1
+    assert three.count("φ = ") + three.count("phi = ") == 3
+
+
+def test_the_design_is_drawn_at_its_design_positions(tmp_path):
+    svg = tmp_path / "design.svg"
+    argv = ["design", "fourb-fg3-1", "--phi", "30", "60", "90", "--psi", "60", "80", "95"]
+    status, out, err = run(argv + ["--svg", str(svg)])
+    assert status in (0, 3), err
+    positions = [line.split(" = ")[1] for line in out.splitlines()
+                 if line.startswith("position") and ".phi = " in line]
+    frames = frames_of(svg)
+    assert len(frames) == 3 and len(positions) >= 3
+    assert [float(g.get("data-phi")) for g in frames] == pytest.approx(
+        [float(p) for p in positions[:3]])
+    status, text, err = run(argv + ["--text"])
+    assert status in (0, 3), err
+    assert text.startswith(out)                           # the design first, then its drawing
+    assert text[len(out):].count("φ = ") + text[len(out):].count("phi = ") == 3
+
+
+def test_displacement_only_scenes_compute_no_joint_position(tmp_path, monkeypatch):
+    calls = []
+    monkeypatch.setattr(linkage, "joint_positions", lambda *a: calls.append(a))
+    status, _, err = run(["scene", str(SCENES / "fig3-plane-four-bar.toml"), "--dir",
+                          str(tmp_path), "--text"])
+    assert status == 0, err
+    assert calls == []
+
+
+MECHANISM_SCENE = """
+mechanism = "plane"
+dimensions = {{ {dims} }}
+input = {{ from = 0, to = 360, step = {step} }}
+branches = [1]
+{extra}
+[[panels]]
+quantities = ["mechanism"]
+{panel}
+"""
+
+
+def scene_file(tmp_path, dims="a = 6, b = 2, c = 7, d = 9", step=10, extra="", panel=""):
+    path = tmp_path / "s.toml"
+    path.write_text(MECHANISM_SCENE.format(dims=dims, step=step, extra=extra, panel=panel))
+    return str(path)
+
+
+@pytest.mark.parametrize("what, kwargs, options, fragments", [
+    ("never assembles", dict(dims="a = 20, b = 1, c = 1, d = 1"), [],
+     ["'dimensions'", "assembles at none"]),
+    ("a zero-length link", dict(dims="a = 6, b = 0, c = 7, d = 9"), [],
+     ["'dimensions'", "b = 0", "greater than 0"]),
+    ("too many positions", dict(step=0.01), [], ["'input.step'", "3,600"]),
+    ("no frames", {}, ["--frames", "0"], ["--frames 0", "1 to 3,600"]),
+    ("a million frames", {}, ["--frames", "1000000"], ["--frames 1000000"]),
+    ("another panel too", dict(panel='[[panels]]\nquantities = ["displacement"]'), [],
+     ["'panels'", "a scene of its own"]),
+    ("basic precision", dict(extra='precision = "basic"'), [], ["'precision'", "double"]),
+    ("bad angles", dict(panel="angles = []"), [], ["'panels[1].angles'"]),
+])
+def test_a_bad_mechanism_scene_is_explained_and_writes_nothing(what, kwargs, options, fragments,
+                                                               tmp_path):
+    path = scene_file(tmp_path, **kwargs)
+    out = tmp_path / "out"
+    out.mkdir()
+    result = subprocess.run(PROGRAM + ["scene", path, "--svg", str(out / "m.svg")] + options,
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 1, (what, result.stderr)
+    assert "Traceback" not in result.stderr and result.stderr.count("\n") == 1, what
+    for fragment in fragments:
+        assert fragment in result.stderr, (what, result.stderr)
+    assert os.listdir(out) == [], what
+
+
+def test_an_unwritable_svg_path_is_explained(tmp_path):
+    path = scene_file(tmp_path)
+    result = subprocess.run(PROGRAM + ["scene", path, "--svg", str(tmp_path / "no" / "m.svg")],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 1 and "Traceback" not in result.stderr
+    assert "No such file or directory" in result.stderr and str(tmp_path / "no") in result.stderr
+    os.chmod(tmp_path, 0o500)
+    try:
+        result = subprocess.run(PROGRAM + ["scene", path, "--svg", str(tmp_path / "m.svg")],
+                                capture_output=True, text=True, timeout=60)
+    finally:
+        os.chmod(tmp_path, 0o700)
+    if os.geteuid() != 0:                      # root writes anywhere
+        assert result.returncode == 1 and "Permission denied" in result.stderr
+
+
+def test_an_interrupted_svg_leaves_the_old_file(tmp_path, monkeypatch):
+    target = tmp_path / "m.svg"
+    target.write_text("old")
+
+    def interrupted(drawing, *args, **kwargs):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(linkage, "svg_drawing", interrupted)
+    status, _, err = run(["scene", scene_file(tmp_path), "--svg", str(target)])
+    assert status == 130 and "interrupted" in err
+    assert target.read_text() == "old"
+    assert sorted(os.listdir(tmp_path)) == ["m.svg", "s.toml"]
+
+
+def test_svg_and_frames_belong_to_mechanism_scenes(tmp_path):
+    result = subprocess.run(PROGRAM + ["scene", str(SCENES / "fig3-plane-four-bar.toml"),
+                                       "--svg", str(tmp_path / "x.svg")],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 2 and "mechanism scene" in result.stderr
+    assert os.listdir(tmp_path) == []
