@@ -5467,7 +5467,9 @@ def build_parser() -> argparse.ArgumentParser:
     plot = commands.add_parser(
         "plot", help="draw the figure of ANG.DAT, VEL.DAT and ACC.DAT already written",
         description="Draw the figure of the DAT files in DIR (the menu program's, run's or a "
-                    "scene's): a plain-text plot of 80 x 24 characters unless --png is given.")
+                    "scene's): a plain-text plot of 80 x 24 characters unless --png is given. "
+                    "To see the linkage itself move, draw a mechanism scene: python3 linkage.py "
+                    "scene data/scenes/fig1a-plane-four-bar.toml (scene --help).")
     plot.add_argument("directory", nargs="?", default=".", metavar="DIR",
                       help="the folder of the DAT files, or of folders of them (default: here)")
     plot.add_argument("--mechanism", type=_mechanism_type, metavar="TYPE",
