@@ -2334,7 +2334,257 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
 
 
 # -- the terminal view ---------------------------------------------------------------------------
-# (drawn in Unicode braille, or ASCII; animated in place on a terminal)
+# Drawn on a grid of dots: Unicode braille (2 x 4 dots a character, about square on a terminal),
+# or plain ASCII where the output cannot take Unicode (a character a dot, twice as tall as wide).
+# Marks and letters are characters over the dots. On a terminal the frames are redrawn in place.
+
+# Strokes drawn first to last (later ones win a shared ASCII cell), and each style's dash
+# pattern in dots along the stroke (on, off, ...); styles not listed are solid.
+_TEXT_ORDER = ("outline", "path", "axis", "dimension", "hidden", "hatch", "ground", "link")
+_TEXT_DASHES = {"outline": (1, 1), "path": (1, 2), "axis": (4, 2, 1, 2), "dimension": (1, 1),
+                "hidden": (2, 2)}
+_BRAILLE_BITS = ((0x01, 0x02, 0x04, 0x40), (0x08, 0x10, 0x20, 0x80))    # [column][row]
+_TEXT_MARKS = {True: {"joint": "●", "pivot": "◉"}, False: {"joint": "o", "pivot": "@"}}
+_ASCII_TEXT = str.maketrans({"φ": "phi", "ψ": "psi", "ξ": "ksi", "°": " deg"})
+
+
+def _plain(text: str, unicode: bool) -> str:
+    """text as the output can show it: ASCII spells the Greek letters out."""
+    if unicode:
+        return text
+    return text.translate(_ASCII_TEXT).encode("ascii", "replace").decode("ascii")
+
+
+def _dash_on(dashes, distance) -> bool:
+    """Whether a dash pattern (on, off, on, ...) is on at `distance` dots along its stroke."""
+    at = distance % sum(dashes)
+    for i, run in enumerate(dashes):
+        if at < run:
+            return i % 2 == 0
+        at -= run
+    return False
+
+
+def _ascii_line(dx, dy) -> str:
+    """The ASCII character of a line going dx right and dy down (in square units)."""
+    angle = math.degrees(math.atan2(-dy, dx)) % 180.0
+    return "-" if angle < 22.5 or angle > 157.5 else "|" if 67.5 < angle < 112.5 else \
+        "/" if angle < 90.0 else "\\"
+
+
+class _DotGrid:
+    """cols x rows characters of dots, the page's bounds fitted in with their aspect kept."""
+
+    def __init__(self, cols, rows, bounds, unicode):
+        self.cols, self.rows, self.unicode = cols, rows, unicode
+        self.per_col, self.per_row = (2, 4) if unicode else (1, 1)
+        self.aspect = 1.0 if unicode else 2.0            # a dot's height over its width
+        width, height = cols * self.per_col - 1, rows * self.per_row - 1
+        x0, y0, x1, y1 = bounds
+        self.scale = min(width / max(x1 - x0, 1e-300), height * self.aspect / max(y1 - y0, 1e-300))
+        self.left = (width - (x1 - x0) * self.scale) / 2 - x0 * self.scale
+        self.top = (height - (y1 - y0) * self.scale / self.aspect) / 2 + y1 * self.scale / self.aspect
+        self.dots = {}                 # (x, y) -> the ASCII character there
+        self.chars = {}                # (col, row) -> a character over the dots
+
+    def dot(self, p):
+        """The dot (x right, y down, not rounded) of page point p."""
+        return p[0] * self.scale + self.left, self.top - p[1] * self.scale / self.aspect
+
+    def stroke(self, stroke: Stroke) -> None:
+        dashes = _TEXT_DASHES.get(stroke.style)
+        travelled = 0.0
+        for p, q in zip(stroke.points, stroke.points[1:]):
+            (x0, y0), (x1, y1) = self.dot(p), self.dot(q)
+            dx, dy = x1 - x0, (y1 - y0) * self.aspect
+            length = math.hypot(dx, dy)
+            char = "." if stroke.style in ("path", "outline") else _ascii_line(dx, dy)
+            steps = max(1, math.ceil(2 * max(abs(x1 - x0), abs(y1 - y0))))
+            for i in range(steps + 1):
+                if dashes is None or _dash_on(dashes, travelled + i / steps * length):
+                    self.dots[round(x0 + i / steps * (x1 - x0)),
+                              round(y0 + i / steps * (y1 - y0))] = char
+            travelled += length
+
+    def put(self, p, text: str) -> None:
+        """text centred on the character cell of page point p (what falls outside is cut)."""
+        x, y = self.dot(p)
+        row, col = round(y) // self.per_row, round(x) // self.per_col - (len(text) - 1) // 2
+        for i, ch in enumerate(text):
+            if 0 <= col + i < self.cols and 0 <= row < self.rows:
+                self.chars[col + i, row] = ch
+
+    def lines(self) -> list[str]:
+        cells = {}
+        for (x, y), char in self.dots.items():
+            cell = (x // self.per_col, y // self.per_row)
+            if self.unicode:
+                cells[cell] = cells.get(cell, 0x2800) | _BRAILLE_BITS[x % 2][y % 4]
+            else:
+                cells[cell] = ord(char)
+        cells.update((cell, ord(ch)) for cell, ch in self.chars.items())
+        return ["".join(chr(cells.get((col, row), 32)) for col in range(self.cols)).rstrip()
+                for row in range(self.rows)]
+
+
+def text_drawing(drawing: Drawing, index: int = 0, width: int = 80, height: int = 24,
+                 unicode: bool = True, footer: str = "") -> str:
+    """Frame `index` of the drawing as `height` lines of at most `width` characters: the title
+    and subtitle, the linkage over its ground, and the frame's caption (or its message, where
+    the linkage is not there to draw) followed by `footer`."""
+    width, height = max(width, 20), max(height, 8)
+    frame = drawing.frames[index]
+    grid = _DotGrid(width, height - 3, drawing.bounds, unicode)
+    strokes = drawing.ground.strokes + frame.layer.strokes
+    for stroke in sorted(strokes, key=lambda s: _TEXT_ORDER.index(s.style)):
+        grid.stroke(stroke)
+    for layer in (drawing.ground, frame.layer):
+        for label in layer.labels:
+            grid.put(label.at, _plain(label.text, unicode))
+    for layer in (drawing.ground, frame.layer):
+        for mark in layer.marks:
+            grid.put(mark.at, _TEXT_MARKS[unicode][mark.kind])
+    bottom = frame.message or frame.caption
+    lines = [drawing.title, drawing.subtitle] + grid.lines() + [bottom + footer]
+    return "\n".join(_plain(line, unicode)[:width] for line in lines)
+
+
+def _still_frames(drawing: Drawing, frames: int | None) -> list[int]:
+    """The frames printed one after another: the first with the linkage there, or `frames`
+    spread evenly over the drawing (all of them, where it has no more)."""
+    count = len(drawing.frames)
+    if frames is None:
+        return [next((i for i, f in enumerate(drawing.frames) if f.message is None), 0)]
+    return list(range(count)) if frames >= count else [i * count // frames
+                                                       for i in range(frames)]
+
+
+def show_drawing(drawing: Drawing, out=None, frames: int | None = None, fps: float = 12.0,
+                 unicode: bool | None = None) -> int:
+    """The drawing on `out` (standard output): animated in place on a terminal, at `fps` frames
+    a second, until q (exit status 0) or Ctrl-C (KeyboardInterrupt); otherwise, or with
+    `frames`, still frames one after another. ASCII where out's encoding is not UTF-8."""
+    out = sys.stdout if out is None else out
+    if unicode is None:
+        unicode = (getattr(out, "encoding", None) or "").lower().replace("-", "") == "utf8"
+    if frames is None and len(drawing.frames) > 1 and out.isatty():
+        return _animate(drawing, out, fps, unicode)
+    width, height = shutil.get_terminal_size() if out.isatty() else _text_size()
+    out.write("\n\n".join(text_drawing(drawing, i, width, height, unicode)
+                          for i in _still_frames(drawing, frames)) + "\n")
+    out.flush()
+    return 0
+
+
+def _text_size() -> tuple[int, int]:
+    """The still frames' size where the output is not a terminal: COLUMNS x LINES, or 80 x 24."""
+    sizes = []
+    for name, default in (("COLUMNS", 80), ("LINES", 24)):
+        text = os.environ.get(name, "")
+        sizes.append(int(text) if text.isdigit() and int(text) > 0 else default)
+    return sizes[0], sizes[1]
+
+
+def _animate(drawing: Drawing, out, fps: float, unicode: bool) -> int:
+    """The frames redrawn in place on the terminal's alternate screen until q (or Ctrl-C), the
+    last one shown left on the screen afterwards; the space bar pauses."""
+    import time
+    keys = sys.stdin.fileno() if sys.stdin.isatty() else None
+    shown, paused = _still_frames(drawing, None)[0], False
+
+    def draw():
+        width, height = shutil.get_terminal_size()
+        footer = "   (q quits, space pauses)" if keys is not None else "   (Ctrl-C stops)"
+        text = text_drawing(drawing, shown, width, height, unicode, footer)
+        out.write("\x1b[H" + text.replace("\n", "\x1b[K\n") + "\x1b[K\x1b[J")
+        out.flush()
+
+    def enter():
+        out.write("\x1b[?1049h\x1b[?25l")
+        draw()
+
+    def leave():
+        out.write("\x1b[?25h\x1b[?1049l")
+        out.flush()
+
+    with single_keys(keys, enter, leave):                # enter() draws the first frame
+        due = time.monotonic() + 1.0 / fps
+        while True:
+            key = _key_within(keys, None if paused else max(0.0, due - time.monotonic()))
+            if key in (b"q", b"Q", b""):
+                break
+            if key == b" ":
+                paused = not paused
+            elif key is None:
+                shown = (shown + 1) % len(drawing.frames)
+                due = max(due + 1.0 / fps, time.monotonic())
+                draw()
+    width, height = shutil.get_terminal_size()
+    out.write(text_drawing(drawing, shown, width, height, unicode) + "\n")
+    out.flush()
+    return 0
+
+
+def _key_within(fd, seconds):
+    """The next key (one byte; b"" once the terminal is gone) typed on fd within `seconds`
+    (None: however long it takes), or None; with no terminal to read, None after `seconds`."""
+    import select
+    if fd is None:
+        import time
+        time.sleep(seconds)
+        return None
+    if select.select([fd], [], [], seconds)[0]:
+        return os.read(fd, 1)
+    return None
+
+
+@contextlib.contextmanager
+def single_keys(fd, enter=None, leave=None, carriage_return=False):
+    """The terminal on file descriptor fd takes single keys with no echo (Ctrl-C still
+    interrupts) inside the block, and is put back as it was on leaving it, however it is left.
+    Ctrl-Z (SIGTSTP) puts it back before the program stops; `fg` takes single keys again.
+    enter() and leave() draw what else the screen needs; carriage_return keeps Enter a CR.
+    fd None (no terminal to read): only enter() and leave()."""
+    import signal
+    saved = mode = None
+    if fd is not None:
+        import termios
+        saved, mode = termios.tcgetattr(fd), termios.tcgetattr(fd)
+        if carriage_return:
+            mode[0] &= ~termios.ICRNL
+        mode[3] &= ~(termios.ICANON | termios.ECHO)
+        mode[6][termios.VMIN], mode[6][termios.VTIME] = 1, 0
+
+    def begin():
+        if fd is not None:
+            termios.tcsetattr(fd, termios.TCSAFLUSH, mode)
+        if enter:
+            enter()
+
+    def end():
+        if leave:
+            leave()
+        if fd is not None:
+            termios.tcsetattr(fd, termios.TCSAFLUSH, saved)
+
+    def stop(signum, frame):
+        end()
+        signal.signal(signal.SIGTSTP, signal.SIG_DFL)
+        os.kill(os.getpid(), signal.SIGTSTP)         # stopped here until `fg`
+        signal.signal(signal.SIGTSTP, stop)
+        begin()
+
+    try:
+        before = signal.signal(signal.SIGTSTP, stop)
+    except ValueError:                               # not the main thread: no signals
+        before = None
+    try:
+        begin()
+        yield
+    finally:
+        end()
+        if before is not None:
+            signal.signal(signal.SIGTSTP, before)
 
 
 # -- the SVG -------------------------------------------------------------------------------------
@@ -5296,15 +5546,8 @@ def menu_program(stdin=None, stdout=None, directory: str = ".") -> int:
     if not (stdin.isatty() and stdout.isatty()):
         return redirected_program(stdin.buffer, stdout.buffer, directory)
     import select
-    import termios
     fd = stdin.fileno()
-    saved = termios.tcgetattr(fd)
-    mode = termios.tcgetattr(fd)
-    mode[0] &= ~termios.ICRNL                      # Enter arrives as CR, as on the PC
-    mode[3] &= ~(termios.ICANON | termios.ECHO)    # single keys, no echo; Ctrl-C still breaks
-    mode[6][termios.VMIN], mode[6][termios.VTIME] = 1, 0
-    try:
-        termios.tcsetattr(fd, termios.TCSAFLUSH, mode)
+    with single_keys(fd, carriage_return=True):    # Enter arrives as CR, as on the PC
 
         def write(s: str) -> None:
             stdout.write(s)
@@ -5312,8 +5555,6 @@ def menu_program(stdin=None, stdout=None, directory: str = ".") -> int:
         keys = Keys(lambda: os.read(fd, 1), fold_crlf=False,
                     pending=lambda: bool(select.select([fd], [], [], 0.05)[0]))
         return _run_guarded(Screen(write, terminal=True), keys, directory)
-    finally:
-        termios.tcsetattr(fd, termios.TCSAFLUSH, saved)
 
 
 def redirected_program(keys_in, screen_out, directory: str = ".") -> int:

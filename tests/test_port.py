@@ -19,6 +19,7 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 import basic_runner
 import linkage
 import make_golden
+from terminal import Terminal
 
 PROGRAM = [sys.executable, str(basic_runner.ROOT / "linkage.py")]
 CASES = make_golden.load_cases()
@@ -222,53 +223,8 @@ def test_random_keys_never_give_a_traceback(keys, tmp_path_factory, monkeypatch)
 
 # ---- on a real terminal ----------------------------------------------------------------------
 
-class Terminal:
-    """The program in a pseudo-terminal: keys in, the raw screen bytes out."""
-
-    def __init__(self, directory):
-        import termios
-        self.master, self.slave = os.openpty()
-        self.modes_before = termios.tcgetattr(self.slave)
-        self.proc = subprocess.Popen(PROGRAM, stdin=self.slave, stdout=self.slave,
-                                     stderr=self.slave, cwd=directory,
-                                     preexec_fn=self._controlling_terminal)
-        self.seen = b""
-
-    @staticmethod
-    def _controlling_terminal():
-        """In the child: a session of its own whose terminal is the pty, so Ctrl-C signals it."""
-        import fcntl
-        import termios
-        os.setsid()
-        fcntl.ioctl(0, termios.TIOCSCTTY, 0)
-
-    def wait_for(self, text: bytes, timeout: float = 20.0) -> bytes:
-        import select
-        deadline = time.monotonic() + timeout
-        while text not in self.seen:
-            ready, _, _ = select.select([self.master], [], [], max(0.0, deadline - time.monotonic()))
-            assert ready, f"waited for {text!r}; the screen shows {self.seen[-300:]!r}"
-            try:
-                self.seen += os.read(self.master, 4096)
-            except OSError:              # the program has ended and closed the terminal
-                break
-        assert text in self.seen, f"waited for {text!r}; the screen shows {self.seen[-300:]!r}"
-        return self.seen
-
-    def press(self, keys: bytes) -> None:
-        os.write(self.master, keys)
-
-    def modes(self):
-        import termios
-        return termios.tcgetattr(self.slave)
-
-    def close(self):
-        os.close(self.master)
-        os.close(self.slave)
-
-
 def test_the_terminal_program_takes_single_keys_and_rings_the_bell(tmp_path):
-    term = Terminal(tmp_path)
+    term = Terminal(PROGRAM, tmp_path)
     try:
         term.wait_for(b"Enter Option: _")
         assert b"\x1b[2J" in term.seen and b"\x1b[6;25H1. Plane Four Bar" in term.seen
@@ -295,7 +251,7 @@ def test_the_terminal_program_takes_single_keys_and_rings_the_bell(tmp_path):
 
 
 def test_ctrl_c_restores_the_terminal(tmp_path):
-    term = Terminal(tmp_path)
+    term = Terminal(PROGRAM, tmp_path)
     try:
         term.wait_for(b"Enter Option: _")
         assert term.modes() != term.modes_before           # single keys, no echo

@@ -168,8 +168,10 @@ def test_the_text_plot_matches_its_snapshot(drawn):
 
 
 def test_every_scene_has_a_snapshot_and_every_snapshot_a_scene():
-    stored = sorted(p.stem for p in make_scene_snapshots.SNAPSHOTS.glob("*.txt"))
-    assert stored == [p.stem for p in SCENES]
+    stored = sorted(p.name for p in make_scene_snapshots.SNAPSHOTS.glob("*.txt"))
+    assert stored == sorted(make_scene_snapshots.snapshot_path(p, encoding).name
+                            for p in ALL_SCENES for encoding in make_scene_snapshots.encodings(p))
+    assert len(stored) == len(SCENES) + 2 * (len(ALL_SCENES) - len(SCENES))
 
 
 @pytest.mark.parametrize("drawn", SCENES, ids=scene_id, indirect=True)
