@@ -2317,7 +2317,10 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
     if not poses:
         raise ValueError("a drawing needs at least one input angle")
     x0, y0, x1, y1 = _extent([project(kind, p) for pose in poses for p in pose.joints.values()])
-    size = 0.07 * max(x1 - x0, y1 - y0, 2.0 if kind == SPHERICAL_FOUR_BAR else 1e-300)
+    span = max(x1 - x0, y1 - y0, 2.0 if kind == SPHERICAL_FOUR_BAR else 1e-300)
+    links = [v for k, v in linkage.dims.items() if k in "abcd" and v]
+    size = 0.07 * span if kind == SPHERICAL_FOUR_BAR else max(          # symbols not hiding a
+        0.035 * span, min(0.07 * span, 0.6 * min(links)))               # short crank
     ground = _GROUNDS[kind](linkage, poses, size)
     frames = tuple(_frame(linkage, pose, size) for pose in poses)
     points = [p for layer in (ground,) + tuple(f.layer for f in frames)
@@ -5699,8 +5702,8 @@ def build_parser() -> argparse.ArgumentParser:
     scene.add_argument("--svg", metavar="OUT",
                        help="a mechanism scene: write it as one animated SVG")
     scene.add_argument("--frames", type=int, metavar="N",
-                       help="a mechanism scene, output piped: print N frames evenly over the "
-                            "sweep (default 1)")
+                       help="a mechanism scene: print N still frames spread evenly over the "
+                            "sweep instead of the animation (piped, the default is 1)")
     scene.add_argument("--dir", default=".", metavar="DIR",
                        help="where to write the DAT files (default: here); a scene that "
                             "overlays several series writes one folder each")

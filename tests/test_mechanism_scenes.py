@@ -75,7 +75,7 @@ def test_piped_a_mechanism_scene_prints_one_still_frame_or_n(tmp_path):
 
 def test_the_design_is_drawn_at_its_design_positions(tmp_path):
     svg = tmp_path / "design.svg"
-    argv = ["design", "fourb-fg3-1", "--phi", "30", "60", "90", "--psi", "60", "80", "95"]
+    argv = ["design", "fourb-fg3-1", "--phi", "45", "90", "135", "--psi", "95", "70", "60"]
     status, out, err = run(argv + ["--svg", str(svg)])
     assert status in (0, 3), err
     positions = [line.split(" = ")[1] for line in out.splitlines()

@@ -8,7 +8,6 @@ from __future__ import annotations
 import difflib
 import os
 import re
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -148,7 +147,6 @@ def test_ctrl_c_stops_the_animation_and_restores_the_terminal(tmp_path):
         term.close()
 
 
-@pytest.mark.skipif(shutil.which("bash") is None, reason="needs bash for job control")
 def test_ctrl_z_gives_the_terminal_back_and_fg_takes_it_again(tmp_path):
     """Under a shell with job control (bash, set -m): Ctrl-Z stops the animation with the
     terminal as it was (stty prints it while the program is stopped), `fg` animates again
