@@ -2000,7 +2000,7 @@ STROKE_STYLES = ("link", "ground", "hatch", "axis", "path", "hidden", "outline",
 
 # Oblique views (azimuth, elevation in degrees) of the 3-D linkages: the input axis z upright on
 # the page, seen from a little above.
-VIEWS = {SPHERICAL_FOUR_BAR: (-62.0, 18.0), SKEW_FOUR_BAR: (-60.0, 20.0),
+VIEWS = {SPHERICAL_FOUR_BAR: (-90.0, 20.0), SKEW_FOUR_BAR: (-60.0, 20.0),
          SKEW_SLIDER_CRANK: (-60.0, 20.0)}
 
 
@@ -2064,7 +2064,7 @@ def _ground_symbol(at, away, size):
     base = _shifted(at, away, size)
     left, right = _shifted(base, normal, 0.6 * size), _shifted(base, normal, -0.6 * size)
     wide_left, wide_right = _shifted(base, normal, 0.9 * size), _shifted(base, normal, -0.9 * size)
-    return [Stroke((left, at, right), "ground")] + _hatched(wide_left, wide_right, -1, size)
+    return [Stroke((left, at, right), "ground")] + _hatched(wide_left, wide_right, 1, size)
 
 
 def _label_beside(p, q, text, size, side=1.0):
@@ -2591,7 +2591,100 @@ def single_keys(fd, enter=None, leave=None, carriage_return=False):
 
 
 # -- the SVG -------------------------------------------------------------------------------------
-# (one self-contained animated SVG, standard library only)
+# One self-contained file a browser plays with no script: each frame a group whose visibility a
+# SMIL <animate> switches in turn. Without animation (a static viewer) the first frame with the
+# linkage in it is the one visible. Page points are turned into SVG pixels here, y down, so that
+# text is never mirrored; the root's data-scale and data-origin say how (svg = origin + scale *
+# (x, -y)).
+
+SVG_WIDTH = 800
+_SVG_STYLE = """
+polyline{fill:none;stroke-linecap:round;stroke-linejoin:round}
+polyline.link{stroke:#1b1b1b;stroke-width:3.2}
+polyline.ground{stroke:#1b1b1b;stroke-width:1.8}
+polyline.hatch{stroke:#555;stroke-width:1}
+polyline.axis{stroke:#2f6db3;stroke-width:1.1;stroke-dasharray:14 4 2 4}
+polyline.path{stroke:#8a8a8a;stroke-width:1.2;stroke-dasharray:1 4}
+polyline.hidden{stroke:#6a6a6a;stroke-width:2;stroke-dasharray:6 4}
+polyline.outline{stroke:#b5b5b5;stroke-width:1.3}
+polyline.dimension{stroke:#7a7a7a;stroke-width:0.9}
+.joint,.pivot{fill:#fff;stroke:#1b1b1b;stroke-width:2}
+.pivot{fill:#d8d8d8}
+.label{font:italic 19px 'DejaVu Serif',Georgia,serif;fill:#1b1b1b;text-anchor:middle;dominant-baseline:central}
+.title{font:bold 16px 'DejaVu Sans',Arial,sans-serif;fill:#1b1b1b}
+.subtitle{font:13px 'DejaVu Sans',Arial,sans-serif;fill:#555}
+.caption{font:15px 'DejaVu Sans',Arial,sans-serif;fill:#1b1b1b;white-space:pre}
+.message{font:bold 17px 'DejaVu Sans',Arial,sans-serif;fill:#b3001b}
+"""
+
+
+class _SvgPage(NamedTuple):
+    """How page points become SVG pixels: (left + scale x, top - scale y)."""
+    scale: float
+    left: float
+    top: float
+
+    def xy(self, p) -> str:
+        return f"{self.left + self.scale * p[0]:.1f},{self.top - self.scale * p[1]:.1f}"
+
+    def attrs(self, p, x="x", y="y") -> str:
+        return (f'{x}="{self.left + self.scale * p[0]:.1f}" '
+                f'{y}="{self.top - self.scale * p[1]:.1f}"')
+
+
+def _svg_layer(page: _SvgPage, layer: Layer, size: float) -> list[str]:
+    out = [f'<polyline class="{s.style}" points="{" ".join(page.xy(p) for p in s.points)}"/>'
+           for s in sorted(layer.strokes, key=lambda s: _TEXT_ORDER.index(s.style))]
+    radius = max(3.0, min(7.0, 0.16 * size * page.scale))
+    out += [f'<circle class="{m.kind}" data-joint="{m.name}" {page.attrs(m.at, "cx", "cy")} '
+            f'r="{radius:.1f}"/>' for m in layer.marks]
+    out += [f'<text class="label" {page.attrs(label.at)}>{_xml(label.text)}</text>'
+            for label in layer.labels]
+    return out
+
+
+def _xml(text: str) -> str:
+    from xml.sax.saxutils import escape
+    return escape(text, {'"': "&quot;"})
+
+
+def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str:
+    """The drawing as one animated SVG (SMIL; 12 frames a second unless seconds_per_frame)."""
+    x0, y0, x1, y1 = drawing.bounds
+    margin, head, foot = 16, 58, 40
+    scale = min((SVG_WIDTH - 2 * margin) / max(x1 - x0, 1e-300), 640 / max(y1 - y0, 1e-300))
+    width = SVG_WIDTH
+    height = round(head + foot + (y1 - y0) * scale)
+    page = _SvgPage(scale, (width - (x1 - x0) * scale) / 2 - x0 * scale, head + y1 * scale)
+    count = len(drawing.frames)
+    shown = _still_frames(drawing, None)[0]
+    period = (seconds_per_frame or 1.0 / 12.0) * count
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+           f'viewBox="0 0 {width} {height}" data-kind="{drawing.kind}" data-frames="{count}" '
+           f'data-scale="{scale!r}" data-origin="{page.left!r} {page.top!r}">',
+           f"<title>{_xml(drawing.title)}</title>", f"<style>{_SVG_STYLE}</style>",
+           '<rect width="100%" height="100%" fill="#fff"/>',
+           f'<text class="title" x="{margin}" y="24">{_xml(drawing.title)}</text>',
+           f'<text class="subtitle" x="{margin}" y="44">{_xml(drawing.subtitle)}</text>',
+           '<g class="ground">', *_svg_layer(page, drawing.ground, drawing.size), "</g>"]
+    for i, frame in enumerate(drawing.frames):
+        out.append(f'<g class="frame" data-phi="{frame.pose.phi!r}" '
+                   f'visibility="{"visible" if i == shown else "hidden"}">')
+        if count > 1:                        # visible from i/count to (i + 1)/count of a turn
+            values, times = ("visible;hidden", (0, 1)) if i == 0 else (
+                "hidden;visible;hidden", (0, i, i + 1))
+            out.append(f'<animate attributeName="visibility" values="{values}" keyTimes="'
+                       + ";".join(f"{t / count:.6g}" for t in times)
+                       + f'" dur="{period:.6g}s" calcMode="discrete" repeatCount="indefinite"/>')
+        out += _svg_layer(page, frame.layer, drawing.size)
+        out.append(f'<text class="caption" x="{margin}" y="{height - 14}">'
+                   f"{_xml(frame.caption)}</text>")
+        if frame.message:
+            out.append(f'<text class="message" x="{width / 2:.0f}" y="{head + 8}" '
+                       f'text-anchor="middle">{_xml(frame.message)}</text>')
+        out.append("</g>")
+    out.append("</svg>")
+    return "\n".join(out) + "\n"
 
 
 # -- the PNG -------------------------------------------------------------------------------------
