@@ -2688,7 +2688,61 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
 
 
 # -- the PNG -------------------------------------------------------------------------------------
-# (the positions overlaid, faint to solid; matplotlib, the `plot` extra)
+# The positions overlaid as a textbook draws a linkage's motion: the ground once, the earlier
+# positions faint, the last solid with its joints and letters (matplotlib, the `plot` extra).
+
+_PNG_STYLES = {"link": dict(color="#1b1b1b", linewidth=2.4),
+               "ground": dict(color="#1b1b1b", linewidth=1.4),
+               "hatch": dict(color="#555555", linewidth=0.7),
+               "axis": dict(color="#2f6db3", linewidth=0.9, linestyle="-."),
+               "path": dict(color="#8a8a8a", linewidth=0.9, linestyle=":"),
+               "hidden": dict(color="#6a6a6a", linewidth=1.4, linestyle="--"),
+               "outline": dict(color="#b5b5b5", linewidth=1.0),
+               "dimension": dict(color="#7a7a7a", linewidth=0.7)}
+
+
+def _png_layer(ax, layer: Layer, alpha: float, letters: bool) -> None:
+    for stroke in layer.strokes:
+        xs, ys = zip(*stroke.points)
+        ax.plot(xs, ys, alpha=alpha, solid_capstyle="round", **_PNG_STYLES[stroke.style])
+    if letters:
+        for mark in layer.marks:
+            ax.plot(*mark.at, marker="o", markersize=6, markeredgewidth=1.4, zorder=5,
+                    color="#1b1b1b", markerfacecolor="#d8d8d8" if mark.kind == "pivot" else "w")
+        for label in layer.labels:
+            ax.text(*label.at, label.text, ha="center", va="center", fontsize=13,
+                    fontstyle="italic", family="serif")
+
+
+def png_drawing(drawing: Drawing, positions: int = 12) -> bytes:
+    """The drawing as a PNG: up to `positions` of its frames spread over the sweep, overlaid
+    from faint to solid over the ground; the last one with its joints and letters."""
+    import io
+    MplFigure, FigureCanvasAgg = _matplotlib()
+    placed = [f for f in drawing.frames if f.message is None] or list(drawing.frames)
+    chosen = [placed[i * len(placed) // positions] for i in range(min(positions, len(placed)))]
+    x0, y0, x1, y1 = drawing.bounds
+    width = 8.0
+    mpl = MplFigure(figsize=(width, min(10.0, max(3.0, width * (y1 - y0) / (x1 - x0) + 0.9))),
+                    dpi=100, layout="constrained")
+    FigureCanvasAgg(mpl)
+    mpl.suptitle(f"{drawing.title}\n{drawing.subtitle}", fontsize=10)
+    ax = mpl.add_subplot()
+    _png_layer(ax, drawing.ground, 1.0, True)
+    for i, frame in enumerate(chosen):
+        last = i == len(chosen) - 1
+        _png_layer(ax, frame.layer, 1.0 if last else 0.12 + 0.5 * i / len(chosen), last)
+    caption = chosen[-1].message or chosen[-1].caption
+    if len(chosen) > 1:
+        caption = f"{len(chosen)} positions, faint to solid; the last at {caption}"
+    ax.set_title(caption, fontsize=9, loc="left")
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal")
+    ax.set_axis_off()
+    out = io.BytesIO()
+    mpl.savefig(out, format="png")
+    return out.getvalue()
 
 
 # ---- Synthesis: four-bar and slider-crank function generators (issue 7) -----------------------

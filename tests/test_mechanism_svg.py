@@ -1,0 +1,114 @@
+"""The mechanism as an animated SVG and as a PNG (issue 12). The SVG is read back with
+xml.etree: its frames, which one shows without animation, the SMIL that plays them, and the
+joints of two frames against joint_positions; the PNG is decoded and its pixels counted."""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+
+import pytest
+
+import linkage
+from test_scenes import png_pixels
+
+SVG = "{http://www.w3.org/2000/svg}"
+ANGLES = [float(a) for a in range(0, 360, 30)]
+
+
+def parsed(drawing, **options):
+    return ET.fromstring(linkage.svg_drawing(drawing, **options))
+
+
+def frames(root):
+    return [g for g in root.iter(f"{SVG}g") if g.get("class") == "frame"]
+
+
+def joints_of(frame):
+    return {c.get("data-joint"): (float(c.get("cx")), float(c.get("cy")))
+            for c in frame.iter(f"{SVG}circle")}
+
+
+def texts(element, cls):
+    return ["".join(t.itertext()) for t in element.iter(f"{SVG}text") if t.get("class") == cls]
+
+
+@pytest.mark.parametrize("kind", list(linkage.MECHANISM_EXAMPLES))
+def test_each_frame_puts_the_joints_where_the_engine_says(kind):
+    """Two frames' moving joints, in SVG pixels, against the kind's projection of
+    joint_positions: svg = origin + scale (x, -y), to the file's 0.1 pixel."""
+    link = linkage.Linkage(kind, **linkage.MECHANISM_EXAMPLES[kind])
+    root = parsed(linkage.mechanism_drawing(link, ANGLES))
+    assert root.get("data-kind") == kind
+    groups = frames(root)
+    assert [float(g.get("data-phi")) for g in groups] == ANGLES
+    scale = float(root.get("data-scale"))
+    left, top = map(float, root.get("data-origin").split())
+    for index in (1, 7):
+        pose = linkage.joint_positions(link, ANGLES[index])
+        drawn = joints_of(groups[index])
+        want = ("A", "C") if link.is_slider else ("A", "B")
+        assert sorted(drawn) == sorted(want)
+        for name in want:
+            x, y = linkage.project(kind, pose.joints[name])
+            assert drawn[name] == pytest.approx((left + scale * x, top - scale * y), abs=0.051)
+    assert {c.get("data-joint") for c in root.find(f"{SVG}g[@class='ground']").iter(
+        f"{SVG}circle")} >= {"A0"}
+
+
+def test_the_frames_play_in_turn_and_one_shows_without_animation():
+    drawing = linkage.mechanism_drawing(linkage.Linkage("plane", a=6, b=2, c=7, d=9), ANGLES)
+    groups = frames(parsed(drawing, seconds_per_frame=0.5))
+    assert [g.get("visibility") for g in groups] == ["visible"] + ["hidden"] * 11
+    for i, g in enumerate(groups):
+        (animate,) = g.findall(f"{SVG}animate")
+        assert animate.get("attributeName") == "visibility"
+        assert animate.get("calcMode") == "discrete" and animate.get("dur") == "6s"
+        assert animate.get("repeatCount") == "indefinite"
+        values = animate.get("values").split(";")
+        times = [float(t) for t in animate.get("keyTimes").split(";")]
+        # visible exactly from i/12 to (i + 1)/12 of the turn
+        visible = [t for t, v in zip(times, values) if v == "visible"]
+        assert visible == pytest.approx([i / 12], abs=1e-6)
+        after = times[values.index("visible") + 1]
+        assert after == pytest.approx((i + 1) / 12, abs=1e-6)
+        assert times[0] == 0
+
+
+def test_a_position_that_does_not_exist_is_said_and_not_drawn():
+    """a=6 b=2 c=3 d=2 closes at phi = 0 and not at 180 (|A B0| = 8 > c + d): that frame says
+    so, draws the crank alone; without animation the first frame shows."""
+    drawing = linkage.mechanism_drawing(linkage.Linkage("plane", a=6, b=2, c=3, d=2),
+                                        [180.0, 0.0])
+    groups = frames(parsed(drawing))
+    assert texts(groups[0], "message") == ["not assembled at φ = 180°"]
+    assert sorted(joints_of(groups[0])) == ["A"]
+    assert texts(groups[1], "message") == [] and sorted(joints_of(groups[1])) == ["A", "B"]
+    assert [g.get("visibility") for g in groups] == ["hidden", "visible"]
+
+
+def test_text_is_escaped_and_captions_are_kept():
+    drawing = linkage.mechanism_drawing(linkage.Linkage("slider", b=2, c=7, e=1.5), [10.0],
+                                        title='a <b> & "c"', subtitle="x < y")
+    root = parsed(drawing)
+    assert root.find(f"{SVG}title").text == 'a <b> & "c"'
+    assert texts(root, "subtitle") == ["x < y"]
+    (group,) = frames(root)
+    (caption,) = texts(group, "caption")
+    assert caption.startswith("φ = 10°  x = ")
+    assert group.find(f"{SVG}animate") is None                  # one frame: nothing to play
+
+
+@pytest.mark.parametrize("kind", ["skew", "spherical"])
+def test_the_png_overlays_the_positions(kind):
+    """Mostly white; black (the last position), greys (the earlier ones, faint) and the blue of
+    the shaft axes."""
+    link = linkage.Linkage(kind, **linkage.MECHANISM_EXAMPLES[kind])
+    data = linkage.png_drawing(linkage.mechanism_drawing(link, ANGLES), positions=6)
+    assert data.startswith(b"\x89PNG\r\n\x1a\n")
+    width, height, channels, rows = png_pixels(data)
+    assert width == 800 and 300 <= height <= 1000
+    pixels = [row[i:i + 3] for row in rows for i in range(0, len(row), channels)]
+    assert sum(p == b"\xff\xff\xff" for p in pixels) / len(pixels) > 0.8
+    assert sum(max(p) < 60 for p in pixels) > 1500, "no solid last position"
+    assert sum(150 < p[0] == p[1] == p[2] < 235 for p in pixels) > 1500, "no faint positions"
+    assert sum(p[2] > 150 and p[0] < 100 for p in pixels) > 200, "no blue axis"
