@@ -179,3 +179,13 @@ def test_svg_and_frames_belong_to_mechanism_scenes(tmp_path):
                             capture_output=True, text=True, timeout=60)
     assert result.returncode == 2 and "mechanism scene" in result.stderr
     assert os.listdir(tmp_path) == []
+
+
+def test_the_readmes_svg_is_what_the_program_draws(tmp_path):
+    """data/scenes/fig1c-skew-four-bar.svg, shown in the README, is the scene's --svg now (if
+    a change to the drawing is intended: python3 linkage.py scene data/scenes/fig1c-skew-four-
+    bar.toml --svg data/scenes/fig1c-skew-four-bar.svg)."""
+    status, _, err = run(["scene", str(SCENES / "fig1c-skew-four-bar.toml"), "--svg",
+                          str(tmp_path / "now.svg")])
+    assert status == 0, err
+    assert (tmp_path / "now.svg").read_bytes() == (SCENES / "fig1c-skew-four-bar.svg").read_bytes()
