@@ -2384,9 +2384,11 @@ class _DotGrid:
         self.aspect = 1.0 if unicode else 2.0            # a dot's height over its width
         width, height = cols * self.per_col - 1, rows * self.per_row - 1
         x0, y0, x1, y1 = bounds
-        self.scale = min(width / max(x1 - x0, 1e-300), height * self.aspect / max(y1 - y0, 1e-300))
+        self.scale = min(width / max(x1 - x0, 1e-300),
+                         height * self.aspect / max(y1 - y0, 1e-300))
         self.left = (width - (x1 - x0) * self.scale) / 2 - x0 * self.scale
-        self.top = (height - (y1 - y0) * self.scale / self.aspect) / 2 + y1 * self.scale / self.aspect
+        down = self.scale / self.aspect                  # page units to dots, vertically
+        self.top = (height - (y1 - y0) * down) / 2 + y1 * down
         self.dots = {}                 # (x, y) -> the ASCII character there
         self.chars = {}                # (col, row) -> a character over the dots
 
@@ -2452,26 +2454,37 @@ def text_drawing(drawing: Drawing, index: int = 0, width: int = 80, height: int 
     return "\n".join(_plain(line, unicode)[:width] for line in lines)
 
 
+def _spread(count: int, wanted: int) -> list[int]:
+    """`wanted` indices spread evenly over range(count), from 0 (all of them, if no more)."""
+    return list(range(count)) if wanted >= count else [i * count // wanted
+                                                       for i in range(wanted)]
+
+
 def _still_frames(drawing: Drawing, frames: int | None) -> list[int]:
     """The frames printed one after another: the first with the linkage there, or `frames`
-    spread evenly over the drawing (all of them, where it has no more)."""
-    count = len(drawing.frames)
+    spread evenly over the drawing."""
     if frames is None:
         return [next((i for i, f in enumerate(drawing.frames) if f.message is None), 0)]
-    return list(range(count)) if frames >= count else [i * count // frames
-                                                       for i in range(frames)]
+    return _spread(len(drawing.frames), frames)
 
 
-def show_drawing(drawing: Drawing, out=None, frames: int | None = None, fps: float = 12.0,
-                 unicode: bool | None = None) -> int:
+def frame_seconds(count: int) -> float:
+    """How long each of `count` frames shows when animated: 12 a second, but a turn of a few
+    positions (a design's) slow enough to see each, up to 0.6 s a frame."""
+    return max(1.0 / 12.0, min(0.6, 3.0 / count))
+
+
+def show_drawing(drawing: Drawing, out=None, frames: int | None = None,
+                 fps: float | None = None, unicode: bool | None = None) -> int:
     """The drawing on `out` (standard output): animated in place on a terminal, at `fps` frames
-    a second, until q (exit status 0) or Ctrl-C (KeyboardInterrupt); otherwise, or with
-    `frames`, still frames one after another. ASCII where out's encoding is not UTF-8."""
+    a second (1 / frame_seconds()), until q (exit status 0) or Ctrl-C (KeyboardInterrupt);
+    otherwise, or with `frames`, still frames one after another. ASCII where out's encoding is
+    not UTF-8."""
     out = sys.stdout if out is None else out
     if unicode is None:
         unicode = (getattr(out, "encoding", None) or "").lower().replace("-", "") == "utf8"
     if frames is None and len(drawing.frames) > 1 and out.isatty():
-        return _animate(drawing, out, fps, unicode)
+        return _animate(drawing, out, fps or 1.0 / frame_seconds(len(drawing.frames)), unicode)
     width, height = shutil.get_terminal_size() if out.isatty() else _text_size()
     out.write("\n\n".join(text_drawing(drawing, i, width, height, unicode)
                           for i in _still_frames(drawing, frames)) + "\n")
@@ -2610,7 +2623,8 @@ polyline.outline{stroke:#b5b5b5;stroke-width:1.3}
 polyline.dimension{stroke:#7a7a7a;stroke-width:0.9}
 .joint,.pivot{fill:#fff;stroke:#1b1b1b;stroke-width:2}
 .pivot{fill:#d8d8d8}
-.label{font:italic 19px 'DejaVu Serif',Georgia,serif;fill:#1b1b1b;text-anchor:middle;dominant-baseline:central}
+.label{font:italic 19px 'DejaVu Serif',Georgia,serif;fill:#1b1b1b;text-anchor:middle;
+dominant-baseline:central}
 .title{font:bold 16px 'DejaVu Sans',Arial,sans-serif;fill:#1b1b1b}
 .subtitle{font:13px 'DejaVu Sans',Arial,sans-serif;fill:#555}
 .caption{font:15px 'DejaVu Sans',Arial,sans-serif;fill:#1b1b1b;white-space:pre}
@@ -2649,7 +2663,8 @@ def _xml(text: str) -> str:
 
 
 def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str:
-    """The drawing as one animated SVG (SMIL; 12 frames a second unless seconds_per_frame)."""
+    """The drawing as one animated SVG (SMIL; each frame frame_seconds() unless
+    seconds_per_frame)."""
     x0, y0, x1, y1 = drawing.bounds
     margin, head, foot = 16, 58, 40
     scale = min((SVG_WIDTH - 2 * margin) / max(x1 - x0, 1e-300), 640 / max(y1 - y0, 1e-300))
@@ -2658,7 +2673,7 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
     page = _SvgPage(scale, (width - (x1 - x0) * scale) / 2 - x0 * scale, head + y1 * scale)
     count = len(drawing.frames)
     shown = _still_frames(drawing, None)[0]
-    period = (seconds_per_frame or 1.0 / 12.0) * count
+    period = (seconds_per_frame or frame_seconds(count)) * count
     out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
            f'viewBox="0 0 {width} {height}" data-kind="{drawing.kind}" data-frames="{count}" '
            f'data-scale="{scale!r}" data-origin="{page.left!r} {page.top!r}">',
@@ -2720,7 +2735,7 @@ def png_drawing(drawing: Drawing, positions: int = 12) -> bytes:
     import io
     MplFigure, FigureCanvasAgg = _matplotlib()
     placed = [f for f in drawing.frames if f.message is None] or list(drawing.frames)
-    chosen = [placed[i * len(placed) // positions] for i in range(min(positions, len(placed)))]
+    chosen = [placed[i] for i in _spread(len(placed), positions)]
     x0, y0, x1, y1 = drawing.bounds
     width = 8.0
     mpl = MplFigure(figsize=(width, min(10.0, max(3.0, width * (y1 - y0) / (x1 - x0) + 0.9))),

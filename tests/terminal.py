@@ -38,7 +38,8 @@ class Terminal:
         """Read the screen until `text` appears at or after byte `after`; where it begins."""
         deadline = time.monotonic() + timeout
         while text not in self.seen[after:]:
-            ready, _, _ = select.select([self.master], [], [], max(0.0, deadline - time.monotonic()))
+            left = max(0.0, deadline - time.monotonic())
+            ready, _, _ = select.select([self.master], [], [], left)
             assert ready, f"waited for {text!r}; the screen shows {self.seen[-300:]!r}"
             try:
                 self.seen += os.read(self.master, 4096)

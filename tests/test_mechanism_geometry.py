@@ -72,7 +72,8 @@ def problems(kind, dims, phi, branch):
 
     def output_angle(got):
         if angle_difference(got, motion.output) > ANGLE_TOL:
-            out.append(f"the output angle from the joints is {got!r}, the engine's {motion.output!r}")
+            out.append(f"the output angle from the joints is {got!r}, "
+                       f"the engine's {motion.output!r}")
 
     for name, (point, direction) in axes.items():
         zero(norm(direction) - 1.0, f"axis {name} is not a unit vector", 1e-15)

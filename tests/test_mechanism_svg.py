@@ -98,12 +98,15 @@ def test_text_is_escaped_and_captions_are_kept():
     assert group.find(f"{SVG}animate") is None                  # one frame: nothing to play
 
 
-@pytest.mark.parametrize("kind", ["skew", "spherical"])
-def test_the_png_overlays_the_positions(kind):
+@pytest.mark.parametrize("kind, count, positions", [("skew", 12, 6), ("spherical", 12, 6),
+                                                     ("slider", 3, 12)])
+def test_the_png_overlays_the_positions(kind, count, positions):
     """Mostly white; black (the last position), greys (the earlier ones, faint) and the blue of
-    the shaft axes."""
+    the shaft axes (the slider's: its line of centres). A drawing of fewer frames than
+    `positions` shows them all."""
     link = linkage.Linkage(kind, **linkage.MECHANISM_EXAMPLES[kind])
-    data = linkage.png_drawing(linkage.mechanism_drawing(link, ANGLES), positions=6)
+    drawing = linkage.mechanism_drawing(link, ANGLES[:count])
+    data = linkage.png_drawing(drawing, positions=positions)
     assert data.startswith(b"\x89PNG\r\n\x1a\n")
     width, height, channels, rows = png_pixels(data)
     assert width == 800 and 300 <= height <= 1000

@@ -70,7 +70,8 @@ def test_joints_are_drawn_where_they_are():
         found = {(row, col): ch for row, line in enumerate(lines) for col, ch in enumerate(line)
                  if ch in "●◉"}
         marks = drawing.ground.marks + frame.layer.marks
-        want = {dot_of(drawing, 100, 30, m.at): "◉" if m.kind == "pivot" else "●" for m in marks}
+        want = {dot_of(drawing, 100, 30, m.at): "◉" if m.kind == "pivot" else "●"
+                for m in marks}
         assert found == want
 
 
