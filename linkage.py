@@ -4132,8 +4132,9 @@ def _design_lines(design):
 
 
 def design_command(argv):
-    """`python3 linkage.py design METHOD --name value ... [--analyze] [--dat DIR]` (argv: the words after
-    `design`): print the design, `name = value` a line; exit 0, 1 bad data, 2 usage, 3 a miss."""
+    """`python3 linkage.py design METHOD --name value ... [--analyze] [--dat DIR] [--svg OUT]
+    [--png OUT] [--text]` (argv: the words after `design`): print the design, `name = value` a
+    line, and draw it; exit 0, 1 bad data, 2 usage, 3 a miss."""
     argv = list(argv)
     if argv[:1] == ["design"]:
         argv = argv[1:]
@@ -4180,8 +4181,7 @@ def design_command(argv):
             code = code or (3 if bad else 0)
     if args.dat is not None:
         link = result.design.linkage
-        kind = "plane" if isinstance(link, FourBar) else "slider"
-        dims = {name: getattr(link, name) for name in LINKAGE_DIMENSIONS[kind]}
+        kind, dims = _kind_dims(link)
         try:
             motions = Linkage(kind, **dims).sweep(evenly_spaced_angles(0.0, 360.0, 1.0),
                                                   link.branch)
@@ -4949,17 +4949,11 @@ def png_figure(figure: Figure, path: str) -> None:
 
 # -- the commands ------------------------------------------------------------------------------
 
-def _draw_command(args: argparse.Namespace, make_figure) -> int:
-    """Make the figure and draw it: the PNG with --png, the text plot with --text or without
-    --png. Every way it can fail is a message and exit status 1 (130 for Ctrl-C)."""
+def _reported(work) -> int:
+    """work()'s exit status (0 for None), or, where it fails, a message on standard error and
+    status 1 (130 for Ctrl-C)."""
     try:
-        if args.png:
-            _matplotlib()                       # fail before any work
-        figure = make_figure()
-        if args.png:
-            png_figure(figure, args.png)
-        if args.text or not args.png:
-            sys.stdout.write(text_figure(figure))
+        return work() or 0
     except (SceneError, PlotUnavailable) as e:
         print(f"linkage.py: {e}", file=sys.stderr)
         return 1
@@ -4969,7 +4963,20 @@ def _draw_command(args: argparse.Namespace, make_figure) -> int:
     except KeyboardInterrupt:
         print("linkage.py: interrupted", file=sys.stderr)
         return 130
-    return 0
+
+
+def _draw_command(args: argparse.Namespace, make_figure) -> int:
+    """Make the figure and draw it: the PNG with --png, the text plot with --text or without
+    --png (_reported: every way it can fail is a message and a non-zero status)."""
+    def draw():
+        if args.png:
+            _matplotlib()                       # fail before any work
+        figure = make_figure()
+        if args.png:
+            png_figure(figure, args.png)
+        if args.text or not args.png:
+            sys.stdout.write(text_figure(figure))
+    return _reported(draw)
 
 
 def scene_drawing(scene: Scene) -> Drawing:
@@ -4996,8 +5003,8 @@ def _check_frames(frames) -> None:
 def drawing_command(args: argparse.Namespace, make_drawing) -> int:
     """Draw the mechanism: an animated SVG with --svg, a PNG with --png, the terminal view with
     --text or neither (animated on a terminal; piped, --frames N stills). Files are written
-    whole or not at all; every way it can fail is a message and exit status 1 (130: Ctrl-C)."""
-    try:
+    whole or not at all (_reported: every way it can fail is a message and a non-zero status)."""
+    def draw():
         _check_frames(args.frames)
         if args.png:
             _matplotlib()                       # fail before any work
@@ -5011,16 +5018,7 @@ def drawing_command(args: argparse.Namespace, make_drawing) -> int:
                       f"{'s' * (len(drawing.frames) > 1)})", file=sys.stderr)
         if args.text or not (args.svg or args.png):
             return show_drawing(drawing, frames=args.frames)
-    except (SceneError, PlotUnavailable) as e:
-        print(f"linkage.py: {e}", file=sys.stderr)
-        return 1
-    except OSError as e:
-        print(f"linkage.py: {e.filename or ''}: {e.strerror}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print("linkage.py: interrupted", file=sys.stderr)
-        return 130
-    return 0
+    return _reported(draw)
 
 
 def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
