@@ -1008,6 +1008,11 @@ class ProgramStop(Exception):
     """The port stops where the original would hang or lose data; the message says why."""
 
 
+class WriteError(ProgramStop):
+    """A file could not be written (the message names it and says why); nothing half-written
+    is left and the old files stand."""
+
+
 class Keys:
     """Keystrokes one at a time from a byte stream, as PC-BASIC reads its --input file:
     CR LF is one Enter, NUL and the byte after it are one extended key. On a terminal
@@ -1019,6 +1024,7 @@ class Keys:
         self._fold = fold_crlf
         self._ready = pending
         self._pushed_back = b""
+        self.line_feeds = 0        # read so far: a hint when the keys run out
 
     def _byte(self) -> bytes:
         if self._pushed_back:
@@ -1027,6 +1033,8 @@ class Keys:
         byte = self._read()
         if not byte:
             raise EndOfKeys
+        if byte == b"\n":
+            self.line_feeds += 1
         return byte
 
     def get(self) -> str:
@@ -1097,23 +1105,29 @@ def input_number(screen: Screen, keys: Keys, prompt: str) -> Single:
         screen.line("?Redo from start")
 
 
-def _read_line(screen: Screen, keys: Keys, column: int) -> tuple[str, str]:  # ERRATA P5
+INPUT_LINE = 255     # characters of an answer kept, as GW-BASIC's line buffer keeps them
+
+
+def _read_line(screen: Screen, keys: Keys, column: int) -> tuple[str, str]:  # ERRATA P5, P7
     """The line typed up to Enter, and its echo. Backspace deletes, Esc clears, Tab moves to the
     next of GW-BASIC's 8-column stops (the echo shows the gap only once something follows it),
     a line feed only breaks the echo (PC-BASIC's behaviour); other control keys and extended
-    keys are ignored."""
+    keys are ignored. The answer keeps its first INPUT_LINE characters (the echo of a redirected
+    session shows them all, as PC-BASIC's transcript does; a terminal takes no more)."""
     pieces: list[str] = []     # typed characters; "\t" + the spaces of a Tab; "\n", a line feed
+    length = 0                 # characters typed so far, a Tab's spaces among them
     while True:
-        typed = "".join(p.lstrip("\t") for p in pieces if p != "\n")
         key = keys.get()
         if key == "\r":
             while pieces and pieces[-1].startswith("\t"):
                 pieces.pop()
-            return typed, "".join(p.lstrip("\t") for p in pieces)
+            echo = "".join(p.lstrip("\t") for p in pieces)
+            return echo.replace("\n", "")[:INPUT_LINE], echo
         if key == "\b" or (key == "\x7f" and screen.terminal):
             while pieces and pieces[-1] == "\n":
                 pieces.pop()
             if pieces:
+                length -= 1
                 pieces[-1] = pieces[-1][:-1]
                 if pieces[-1] in ("", "\t"):
                     pieces.pop()
@@ -1121,17 +1135,21 @@ def _read_line(screen: Screen, keys: Keys, column: int) -> tuple[str, str]:  # E
                     screen.text("\b \b")
         elif key == "\x1b":
             if screen.terminal:
-                screen.text("\b \b" * len(typed))
-            pieces = []
-        elif key == "\t":
-            spaces = " " * (8 - (column + len(typed)) % 8)
-            pieces.append("\t" + spaces)
-            if screen.terminal:
-                screen.text(spaces)
+                screen.text("\b \b" * length)
+            pieces, length = [], 0
         elif key == "\n":
             pieces.append("\n")
+        elif screen.terminal and length >= INPUT_LINE and (key == "\t" or len(key) == 1):
+            screen.beep()                                   # the line is full
+        elif key == "\t":
+            spaces = " " * (8 - (column + length) % 8)
+            pieces.append("\t" + spaces)
+            length += len(spaces)
+            if screen.terminal:
+                screen.text(spaces)
         elif len(key) == 1 and " " <= key != "\x7f":
             pieces.append(key)
+            length += 1
             if screen.terminal:
                 screen.text(key)
 
@@ -1153,8 +1171,22 @@ def input_value(typed: str) -> Single | None:
     sign, mantissa, marker, exp_sign, exp_digits = match.groups(default="")
     whole, _, fraction = mantissa.partition(".")
     fraction = fraction.replace(".", "")
+    if len(exp_digits) > 8:                 # any exponent this long is far outside the range
+        exp_digits = exp_digits.lstrip("0")[:8].rjust(8, "0")
     exponent = f"{marker}{exp_sign}{exp_digits or '0'}" if marker else ""
     negative, n, power, double = decimal_parts(f"{sign}{whole}.{fraction}{exponent}{suffix}")
+    if n >= DOUBLE_OVERFLOW:  # ERRATA P7
+        # PC-BASIC gathers the digits into one register before it applies the decimal point
+        # and the exponent: 39 digits or more can overflow it ("1.5" then 38 zeros; "E-30"
+        # after them does not help), and the answer is the largest single, signed.
+        if len(number) < INPUT_LINE:
+            _soft_error(OVERFLOW)
+            if double:
+                _soft_error(OVERFLOW)
+            return Single(-MBF_MAX if negative else MBF_MAX)
+        _soft_error(OVERFLOW)
+    if len(number) >= INPUT_LINE:  # ERRATA P7: a number as long as the whole line
+        return None
     if n == 0:
         # PC-BASIC reads a zero (or missing) mantissa with an exponent as 2^-129 times its power
         # of ten, whatever the sign: "E5", "-0E5" are 1.469368E-34; "E", "0E-3" are 0.
@@ -1190,47 +1222,222 @@ def key_value(key: str) -> int:
     return "0123456789".find(key) if len(key) == 1 and key in "0123456789" else 0
 
 
+# -- writing files: whole or not at all (ERRATA P3) --------------------------------------------
+#
+# Every file the program writes goes through _Temporary: the menu's and run's DAT files in both
+# precisions, design --dat, the scenes' DAT files, the SVG and PNG drawings. It is written as it
+# comes under a unique name in the target folder, flushed to the disk and renamed over its own
+# name only when complete; on any failure or signal it is removed and the old file stands.
+
+class Interrupted(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, raised wherever the program is, as Ctrl-C raises KeyboardInterrupt:
+    on the way out every file being written is removed (exit status 128 + the signal)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _interrupted(signum, frame):
+    raise Interrupted(signum)
+
+
+def catch_signals() -> None:
+    """SIGTERM and SIGHUP become Interrupted (main() calls this; the main thread only)."""
+    import signal
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), _interrupted)
+
+
+def interrupted_status(e: KeyboardInterrupt) -> int:
+    """The exit status of an interrupted run: 130 for Ctrl-C, 128 + n for signal n."""
+    return 128 + getattr(e, "signum", 2)
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+class _Temporary:
+    """A file being written under a unique temporary name beside `path` (binary, or text in
+    `encoding` with no newline translation). commit() flushes it to the disk and gives it its
+    name; discard() removes it. OSError from here names `path`, never the temporary."""
+
+    def __init__(self, path: str, encoding: str | None = None):
+        import tempfile
+        self.path, self.file, self.temporary = path, None, None
+        folder = os.path.dirname(os.path.abspath(path))
+        if os.path.isdir(path):
+            raise IsADirectoryError(21, "it is a folder", path)
+        try:
+            fd, self.temporary = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.",
+                                                  suffix=".partial", dir=folder)
+        except OSError as e:
+            raise OSError(e.errno, e.strerror, path) from None
+        try:
+            os.fchmod(fd, 0o666 & ~_umask())
+            self.file = (os.fdopen(fd, "wb") if encoding is None
+                         else os.fdopen(fd, "w", encoding=encoding, newline=""))
+        except BaseException:
+            os.close(fd)
+            self.discard()
+            raise
+
+    def write(self, data) -> None:
+        try:
+            self.file.write(data)
+        except OSError as e:
+            raise OSError(e.errno, e.strerror, self.path) from None
+
+    def finish(self) -> None:
+        """Flush and close, ready to be renamed."""
+        try:
+            self.file.flush()
+            os.fsync(self.file.fileno())
+            self.file.close()
+        except OSError as e:
+            raise OSError(e.errno, e.strerror, self.path) from None
+
+    def rename(self) -> None:
+        try:
+            os.replace(self.temporary, self.path)
+        except OSError as e:
+            raise OSError(e.errno, e.strerror, self.path) from None
+        self.temporary = None
+
+    def discard(self) -> None:
+        """Remove the temporary file, whatever state it is in; never fails."""
+        if self.file is not None:
+            with contextlib.suppress(OSError, ValueError):
+                self.file.close()               # may fail to flush (a full disk): no matter
+        if self.temporary is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(self.temporary)
+            self.temporary = None
+
+
+@contextlib.contextmanager
+def _renaming(folder: str):
+    """While the block runs: SIGINT, SIGTERM and SIGHUP held back, and the folder locked against
+    another of our sessions renaming its set into it; a signal that came meanwhile is dropped,
+    as the work it would have stopped is done."""
+    import signal
+    held = {getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n)}
+    masks = hasattr(signal, "pthread_sigmask")              # not on Windows
+    lock = None
+    with contextlib.suppress(ImportError, OSError):
+        import fcntl
+        lock = os.open(folder, os.O_RDONLY)
+        fcntl.flock(lock, fcntl.LOCK_EX)
+    try:
+        if masks:
+            signal.pthread_sigmask(signal.SIG_BLOCK, held)
+        try:
+            yield
+        finally:
+            if masks:
+                pending = signal.sigpending() & held
+                if pending:
+                    signal.sigtimedwait(pending, 0)
+                signal.pthread_sigmask(signal.SIG_UNBLOCK, held)
+    finally:
+        if lock is not None:
+            os.close(lock)                      # and with it the lock
+
+
+@contextlib.contextmanager
+def written_whole(path):
+    """Open `path` for writing (bytes) so that it is written whole or not at all: into a
+    temporary file of a unique name in the same folder, flushed to the disk and renamed over
+    `path` when the block ends; removed on any failure or interrupt, leaving `path` as it was."""
+    temporary = _Temporary(path)
+    try:
+        yield temporary
+        temporary.finish()
+        with _renaming(os.path.dirname(os.path.abspath(path))):
+            temporary.rename()
+    finally:
+        temporary.discard()
+
+
 class DatFiles:  # ERRATA P3
     """ANG.DAT, VEL.DAT and ACC.DAT written as GW-BASIC's sequential files (CR LF lines, the
-    end-of-file byte 1A on CLOSE). They are written under temporary names and renamed on CLOSE,
-    so an interrupted sweep leaves no file that looks complete."""
+    end-of-file byte 1A on CLOSE), by the menu, `run` in both precisions, design --dat and the
+    scenes. They are written as the points come under temporary names of their own (two
+    sessions in one folder never share one), and on CLOSE flushed to the disk and renamed into
+    place together, signals held and the folder locked: the folder holds the old set or the new
+    one, never a mixture (a name of the three that this set does not write is removed with the
+    old set). Any failure or interrupt removes them. Write errors are a ProgramStop that names
+    the file and the reason."""
 
     NAMES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
 
     def __init__(self, directory: str, count: int = 3):
         """The first `count` of the three files (a scene may ask for fewer)."""
-        names = self.NAMES[:count]
-        self._final = [os.path.join(directory, n) for n in names]
-        self._partial = [os.path.join(directory, f".{n}.partial") for n in names]
-        self._files = []
+        self.directory = directory
+        self.points = 0
+        self._files: list[_Temporary] = []
         try:
-            for path in self._partial:
-                self._files.append(open(path, "w", encoding="ascii", newline=""))
-        except OSError as e:
+            for name in self.NAMES[:count]:
+                self._files.append(_Temporary(os.path.join(directory, name), "ascii"))
+        except BaseException as e:
             self.discard()
-            raise ProgramStop(f"cannot write the DAT files in {directory!r}: {e.strerror}")
-        except BaseException:                   # Ctrl-C between two of the three
-            self.discard()
+            if isinstance(e, OSError):
+                raise WriteError(self._why(e, f"cannot write the DAT files in {directory!r}")) \
+                    from None
             raise
 
-    def write(self, lines: tuple[str, str | None, str | None]) -> None:
-        for f, line in zip(self._files, lines):
-            f.write(line)
+    def __enter__(self) -> "DatFiles":
+        return self
+
+    def __exit__(self, kind, error, trace) -> None:
+        if kind is None:
+            self.close()
+        else:
+            self.discard()
+
+    def write(self, lines) -> None:
+        """One point: a line (or None) for each file."""
+        try:
+            for f, line in zip(self._files, lines):
+                if line is not None:
+                    f.write(line)
+        except OSError as e:
+            self.discard()
+            raise WriteError(self._why(e)) from None
+        self.points += 1
 
     def close(self) -> None:
         """CLOSE (line 1350): the end-of-file byte, then the files get their names."""
-        for f in self._files:
-            f.write("\x1a")
-            f.close()
-        for partial, final in zip(self._partial, self._final):
-            os.replace(partial, final)
+        try:
+            for f in self._files:
+                f.write("\x1a")
+                f.finish()
+            with _renaming(self.directory):
+                for f in self._files:
+                    if os.path.isdir(f.path):
+                        raise IsADirectoryError(21, "it is a folder", f.path)
+                for f in self._files:
+                    f.rename()
+                for name in self.NAMES[len(self._files):]:
+                    with contextlib.suppress(FileNotFoundError):
+                        os.unlink(os.path.join(self.directory, name))
+        except OSError as e:
+            raise WriteError(self._why(e)) from None
+        finally:
+            self.discard()
 
     def discard(self) -> None:
         for f in self._files:
-            f.close()
-        for path in self._partial:
-            if os.path.exists(path):
-                os.remove(path)
+            f.discard()
+
+    @staticmethod
+    def _why(e: OSError, what: str | None = None) -> str:
+        return (f"{what or f'cannot write {e.filename}'}: {e.strerror}; the DAT files there "
+                "are as they were")
 
 
 MENU = ((6, "1. Plane Four Bar"), (8, "2. Spherical Four Bar"), (10, "3. Skew Four Bar"),
@@ -1239,11 +1446,12 @@ BYTES_PER_POINT = 3 * len("-1.234567E+38,-1.234567E+38\r\n")
 
 
 def run_session(screen: Screen, keys: Keys, directory: str = ".",
-                stop_if_illegal: bool = False, derivatives: int = 2) -> None:
+                answered: bool = False, derivatives: int = 2) -> int:
     """The whole program, lines 100-1360, driven by `keys`: the menu until a linkage assembles
-    (or 6), its sweep, the three files. `stop_if_illegal` turns "Illegal linkage" into a
-    ProgramStop instead of a return to the menu (for the run command); `derivatives` below 2
-    leaves out ACC.DAT (and VEL.DAT), for a scene that does not show them."""
+    (or 6), its sweep, the three files; returns the points written. `answered` (the run command
+    and the scenes, see answered_session) turns "Illegal linkage" into a ProgramStop instead of a
+    return to the menu; `derivatives` below 2 leaves out ACC.DAT (and VEL.DAT), for a scene that
+    does not show them."""
     v = Variables()
     while True:
         screen.cls()                                                        # 130-190
@@ -1258,12 +1466,12 @@ def run_session(screen: Screen, keys: Keys, directory: str = ".",
                 bartype = key_value(key)
                 break
             if key == "6":
-                return                                                      # 1360
+                return 0                                                    # 1360
             screen.beep()
         screen.cls()                                                        # 260
         if dimensions(v, bartype, lambda prompt: input_number(screen, keys, prompt)):
             break
-        if stop_if_illegal:
+        if answered:
             raise ProgramStop("Illegal linkage (impossible to assemble)")
         screen.cls()                                                        # 500
         screen.locate(12, 20)
@@ -1281,43 +1489,45 @@ def run_session(screen: Screen, keys: Keys, directory: str = ".",
         if 1 <= SOL <= 2:
             break
         screen.beep()
-    sweep(screen, co, degrees_to_radians(PHI1), degrees_to_radians(PHI2), INC, SOL, v.S,
-          directory, derivatives)                                           # 1000-1350
+    return sweep(screen, co, degrees_to_radians(PHI1), degrees_to_radians(PHI2), INC, SOL,
+                 v.S, directory, derivatives, answered)                     # 1000-1350
 
 
 def answered_session(screen: Screen, key: str, answers: list[str], branch: str,
-                     directory: str, derivatives: int = 2) -> None:
+                     directory: str, derivatives: int = 2) -> int:
     """The program given its menu key, the answers to its prompts in the order it asks them
     (dimensions, first and second bound, increment) and the branch key, as the `run` command
-    and the scenes drive it. "Illegal linkage" is a ProgramStop."""
+    and the scenes drive it: "Illegal linkage" and a sweep of no point are a ProgramStop (the
+    old files kept), a long sweep shows its progress on a terminal. Returns the points written."""
     keystrokes = (key + "".join(a + "\r" for a in answers) + branch).encode("latin-1")
     stream = iter(keystrokes[i:i + 1] for i in range(len(keystrokes)))
-    run_session(screen, Keys(lambda: next(stream, b""), fold_crlf=True), directory,
-                stop_if_illegal=True, derivatives=derivatives)
+    return run_session(screen, Keys(lambda: next(stream, b""), fold_crlf=True), directory,
+                       answered=True, derivatives=derivatives)
 
 
 def sweep(screen: Screen, co, PHI1: Single, PHI2: Single, INC: Single, SOL: int, S: Single,
-          directory: str, derivatives: int = 2) -> None:
-    """Lines 1020-1350: open the files, sweep PHI, close."""
-    files = DatFiles(directory, 1 + derivatives)                            # 1020-1040
-    try:
-        check_sweep(PHI1, PHI2, INC, directory)
-        for PHI in sweep_angles(PHI1, PHI2, INC):                           # 1050, 1340
-            files.write(sweep_point(co, PHI, SOL, S, derivatives))
-            screen.show_soft_errors()
-    except BaseException:
-        files.discard()
-        raise
-    files.close()                                                           # 1350
+          directory: str, derivatives: int = 2, answered: bool = False) -> int:
+    """Lines 1020-1350: open the files, sweep PHI, close. Returns the points written."""
+    with DatFiles(directory, 1 + derivatives) as files:                     # 1020-1040
+        expected = check_sweep(PHI1, PHI2, INC, directory)
+        with Progress(expected if answered else 0) as progress:
+            for PHI in sweep_angles(PHI1, PHI2, INC):                       # 1050, 1340
+                files.write(sweep_point(co, PHI, SOL, S, derivatives))
+                screen.show_soft_errors()
+                progress()
+        if answered and not files.points:
+            raise ProgramStop("the sweep has no point: the second bound lies behind the first "
+                              "for this increment (the original writes empty files)")
+    return files.points                                                     # 1350
 
 
-def check_sweep(PHI1: Single, PHI2: Single, INC: Single, directory: str) -> None:
-    """Refuse the sweeps the original would never finish."""
+def check_sweep(PHI1: Single, PHI2: Single, INC: Single, directory: str) -> float:
+    """Refuse the sweeps the original would never finish; the number of points, about."""
     if INC == 0:  # ERRATA P1
         raise ProgramStop("the increment is 0: the original would write points for ever "
                           "(GW-BASIC's FOR never ends with STEP 0)")
     if (INC > 0 and PHI1 > PHI2) or (INC < 0 and PHI1 < PHI2):
-        return
+        return 0
     far = PHI1 if abs(PHI1.v) > abs(PHI2.v) else PHI2  # ERRATA P2
     if mbf_add(far.v, INC.v) == far.v:
         raise ProgramStop("the increment is too small for single precision: the input angle "
@@ -1328,6 +1538,64 @@ def check_sweep(PHI1: Single, PHI2: Single, INC: Single, directory: str) -> None
         raise ProgramStop(f"the sweep has about {points:,.0f} points, up to "
                           f"{points * BYTES_PER_POINT:,.0f} bytes of DAT files, and only "
                           f"{free:,} bytes are free in {directory!r}")
+    return points
+
+
+class Progress:
+    """A long sweep's progress on a terminal's standard error: points done, rate, time left,
+    redrawn at most twice a second once the sweep has run a second, and wiped at the end.
+    Nothing where standard error is not a terminal (never in the files or a piped transcript),
+    nor for `total` 0 (unknown)."""
+
+    def __init__(self, total: float, out=None):
+        import time
+        out = sys.stderr if out is None else out
+        self.total, self.done, self.out, self.shown = total, 0, out, False
+        self.live = bool(total) and out is not None and _isatty(out)
+        self.clock = time.monotonic
+        self.start = self.next = self.clock() + 1.0 if self.live else 0.0
+        self.start -= 1.0
+
+    def __call__(self, points: int = 1) -> None:
+        self.done += points
+        if self.live and (self.done & 255 == 0 or points > 1) and self.clock() >= self.next:
+            self._show()
+
+    def _show(self) -> None:
+        now = self.clock()
+        self.next = now + 0.5
+        rate = self.done / max(now - self.start, 1e-9)
+        left = max(self.total - self.done, 0) / rate
+        text = (f"\r{self.done:,} of {self.total:,.0f} points, {rate:,.0f} a second, "
+                f"{_duration(left)} left")
+        with contextlib.suppress(OSError, ValueError):
+            self.out.write(text + "\x1b[K")
+            self.out.flush()
+            self.shown = True
+
+    def __enter__(self) -> "Progress":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.shown:
+            with contextlib.suppress(OSError, ValueError):
+                self.out.write("\r\x1b[K")
+                self.out.flush()
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 60:
+        return f"{seconds:.0f} s"
+    if seconds < 3600:
+        return f"{seconds // 60:.0f} min {seconds % 60:02.0f} s"
+    return f"{seconds // 3600:.0f} h {seconds % 3600 // 60:02.0f} min"
+
+
+def _isatty(stream) -> bool:
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        return stream.isatty()
+    return False
+
 
 # ---- The accurate engine ------------------------------------------------------------------
 #
@@ -1772,50 +2040,29 @@ def _slider_point(k, zero, phi, c, s, sign, level, unit):
 
 # -- angles and files ----------------------------------------------------------------------------
 
+def angle_count(start, stop, step) -> int:
+    """How many input angles start, start + step, ... reach stop (within step / 1e9)."""
+    if step == 0 or not all(math.isfinite(v) for v in (start, stop, step)):
+        raise ValueError("start, stop and step must be finite and step non-zero")
+    steps = (stop - start) / step
+    if not math.isfinite(steps) or steps > 2.0 ** 62:
+        raise ValueError(f"from {start:g} to {stop:g} by {step:g} is too many points")
+    return max(math.floor(steps + 1e-9) + 1, 0)
+
+
 def evenly_spaced_angles(start, stop, step):
     """The input angles start, start + step, ... up to stop (within step / 1e9), each computed
     as start + i * step: no accumulated rounding (the listing's single-precision FOR drifts,
     quirk K10)."""
-    if step == 0 or not all(math.isfinite(v) for v in (start, stop, step)):
-        raise ValueError("start, stop and step must be finite and step non-zero")
-    count = math.floor((stop - start) / step + 1e-9) + 1
-    return [start + i * step for i in range(max(count, 0))]
+    return [start + i * step for i in range(angle_count(start, stop, step))]
 
 
-def _umask():
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-@contextlib.contextmanager
-def written_whole(path):
-    """Open `path` for writing (bytes) so that it is written whole or not at all: into a
-    temporary file of a unique name in the same folder, flushed to the disk and renamed over
-    `path` when the block ends; removed on any failure or interrupt, leaving `path` as it was."""
-    import tempfile
-    try:
-        fd, temporary = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.",
-                                         suffix=".partial",
-                                         dir=os.path.dirname(os.path.abspath(path)))
-    except OSError as e:                        # say the file asked for, not the temporary
-        raise OSError(e.errno, e.strerror, path) from None
-    try:
-        os.fchmod(fd, 0o666 & ~_umask())
-        with os.fdopen(fd, "wb") as fh:
-            yield fh
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(temporary, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(temporary)
-        raise
-
-
-def write_dat_files(motions, directory=".", *, clip=False, missing="skip"):
-    """Write ANG.DAT, VEL.DAT and ACC.DAT in the listing's format ("phi,value" lines, CRLF, a 0x1A
-    end byte) at full precision: each number as the shortest text that reads back exactly (repr).
+def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files=3) -> int:
+    """Write ANG.DAT, VEL.DAT and ACC.DAT (the first `files` of them) in the listing's format
+    ("phi,value" lines, CRLF, a 0x1A end byte) at full precision: each number as the shortest
+    text that reads back exactly (repr). `motions` may be any iterable (a generator keeps a long
+    sweep out of memory); the files are written whole or not at all (DatFiles). Returns the
+    number of motions.
 
     Unclipped unless clip=True (then VEL and ACC are clipped to +-3 as lines 1200-1300 do). A value
     that is None (see Motion.status) is left out of its file (missing="skip"), or written as 0 as
@@ -1823,20 +2070,22 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip"):
     """
     if missing not in ("skip", "zero"):
         raise ValueError('missing is "skip" or "zero"')
-    motions = list(motions)
-    for name, column in (("ANG.DAT", 1), ("VEL.DAT", 2), ("ACC.DAT", 3)):
-        lines = []
-        for row in motions:
-            value = row[column]
+    zero = 0.0 if missing == "zero" else None
+
+    def line(phi, value, clipped):
+        if value is None:
+            value = zero
             if value is None:
-                if missing == "skip":
-                    continue
-                value = 0.0
-            elif clip and column > 1:
-                value = min(3.0, max(-3.0, value))
-            lines.append("%r,%r\r\n" % (float(row[0]), float(value)))
-        with open(os.path.join(directory, name), "wb") as fh:
-            fh.write("".join(lines).encode("ascii") + b"\x1a")
+                return None
+        elif clipped:
+            value = min(3.0, max(-3.0, value))
+        return "%r,%r\r\n" % (phi, float(value))
+
+    with DatFiles(directory, files) as out:
+        for row in motions:
+            phi = float(row[0])
+            out.write((line(phi, row[1], False), line(phi, row[2], clip), line(phi, row[3], clip)))
+    return out.points
 
 
 # ---- The mechanism view: joint positions, drawings, and their renderers ----------------------
@@ -4074,7 +4323,16 @@ class _UsageError(Exception):
     """A command line argparse refuses."""
 
 
-class _Parser(argparse.ArgumentParser):
+class CommandParser(argparse.ArgumentParser):
+    """argparse, taking a negative number in any form (-1e3, -.5, -1D3) as an option's value
+    (argparse before Python 3.13 takes -1e3 for an option and says "expected one argument")."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"-\.?\d")
+
+
+class _Parser(CommandParser):
     """argparse that raises instead of exiting, so that design_command returns its code."""
 
     def error(self, message):
@@ -4186,9 +4444,8 @@ def design_command(argv):
             motions = Linkage(kind, **dims).sweep(evenly_spaced_angles(0.0, 360.0, 1.0),
                                                   link.branch)
             write_dat_files(motions, args.dat)
-        except OSError as error:
-            print(f"linkage.py design: error: cannot write the DAT files: {error}",
-                  file=sys.stderr)
+        except ProgramStop as error:
+            print(f"linkage.py design: error: {error}", file=sys.stderr)
             return 1
         print(f"dat = {args.dat}  # ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution, "
               f"0 to 360 by 1 degree, branch {link.branch}, double precision")
@@ -4478,6 +4735,8 @@ def _faithful_files(scene: Scene, branch: int, directory: str) -> list[str]:
     screen = Screen(lambda s: None, terminal=False, soft_errors=soft_errors.append)
     try:
         answered_session(screen, key, answers, str(branch), directory, scene.derivatives)
+    except WriteError as e:
+        raise SceneError(str(e)) from None
     except ProgramStop as stop:
         where = "dimensions" if "Illegal linkage" in str(stop) else "input"
         raise _scene_error(scene.path, where, "what the original program accepts (precision "
@@ -4533,10 +4792,10 @@ def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
         except OSError as e:
             raise SceneError(f"cannot make the folder {where!r}: {e.strerror}") from None
         if precision == "double":
-            write_dat_files(accurate[branch], where)
-            for file, level in (("VEL.DAT", 1), ("ACC.DAT", 2)):     # not computed: no file
-                if scene.derivatives < level:
-                    os.remove(os.path.join(where, file))
+            try:
+                write_dat_files(accurate[branch], where, files=1 + scene.derivatives)
+            except WriteError as e:
+                raise SceneError(str(e)) from None
         else:
             errors = _faithful_files(scene, branch, where)
             if errors and report is not None:
@@ -5022,8 +5281,8 @@ def drawing_command(args: argparse.Namespace, make_drawing) -> int:
 
 
 def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py scene FILE`: compute the scene, write its DAT files, draw it; a
-    mechanism scene is drawn (and animated) instead, and writes no DAT file."""
+    """`python3 linkage.py scene FILE`: compute the scene and draw it, keeping its DAT files in
+    --dir if given; a mechanism scene is drawn (and animated) instead, and writes no DAT file."""
     try:
         scene = load_scene(args.file)
     except SceneError as e:
@@ -5035,10 +5294,15 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
         parser.error(f"--svg and --frames draw a mechanism scene; {args.file} plots curves "
                      "(--png, --text)")
 
-    def report(message):
-        print(f"linkage.py: {message}", file=sys.stderr)
-    return _draw_command(args, lambda: scene_figure(scene, compute_scene(scene, args.dir,
-                                                                         report)))
+    def figure():
+        if args.dir is not None:
+            series = compute_scene(scene, args.dir, _say)
+            _say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.dir}")
+            return scene_figure(scene, series)
+        import tempfile
+        with tempfile.TemporaryDirectory(prefix="linkage-scene-") as where:
+            return scene_figure(scene, compute_scene(scene, where, _say))
+    return _draw_command(args, figure)
 
 
 def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
@@ -5703,32 +5967,72 @@ DIMENSION_HELP = {
 
 def menu_program(stdin=None, stdout=None, directory: str = ".") -> int:
     """`python3 linkage.py`: the original program on this terminal, or driven by the keys on
-    standard input (`python3 linkage.py < keys.txt`) with PC-BASIC's screen transcript."""
+    standard input (`python3 linkage.py < keys.txt`) with PC-BASIC's screen transcript. A closed
+    standard input is no keys; a closed standard output, no transcript."""
     stdin = sys.stdin if stdin is None else stdin
     stdout = sys.stdout if stdout is None else stdout
-    if not (stdin.isatty() and stdout.isatty()):
-        return redirected_program(stdin.buffer, stdout.buffer, directory)
+    if not (_isatty(stdin) and _isatty(stdout)):
+        return redirected_program(getattr(stdin, "buffer", None),
+                                  getattr(stdout, "buffer", None), directory)
     import select
     fd = stdin.fileno()
+    screen_out = _Transcript(stdout, encode=False)
     with single_keys(fd, carriage_return=True):    # Enter arrives as CR, as on the PC
-
-        def write(s: str) -> None:
-            stdout.write(s)
-            stdout.flush()
         keys = Keys(lambda: os.read(fd, 1), fold_crlf=False,
                     pending=lambda: bool(select.select([fd], [], [], 0.05)[0]))
-        return _run_guarded(Screen(write, terminal=True), keys, directory)
+        status = _run_guarded(Screen(screen_out.write, terminal=True), keys, directory)
+    return screen_out.status(status)
 
 
 def redirected_program(keys_in, screen_out, directory: str = ".") -> int:
     """The menu program reading its keys from the byte stream `keys_in` and writing PC-BASIC's
-    screen transcript (CR LF lines) to the byte stream `screen_out`."""
-    keys = Keys(lambda: keys_in.read(1), fold_crlf=True)
-    screen = Screen(lambda s: screen_out.write(s.encode("utf-8")), terminal=False)
-    try:
-        return _run_guarded(screen, keys, directory)
-    finally:
-        screen_out.flush()
+    screen transcript (CR LF lines) to the byte stream `screen_out` (either may be None: closed).
+    The transcript's failures (a closed pipe, a full disk) never cost the DAT files."""
+    keys = Keys((lambda: keys_in.read(1)) if keys_in is not None else (lambda: b""),
+                fold_crlf=True)
+    transcript = _Transcript(screen_out)
+    status = _run_guarded(Screen(transcript.write, terminal=False), keys, directory)
+    return transcript.status(status)
+
+
+class _Transcript:
+    """The screen's output stream. A failure to write it (a reader that went away, a closed or
+    full standard output) is remembered, not raised: the session goes on and writes its files,
+    and status() says what happened on standard error and gives the exit status."""
+
+    def __init__(self, out, encode: bool = True):
+        self.out, self.encode, self.error = out, encode, None
+        if out is None:
+            self.error = "standard output is closed: no screen transcript"
+
+    def write(self, text: str) -> None:
+        if self.error is None:
+            try:
+                self.out.write(text.encode("utf-8") if self.encode else text)
+                if not self.encode:
+                    self.out.flush()
+            except (OSError, ValueError) as e:
+                self._failed(e)
+
+    def _failed(self, e: Exception) -> None:
+        self.broken_pipe = isinstance(e, BrokenPipeError)
+        self.error = ("the screen transcript's reader stopped reading" if self.broken_pipe
+                      else f"cannot write the screen transcript: {getattr(e, 'strerror', e)}")
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            # nothing more goes there, not even Python's flush at exit
+            os.dup2(os.open(os.devnull, os.O_WRONLY), self.out.fileno())
+
+    def status(self, status: int) -> int:
+        if self.error is None:
+            try:
+                self.out.flush()
+            except (OSError, ValueError) as e:
+                self._failed(e)
+        if self.error is None:
+            return status
+        _say(f"{self.error}; the session went on"
+             + ("" if status else " and its DAT files were written"))
+        return status or (141 if getattr(self, "broken_pipe", False) else 1)
 
 
 def _run_guarded(screen: Screen, keys: Keys, directory: str) -> int:
@@ -5739,15 +6043,60 @@ def _run_guarded(screen: Screen, keys: Keys, directory: str) -> int:
         return 0
     except EndOfKeys:
         error, status = "the keystrokes ended before the program did; no DAT file was written", 1
+        if keys.line_feeds:
+            error += (" (the keys hold line feeds, \\n, but Enter is a carriage return, \\r, "
+                      "as on the PC: printf '1\\r2\\r...' types them)")
     except ProgramStop as stop:
         error, status = str(stop), 1
-    except KeyboardInterrupt:
-        error, status = "interrupted; no DAT file was written", 130
+    except KeyboardInterrupt as e:
+        error, status = "interrupted; no DAT file was written", interrupted_status(e)
     finally:
         if screen.terminal:
             screen.line()
-    print(f"linkage.py: {error}", file=sys.stderr)
+    _say(error)
     return status
+
+
+# -- numbers from the user: one parser a precision ---------------------------------------------
+
+DECIMAL = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+LONGEST_NUMBER = 100        # characters of an ordinary decimal (a typed answer: INPUT_LINE)
+
+
+def decimal_number(text: str, what: str) -> float:
+    """An ordinary decimal number (2, -0.5, 1e-3) as a finite double, or ValueError whose
+    message names `what` (e.g. "--b") and says why."""
+    if not isinstance(text, str) or not text.strip():        # argparse gives [] for --b=--
+        raise ValueError(f"{what}: no number given")
+    typed = text.strip()
+    if len(typed) > LONGEST_NUMBER:
+        raise ValueError(f"{what}: a number of {len(typed):,} characters is too long "
+                         f"(at most {LONGEST_NUMBER})")
+    if not DECIMAL.fullmatch(typed):
+        hint = (" (GW-BASIC's forms such as 1D3, 2#, &H10 are for --precision basic)"
+                if input_value(typed) is not None else "")
+        raise ValueError(f"{what}: {text!r} is not a number{hint}")
+    value = float(typed)
+    if not math.isfinite(value):
+        raise ValueError(f"{what}: {text} is out of range")
+    return value
+
+
+def basic_answer(text: str, what: str) -> str:
+    """An answer for the original's INPUT prompt, as INPUT takes it (GW-BASIC's syntax: 1D3,
+    .5, &H10, an empty answer is 0), or ValueError naming `what`."""
+    if not isinstance(text, str):                             # argparse gives [] for --b=--
+        raise ValueError(f"{what}: no number given")
+    Single.errors.clear()
+    if len(text) > INPUT_LINE:
+        raise ValueError(f"{what}: an answer of {len(text):,} characters is longer than the "
+                         f"{INPUT_LINE} of GW-BASIC's line")
+    if any(c in text for c in "\r\n\x1a") or not text.isprintable():
+        raise ValueError(f"{what}: {text!r} holds a control character")
+    if input_value(text) is None:
+        raise ValueError(f"{what}: {text!r} is not a number the original's INPUT takes")
+    Single.errors.clear()                       # "Overflow": the session says it again
+    return text
 
 
 def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
@@ -5759,47 +6108,87 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
     if missing or extra:
         what = ("missing " + " ".join(missing)) if missing else ("no use for " + " ".join(extra))
         parser.error(f"{args.type} needs {' '.join('--' + n for n in needed)}: {what}")
+    names = list(needed) + ["from", "to", "step"]
     answers = [getattr(args, n) for n in needed] + [args.start, args.stop, args.step]
-    for name, text in zip(list(needed) + ["from", "to", "step"], answers):
-        if input_value(text) is None:
-            parser.error(f"--{name} {text!r} is not a number")
+    number = decimal_number if args.precision == "double" else basic_answer
+    try:
+        answers = [number(text, f"--{name}") for name, text in zip(names, answers)]
+    except ValueError as e:
+        parser.error(str(e))
+    if not os.path.isdir(args.dir):
+        parser.error(f"--dir {args.dir!r} is not a folder")
     if args.precision == "double":
-        return _run_double(args, needed)
+        return _run_double(args, dict(zip(names, answers)))
     if args.clip:
         parser.error("--clip goes with --precision double (the original always clips VEL and ACC)")
     screen = Screen(lambda s: None, terminal=False,
                     soft_errors=lambda s: sys.stderr.write(s.replace("\r\n", "\n")))
-    if not os.path.isdir(args.dir):
-        parser.error(f"--dir {args.dir!r} is not a directory")
     try:
-        answered_session(screen, key, answers, args.branch, args.dir)
+        points = answered_session(screen, key, answers, args.branch, args.dir)
     except ProgramStop as stop:
-        print(f"linkage.py: {stop}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print("linkage.py: interrupted; no DAT file was written", file=sys.stderr)
-        return 130
+        return _said(stop, 1)
+    except KeyboardInterrupt as e:
+        return _said("interrupted; the DAT files there are as they were", interrupted_status(e))
     screen.show_soft_errors()
+    _say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)})")
     return 0
 
 
-def _run_double(args: argparse.Namespace, needed: tuple[str, ...]) -> int:
+def _run_double(args: argparse.Namespace, numbers: dict) -> int:
     """`run ... --precision double`: the accurate engine's numbers in the same three files,
     shortest round-trip text, unclipped unless --clip; positions that do not exist are left out
-    (the original writes zeros there, ERRATA K8)."""
-    dims = {("ksi" if n == "skew" else n): float(getattr(args, n)) for n in needed}
-    start, stop, step = float(args.start), float(args.stop), float(args.step)
-    if step and (stop - start) / step > 10**7:
-        print("linkage.py: more than 10 million points: choose a larger step", file=sys.stderr)
-        return 1
+    (the original writes zeros there, ERRATA K8), and counted in the message."""
+    dims = {("ksi" if n == "skew" else n): numbers[n] for n in MECHANISM_TYPES[args.type][1]}
+    start, stop, step = numbers["from"], numbers["to"], numbers["step"]
     try:
         linkage = Linkage(args.type, **dims)
-        angles = evenly_spaced_angles(start, stop, step)
-        write_dat_files(linkage.sweep(angles, int(args.branch)), args.dir, clip=args.clip)
-    except (ValueError, OSError) as e:
-        print(f"linkage.py: {e}", file=sys.stderr)
-        return 1
+        count = angle_count(start, stop, step)
+    except ValueError as e:
+        return _said(e, 1)
+    if not count:
+        return _said(f"the sweep from {start:g} to {stop:g} by {step:g} has no point", 1)
+    if count > 10**8:
+        return _said(f"{count:,} points is more than 100 million: choose a larger step", 1)
+    assembled = 0
+
+    def motions():
+        nonlocal assembled
+        with Progress(count) as progress:
+            for first in range(0, count, 4096):
+                angles = [start + i * step for i in range(first, min(first + 4096, count))]
+                for m in linkage.sweep(angles, int(args.branch)):
+                    assembled += m.output is not None
+                    yield m
+                progress(len(angles))
+        if not assembled:
+            raise ProgramStop(f"Illegal linkage (impossible to assemble): it assembles at none "
+                              f"of the {count:,} input angles")
+    try:
+        points = write_dat_files(motions(), args.dir, clip=args.clip)
+    except ProgramStop as stop:
+        return _said(stop, 1)
+    except KeyboardInterrupt as e:
+        return _said("interrupted; the DAT files there are as they were", interrupted_status(e))
+    left_out = (f"; {points - assembled:,} without a position, left out"
+                if points > assembled else "")
+    _say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)}"
+         f"{left_out})")
     return 0
+
+
+def _dat_names(count: int) -> str:
+    return ", ".join(DatFiles.NAMES[:count])
+
+
+def _say(message) -> None:
+    """A line on standard error, where there is one (it may be closed)."""
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        print(f"linkage.py: {message}", file=sys.stderr, flush=True)
+
+
+def _said(message, status: int) -> int:
+    _say(message)
+    return status
 
 
 def _mechanism_type(text: str) -> str:
@@ -5818,7 +6207,7 @@ def _benchmark_name(text: str) -> str:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = CommandParser(
         prog="linkage.py", description=__doc__.split("\n\n")[0],
         epilog="With no command: the original menu program.")
     commands = parser.add_subparsers(dest="command")
@@ -5850,7 +6239,8 @@ def build_parser() -> argparse.ArgumentParser:
     scene = commands.add_parser(
         "scene", help="draw a scene of data/scenes: the paper's figures, the hard cases, "
                       "the linkage moving",
-        description="Compute a scene (a TOML file, see data/scenes), write its DAT files and "
+        description="Compute a scene (a TOML file, see data/scenes), keep its DAT files (with "
+                    "--dir) and "
                     "draw its figure: a plain-text plot of 80 x 24 characters unless --png "
                     "is given. A mechanism scene (panels = [{quantities = [\"mechanism\"]}], "
                     "e.g. data/scenes/fig1a-plane-four-bar.toml) draws the linkage itself at "
@@ -5864,9 +6254,10 @@ def build_parser() -> argparse.ArgumentParser:
     scene.add_argument("--frames", type=int, metavar="N",
                        help="a mechanism scene: print N still frames spread evenly over the "
                             "sweep instead of the animation (piped, the default is 1)")
-    scene.add_argument("--dir", default=".", metavar="DIR",
-                       help="where to write the DAT files (default: here); a scene that "
-                            "overlays several series writes one folder each")
+    scene.add_argument("--dir", metavar="DIR",
+                       help="also keep the scene's DAT files, in DIR (without it none is "
+                            "written); a scene that overlays several series writes one folder "
+                            "each")
     scene.set_defaults(handler=scene_command, parser=scene)
     plot = commands.add_parser(
         "plot", help="draw the figure of ANG.DAT, VEL.DAT and ACC.DAT already written",
@@ -5898,16 +6289,43 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    argv = sys.argv[1:] if argv is None else argv
-    if not argv:
-        return menu_program()
-    if argv[0] == "design":
-        return design_command(argv[1:])
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if args.command is None:
-        parser.error("give a command, or none for the menu program")
-    return args.handler(args, args.parser)
+    """The command line (see build_parser): the exit status. Every way a run can fail is a line
+    on standard error and a non-zero status, never a traceback."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    _reopen_closed_streams()
+    with contextlib.suppress(ValueError):       # not the main thread
+        catch_signals()
+    try:
+        if not argv:
+            return menu_program()
+        if argv[0] == "design":
+            return design_command(argv[1:])
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.error("give a command, or none for the menu program")
+        return args.handler(args, args.parser)
+    except KeyboardInterrupt as e:
+        return _said("interrupted", interrupted_status(e))
+    except RecursionError as e:
+        return _said(f"too deeply nested: {e}", 1)
+    except MemoryError:
+        return _said("out of memory", 1)
+
+
+def _reopen_closed_streams() -> None:
+    """A standard stream that was closed (`>&-`) is /dev/null at the descriptor, so that no file
+    the program opens can take its number and receive what was meant for the screen; Python
+    has already made it None, which the program reads as closed."""
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+        except OSError:
+            with contextlib.suppress(OSError):
+                opened = os.open(os.devnull, os.O_RDWR)
+                if opened != fd:
+                    os.dup2(opened, fd)
+                    os.close(opened)
 
 
 if __name__ == "__main__":

@@ -109,6 +109,10 @@ def test_run_writes_what_the_menu_writes(case, tmp_path):
     assert run_port(keys, menu).returncode == 0
     result = subprocess.run(PROGRAM + ["run"] + run_options(keys) + ["--dir", str(run)],
                             capture_output=True, timeout=300)
+    if (menu / "ANG.DAT").read_bytes() == b"\x1a":      # the menu's empty sweep (K14): run refuses
+        assert result.returncode == 1 and b"has no point" in result.stderr
+        assert os.listdir(run) == []
+        return
     assert result.returncode == 0, result.stderr.decode()
     assert dat_files(run) == dat_files(menu)
 
@@ -123,7 +127,7 @@ def test_run_covers_every_mechanism():
     (["plane", "--b", "2", "--c", "7", "--d", "9"], "plane needs --b --c --d --a: missing --a"),
     (["slider", "--b", "2", "--c", "7", "--e", "1", "--d", "3"], "no use for --d"),
     (["skew", "--b", "2"], "skew needs --b --c --d --a --f --skew"),
-    (["plane", "--b", "two", "--c", "7", "--d", "9", "--a", "6"], "--b 'two' is not a number"),
+    (["plane", "--b", "two", "--c", "7", "--d", "9", "--a", "6"], "--b: 'two' is not a number"),
     (["hexagon"], "'hexagon' is not one of plane, spherical, skew, slider, skew-slider"),
 ])
 def test_run_rejects_meaningless_options(options, message, tmp_path):

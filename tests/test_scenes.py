@@ -652,7 +652,7 @@ def test_a_png_that_cannot_be_written_is_explained(tmp_path, capsys):
     path.write_text(scene_file())
     out = tmp_path / "no such folder" / "f.png"
     assert linkage.main(["scene", str(path), "--dir", str(tmp_path), "--png", str(out)]) == 1
-    assert capsys.readouterr().err == f"linkage.py: {out}: No such file or directory\n"
+    assert capsys.readouterr().err.endswith(f"\nlinkage.py: {out}: No such file or directory\n")
 
 
 @pytest.mark.parametrize("what, content, fragments", MISTAKES, ids=[m[0] for m in MISTAKES])
