@@ -1229,6 +1229,18 @@ def key_value(key: str) -> int:
 # comes under a unique name in the target folder, flushed to the disk and renamed over its own
 # name only when complete; on any failure or signal it is removed and the old file stands.
 
+def _say(message) -> None:
+    """A line on standard error, where there is one (it may be closed)."""
+    if sys.stderr is not None:                  # None: closed (print would use stdout)
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            print(f"linkage.py: {message}", file=sys.stderr, flush=True)
+
+
+def _said(message, status: int) -> int:
+    _say(message)
+    return status
+
+
 class Interrupted(KeyboardInterrupt):
     """SIGTERM or SIGHUP, raised wherever the program is, as Ctrl-C raises KeyboardInterrupt:
     on the way out every file being written is removed (exit status 128 + the signal)."""
@@ -1385,6 +1397,8 @@ class DatFiles:  # ERRATA P3
                 self._files.append(_Temporary(os.path.join(directory, name), "ascii"))
         except BaseException as e:
             self.discard()
+            if isinstance(e, IsADirectoryError):
+                raise WriteError(self._why(e)) from None
             if isinstance(e, OSError):
                 raise WriteError(self._why(e, f"cannot write the DAT files in {directory!r}")) \
                     from None
@@ -4809,15 +4823,22 @@ def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
 
 # -- reading DAT files -------------------------------------------------------------------------
 
-def read_dat(path: str) -> list[tuple[float, float]]:
+def read_dat(path: str, warn=None) -> list[tuple[float, float]]:
     """The (input angle, value) pairs of a DAT file as WRITE # writes them (CRLF lines "x,y", the
-    end-of-file byte 1A; numbers like .5, -1.713751E-02) or as the engine writes them (repr)."""
+    end-of-file byte 1A; numbers like .5, -1.713751E-02) or as the engine writes them (repr).
+    warn(message), if given, hears of a file that may have been cut short: empty, without its
+    end-of-file byte, or with its last line unended."""
     try:
         with open(path, "rb") as fh:
             data = fh.read()
     except OSError as e:
         raise SceneError(f"{path}: cannot read: {e.strerror}") from None
     text = data.split(b"\x1a", 1)[0].decode("latin-1")
+    if warn is not None and b"\x1a" not in data:
+        warn(f"{path}: {'empty' if not data else 'no end-of-file byte (1A)'}: the file may have "
+             "been cut short")
+    elif warn is not None and text and not text.endswith("\r\n"):
+        warn(f"{path}: its last line has no line end: the file may have been cut short")
     points = []
     for number, line in enumerate(text.splitlines(), 1):
         if not line.strip():
@@ -4942,6 +4963,9 @@ def _series_label(series: Series, several_precisions: bool, several_branches: bo
     return ", ".join(parts)
 
 
+DRAWN_UP_TO = 1e100      # the largest value a figure draws (GW-BASIC's numbers end at 1.7E+38)
+
+
 def build_figure(title: str, subtitle: str, group: str, specs, series: list[Series]) -> Figure:
     """The figure of `specs` (PanelSpecs) from the DAT files of `series`; group is "four-bar",
     "slider" or "unknown" (the axis labels, and whether outputs are angles)."""
@@ -4960,7 +4984,12 @@ def build_figure(title: str, subtitle: str, group: str, specs, series: list[Seri
                 if len(spec.quantities) > 1 or not label:
                     label = f"{quantity}, {label}" if label else quantity
                 angles = quantity == "displacement" and group != "slider"
-                runs = _runs(read_dat(path), angles)
+                points = read_dat(path, warn=_say)
+                big = max((abs(v) for point in points for v in point), default=0.0)
+                if big > DRAWN_UP_TO:
+                    raise SceneError(f"{path}: a value of {big:.3g} is too large to draw "
+                                     f"(the figures go up to {DRAWN_UP_TO:g})")
+                runs = _runs(points, angles)
                 curve = Curve(label, quantity, s.precision, s.branch, runs)
                 reference = next((c for c in curves if c.quantity == quantity), None)
                 curves.append(_turned(curve, reference) if angles and reference else curve)
@@ -6059,7 +6088,7 @@ def _run_guarded(screen: Screen, keys: Keys, directory: str) -> int:
 
 # -- numbers from the user: one parser a precision ---------------------------------------------
 
-DECIMAL = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+DECIMAL = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
 LONGEST_NUMBER = 100        # characters of an ordinary decimal (a typed answer: INPUT_LINE)
 
 
@@ -6178,17 +6207,6 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
 
 def _dat_names(count: int) -> str:
     return ", ".join(DatFiles.NAMES[:count])
-
-
-def _say(message) -> None:
-    """A line on standard error, where there is one (it may be closed)."""
-    with contextlib.suppress(OSError, ValueError, AttributeError):
-        print(f"linkage.py: {message}", file=sys.stderr, flush=True)
-
-
-def _said(message, status: int) -> int:
-    _say(message)
-    return status
 
 
 def _mechanism_type(text: str) -> str:

@@ -1,0 +1,383 @@
+"""Nothing lost, no traceback: the defects a hostile user found (each reproduced on the program
+before the one writer), and the faults a real machine has — signals at any moment, a full disk,
+a file-size limit, a folder in the way, two sessions in one folder, closed or broken output.
+
+The property everywhere: the folder holds the old set of DAT files or a complete new one, never a
+temporary (.partial) file; every failure is a message on standard error, never a traceback.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import random
+import resource
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+import basic_runner
+import make_golden
+from terminal import Terminal
+
+PROGRAM = [sys.executable, str(basic_runner.ROOT / "linkage.py")]
+PLANE = ["plane", "--b", "2", "--c", "7", "--d", "9", "--a", "6", "--branch", "1"]
+SHORT = PLANE + ["--from", "0", "--to", "360", "--step", "10"]          # 37 points
+KEYS_721 = b"12\r7\r9\r6\r0\r360\r.5\r1"                               # the menu, 721 points
+KEYS_LONG = b"12\r7\r9\r6\r0\r3600\r.01\r1"                            # 360,001 points
+
+
+def run(args, directory, keys=b"", **kwargs) -> subprocess.CompletedProcess:
+    kwargs.setdefault("timeout", 300)
+    return subprocess.run(PROGRAM + args, input=keys, cwd=directory, capture_output=True,
+                          **kwargs)
+
+
+def snapshot(directory) -> dict[str, bytes]:
+    """Every entry of the folder (hidden ones too), files with their bytes."""
+    return {n: (b"<folder>" if (directory / n).is_dir() else (directory / n).read_bytes())
+            for n in sorted(os.listdir(directory))}
+
+
+def assert_clean(result: subprocess.CompletedProcess) -> None:
+    err = result.stderr.decode(errors="replace")
+    assert "Traceback" not in err and "Error:" not in err.replace("error:", ""), err
+
+
+def assert_whole(directory) -> None:
+    """No temporary file, and every DAT file ends with its one end-of-file byte."""
+    for name, data in snapshot(directory).items():
+        assert not name.startswith("."), f"{name} left behind"
+        if name.endswith(".DAT"):
+            assert data.endswith(b"\x1a") and data.count(b"\x1a") == 1, name
+
+
+@pytest.fixture
+def old_set(tmp_path):
+    """A folder holding a complete set of DAT files from an earlier run, and its bytes."""
+    result = run(["run"] + SHORT, tmp_path)
+    assert result.returncode == 0, result.stderr
+    return tmp_path, snapshot(tmp_path)
+
+
+# ---- the numbers a user types ------------------------------------------------------------------
+
+def test_an_answer_of_4400_digits_is_refused_not_a_crash(tmp_path):
+    result = run([], tmp_path, b"1" + b"9" * 4400 + b"\r")
+    assert_clean(result)
+    assert result.returncode == 1 and b"Overflow\r\n?Redo from start" in result.stdout
+    result = run(["run"] + PLANE[:-4] + ["--d", "1" + "9" * 4400, "--a", "6", "--from", "0",
+                                        "--to", "10", "--step", "5", "--branch", "1"], tmp_path)
+    assert_clean(result)
+    assert result.returncode == 2 and "longer than the 255" in result.stderr.decode()
+
+
+@pytest.mark.parametrize("value", ["1D3", "", ".", "1e", "1#", "1!", "&H10", "--", "nan", "inf",
+                                   "1e999", "1_0", "0x10", "٣", "1" * 200])
+def test_double_precision_takes_ordinary_decimals_only(value, tmp_path):
+    result = run(["run", "slider", "--b", "2", "--c", f"{value}", "--e", "0", "--from", "0",
+                  "--to", "10", "--step", "5", "--branch", "1", "--precision", "double"],
+                 tmp_path)
+    assert_clean(result)
+    assert result.returncode == 2 and "--c:" in result.stderr.decode()
+    assert os.listdir(tmp_path) == []
+
+
+def test_an_option_given_as_two_dashes_is_a_message(tmp_path):
+    result = run(["run", "slider", "--b=--", "--c", "7", "--e", "0", "--from", "0", "--to", "10",
+                  "--step", "5", "--branch", "1"], tmp_path)
+    assert_clean(result)
+    assert result.returncode == 2 and "--b: no number given" in result.stderr.decode()
+
+
+@pytest.mark.parametrize("precision", ["basic", "double"])
+def test_negative_numbers_are_values(precision, tmp_path):
+    result = run(["run"] + PLANE + ["--from", "-1e3", "--to", "-.9E3", "--step", "50",
+                                    "--precision", precision], tmp_path)
+    assert_clean(result)
+    assert result.returncode == 0
+    assert (tmp_path / "ANG.DAT").read_bytes().startswith(b"-1000")
+
+
+def test_a_line_of_40000_spaces_is_read_in_linear_time(tmp_path):
+    # was 26 s (the line was joined again at every key); the timeout only guards against a hang
+    result = run([], tmp_path, b"1" + b" " * 40000 + b"\r7\r9\r6\r0\r10\r5\r1", timeout=20)
+    assert result.returncode == 0                                       # spaces: b = 0
+    assert (tmp_path / "ANG.DAT").read_bytes().count(b"\r\n") == 3
+
+
+# ---- sweeps that write no point --------------------------------------------------------------
+
+@pytest.mark.parametrize("precision", ["basic", "double"])
+@pytest.mark.parametrize("sweep, message", [
+    (["--a", "20", "--b", "1", "--c", "1", "--d", "1", "--from", "0", "--to", "360", "--step",
+      "10"], "Illegal linkage"),
+    (["--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "90", "--to", "0", "--step",
+      "10"], "has no point"),
+])
+def test_a_run_that_writes_no_point_fails_and_keeps_the_old_files(precision, sweep, message,
+                                                                   old_set):
+    folder, before = old_set
+    result = run(["run", "plane", "--branch", "1", "--precision", precision] + sweep, folder)
+    assert_clean(result)
+    assert result.returncode == 1 and message in result.stderr.decode()
+    assert snapshot(folder) == before
+
+
+def test_run_says_what_it_wrote(tmp_path):
+    result = run(["run", "skew-slider", "--b", "2", "--c", "3", "--a", "1", "--f", "1",
+                  "--skew", "60", "--from", "0", "--to", "360", "--step", "10", "--branch", "1",
+                  "--precision", "double"], tmp_path)
+    said = result.stderr.decode()
+    written = (tmp_path / "ANG.DAT").read_bytes().count(b"\r\n")
+    assert result.returncode == 0 and "wrote ANG.DAT, VEL.DAT, ACC.DAT in . (37 points" in said
+    if written < 37:
+        assert f"; {37 - written} without a position, left out)" in said
+
+
+# ---- what stands in the way of writing --------------------------------------------------------
+
+WRITERS = {
+    "menu": ([], KEYS_721),
+    "run basic": (["run"] + PLANE + ["--from", "0", "--to", "360", "--step", ".5"], b""),
+    "run double": (["run"] + PLANE + ["--from", "0", "--to", "360", "--step", ".5",
+                                      "--precision", "double"], b""),
+    "design": (["design", "fourb-cr-1", "--theta", "10", "--psi", "50", "--theta0", "30",
+                "--dat", "."], b""),
+}
+
+
+@pytest.mark.parametrize("writer", list(WRITERS))
+@pytest.mark.parametrize("name", ["ANG.DAT", "ACC.DAT"])
+def test_a_folder_named_like_a_dat_file(writer, name, old_set):
+    folder, before = old_set
+    (folder / name).unlink()
+    (folder / name).mkdir()
+    before = snapshot(folder)
+    args, keys = WRITERS[writer]
+    result = run(args, folder, keys)
+    assert_clean(result)
+    assert result.returncode == 1
+    assert f"{name}: it is a folder" in result.stderr.decode()
+    assert snapshot(folder) == before
+
+
+def limit_file_size(size):
+    return lambda: resource.setrlimit(resource.RLIMIT_FSIZE, (size, size))
+
+
+@pytest.mark.parametrize("writer", list(WRITERS)[:3])
+def test_a_file_size_limit_keeps_the_old_files(writer, old_set):
+    folder, before = old_set                    # 721 points: 15 KB a file, over the 8 KB limit
+    args, keys = WRITERS[writer]
+    result = run(args, folder, keys, preexec_fn=limit_file_size(8192))
+    assert_clean(result)
+    assert result.returncode == 1
+    assert "File too large; the DAT files there are as they were" in result.stderr.decode()
+    assert snapshot(folder) == before
+
+
+@contextlib.contextmanager
+def small_disk(folder, size="4m"):
+    """A tmpfs of `size` mounted on folder, or None where this machine lets no test mount one."""
+    folder.mkdir()
+    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(folder)],
+                             capture_output=True).returncode == 0
+    try:
+        yield folder if mounted else None
+    finally:
+        if mounted:
+            subprocess.run(["umount", str(folder)], check=True)
+
+
+def fill(disk) -> None:
+    """Take the disk's last free byte."""
+    with contextlib.suppress(OSError), open(disk / "filler", "wb") as f:
+        while True:
+            f.write(bytes(1 << 16))
+            f.flush()
+
+
+@pytest.mark.parametrize("writer", list(WRITERS)[:3])
+def test_a_disk_that_fills_mid_sweep_keeps_the_old_files(writer, tmp_path):
+    """A 4 MB tmpfs where the test can mount one: the basic sweep (36,001 points, 3 MB at most,
+    which the check before the first point lets through) finds the disk filled by someone else
+    once it has begun; the double sweep (360,001 points, 27 MB) fills it itself. Elsewhere a
+    file-size limit of 30 KB stands for the full disk."""
+    with small_disk(tmp_path / "disk") as disk:
+        fault = None if disk else limit_file_size(30_000)
+        disk = disk or tmp_path / "disk"
+        assert run(["run"] + SHORT, disk).returncode == 0
+        before = snapshot(disk)
+        args, keys = WRITERS[writer]
+        args = [(".001" if "double" in writer else ".01") if a == ".5" else a for a in args]
+        keys = keys.replace(b"360\r.5\r", b"360\r.01\r")
+        proc = subprocess.Popen(PROGRAM + args, stdin=subprocess.PIPE, stderr=subprocess.PIPE,
+                                stdout=subprocess.DEVNULL, cwd=disk, preexec_fn=fault)
+        proc.stdin.write(keys)
+        proc.stdin.close()
+        if fault is None and "double" not in writer:
+            while not any(n.endswith(".partial") for n in os.listdir(disk)):
+                assert proc.poll() is None
+                time.sleep(0.01)
+            fill(disk)
+        assert proc.wait(timeout=300) == 1
+        said = proc.stderr.read().decode()
+        assert "Traceback" not in said
+        assert "No space left on device" in said or "File too large" in said, said
+        with contextlib.suppress(FileNotFoundError):
+            (disk / "filler").unlink()
+        assert snapshot(disk) == before
+
+
+def test_a_read_only_folder_is_blamed_on_the_folder_not_the_scene(tmp_path):
+    scene = basic_runner.ROOT / "data" / "scenes" / "fig3-plane-four-bar.toml"
+    result = run(["scene", str(scene), "--dir", "/proc"], tmp_path)
+    assert_clean(result)
+    assert result.returncode == 1
+    said = result.stderr.decode()
+    assert "cannot write the DAT files in '/proc'" in said and "input" not in said
+
+
+# ---- signals ------------------------------------------------------------------------------------
+
+LONG_WRITERS = {
+    "menu": ([], KEYS_LONG),
+    "run double": (["run"] + PLANE + ["--from", "0", "--to", "3600", "--step", ".001",
+                                      "--precision", "double"], b""),
+}
+
+
+@pytest.mark.parametrize("writer", list(LONG_WRITERS))
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
+def test_a_signal_mid_sweep_leaves_the_old_files(writer, signum, old_set):
+    folder, before = old_set
+    args, keys = LONG_WRITERS[writer]
+    proc = subprocess.Popen(PROGRAM + args, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, cwd=folder)
+    proc.stdin.write(keys)
+    proc.stdin.close()
+    deadline = time.monotonic() + 60
+    while not any(n.endswith(".partial") for n in os.listdir(folder)):
+        assert time.monotonic() < deadline and proc.poll() is None
+        time.sleep(0.02)
+    time.sleep(random.Random(signum).uniform(0, 0.5))   # somewhere in the sweep
+    proc.send_signal(signum)
+    assert proc.wait(timeout=60) == 128 + signum
+    said = proc.stderr.read().decode()
+    assert "interrupted" in said and "Traceback" not in said
+    assert snapshot(folder) == before
+
+
+def test_two_sessions_in_one_folder_leave_one_whole_set(tmp_path):
+    """Two sweeps of different steps at once: both succeed, and the folder holds the whole set
+    of one of them, byte for byte as it writes it alone: never a mixture, nor a file with two
+    end bytes."""
+    steps = (".25", ".3")
+    alone = []
+    for step in steps:
+        (tmp_path / step).mkdir()
+        assert run(["run"] + PLANE + ["--from", "0", "--to", "360", "--step", step],
+                   tmp_path / step).returncode == 0
+        alone.append(snapshot(tmp_path / step))
+    both = tmp_path / "both"
+    both.mkdir()
+    procs = [subprocess.Popen(PROGRAM + ["run"] + PLANE + ["--from", "0", "--to", "360",
+                                                           "--step", step],
+                              cwd=both, stderr=subprocess.PIPE) for step in steps]
+    for proc in procs:
+        assert proc.wait(timeout=300) == 0, proc.stderr.read()
+    assert snapshot(both) in alone
+
+
+# ---- the screen transcript ------------------------------------------------------------------
+
+GOLDEN_KEYS = (make_golden.GOLDEN / "plane-b1" / "keys.txt").read_bytes()
+
+
+def golden_files():
+    return {n: (make_golden.GOLDEN / "plane-b1" / n).read_bytes()
+            for n in ("ANG.DAT", "VEL.DAT", "ACC.DAT")}
+
+
+def test_a_closed_standard_output_costs_no_file(tmp_path):
+    (tmp_path / "keys").write_bytes(GOLDEN_KEYS)
+    result = subprocess.run(["bash", "-c", f"{' '.join(PROGRAM)} < keys >&-"], cwd=tmp_path,
+                            capture_output=True, timeout=60)
+    assert_clean(result)
+    assert result.returncode == 1 and "standard output is closed" in result.stderr.decode()
+    assert {n: (tmp_path / n).read_bytes() for n in golden_files()} == golden_files()
+
+
+def test_a_closed_standard_error_is_no_failure(tmp_path):
+    args = " ".join(["run"] + SHORT)
+    result = subprocess.run(["bash", "-c", f"{' '.join(PROGRAM)} {args} 2>&-; echo $?"],
+                            cwd=tmp_path, capture_output=True, timeout=60)
+    assert result.stdout == b"0\n"
+    assert_whole(tmp_path)
+    result = subprocess.run(["bash", "-c", f"{' '.join(PROGRAM)} {args} --step 0 2>&-; echo $?"],
+                            cwd=tmp_path, capture_output=True, timeout=60)
+    assert result.stdout == b"1\n"
+
+
+@pytest.mark.parametrize("unbuffered", ["", "1"])
+def test_a_reader_that_stops_reading_costs_no_file(unbuffered, tmp_path):
+    """`linkage.py < keys | head -c 10`, the reader gone before the program writes."""
+    keys = GOLDEN_KEYS[:-1] + b"x" * 3000 + GOLDEN_KEYS[-1:]   # beeps: > 8 KB of transcript?
+    env = dict(os.environ, PYTHONUNBUFFERED=unbuffered)
+    read, write = os.pipe()
+    os.close(read)                                   # nobody will read
+    proc = subprocess.run(PROGRAM, input=keys, stdout=write, stderr=subprocess.PIPE,
+                          cwd=tmp_path, env=env, timeout=60)
+    os.close(write)
+    said = proc.stderr.decode()
+    assert proc.returncode == 141 and "Traceback" not in said
+    assert "reader stopped reading" in said
+    assert {n: (tmp_path / n).read_bytes() for n in golden_files()} == golden_files()
+
+
+def test_line_feeds_for_enter_get_a_hint(tmp_path):
+    result = run([], tmp_path, b"1\n2\n7\n9\n6\n")
+    assert result.returncode == 1
+    assert "Enter is a carriage return" in result.stderr.decode()
+    result = run([], tmp_path, b"12\r7\r")
+    assert "carriage return" not in result.stderr.decode()
+
+
+# ---- plot ---------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("data, status, said", [
+    (b"0,1e308\r\n10,-1e308\r\n\x1a", 1, "too large to draw"),
+    (b"0,1\r\n10,-1e101\r\n\x1a", 1, "too large to draw"),
+    (b"", 0, "empty"),
+    (b"0,1\r\n10,2\r\n", 0, "no end-of-file byte"),
+    (b"0,1\r\n10,2\r\n20,3", 0, "no end-of-file byte"),
+    (b"0,1\r\n10,2\r\n20,3\x1a", 0, "last line has no line end"),
+    (b"0,1\r\n10,2\r\n\x1a", 0, ""),
+])
+def test_plot_warns_of_cut_files_and_refuses_huge_values(data, status, said, tmp_path):
+    (tmp_path / "ANG.DAT").write_bytes(data)
+    result = run(["plot", "."], tmp_path)
+    assert_clean(result)
+    assert result.returncode == status
+    assert said in result.stderr.decode() if said else result.stderr == b""
+
+
+# ---- a long sweep on a terminal -----------------------------------------------------------------
+
+def test_a_long_sweep_shows_its_progress_on_a_terminal_only(tmp_path):
+    term = Terminal(PROGRAM + ["run"] + PLANE + ["--from", "0", "--to", "3600", "--step",
+                                                 ".01"], tmp_path)
+    try:
+        term.wait_for(b" of 360,001 points, ", timeout=30)
+        term.wait_for(b" left", timeout=5)
+        term.press(b"\x03")                               # Ctrl-C
+        assert term.proc.wait(timeout=30) == 130
+    finally:
+        term.close()
+    assert os.listdir(tmp_path) == []
+    piped = run(["run"] + PLANE + ["--from", "0", "--to", "360", "--step", ".05"], tmp_path)
+    assert piped.returncode == 0 and b"points, " not in piped.stderr
