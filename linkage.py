@@ -40,6 +40,7 @@ from fractions import Fraction
 from typing import NamedTuple
 
 __version__ = "0.2.0"
+PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linkage.py"
 
 
 # ---- GW-BASIC single precision --------------------------------------------------------------
@@ -1233,7 +1234,7 @@ def _say(message) -> None:
     """A line on standard error, where there is one (it may be closed)."""
     if sys.stderr is not None:                  # None: closed (print would use stdout)
         with contextlib.suppress(OSError, ValueError, AttributeError):
-            print(f"linkage.py: {message}", file=sys.stderr, flush=True)
+            print(f"{PROG}: {message}", file=sys.stderr, flush=True)
 
 
 def _said(message, status: int) -> int:
@@ -2102,6 +2103,29 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files
     return out.points
 
 
+CSV_HEADER = ("phi", "output", "velocity", "acceleration", "status")
+
+
+def csv_line(fields) -> str:
+    """One CSV row (CR LF, as the DAT files): numbers as the shortest text that reads back
+    exactly, None (no value: see the status) as nan, which numpy and pandas read as NaN."""
+    return ",".join("nan" if v is None else repr(float(v)) if isinstance(v, (int, float))
+                    else str(v) for v in fields) + "\r\n"
+
+
+def write_csv(path: str, rows, header=CSV_HEADER) -> int:
+    """Write `rows` (tuples of `header`'s fields) as one CSV file with a header row, whole or not
+    at all (written_whole); the number of rows. Read it with csv.DictReader, numpy.loadtxt(path,
+    delimiter=",", skiprows=1, usecols=...) or pandas.read_csv(path)."""
+    count = 0
+    with written_whole(path) as out:
+        out.write(csv_line(header).encode("ascii"))
+        for row in rows:
+            out.write(csv_line(row).encode("ascii"))
+            count += 1
+    return count
+
+
 # ---- The mechanism view: joint positions, drawings, and their renderers ----------------------
 #
 # What the engine computes, made visible. joint_positions() places every joint of a linkage in
@@ -2840,11 +2864,13 @@ def single_keys(fd, enter=None, leave=None, carriage_return=False):
         if enter:
             enter()
 
-    def end():
+    def end():                      # the terminal may be gone (SIGHUP): restore what can be
         if leave:
-            leave()
+            with contextlib.suppress(OSError, ValueError):
+                leave()
         if fd is not None:
-            termios.tcsetattr(fd, termios.TCSAFLUSH, saved)
+            with contextlib.suppress(OSError, termios.error):
+                termios.tcsetattr(fd, termios.TCSAFLUSH, saved)
 
     def stop(signum, frame):
         end()
@@ -4355,7 +4381,7 @@ class _Parser(CommandParser):
 
 def _design_parser():
     """The parser of `design METHOD --name value ... [--analyze]`."""
-    parser = _Parser(prog="linkage.py design",
+    parser = _Parser(prog=f"{PROG} design",
                      description="Synthesis of four-bar and slider-crank function generators "
                                  "(Pennestri & Valentini's review); angles in degrees.")
     methods = parser.add_subparsers(dest="method", metavar="METHOD", parser_class=_Parser)
@@ -4423,10 +4449,10 @@ def design_command(argv):
         else:
             result = function(**values)
     except DesignError as error:
-        print(f"linkage.py design: error: {error}", file=sys.stderr)
+        print(f"{PROG} design: error: {error}", file=sys.stderr)
         return 1
     except _UsageError as error:
-        print(f"linkage.py design: error: {error}", file=sys.stderr)
+        print(f"{PROG} design: error: {error}", file=sys.stderr)
         return 2
     except SystemExit as exit_:                     # argparse's --help
         return int(exit_.code or 0)
@@ -4459,7 +4485,7 @@ def design_command(argv):
                                                   link.branch)
             write_dat_files(motions, args.dat)
         except ProgramStop as error:
-            print(f"linkage.py design: error: {error}", file=sys.stderr)
+            print(f"{PROG} design: error: {error}", file=sys.stderr)
             return 1
         print(f"dat = {args.dat}  # ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution, "
               f"0 to 360 by 1 degree, branch {link.branch}, double precision")
@@ -4621,7 +4647,7 @@ def load_scene(path: str) -> Scene:
             raise SceneError(f"{path}: key '{key}' is missing: expected {SCENE_KEYS[key]}")
 
     mechanism = data["mechanism"]
-    if mechanism not in LINKAGE_DIMENSIONS:
+    if not isinstance(mechanism, str) or mechanism not in LINKAGE_DIMENSIONS:
         raise _scene_error(path, "mechanism", SCENE_KEYS["mechanism"], mechanism)
     names = LINKAGE_DIMENSIONS[mechanism]
     given = data["dimensions"]
@@ -4670,7 +4696,7 @@ def load_scene(path: str) -> Scene:
     if "precision" not in data:
         raise SceneError(f"{path}: key 'precision' is missing: expected {SCENE_KEYS['precision']}")
     precision = data["precision"]
-    if precision not in PRECISIONS:
+    if not isinstance(precision, str) or precision not in PRECISIONS:
         raise _scene_error(path, "precision", SCENE_KEYS["precision"], precision)
     specs = []
     for i, panel in enumerate(panels, 1):
@@ -4737,7 +4763,7 @@ def _typed(x: float) -> str:
 def _typed_dimensions(mechanism: str, dims: dict) -> tuple[str, list[str]]:
     """The menu key and the dimensions as typed, in the order the listing asks for them."""
     key, asked = MECHANISM_TYPES[mechanism]
-    return key, [_typed(dims["ksi" if n == "skew" else n]) for n in asked]
+    return key, [_typed(dims[n]) for n in asked]
 
 
 def _faithful_files(scene: Scene, branch: int, directory: str) -> list[str]:
@@ -4819,6 +4845,30 @@ def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
                        + f" ({name})")
         series.append(Series(name, precision, branch, where))
     return series
+
+
+def scene_csv(scene: Scene, series: list[Series], path: str) -> int:
+    """The scene's numbers as one CSV file, a row a point of each series (header: series, then
+    CSV_HEADER): the engine's motions for a double series, every point with its status; the
+    original's numbers for a basic one, with the engine's status of each position. Returns the
+    rows written."""
+    def rows():
+        for s in series:
+            if s.precision == "double":
+                for m in _accurate_motions(scene, s.branch, scene.derivatives):
+                    yield (s.name,) + tuple(m)
+                continue
+            columns = [read_dat(os.path.join(s.directory, n))
+                       for n in DatFiles.NAMES[:1 + scene.derivatives]]
+            motions = _accurate_motions(scene, s.branch, 0)
+            statuses = {m.phi: m.status for m in motions}
+            for i, (phi, output) in enumerate(columns[0]):
+                values = [c[i][1] if i < len(c) else None for c in columns[1:]]
+                values += [None] * (2 - len(values))
+                status = statuses.get(phi) or Linkage(scene.mechanism, **scene.dimensions) \
+                    .motion(phi, s.branch, 0).status
+                yield (s.name, phi, output, *values, status)
+    return write_csv(path, rows(), ("series",) + CSV_HEADER)
 
 
 # -- reading DAT files -------------------------------------------------------------------------
@@ -5243,14 +5293,11 @@ def _reported(work) -> int:
     try:
         return work() or 0
     except (SceneError, PlotUnavailable) as e:
-        print(f"linkage.py: {e}", file=sys.stderr)
-        return 1
+        return _said(e, 1)
     except OSError as e:
-        print(f"linkage.py: {e.filename or ''}: {e.strerror}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print("linkage.py: interrupted", file=sys.stderr)
-        return 130
+        return _said(f"{e.filename or ''}: {e.strerror}", 1)
+    except KeyboardInterrupt as e:
+        return _said("interrupted", interrupted_status(e))
 
 
 def _draw_command(args: argparse.Namespace, make_figure) -> int:
@@ -5302,7 +5349,7 @@ def drawing_command(args: argparse.Namespace, make_drawing) -> int:
             if path:
                 with written_whole(path) as fh:
                     fh.write(render())
-                print(f"linkage.py: wrote {path} ({len(drawing.frames)} position"
+                print(f"{PROG}: wrote {path} ({len(drawing.frames)} position"
                       f"{'s' * (len(drawing.frames) > 1)})", file=sys.stderr)
         if args.text or not (args.svg or args.png):
             return show_drawing(drawing, frames=args.frames)
@@ -5315,23 +5362,30 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     try:
         scene = load_scene(args.file)
     except SceneError as e:
-        print(f"linkage.py: {e}", file=sys.stderr)
+        print(f"{PROG}: {e}", file=sys.stderr)
         return 1
     if scene.draws_mechanism:
+        if args.csv or args.dir is not None:
+            parser.error(f"--csv and --dir go with a scene of curves; {args.file} draws the "
+                         "mechanism (--svg, --png, --text, --frames)")
         return drawing_command(args, lambda: scene_drawing(scene))
     if args.svg or args.frames is not None:
         parser.error(f"--svg and --frames draw a mechanism scene; {args.file} plots curves "
                      "(--png, --text)")
 
-    def figure():
+    def figure(where):
+        series = compute_scene(scene, where, _say)
         if args.dir is not None:
-            series = compute_scene(scene, args.dir, _say)
             _say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.dir}")
-            return scene_figure(scene, series)
+        if args.csv:
+            _say(f"wrote {args.csv} ({scene_csv(scene, series, args.csv):,} rows)")
+        return scene_figure(scene, series)
+
+    def temporary():
         import tempfile
         with tempfile.TemporaryDirectory(prefix="linkage-scene-") as where:
-            return scene_figure(scene, compute_scene(scene, where, _say))
-    return _draw_command(args, figure)
+            return figure(where)
+    return _draw_command(args, (lambda: figure(args.dir)) if args.dir is not None else temporary)
 
 
 def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
@@ -5972,7 +6026,7 @@ def machine() -> str:
 def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py bench [NAME ...]`: print the benchmarks' numbers and how they ran."""
     print(f"$ python3 linkage.py bench {' '.join(args.names)}".rstrip())
-    print(f"linkage.py {__version__} on {machine()}")
+    print(f"{PROG} {__version__} on {machine()}")
     for name in args.names or list(BENCHMARKS):
         print(f"\n== {name}: {BENCHMARKS[name].__doc__.splitlines()[0]}")
         BENCHMARKS[name](sys.stdout)
@@ -5983,14 +6037,14 @@ def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
 MECHANISM_TYPES = {  # name: (menu key, the dimensions in the order the listing asks for them)
     "plane": ("1", ("b", "c", "d", "a")),
     "spherical": ("2", ("b", "c", "d", "a")),
-    "skew": ("3", ("b", "c", "d", "a", "f", "skew")),
+    "skew": ("3", ("b", "c", "d", "a", "f", "ksi")),
     "slider": ("4", ("b", "c", "e")),
-    "skew-slider": ("5", ("b", "c", "a", "f", "skew")),
+    "skew-slider": ("5", ("b", "c", "a", "f", "ksi")),
 }
 DIMENSION_HELP = {
     "a": "fixed link (skew linkages: its horizontal sector); degrees for the spherical linkage",
     "b": "input crank", "c": "connecting rod (coupler)", "d": "output crank",
-    "e": "slider offset", "f": "vertical sector of the fixed link", "skew": "skew angle, degrees",
+    "e": "slider offset", "f": "vertical sector of the fixed link", "ksi": "skew angle, degrees",
 }
 
 
@@ -6131,6 +6185,10 @@ def basic_answer(text: str, what: str) -> str:
 def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py run TYPE ...`: the menu program given these answers."""
     key, needed = MECHANISM_TYPES[args.type]
+    if args.old_skew is not None:               # the spelling before 0.2.0
+        _say("--skew is now --ksi (the skew angle's name in the paper, the API and the scenes)")
+        if args.ksi is None:
+            args.ksi = args.old_skew
     given = {name for name in DIMENSION_HELP if getattr(args, name) is not None}
     missing = [f"--{n}" for n in needed if n not in given]
     extra = [f"--{n}" for n in sorted(given - set(needed))]
@@ -6160,14 +6218,32 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
         return _said("interrupted; the DAT files there are as they were", interrupted_status(e))
     screen.show_soft_errors()
     _say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)})")
+    if args.csv:
+        return _reported(lambda: _basic_csv(args, answers))
     return 0
+
+
+def _basic_csv(args: argparse.Namespace, answers: list[str]) -> None:
+    """run --csv, basic precision: the rows of the DAT files just written (the original's numbers:
+    zeros where it finds no position, VEL and ACC clipped to +-3), each with the accurate engine's
+    status of that position, so that a written zero that is no position can be told apart."""
+    dims = {n: input_value(a).v for n, a in zip(MECHANISM_TYPES[args.type][1], answers)}
+    ang, vel, acc = (read_dat(os.path.join(args.dir, n)) for n in DatFiles.NAMES)
+    try:
+        statuses = [m.status for m in Linkage(args.type, **dims).sweep(
+            [phi for phi, _ in ang], int(args.branch), derivatives=0)]
+    except ValueError:                          # dimensions the engine refuses (a 0 link)
+        statuses = ["unknown"] * len(ang)
+    rows = ((phi, psi, v, a, status) for (phi, psi), (_, v), (_, a), status
+            in zip(ang, vel, acc, statuses))
+    _say(f"wrote {args.csv} ({write_csv(args.csv, rows):,} rows)")
 
 
 def _run_double(args: argparse.Namespace, numbers: dict) -> int:
     """`run ... --precision double`: the accurate engine's numbers in the same three files,
     shortest round-trip text, unclipped unless --clip; positions that do not exist are left out
     (the original writes zeros there, ERRATA K8), and counted in the message."""
-    dims = {("ksi" if n == "skew" else n): numbers[n] for n in MECHANISM_TYPES[args.type][1]}
+    dims = {n: numbers[n] for n in MECHANISM_TYPES[args.type][1]}
     start, stop, step = numbers["from"], numbers["to"], numbers["step"]
     try:
         linkage = Linkage(args.type, **dims)
@@ -6179,14 +6255,22 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
     if count > 10**8:
         return _said(f"{count:,} points is more than 100 million: choose a larger step", 1)
     assembled = 0
+    try:
+        table = _Temporary(args.csv) if args.csv else None
+    except OSError as e:
+        return _said(f"cannot write {args.csv}: {e.strerror}", 1)
 
     def motions():
         nonlocal assembled
+        if table:
+            table.write(csv_line(CSV_HEADER).encode("ascii"))
         with Progress(count) as progress:
             for first in range(0, count, 4096):
                 angles = [start + i * step for i in range(first, min(first + 4096, count))]
                 for m in linkage.sweep(angles, int(args.branch)):
                     assembled += m.output is not None
+                    if table:
+                        table.write(csv_line(m).encode("ascii"))
                     yield m
                 progress(len(angles))
         if not assembled:
@@ -6194,14 +6278,25 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
                               f"of the {count:,} input angles")
     try:
         points = write_dat_files(motions(), args.dir, clip=args.clip)
+        if table:
+            table.finish()
+            with _renaming(os.path.dirname(os.path.abspath(args.csv))):
+                table.rename()
     except ProgramStop as stop:
         return _said(stop, 1)
+    except OSError as e:
+        return _said(f"cannot write {args.csv}: {e.strerror} (the DAT files are written)", 1)
     except KeyboardInterrupt as e:
         return _said("interrupted; the DAT files there are as they were", interrupted_status(e))
+    finally:
+        if table:
+            table.discard()
     left_out = (f"; {points - assembled:,} without a position, left out"
                 if points > assembled else "")
     _say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)}"
          f"{left_out})")
+    if table:
+        _say(f"wrote {args.csv} ({points:,} rows)")
     return 0
 
 
@@ -6226,8 +6321,9 @@ def _benchmark_name(text: str) -> str:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = CommandParser(
-        prog="linkage.py", description=__doc__.split("\n\n")[0],
+        prog=PROG, description=__doc__.split("\n\n")[0],
         epilog="With no command: the original menu program.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     commands = parser.add_subparsers(dest="command")
     run = commands.add_parser(
         "run", help="the original program driven by options",
@@ -6240,6 +6336,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="plane, spherical, skew, slider, skew-slider (or 1-5)")
     for name, text in DIMENSION_HELP.items():
         run.add_argument(f"--{name}", metavar="X", help=text)
+    run.add_argument("--skew", dest="old_skew", metavar="X", help=argparse.SUPPRESS)
     run.add_argument("--from", dest="start", required=True, metavar="P1",
                      help="first bound of the input angle, degrees")
     run.add_argument("--to", dest="stop", required=True, metavar="P2",
@@ -6251,6 +6348,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--precision", choices=("basic", "double"), default="basic",
                      help="basic: the original's GW-BASIC single precision, byte for byte "
                           "(default); double: the accurate engine")
+    run.add_argument("--csv", metavar="OUT",
+                     help="also write one CSV file: a header row phi,output,velocity,"
+                          "acceleration,status and a row a point, every point (a position that "
+                          "does not exist: its status, values nan)")
     run.add_argument("--clip", action="store_true",
                      help="with --precision double: clip VEL and ACC to +-3 as the original does")
     run.set_defaults(handler=run_command, parser=run)
@@ -6272,6 +6373,10 @@ def build_parser() -> argparse.ArgumentParser:
     scene.add_argument("--frames", type=int, metavar="N",
                        help="a mechanism scene: print N still frames spread evenly over the "
                             "sweep instead of the animation (piped, the default is 1)")
+    scene.add_argument("--csv", metavar="OUT",
+                       help="also write the scene's numbers as one CSV file: a header row "
+                            "series,phi,output,velocity,acceleration,status and a row a point of "
+                            "each series, every point (one without a position: its status)")
     scene.add_argument("--dir", metavar="DIR",
                        help="also keep the scene's DAT files, in DIR (without it none is "
                             "written); a scene that overlays several series writes one folder "

@@ -129,7 +129,7 @@ def test_a_run_that_writes_no_point_fails_and_keeps_the_old_files(precision, swe
 
 def test_run_says_what_it_wrote(tmp_path):
     result = run(["run", "skew-slider", "--b", "2", "--c", "3", "--a", "1", "--f", "1",
-                  "--skew", "60", "--from", "0", "--to", "360", "--step", "10", "--branch", "1",
+                  "--ksi", "60", "--from", "0", "--to", "360", "--step", "10", "--branch", "1",
                   "--precision", "double"], tmp_path)
     said = result.stderr.decode()
     written = (tmp_path / "ANG.DAT").read_bytes().count(b"\r\n")
@@ -381,3 +381,49 @@ def test_a_long_sweep_shows_its_progress_on_a_terminal_only(tmp_path):
     assert os.listdir(tmp_path) == []
     piped = run(["run"] + PLANE + ["--from", "0", "--to", "360", "--step", ".05"], tmp_path)
     assert piped.returncode == 0 and b"points, " not in piped.stderr
+
+
+# ---- the menu on a terminal ---------------------------------------------------------------------
+
+def test_ctrl_z_and_fg_give_the_menu_its_single_keys_back(tmp_path):
+    """Under a shell with job control: Ctrl-Z stops the menu with the terminal as it was, `fg`
+    takes single keys again (6 with no Enter ends the program)."""
+    script = (f"set -m; stty -g > before.txt; {' '.join(PROGRAM)}; stty -g > stopped.txt; "
+              "echo JOB-STOPPED; fg; echo EXIT=$?")
+    term = Terminal(["bash", "-c", script], tmp_path)
+    try:
+        term.wait_for(b"Enter Option: _")
+        term.press(b"\x1a")
+        at = term.wait_for(b"JOB-STOPPED")
+        assert (tmp_path / "stopped.txt").read_text() == (tmp_path / "before.txt").read_text()
+        term.drain(0.5)
+        term.press(b"6")
+        term.wait_for(b"EXIT=0", after=at)
+        assert term.proc.wait(timeout=20) == 0
+    finally:
+        term.close()
+
+
+@pytest.mark.parametrize("signum", [signal.SIGHUP, signal.SIGTERM])
+def test_a_hang_up_mid_sweep_on_a_terminal_leaves_nothing(signum, tmp_path):
+    term = Terminal(PROGRAM, tmp_path)
+    try:
+        term.wait_for(b"Enter Option: _")
+        term.press(b"1")
+        for answer in (b"2", b"7", b"9", b"6", b"0", b"3600", b".01"):
+            term.press(answer + b"\r")
+        term.wait_for(b"Which solution")
+        term.press(b"1")
+        deadline = time.monotonic() + 30
+        while not any(n.endswith(".partial") for n in os.listdir(tmp_path)):
+            assert time.monotonic() < deadline and term.proc.poll() is None
+            time.sleep(0.02)
+        term.proc.send_signal(signum)
+        assert term.proc.wait(timeout=30) == 128 + signum
+        if signum == signal.SIGTERM:
+            term.drain(0.5)
+            assert term.modes() == term.modes_before
+            assert b"interrupted" in term.seen and b"Traceback" not in term.seen
+    finally:
+        term.close()
+    assert os.listdir(tmp_path) == []

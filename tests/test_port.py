@@ -126,7 +126,7 @@ def test_run_covers_every_mechanism():
 @pytest.mark.parametrize("options, message", [
     (["plane", "--b", "2", "--c", "7", "--d", "9"], "plane needs --b --c --d --a: missing --a"),
     (["slider", "--b", "2", "--c", "7", "--e", "1", "--d", "3"], "no use for --d"),
-    (["skew", "--b", "2"], "skew needs --b --c --d --a --f --skew"),
+    (["skew", "--b", "2"], "skew needs --b --c --d --a --f --ksi"),
     (["plane", "--b", "two", "--c", "7", "--d", "9", "--a", "6"], "--b: 'two' is not a number"),
     (["hexagon"], "'hexagon' is not one of plane, spherical, skew, slider, skew-slider"),
 ])

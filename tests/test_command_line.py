@@ -1,0 +1,118 @@
+"""A newcomer's first hour: the CSV export and the one-liners that read the original's DAT files,
+a scene that writes only what it is asked for, one version and one spelling of each dimension."""
+
+from __future__ import annotations
+
+import csv
+import importlib.metadata
+import os
+import subprocess
+import sys
+
+import numpy
+import pytest
+
+import basic_runner
+import linkage
+
+PROGRAM = [sys.executable, str(basic_runner.ROOT / "linkage.py")]
+SCENES = basic_runner.ROOT / "data" / "scenes"
+GOLDEN = basic_runner.ROOT / "data" / "golden"
+# a skew slider-crank that cannot be assembled at 180 and 210 degrees
+SKEW_SLIDER = ["run", "skew-slider", "--b", "2", "--c", "3", "--a", "1", "--f", "1", "--ksi", "60",
+               "--from", "0", "--to", "360", "--step", "30", "--branch", "1"]
+
+
+def run(args, directory) -> subprocess.CompletedProcess:
+    return subprocess.run(PROGRAM + args, cwd=directory, capture_output=True, timeout=300)
+
+
+def test_the_csv_of_a_double_run_has_every_point_with_its_status(tmp_path):
+    result = run(SKEW_SLIDER + ["--precision", "double", "--csv", "out.csv"], tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert b"wrote out.csv (13 rows)" in result.stderr
+    with open(tmp_path / "out.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert list(rows[0]) == ["phi", "output", "velocity", "acceleration", "status"]
+    assert [float(r["phi"]) for r in rows] == [30.0 * i for i in range(13)]
+    missing = [r for r in rows if r["status"] != "assembled"]
+    assert [(r["phi"], r["status"], r["output"]) for r in missing] == [
+        ("180.0", "not-assembled", "nan"), ("210.0", "not-assembled", "nan")]
+    ang = linkage.read_dat(str(tmp_path / "ANG.DAT"))   # the same numbers as the DAT files
+    assert [(float(r["phi"]), float(r["output"])) for r in rows if r not in missing] == ang
+    table = numpy.loadtxt(tmp_path / "out.csv", delimiter=",", skiprows=1, usecols=(0, 1, 2, 3))
+    assert table.shape == (13, 4) and numpy.isnan(table[6, 1:]).all()
+
+
+def test_the_csv_of_a_basic_run_holds_the_original_numbers_and_the_true_status(tmp_path):
+    result = run(SKEW_SLIDER + ["--csv", "out.csv"], tmp_path)
+    assert result.returncode == 0, result.stderr
+    with open(tmp_path / "out.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    ang = linkage.read_dat(str(tmp_path / "ANG.DAT"))
+    vel = linkage.read_dat(str(tmp_path / "VEL.DAT"))
+    assert [(float(r["phi"]), float(r["output"])) for r in rows] == ang
+    assert [float(r["velocity"]) for r in rows] == [v for _, v in vel]
+    # the original writes zeros where there is no position; the status tells
+    assert [r["status"] for r in rows if r["output"] == "0.0"] == ["not-assembled"] * 2
+
+
+def test_the_csv_of_a_scene_has_a_row_a_point_of_each_series(tmp_path):
+    result = run(["scene", str(SCENES / "hard-spike-180.toml"), "--csv", "s.csv"], tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert sorted(os.listdir(tmp_path)) == ["s.csv"]      # no DAT file without --dir
+    with open(tmp_path / "s.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert list(rows[0])[0] == "series"
+    assert {r["series"] for r in rows} == {"basic-branch2", "double-branch2"}
+    assert len(rows) == 2 * 5
+    table = numpy.loadtxt(tmp_path / "s.csv", delimiter=",", skiprows=1, usecols=(1, 2, 3, 4))
+    assert table.shape == (10, 4)
+
+
+def test_a_scene_writes_dat_files_only_when_asked(tmp_path):
+    result = run(["scene", str(SCENES / "fig3-plane-four-bar.toml"), "--text"], tmp_path)
+    assert result.returncode == 0 and os.listdir(tmp_path) == []
+    result = run(["scene", str(SCENES / "fig3-plane-four-bar.toml"), "--dir", "out"], tmp_path)
+    assert result.returncode == 0 and b"wrote the DAT files of" in result.stderr
+    assert sorted(os.listdir(tmp_path / "out")) == ["ACC.DAT", "ANG.DAT", "VEL.DAT"]
+
+
+def test_a_mechanism_scene_has_no_csv(tmp_path):
+    result = run(["scene", str(SCENES / "fig1a-plane-four-bar.toml"), "--csv", "x.csv"], tmp_path)
+    assert result.returncode == 2 and b"draws the mechanism" in result.stderr
+
+
+@pytest.mark.filterwarnings("ignore:loadtxt. input contained no data")
+@pytest.mark.parametrize("case", ["plane-b1", "skew-slider-b1", "plane-reversed-range"])
+def test_the_readme_one_liners_read_the_original_files(case):
+    """README: numpy.loadtxt(path, delimiter=",", comments="\\x1a") and linkage.read_dat."""
+    for name in ("ANG.DAT", "VEL.DAT", "ACC.DAT"):
+        path = GOLDEN / case / name
+        table = numpy.loadtxt(path, delimiter=",", comments="\x1a", ndmin=2)
+        pairs = linkage.read_dat(str(path))
+        assert [tuple(row) for row in table] == [(numpy.float64(x), numpy.float64(y))
+                                                 for x, y in pairs]
+        lines = path.read_bytes().split(b"\r\n")
+        assert len(pairs) == len(lines) - 1 and lines[-1] == b"\x1a"
+
+
+def test_one_version_everywhere(tmp_path):
+    result = run(["--version"], tmp_path)
+    assert result.stdout.decode().strip() == f"linkage.py {linkage.__version__}"
+    assert importlib.metadata.version("linkage") == linkage.__version__
+
+
+def test_ksi_is_the_one_spelling_and_skew_still_works(tmp_path):
+    base = ["run", "skew", "--b", "2", "--c", "7", "--d", "9", "--a", "6", "--f", "1.5",
+            "--from", "0", "--to", "90", "--step", "10", "--branch", "1"]
+    (tmp_path / "new").mkdir()
+    (tmp_path / "old").mkdir()
+    new = run(base + ["--ksi", "25", "--dir", "new"], tmp_path)
+    old = run(base + ["--skew", "25", "--dir", "old"], tmp_path)
+    assert new.returncode == old.returncode == 0
+    assert b"--skew is now --ksi" in old.stderr and b"--skew" not in new.stderr
+    for name in ("ANG.DAT", "VEL.DAT", "ACC.DAT"):
+        assert (tmp_path / "new" / name).read_bytes() == (tmp_path / "old" / name).read_bytes()
+    help_text = run(["run", "--help"], tmp_path).stdout
+    assert b"--ksi" in help_text and b"--skew" not in help_text.replace(b"--skew-", b"")
