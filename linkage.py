@@ -3018,17 +3018,20 @@ def _png_layer(ax, layer: Layer, alpha: float, letters: bool) -> None:
                     fontstyle="italic", family="serif")
 
 
-def png_drawing(drawing: Drawing, positions: int = 12) -> bytes:
+def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
+                size: tuple[int, int] | None = None) -> bytes:
     """The drawing as a PNG: up to `positions` of its frames spread over the sweep, overlaid
-    from faint to solid over the ground; the last one with its joints and letters."""
+    from faint to solid over the ground; the last one with its joints and letters. 100 dots an
+    inch (`dpi`), 800 pixels wide unless `size` (width, height in pixels) says otherwise."""
     import io
     MplFigure, FigureCanvasAgg = _matplotlib()
     placed = [f for f in drawing.frames if f.message is None] or list(drawing.frames)
     chosen = [placed[i] for i in _spread(len(placed), positions)]
     x0, y0, x1, y1 = drawing.bounds
-    width = 8.0
-    mpl = MplFigure(figsize=(width, min(10.0, max(3.0, width * (y1 - y0) / (x1 - x0) + 0.9))),
-                    dpi=100, layout="constrained")
+    width, dpi = 8.0, dpi or 100
+    inches = (width, min(10.0, max(3.0, width * (y1 - y0) / (x1 - x0) + 0.9)))
+    mpl = MplFigure(figsize=(size[0] / dpi, size[1] / dpi) if size else inches, dpi=dpi,
+                    layout="constrained")
     FigureCanvasAgg(mpl)
     mpl.suptitle(f"{drawing.title}\n{drawing.subtitle}", fontsize=10)
     ax = mpl.add_subplot()
@@ -5014,6 +5017,7 @@ def _series_label(series: Series, several_precisions: bool, several_branches: bo
 
 
 DRAWN_UP_TO = 1e100      # the largest value a figure draws (GW-BASIC's numbers end at 1.7E+38)
+CLIPPED = " (clipped at +-3)"       # a basic VEL or ACC curve that touches 3, as the original clips
 
 
 def build_figure(title: str, subtitle: str, group: str, specs, series: list[Series]) -> Figure:
@@ -5040,6 +5044,9 @@ def build_figure(title: str, subtitle: str, group: str, specs, series: list[Seri
                     raise SceneError(f"{path}: a value of {big:.3g} is too large to draw "
                                      f"(the figures go up to {DRAWN_UP_TO:g})")
                 runs = _runs(points, angles)
+                if (s.precision == "basic" and quantity != "displacement"
+                        and any(abs(y) == 3.0 for _, y in points)):
+                    label += CLIPPED                                        # ERRATA K9
                 curve = Curve(label, quantity, s.precision, s.branch, runs)
                 reference = next((c for c in curves if c.quantity == quantity), None)
                 curves.append(_turned(curve, reference) if angles and reference else curve)
@@ -5083,7 +5090,8 @@ def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
 # -- the plain-text plot -----------------------------------------------------------------------
 
 TEXT_WIDTH, TEXT_HEIGHT = 80, 24
-MARKERS = "*o+x#@%&"
+MARKERS = "*o+x@%&$"
+OVERLAP = "#"                           # a cell two curves pass through
 
 
 class _Axis(NamedTuple):
@@ -5142,7 +5150,7 @@ def _panel_lines(panel: Panel, width: int) -> list[str]:
     """The panel's header: its quantities and units, and which marker is which curve (before
     each quantity when there is one curve of each, else in a legend)."""
     labels = [f"{n} {s} [{u}]" for n, s, u in panel.labels]
-    legend = "  ".join(f"{MARKERS[i % len(MARKERS)]} {c.label}"
+    legend = "  ".join(f"{MARKERS[i % len(MARKERS)]} {c.label.replace(CLIPPED, '')}"
                        for i, c in enumerate(panel.curves)) if len(panel.curves) > 1 else ""
     if len(panel.curves) > 1 and [c.quantity for c in panel.curves] == list(panel.quantities):
         labels = [f"{MARKERS[i]} {text}" for i, text in enumerate(labels)]
@@ -5153,9 +5161,14 @@ def _panel_lines(panel: Panel, width: int) -> list[str]:
     return _wrapped(header, width, "    ") + (_wrapped(legend, width, "  ") if legend else [])
 
 
-def _draw(grid, x_axis: _Axis, y_axis: _Axis, runs, marker: str) -> None:
+def _draw(grid, x_axis: _Axis, y_axis: _Axis, runs, marker: str, drawn=None,
+          key=None) -> None:
     """Put `marker` in the cells the curve passes through: at each point, and between two
-    points of a run at steps of at most half a cell."""
+    points of a run at steps of at most half a cell. Where `drawn` (the cells earlier curves
+    took, with their keys) has a curve of another `key` (another quantity or branch: one the
+    marker would hide), OVERLAP; one of the same key (the same curve in the other precision)
+    is covered, which shows that the two agree there."""
+    drawn = {} if drawn is None else drawn
     rows, columns = len(grid), len(grid[0])
     for run in runs:
         cells = [(x_axis.cell(x), y_axis.cell(y)) for x, y in run]
@@ -5166,7 +5179,11 @@ def _draw(grid, x_axis: _Axis, y_axis: _Axis, runs, marker: str) -> None:
                 c = math.floor(c0 + (c1 - c0) * t + 0.5)
                 r = math.floor(r0 + (r1 - r0) * t + 0.5)
                 if 0 <= c < columns and 0 <= r < rows:
-                    grid[rows - 1 - r][c] = marker
+                    cell = (rows - 1 - r, c)
+                    before = drawn.setdefault(cell, key)
+                    grid[cell[0]][c] = marker if before == key else OVERLAP
+                    if before != key:
+                        drawn[cell] = OVERLAP
 
 
 def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIGHT) -> str:
@@ -5200,15 +5217,18 @@ def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIG
             break
         spacing, right = longest + 2, max(right, longest // 2 + 1)
 
-    out = list(top)
+    out, overlaps = list(top), False
     for k, (panel, header, y_axis, texts) in enumerate(zip(figure.panels, headers, y_axes,
                                                           y_texts)):
         out += header
         grid = [[" "] * x_axis.cells for _ in range(y_axis.cells)]
         for r, row in enumerate(grid):
             row[0] = "+" if (y_axis.cells - 1 - r) % y_axis.per == 0 else "|"
+        drawn: dict = {}
         for i, curve in enumerate(panel.curves):
-            _draw(grid, x_axis, y_axis, curve.runs, MARKERS[i % len(MARKERS)])
+            _draw(grid, x_axis, y_axis, curve.runs, MARKERS[i % len(MARKERS)], drawn,
+                  (curve.quantity, curve.branch))
+        overlaps = overlaps or OVERLAP in drawn.values()
         for r, row in enumerate(grid):
             tick, off = divmod(y_axis.cells - 1 - r, y_axis.per)
             out.append(f"{texts[tick] if off == 0 else '':>{margin - 1}} " + "".join(row).rstrip())
@@ -5219,6 +5239,10 @@ def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIG
         start = max(0, margin + i * x_axis.per - (len(text) - 1) // 2)
         labels[start:start + len(text)] = text
     out.append("".join(labels).rstrip())
+    clipped = any(CLIPPED in c.label for p in figure.panels for c in p.curves)  # ERRATA K9
+    notes = [f"{OVERLAP} = two curves"] * overlaps + ["basic clipped at +-3"] * clipped
+    if notes and len(bottom[0]) + 2 + len("  ".join(notes)) <= width:
+        bottom[0] += "  " + "  ".join(notes)
     out += bottom
     return "\n".join(out) + "\n"
 
@@ -5228,7 +5252,7 @@ def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIG
 def _pretty(text: str) -> str:
     """Greek letters and superscripts for the PNG's labels."""
     for ascii_, shown in (("dphi2", "dφ²"), ("d2", "d²"), ("^2", "²"), ("psi", "ψ"),
-                          ("phi", "φ"), ("ksi", "ξ")):
+                          ("phi", "φ"), ("ksi", "ξ"), ("+-", "±")):
         text = text.replace(ascii_, shown)
     return text
 
@@ -5244,8 +5268,10 @@ def _matplotlib():
     return MplFigure, FigureCanvasAgg
 
 
-def png_figure(figure: Figure, path: str) -> None:
-    """Render the figure with matplotlib (the `plot` extra) into the PNG file `path`."""
+def png_figure(figure: Figure, path: str, dpi: float | None = None,
+               size: tuple[int, int] | None = None) -> None:
+    """Render the figure with matplotlib (the `plot` extra) into the PNG file `path`: 90 dots an
+    inch (`dpi`), 648 pixels wide unless `size` (width, height in pixels) says otherwise."""
     MplFigure, FigureCanvasAgg = _matplotlib()
     from matplotlib.ticker import MultipleLocator
     xs_all = [x for p in figure.panels for c in p.curves for r in c.runs for x, _ in r]
@@ -5254,7 +5280,9 @@ def png_figure(figure: Figure, path: str) -> None:
                ("velocity", 1): "tab:blue", ("velocity", 2): "tab:cyan",
                ("acceleration", 1): "tab:red", ("acceleration", 2): "tab:orange"}
     n = len(figure.panels)
-    mpl = MplFigure(figsize=(7.2, 0.7 + 2.6 * n), dpi=90, layout="constrained")
+    dpi = dpi or 90
+    mpl = MplFigure(figsize=(size[0] / dpi, size[1] / dpi) if size else (7.2, 0.7 + 2.6 * n),
+                    dpi=dpi, layout="constrained")
     FigureCanvasAgg(mpl)
     mpl.suptitle(_pretty(f"{figure.title}\n{figure.subtitle}"), fontsize=10)
     name, symbol, unit = figure.xlabel
@@ -5308,7 +5336,7 @@ def _draw_command(args: argparse.Namespace, make_figure) -> int:
             _matplotlib()                       # fail before any work
         figure = make_figure()
         if args.png:
-            png_figure(figure, args.png)
+            png_figure(figure, args.png, args.dpi, args.size)
         if args.text or not args.png:
             sys.stdout.write(text_figure(figure))
     return _reported(draw)
@@ -5345,7 +5373,8 @@ def drawing_command(args: argparse.Namespace, make_drawing) -> int:
             _matplotlib()                       # fail before any work
         drawing = make_drawing()
         for path, render in ((args.svg, lambda: svg_drawing(drawing).encode("utf-8")),
-                             (args.png, lambda: png_drawing(drawing))):
+                             (args.png, lambda: png_drawing(drawing, dpi=getattr(args, "dpi", None),
+                                                            size=getattr(args, "size", None)))):
             if path:
                 with written_whole(path) as fh:
                     fh.write(render())
@@ -6313,6 +6342,24 @@ def _mechanism_type(text: str) -> str:
     return name
 
 
+def _png_dpi(text: str) -> float:
+    try:
+        dpi = decimal_number(text, "--dpi")
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+    if not 10 <= dpi <= 1200:
+        raise argparse.ArgumentTypeError(f"{text} dots an inch: expected 10 to 1200")
+    return dpi
+
+
+def _png_size(text: str) -> tuple[int, int]:
+    match = re.fullmatch(r"([0-9]{1,5})[xX]([0-9]{1,5})", text.strip())
+    if not match or not all(100 <= int(v) <= 20000 for v in match.groups()):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected WIDTHxHEIGHT in pixels, each 100 "
+                                         "to 20000, e.g. 1600x1200")
+    return int(match[1]), int(match[2])
+
+
 def _benchmark_name(text: str) -> str:
     if text not in BENCHMARKS:
         raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(BENCHMARKS)}")
@@ -6399,6 +6446,11 @@ def build_parser() -> argparse.ArgumentParser:
                              "(needs matplotlib: pip install 'linkage[plot]')")
         command.add_argument("--text", action="store_true",
                              help="draw the plain-text plot (the default without --png)")
+        command.add_argument("--dpi", type=_png_dpi, metavar="N",
+                             help="the PNG's dots an inch: its scale (default 90; a mechanism "
+                                  "100)")
+        command.add_argument("--size", type=_png_size, metavar="WxH",
+                             help="the PNG's width and height in pixels, e.g. 1600x1200")
     commands.add_parser("design", help="synthesise a linkage by one of the review's methods "
                                       "(python3 linkage.py design --help)", add_help=False)
     bench = commands.add_parser("bench", help="measure speed, and what accuracy costs in time",

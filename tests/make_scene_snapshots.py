@@ -17,7 +17,6 @@ import contextlib
 import io
 import os
 import sys
-import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -45,9 +44,8 @@ def text_plot(scene: Path, encoding: str = "ascii") -> str:
     out = io.TextIOWrapper(raw, encoding=encoding, newline="\n")
     size = {k: os.environ.pop(k, None) for k in ("COLUMNS", "LINES")}
     try:
-        with tempfile.TemporaryDirectory() as directory, contextlib.redirect_stdout(out), \
-                contextlib.redirect_stderr(err):
-            status = linkage.main(["scene", str(scene), "--dir", directory, "--text"])
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            status = linkage.main(["scene", str(scene), "--text"])     # writes no DAT file
             out.flush()
     finally:
         os.environ.update({k: v for k, v in size.items() if v is not None})

@@ -191,7 +191,19 @@ def test_the_figure_is_labelled(drawn):
     for header, panel in zip(headers, scene.panels):
         for quantity in panel.quantities:
             assert units[quantity] in header, header
-    assert text.splitlines()[-1] == "x axes: input angle phi [deg]"
+    assert text.splitlines()[-1].startswith("x axes: input angle phi [deg]")
+
+
+@pytest.mark.parametrize("drawn", SCENES, ids=scene_id, indirect=True)
+def test_the_figure_says_where_the_original_clipped(drawn):
+    """ERRATA K9: the original writes VEL and ACC clipped to +-3. A figure with a basic series
+    whose VEL.DAT or ACC.DAT holds a 3 says so under the plot and in the PNG's legend."""
+    scene, text, _, folder, _ = drawn
+    touches = any(abs(v) == 3
+                  for name in ("VEL.DAT", "ACC.DAT") for path in folder.rglob(name)
+                  if "double" not in str(path.parent.name) and "basic" in scene.precisions
+                  for _, v in linkage.read_dat(str(path)))
+    assert ("basic clipped at +-3" in text.splitlines()[-1]) == touches
 
 
 # ---- the text plot puts the curve in the right cells -----------------------------------------
