@@ -1582,7 +1582,7 @@ class Progress:
         rate = self.done / max(now - self.start, 1e-9)
         left = max(self.total - self.done, 0) / rate
         text = (f"\r{self.done:,} of {self.total:,.0f} points, {rate:,.0f} a second, "
-                f"{_duration(left)} left")
+                f"{_time_left(left)} left")
         with contextlib.suppress(OSError, ValueError):
             self.out.write(text + "\x1b[K")
             self.out.flush()
@@ -1598,7 +1598,7 @@ class Progress:
                 self.out.flush()
 
 
-def _duration(seconds: float) -> str:
+def _time_left(seconds: float) -> str:
     if seconds < 60:
         return f"{seconds:.0f} s"
     if seconds < 3600:

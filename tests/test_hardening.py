@@ -55,6 +55,14 @@ def assert_whole(directory) -> None:
             assert data.endswith(b"\x1a") and data.count(b"\x1a") == 1, name
 
 
+def wait_for_partial(folder, proc, seconds=60) -> None:
+    """Until the program has begun writing its files in folder (a temporary file is there)."""
+    deadline = time.monotonic() + seconds
+    while not any(n.endswith(".partial") for n in os.listdir(folder)):
+        assert time.monotonic() < deadline and proc.poll() is None
+        time.sleep(0.01)
+
+
 @pytest.fixture
 def old_set(tmp_path):
     """A folder holding a complete set of DAT files from an earlier run, and its bytes."""
@@ -220,9 +228,7 @@ def test_a_disk_that_fills_mid_sweep_keeps_the_old_files(writer, tmp_path):
         proc.stdin.write(keys)
         proc.stdin.close()
         if fault is None and "double" not in writer:
-            while not any(n.endswith(".partial") for n in os.listdir(disk)):
-                assert proc.poll() is None
-                time.sleep(0.01)
+            wait_for_partial(disk, proc)
             fill(disk)
         assert proc.wait(timeout=300) == 1
         said = proc.stderr.read().decode()
@@ -260,10 +266,7 @@ def test_a_signal_mid_sweep_leaves_the_old_files(writer, signum, old_set):
                             stderr=subprocess.PIPE, cwd=folder)
     proc.stdin.write(keys)
     proc.stdin.close()
-    deadline = time.monotonic() + 60
-    while not any(n.endswith(".partial") for n in os.listdir(folder)):
-        assert time.monotonic() < deadline and proc.poll() is None
-        time.sleep(0.02)
+    wait_for_partial(folder, proc)
     time.sleep(random.Random(signum).uniform(0, 0.5))   # somewhere in the sweep
     proc.send_signal(signum)
     assert proc.wait(timeout=60) == 128 + signum
@@ -414,10 +417,7 @@ def test_a_hang_up_mid_sweep_on_a_terminal_leaves_nothing(signum, tmp_path):
             term.press(answer + b"\r")
         term.wait_for(b"Which solution")
         term.press(b"1")
-        deadline = time.monotonic() + 30
-        while not any(n.endswith(".partial") for n in os.listdir(tmp_path)):
-            assert time.monotonic() < deadline and term.proc.poll() is None
-            time.sleep(0.02)
+        wait_for_partial(tmp_path, term.proc)
         term.proc.send_signal(signum)
         assert term.proc.wait(timeout=30) == 128 + signum
         if signum == signal.SIGTERM:

@@ -7,10 +7,8 @@ from __future__ import annotations
 import io
 import os
 import re
-import signal
 import subprocess
 import sys
-import time
 import typing
 
 import pytest
@@ -192,20 +190,7 @@ def test_a_sweep_larger_than_the_disk(tmp_path, monkeypatch):
     assert os.listdir(tmp_path) == []
 
 
-def test_ctrl_c_during_a_sweep_leaves_no_file(tmp_path):
-    keys = b"12\r7\r9\r6\r0\r3600\r.01\r1"       # 360,000 points: a minute or more
-    proc = subprocess.Popen(PROGRAM, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, cwd=tmp_path)
-    proc.stdin.write(keys)
-    proc.stdin.close()
-    deadline = time.monotonic() + 30
-    while not any(n.endswith(".partial") for n in os.listdir(tmp_path)):
-        assert time.monotonic() < deadline and proc.poll() is None
-        time.sleep(0.05)
-    proc.send_signal(signal.SIGINT)
-    assert proc.wait(timeout=30) == 130
-    assert "interrupted" in proc.stderr.read().decode()
-    assert os.listdir(tmp_path) == []
+# Ctrl-C, SIGTERM and SIGHUP mid-sweep: tests/test_hardening.py.
 
 
 # ---- any keys at all -------------------------------------------------------------------------
