@@ -1579,6 +1579,14 @@ class Linkage:
         loop = _sweep_slider if self.is_slider else _sweep_four_bar
         return loop(self, phis, sign, derivatives)
 
+    def sweep_arrays(self, phis, branch=1, derivatives=2):
+        """sweep on numpy arrays (the optional extra `fast`): a MotionArrays of the output,
+        velocity and acceleration (NaN where there is no position) and status codes. The same
+        numbers as sweep to 1e-13 (tests/test_fast.py): a point near a dead centre or change
+        point, or whose numbers are not finite, is computed by sweep itself. Raises
+        FastUnavailable where numpy is not installed."""
+        return _sweep_arrays(self, phis, branch, derivatives)
+
     def _precise(self, phi, sign, level):
         """One point in 50-digit decimal arithmetic (near a dead-centre), as a Motion."""
         if self._decimal is None:
@@ -1768,6 +1776,299 @@ def _slider_point(k, zero, phi, c, s, sign, level, unit):
         return Motion(phi, float(x) * unit, float(vel) * unit, None, ASSEMBLED)
     acc = sign * (xk / 2 - xm * x + 2 * dm * vel - vel * vel) / root
     return Motion(phi, float(x) * unit, float(vel) * unit, float(acc) * unit, ASSEMBLED)
+
+
+# -- the vectorised path: numpy, a block of angles at a time (issue 13) -------------------------
+#
+# Linkage.sweep_arrays is _sweep_four_bar and _sweep_slider written on numpy arrays: the same
+# formulas with the same operations in the same order, so the same numbers to a few units in the
+# last place (numpy's cos, sin, hypot and arctan2 are not libm's). The angles go through in
+# blocks of FAST_BLOCK, every operation written into a preallocated array (out=) so that the
+# working set stays in the cache; a term whose constant is zero is left out (it adds nothing but
+# the sign of a zero). The vectorised path decides only "assembled" and the plainly "not
+# assembled": a point the scalar engine would redo in 50-digit decimal (discriminant within
+# _precise_below of zero), widened by FAST_MARGIN so that a last-place difference cannot carry a
+# point across that line, and any point whose numbers are not finite, is handed to Linkage.sweep
+# itself - never approximated here. numpy is imported at the first use only: linkage.py runs on
+# the standard library alone, and this path is the optional extra `fast`.
+
+STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE)  # MotionArrays.status
+FAST_BLOCK = 8192        # angles a block (the fastest of 1024 to 16384 here, 2026-11-25)
+FAST_MARGIN = 2.0        # handed to the scalar engine: |D| <= FAST_MARGIN * its decimal line
+
+
+class FastUnavailable(RuntimeError):
+    """The vectorised path (Linkage.sweep_arrays, run --fast, a scene's fast = true) where numpy
+    cannot be imported."""
+
+
+def _numpy():
+    """numpy, imported at the first use; FastUnavailable, saying what to install, without it."""
+    try:
+        import numpy
+    except ImportError:
+        raise FastUnavailable("the vectorised path (--fast, a scene's fast = true) needs numpy, "
+                              "which is not installed: pip install 'linkage[fast]' (or numpy); "
+                              "without it, leave --fast out: the same numbers, computed one "
+                              "point at a time") from None
+    return numpy
+
+
+class MotionArrays(NamedTuple):
+    """Linkage.sweep_arrays' answer: Linkage.sweep's Motion fields as numpy arrays, one element an
+    input angle. output, velocity and acceleration are float64, NaN where the position does not
+    exist (status says why); velocity and acceleration are None when not asked for. status holds
+    int8 codes, indices into STATUS_CODES (0 ASSEMBLED, 1 DEAD_CENTRE, 2 NOT_ASSEMBLED,
+    3 INDETERMINATE)."""
+
+    phi: object
+    output: object
+    velocity: object
+    acceleration: object
+    status: object
+
+    def motions(self) -> list[Motion]:
+        """The same answer as Linkage.sweep gives it: a list of Motion, None for NaN."""
+        columns = [None if a is None else [None if v != v else v for v in a.tolist()]
+                   for a in (self.output, self.velocity, self.acceleration)]
+        n = len(self.phi)
+        output, velocity, acceleration = (c if c is not None else [None] * n for c in columns)
+        return [Motion(phi, o, v, a, STATUS_CODES[k]) for phi, o, v, a, k in
+                zip(self.phi.tolist(), output, velocity, acceleration, self.status.tolist())]
+
+
+def _fast_lin(np, a, x, b, y, out, spare):
+    """a x + b y into out, as the scalar engine rounds it; a term with a zero constant left out."""
+    if a and b:
+        np.multiply(x, a, out=out)
+        np.multiply(y, b, out=spare)
+        return np.add(out, spare, out=out)
+    if a or b:
+        return np.multiply(x if a else y, a or b, out=out)
+    out.fill(0.0)
+    return out
+
+
+def _fast_plus(np, k, x, out):
+    """k + x into out (x itself when k is zero)."""
+    return np.add(x, k, out=out) if k else x
+
+
+def _fast_cos_sin(np, phi, reduce, w):
+    """cos and sin of phi degrees as _sweep_four_bar computes them: the angle reduced exactly to
+    y = r - 90 n (|y| <= 45), cos y and sin y, then turned by n quarter turns (products with 0 and
+    +-1, exact)."""
+    r = np.fmod(phi, 360.0, out=w["r"]) if reduce else phi
+    n = np.divide(r, 90.0, out=w["n"])
+    np.rint(n, out=n)                       # half to even, as round() does
+    y = np.multiply(n, 90.0, out=w["y"])
+    np.subtract(r, y, out=y)
+    np.multiply(y, _RAD, out=y)
+    cy, sy = np.cos(y, out=w["cy"]), np.sin(y, out=w["sy"])
+    lo, hi = n.min(), n.max()
+    if lo == hi:                            # one quarter turn for the whole block (the usual)
+        q = int(lo) & 3
+        if q == 0:
+            return cy, sy
+        if q == 2:
+            return np.negative(cy, out=cy), np.negative(sy, out=sy)
+        return (np.negative(sy, out=sy), cy) if q == 1 else (sy, np.negative(cy, out=cy))
+    quarter = w["quarter"]
+    np.copyto(quarter, n, casting="unsafe")
+    np.bitwise_and(quarter, 3, out=quarter)
+    turn_c = np.take(_QUARTER_COS, quarter, out=w["tc"])
+    turn_s = np.take(_QUARTER_SIN, quarter, out=w["ts"])
+    c, s, spare = w["c"], w["s"], w["spare"]
+    np.multiply(cy, turn_c, out=c)
+    np.subtract(c, np.multiply(sy, turn_s, out=spare), out=c)
+    np.multiply(sy, turn_c, out=s)
+    np.add(s, np.multiply(cy, turn_s, out=spare), out=s)
+    return c, s
+
+
+_QUARTER_COS = (1.0, 0.0, -1.0, 0.0)     # cos and sin of n quarter turns
+_QUARTER_SIN = (0.0, 1.0, 0.0, -1.0)
+
+
+def _fast_four_bar(np, k, phi, c, s, sign, level, res, w):
+    """_sweep_four_bar on one block: psi, psi', psi'' into res, the discriminant into res["disc"]."""
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = k
+    spare = w["spare"]
+    xp = _fast_lin(np, pc, c, ps, s, w["xp"], spare)
+    xq = _fast_lin(np, qc, c, qs, s, w["xq"], spare)
+    xs = _fast_lin(np, sc, c, ss, s, w["xs"], spare)
+    p, q, sv = _fast_plus(np, p0, xp, w["p"]), _fast_plus(np, q0, xq, w["q"]), \
+        _fast_plus(np, s0, xs, w["sv"])
+    rr = np.hypot(p, q, out=w["rr"])
+    disc = np.subtract(rr, sv, out=res["disc"])
+    np.multiply(disc, np.add(rr, sv, out=spare), out=disc)
+    root = np.sqrt(disc, out=w["root"])      # NaN where not assembled: found by the caller
+    sn, cn = w["sn"], w["cn"]
+    np.multiply(q, sv, out=sn)               # sn = -q sv - sign p root
+    pr = np.multiply(p, root, out=spare)
+    (np.add if sign > 0 else np.subtract)(sn, pr, out=sn)
+    np.negative(sn, out=sn)
+    np.multiply(p, sv, out=cn)               # cn = -p sv + sign q root
+    qr = np.multiply(q, root, out=spare)
+    (np.subtract if sign > 0 else np.add)(cn, qr, out=cn)
+    np.negative(cn, out=cn)
+    psi = np.arctan2(sn, cn, out=res["output"])
+    np.multiply(psi, _DEG, out=psi)
+    np.copyto(psi, 180.0, where=np.equal(psi, -180.0, out=w["flag"]))
+    if level == 0:
+        return
+    r2 = np.multiply(rr, rr, out=w["r2"])
+    cp, sp = np.divide(cn, r2, out=cn), np.divide(sn, r2, out=sn)
+    dp = _fast_lin(np, ps, c, -pc, s, w["dp"], spare)
+    dq = _fast_lin(np, qs, c, -qc, s, w["dq"], spare)
+    ds = _fast_lin(np, ss, c, -sc, s, w["ds"], spare)
+    vel = np.multiply(dp, cp, out=res["velocity"])       # -sign (dp cp + dq sp + ds) / root
+    np.add(vel, np.multiply(dq, sp, out=spare), out=vel)
+    np.add(vel, ds, out=vel)
+    np.divide(vel, root, out=vel)
+    if sign > 0:
+        np.negative(vel, out=vel)
+    if level == 1:
+        return
+    acc = res["acceleration"]
+    e = np.multiply(xp, cp, out=w["e"])                  # -e_ff = xp cp + xq sp + xs
+    np.add(e, np.multiply(xq, sp, out=spare), out=e)
+    np.add(e, xs, out=e)
+    fp = np.multiply(dq, cp, out=w["fp"])                # e_fp = dq cp - dp sp
+    np.subtract(fp, np.multiply(dp, sp, out=spare), out=fp)
+    np.multiply(fp, 2.0, out=fp)
+    np.multiply(fp, vel, out=fp)
+    np.subtract(fp, e, out=acc)                          # e_ff + 2 e_fp vel
+    np.multiply(sv, vel, out=spare)
+    np.multiply(spare, vel, out=spare)
+    np.add(acc, spare, out=acc)                          # ... + sv vel vel
+    np.divide(acc, root, out=acc)
+    if sign > 0:
+        np.negative(acc, out=acc)
+
+
+def _fast_slider(np, k, phi, c, s, sign, level, res, w):
+    """_sweep_slider on one block, in the linkage's scaled lengths (the caller multiplies by the
+    unit): x, x', x'' into res, the discriminant into res["disc"]."""
+    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = k
+    spare = w["spare"]
+    xm = _fast_lin(np, mc, c, ms, s, w["xm"], spare)
+    xk = _fast_lin(np, kc, c, ks, s, w["xk"], spare)
+    m, q = _fast_plus(np, m0, xm, w["m"]), _fast_plus(np, k0, xk, w["q"])
+    u = _fast_affine(np, u0, uc, c, us, s, w["u"], spare)
+    if v0 or vc or vs:
+        dist = np.hypot(u, _fast_affine(np, v0, vc, c, vs, s, w["v"], spare), out=w["dist"])
+    else:
+        dist = np.abs(u, out=w["dist"])                  # hypot(u, 0), exactly
+    disc = np.subtract(rod, dist, out=res["disc"])
+    np.multiply(disc, np.add(dist, rod, out=spare), out=disc)
+    root = np.sqrt(disc, out=w["root"])
+    negative = np.less(m, 0.0, out=w["flag"])
+    big = w["big"]                                       # m + root, or m - root where m < 0
+    np.copyto(big, root)
+    np.negative(big, out=big, where=negative)
+    np.add(big, m, out=big)
+    x = res["output"]
+    np.divide(q, big, out=x)                             # the other root, q / big
+    if sign < 0:
+        np.copyto(x, big, where=negative)
+    else:
+        np.logical_not(negative, out=negative)
+        np.copyto(x, big, where=negative)
+    if level == 0:
+        return
+    dm = _fast_lin(np, ms, c, -mc, s, w["dm"], spare)
+    dk = _fast_lin(np, ks, c, -kc, s, w["dk"], spare)
+    vel = np.multiply(dm, x, out=res["velocity"])        # sign (dm x - dk / 2) / root
+    np.subtract(vel, np.multiply(dk, 0.5, out=spare), out=vel)
+    np.divide(vel, root, out=vel)
+    if sign < 0:
+        np.negative(vel, out=vel)
+    if level == 1:
+        return
+    acc = np.multiply(xk, 0.5, out=res["acceleration"])  # sign (xk/2 - xm x + 2 dm x' - x'^2)
+    np.subtract(acc, np.multiply(xm, x, out=spare), out=acc)
+    np.multiply(dm, 2.0, out=spare)
+    np.add(acc, np.multiply(spare, vel, out=spare), out=acc)
+    np.subtract(acc, np.multiply(vel, vel, out=spare), out=acc)
+    np.divide(acc, root, out=acc)
+    if sign < 0:
+        np.negative(acc, out=acc)
+
+
+def _fast_affine(np, k0, kc, c, ks, s, out, spare):
+    """(k0 + kc c) + ks s into out, in _sweep_slider's order; zero terms left out."""
+    if kc:
+        np.multiply(c, kc, out=out)
+        if k0:
+            np.add(out, k0, out=out)
+    else:
+        out.fill(k0)
+    if ks:
+        np.add(out, np.multiply(s, ks, out=spare), out=out)
+    return out
+
+
+_FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "xq", "xs", "p",
+              "q", "sv", "rr", "root", "sn", "cn", "r2", "dp", "dq", "ds", "e", "fp", "xm", "xk",
+              "m", "u", "v", "dist", "big", "dm", "dk")
+
+
+def _sweep_arrays(linkage, phis, branch, derivatives):
+    """Linkage.sweep_arrays: see there."""
+    np = _numpy()
+    if branch not in (1, 2):
+        raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
+    if derivatives not in (0, 1, 2):
+        raise ValueError("derivatives is 0 (output), 1 (and velocity) or 2 (and acceleration)")
+    try:
+        phi = np.array(phis, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError("input angles must be numbers") from None
+    if phi.ndim != 1:
+        raise ValueError("input angles must be a sequence of numbers (one dimension)")
+    if not np.isfinite(phi).all():
+        raise ValueError("input angles must be finite")
+    count, sign, level = len(phi), 1.0 if branch == 1 else -1.0, derivatives
+    res = {"output": np.empty(count), "disc": np.empty(count),
+           "velocity": np.empty(count) if level >= 1 else None,
+           "acceleration": np.empty(count) if level >= 2 else None}
+    block = min(FAST_BLOCK, max(count, 1))
+    w = {name: np.empty(block) for name in _FAST_WORK}
+    w["flag"] = np.empty(block, dtype=bool)
+    w["quarter"] = np.empty(block, dtype=np.intp)
+    reduce = count > 0 and not np.abs(phi).max() < 360.0
+    step = _fast_slider if linkage.is_slider else _fast_four_bar
+    k = linkage._constants
+    with np.errstate(all="ignore"):
+        for start in range(0, count, block):
+            stop = min(start + block, count)
+            n = stop - start
+            part = {key: None if a is None else a[start:stop] for key, a in res.items()}
+            work = w if n == block else {key: a[:n] for key, a in w.items()}
+            c, s = _fast_cos_sin(np, phi[start:stop], reduce, work)
+            step(np, k, phi[start:stop], c, s, sign, level, part, work)
+        last = res[("output", "velocity", "acceleration")[level]]
+        line = FAST_MARGIN * linkage._precise_below
+        disc = res["disc"]
+        missing = np.less(disc, -line)
+        redo = np.less_equal(np.abs(disc), line)
+        redo |= ~np.isfinite(last) & ~missing
+        if linkage.is_slider:
+            for key in ("output", "velocity", "acceleration"):
+                if res[key] is not None:
+                    np.multiply(res[key], linkage._unit, out=res[key])
+    status = np.zeros(count, dtype=np.int8)
+    status[missing] = STATUS_CODES.index(NOT_ASSEMBLED)
+    where = np.flatnonzero(redo)
+    if len(where):
+        columns = [res[key] for key in ("output", "velocity", "acceleration")]
+        for i, m in zip(where.tolist(), linkage.sweep(phi[where].tolist(), branch, level)):
+            for column, value in zip(columns, m[1:4]):
+                if column is not None:
+                    column[i] = math.nan if value is None else value
+            status[i] = STATUS_CODES.index(m.status)
+    return MotionArrays(phi, res["output"], res["velocity"], res["acceleration"], status)
 
 
 # -- angles and files ----------------------------------------------------------------------------
