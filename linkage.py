@@ -1891,7 +1891,8 @@ _QUARTER_SIN = (0.0, 1.0, 0.0, -1.0)
 
 
 def _fast_four_bar(np, k, phi, c, s, sign, level, res, w):
-    """_sweep_four_bar on one block: psi, psi', psi'' into res, the discriminant into res["disc"]."""
+    """_sweep_four_bar on one block: psi, psi', psi'' into res, the discriminant into
+    res["disc"]."""
     p0, pc, ps, q0, qc, qs, s0, sc, ss = k
     spare = w["spare"]
     xp = _fast_lin(np, pc, c, ps, s, w["xp"], spare)
@@ -4539,6 +4540,7 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "input": "a table with from, to and step (degrees)",
     "branches": "a list of branches, 1 (A+B) and/or 2 (A-B)",
     "precision": "basic, double or both",
+    "fast": "true or false: the double-precision numbers by the vectorised engine (needs numpy)",
     "panels": "a list of 1 to 3 tables [[panels]], each with quantities and optional limits; "
               "or one [[panels]] with quantities = [\"mechanism\"] and optional angles",
 }
@@ -4591,6 +4593,7 @@ class Scene:
     branches: tuple[int, ...]
     precisions: tuple[str, ...]
     panels: tuple[PanelSpec, ...]
+    fast: bool = False               # the double series by Linkage.sweep_arrays
 
     @property
     def derivatives(self) -> int:
@@ -4695,13 +4698,22 @@ def load_scene(path: str) -> Scene:
     if (not isinstance(panels, list) or not 1 <= len(panels) <= 3
             or not all(isinstance(p, dict) for p in panels)):
         raise _scene_error(path, "panels", SCENE_KEYS["panels"], panels)
+    fast = data.get("fast", False)
+    if not isinstance(fast, bool):
+        raise _scene_error(path, "fast", SCENE_KEYS["fast"], fast)
     if any(p.get("quantities") == [MECHANISM_PANEL] for p in panels):
+        if fast:
+            raise _scene_error(path, "fast", "false, or no fast: a mechanism scene's few "
+                               "positions are computed one at a time", fast)
         return _mechanism_scene(path, data, dims, start, stop, step, tuple(branches))
     if "precision" not in data:
         raise SceneError(f"{path}: key 'precision' is missing: expected {SCENE_KEYS['precision']}")
     precision = data["precision"]
     if precision not in PRECISIONS:
         raise _scene_error(path, "precision", SCENE_KEYS["precision"], precision)
+    if fast and "double" not in PRECISIONS[precision]:
+        raise _scene_error(path, "fast", "false with precision basic: only the engine's numbers "
+                           "(double) have a vectorised path", fast)
     specs = []
     for i, panel in enumerate(panels, 1):
         key = f"panels[{i}]"
@@ -4722,7 +4734,7 @@ def load_scene(path: str) -> Scene:
                                None if limits is None else (float(limits[0]), float(limits[1]))))
 
     return Scene(path, _scene_title(path, data), mechanism, dims, start, stop, step,
-                 tuple(branches), PRECISIONS[precision], tuple(specs))
+                 tuple(branches), PRECISIONS[precision], tuple(specs), fast)
 
 
 def _scene_title(path, data) -> str:
@@ -4790,11 +4802,15 @@ def _faithful_files(scene: Scene, branch: int, directory: str) -> list[str]:
 def _accurate_motions(scene: Scene, branch: int, derivatives: int) -> list[Motion]:
     try:
         linkage = Linkage(scene.mechanism, **scene.dimensions)
-        return linkage.sweep(evenly_spaced_angles(scene.start, scene.stop, scene.step), branch,
-                             derivatives)
+        angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
+        if scene.fast:
+            return linkage.sweep_arrays(angles, branch, derivatives).motions()
+        return linkage.sweep(angles, branch, derivatives)
     except ValueError as e:
         raise _scene_error(scene.path, "dimensions", f"dimensions the engine accepts: {e}") \
             from None
+    except FastUnavailable as e:
+        raise SceneError(f"{scene.path}: key 'fast': {e}") from None
 
 
 def _check_assembles(scene: Scene, motions: list[Motion]) -> None:
@@ -6068,6 +6084,9 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
         return _run_double(args, needed)
     if args.clip:
         parser.error("--clip goes with --precision double (the original always clips VEL and ACC)")
+    if args.fast:
+        parser.error("--fast goes with --precision double (the original's numbers are "
+                     "computed one point at a time)")
     screen = Screen(lambda s: None, terminal=False,
                     soft_errors=lambda s: sys.stderr.write(s.replace("\r\n", "\n")))
     if not os.path.isdir(args.dir):
@@ -6087,7 +6106,8 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
 def _run_double(args: argparse.Namespace, needed: tuple[str, ...]) -> int:
     """`run ... --precision double`: the accurate engine's numbers in the same three files,
     shortest round-trip text, unclipped unless --clip; positions that do not exist are left out
-    (the original writes zeros there, ERRATA K8)."""
+    (the original writes zeros there, ERRATA K8). --fast: the same numbers by the vectorised
+    path (Linkage.sweep_arrays, numpy)."""
     dims = {("ksi" if n == "skew" else n): float(getattr(args, n)) for n in needed}
     start, stop, step = float(args.start), float(args.stop), float(args.step)
     if step and (stop - start) / step > 10**7:
@@ -6096,8 +6116,10 @@ def _run_double(args: argparse.Namespace, needed: tuple[str, ...]) -> int:
     try:
         linkage = Linkage(args.type, **dims)
         angles = evenly_spaced_angles(start, stop, step)
-        write_dat_files(linkage.sweep(angles, int(args.branch)), args.dir, clip=args.clip)
-    except (ValueError, OSError) as e:
+        motions = (linkage.sweep_arrays(angles, int(args.branch)).motions() if args.fast
+                   else linkage.sweep(angles, int(args.branch)))
+        write_dat_files(motions, args.dir, clip=args.clip)
+    except (ValueError, OSError, FastUnavailable) as e:
         print(f"linkage.py: {e}", file=sys.stderr)
         return 1
     return 0
@@ -6147,6 +6169,9 @@ def build_parser() -> argparse.ArgumentParser:
                           "(default); double: the accurate engine")
     run.add_argument("--clip", action="store_true",
                      help="with --precision double: clip VEL and ACC to +-3 as the original does")
+    run.add_argument("--fast", action="store_true",
+                     help="with --precision double: the same numbers by the vectorised engine "
+                          "(needs numpy: pip install 'linkage[fast]')")
     run.set_defaults(handler=run_command, parser=run)
     scene = commands.add_parser(
         "scene", help="draw a scene of data/scenes: the paper's figures, the hard cases, "
