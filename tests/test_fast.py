@@ -89,12 +89,14 @@ HARD = harness.load_hard_cases()
 
 @pytest.mark.parametrize("case", HARD, ids=[c["name"] for c in HARD])
 def test_the_hard_catalogue(case):
-    """The catalogue's angles, and 2001 angles within 0.01 degree of each: equal to the scalar
-    engine at every level; at the catalogue's own angles, within test_engine's bounds of the
-    50-digit reference."""
+    """The catalogue's angles and, around each, 101 angles 1e-4 degree apart and 12 from 1e-12
+    to 1e-2 degree away: equal to the scalar engine at every level; at the catalogue's own
+    angles, within test_engine's bounds of the 50-digit reference."""
     kind, dims = case["kind"], case["dims"]
     phis = [float(p) for p in case["phis"]]
-    near = [p + 1e-5 * j for p in phis for j in range(-1000, 1001)]
+    offsets = [1e-4 * j for j in range(-50, 51)] + [s * 10.0 ** -e for e in (2, 3, 4, 6, 9, 12)
+                                                   for s in (1, -1)]
+    near = [p + d for p in phis for d in offsets]
     for branch in (1, 2):
         for level in LEVELS:
             check(kind, dims, phis + near, branch, level)
