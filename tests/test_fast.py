@@ -116,8 +116,10 @@ def test_the_hard_catalogue(case):
 
 def test_points_the_scalar_engine_redoes_in_decimal_are_handed_to_it(monkeypatch):
     """Every point where Linkage.sweep calls _precise (the 50-digit redo) was given to
-    Linkage.sweep by sweep_arrays, over the catalogue and the dense sweeps around it; and some
-    were (the test can fail)."""
+    Linkage.sweep by sweep_arrays, over the catalogue and around it: 101 angles 1e-6 degree
+    apart, and for the near-singular cases angles 1 to 1e-12 degree away, 16 a decade, so that
+    some fall just inside the scalar engine's line and some just outside; and some were (the test
+    can fail)."""
     redone, handed = [], []
     precise, sweep = engine.Linkage._precise, engine.Linkage.sweep
 
@@ -132,7 +134,10 @@ def test_points_the_scalar_engine_redoes_in_decimal_are_handed_to_it(monkeypatch
     monkeypatch.setattr(engine.Linkage, "_precise", recording_precise)
     for case in HARD:
         link = engine.Linkage(case["kind"], **case["dims"])
-        phis = [float(p) + 1e-6 * j for p in case["phis"] for j in range(-50, 51)]
+        offsets = [1e-6 * j for j in range(-50, 51)]
+        if case.get("near_singular"):
+            offsets += [s * 10.0 ** (-k / 16) for k in range(193) for s in (1, -1)]
+        phis = [float(p) + d for p in case["phis"] for d in offsets]
         for branch in (1, 2):
             link.sweep(phis, branch)
             monkeypatch.setattr(engine.Linkage, "sweep", recording_sweep)
