@@ -5561,25 +5561,89 @@ def bench_port(out) -> None:
 
 
 ENGINE_TARGET = 100_000    # points per second, displacement, velocity and acceleration (issue 5)
+FAST_TARGETS = {PLANE_FOUR_BAR: 10_000_000, "others": 5_000_000}   # the numpy path (issue 13)
+BENCH_LINKAGES = ((PLANE_FOUR_BAR, dict(a=6, b=2, c=7, d=9)),
+                  (SPHERICAL_FOUR_BAR, dict(a=80, b=20, c=75, d=60)),
+                  (SKEW_FOUR_BAR, dict(a=6, b=2, c=7, d=9, f=1.5, ksi=25)),
+                  (PLANE_SLIDER_CRANK, dict(b=2, c=7, e=1.5)),
+                  (SKEW_SLIDER_CRANK, dict(a=6, b=1, c=7.5, f=3, ksi=45)))
 
 
-def bench_engine(out) -> None:
-    """The accurate engine's speed on a 100,001-point sweep, by what is asked of it."""
-    angles = evenly_spaced_angles(0.0, 360.0, 0.0036)
-    slowest = math.inf
-    for kind, dims in (("plane", dict(a=6, b=2, c=7, d=9)), ("slider", dict(b=2, c=7, e=1.5)),
-                       ("spherical", dict(a=80, b=20, c=75, d=60))):
+def _pylinkage_rates(points: int) -> dict | str:
+    """pylinkage's points per second with velocity and acceleration on the plane four-bar and
+    slider-crank of BENCH_LINKAGES (its fastest way: Mechanism.step_fast_with_kinematics, the
+    input turning at 1 rad/s), or why it cannot be measured."""
+    try:
+        import pylinkage
+        from pylinkage import _numba_compat
+        from pylinkage.mechanism import fourbar, slider_crank
+    except ImportError:
+        return "not installed (pip install pylinkage)"
+    step = math.radians(360.0 / (points - 1))
+    mechanisms = {PLANE_FOUR_BAR: lambda: fourbar(crank=2.0, coupler=7.0, rocker=9.0, ground=6.0,
+                                                  omega=step),
+                  PLANE_SLIDER_CRANK: lambda: slider_crank(crank=2.0, rod=7.0, omega=step,
+                                                           slide_through=(0.0, 1.5))}
+    rates = {"version": f"pylinkage {pylinkage.__version__}, numba "
+                        + ("installed" if _numba_compat.HAS_NUMBA else "not installed: its "
+                           "compiled solver runs as plain Python")}
+    for kind, make in mechanisms.items():
+        mechanism = make()
+        mechanism.set_input_velocity(mechanism._driver_links[0], 1.0, 0.0)
+        rates[kind] = points / _best_of(3, lambda: mechanism.step_fast_with_kinematics(points))
+    return rates
+
+
+def bench_engine(out, points: int = 100_001, pylinkage_points: int = 10_001) -> None:
+    """The accurate engine's speed, scalar and vectorised (numpy), beside pylinkage's."""
+    angles = evenly_spaced_angles(0.0, 360.0, 360.0 / (points - 1))
+    try:
+        np = _numpy()
+        array = np.array(angles)
+    except FastUnavailable:
+        np = None
+    print(f"{points:,} input angles, 0 to 360 degrees, branch 1; points per second, best of 3 "
+          "(this machine's speed drifts 2x within an hour: compare within one run, the ratios "
+          "first)", file=out)
+    print(f"{'linkage':12} {'numpy/scalar':>12} {'scalar disp':>12} {'scalar +v,a':>12} "
+          f"{'numpy disp':>12} {'numpy +v,a':>12}", file=out)
+    scalar, fast = {}, {}
+    for kind, dims in BENCH_LINKAGES:
         linkage = Linkage(kind, **dims)
-        rates = []
-        for level in (0, 2):
-            seconds = _best_of(3, lambda: linkage.sweep(angles, 1, level))
-            rates.append(len(angles) / seconds)
-        print(f"{kind:10} {rates[0]:10,.0f} points/s displacement only, "
-              f"{rates[1]:10,.0f} with velocity and acceleration", file=out)
-        slowest = min(slowest, rates[1])
-    print(f"target: >= {ENGINE_TARGET:,} points/s with velocity and acceleration on one core "
-          f"(one Python thread): {'met' if slowest >= ENGINE_TARGET else 'NOT MET'}, slowest "
-          f"{slowest:,.0f}", file=out)
+        rates = [len(angles) / _best_of(3, lambda: linkage.sweep(angles, 1, level))
+                 for level in (0, 2)]
+        scalar[kind] = rates[1]
+        if np is not None:
+            fast_rates = [len(angles) / _best_of(3, lambda: linkage.sweep_arrays(array, 1, level))
+                          for level in (0, 2)]
+            fast[kind] = fast_rates[1]
+            print(f"{kind:12} {fast_rates[1] / rates[1]:11,.0f}x {rates[0]:12,.0f} "
+                  f"{rates[1]:12,.0f} {fast_rates[0]:12,.0f} {fast_rates[1]:12,.0f}", file=out)
+        else:
+            print(f"{kind:12} {'':>12} {rates[0]:12,.0f} {rates[1]:12,.0f} "
+                  f"{'numpy not installed':>25}", file=out)
+    pylinkage = _pylinkage_rates(pylinkage_points)
+    if isinstance(pylinkage, str):
+        print(f"pylinkage: {pylinkage}", file=out)
+    else:
+        print(f"{pylinkage['version']}; {pylinkage_points:,} angles, with velocity and "
+              "acceleration (step_fast_with_kinematics):", file=out)
+        for kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
+            ours = (f"numpy path {fast[kind] / pylinkage[kind]:,.0f}x, " if kind in fast else "")
+            print(f"{kind:12} {pylinkage[kind]:12,.0f} points/s; ours/pylinkage: {ours}"
+                  f"scalar engine {scalar[kind] / pylinkage[kind]:,.1f}x", file=out)
+    slowest = min(scalar.values())
+    print(f"target: scalar >= {ENGINE_TARGET:,} points/s with velocity and acceleration on one "
+          f"core (one Python thread): {'met' if slowest >= ENGINE_TARGET else 'NOT MET'}, "
+          f"slowest {slowest:,.0f}", file=out)
+    if fast:
+        misses = [k for k, r in fast.items()
+                  if r < FAST_TARGETS.get(k, FAST_TARGETS["others"])]
+        print(f"target: numpy path >= {FAST_TARGETS[PLANE_FOUR_BAR]:,} (plane), "
+              f">= {FAST_TARGETS['others']:,} (the others) with velocity and acceleration: "
+              + (f"NOT MET for {', '.join(misses)}" if misses else "met")
+              + f", plane {fast[PLANE_FOUR_BAR]:,.0f}, slowest other "
+              f"{min(r for k, r in fast.items() if k != PLANE_FOUR_BAR):,.0f}", file=out)
 
 
 # -- What accuracy costs in time: `bench accuracy` ------------------------------------------------

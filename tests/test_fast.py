@@ -177,7 +177,8 @@ def test_motions_are_what_sweep_returns():
     assert [(m.phi, m.status, m.acceleration) for m in fast] == \
         [(m.phi, m.status, m.acceleration) for m in scalar]
     for f, m in zip(fast, scalar):
-        assert (f.output is None) == (m.output is None) and (f.velocity is None) == (m.velocity is None)
+        assert (f.output is None) == (m.output is None)
+        assert (f.velocity is None) == (m.velocity is None)
     assert np.isnan(arrays.output[arrays.status == 2]).all()
 
 
@@ -322,3 +323,35 @@ def test_without_numpy_sweep_arrays_raises_fast_unavailable():
     assert done.returncode == 0, done.stderr
     assert done.stdout.startswith("unavailable: ") and "needs numpy" in done.stdout
     assert done.stdout.endswith("assembled\n")
+
+
+# -- bench engine ---------------------------------------------------------------------------------
+
+def test_bench_engine_prints_the_three_side_by_side():
+    """One row a linkage with the scalar and the numpy path's rates and their ratio, pylinkage's
+    rates beside ours, the targets; on a short sweep (the bench's times are not asserted)."""
+    import io
+    out = io.StringIO()
+    engine.bench_engine(out, points=2001, pylinkage_points=101)
+    text = out.getvalue()
+    rows = [line.split() for line in text.splitlines()
+            if line.split() and line.split()[0] in engine.LINKAGE_DIMENSIONS]
+    assert [row[0] for row in rows] == [kind for kind, _ in engine.BENCH_LINKAGES] + [
+        "plane", "slider"]                         # five kinds, then pylinkage's two
+    for kind, ratio, *rates in rows[:5]:
+        assert ratio.endswith("x") and len(rates) == 4
+        assert all(float(r.replace(",", "")) > 0 for r in rates)
+    assert "pylinkage 1.3.0" in text and "ours/pylinkage: numpy path" in text
+    assert "target: numpy path >= 10,000,000 (plane)" in text
+
+
+def test_bench_engine_without_numpy_or_pylinkage(tmp_path):
+    code = ("import io, sys; sys.modules['numpy'] = None; sys.modules['pylinkage'] = None; "
+            "sys.path.insert(0, sys.argv[1]); import linkage; out = io.StringIO(); "
+            "linkage.bench_engine(out, points=201, pylinkage_points=11); print(out.getvalue())")
+    done = subprocess.run([sys.executable, "-c", code, str(ROOT)], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0 and done.stderr == "", done.stderr
+    assert done.stdout.count("numpy not installed") == 5
+    assert "pylinkage: not installed" in done.stdout
+    assert "target: scalar >= 100,000" in done.stdout and "target: numpy" not in done.stdout
