@@ -5570,9 +5570,11 @@ BENCH_LINKAGES = ((PLANE_FOUR_BAR, dict(a=6, b=2, c=7, d=9)),
 
 
 def _pylinkage_rates(points: int) -> dict | str:
-    """pylinkage's points per second with velocity and acceleration on the plane four-bar and
-    slider-crank of BENCH_LINKAGES (its fastest way: Mechanism.step_fast_with_kinematics, the
-    input turning at 1 rad/s), or why it cannot be measured."""
+    """pylinkage's points per second on the plane four-bar and slider-crank of BENCH_LINKAGES,
+    or why it cannot be measured. The four-bar with velocity and acceleration (its fastest way,
+    Mechanism.step_fast_with_kinematics, the input at 1 rad/s); the slider-crank positions only
+    (Mechanism.step): pylinkage 1.3.0 gives no slider velocity (step_with_derivatives leaves it
+    None, and step_fast_with_kinematics does not move the slider; tests/test_pylinkage.py)."""
     try:
         import pylinkage
         from pylinkage import _numba_compat
@@ -5580,18 +5582,15 @@ def _pylinkage_rates(points: int) -> dict | str:
     except ImportError:
         return "not installed (pip install pylinkage)"
     step = math.radians(360.0 / (points - 1))
-    mechanisms = {PLANE_FOUR_BAR: lambda: fourbar(crank=2.0, coupler=7.0, rocker=9.0, ground=6.0,
-                                                  omega=step),
-                  PLANE_SLIDER_CRANK: lambda: slider_crank(crank=2.0, rod=7.0, omega=step,
-                                                           slide_through=(0.0, 1.5))}
-    rates = {"version": f"pylinkage {pylinkage.__version__}, numba "
-                        + ("installed" if _numba_compat.HAS_NUMBA else "not installed: its "
-                           "compiled solver runs as plain Python")}
-    for kind, make in mechanisms.items():
-        mechanism = make()
-        mechanism.set_input_velocity(mechanism._driver_links[0], 1.0, 0.0)
-        rates[kind] = points / _best_of(3, lambda: mechanism.step_fast_with_kinematics(points))
-    return rates
+    four_bar = fourbar(crank=2.0, coupler=7.0, rocker=9.0, ground=6.0, omega=step)
+    four_bar.set_input_velocity(four_bar._driver_links[0], 1.0, 0.0)
+    slider = slider_crank(crank=2.0, rod=7.0, omega=step, slide_through=(0.0, 1.5))
+    return {"version": f"pylinkage {pylinkage.__version__}, numba "
+                       + ("installed" if _numba_compat.HAS_NUMBA else "not installed: its "
+                          "compiled solver runs as plain Python"),
+            PLANE_FOUR_BAR: points / _best_of(3, lambda: four_bar.step_fast_with_kinematics(
+                points)),
+            PLANE_SLIDER_CRANK: points / _best_of(3, lambda: list(slider.step(points)))}
 
 
 def bench_engine(out, points: int = 100_001, pylinkage_points: int = 10_001) -> None:
@@ -5612,11 +5611,11 @@ def bench_engine(out, points: int = 100_001, pylinkage_points: int = 10_001) -> 
         linkage = Linkage(kind, **dims)
         rates = [len(angles) / _best_of(3, lambda: linkage.sweep(angles, 1, level))
                  for level in (0, 2)]
-        scalar[kind] = rates[1]
+        scalar[kind] = {0: rates[0], 2: rates[1]}
         if np is not None:
             fast_rates = [len(angles) / _best_of(3, lambda: linkage.sweep_arrays(array, 1, level))
                           for level in (0, 2)]
-            fast[kind] = fast_rates[1]
+            fast[kind] = {0: fast_rates[0], 2: fast_rates[1]}
             print(f"{kind:12} {fast_rates[1] / rates[1]:11,.0f}x {rates[0]:12,.0f} "
                   f"{rates[1]:12,.0f} {fast_rates[0]:12,.0f} {fast_rates[1]:12,.0f}", file=out)
         else:
@@ -5626,17 +5625,22 @@ def bench_engine(out, points: int = 100_001, pylinkage_points: int = 10_001) -> 
     if isinstance(pylinkage, str):
         print(f"pylinkage: {pylinkage}", file=out)
     else:
-        print(f"{pylinkage['version']}; {pylinkage_points:,} angles, with velocity and "
-              "acceleration (step_fast_with_kinematics):", file=out)
-        for kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
-            ours = (f"numpy path {fast[kind] / pylinkage[kind]:,.0f}x, " if kind in fast else "")
-            print(f"{kind:12} {pylinkage[kind]:12,.0f} points/s; ours/pylinkage: {ours}"
-                  f"scalar engine {scalar[kind] / pylinkage[kind]:,.1f}x", file=out)
-    slowest = min(scalar.values())
+        print(f"{pylinkage['version']}; {pylinkage_points:,} angles; ours/pylinkage compares "
+              "like with like (the slider: our displacement-only rates)", file=out)
+        for kind, what in ((PLANE_FOUR_BAR, "with velocity and acceleration "
+                            "(step_fast_with_kinematics)"),
+                           (PLANE_SLIDER_CRANK, "positions only (step; no slider velocity)")):
+            level = 2 if kind == PLANE_FOUR_BAR else 0
+            ours = (f"numpy path {fast[kind][level] / pylinkage[kind]:,.0f}x, " if kind in fast
+                    else "")
+            print(f"{kind:12} {pylinkage[kind]:12,.0f} points/s {what}; ours/pylinkage: {ours}"
+                  f"scalar engine {scalar[kind][level] / pylinkage[kind]:,.1f}x", file=out)
+    slowest = min(r[2] for r in scalar.values())
     print(f"target: scalar >= {ENGINE_TARGET:,} points/s with velocity and acceleration on one "
           f"core (one Python thread): {'met' if slowest >= ENGINE_TARGET else 'NOT MET'}, "
           f"slowest {slowest:,.0f}", file=out)
     if fast:
+        fast = {k: r[2] for k, r in fast.items()}
         misses = [k for k, r in fast.items()
                   if r < FAST_TARGETS.get(k, FAST_TARGETS["others"])]
         print(f"target: numpy path >= {FAST_TARGETS[PLANE_FOUR_BAR]:,} (plane), "
