@@ -32,7 +32,7 @@ slider_crank(crank=b, rod=c, slide_through=(0, e)) runs the slider on the line y
   h^8 x^(9) / 630 (x'') and less for x', negligible for a rod that clears the crank and offset
   (c >= 1.1 (b + |e|): no dead centre, x analytic in a wide strip), plus rounding, the
   positions' error (measured 1e-15 of the size) times sum|w| / h (2.1 / h for x') and
-  sum|w| / h^2 (6.3 / h^2 for x''): with h = 0.5 degree, 2e-13 and 6e-11 of the size. Hence
+  sum|w| / h^2 (6.3 / h^2 for x''): with h = 0.5 degree, 2e-13 and 8e-11 of the size. Hence
   SLIDER_TOL: 1e-9 for x and x', 1e-8 for x'' (over the linkage's size, or over the value where
   that is larger). Measured over 2 x 28,800 points (the same script, seeds 1 and 2): x 9.6e-16,
   x' 8.7e-14, x'' 2.7e-11.
