@@ -5602,7 +5602,7 @@ def bench_engine(out, points: int = 100_001, pylinkage_points: int = 10_001) -> 
     except FastUnavailable:
         np = None
     print(f"{points:,} input angles, 0 to 360 degrees, branch 1; points per second, best of 3 "
-          "(numpy: of 7; this machine's speed drifts 2x within an hour: compare within one run, "
+          "(numpy: of 15; this machine's speed drifts 2x within an hour: compare within one run, "
           "the ratios first)", file=out)
     print(f"{'linkage':12} {'numpy/scalar':>12} {'scalar disp':>12} {'scalar +v,a':>12} "
           f"{'numpy disp':>12} {'numpy +v,a':>12}", file=out)
@@ -5613,7 +5613,7 @@ def bench_engine(out, points: int = 100_001, pylinkage_points: int = 10_001) -> 
                  for level in (0, 2)]
         scalar[kind] = {0: rates[0], 2: rates[1]}
         if np is not None:
-            fast_rates = [len(angles) / _best_of(7, lambda: linkage.sweep_arrays(array, 1, level))
+            fast_rates = [len(angles) / _best_of(15, lambda: linkage.sweep_arrays(array, 1, level))
                           for level in (0, 2)]
             fast[kind] = {0: fast_rates[0], 2: fast_rates[1]}
             print(f"{kind:12} {fast_rates[1] / rates[1]:11,.0f}x {rates[0]:12,.0f} "
