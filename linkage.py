@@ -1781,8 +1781,10 @@ def _slider_point(k, zero, phi, c, s, sign, level, unit):
 # -- the vectorised path: numpy, a block of angles at a time (issue 13) -------------------------
 #
 # Linkage.sweep_arrays is _sweep_four_bar and _sweep_slider written on numpy arrays: the same
-# formulas with the same operations in the same order, so the same numbers to a few units in the
-# last place (numpy's cos, sin, hypot and arctan2 are not libm's). The angles go through in
+# formulas with the same operations in the same order, hypot computed as CPython's math.hypot
+# (_fast_hypot), so the same numbers: here (numpy 2.4.6) the velocity and acceleration to the bit,
+# the output within a unit in the last place (numpy's arctan2 is not libm's; where numpy's cos
+# and sin are not libm's either, a few). The angles go through in
 # blocks of FAST_BLOCK, every operation written into a preallocated array (out=) so that the
 # working set stays in the cache; a term whose constant is zero is left out (it adds nothing but
 # the sign of a zero). The vectorised path decides only "assembled" and the plainly "not
@@ -1948,7 +1950,7 @@ def _fast_hypot(np, x, y, out, w):
     return np.ldexp(h, exponent, out=h)
 
 
-def _fast_four_bar(np, k, phi, c, s, sign, level, res, w):
+def _fast_four_bar(np, k, c, s, sign, level, res, w):
     """_sweep_four_bar on one block: psi, psi', psi'' into res, the discriminant into
     res["disc"]."""
     p0, pc, ps, q0, qc, qs, s0, sc, ss = k
@@ -2006,7 +2008,7 @@ def _fast_four_bar(np, k, phi, c, s, sign, level, res, w):
         np.negative(acc, out=acc)
 
 
-def _fast_slider(np, k, phi, c, s, sign, level, res, w):
+def _fast_slider(np, k, c, s, sign, level, res, w):
     """_sweep_slider on one block, in the linkage's scaled lengths (the caller multiplies by the
     unit): x, x', x'' into res, the discriminant into res["disc"]."""
     m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = k
@@ -2109,7 +2111,7 @@ def _sweep_arrays(linkage, phis, branch, derivatives):
             part = {key: None if a is None else a[start:stop] for key, a in res.items()}
             work = w if n == block else {key: a[:n] for key, a in w.items()}
             c, s = _fast_cos_sin(np, phi[start:stop], reduce, work)
-            step(np, k, phi[start:stop], c, s, sign, level, part, work)
+            step(np, k, c, s, sign, level, part, work)
         last = res[("output", "velocity", "acceleration")[level]]
         line = FAST_MARGIN * linkage._precise_below
         disc = res["disc"]
