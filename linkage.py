@@ -1862,6 +1862,14 @@ class Linkage:
         loop = _sweep_slider if self.is_slider else _sweep_four_bar
         return loop(self, phis, sign, derivatives)
 
+    def sweep_arrays(self, phis, branch=1, derivatives=2):
+        """sweep on numpy arrays (the optional extra `fast`): a MotionArrays of the output,
+        velocity and acceleration (NaN where there is no position) and status codes. The same
+        numbers as sweep to 1e-13 (tests/test_fast.py): a point near a dead centre or change
+        point, or whose numbers are not finite, is computed by sweep itself. Raises
+        FastUnavailable where numpy is not installed."""
+        return _sweep_arrays(self, phis, branch, derivatives)
+
     def _precise(self, phi, sign, level):
         """One point in 50-digit decimal arithmetic (near a dead-centre), as a Motion."""
         if self._decimal is None:
@@ -2051,6 +2059,363 @@ def _slider_point(k, zero, phi, c, s, sign, level, unit):
         return Motion(phi, float(x) * unit, float(vel) * unit, None, ASSEMBLED)
     acc = sign * (xk / 2 - xm * x + 2 * dm * vel - vel * vel) / root
     return Motion(phi, float(x) * unit, float(vel) * unit, float(acc) * unit, ASSEMBLED)
+
+
+# -- the vectorised path: numpy, a block of angles at a time (issue 13) -------------------------
+#
+# Linkage.sweep_arrays is _sweep_four_bar and _sweep_slider written on numpy arrays: the same
+# formulas with the same operations in the same order, hypot computed as CPython's math.hypot
+# (_fast_hypot), so the same numbers: here (numpy 2.4.6) the velocity and acceleration to the bit,
+# the output within a unit in the last place (numpy's arctan2 is not libm's; where numpy's cos
+# and sin are not libm's either, a few). The angles go through in
+# blocks of FAST_BLOCK, every operation written into a preallocated array (out=) so that the
+# working set stays in the cache; a term whose constant is zero is left out (it adds nothing but
+# the sign of a zero). The vectorised path decides only "assembled" and the plainly "not
+# assembled": a point the scalar engine would redo in 50-digit decimal (discriminant within
+# _precise_below of zero), widened by FAST_MARGIN so that a last-place difference cannot carry a
+# point across that line, and any point whose numbers are not finite, is handed to Linkage.sweep
+# itself - never approximated here. numpy is imported at the first use only: linkage.py runs on
+# the standard library alone, and this path is the optional extra `fast`.
+
+STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE)  # MotionArrays.status
+FAST_BLOCK = 8192        # angles a block (the fastest of 1024 to 16384 here, 2026-11-25)
+FAST_MARGIN = 2.0        # handed to the scalar engine: |D| <= FAST_MARGIN * its decimal line
+
+
+class FastUnavailable(RuntimeError):
+    """The vectorised path (Linkage.sweep_arrays, run --fast, a scene's fast = true) where numpy
+    cannot be imported."""
+
+
+def _numpy():
+    """numpy, imported at the first use; FastUnavailable, saying what to install, without it."""
+    try:
+        import numpy
+    except ImportError:
+        raise FastUnavailable("the vectorised path (--fast, a scene's fast = true) needs numpy, "
+                              "which is not installed: pip install 'linkage[fast]' (or numpy); "
+                              "without it, leave --fast out: the same numbers, computed one "
+                              "point at a time") from None
+    return numpy
+
+
+class MotionArrays(NamedTuple):
+    """Linkage.sweep_arrays' answer: Linkage.sweep's Motion fields as numpy arrays, one element an
+    input angle. output, velocity and acceleration are float64, NaN where the position does not
+    exist (status says why); velocity and acceleration are None when not asked for. status holds
+    int8 codes, indices into STATUS_CODES (0 ASSEMBLED, 1 DEAD_CENTRE, 2 NOT_ASSEMBLED,
+    3 INDETERMINATE)."""
+
+    phi: object
+    output: object
+    velocity: object
+    acceleration: object
+    status: object
+
+    def motions(self) -> list[Motion]:
+        """The same answer as Linkage.sweep gives it: a list of Motion, None for NaN."""
+        columns = [None if a is None else [None if v != v else v for v in a.tolist()]
+                   for a in (self.output, self.velocity, self.acceleration)]
+        n = len(self.phi)
+        output, velocity, acceleration = (c if c is not None else [None] * n for c in columns)
+        return [Motion(phi, o, v, a, STATUS_CODES[k]) for phi, o, v, a, k in
+                zip(self.phi.tolist(), output, velocity, acceleration, self.status.tolist())]
+
+
+def _fast_lin(np, a, x, b, y, out, spare):
+    """a x + b y into out, as the scalar engine rounds it; a term with a zero constant left out."""
+    if a and b:
+        np.multiply(x, a, out=out)
+        np.multiply(y, b, out=spare)
+        return np.add(out, spare, out=out)
+    if a or b:
+        return np.multiply(x if a else y, a or b, out=out)
+    out.fill(0.0)
+    return out
+
+
+def _fast_plus(np, k, x, out):
+    """k + x into out (x itself when k is zero)."""
+    return np.add(x, k, out=out) if k else x
+
+
+def _fast_cos_sin(np, phi, reduce, w):
+    """cos and sin of phi degrees as _sweep_four_bar computes them: the angle reduced exactly to
+    y = r - 90 n (|y| <= 45), cos y and sin y, then turned by n quarter turns (products with 0 and
+    +-1, exact)."""
+    r = np.fmod(phi, 360.0, out=w["r"]) if reduce else phi
+    n = np.divide(r, 90.0, out=w["n"])
+    np.rint(n, out=n)                       # half to even, as round() does
+    y = np.multiply(n, 90.0, out=w["y"])
+    np.subtract(r, y, out=y)
+    np.multiply(y, _RAD, out=y)
+    cy, sy = np.cos(y, out=w["cy"]), np.sin(y, out=w["sy"])
+    lo, hi = n.min(), n.max()
+    if lo == hi:                            # one quarter turn for the whole block (the usual)
+        q = int(lo) & 3
+        if q == 0:
+            return cy, sy
+        if q == 2:
+            return np.negative(cy, out=cy), np.negative(sy, out=sy)
+        return (np.negative(sy, out=sy), cy) if q == 1 else (sy, np.negative(cy, out=cy))
+    quarter = w["quarter"]
+    np.copyto(quarter, n, casting="unsafe")
+    np.bitwise_and(quarter, 3, out=quarter)
+    turn_c = np.take(_QUARTER_COS, quarter, out=w["tc"])
+    turn_s = np.take(_QUARTER_SIN, quarter, out=w["ts"])
+    c, s, spare = w["c"], w["s"], w["spare"]
+    np.multiply(cy, turn_c, out=c)
+    np.subtract(c, np.multiply(sy, turn_s, out=spare), out=c)
+    np.multiply(sy, turn_c, out=s)
+    np.add(s, np.multiply(cy, turn_s, out=spare), out=s)
+    return c, s
+
+
+_QUARTER_COS = (1.0, 0.0, -1.0, 0.0)     # cos and sin of n quarter turns
+_QUARTER_SIN = (0.0, 1.0, 0.0, -1.0)
+
+
+def _fast_square(np, x, hi, lo, t, u):
+    """x^2 = hi + lo exactly (Dekker's split): the double-length square CPython's hypot uses."""
+    np.multiply(x, x, out=hi)
+    np.multiply(x, 134217729.0, out=t)              # 2^27 + 1
+    np.subtract(t, x, out=u)
+    np.subtract(t, u, out=t)                        # the high half of x
+    np.subtract(x, t, out=u)                        # the low half
+    np.multiply(t, t, out=lo)
+    np.subtract(lo, hi, out=lo)
+    np.multiply(t, 2.0, out=t)
+    np.multiply(t, u, out=t)
+    np.add(lo, t, out=lo)                           # ((xh xh - hi) + 2 xh xl) + xl xl
+    np.multiply(u, u, out=u)
+    np.add(lo, u, out=lo)
+
+
+def _fast_hypot(np, x, y, out, w):
+    """math.hypot(x, y) elementwise, bit for bit as CPython 3.11 computes it (vector_norm: scaled
+    by a power of two, the squares and their sum carried as double-doubles, one differential
+    correction; identical on 3 million random pairs). numpy's hypot is libm's, an ulp away in
+    about 0.6% of cases, which the discriminant's cancellation near a dead centre magnifies
+    beyond 1e-13 in the output. NaN where x = y = 0 (the caller hands such points over)."""
+    ax, ay, hi, lo, t, u = (w[key] for key in ("ax", "ay", "hi", "lo", "t", "t2"))
+    csum, f1, f2, exponent = w["csum"], w["f1"], w["f2"], w["exponent"]
+    np.abs(x, out=ax)
+    np.abs(y, out=ay)
+    np.frexp(np.maximum(ax, ay, out=out), out=(t, exponent))
+    np.negative(exponent, out=exponent)
+    np.ldexp(ax, exponent, out=ax)                  # lossless scaling into [0.5, 1)
+    np.ldexp(ay, exponent, out=ay)
+    _fast_square(np, ax, hi, f1, t, u)
+    np.add(hi, 1.0, out=csum)                       # csum = 1 + x^2, f2 its rounding error
+    np.subtract(1.0, csum, out=f2)
+    np.add(f2, hi, out=f2)
+    _fast_square(np, ay, hi, lo, t, u)
+    np.add(f1, lo, out=f1)
+    np.add(csum, hi, out=t)                         # csum + y^2, its error into f2
+    np.subtract(csum, t, out=csum)
+    np.add(csum, hi, out=csum)
+    np.add(f2, csum, out=f2)
+    csum, t = t, csum
+    h = np.subtract(csum, 1.0, out=out)
+    np.add(h, np.add(f1, f2, out=lo), out=h)
+    np.sqrt(h, out=h)
+    _fast_square(np, h, hi, lo, ax, u)              # h^2 = hi + lo
+    np.subtract(csum, hi, out=ay)                   # csum - h^2, its error into f2
+    np.subtract(csum, ay, out=csum)
+    np.subtract(csum, hi, out=csum)
+    np.add(f2, csum, out=f2)
+    np.subtract(f1, lo, out=f1)
+    np.subtract(ay, 1.0, out=ay)
+    np.add(ay, np.add(f1, f2, out=f1), out=ay)      # the residual
+    np.divide(ay, np.multiply(h, 2.0, out=u), out=ay)
+    np.add(h, ay, out=h)                            # the differential correction
+    np.negative(exponent, out=exponent)
+    return np.ldexp(h, exponent, out=h)
+
+
+def _fast_four_bar(np, k, c, s, sign, level, res, w):
+    """_sweep_four_bar on one block: psi, psi', psi'' into res, the discriminant into
+    res["disc"]."""
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = k
+    spare = w["spare"]
+    xp = _fast_lin(np, pc, c, ps, s, w["xp"], spare)
+    xq = _fast_lin(np, qc, c, qs, s, w["xq"], spare)
+    xs = _fast_lin(np, sc, c, ss, s, w["xs"], spare)
+    p, q, sv = _fast_plus(np, p0, xp, w["p"]), _fast_plus(np, q0, xq, w["q"]), \
+        _fast_plus(np, s0, xs, w["sv"])
+    rr = _fast_hypot(np, p, q, w["rr"], w)
+    disc = np.subtract(rr, sv, out=res["disc"])
+    np.multiply(disc, np.add(rr, sv, out=spare), out=disc)
+    root = np.sqrt(disc, out=w["root"])      # NaN where not assembled: found by the caller
+    sn, cn = w["sn"], w["cn"]
+    np.multiply(q, sv, out=sn)               # sn = -q sv - sign p root
+    pr = np.multiply(p, root, out=spare)
+    (np.add if sign > 0 else np.subtract)(sn, pr, out=sn)
+    np.negative(sn, out=sn)
+    np.multiply(p, sv, out=cn)               # cn = -p sv + sign q root
+    qr = np.multiply(q, root, out=spare)
+    (np.subtract if sign > 0 else np.add)(cn, qr, out=cn)
+    np.negative(cn, out=cn)
+    psi = np.arctan2(sn, cn, out=res["output"])
+    np.multiply(psi, _DEG, out=psi)
+    np.copyto(psi, 180.0, where=np.equal(psi, -180.0, out=w["flag"]))
+    if level == 0:
+        return
+    r2 = np.multiply(rr, rr, out=w["r2"])
+    cp, sp = np.divide(cn, r2, out=cn), np.divide(sn, r2, out=sn)
+    dp = _fast_lin(np, ps, c, -pc, s, w["dp"], spare)
+    dq = _fast_lin(np, qs, c, -qc, s, w["dq"], spare)
+    ds = _fast_lin(np, ss, c, -sc, s, w["ds"], spare)
+    vel = np.multiply(dp, cp, out=res["velocity"])       # -sign (dp cp + dq sp + ds) / root
+    np.add(vel, np.multiply(dq, sp, out=spare), out=vel)
+    np.add(vel, ds, out=vel)
+    np.divide(vel, root, out=vel)
+    if sign > 0:
+        np.negative(vel, out=vel)
+    if level == 1:
+        return
+    acc = res["acceleration"]
+    e = np.multiply(xp, cp, out=w["e"])                  # -e_ff = xp cp + xq sp + xs
+    np.add(e, np.multiply(xq, sp, out=spare), out=e)
+    np.add(e, xs, out=e)
+    fp = np.multiply(dq, cp, out=w["fp"])                # e_fp = dq cp - dp sp
+    np.subtract(fp, np.multiply(dp, sp, out=spare), out=fp)
+    np.multiply(fp, 2.0, out=fp)
+    np.multiply(fp, vel, out=fp)
+    np.subtract(fp, e, out=acc)                          # e_ff + 2 e_fp vel
+    np.multiply(sv, vel, out=spare)
+    np.multiply(spare, vel, out=spare)
+    np.add(acc, spare, out=acc)                          # ... + sv vel vel
+    np.divide(acc, root, out=acc)
+    if sign > 0:
+        np.negative(acc, out=acc)
+
+
+def _fast_slider(np, k, c, s, sign, level, res, w):
+    """_sweep_slider on one block, in the linkage's scaled lengths (the caller multiplies by the
+    unit): x, x', x'' into res, the discriminant into res["disc"]."""
+    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = k
+    spare = w["spare"]
+    xm = _fast_lin(np, mc, c, ms, s, w["xm"], spare)
+    xk = _fast_lin(np, kc, c, ks, s, w["xk"], spare)
+    m, q = _fast_plus(np, m0, xm, w["m"]), _fast_plus(np, k0, xk, w["q"])
+    u = _fast_affine(np, u0, uc, c, us, s, w["u"], spare)
+    if v0 or vc or vs:
+        dist = _fast_hypot(np, u, _fast_affine(np, v0, vc, c, vs, s, w["v"], spare), w["dist"],
+                           w)
+    else:
+        dist = np.abs(u, out=w["dist"])                  # hypot(u, 0), exactly
+    disc = np.subtract(rod, dist, out=res["disc"])
+    np.multiply(disc, np.add(dist, rod, out=spare), out=disc)
+    root = np.sqrt(disc, out=w["root"])
+    negative = np.less(m, 0.0, out=w["flag"])
+    big = w["big"]                                       # m + root, or m - root where m < 0
+    np.copyto(big, root)
+    np.negative(big, out=big, where=negative)
+    np.add(big, m, out=big)
+    x = res["output"]
+    np.divide(q, big, out=x)                             # the other root, q / big
+    if sign < 0:
+        np.copyto(x, big, where=negative)
+    else:
+        np.logical_not(negative, out=negative)
+        np.copyto(x, big, where=negative)
+    if level == 0:
+        return
+    dm = _fast_lin(np, ms, c, -mc, s, w["dm"], spare)
+    dk = _fast_lin(np, ks, c, -kc, s, w["dk"], spare)
+    vel = np.multiply(dm, x, out=res["velocity"])        # sign (dm x - dk / 2) / root
+    np.subtract(vel, np.multiply(dk, 0.5, out=spare), out=vel)
+    np.divide(vel, root, out=vel)
+    if sign < 0:
+        np.negative(vel, out=vel)
+    if level == 1:
+        return
+    acc = np.multiply(xk, 0.5, out=res["acceleration"])  # sign (xk/2 - xm x + 2 dm x' - x'^2)
+    np.subtract(acc, np.multiply(xm, x, out=spare), out=acc)
+    np.multiply(dm, 2.0, out=spare)
+    np.add(acc, np.multiply(spare, vel, out=spare), out=acc)
+    np.subtract(acc, np.multiply(vel, vel, out=spare), out=acc)
+    np.divide(acc, root, out=acc)
+    if sign < 0:
+        np.negative(acc, out=acc)
+
+
+def _fast_affine(np, k0, kc, c, ks, s, out, spare):
+    """(k0 + kc c) + ks s into out, in _sweep_slider's order; zero terms left out."""
+    if kc:
+        np.multiply(c, kc, out=out)
+        if k0:
+            np.add(out, k0, out=out)
+    else:
+        out.fill(k0)
+    if ks:
+        np.add(out, np.multiply(s, ks, out=spare), out=out)
+    return out
+
+
+_FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "xq", "xs", "p",
+              "q", "sv", "rr", "root", "sn", "cn", "r2", "dp", "dq", "ds", "e", "fp", "xm", "xk",
+              "m", "u", "v", "dist", "big", "dm", "dk", "ax", "ay", "hi", "lo", "t", "t2", "csum",
+              "f1", "f2")
+
+
+def _sweep_arrays(linkage, phis, branch, derivatives):
+    """Linkage.sweep_arrays: see there."""
+    np = _numpy()
+    if branch not in (1, 2):
+        raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
+    if derivatives not in (0, 1, 2):
+        raise ValueError("derivatives is 0 (output), 1 (and velocity) or 2 (and acceleration)")
+    try:
+        phi = np.array(phis, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError("input angles must be numbers") from None
+    if phi.ndim != 1:
+        raise ValueError("input angles must be a sequence of numbers (one dimension)")
+    if not np.isfinite(phi).all():
+        raise ValueError("input angles must be finite")
+    count, sign, level = len(phi), 1.0 if branch == 1 else -1.0, derivatives
+    res = {"output": np.empty(count), "disc": np.empty(count),
+           "velocity": np.empty(count) if level >= 1 else None,
+           "acceleration": np.empty(count) if level >= 2 else None}
+    block = min(FAST_BLOCK, max(count, 1))
+    w = {name: np.empty(block) for name in _FAST_WORK}
+    w["flag"] = np.empty(block, dtype=bool)
+    w["quarter"] = np.empty(block, dtype=np.intp)
+    w["exponent"] = np.empty(block, dtype=np.intc)
+    reduce = count > 0 and not np.abs(phi).max() < 360.0
+    step = _fast_slider if linkage.is_slider else _fast_four_bar
+    k = linkage._constants
+    with np.errstate(all="ignore"):
+        for start in range(0, count, block):
+            stop = min(start + block, count)
+            n = stop - start
+            part = {key: None if a is None else a[start:stop] for key, a in res.items()}
+            work = w if n == block else {key: a[:n] for key, a in w.items()}
+            c, s = _fast_cos_sin(np, phi[start:stop], reduce, work)
+            step(np, k, c, s, sign, level, part, work)
+        last = res[("output", "velocity", "acceleration")[level]]
+        line = FAST_MARGIN * linkage._precise_below
+        disc = res["disc"]
+        missing = np.less(disc, -line)
+        redo = np.less_equal(np.abs(disc), line)
+        redo |= ~np.isfinite(last) & ~missing
+        if linkage.is_slider:
+            for key in ("output", "velocity", "acceleration"):
+                if res[key] is not None:
+                    np.multiply(res[key], linkage._unit, out=res[key])
+    status = np.zeros(count, dtype=np.int8)
+    status[missing] = STATUS_CODES.index(NOT_ASSEMBLED)
+    where = np.flatnonzero(redo)
+    if len(where):
+        columns = [res[key] for key in ("output", "velocity", "acceleration")]
+        for i, m in zip(where.tolist(), linkage.sweep(phi[where].tolist(), branch, level)):
+            for column, value in zip(columns, m[1:4]):
+                if column is not None:
+                    column[i] = math.nan if value is None else value
+            status[i] = STATUS_CODES.index(m.status)
+    return MotionArrays(phi, res["output"], res["velocity"], res["acceleration"], status)
 
 
 # -- angles and files ----------------------------------------------------------------------------
@@ -4538,6 +4903,7 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "input": "a table with from, to and step (degrees)",
     "branches": "a list of branches, 1 (A+B) and/or 2 (A-B)",
     "precision": "basic, double or both",
+    "fast": "true or false: the double-precision numbers by the vectorised engine (needs numpy)",
     "panels": "a list of 1 to 3 tables [[panels]], each with quantities and optional limits; "
               "or one [[panels]] with quantities = [\"mechanism\"] and optional angles",
 }
@@ -4590,6 +4956,7 @@ class Scene:
     branches: tuple[int, ...]
     precisions: tuple[str, ...]
     panels: tuple[PanelSpec, ...]
+    fast: bool = False               # the double series by Linkage.sweep_arrays
 
     @property
     def derivatives(self) -> int:
@@ -4694,13 +5061,22 @@ def load_scene(path: str) -> Scene:
     if (not isinstance(panels, list) or not 1 <= len(panels) <= 3
             or not all(isinstance(p, dict) for p in panels)):
         raise _scene_error(path, "panels", SCENE_KEYS["panels"], panels)
+    fast = data.get("fast", False)
+    if not isinstance(fast, bool):
+        raise _scene_error(path, "fast", SCENE_KEYS["fast"], fast)
     if any(p.get("quantities") == [MECHANISM_PANEL] for p in panels):
+        if fast:
+            raise _scene_error(path, "fast", "false, or no fast: a mechanism scene's few "
+                               "positions are computed one at a time", fast)
         return _mechanism_scene(path, data, dims, start, stop, step, tuple(branches))
     if "precision" not in data:
         raise SceneError(f"{path}: key 'precision' is missing: expected {SCENE_KEYS['precision']}")
     precision = data["precision"]
     if not isinstance(precision, str) or precision not in PRECISIONS:
         raise _scene_error(path, "precision", SCENE_KEYS["precision"], precision)
+    if fast and "double" not in PRECISIONS[precision]:
+        raise _scene_error(path, "fast", "false with precision basic: only the engine's numbers "
+                           "(double) have a vectorised path", fast)
     specs = []
     for i, panel in enumerate(panels, 1):
         key = f"panels[{i}]"
@@ -4721,7 +5097,7 @@ def load_scene(path: str) -> Scene:
                                None if limits is None else (float(limits[0]), float(limits[1]))))
 
     return Scene(path, _scene_title(path, data), mechanism, dims, start, stop, step,
-                 tuple(branches), PRECISIONS[precision], tuple(specs))
+                 tuple(branches), PRECISIONS[precision], tuple(specs), fast)
 
 
 def _scene_title(path, data) -> str:
@@ -4791,11 +5167,15 @@ def _faithful_files(scene: Scene, branch: int, directory: str) -> list[str]:
 def _accurate_motions(scene: Scene, branch: int, derivatives: int) -> list[Motion]:
     try:
         linkage = Linkage(scene.mechanism, **scene.dimensions)
-        return linkage.sweep(evenly_spaced_angles(scene.start, scene.stop, scene.step), branch,
-                             derivatives)
+        angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
+        if scene.fast:
+            return linkage.sweep_arrays(angles, branch, derivatives).motions()
+        return linkage.sweep(angles, branch, derivatives)
     except ValueError as e:
         raise _scene_error(scene.path, "dimensions", f"dimensions the engine accepts: {e}") \
             from None
+    except FastUnavailable as e:
+        raise SceneError(f"{scene.path}: key 'fast': {e}") from None
 
 
 def _check_assembles(scene: Scene, motions: list[Motion]) -> None:
@@ -5559,25 +5939,93 @@ def bench_port(out) -> None:
 
 
 ENGINE_TARGET = 100_000    # points per second, displacement, velocity and acceleration (issue 5)
+FAST_TARGETS = {PLANE_FOUR_BAR: 10_000_000, "others": 5_000_000}   # the numpy path (issue 13)
+BENCH_LINKAGES = ((PLANE_FOUR_BAR, dict(a=6, b=2, c=7, d=9)),
+                  (SPHERICAL_FOUR_BAR, dict(a=80, b=20, c=75, d=60)),
+                  (SKEW_FOUR_BAR, dict(a=6, b=2, c=7, d=9, f=1.5, ksi=25)),
+                  (PLANE_SLIDER_CRANK, dict(b=2, c=7, e=1.5)),
+                  (SKEW_SLIDER_CRANK, dict(a=6, b=1, c=7.5, f=3, ksi=45)))
 
 
-def bench_engine(out) -> None:
-    """The accurate engine's speed on a 100,001-point sweep, by what is asked of it."""
-    angles = evenly_spaced_angles(0.0, 360.0, 0.0036)
-    slowest = math.inf
-    for kind, dims in (("plane", dict(a=6, b=2, c=7, d=9)), ("slider", dict(b=2, c=7, e=1.5)),
-                       ("spherical", dict(a=80, b=20, c=75, d=60))):
+def _pylinkage_rates(points: int) -> dict | str:
+    """pylinkage's points per second on the plane four-bar and slider-crank of BENCH_LINKAGES,
+    or why it cannot be measured. The four-bar with velocity and acceleration (its fastest way,
+    Mechanism.step_fast_with_kinematics, the input at 1 rad/s); the slider-crank positions only
+    (Mechanism.step): pylinkage 1.3.0 gives no slider velocity (step_with_derivatives leaves it
+    None, and step_fast_with_kinematics does not move the slider; tests/test_pylinkage.py)."""
+    try:
+        import pylinkage
+        from pylinkage import _numba_compat
+        from pylinkage.mechanism import fourbar, slider_crank
+    except ImportError:
+        return "not installed (pip install pylinkage)"
+    step = math.radians(360.0 / (points - 1))
+    four_bar = fourbar(crank=2.0, coupler=7.0, rocker=9.0, ground=6.0, omega=step)
+    four_bar.set_input_velocity(four_bar._driver_links[0], 1.0, 0.0)
+    slider = slider_crank(crank=2.0, rod=7.0, omega=step, slide_through=(0.0, 1.5))
+    return {"version": f"pylinkage {pylinkage.__version__}, numba "
+                       + ("installed" if _numba_compat.HAS_NUMBA else "not installed: its "
+                          "compiled solver runs as plain Python"),
+            PLANE_FOUR_BAR: points / _best_of(3, lambda: four_bar.step_fast_with_kinematics(
+                points)),
+            PLANE_SLIDER_CRANK: points / _best_of(3, lambda: list(slider.step(points)))}
+
+
+def bench_engine(out, points: int = 100_001, pylinkage_points: int = 10_001) -> None:
+    """The accurate engine's speed, scalar and vectorised (numpy), beside pylinkage's."""
+    angles = evenly_spaced_angles(0.0, 360.0, 360.0 / (points - 1))
+    try:
+        np = _numpy()
+        array = np.array(angles)
+    except FastUnavailable:
+        np = None
+    print(f"{points:,} input angles, 0 to 360 degrees, branch 1; points per second, best of 3 "
+          "(numpy: of 15; this machine's speed drifts 2x within an hour: compare within one run, "
+          "the ratios first)", file=out)
+    print(f"{'linkage':12} {'numpy/scalar':>12} {'scalar disp':>12} {'scalar +v,a':>12} "
+          f"{'numpy disp':>12} {'numpy +v,a':>12}", file=out)
+    scalar, fast = {}, {}
+    for kind, dims in BENCH_LINKAGES:
         linkage = Linkage(kind, **dims)
-        rates = []
-        for level in (0, 2):
-            seconds = _best_of(3, lambda: linkage.sweep(angles, 1, level))
-            rates.append(len(angles) / seconds)
-        print(f"{kind:10} {rates[0]:10,.0f} points/s displacement only, "
-              f"{rates[1]:10,.0f} with velocity and acceleration", file=out)
-        slowest = min(slowest, rates[1])
-    print(f"target: >= {ENGINE_TARGET:,} points/s with velocity and acceleration on one core "
-          f"(one Python thread): {'met' if slowest >= ENGINE_TARGET else 'NOT MET'}, slowest "
-          f"{slowest:,.0f}", file=out)
+        rates = [len(angles) / _best_of(3, lambda: linkage.sweep(angles, 1, level))
+                 for level in (0, 2)]
+        scalar[kind] = {0: rates[0], 2: rates[1]}
+        if np is not None:
+            fast_rates = [len(angles) / _best_of(15, lambda: linkage.sweep_arrays(array, 1, level))
+                          for level in (0, 2)]
+            fast[kind] = {0: fast_rates[0], 2: fast_rates[1]}
+            print(f"{kind:12} {fast_rates[1] / rates[1]:11,.0f}x {rates[0]:12,.0f} "
+                  f"{rates[1]:12,.0f} {fast_rates[0]:12,.0f} {fast_rates[1]:12,.0f}", file=out)
+        else:
+            print(f"{kind:12} {'':>12} {rates[0]:12,.0f} {rates[1]:12,.0f} "
+                  f"{'numpy not installed':>25}", file=out)
+    pylinkage = _pylinkage_rates(pylinkage_points)
+    if isinstance(pylinkage, str):
+        print(f"pylinkage: {pylinkage}", file=out)
+    else:
+        print(f"{pylinkage['version']}; {pylinkage_points:,} angles; ours/pylinkage compares "
+              "like with like (the slider: our displacement-only rates)", file=out)
+        for kind, what in ((PLANE_FOUR_BAR, "with velocity and acceleration "
+                            "(step_fast_with_kinematics)"),
+                           (PLANE_SLIDER_CRANK, "positions only (step; no slider velocity)")):
+            level = 2 if kind == PLANE_FOUR_BAR else 0
+            ours = (f"numpy path {fast[kind][level] / pylinkage[kind]:,.0f}x, " if kind in fast
+                    else "")
+            print(f"{kind:12} {pylinkage[kind]:12,.0f} points/s {what}; ours/pylinkage: {ours}"
+                  f"scalar engine {scalar[kind][level] / pylinkage[kind]:,.1f}x", file=out)
+    slowest = min(r[2] for r in scalar.values())
+    print(f"target: scalar >= {ENGINE_TARGET:,} points/s with velocity and acceleration on one "
+          f"core (one Python thread): {'met' if slowest >= ENGINE_TARGET else 'NOT MET'}, "
+          f"slowest {slowest:,.0f}", file=out)
+    if fast:
+        fast = {k: r[2] for k, r in fast.items()}
+        misses = [k for k, r in fast.items()
+                  if r < FAST_TARGETS.get(k, FAST_TARGETS["others"])]
+        print(f"target: numpy path >= {FAST_TARGETS[PLANE_FOUR_BAR]:,} (plane), "
+              f">= {FAST_TARGETS['others']:,} (the others) with velocity and acceleration: "
+              + (f"NOT MET for {', '.join(misses)}" if misses else "met")
+              + f", plane {fast[PLANE_FOUR_BAR]:,.0f}, slowest other "
+              f"{min(r for k, r in fast.items() if k != PLANE_FOUR_BAR):,.0f}", file=out)
 
 
 # -- What accuracy costs in time: `bench accuracy` ------------------------------------------------
@@ -6237,6 +6685,9 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
         return _run_double(args, dict(zip(names, answers)))
     if args.clip:
         parser.error("--clip goes with --precision double (the original always clips VEL and ACC)")
+    if args.fast:
+        parser.error("--fast goes with --precision double (the original's numbers are "
+                     "computed one point at a time)")
     screen = Screen(lambda s: None, terminal=False,
                     soft_errors=lambda s: sys.stderr.write(s.replace("\r\n", "\n")))
     try:
@@ -6271,14 +6722,18 @@ def _basic_csv(args: argparse.Namespace, answers: list[str]) -> None:
 def _run_double(args: argparse.Namespace, numbers: dict) -> int:
     """`run ... --precision double`: the accurate engine's numbers in the same three files,
     shortest round-trip text, unclipped unless --clip; positions that do not exist are left out
-    (the original writes zeros there, ERRATA K8), and counted in the message."""
+    (the original writes zeros there, ERRATA K8), and counted in the message. --fast: the same
+    numbers by the vectorised path (Linkage.sweep_arrays, numpy)."""
     dims = {n: numbers[n] for n in MECHANISM_TYPES[args.type][1]}
     start, stop, step = numbers["from"], numbers["to"], numbers["step"]
     try:
         linkage = Linkage(args.type, **dims)
         count = angle_count(start, stop, step)
-    except ValueError as e:
+        if args.fast:
+            _numpy()                            # fail before any work
+    except (ValueError, FastUnavailable) as e:
         return _said(e, 1)
+    block = 65536 if args.fast else 4096
     if not count:
         return _said(f"the sweep from {start:g} to {stop:g} by {step:g} has no point", 1)
     if count > 10**8:
@@ -6294,9 +6749,10 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
         if table:
             table.write(csv_line(CSV_HEADER).encode("ascii"))
         with Progress(count) as progress:
-            for first in range(0, count, 4096):
-                angles = [start + i * step for i in range(first, min(first + 4096, count))]
-                for m in linkage.sweep(angles, int(args.branch)):
+            for first in range(0, count, block):
+                angles = [start + i * step for i in range(first, min(first + block, count))]
+                for m in (linkage.sweep_arrays(angles, int(args.branch)).motions() if args.fast
+                          else linkage.sweep(angles, int(args.branch))):
                     assembled += m.output is not None
                     if table:
                         table.write(csv_line(m).encode("ascii"))
@@ -6401,6 +6857,9 @@ def build_parser() -> argparse.ArgumentParser:
                           "does not exist: its status, values nan)")
     run.add_argument("--clip", action="store_true",
                      help="with --precision double: clip VEL and ACC to +-3 as the original does")
+    run.add_argument("--fast", action="store_true",
+                     help="with --precision double: the same numbers by the vectorised engine "
+                          "(needs numpy: pip install 'linkage[fast]')")
     run.set_defaults(handler=run_command, parser=run)
     scene = commands.add_parser(
         "scene", help="draw a scene of data/scenes: the paper's figures, the hard cases, "

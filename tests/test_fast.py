@@ -1,0 +1,359 @@
+"""The vectorised path (issue 13): Linkage.sweep_arrays, run --fast and a scene's fast = true.
+
+The scalar engine (Linkage.sweep) is the specification: sweep_arrays must give its statuses
+exactly and its numbers to 1e-13 (FAST_TOL; output in degrees for the four-bars, over the
+linkage's size for the sliders, velocity and acceleration absolute below 1 and relative above:
+engine_harness's scoring) on the ordinary sweep, the hard catalogue, dense sweeps across its
+singular points, and random linkages and angles (hypothesis). On the catalogue it is also held to
+the independent 50-digit reference (engine_reference.py) with test_engine's bounds. A point the
+scalar engine redoes in decimal must have been handed to it (never approximated here). Measured
+worst difference from the scalar engine, 2026-11-25, on the ordinary sweep and on the catalogue
+with 101 angles around each of its own: output 2.8e-14 degree (one unit in the last place of
+psi near 180: numpy's arctan2 is not libm's), velocity and acceleration 0 (the same operations
+in the same order; hypot is computed as CPython's, bit for bit, see linkage._fast_hypot).
+
+The command line: run --fast and fast = true write files equal to the scalar path's to 1e-13,
+line by line (the same angles, the same positions left out); with numpy unimportable (a
+subprocess with sys.modules["numpy"] = None) they say what to install, without a traceback, and
+the rest of the program runs on the standard library alone.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import linkage as engine
+import engine_harness as harness
+from test_engine import TOL, linkages
+
+ROOT = Path(__file__).resolve().parent.parent
+FAST_TOL = 1e-13
+LEVELS = (0, 1, 2)
+
+
+def disagreements(kind, dims, scalar, arrays, tol=FAST_TOL):
+    """[(phi, what, scalar's, the vectorised path's)] where the two differ beyond tol."""
+    found = []
+    columns = (arrays.output, arrays.velocity, arrays.acceleration)
+    for i, m in enumerate(scalar):
+        if float(arrays.phi[i]) != m.phi:
+            found.append((m.phi, "phi", m.phi, float(arrays.phi[i])))
+        status = engine.STATUS_CODES[int(arrays.status[i])]
+        if status != m.status:
+            found.append((m.phi, "status", m.status, status))
+            continue
+        for what, want, column in zip(("output", "velocity", "acceleration"), m[1:4], columns):
+            got = None if column is None or math.isnan(column[i]) else float(column[i])
+            if (want is None) != (got is None):
+                found.append((m.phi, what, want, got))
+            elif want is not None:
+                error = (harness.output_error(kind, dims, got, want) if what == "output"
+                         else harness.ratio_error(got, want))
+                if not error <= tol:
+                    found.append((m.phi, what, want, got))
+    return found
+
+
+def check(kind, dims, phis, branch, level):
+    link = engine.Linkage(kind, **dims)
+    arrays = link.sweep_arrays(phis, branch, level)
+    assert arrays.output.dtype == np.float64 and arrays.status.dtype == np.int8
+    assert (arrays.velocity is None) == (level < 1)
+    assert (arrays.acceleration is None) == (level < 2)
+    wrong = disagreements(kind, dims, link.sweep(phis, branch, level), arrays)
+    assert not wrong, f"{kind} {dims} branch {branch} level {level}: {wrong[:5]}"
+    return arrays
+
+
+# -- the ordinary sweep, the hard catalogue, dense sweeps across singular points ----------------
+
+DENSE = [-720.0 + 0.37 * i for i in range(3893)]          # both directions of a few turns
+
+
+@pytest.mark.parametrize("name", sorted(harness.ORDINARY_CASES))
+@pytest.mark.parametrize("level", LEVELS)
+def test_the_ordinary_sweep(name, level):
+    kind, dims = harness.ORDINARY_CASES[name]
+    for branch in (1, 2):
+        check(kind, dims, harness.ORDINARY_PHIS + DENSE, branch, level)
+
+
+HARD = harness.load_hard_cases()
+
+
+@pytest.mark.parametrize("case", HARD, ids=[c["name"] for c in HARD])
+def test_the_hard_catalogue(case):
+    """The catalogue's angles and, around each, 101 angles 1e-4 degree apart and 12 from 1e-12
+    to 1e-2 degree away: equal to the scalar engine at every level; at the catalogue's own
+    angles, within test_engine's bounds of the 50-digit reference."""
+    kind, dims = case["kind"], case["dims"]
+    phis = [float(p) for p in case["phis"]]
+    offsets = [1e-4 * j for j in range(-50, 51)] + [s * 10.0 ** -e for e in (2, 3, 4, 6, 9, 12)
+                                                   for s in (1, -1)]
+    near = [p + d for p in phis for d in offsets]
+    for branch in (1, 2):
+        for level in LEVELS:
+            check(kind, dims, phis + near, branch, level)
+        arrays = engine.Linkage(kind, **dims).sweep_arrays(phis, branch)
+        for i, phi in enumerate(phis):
+            values = [None if math.isnan(v) else float(v) for v in
+                      (arrays.output[i], arrays.velocity[i], arrays.acceleration[i])]
+            verdict, errors = harness.score(kind, dims, phi, branch,
+                                            engine.STATUS_CODES[arrays.status[i]], *values,
+                                            harness.ref(kind, dims, phi)[branch])
+            assert verdict == "ok", (case["name"], phi, branch, verdict)
+            for what, error in errors.items():
+                bound = TOL["slider-output" if what == "output" and kind in harness.SLIDERS
+                            else what]
+                assert error <= bound, (case["name"], phi, branch, what, error)
+
+
+def test_points_the_scalar_engine_redoes_in_decimal_are_handed_to_it(monkeypatch):
+    """Every point where Linkage.sweep calls _precise (the 50-digit redo) was given to
+    Linkage.sweep by sweep_arrays, over the catalogue and around it: 101 angles 1e-6 degree
+    apart, and for the near-singular cases angles 1 to 1e-12 degree away, 16 a decade, so that
+    some fall just inside the scalar engine's line and some just outside; and some were (the test
+    can fail)."""
+    redone, handed = [], []
+    precise, sweep = engine.Linkage._precise, engine.Linkage.sweep
+
+    def recording_precise(self, phi, sign, level):
+        redone.append((id(self), sign, phi))
+        return precise(self, phi, sign, level)
+
+    def recording_sweep(self, phis, branch=1, derivatives=2):
+        phis = list(phis)
+        handed.extend((id(self), 1.0 if branch == 1 else -1.0, p) for p in phis)
+        return sweep(self, phis, branch, derivatives)
+    monkeypatch.setattr(engine.Linkage, "_precise", recording_precise)
+    for case in HARD:
+        link = engine.Linkage(case["kind"], **case["dims"])
+        offsets = [1e-6 * j for j in range(-50, 51)]
+        if case.get("near_singular"):
+            offsets += [s * 10.0 ** (-k / 16) for k in range(193) for s in (1, -1)]
+        phis = [float(p) + d for p in case["phis"] for d in offsets]
+        for branch in (1, 2):
+            link.sweep(phis, branch)
+            monkeypatch.setattr(engine.Linkage, "sweep", recording_sweep)
+            link.sweep_arrays(phis, branch)
+            monkeypatch.setattr(engine.Linkage, "sweep", sweep)
+    assert len(redone) > 100
+    assert set(redone) <= set(handed), sorted(set(redone) - set(handed))[:5]
+
+
+# -- random linkages and angles -----------------------------------------------------------------
+
+angle_lists = st.lists(st.one_of(st.floats(-1e4, 1e4), st.integers(-40, 40).map(lambda k: 90.0 * k),
+                                 st.sampled_from([45.0, -45.0, 135.0, 1e-300, -0.0, 359.9999999])),
+                       min_size=1, max_size=40)
+
+
+@settings(max_examples=150)
+@given(linkages(), angle_lists, st.sampled_from((1, 2)), st.sampled_from(LEVELS),
+       st.sampled_from((1, 3, 8, 8192)))
+def test_random_linkages_and_angles(linkage, phis, branch, level, block):
+    """Any order of angles, any size of block (so quarter turns mixed in one block, and blocks
+    of one): the scalar engine's answer."""
+    kind, dims = linkage
+    old, engine.FAST_BLOCK = engine.FAST_BLOCK, block
+    try:
+        check(kind, dims, phis, branch, level)
+    finally:
+        engine.FAST_BLOCK = old
+
+
+def test_motions_are_what_sweep_returns():
+    link = engine.Linkage("plane", a=4.0, b=1.0, c=1.5, d=3.0)       # assembles on part of the turn
+    phis = [10.0 * i for i in range(37)]
+    arrays = link.sweep_arrays(phis, 2, 1)
+    fast, scalar = arrays.motions(), link.sweep(phis, 2, 1)
+    assert {m.status for m in scalar} == {engine.ASSEMBLED, engine.NOT_ASSEMBLED}
+    assert [(m.phi, m.status, m.acceleration) for m in fast] == \
+        [(m.phi, m.status, m.acceleration) for m in scalar]
+    for f, m in zip(fast, scalar):
+        assert (f.output is None) == (m.output is None)
+        assert (f.velocity is None) == (m.velocity is None)
+    assert np.isnan(arrays.output[arrays.status == 2]).all()
+
+
+def test_bad_input_is_a_value_error():
+    link = engine.Linkage("slider", b=2.0, c=7.0, e=1.5)
+    assert len(link.sweep_arrays([], 1).output) == 0
+    for phis, branch, level in (([math.nan], 1, 2), ([math.inf], 1, 2), ([[1.0, 2.0]], 1, 2),
+                                (["x"], 1, 2), ([1.0], 3, 2), ([1.0], 1, 3)):
+        with pytest.raises(ValueError):
+            link.sweep_arrays(phis, branch, level)
+
+
+# -- the command line ---------------------------------------------------------------------------
+
+def read_rows(path):
+    text = Path(path).read_bytes()
+    assert text.endswith(b"\x1a")
+    return [tuple(float(v) for v in line.split(",")) for line in text[:-1].decode().split("\r\n")
+            if line]
+
+
+def assert_same_files(kind, dims, scalar_dir, fast_dir, names=("ANG.DAT", "VEL.DAT", "ACC.DAT")):
+    for name in names:
+        want, got = read_rows(Path(scalar_dir, name)), read_rows(Path(fast_dir, name))
+        assert [p for p, _ in want] == [p for p, _ in got], name
+        for (phi, w), (_, g) in zip(want, got):
+            error = (harness.output_error(kind, dims, g, w) if name == "ANG.DAT"
+                     else harness.ratio_error(g, w))
+            assert error <= FAST_TOL, (name, phi, w, g)
+
+
+RUNS = [("plane", dict(a=4, b=1, c=1.5, d=3), "2"),        # not assembled on part of the turn
+        ("spherical", dict(a=80, b=20, c=75, d=60), "1"),
+        ("skew", dict(a=6, b=2, c=7, d=9, f=1.5, skew=25), "2"),
+        ("slider", dict(b=2, c=7, e=1.5), "1"),
+        ("skew-slider", dict(a=6, b=1, c=7.5, f=3, skew=45), "2")]
+
+
+@pytest.mark.parametrize("kind, dims, branch", RUNS, ids=[r[0] for r in RUNS])
+@pytest.mark.parametrize("clip", (False, True))
+def test_run_fast_writes_the_scalar_paths_files(tmp_path, kind, dims, branch, clip):
+    args = ["run", kind] + [f"--{k}={v}" for k, v in dims.items()] + [
+        "--from", "-10", "--to", "370", "--step", "0.05", "--branch", branch,
+        "--precision", "double"] + ["--clip"] * clip
+    for folder, extra in (("scalar", []), ("fast", ["--fast"])):
+        (tmp_path / folder).mkdir()
+        assert engine.main(args + ["--dir", str(tmp_path / folder)] + extra) == 0
+    dims = {("ksi" if k == "skew" else k): float(v) for k, v in dims.items()}
+    assert_same_files(kind, dims, tmp_path / "scalar", tmp_path / "fast")
+
+
+def test_run_fast_goes_with_double(capsys):
+    with pytest.raises(SystemExit):
+        engine.main(["run", "plane", "--a=6", "--b=2", "--c=7", "--d=9", "--from=0", "--to=10",
+                     "--step=1", "--branch=1", "--fast"])
+    assert "--fast goes with --precision double" in capsys.readouterr().err
+
+
+SCENE = """mechanism = "plane"
+dimensions = { a = 4, b = 1, c = 1.5, d = 3 }
+input = { from = 0, to = 360, step = 0.125 }
+branches = [1, 2]
+precision = "both"
+%s
+[[panels]]
+quantities = ["displacement"]
+
+[[panels]]
+quantities = ["velocity", "acceleration"]
+"""
+
+
+def test_a_fast_scene_writes_the_scalar_paths_files(tmp_path):
+    for name, line in (("scalar", ""), ("fast", "fast = true")):
+        (tmp_path / f"{name}.toml").write_text(SCENE % line)
+        assert engine.load_scene(str(tmp_path / f"{name}.toml")).fast == bool(line)
+        assert engine.main(["scene", str(tmp_path / f"{name}.toml"), "--dir",
+                            str(tmp_path / name), "--text"]) == 0
+    dims = dict(a=4.0, b=1.0, c=1.5, d=3.0)
+    for series in ("double-branch1", "double-branch2"):
+        assert_same_files("plane", dims, tmp_path / "scalar" / series, tmp_path / "fast" / series)
+
+
+@pytest.mark.parametrize("line, expected", [
+    ('fast = "yes"', "key 'fast': expected true or false"),
+    ('fast = true\nprecision = "basic"', "key 'fast': expected false with precision basic"),
+])
+def test_a_scenes_fast_key_is_checked(tmp_path, line, expected):
+    text = SCENE.replace('precision = "both"\n', "") % line
+    if "precision" not in line:
+        text = 'precision = "double"\n' + text
+    (tmp_path / "s.toml").write_text(text)
+    with pytest.raises(engine.SceneError, match=expected):
+        engine.load_scene(str(tmp_path / "s.toml"))
+
+
+def test_a_mechanism_scene_takes_no_fast(tmp_path):
+    text = (ROOT / "data/scenes/fig1a-plane-four-bar.toml").read_text()
+    (tmp_path / "m.toml").write_text("fast = true\n" + text)
+    with pytest.raises(engine.SceneError, match="key 'fast'"):
+        engine.load_scene(str(tmp_path / "m.toml"))
+
+
+# -- without numpy ------------------------------------------------------------------------------
+
+WITHOUT_NUMPY = ("import runpy, sys; sys.modules['numpy'] = None; sys.argv = sys.argv[1:]; "
+                 "runpy.run_path(sys.argv[0], run_name='__main__')")
+
+
+def without_numpy(*args, cwd):
+    return subprocess.run([sys.executable, "-c", WITHOUT_NUMPY, str(ROOT / "linkage.py"), *args],
+                          capture_output=True, text=True, cwd=cwd, timeout=120)
+
+
+def test_without_numpy_run_fast_says_what_to_install(tmp_path):
+    args = ["run", "plane", "--a=6", "--b=2", "--c=7", "--d=9", "--from=0", "--to=10",
+            "--step=1", "--branch=1", "--precision", "double"]
+    done = without_numpy(*args, "--fast", cwd=tmp_path)
+    assert done.returncode == 1
+    assert "needs numpy" in done.stderr and "pip install 'linkage[fast]'" in done.stderr
+    assert "Traceback" not in done.stderr and not list(tmp_path.iterdir())
+    done = without_numpy(*args, cwd=tmp_path)                         # the scalar path runs
+    assert done.returncode == 0 and "needs numpy" not in done.stderr
+    assert (tmp_path / "ANG.DAT").exists()
+
+
+def test_without_numpy_a_fast_scene_says_what_to_install(tmp_path):
+    (tmp_path / "s.toml").write_text(SCENE % "fast = true")
+    done = without_numpy("scene", "s.toml", "--text", cwd=tmp_path)
+    assert done.returncode == 1
+    assert done.stderr.startswith("linkage.py: s.toml: key 'fast': ")
+    assert "needs numpy" in done.stderr and "Traceback" not in done.stderr
+
+
+def test_without_numpy_sweep_arrays_raises_fast_unavailable():
+    code = ("import sys; sys.modules['numpy'] = None; sys.path.insert(0, sys.argv[1]); "
+            "import linkage; link = linkage.Linkage('plane', a=6, b=2, c=7, d=9)\n"
+            "try:\n    link.sweep_arrays([1.0])\nexcept linkage.FastUnavailable as e:\n"
+            "    print('unavailable:', e)\nprint(link.motion(1.0).status)")
+    done = subprocess.run([sys.executable, "-c", code, str(ROOT)], capture_output=True,
+                          text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("unavailable: ") and "needs numpy" in done.stdout
+    assert done.stdout.endswith("assembled\n")
+
+
+# -- bench engine ---------------------------------------------------------------------------------
+
+def test_bench_engine_prints_the_three_side_by_side():
+    """One row a linkage with the scalar and the numpy path's rates and their ratio, pylinkage's
+    rates beside ours, the targets; on a short sweep (the bench's times are not asserted)."""
+    import io
+    out = io.StringIO()
+    engine.bench_engine(out, points=2001, pylinkage_points=101)
+    text = out.getvalue()
+    rows = [line.split() for line in text.splitlines()
+            if line.split() and line.split()[0] in engine.LINKAGE_DIMENSIONS]
+    assert [row[0] for row in rows] == [kind for kind, _ in engine.BENCH_LINKAGES] + [
+        "plane", "slider"]                         # five kinds, then pylinkage's two
+    for kind, ratio, *rates in rows[:5]:
+        assert ratio.endswith("x") and len(rates) == 4
+        assert all(float(r.replace(",", "")) > 0 for r in rates)
+    assert "pylinkage 1.3.0" in text and "ours/pylinkage: numpy path" in text
+    assert "target: numpy path >= 10,000,000 (plane)" in text
+
+
+def test_bench_engine_without_numpy_or_pylinkage(tmp_path):
+    code = ("import io, sys; sys.modules['numpy'] = None; sys.modules['pylinkage'] = None; "
+            "sys.path.insert(0, sys.argv[1]); import linkage; out = io.StringIO(); "
+            "linkage.bench_engine(out, points=201, pylinkage_points=11); print(out.getvalue())")
+    done = subprocess.run([sys.executable, "-c", code, str(ROOT)], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0 and "needs numpy" not in done.stderr, done.stderr
+    assert done.stdout.count("numpy not installed") == 5
+    assert "pylinkage: not installed" in done.stdout
+    assert "target: scalar >= 100,000" in done.stdout and "target: numpy" not in done.stdout
