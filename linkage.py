@@ -1396,6 +1396,8 @@ class DatFiles:  # ERRATA P3
         try:
             for name in self.NAMES[:count]:
                 self._files.append(_Temporary(os.path.join(directory, name), "ascii"))
+            self._open = [t.file for t in self._files]      # written to directly: the sweep's
+            #                                                 inner loop
         except BaseException as e:
             self.discard()
             if isinstance(e, IsADirectoryError):
@@ -1417,12 +1419,13 @@ class DatFiles:  # ERRATA P3
     def write(self, lines) -> None:
         """One point: a line (or None) for each file."""
         try:
-            for f, line in zip(self._files, lines):
+            for f, line in zip(self._open, lines):
                 if line is not None:
                     f.write(line)
         except OSError as e:
+            written = next(t for t in self._files if t.file is f)
             self.discard()
-            raise WriteError(self._why(e)) from None
+            raise WriteError(self._why(OSError(e.errno, e.strerror, written.path))) from None
         self.points += 1
 
     def close(self) -> None:
