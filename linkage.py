@@ -4412,7 +4412,8 @@ def design_drawing(result) -> Drawing:
 # those files are written.
 #
 # Every figure is drawn from DAT files, so `scene` and `plot` draw alike: one series a folder
-# (the scene's DIR itself, or DIR/<precision>-branch<n> when it overlays several). A curve breaks
+# (the scene's DIR itself, or DIR/<precision>-branch<n> when it overlays several; n is "follow"
+# for the motion followed through change points, branches = ["follow"]). A curve breaks
 # where the input angle skips a step (the engine leaves out positions that do not exist). Output
 # angles are drawn unwrapped: whole turns are added so that a curve is continuous across +-180
 # degrees, and so that the curves of a panel lie within half a turn of the first one.
@@ -4422,7 +4423,8 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "mechanism": f"one of {', '.join(LINKAGE_DIMENSIONS)}",
     "dimensions": "a table of the mechanism's dimensions",
     "input": "a table with from, to and step (degrees)",
-    "branches": "a list of branches, 1 (A+B) and/or 2 (A-B)",
+    "branches": "a list of branches, 1 (A+B) and/or 2 (A-B), and with precision double "
+                "\"follow\" (the motion followed from branch 1 through change points)",
     "precision": "basic, double or both",
     "panels": "a list of 1 to 3 tables [[panels]], each with quantities and optional limits; "
               "or one [[panels]] with quantities = [\"mechanism\"] and optional angles",
@@ -4574,19 +4576,27 @@ def load_scene(path: str) -> Scene:
 
     branches = data["branches"]
     if (not isinstance(branches, list) or not branches or len(set(branches)) != len(branches)
-            or not all(b in (1, 2) and not isinstance(b, bool) for b in branches)):
-        raise _scene_error(path, "branches", "[1], [2] or [1, 2]", branches)
+            or not all(b in (1, 2, FOLLOW) and not isinstance(b, bool) for b in branches)):
+        raise _scene_error(path, "branches", "[1], [2] or [1, 2], and with precision double "
+                           "\"follow\" among them", branches)
     panels = data["panels"]
     if (not isinstance(panels, list) or not 1 <= len(panels) <= 3
             or not all(isinstance(p, dict) for p in panels)):
         raise _scene_error(path, "panels", SCENE_KEYS["panels"], panels)
     if any(p.get("quantities") == [MECHANISM_PANEL] for p in panels):
+        if FOLLOW in branches:
+            raise _scene_error(path, "branches", "[1] or [2]: a mechanism scene draws one of "
+                               "the listing's branches", branches)
         return _mechanism_scene(path, data, dims, start, stop, step, tuple(branches))
     if "precision" not in data:
         raise SceneError(f"{path}: key 'precision' is missing: expected {SCENE_KEYS['precision']}")
     precision = data["precision"]
     if precision not in PRECISIONS:
         raise _scene_error(path, "precision", SCENE_KEYS["precision"], precision)
+    if FOLLOW in branches and precision != "double":
+        raise _scene_error(path, "branches", "1 and 2 only with precision basic or both: "
+                           "\"follow\" is the accurate engine's (the original program has "
+                           "branches 1 and 2)", branches)
     specs = []
     for i, panel in enumerate(panels, 1):
         key = f"panels[{i}]"
@@ -4694,11 +4704,16 @@ def _check_assembles(scene: Scene, motions: list[Motion]) -> None:
 
 class Series(NamedTuple):
     """One curve family of a figure: the DAT files in `directory`, made at `precision` (basic,
-    double, or "" if unknown) on `branch` (None if unknown)."""
+    double, or "" if unknown) on `branch` (1, 2, FOLLOW, or None if unknown)."""
     name: str
     precision: str
-    branch: int | None
+    branch: int | str | None
     directory: str
+
+
+def _branch_text(branch) -> str:
+    return ("follow (the motion followed from branch 1)" if branch == FOLLOW
+            else f"{branch} ({'A+B' if branch == 1 else 'A-B'})")
 
 
 def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
@@ -4797,10 +4812,13 @@ def dat_series(directory: str) -> list[Series]:
     series = []
     for folder in folders:
         name = os.path.basename(folder)
-        match = re.fullmatch(r"(basic|double)-branch([12])", name)
-        series.append(Series(name, match[1] if match else _dat_precision(folder),
-                             int(match[2]) if match else None, folder))
-    return sorted(series, key=lambda s: (s.branch or 3, s.precision != "basic", s.name))
+        match = re.fullmatch(r"(basic|double)-branch([12]|follow)", name)
+        branch = None if not match else FOLLOW if match[2] == FOLLOW else int(match[2])
+        series.append(Series(name, match[1] if match else _dat_precision(folder), branch,
+                             folder))
+    order = {1: 1, 2: 2, FOLLOW: 3}
+    return sorted(series, key=lambda s: (order.get(s.branch, 4), s.precision != "basic",
+                                         s.name))
 
 
 # -- the figure: what both renderers draw ------------------------------------------------------
@@ -4865,7 +4883,7 @@ def _series_label(series: Series, several_precisions: bool, several_branches: bo
     if several_precisions or series.precision == "" or series.branch is None:
         parts.append(series.precision or series.name)
     if several_branches and series.branch is not None:
-        parts.append(f"branch {series.branch}")
+        parts.append("followed" if series.branch == FOLLOW else f"branch {series.branch}")
     return ", ".join(parts)
 
 
@@ -4898,7 +4916,7 @@ def build_figure(title: str, subtitle: str, group: str, specs, series: list[Seri
 
 def scene_figure(scene: Scene, series: list[Series]) -> Figure:
     dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
-    branches = ", ".join(f"{b} ({'A+B' if b == 1 else 'A-B'})" for b in scene.branches)
+    branches = ", ".join(_branch_text(b) for b in scene.branches)
     precision = {("basic",): "basic (GW-BASIC single precision)",
                  ("double",): "double (the accurate engine)",
                  ("basic", "double"): "basic and double, overlaid"}[scene.precisions]
@@ -4919,7 +4937,7 @@ def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
     group = ("unknown" if mechanism is None else
              "slider" if mechanism in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK) else "four-bar")
     precisions = " and ".join(dict.fromkeys(s.precision or "unknown" for s in series))
-    branches = sorted({s.branch for s in series if s.branch})
+    branches = sorted({s.branch for s in series if s.branch}, key=str)
     what = (f"precision {precisions}" + (" (from the number format)" if len(series) == 1 else "")
             + (f"; branch{'es' * (len(branches) > 1)} {', '.join(map(str, branches))}"
                if branches else ", branch not recorded"))

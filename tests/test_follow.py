@@ -349,3 +349,44 @@ def test_run_refuses_follow_where_it_has_no_meaning(tmp_path, args, message):
     assert done.returncode == 2 and message in done.stderr, done.stderr
     assert "Traceback" not in done.stderr
     assert not (tmp_path / "ANG.DAT").exists()
+
+
+# -- scenes ---------------------------------------------------------------------------------------
+
+SCENE = ROOT / "data" / "scenes" / "hard-follow-change-point.toml"
+
+
+def test_the_follow_scene_writes_the_followed_motion(tmp_path):
+    """branches = [1, "follow"]: one folder each; the followed series is Linkage.sweep's."""
+    scene = engine.load_scene(str(SCENE))
+    assert scene.branches == (1, engine.FOLLOW)
+    series = engine.compute_scene(scene, str(tmp_path))
+    assert [(s.name, s.branch) for s in series] == [("double-branch1", 1),
+                                                    ("double-branchfollow", engine.FOLLOW)]
+    assert [(s.name, s.branch) for s in engine.dat_series(str(tmp_path))] == [
+        ("double-branch1", 1), ("double-branchfollow", engine.FOLLOW)]
+    followed = engine.Linkage("plane", **GRASHOF_BOUNDARY).sweep(scene.angles(), engine.FOLLOW)
+    vel = basic_runner.read_dat((tmp_path / "double-branchfollow" / "VEL.DAT").read_bytes())
+    assert vel == [(m.phi, m.velocity) for m in followed]
+    text = engine.text_figure(engine.scene_figure(scene, series))
+    assert "follow (the motion followed from branch 1)" in text and "o followed" in text
+
+
+@pytest.mark.parametrize("change,message", [
+    (('precision = "double"', 'precision = "both"'), "\"follow\" is the accurate engine's"),
+    (('precision = "double"', 'precision = "basic"'), "the original program has branches 1 and 2"),
+    (('branches = [1, "follow"]', 'branches = ["folow"]'), "\"follow\" among them"),
+    (('[[panels]]\nquantities = ["displacement"]\n\n[[panels]]\nquantities = ["velocity"]',
+      '[[panels]]\nquantities = ["mechanism"]'), "a mechanism scene draws one of the listing's"),
+])
+def test_a_scene_refuses_follow_where_it_has_no_meaning(tmp_path, change, message):
+    text = SCENE.read_text()
+    assert change[0] in text
+    path = tmp_path / "s.toml"
+    path.write_text(text.replace(*change))
+    with pytest.raises(engine.SceneError, match="key 'branches'") as refused:
+        engine.load_scene(str(path))
+    assert message in str(refused.value)
+    done = subprocess.run([sys.executable, str(ROOT / "linkage.py"), "scene", str(path),
+                           "--dir", str(tmp_path)], capture_output=True, text=True)
+    assert done.returncode != 0 and message in done.stderr and "Traceback" not in done.stderr
