@@ -1605,7 +1605,8 @@ class Linkage:
         phi = 180 and through change points, where it takes the branch that continues psi and
         psi' smoothly, whichever of the listing's labels that is. At a dead centre the crank
         cannot pass (or where the linkage stops assembling, or its output link is free) the
-        motion ends: that angle has its own status, every later one STOPPED."""
+        motion ends: that angle has its own status, every later one STOPPED. The choice needs
+        the derivatives: a followed sweep computes them whatever `derivatives` asks."""
         if derivatives not in (0, 1, 2):
             raise ValueError("derivatives is 0 (output), 1 (and velocity) or 2 (and acceleration)")
         if branch == FOLLOW:
@@ -1769,7 +1770,8 @@ def _sweep_slider(linkage, phis, sign, level):
 #
 # The listing's labels 1 and 2 are the sign of dE/dpsi (dG/dx), and that sign changes along the
 # physical motion wherever the two roots cross: at a change point (a + b = c + d and the like),
-# and for a linkage whose crank turns fully while the coupler and output fold through a line.
+# and where the output link is free for an instant (a = b, c = d: the crank tip passes over the
+# output pivot; an angle exactly there is INDETERMINATE and ends the motion).
 # A followed sweep computes both labels at each angle and takes the root that continues the
 # motion: of the two, the one whose step from the last position agrees with the derivatives at
 # both ends (the Hermite-corrected trapezoid rule for psi, the trapezoid rule for psi'; error
@@ -1830,7 +1832,7 @@ def _follow_step(linkage, state, phi, here, length, depth):
     motion, or (None, Motion) where it ends (that Motion: the dead centre or the position that
     does not assemble, maybe between the angles)."""
     if here is None:
-        here = tuple(linkage.sweep((phi,), b, 2) [0] for b in (1, 2))
+        here = tuple(linkage.sweep((phi,), b, 2)[0] for b in (1, 2))
     status = here[0].status
     if status not in (ASSEMBLED, CHANGE_POINT):
         return None, here[0]

@@ -229,8 +229,9 @@ def solve(kind: str, dims: dict, phi_deg: float, dps: int = 50,
 
 def _limit_from_above(kind, dims, phi_deg, dps, guard):
     """Both branches' values at phi_deg + 10^-(dps/2) degrees, solved with 3 dps digits: the
-    limits phi -> phi_deg+ to some dps/2 digits (None if the linkage does not assemble there) (the error is that step times the next
-    derivative; the acceleration loses 3 digits per digit of the step, hence the 3 dps)."""
+    limits phi -> phi_deg+ to some dps/2 digits (the error is that step times the next
+    derivative; the acceleration loses 3 digits per digit of the step, hence the 3 dps). None
+    if the linkage does not assemble there (an isolated position)."""
     with mp.workdps(3 * dps + guard):
         above = mp.mpf(phi_deg) + mp.mpf(10) ** (-(dps // 2))
     limit = solve(kind, dims, above, 3 * dps, guard)
