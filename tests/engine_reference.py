@@ -14,8 +14,8 @@ linkages and both slider-cranks, and of -(B.D - cos c) for the spherical one (th
 stated in tests/test_physics.py's docstrings), hence KAPPA.
 
 At a change point (a double root where the closure's phi-derivative vanishes too, the branches
-crossing) the values are limits: each branch's from above, the root solved 10^-(dps/2) degree
-past the point in 3 dps digits - no formula of the engine's second-order expansion is used.
+crossing) the values are limits: each branch's from above, the root solved 10^-dps degree
+past the point in 4 dps digits - no formula of the engine's second-order expansion is used.
 """
 
 from __future__ import annotations
@@ -228,13 +228,13 @@ def solve(kind: str, dims: dict, phi_deg: float, dps: int = 50,
 
 
 def _limit_from_above(kind, dims, phi_deg, dps, guard):
-    """Both branches' values at phi_deg + 10^-(dps/2) degrees, solved with 3 dps digits: the
-    limits phi -> phi_deg+ to some dps/2 digits (the error is that step times the next
-    derivative; the acceleration loses 3 digits per digit of the step, hence the 3 dps). None
-    if the linkage does not assemble there (an isolated position)."""
-    with mp.workdps(3 * dps + guard):
-        above = mp.mpf(phi_deg) + mp.mpf(10) ** (-(dps // 2))
-    limit = solve(kind, dims, above, 3 * dps, guard)
+    """Both branches' values at phi_deg + 10^-dps degrees, solved with 4 dps digits: the limits
+    phi -> phi_deg+ to dps digits (the error is that step times the next derivative; the
+    acceleration loses 3 digits per digit of the step, hence the 4 dps). None if the linkage
+    does not assemble there (an isolated position)."""
+    with mp.workdps(4 * dps + guard):
+        above = mp.mpf(phi_deg) + mp.mpf(10) ** -dps
+    limit = solve(kind, dims, above, 4 * dps, guard)
     return limit if all(limit[br].status == "assembled" for br in (1, 2)) else None
 
 

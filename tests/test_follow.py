@@ -87,8 +87,7 @@ def test_the_issues_two_examples_against_closed_forms():
     exact = 4.0 * math.sin(math.radians(phi - 90.0))
     assert m.output == pytest.approx(-exact, rel=1e-12) and m.velocity == pytest.approx(-4.0)
     assert abs(m.acceleration - exact) <= 1e-20
-    assert slider.motion(phi, 1)[1:4] == (0.0, 0.0, 0.0) or \
-        max(abs(v) for v in slider.motion(phi, 1)[1:4]) <= 1e-30
+    assert max(abs(v) for v in slider.motion(phi, 1)[1:4]) <= 1e-30      # x = 0 exactly
     plane = engine.Linkage("plane", **GRASHOF_BOUNDARY)
     for branch in (1, 2):
         at = plane.motion(180.0, branch)
