@@ -4577,8 +4577,9 @@ def load_scene(path: str) -> Scene:
                            "points", sweep["step"])
 
     branches = data["branches"]
-    if (not isinstance(branches, list) or not branches or len(set(branches)) != len(branches)
-            or not all(b in (1, 2, FOLLOW) and not isinstance(b, bool) for b in branches)):
+    if (not isinstance(branches, list) or not branches
+            or not all(b in (1, 2, FOLLOW) and not isinstance(b, bool) for b in branches)
+            or len(set(branches)) != len(branches)):
         raise _scene_error(path, "branches", "[1], [2] or [1, 2], and with precision double "
                            "\"follow\" among them", branches)
     panels = data["panels"]

@@ -375,6 +375,7 @@ def test_the_follow_scene_writes_the_followed_motion(tmp_path):
     (('precision = "double"', 'precision = "both"'), "\"follow\" is the accurate engine's"),
     (('precision = "double"', 'precision = "basic"'), "the original program has branches 1 and 2"),
     (('branches = [1, "follow"]', 'branches = ["folow"]'), "\"follow\" among them"),
+    (('branches = [1, "follow"]', 'branches = [[1]]'), "\"follow\" among them"),
     (('[[panels]]\nquantities = ["displacement"]\n\n[[panels]]\nquantities = ["velocity"]',
       '[[panels]]\nquantities = ["mechanism"]'), "a mechanism scene draws one of the listing's"),
 ])
