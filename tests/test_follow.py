@@ -268,6 +268,37 @@ def test_the_followed_motion_changes_label_only_where_the_branches_meet(linkage,
             return
 
 
+@given(generic_linkages(), st.floats(-360.0, 360.0), st.sampled_from((5.0, -15.0, 30.0)),
+       st.sampled_from((1, 2)), st.booleans())
+@settings(max_examples=60, deadline=None)
+def test_long_steps_follow_the_same_motion_as_short_ones(linkage, phi0, step, start, boundary):
+    """From an angle where the linkage assembles, a sweep by 5 to 30 degrees gives, at its
+    angles, what a sweep 100 times finer gives: the long steps are halved where they must be,
+    and a dead centre between two angles is found. With `boundary`, a plane linkage on
+    Grashof's boundary (quarters, a + b = c + d), whose change point the long steps jump."""
+    kind, dims = linkage
+    if boundary:
+        kind, d = "plane", dims.get("a", 3.0) + dims["b"] - dims["c"]
+        dims = {k: round(4 * v) / 4 for k, v in
+                dict(a=dims.get("a", 3.0), b=dims["b"], c=dims["c"], d=d).items()}
+        dims["d"] = dims["a"] + dims["b"] - dims["c"]
+        assume(dims["d"] > 0.1 and min(dims.values()) > 0.1)
+    # (a = b, c = d: an angle exactly where the output link is free ends the motion, and the
+    # fine sweep may land on it where the long one does not)
+    assume(kind == "slider" or not (dims["a"] == dims["b"] and dims["c"] == dims["d"]))
+    link = engine.Linkage(kind, **dims)
+    assume(link.motion(phi0, start).status == engine.ASSEMBLED)
+    count = round(360 / abs(step))
+    coarse = [phi0 + i * step for i in range(count + 1)]
+    fine = [phi0 + j * step / 100 for j in range(100 * count + 1)]
+    long = link.sweep(coarse, engine.FOLLOW, start=start)
+    short = link.sweep(fine, engine.FOLLOW, start=start)[::100]
+    for x, y in zip(long, short):
+        assert x.status == y.status, (x, y)
+        if x.output is not None:
+            assert step_of(kind, x, y) == pytest.approx(0.0, abs=1e-9), (x, y)
+
+
 @given(st.integers(1, 40), st.integers(1, 40), st.integers(1, 40), st.sampled_from((1, 2)),
        st.sampled_from((0.5, 0.1)))
 @settings(max_examples=100, deadline=None)
