@@ -1605,7 +1605,8 @@ class Linkage:
         phi = 180 and through change points, where it takes the branch that continues psi and
         psi' smoothly, whichever of the listing's labels that is. At a dead centre the crank
         cannot pass (or where the linkage stops assembling, or its output link is free) the
-        motion ends: that angle has its own status, every later one STOPPED. The choice needs
+        motion ends: an angle on the dead centre itself is DEAD_CENTRE, with its output, and
+        every angle past the end STOPPED. The choice needs
         the derivatives: a followed sweep computes them whatever `derivatives` asks."""
         if derivatives not in (0, 1, 2):
             raise ValueError("derivatives is 0 (output), 1 (and velocity) or 2 (and acceleration)")
@@ -1778,12 +1779,16 @@ def _sweep_slider(linkage, phis, sign, level):
 # O(h^5) and O(h^3) along the right branch, while the other root's psi' differs by a finite
 # amount at a crossing). Where neither agrees clearly - a step too long for the curvature, a
 # gap where the linkage does not assemble - the step is halved (to 2^-50 of itself), so that a
-# dead centre between two angles is found and ends the motion.
+# dead centre between two angles is found and ends the motion; and so is a step that changes
+# the label, until a change point is one of its ends or the two roots are within 1e-9 of each
+# other there (then the velocity decides): seen from afar, two branches that pass close by
+# without meeting look like a crossing.
 
 FOLLOW = "follow"
 _FOLLOW_DEPTH = 50           # at most 50 halvings of one step
 _FOLLOW_AGREE = 1e-3         # a step's misfit over |h| (1 + |v0| + |v1|) below this: smooth
 _FOLLOW_CLEAR = 0.1          # and below this fraction of the other root's misfit
+_FOLLOW_MEET = 1e-9          # two roots this close (radians, or of the size) meet: a crossing
 
 
 def _follow(linkage, phis, start, level):
@@ -1801,7 +1806,7 @@ def _follow(linkage, phis, start, level):
         if state is None:                   # not started: the first assembled angle starts it
             m = here[start - 1]
             if m.status in (ASSEMBLED, CHANGE_POINT):
-                state = _follow_state(linkage, m)
+                state = _follow_state(linkage, m, start)
             out.append(_with_level(m, level))
             continue
         state, last = _follow_step(linkage, state, phi, here, length, 0)
@@ -1814,10 +1819,11 @@ def _follow(linkage, phis, start, level):
     return out
 
 
-def _follow_state(linkage, m):
-    """(phi, output in radians or length unwrapped, velocity, acceleration) of a Motion."""
+def _follow_state(linkage, m, label):
+    """(phi, output in radians or length unwrapped, velocity, acceleration, the listing's label,
+    whether it is a change point) of a Motion on branch `label`."""
     y = m.output if linkage.is_slider else m.output * _RAD
-    return (m.phi, y, m.velocity, m.acceleration)
+    return (m.phi, y, m.velocity, m.acceleration, label, m.status == CHANGE_POINT)
 
 
 def _with_level(m, level):
@@ -1830,16 +1836,19 @@ def _follow_step(linkage, state, phi, here, length, depth):
     """From the followed position `state` to angle phi, whose two roots are `here` (Motions of
     labels 1, 2, or None to compute them). Returns (state, Motion) of the root that continues the
     motion, or (None, Motion) where it ends (that Motion: the dead centre or the position that
-    does not assemble, maybe between the angles)."""
+    does not assemble, maybe between the angles). A step that changes the label is halved until
+    a change point is one of its ends or the roots meet (to 1e-9): the labels swap only where
+    the branches meet, and a near miss (the branches passing close without meeting, or a gap
+    between them) looks like a crossing from afar."""
     if here is None:
         here = tuple(linkage.sweep((phi,), b, 2)[0] for b in (1, 2))
     status = here[0].status
     if status not in (ASSEMBLED, CHANGE_POINT):
         return None, here[0]
-    phi0, y0, v0, a0 = state
+    phi0, y0, v0, a0, label0, crossing0 = state
     h = (phi - phi0) * _RAD
     misfits = []
-    for m in here:
+    for label, m in enumerate(here, 1):
         if linkage.is_slider:
             step = m.output - y0
         else:
@@ -1847,13 +1856,19 @@ def _follow_step(linkage, state, phi, here, length, depth):
         v1, a1 = m.velocity, m.acceleration
         misfit = (abs(step - 0.5 * h * (v0 + v1) + h * h * (a1 - a0) / 12.0)
                   + abs(h) * abs(v1 - v0 - 0.5 * h * (a0 + a1)))
-        misfits.append((misfit, step, m))
+        misfits.append((misfit, label, step, m))
     misfits.sort(key=lambda t: t[0])
-    (best, step, m), (other, _, _) = misfits
+    (best, label, step, m), (other, _, other_step, _) = misfits
     smooth = (best <= _FOLLOW_AGREE * abs(h) * (length + abs(v0) + abs(m.velocity))
-              and best <= _FOLLOW_CLEAR * other)
+              and best <= _FOLLOW_CLEAR * other
+              and (label == label0 or crossing0 or status == CHANGE_POINT))
+    if not smooth and abs(step - other_step) <= _FOLLOW_MEET * length:
+        # the branches meet here: the outputs cannot tell them apart, the velocities can
+        _, label, step, m = min(misfits, key=lambda t: abs(
+            t[3].velocity - v0 - 0.5 * h * (a0 + t[3].acceleration)))
+        smooth = True
     if smooth or depth >= _FOLLOW_DEPTH or h == 0.0:
-        return (phi, y0 + step, m.velocity, m.acceleration), m
+        return (phi, y0 + step, m.velocity, m.acceleration, label, status == CHANGE_POINT), m
     middle = phi0 + 0.5 * (phi - phi0)
     state, last = _follow_step(linkage, state, middle, None, length, depth + 1)
     if state is None:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import subprocess
+from fractions import Fraction
 import sys
 from pathlib import Path
 
@@ -178,6 +179,26 @@ def test_a_gap_between_two_angles_ends_the_motion():
     assert down[1] == smooth[-1]
 
 
+@pytest.mark.parametrize("dims,start,step", [
+    (dict(a=1.0, b=2.0, c=1.0, d=2.0), 1.0, 5.0),      # a parallelogram: crossing at 180
+    (dict(a=2.00001, b=1.0, c=1.0, d=2.0), -4.0, 30.0),  # nearly a kite: close, not crossing
+    (GRASHOF_BOUNDARY, 1.0, -15.0),
+])
+def test_long_steps_through_crossings_and_near_misses(dims, start, step):
+    """Found by hypothesis: a step over a crossing that lands just past it, and a step over two
+    branches passing within 1e-3 of each other, which from afar look alike. The followed motion
+    at the long steps' angles is the one followed by steps 100 times shorter."""
+    link = engine.Linkage("plane", **dims)
+    count = round(360 / abs(step))
+    long = link.sweep([start + i * step for i in range(count + 1)], engine.FOLLOW)
+    short = link.sweep([start + j * step / 100 for j in range(100 * count + 1)], engine.FOLLOW)
+    for x, y in zip(long, short[::100]):
+        assert x.status == y.status, (x, y)
+        if x.output is not None:
+            assert step_of("plane", x, y) == pytest.approx(0, abs=1e-9), (x, y)
+            assert x.velocity == pytest.approx(y.velocity, rel=1e-9, abs=1e-9), (x, y)
+
+
 def test_the_motion_starts_where_the_linkage_first_assembles():
     """b=1 c=1 e=1.5 assembles for 30 <= phi <= 150, dead centres at both ends: before the
     motion starts each angle has its own status (the dead centre at 30 too), the motion ends at
@@ -226,6 +247,36 @@ def generic_linkages(draw):
     return kind, dims
 
 
+def near_a_change_point(kind, dims, within=1e-9):
+    """Grashof's boundary to within `within` of the size, not exactly, in the binary values
+    (plane and spherical: a + b = c + d and the other two pairings; slider: c = b - e or
+    b + e). Exact fractions: 0.5 + 1.9 and 0.4 + 2.0 round to the same double, yet differ."""
+    if kind == "slider":
+        b, c, e = (Fraction(dims[k]) for k in "bce")
+        sums = [(c, b - e), (c, b + e)]
+    else:
+        a, b, c, d = (Fraction(dims[k]) for k in "abcd")
+        sums = [(a + b, c + d), (a + c, b + d), (a + d, b + c)]
+    size = max(abs(v) for v in dims.values())
+    return any(0 < abs(x - y) <= within * size for x, y in sums)
+
+
+def assembles_throughout(kind, link, lo, hi):
+    """Whether the linkage assembles at every angle from lo to hi, as far as 200 samples tell,
+    zooming eight times onto the sample where the two branches are closest (a gap where it does
+    not assemble opens where they meet, and may be 1e-6 degree wide)."""
+    for _ in range(9):
+        angles = [lo + (hi - lo) * k / 200 for k in range(201)]
+        pairs = [(link.motion(p, 1, 0), link.motion(p, 2, 0)) for p in angles]
+        if any(m.status in (engine.NOT_ASSEMBLED, engine.INDETERMINATE)
+               for pair in pairs for m in pair):
+            return False
+        gaps = [step_of(kind, m1, m2) for m1, m2 in pairs]
+        k = min(range(201), key=lambda k: abs(gaps[k]))
+        lo, hi = angles[max(k - 1, 0)], angles[min(k + 1, 200)]
+    return True
+
+
 @given(generic_linkages(), st.floats(-360.0, 360.0), st.sampled_from((0.25, -0.25, 2.0)),
        st.sampled_from((1, 2)))
 @settings(max_examples=150, deadline=None)
@@ -252,8 +303,7 @@ def test_the_followed_motion_changes_label_only_where_the_branches_meet(linkage,
             started = f.status in (engine.ASSEMBLED, engine.CHANGE_POINT)
             continue
         if f.status == engine.STOPPED:
-            between = engine.evenly_spaced_angles(angles[i - 1], angles[i], step / 1000.0)
-            assert any(m.status == engine.NOT_ASSEMBLED for m in link.sweep(between, label)), f
+            assert not assembles_throughout(kind, link, angles[i - 1], angles[i]), f
             assert all(m.status == engine.STOPPED for m in followed[i:])
             return
         if f != fixed[label][i]:
@@ -275,8 +325,13 @@ def test_long_steps_follow_the_same_motion_as_short_ones(linkage, phi0, step, st
     """From an angle where the linkage assembles, a sweep by 5 to 30 degrees gives, at its
     angles, what a sweep 100 times finer gives: the long steps are halved where they must be,
     and a dead centre between two angles is found. With `boundary`, a plane linkage on
-    Grashof's boundary (quarters, a + b = c + d), whose change point the long steps jump."""
+    Grashof's boundary (quarters, a + b = c + d), whose change point the long steps jump.
+    Linkages within rounding of a change point are left out: a + d = b + c typed as 0.5, 0.4,
+    2, 1.9 misses it by 1e-16 in binary, which opens a gap 4e-6 degree wide where the branches
+    meet; a long step that agrees with the smooth crossing passes it, the fine sweep lands in
+    it and stops."""
     kind, dims = linkage
+    assume(boundary or not near_a_change_point(kind, dims))
     if boundary:
         kind, d = "plane", dims.get("a", 3.0) + dims["b"] - dims["c"]
         dims = {k: round(4 * v) / 4 for k, v in
