@@ -1789,6 +1789,8 @@ _FOLLOW_DEPTH = 50           # at most 50 halvings of one step
 _FOLLOW_AGREE = 1e-3         # a step's misfit over |h| (1 + |v0| + |v1|) below this: smooth
 _FOLLOW_CLEAR = 0.1          # and below this fraction of the other root's misfit
 _FOLLOW_MEET = 1e-9          # two roots this close (radians, or of the size) meet: a crossing
+_FOLLOW_CROSS = 1e-6         # if their distance times their velocity is below this (a dead
+#                              centre's roots meet with infinite velocity, keeping it finite)
 
 
 def _follow(linkage, phis, start, level):
@@ -1858,15 +1860,21 @@ def _follow_step(linkage, state, phi, here, length, depth):
                   + abs(h) * abs(v1 - v0 - 0.5 * h * (a0 + a1)))
         misfits.append((misfit, label, step, m))
     misfits.sort(key=lambda t: t[0])
-    (best, label, step, m), (other, _, other_step, _) = misfits
+    (best, label, step, m), (other, _, other_step, other_m) = misfits
+    may_switch = crossing0 or status == CHANGE_POINT
     smooth = (best <= _FOLLOW_AGREE * abs(h) * (length + abs(v0) + abs(m.velocity))
-              and best <= _FOLLOW_CLEAR * other
-              and (label == label0 or crossing0 or status == CHANGE_POINT))
-    if not smooth and abs(step - other_step) <= _FOLLOW_MEET * length:
-        # the branches meet here: the outputs cannot tell them apart, the velocities can
+              and best <= _FOLLOW_CLEAR * other and (label == label0 or may_switch))
+    apart = abs(step - other_step)
+    if (not smooth and apart <= _FOLLOW_MEET * length
+            and apart * max(abs(m.velocity), abs(other_m.velocity)) <= _FOLLOW_CROSS * length ** 2):
+        # the branches cross here, with finite velocities: the outputs cannot tell them apart,
+        # the velocities can (at a dead centre, where the roots meet too, apart * velocity
+        # stays finite as they meet)
         _, label, step, m = min(misfits, key=lambda t: abs(
             t[3].velocity - v0 - 0.5 * h * (a0 + t[3].acceleration)))
         smooth = True
+    if not smooth and depth >= _FOLLOW_DEPTH and label != label0 and not may_switch:
+        _, label, step, m = next(t for t in misfits if t[1] == label0)
     if smooth or depth >= _FOLLOW_DEPTH or h == 0.0:
         return (phi, y0 + step, m.velocity, m.acceleration, label, status == CHANGE_POINT), m
     middle = phi0 + 0.5 * (phi - phi0)
