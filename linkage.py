@@ -1640,6 +1640,20 @@ def _isatty(stream) -> bool:
 # 1/sqrt(D)); there, and only there, one point is recomputed in 50-digit decimal arithmetic
 # (standard library decimal), so that the results stay correct to double precision until D is
 # within 1e-33 of its scale, where the engine says DEAD_CENTRE.
+#
+# At a change point the two branches cross: D has a double zero in phi, D ~ K delta^2 at delta
+# radians from it, and velocity and acceleration are 0/0 limits. There the decimal digits run out
+# too (the acceleration's error goes as 10^-digits / delta^3: 4e-6 at 1e-13 degree with 50
+# digits), so a point whose D is within 1e-12 of its scale is redone with 110 digits (constants,
+# cos and sin included): correct to double precision down to D = 1e-33 of the scale (delta about
+# 1e-17 radian). Within that, at the change point itself (or within rounding of it), the engine
+# gives the branches' limits: the velocities are the two roots of the second-order expansion of
+# the closure, E_phiphi + 2 E_phipsi v + E_psipsi v^2 = 0 (E_phi = E_psi = 0 there), and each
+# acceleration follows from the third-order one, E_phiphiphi = -E_phi and E_psipsipsi = -E_psi
+# vanishing: psi'' = -v (E_phiphipsi + E_phipsipsi v) / (E_phipsi + E_psipsi v). Status
+# CHANGE_POINT; branch k gets the limit of the listing's branch k from above (phi -> phi0+),
+# i.e. branch 1 the root with E_phipsi + E_psipsi v = +sqrt(E_phipsi^2 - E_psipsi E_phiphi) > 0,
+# the sign dE/dpsi takes on it just past phi0 (sliders: G_x = 2(x - m), v = m' +- sqrt(...)).
 
 
 # The mechanisms, named as tests/test_physics.py names them, with their dimensions: lengths as
@@ -1669,15 +1683,29 @@ DEAD_CENTRE = "dead-centre"      # output given (the double root: the same on bo
 #                                  velocity and acceleration None: the discriminant is zero (to
 #                                  1e-33 of its scale), the velocity infinite or, where the two
 #                                  branches cross (change point), undetermined
+CHANGE_POINT = "change-point"    # the two branches cross here (a double zero of the
+#                                  discriminant, e.g. a + b = c + d): output given (the double
+#                                  root), velocity and acceleration the limits of the listing's
+#                                  branch from above (phi -> phi0+); see the section's notes
 NOT_ASSEMBLED = "not-assembled"  # the linkage cannot be assembled at this input angle: all None
 INDETERMINATE = "indeterminate"  # the output link is free (every psi closes the loop, e.g. the
 #                                  crank tip on the output pivot and c = d): all None
+STOPPED = "stopped"              # branch="follow" only: the followed motion ended before
+#                                  this angle (at a dead centre the crank cannot pass, or where
+#                                  the linkage does not assemble, or its output link is free):
+#                                  all None
 
 _RAD = math.pi / 180.0
 _DEG = 180.0 / math.pi
 _PRECISE_BELOW = 2.0 ** -12      # relative discriminant under which a point is done in decimal
 _DECIMAL = decimal.Context(prec=50, Emin=-10 ** 6, Emax=10 ** 6)
-_DECIMAL_PI = Decimal("3.141592653589793238462643383279502884197169399375105820974944592307816")
+_DECIMAL_FINE = decimal.Context(prec=110, Emin=-10 ** 6, Emax=10 ** 6)   # near a change point
+_DECIMAL_PI = Decimal("3.14159265358979323846264338327950288419716939937510582097494459230781640"
+                      "628620899862803482534211706798214808651328230664709384461")
+_FINE_BELOW = Decimal("1e-12")           # relative discriminant under which 50 digits give way
+#                                          to 110 (a change point loses 3 digits per 2 of D's)
+_CHANGE_POINT_SLOPE = Decimal("1e-12")   # |E_phi| over the size at a double root: a change point
+_CHANGE_POINT_SPLIT = Decimal("1e-24")   # the velocities' discriminant over the scale: distinct
 _DECIMAL_ZERO_BELOW = Decimal("1e-33")   # relative discriminant taken as zero in decimal: above
 #                                          it D keeps 17 digits, and so do the results
 _DECIMAL_TINY = Decimal("1e-60")
@@ -1718,26 +1746,28 @@ def _trig_double(q):
     return tuple(Fraction(v) for v in ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4])
 
 
-def _decimal_cos_sin_deg(q):
-    """cos and sin of q degrees (a Fraction) as 50-digit Decimals: exact reduction, Taylor."""
+def _decimal_cos_sin_deg(q, context=_DECIMAL):
+    """cos and sin of q degrees (a Fraction) as Decimals of the context's digits (50, or 110 near
+    a change point): exact reduction, Taylor."""
     r = q % 360
     n = round(r / 90)
     y = r - 90 * n
-    with decimal.localcontext(_DECIMAL):
+    with decimal.localcontext(context):
+        tiny = _DECIMAL_TINY.scaleb(50 - context.prec)
         x = Decimal(y.numerator) / Decimal(y.denominator) * _DECIMAL_PI / 180
         x2, c, s, tc, ts = x * x, Decimal(1), x, Decimal(1), x
-        for k in range(1, 40):               # |x| <= pi/4: the terms fall below 1e-60 by k = 25
-            tc = -tc * x2 / ((2 * k - 1) * (2 * k))
+        for k in range(1, 80):               # |x| <= pi/4: the terms fall below 1e-60 by k = 25,
+            tc = -tc * x2 / ((2 * k - 1) * (2 * k))              # below 1e-120 by k = 44
             ts = -ts * x2 / ((2 * k) * (2 * k + 1))
             c, s = c + tc, s + ts
-            if abs(tc) + abs(ts) < _DECIMAL_TINY:
+            if abs(tc) + abs(ts) < tiny:
                 break
         return ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4]
 
 
-def _trig_decimal(q):
-    """cos and sin of q degrees (a Fraction) as exact Fractions of 50-digit values."""
-    return tuple(Fraction(v) for v in _decimal_cos_sin_deg(q))
+def _trig_decimal(q, context=_DECIMAL):
+    """cos and sin of q degrees (a Fraction) as exact Fractions of 50-digit (or 110) values."""
+    return tuple(Fraction(v) for v in _decimal_cos_sin_deg(q, context))
 
 
 # -- the closure's constants ---------------------------------------------------------------------
@@ -1851,16 +1881,33 @@ class Linkage:
         """The output (and its first `derivatives` derivatives) at input angle phi (degrees)."""
         return self.sweep((phi,), branch, derivatives)[0]
 
-    def sweep(self, phis, branch=1, derivatives=2):
+    def sweep(self, phis, branch=1, derivatives=2, *, start=None):
         """Motion for each input angle of `phis` (degrees), on the listing's branch 1 (A+B) or 2
-        (A-B); derivatives 0 computes the output only, 1 adds the velocity, 2 the acceleration."""
-        if branch not in (1, 2):
-            raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
+        (A-B); derivatives 0 computes the output only, 1 adds the velocity, 2 the acceleration.
+
+        branch=FOLLOW ("follow") follows the physical motion instead: it starts in the listing's
+        branch `start` (1 or 2, default 1) at the first angle where the linkage assembles and
+        keeps to the same assembly as the crank turns through the angles in their order - through
+        phi = 180 and through change points, where it takes the branch that continues psi and
+        psi' smoothly, whichever of the listing's labels that is. At a dead centre the crank
+        cannot pass (or where the linkage stops assembling, or its output link is free) the
+        motion ends: an angle on the dead centre itself is DEAD_CENTRE, with its output, and
+        every angle past the end STOPPED. The choice needs
+        the derivatives: a followed sweep computes them whatever `derivatives` asks."""
         if derivatives not in (0, 1, 2):
             raise ValueError("derivatives is 0 (output), 1 (and velocity) or 2 (and acceleration)")
+        if branch == FOLLOW:
+            if start not in (None, 1, 2):
+                raise ValueError("start is the branch a followed motion starts in: 1 or 2")
+        elif branch not in (1, 2):
+            raise ValueError('branch is 1 (the listing\'s A+B), 2 (A-B) or "follow"')
+        elif start is not None:
+            raise ValueError('start goes with branch="follow"')
         phis = [float(p) for p in phis]
         if not all(math.isfinite(p) for p in phis):
             raise ValueError("input angles must be finite")
+        if branch == FOLLOW:
+            return _follow(self, phis, start or 1, derivatives)
         sign = 1.0 if branch == 1 else -1.0
         loop = _sweep_slider if self.is_slider else _sweep_four_bar
         return loop(self, phis, sign, derivatives)
@@ -1874,18 +1921,30 @@ class Linkage:
         return _sweep_arrays(self, phis, branch, derivatives)
 
     def _precise(self, phi, sign, level):
-        """One point in 50-digit decimal arithmetic (near a dead-centre), as a Motion."""
+        """One point in 50-digit decimal arithmetic (near a dead-centre), as a Motion; in 110
+        digits where the discriminant is within 1e-12 of its scale (near a change point)."""
         if self._decimal is None:
-            exact = _closure_constants(self.kind, self._scaled, _trig_decimal)
-            with decimal.localcontext(_DECIMAL):
-                k = tuple(Decimal(v.numerator) / Decimal(v.denominator) for v in exact)
-                self._decimal = k, _size_squared(self.kind, k) * _DECIMAL_ZERO_BELOW
-        k, zero = self._decimal
-        c, s = _decimal_cos_sin_deg(Fraction(phi))
-        with decimal.localcontext(_DECIMAL):
-            if self.is_slider:
-                return _slider_point(k, zero, phi, c, s, int(sign), level, self._unit)
-            return _four_bar_point(k, zero, phi, c, s, int(sign), level)
+            self._decimal = {}
+        for context in (_DECIMAL, _DECIMAL_FINE):
+            if context.prec not in self._decimal:
+                exact = _closure_constants(self.kind, self._scaled,
+                                           functools.partial(_trig_decimal, context=context))
+                with decimal.localcontext(context):
+                    k = tuple(Decimal(v.numerator) / Decimal(v.denominator) for v in exact)
+                    scale = _size_squared(self.kind, k)
+                    self._decimal[context.prec] = (k, scale * _DECIMAL_ZERO_BELOW,
+                                                   scale * _FINE_BELOW)
+            k, zero, fine = self._decimal[context.prec]
+            if context is _DECIMAL_FINE:
+                fine = None
+            c, s = _decimal_cos_sin_deg(Fraction(phi), context)
+            with decimal.localcontext(context):
+                if self.is_slider:
+                    m = _slider_point(k, zero, fine, phi, c, s, int(sign), level, self._unit)
+                else:
+                    m = _four_bar_point(k, zero, fine, phi, c, s, int(sign), level)
+            if m is not None:
+                return m
 
 
 # -- the double-precision sweeps ------------------------------------------------------------------
@@ -2002,10 +2061,128 @@ def _sweep_slider(linkage, phis, sign, level):
     return out
 
 
+# -- following the physical motion (branch="follow") -------------------------------------------
+#
+# The listing's labels 1 and 2 are the sign of dE/dpsi (dG/dx), and that sign changes along the
+# physical motion wherever the two roots cross: at a change point (a + b = c + d and the like),
+# and where the output link is free for an instant (a = b, c = d: the crank tip passes over the
+# output pivot; an angle exactly there is INDETERMINATE and ends the motion).
+# A followed sweep computes both labels at each angle and takes the root that continues the
+# motion: of the two, the one whose step from the last position agrees with the derivatives at
+# both ends (the Hermite-corrected trapezoid rule for psi, the trapezoid rule for psi'; error
+# O(h^5) and O(h^3) along the right branch, while the other root's psi' differs by a finite
+# amount at a crossing). Where neither agrees clearly - a step too long for the curvature, a
+# gap where the linkage does not assemble - the step is halved (to 2^-50 of itself), so that a
+# dead centre between two angles is found and ends the motion; and so is a step that changes
+# the label, until a change point is one of its ends or the two roots are within 1e-9 of each
+# other there (then the velocity decides): seen from afar, two branches that pass close by
+# without meeting look like a crossing.
+
+FOLLOW = "follow"
+_FOLLOW_DEPTH = 50           # at most 50 halvings of one step
+_FOLLOW_AGREE = 1e-3         # a step's misfit over |h| (1 + |v0| + |v1|) below this: smooth
+_FOLLOW_CLEAR = 0.1          # and below this fraction of the other root's misfit
+_FOLLOW_MEET = 1e-9          # two roots this close (radians, or of the size) meet: a crossing
+_FOLLOW_CROSS = 1e-6         # if their distance times their velocity is below this (a dead
+#                              centre's roots meet with infinite velocity, keeping it finite)
+
+
+def _follow(linkage, phis, start, level):
+    """Linkage.sweep(phis, FOLLOW, level, start=start): see there and the notes above."""
+    both = {b: (_sweep_slider if linkage.is_slider else _sweep_four_bar)(
+        linkage, phis, 1.0 if b == 1 else -1.0, 2) for b in (1, 2)}
+    length = max([abs(v) for k, v in linkage.dims.items() if k != "ksi"] + [0.0]) \
+        if linkage.is_slider else 1.0
+    out, state, ended = [], None, False
+    for i, phi in enumerate(phis):
+        here = (both[1][i], both[2][i])
+        if ended:
+            out.append(Motion(phi, None, None, None, STOPPED))
+            continue
+        if state is None:                   # not started: the first assembled angle starts it
+            m = here[start - 1]
+            if m.status in (ASSEMBLED, CHANGE_POINT):
+                state = _follow_state(linkage, m, start)
+            out.append(_with_level(m, level))
+            continue
+        state, last = _follow_step(linkage, state, phi, here, length, 0)
+        if state is None:
+            ended = True
+            out.append(last if last.status == DEAD_CENTRE and last.phi == phi
+                       else Motion(phi, None, None, None, STOPPED))
+            continue
+        out.append(_with_level(last, level))
+    return out
+
+
+def _follow_state(linkage, m, label):
+    """(phi, output in radians or length unwrapped, velocity, acceleration, the listing's label,
+    whether it is a change point) of a Motion on branch `label`."""
+    y = m.output if linkage.is_slider else m.output * _RAD
+    return (m.phi, y, m.velocity, m.acceleration, label, m.status == CHANGE_POINT)
+
+
+def _with_level(m, level):
+    if level == 2 or m.velocity is None:
+        return m
+    return Motion(m.phi, m.output, m.velocity if level == 1 else None, None, m.status)
+
+
+def _follow_step(linkage, state, phi, here, length, depth):
+    """From the followed position `state` to angle phi, whose two roots are `here` (Motions of
+    labels 1, 2, or None to compute them). Returns (state, Motion) of the root that continues the
+    motion, or (None, Motion) where it ends (that Motion: the dead centre or the position that
+    does not assemble, maybe between the angles). A step that changes the label is halved until
+    a change point is one of its ends or the roots meet (to 1e-9): the labels swap only where
+    the branches meet, and a near miss (the branches passing close without meeting, or a gap
+    between them) looks like a crossing from afar."""
+    if here is None:
+        here = tuple(linkage.sweep((phi,), b, 2)[0] for b in (1, 2))
+    status = here[0].status
+    if status not in (ASSEMBLED, CHANGE_POINT):
+        return None, here[0]
+    phi0, y0, v0, a0, label0, crossing0 = state
+    h = (phi - phi0) * _RAD
+    misfits = []
+    for label, m in enumerate(here, 1):
+        if linkage.is_slider:
+            step = m.output - y0
+        else:
+            step = math.remainder(m.output * _RAD - y0, 2.0 * math.pi)
+        v1, a1 = m.velocity, m.acceleration
+        misfit = (abs(step - 0.5 * h * (v0 + v1) + h * h * (a1 - a0) / 12.0)
+                  + abs(h) * abs(v1 - v0 - 0.5 * h * (a0 + a1)))
+        misfits.append((misfit, label, step, m))
+    misfits.sort(key=lambda t: t[0])
+    (best, label, step, m), (other, _, other_step, other_m) = misfits
+    may_switch = crossing0 or status == CHANGE_POINT
+    smooth = (best <= _FOLLOW_AGREE * abs(h) * (length + abs(v0) + abs(m.velocity))
+              and best <= _FOLLOW_CLEAR * other and (label == label0 or may_switch))
+    apart = abs(step - other_step)
+    if (not smooth and apart <= _FOLLOW_MEET * length
+            and apart * max(abs(m.velocity), abs(other_m.velocity)) <= _FOLLOW_CROSS * length ** 2):
+        # the branches cross here, with finite velocities: the outputs cannot tell them apart,
+        # the velocities can (at a dead centre, where the roots meet too, apart * velocity
+        # stays finite as they meet)
+        _, label, step, m = min(misfits, key=lambda t: abs(
+            t[3].velocity - v0 - 0.5 * h * (a0 + t[3].acceleration)))
+        smooth = True
+    if not smooth and depth >= _FOLLOW_DEPTH and label != label0 and not may_switch:
+        _, label, step, m = next(t for t in misfits if t[1] == label0)
+    if smooth or depth >= _FOLLOW_DEPTH or h == 0.0:
+        return (phi, y0 + step, m.velocity, m.acceleration, label, status == CHANGE_POINT), m
+    middle = phi0 + 0.5 * (phi - phi0)
+    state, last = _follow_step(linkage, state, middle, None, length, depth + 1)
+    if state is None:
+        return None, last
+    return _follow_step(linkage, state, phi, here, length, depth + 1)
+
+
 # -- the same formulas, one point at a time in 50-digit decimal (near dead-centres) -------------
 
-def _four_bar_point(k, zero, phi, c, s, sign, level):
-    """_sweep_four_bar's formulas for one point in Decimal; decides DEAD_CENTRE/INDETERMINATE."""
+def _four_bar_point(k, zero, fine, phi, c, s, sign, level):
+    """_sweep_four_bar's formulas for one point in Decimal; decides DEAD_CENTRE, CHANGE_POINT and
+    INDETERMINATE. None where the discriminant is under `fine` (more digits are needed)."""
     p0, pc, ps, q0, qc, qs, s0, sc, ss = k
     xp, xq, xs = pc * c + ps * s, qc * c + qs * s, sc * c + ss * s
     p, q, sv = p0 + xp, q0 + xq, s0 + xs
@@ -2015,6 +2192,8 @@ def _four_bar_point(k, zero, phi, c, s, sign, level):
         return Motion(phi, None, None, None, NOT_ASSEMBLED)
     if r2 <= zero:
         return Motion(phi, None, None, None, INDETERMINATE)
+    if fine is not None and disc <= fine:
+        return None
     dead = disc <= zero
     root = Decimal(0) if dead else disc.sqrt()
     sn = -q * sv - sign * p * root
@@ -2022,22 +2201,37 @@ def _four_bar_point(k, zero, phi, c, s, sign, level):
     psi = math.atan2(float(sn), float(cn)) * _DEG
     if psi == -180.0:
         psi = 180.0
-    if dead:
-        return Motion(phi, psi, None, None, DEAD_CENTRE)
-    if level == 0:
-        return Motion(phi, psi, None, None, ASSEMBLED)
     cp, sp = cn / r2, sn / r2
     dp, dq, ds = ps * c - pc * s, qs * c - qc * s, ss * c - sc * s
+    e_ff, e_fp = -(xp * cp + xq * sp + xs), dq * cp - dp * sp
+    if dead:
+        # a double root: a change point where E_phi vanishes too and the branches cross
+        e_f = dp * cp + dq * sp + ds
+        split = e_fp * e_fp - sv * e_ff
+        scale = zero / _DECIMAL_ZERO_BELOW
+        if e_f * e_f > _CHANGE_POINT_SLOPE ** 2 * scale or split <= _CHANGE_POINT_SPLIT * scale:
+            return Motion(phi, psi, None, None, DEAD_CENTRE)
+        if level == 0:
+            return Motion(phi, psi, None, None, CHANGE_POINT)
+        w = sign * split.sqrt()                  # E_phipsi + S v on this branch
+        vel = -e_ff / (e_fp + w) if e_fp * sign >= 0 else (w - e_fp) / sv
+        if level == 1:
+            return Motion(phi, psi, float(vel), None, CHANGE_POINT)
+        e_ffp = xp * sp - xq * cp
+        acc = -vel * (e_ffp + ds * vel) / w
+        return Motion(phi, psi, float(vel), float(acc), CHANGE_POINT)
+    if level == 0:
+        return Motion(phi, psi, None, None, ASSEMBLED)
     vel = -sign * (dp * cp + dq * sp + ds) / root
     if level == 1:
         return Motion(phi, psi, float(vel), None, ASSEMBLED)
-    e_ff, e_fp = -(xp * cp + xq * sp + xs), dq * cp - dp * sp
     acc = -sign * (e_ff + 2 * e_fp * vel + sv * vel * vel) / root
     return Motion(phi, psi, float(vel), float(acc), ASSEMBLED)
 
 
-def _slider_point(k, zero, phi, c, s, sign, level, unit):
-    """_sweep_slider's formulas for one point in Decimal; decides DEAD_CENTRE."""
+def _slider_point(k, zero, fine, phi, c, s, sign, level, unit):
+    """_sweep_slider's formulas for one point in Decimal; decides DEAD_CENTRE and CHANGE_POINT.
+    None where the discriminant is under `fine` (more digits are needed)."""
     m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = k
     xm, xk = mc * c + ms * s, kc * c + ks * s
     m, q = m0 + xm, k0 + xk
@@ -2045,8 +2239,25 @@ def _slider_point(k, zero, phi, c, s, sign, level, unit):
     disc = rod * rod - u * u - v * v
     if disc < -zero:
         return Motion(phi, None, None, None, NOT_ASSEMBLED)
+    if fine is not None and disc <= fine:
+        return None
+    dm, dk = ms * c - mc * s, ks * c - kc * s
     if disc <= zero:
-        return Motion(phi, float(m) * unit, None, None, DEAD_CENTRE)
+        # a double root x = m: a change point where G_phi vanishes too and the branches cross
+        scale = zero / _DECIMAL_ZERO_BELOW
+        g_f = dk / 2 - dm * m
+        split = dm * dm - xm * m + xk / 2
+        if (g_f * g_f > _CHANGE_POINT_SLOPE ** 2 * scale * scale
+                or split <= _CHANGE_POINT_SPLIT * scale):
+            return Motion(phi, float(m) * unit, None, None, DEAD_CENTRE)
+        if level == 0:
+            return Motion(phi, float(m) * unit, None, None, CHANGE_POINT)
+        w = sign * split.sqrt()                  # v - m' on this branch
+        vel = dm + w
+        if level == 1:
+            return Motion(phi, float(m) * unit, float(vel) * unit, None, CHANGE_POINT)
+        acc = -xm * vel / w
+        return Motion(phi, float(m) * unit, float(vel) * unit, float(acc) * unit, CHANGE_POINT)
     root = disc.sqrt()
     if m >= 0:
         big = m + root
@@ -2056,7 +2267,6 @@ def _slider_point(k, zero, phi, c, s, sign, level, unit):
         x = big if sign < 0 else q / big
     if level == 0:
         return Motion(phi, float(x) * unit, None, None, ASSEMBLED)
-    dm, dk = ms * c - mc * s, ks * c - kc * s
     vel = sign * (dm * x - dk / 2) / root
     if level == 1:
         return Motion(phi, float(x) * unit, float(vel) * unit, None, ASSEMBLED)
@@ -2080,7 +2290,8 @@ def _slider_point(k, zero, phi, c, s, sign, level, unit):
 # itself - never approximated here. numpy is imported at the first use only: linkage.py runs on
 # the standard library alone, and this path is the optional extra `fast`.
 
-STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE)  # MotionArrays.status
+STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE,  # MotionArrays.status
+                CHANGE_POINT)
 FAST_BLOCK = 8192        # angles a block (the fastest of 1024 to 16384 here, 2026-11-25)
 FAST_MARGIN = 2.0        # handed to the scalar engine: |D| <= FAST_MARGIN * its decimal line
 
@@ -2107,7 +2318,7 @@ class MotionArrays(NamedTuple):
     input angle. output, velocity and acceleration are float64, NaN where the position does not
     exist (status says why); velocity and acceleration are None when not asked for. status holds
     int8 codes, indices into STATUS_CODES (0 ASSEMBLED, 1 DEAD_CENTRE, 2 NOT_ASSEMBLED,
-    3 INDETERMINATE)."""
+    3 INDETERMINATE, 4 CHANGE_POINT)."""
 
     phi: object
     output: object
@@ -2509,7 +2720,8 @@ class Pose(NamedTuple):
     """Where every joint of a linkage is at one input angle (see joint_positions).
 
     joints: name -> (x, y, z). Always the ground joints and the crank pin A; the output side (B,
-    or the slider C) only where the linkage assembles (status ASSEMBLED or DEAD_CENTRE).
+    or the slider C) only where the linkage assembles (status ASSEMBLED, DEAD_CENTRE or
+    CHANGE_POINT).
     axes: name -> (point, unit direction): "input" and "output" (the four-bars' shafts),
     "guide" (the slider's line).
     """
@@ -4306,7 +4518,7 @@ def analyze(kind, dims, phis, branch=1):
     if kind not in ("plane", "slider"):
         raise ValueError(f"analyze: kind {kind!r} is neither 'plane' nor 'slider'")
     linkage = _engine_linkage(kind, tuple(dims[name] for name in LINKAGE_DIMENSIONS[kind]))
-    return [m.output if m.status in (ASSEMBLED, DEAD_CENTRE) else None
+    return [m.output if m.status in (ASSEMBLED, DEAD_CENTRE, CHANGE_POINT) else None
             for m in linkage.sweep(phis, branch, derivatives=0)]
 
 
@@ -4894,7 +5106,8 @@ def design_drawing(result) -> Drawing:
 # those files are written.
 #
 # Every figure is drawn from DAT files, so `scene` and `plot` draw alike: one series a folder
-# (the scene's DIR itself, or DIR/<precision>-branch<n> when it overlays several). A curve breaks
+# (the scene's DIR itself, or DIR/<precision>-branch<n> when it overlays several; n is "follow"
+# for the motion followed through change points, branches = ["follow"]). A curve breaks
 # where the input angle skips a step (the engine leaves out positions that do not exist). Output
 # angles are drawn unwrapped: whole turns are added so that a curve is continuous across +-180
 # degrees, and so that the curves of a panel lie within half a turn of the first one.
@@ -4904,7 +5117,8 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "mechanism": f"one of {', '.join(LINKAGE_DIMENSIONS)}",
     "dimensions": "a table of the mechanism's dimensions",
     "input": "a table with from, to and step (degrees)",
-    "branches": "a list of branches, 1 (A+B) and/or 2 (A-B)",
+    "branches": "a list of branches, 1 (A+B) and/or 2 (A-B), and with precision double "
+                "\"follow\" (the motion followed from branch 1 through change points)",
     "precision": "basic, double or both",
     "fast": "true or false: the double-precision numbers by the vectorised engine (needs numpy)",
     "panels": "a list of 1 to 3 tables [[panels]], each with quantities and optional limits; "
@@ -5057,9 +5271,11 @@ def load_scene(path: str) -> Scene:
                            "points", sweep["step"])
 
     branches = data["branches"]
-    if (not isinstance(branches, list) or not branches or len(set(branches)) != len(branches)
-            or not all(b in (1, 2) and not isinstance(b, bool) for b in branches)):
-        raise _scene_error(path, "branches", "[1], [2] or [1, 2]", branches)
+    if (not isinstance(branches, list) or not branches
+            or not all(b in (1, 2, FOLLOW) and not isinstance(b, bool) for b in branches)
+            or len(set(branches)) != len(branches)):
+        raise _scene_error(path, "branches", "[1], [2] or [1, 2], and with precision double "
+                           "\"follow\" among them", branches)
     panels = data["panels"]
     if (not isinstance(panels, list) or not 1 <= len(panels) <= 3
             or not all(isinstance(p, dict) for p in panels)):
@@ -5071,6 +5287,9 @@ def load_scene(path: str) -> Scene:
         if fast:
             raise _scene_error(path, "fast", "false, or no fast: a mechanism scene's few "
                                "positions are computed one at a time", fast)
+        if FOLLOW in branches:
+            raise _scene_error(path, "branches", "[1] or [2]: a mechanism scene draws one of "
+                               "the listing's branches", branches)
         return _mechanism_scene(path, data, dims, start, stop, step, tuple(branches))
     if "precision" not in data:
         raise SceneError(f"{path}: key 'precision' is missing: expected {SCENE_KEYS['precision']}")
@@ -5080,6 +5299,13 @@ def load_scene(path: str) -> Scene:
     if fast and "double" not in PRECISIONS[precision]:
         raise _scene_error(path, "fast", "false with precision basic: only the engine's numbers "
                            "(double) have a vectorised path", fast)
+    if FOLLOW in branches and precision != "double":
+        raise _scene_error(path, "branches", "1 and 2 only with precision basic or both: "
+                           "\"follow\" is the accurate engine's (the original program has "
+                           "branches 1 and 2)", branches)
+    if fast and FOLLOW in branches:
+        raise _scene_error(path, "fast", "false with the branch \"follow\": the vectorised path "
+                           "computes the listing's branches 1 and 2", fast)
     specs = []
     for i, panel in enumerate(panels, 1):
         key = f"panels[{i}]"
@@ -5193,11 +5419,16 @@ def _check_assembles(scene: Scene, motions: list[Motion]) -> None:
 
 class Series(NamedTuple):
     """One curve family of a figure: the DAT files in `directory`, made at `precision` (basic,
-    double, or "" if unknown) on `branch` (None if unknown)."""
+    double, or "" if unknown) on `branch` (1, 2, FOLLOW, or None if unknown)."""
     name: str
     precision: str
-    branch: int | None
+    branch: int | str | None
     directory: str
+
+
+def _branch_text(branch) -> str:
+    return ("follow (the motion followed from branch 1)" if branch == FOLLOW
+            else f"{branch} ({'A+B' if branch == 1 else 'A-B'})")
 
 
 def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
@@ -5327,10 +5558,13 @@ def dat_series(directory: str) -> list[Series]:
     series = []
     for folder in folders:
         name = os.path.basename(folder)
-        match = re.fullmatch(r"(basic|double)-branch([12])", name)
-        series.append(Series(name, match[1] if match else _dat_precision(folder),
-                             int(match[2]) if match else None, folder))
-    return sorted(series, key=lambda s: (s.branch or 3, s.precision != "basic", s.name))
+        match = re.fullmatch(r"(basic|double)-branch([12]|follow)", name)
+        branch = None if not match else FOLLOW if match[2] == FOLLOW else int(match[2])
+        series.append(Series(name, match[1] if match else _dat_precision(folder), branch,
+                             folder))
+    order = {1: 1, 2: 2, FOLLOW: 3}
+    return sorted(series, key=lambda s: (order.get(s.branch, 4), s.precision != "basic",
+                                         s.name))
 
 
 # -- the figure: what both renderers draw ------------------------------------------------------
@@ -5395,7 +5629,7 @@ def _series_label(series: Series, several_precisions: bool, several_branches: bo
     if several_precisions or series.precision == "" or series.branch is None:
         parts.append(series.precision or series.name)
     if several_branches and series.branch is not None:
-        parts.append(f"branch {series.branch}")
+        parts.append("followed" if series.branch == FOLLOW else f"branch {series.branch}")
     return ", ".join(parts)
 
 
@@ -5440,7 +5674,7 @@ def build_figure(title: str, subtitle: str, group: str, specs, series: list[Seri
 
 def scene_figure(scene: Scene, series: list[Series]) -> Figure:
     dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
-    branches = ", ".join(f"{b} ({'A+B' if b == 1 else 'A-B'})" for b in scene.branches)
+    branches = ", ".join(_branch_text(b) for b in scene.branches)
     precision = {("basic",): "basic (GW-BASIC single precision)",
                  ("double",): "double (the accurate engine)",
                  ("basic", "double"): "basic and double, overlaid"}[scene.precisions]
@@ -5461,7 +5695,7 @@ def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
     group = ("unknown" if mechanism is None else
              "slider" if mechanism in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK) else "four-bar")
     precisions = " and ".join(dict.fromkeys(s.precision or "unknown" for s in series))
-    branches = sorted({s.branch for s in series if s.branch})
+    branches = sorted({s.branch for s in series if s.branch}, key=str)
     what = (f"precision {precisions}" + (" (from the number format)" if len(series) == 1 else "")
             + (f"; branch{'es' * (len(branches) > 1)} {', '.join(map(str, branches))}"
                if branches else ", branch not recorded"))
@@ -6297,7 +6531,7 @@ def _pcbasic_method(cases, runner):
 
 def _clipped(r):
     """The reference point r as the listing writes it: VEL and ACC clipped to +-3."""
-    if r.status != ASSEMBLED:
+    if r.velocity is None:
         return r, 0
     clip = [max(-CLIP, min(CLIP, x)) for x in (r.velocity, r.acceleration)]
     beyond = sum(abs(x) > CLIP for x in (r.velocity, r.acceleration))
@@ -6684,6 +6918,14 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
         parser.error(str(e))
     if not os.path.isdir(args.dir):
         parser.error(f"--dir {args.dir!r} is not a folder")
+    if args.branch == FOLLOW and args.precision != "double":
+        parser.error("--branch follow goes with --precision double (the original program has "
+                     "branches 1 and 2 only)")
+    if args.start_branch is not None and args.branch != FOLLOW:
+        parser.error("--start-branch goes with --branch follow")
+    if args.fast and args.branch == FOLLOW:
+        parser.error("--fast goes with --branch 1 or 2 (the vectorised path computes the "
+                     "listing's branches)")
     if args.precision == "double":
         return _run_double(args, dict(zip(names, answers)))
     if args.clip:
@@ -6725,8 +6967,9 @@ def _basic_csv(args: argparse.Namespace, answers: list[str]) -> None:
 def _run_double(args: argparse.Namespace, numbers: dict) -> int:
     """`run ... --precision double`: the accurate engine's numbers in the same three files,
     shortest round-trip text, unclipped unless --clip; positions that do not exist are left out
-    (the original writes zeros there, ERRATA K8), and counted in the message. --fast: the same
-    numbers by the vectorised path (Linkage.sweep_arrays, numpy)."""
+    (the original writes zeros there, ERRATA K8), and so are those after a followed motion ended
+    (--branch follow); the message counts them. --fast: the same numbers by the vectorised path
+    (Linkage.sweep_arrays, numpy)."""
     dims = {n: numbers[n] for n in MECHANISM_TYPES[args.type][1]}
     start, stop, step = numbers["from"], numbers["to"], numbers["step"]
     try:
@@ -6736,7 +6979,9 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
             _numpy()                            # fail before any work
     except (ValueError, FastUnavailable) as e:
         return _said(e, 1)
-    block = 65536 if args.fast else 4096
+    # in blocks, to keep a long sweep out of memory; a followed motion in one, as it goes on
+    # from each position to the next
+    block = count if args.branch == FOLLOW else 65536 if args.fast else 4096
     if not count:
         return _said(f"the sweep from {start:g} to {stop:g} by {step:g} has no point", 1)
     if count > 10**8:
@@ -6754,8 +6999,13 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
         with Progress(count) as progress:
             for first in range(0, count, block):
                 angles = [start + i * step for i in range(first, min(first + block, count))]
-                for m in (linkage.sweep_arrays(angles, int(args.branch)).motions() if args.fast
-                          else linkage.sweep(angles, int(args.branch))):
+                if args.branch == FOLLOW:
+                    swept = linkage.sweep(angles, FOLLOW, start=int(args.start_branch or 1))
+                elif args.fast:
+                    swept = linkage.sweep_arrays(angles, int(args.branch)).motions()
+                else:
+                    swept = linkage.sweep(angles, int(args.branch))
+                for m in swept:
                     assembled += m.output is not None
                     if table:
                         table.write(csv_line(m).encode("ascii"))
@@ -6848,8 +7098,13 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--to", dest="stop", required=True, metavar="P2",
                      help="second bound of the input angle, degrees")
     run.add_argument("--step", required=True, metavar="INC", help="increment, degrees")
-    run.add_argument("--branch", required=True, choices=("1", "2"),
-                     help="1: the (A+B) solution, 2: the (A-B) solution")
+    run.add_argument("--branch", required=True, choices=("1", "2", FOLLOW),
+                     help="1: the (A+B) solution, 2: the (A-B) solution; follow (with "
+                          "--precision double): the assembly the sweep starts in, followed "
+                          "through phi = 180 and change points as the linkage moves, ending at "
+                          "a dead centre the crank cannot pass")
+    run.add_argument("--start-branch", choices=("1", "2"), metavar="1|2",
+                     help="with --branch follow: the branch the motion starts in (default 1)")
     run.add_argument("--dir", default=".", metavar="OUT", help="where to write the DAT files")
     run.add_argument("--precision", choices=("basic", "double"), default="basic",
                      help="basic: the original's GW-BASIC single precision, byte for byte "

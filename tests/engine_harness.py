@@ -68,29 +68,37 @@ def points():
                 yield case, float(phi), branch
 
 
+VALUED = ("assembled", "change-point")   # statuses that give velocity and acceleration
+
+
 def score(kind, dims, phi, branch, status, output, velocity, acceleration, r):
     """Compare one computed answer with the reference point r.
 
     Returns (verdict, errors): verdict "ok" when the status is consistent with the reference
-    (a dead-centre or missing assembly within ROUNDING_MARGIN may be called either way), else a
-    message; errors maps "output", "velocity", "acceleration" to the error where both exist.
+    (a dead-centre or missing assembly within ROUNDING_MARGIN may be called either way; at a
+    reference change point the answer must give values; a change point called within rounding
+    of one is scored as the values it gives), else a message; errors maps "output", "velocity",
+    "acceleration" to the error where both exist.
     """
     errors = {}
     near = r.extreme is not None and abs(float(r.extreme)) <= ROUNDING_MARGIN
     if r.status == "not-assembled":
-        if status == "not-assembled" or (near and status in ("dead-centre", "assembled")):
+        if status == "not-assembled" or (near and status in ("dead-centre", "assembled",
+                                                             "change-point")):
             return "ok", errors
         return f"reference: not assembled; got {status}", errors
     if status == "not-assembled":
-        if near:
+        if near and r.status != "change-point":
             return "ok", errors
         return f"reference: {r.status}; got not assembled", errors
-    if status not in ("assembled", "dead-centre"):
+    if status not in ("assembled", "dead-centre", "change-point"):
         return f"reference: {r.status}; got {status}", errors
+    if r.status == "change-point" and status not in VALUED:
+        return f"reference: change-point; got {status}", errors
     if r.status == "dead-centre" and status != "dead-centre" and not near:
-        return "reference: dead-centre; got assembled", errors
+        return f"reference: dead-centre; got {status}", errors
     errors["output"] = output_error(kind, dims, output, r.output)
-    if status == "assembled" and r.status == "assembled":
+    if status in VALUED and r.status in VALUED:
         if velocity is not None:
             errors["velocity"] = ratio_error(velocity, r.velocity)
         if acceleration is not None:

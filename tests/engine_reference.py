@@ -12,6 +12,10 @@ so dF/du = 2Au + B = +-sqrt(D)): branch 1 is the root where the listing's polyno
 increases with the output. F is a positive multiple of |B - D|^2 - c^2 for the plane and skew
 linkages and both slider-cranks, and of -(B.D - cos c) for the spherical one (the factors are
 stated in tests/test_physics.py's docstrings), hence KAPPA.
+
+At a change point (a double root where the closure's phi-derivative vanishes too, the branches
+crossing) the values are limits: each branch's from above, the root solved 10^-dps degree
+past the point in 4 dps digits - no formula of the engine's second-order expansion is used.
 """
 
 from __future__ import annotations
@@ -83,7 +87,7 @@ def _closure(kind: str, dims: dict):
 @dataclasses.dataclass
 class RefPoint:
     """The reference at one input angle on one branch (status as engine.py's)."""
-    status: str                 # "assembled", "dead-centre", "not-assembled"
+    status: str                 # "assembled", "dead-centre", "change-point", "not-assembled"
     output: object = None       # mpf: psi in degrees in (-180, 180], or x
     velocity: object = None
     acceleration: object = None
@@ -143,7 +147,10 @@ def _extrema_periodic(gp, samples=48):
 def solve(kind: str, dims: dict, phi_deg: float, dps: int = 50,
           guard: int = 10) -> dict[int, RefPoint]:
     """Both branches at input angle phi_deg (degrees, the float as given), to `dps` digits:
-    computed with `guard` more; a double root within 10^-(dps-8) of the scale is a dead-centre."""
+    computed with `guard` more; a double root within 10^-(dps-8) of the scale is a dead-centre,
+    or a change point where the closure's phi-derivative vanishes there too (within 10^-(dps/2)
+    of the scale): then velocity and acceleration are each branch's limit from above, phi ->
+    phi_deg+ (_limit_from_above), the engine's convention."""
     tiny_digits = dps - 8
     with mp.workdps(dps + guard):
         g, scale = _closure(kind, dims)
@@ -192,6 +199,17 @@ def solve(kind: str, dims: dict, phi_deg: float, dps: int = 50,
         result = {}
         for y, double in roots:
             if double:
+                limit = None
+                if abs(mp.diff(g, (phi, y), (1, 0))) <= scale * mp.mpf(10) ** (-(dps // 2)):
+                    # the closure's gradient vanishes too: a change point, where the branches
+                    # cross with finite velocities (each branch gets the limit from above), or
+                    # an isolated position (no assembly on either side: a dead-centre)
+                    limit = _limit_from_above(kind, dims, phi_deg, dps, guard)
+                if limit is not None:
+                    for br in (1, 2):
+                        result[br] = RefPoint("change-point", _out(kind, y),
+                                              limit[br].velocity, limit[br].acceleration, margin)
+                    continue
                 for br in (1, 2):
                     result[br] = RefPoint("dead-centre", _out(kind, y), extreme=margin)
                 continue
@@ -207,6 +225,17 @@ def solve(kind: str, dims: dict, phi_deg: float, dps: int = 50,
         for br in (1, 2):
             result.setdefault(br, RefPoint("not-assembled", extreme=margin))
         return result
+
+
+def _limit_from_above(kind, dims, phi_deg, dps, guard):
+    """Both branches' values at phi_deg + 10^-dps degrees, solved with 4 dps digits: the limits
+    phi -> phi_deg+ to dps digits (the error is that step times the next derivative; the
+    acceleration loses 3 digits per digit of the step, hence the 4 dps). None if the linkage
+    does not assemble there (an isolated position)."""
+    with mp.workdps(4 * dps + guard):
+        above = mp.mpf(phi_deg) + mp.mpf(10) ** -dps
+    limit = solve(kind, dims, above, 4 * dps, guard)
+    return limit if all(limit[br].status == "assembled" for br in (1, 2)) else None
 
 
 def _out(kind, y):

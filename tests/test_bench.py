@@ -78,7 +78,7 @@ def test_failures_are_counted_apart_from_the_errors(tallies):
         for error, where in t.worst.values():
             assert not where.startswith("change-point 0.0/"), (t.method, where)
             assert error < 1e30                                    # no 1.701412E+38 in the errors
-    # the engine says dead-centre there: not a failure, and its output is compared
+    # the engine says change-point there: not a failure, and its values (the limits) are compared
     assert tallies["engine"].failures == {}
 
 

@@ -267,7 +267,8 @@ def test_hard_catalogue_covers_the_singularities():
         for *_, m, r in hard_errors(case):
             statuses.add(m.status)
     assert kinds == set(KINDS)
-    assert statuses == {engine.ASSEMBLED, engine.DEAD_CENTRE, engine.NOT_ASSEMBLED}
+    assert statuses == {engine.ASSEMBLED, engine.DEAD_CENTRE, engine.CHANGE_POINT,
+                        engine.NOT_ASSEMBLED}
     text = " ".join(c["why"] for c in HARD)
     for word in ("phi = 180", "change point", "parallelogram", "dead-centre", "discriminant",
                  "near 0", "near 180", "imaginary", "psi = 180"):
@@ -365,7 +366,9 @@ def test_the_mirror_image_gives_the_mirrored_motion(linkage, phi):
     """Reflecting the linkage in its x-z plane (y -> -y): for the four-bars psi(phi) becomes
     -psi(-phi) on the other branch (the velocity keeps its sign, the acceleration changes it);
     for the sliders x(phi) becomes x(-phi) on the same branch (velocity changes sign). The
-    reflected skew linkages have ksi -> -ksi, the reflected plane slider e -> -e."""
+    reflected skew linkages have ksi -> -ksi, the reflected plane slider e -> -e. At a change
+    point the values are each label's limits from above, which the reflection turns into the
+    limits from below: the other label's (the labels swap there)."""
     kind, dims = linkage
     mirrored = dict(dims)
     if MIRROR[kind]:
@@ -373,6 +376,8 @@ def test_the_mirror_image_gives_the_mirrored_motion(linkage, phi):
     link, image = engine.Linkage(kind, **dims), engine.Linkage(kind, **mirrored)
     for branch in (1, 2):
         m = link.motion(phi, branch)
+        if m.status == engine.CHANGE_POINT:
+            m = link.motion(phi, 3 - branch)._replace(status=m.status)
         if kind in SLIDERS:
             w = image.motion(-phi, branch)
             expect = (m.output, None if m.velocity is None else -m.velocity, m.acceleration)
@@ -497,6 +502,7 @@ def test_no_nan_and_no_silent_number(linkage, phi, branch, level):
         assert v is None or (isinstance(v, float) and math.isfinite(v))
     expected_present = {engine.ASSEMBLED: (True, level >= 1, level >= 2),
                         engine.DEAD_CENTRE: (True, False, False),
+                        engine.CHANGE_POINT: (True, level >= 1, level >= 2),
                         engine.NOT_ASSEMBLED: (False, False, False),
                         engine.INDETERMINATE: (False, False, False)}[m.status]
     assert tuple(v is not None for v in m[1:4]) == expected_present
@@ -545,14 +551,31 @@ def test_lengths_scaled_by_a_power_of_two(linkage, phi, branch, k):
 
 def test_a_dead_centre_is_one_position_on_both_branches():
     for kind, dims, phi in (("plane", dict(a=3, b=4, c=2, d=3), 90.0),
-                            ("plane", dict(a=4, b=2, c=3, d=5), 0.0),
                             ("spherical", dict(a=90, b=90, c=30, d=60), 90.0),
-                            ("slider", dict(b=2, c=3, e=1), -90.0),
-                            ("skew-slider", dict(a=1, b=1, c=1.5, f=3, ksi=30), 0.0)):
+                            ("skew-slider", dict(a=1, b=1, c=1.5, f=3, ksi=30), 0.0),
+                            ("skew-slider", dict(a=1, b=3, c=2, f=0, ksi=30), 0.0)):
         link = engine.Linkage(kind, **dims)
         m1, m2 = link.motion(phi, 1), link.motion(phi, 2)
         assert m1.status == m2.status == engine.DEAD_CENTRE, (kind, m1)
         assert m1 == m2
+
+
+def test_a_change_point_is_one_position_with_two_velocities():
+    """Where the branches cross (a double zero of the discriminant) the output is one, and each
+    branch has its own velocity: the limit of the listing's branch from above (phi -> phi0+),
+    so that branch k at the change point continues branch k just past it."""
+    for kind, dims, phi in (("plane", dict(a=4, b=2, c=3, d=5), 0.0),
+                            ("plane", dict(a=5, b=2, c=4, d=3), 180.0),
+                            ("slider", dict(b=2, c=3, e=1), -90.0),
+                            ("spherical", dict(a=60, b=30, c=50, d=80), 0.0),
+                            ("skew-slider", dict(a=1, b=3, c=2, f=0, ksi=60), 0.0)):
+        link = engine.Linkage(kind, **dims)
+        m1, m2 = link.motion(phi, 1), link.motion(phi, 2)
+        assert m1.status == m2.status == engine.CHANGE_POINT, (kind, m1)
+        assert m1.output == m2.output and m1.velocity != m2.velocity
+        for m in (m1, m2):
+            after = link.motion(phi + 1e-7, 1 if m is m1 else 2)
+            assert abs(after.velocity - m.velocity) <= 1e-7 * (1 + abs(m.velocity)), (m, after)
 
 
 def test_phi_180_is_exact():

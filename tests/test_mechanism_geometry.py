@@ -77,7 +77,7 @@ def problems(kind, dims, phi, branch):
 
     for name, (point, direction) in axes.items():
         zero(norm(direction) - 1.0, f"axis {name} is not a unit vector", 1e-15)
-    assembled = motion.status in (linkage.ASSEMBLED, linkage.DEAD_CENTRE)
+    assembled = motion.status in (linkage.ASSEMBLED, linkage.DEAD_CENTRE, linkage.CHANGE_POINT)
     output_joint = "C" if link.is_slider else "B"
     if (output_joint in j) != assembled or pose.status != motion.status:
         out.append(f"status {motion.status} but joints {sorted(j)}")

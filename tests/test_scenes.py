@@ -368,7 +368,7 @@ def engine_calls(monkeypatch):
 @pytest.mark.parametrize("mechanism, dims", [
     ("plane", "{ a = 6, b = 2, c = 7, d = 9 }"),
     ("skew-slider", "{ a = 6, b = 1, c = 7.5, f = 3, ksi = 45 }"),
-    ("slider", "{ b = 2, c = 3, e = 1 }"),          # a dead centre at 270: the 50-digit path
+    ("slider", "{ b = 2, c = 3, e = 1 }"),          # a change point at 270: the decimal path
 ])
 @pytest.mark.parametrize("panels, level", [
     ((["displacement"],), 0),
