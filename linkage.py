@@ -2870,6 +2870,158 @@ def _acos_deg(x, what):
     return _deg(math.acos(max(-1.0, min(1.0, x))))
 
 
+# -- the valid data of each method: stated once, for the refusals, the help and the tests --------
+
+PSI_MIN = 1e-3      # degrees: the least rocker swing; below it the crank is under ~1e-5 of the
+#                     frame (a degenerate linkage)
+LENGTH_MIN, LENGTH_MAX = 1e-6, 1e6     # a length datum, relative to the method's unit length
+ANGLE_EPSILON = 1e-6                   # degrees: an excluded single angle is refused this close
+
+
+class Datum(NamedTuple):
+    """One datum of a method and its valid range lo < value < hi. An end is a number, or
+    (text, function of the data) when it depends on a datum listed before; `closed` names the ends
+    included ("lo", "hi"); `excluded`: (reason, function of the data, True when the value is
+    refused) for single values the formulas cannot take; `count` 3: a list of three values."""
+    name: str
+    meaning: str
+    lo: object = -math.inf
+    hi: object = math.inf
+    closed: tuple = ()
+    excluded: tuple = ()
+    count: int = 1
+    optional: bool = False
+
+
+def _near(angle, target, period=360.0):
+    """Whether an angle (degrees) lies within ANGLE_EPSILON of target, modulo period."""
+    w = math.fmod(angle - target, period)
+    return min(abs(w), period - abs(w)) < ANGLE_EPSILON
+
+
+_SWING = Datum("psi", "rocker swing", PSI_MIN, 180.0, ("lo",))
+_TIME_RATIO = Datum("theta", "crank rotation is 180 + theta", -180.0, 180.0)
+_CENTRIC = (_SWING, Datum("mu_min", "least transmission angle", MU_MARGIN,
+                          ("90 - psi/2", lambda d: 90.0 - d["psi"] / 2), ("lo",)))
+_LENGTH = dict(lo=LENGTH_MIN, hi=LENGTH_MAX, closed=("lo", "hi"))
+_ANGLE = dict(lo=-360.0, hi=360.0, closed=("lo", "hi"))        # a position (not a rotation)
+DATA = {
+    "FOURB-CR-1": (
+        _TIME_RATIO, _SWING,
+        Datum("theta0", "crank angle at the extended dead centre", **_ANGLE, excluded=(
+            ("sin(theta0) = 0: the extended dead centre on the frame line",
+             lambda d: _near(d["theta0"], 0.0, 180.0)),
+            ("sin(theta + theta0) = 0: the folded dead centre on the frame line",
+             lambda d: _near(d["theta"] + d["theta0"], 0.0, 180.0))))),
+    "FOURB-CR-2": (
+        _TIME_RATIO, _SWING,
+        Datum("psi0", "rocker angle at the extended dead centre", **_ANGLE, excluded=(
+            ("sin(psi0) = 0: the extended dead centre on the frame line",
+             lambda d: _near(d["psi0"], 0.0, 180.0)),
+            ("sin(psi0 + psi) = 0: the folded dead centre on the frame line",
+             lambda d: _near(d["psi0"] + d["psi"], 0.0, 180.0))))),
+    "FOURB-CR-3": (
+        _TIME_RATIO._replace(excluded=(
+            ("theta = 0, the unit time ratio, makes t = tan(90 deg) infinite; use FOURB-CR-4",
+             lambda d: _near(d["theta"], 0.0)),)),
+        _SWING._replace(excluded=(
+            ("psi = 180 + theta makes u = tan((180 + theta - psi)/2) = 0",
+             lambda d: _near(d["psi"], 180.0 + d["theta"])),))),
+    "FOURB-CR-4": _CENTRIC,
+    "FOURB-CR-4 (Volmer)": _CENTRIC,
+    "DRAGLINK-1": (
+        Datum("dpsi0", "output rotation while the crank turns 180", 0.0, 360.0),
+        Datum("mu_min", "transmission angle at the design positions", MU_MARGIN, 90.0, ("lo",))),
+    "DRAGLINK-2": (   # footnote 5: 0 < dphi - dpsi < 180, 90 + dL/2 <= dphi <= 270 + dL/2
+        Datum("dphi", "crank rotation between the unit-ratio positions", 90.0, 360.0, excluded=(
+            ("dphi = 180 makes t = tan(dphi/2) infinite (footnote 5)",
+             lambda d: _near(d["dphi"], 180.0)),)),
+        Datum("dpsi", "output rotation between them (footnote 5)",
+              ("|dphi - 180|", lambda d: abs(d["dphi"] - 180.0)),
+              ("min(dphi, 540 - dphi)", lambda d: min(d["dphi"], 540.0 - d["dphi"])), excluded=(
+                  ("dpsi = 180 makes u = tan(dpsi/2) infinite", lambda d: _near(d["dpsi"], 180.0)),
+              )),
+        Datum("lam", "lambda = b/d, coupler/frame (omitted: optimised)", **_LENGTH,
+              optional=True)),
+    "FOURB-FG2-1": (
+        Datum("phij", "crank rotation", -360.0, 360.0, excluded=(
+            ("the crank rotation phij is 0", lambda d: _near(d["phij"], 0.0)),)),
+        Datum("psij", "output rotation", -360.0, 360.0, excluded=(
+            ("psij = phij (mod 360): sin(xi - epsilon) = 0",
+             lambda d: _near(d["psij"], d["phij"])),)),
+        Datum("phi0", "initial crank angle", **_ANGLE),
+        Datum("a", "crank a/d", **_LENGTH),
+        Datum("c", "output c/d", **_LENGTH)),
+    "FOURB-FG3-1": (
+        Datum("phi", "three crank angles", **_ANGLE, count=3, excluded=(
+            ("a repeated input angle: a four-bar's output is one function of its input",
+             lambda d: any(_near(d["phi"][i], d["phi"][j]) for i, j in ((0, 1), (0, 2), (1, 2)))),
+        )),
+        Datum("psi", "three output angles (the review's)", **_ANGLE, count=3)),
+    "SLID-FG2-1": (
+        Datum("dtheta", "crank rotation between the dead centres", 0.0, 360.0, excluded=(
+            ("dtheta = 180 makes cot(dtheta) infinite", lambda d: _near(d["dtheta"], 180.0)),)),
+        Datum("ds", "slider displacement s1 - s2", **_LENGTH),
+        Datum("epsilon", "offset (slider on y = -epsilon)",
+              (f"-{LENGTH_MAX:g} ds", lambda d: -LENGTH_MAX * d["ds"]),
+              (f"{LENGTH_MAX:g} ds", lambda d: LENGTH_MAX * d["ds"]))),
+    "SLID-FG2-2": (
+        Datum("theta1", "crank angle at the outer dead centre", -90.0, 90.0),
+        Datum("theta2", "pin direction at the inner dead centre", **_ANGLE, excluded=(
+            ("cos(theta2) = 0", lambda d: _near(d["theta2"], 90.0, 180.0)),)),
+        Datum("s1", "slider at the outer dead centre", **_LENGTH),
+        Datum("s2", "slider at the inner dead centre", **_LENGTH)),
+}
+
+
+def _g(x):
+    """A number as short as it is exact: 65, not 65.000000000000014 unless it is that."""
+    short = f"{x:g}"
+    return short if float(short) == x else repr(float(x))
+
+
+def _bound(end, data):
+    """An end of a range: (value, text), the text with its value when it depends on the data
+    (data None: the text alone)."""
+    if not isinstance(end, tuple):
+        return end, _g(end)
+    if data is None:
+        return None, end[0]
+    value = end[1](data)
+    return value, f"{end[0]} = {_g(value)}"
+
+
+def range_text(datum, data=None):
+    """The valid range of a datum as text: '[0.001, 180)', '[0.1, 90 - psi/2 = 65)'; the dependent
+    ends evaluated when the data are given."""
+    lo, hi = _bound(datum.lo, data)[1], _bound(datum.hi, data)[1]
+    return (("[" if "lo" in datum.closed else "(") + lo + ", " + hi
+            + ("]" if "hi" in datum.closed else ")"))
+
+
+def check_data(method, data):
+    """Refuse data outside the method's valid range (DATA): a DesignError naming the datum, its
+    value and the range or the reason it is excluded."""
+    for datum in DATA[method]:
+        value = data.get(datum.name)
+        if value is None and datum.optional:
+            continue
+        values = value if datum.count > 1 else [value]
+        _require(len(values) == datum.count, f"{method}: {datum.name} takes {datum.count} values")
+        for v in values:
+            _require(isinstance(v, (int, float)) and math.isfinite(v),
+                     f"{method}: {datum.name} = {v} is not a finite number")
+            lo = _bound(datum.lo, data)[0]
+            hi = _bound(datum.hi, data)[0]
+            inside = ((lo <= v if "lo" in datum.closed else lo < v)
+                      and (v <= hi if "hi" in datum.closed else v < hi))
+            _require(inside, f"{method}: {datum.meaning.split(' (')[0]}: {datum.name} = {_g(v)} "
+                             f"is not in {range_text(datum, data)}")
+        for reason, test in datum.excluded:
+            _require(not test(data), f"{method}: {datum.name} = "
+                     f"{', '.join(_g(v) for v in values)}: {reason}")
+
+
 # -- the designed linkages, in the paper's letters -----------------------------------------------
 
 class FourBar(NamedTuple):
@@ -3046,26 +3198,29 @@ def _crank_rocker(method, data, a, b, c, d, theta0, psi0, theta, psi, review):
     return Design(method, data, link, review, positions, None, mu_min, mu_max)
 
 
-def _chen_links(method, theta, psi, theta0, psi0):
-    """Steps 4-5 of FOURB-CR-1/-2 (the sine rule in the two dead-centre triangles): crank a,
-    coupler b, rocker c for frame d = 1."""
+def _chen_links(method, theta, psi, theta0, psi0, alpha):
+    """Steps 4-5 of FOURB-CR-1/-2: crank a, coupler b, rocker c for frame d = 1 from the two
+    dead-centre triangles (alpha = psi0 - theta0, the angle at the rocker pin, degrees).
+    ERRATUM S14: the review's a = c (p1 - p2)/2, p1 = sin psi0 / sin theta0,
+    p2 = sin(psi + psi0) / sin(theta + theta0), subtracts two nearly equal numbers for a small
+    crank; here b + a and b - a are the distances of the rocker pin from the crank pivot at the
+    two dead centres, and a = (|P1|^2 - |P2|^2) / 2(|P1| + |P2|) with
+    |P1|^2 - |P2|^2 = 4c sin(psi0 + psi/2) sin(psi/2), which cancels nothing."""
     t0, t, p, p0 = theta0 * _R, theta * _R, psi * _R, psi0 * _R
-    _require(abs(math.sin(t0)) > 1e-12 and abs(math.sin(t + t0)) > 1e-12,
-             f"{method}: sin(theta0) or sin(theta + theta0) is 0: a dead centre on the frame line")
-    p1 = math.sin(p0) / math.sin(t0)
-    p2 = math.sin(p + p0) / math.sin(t + t0)
-    p3 = math.sin(p0 - t0)
-    _require(abs(p3) > 1e-12,
+    _require(abs(math.sin(alpha * _R)) > 1e-12,
              f"{method}: sin(psi0 - theta0) = 0: the extended dead centre is degenerate")
-    c = math.sin(t0) / p3
-    return c * (p1 - p2) / 2, c * (p1 + p2) / 2, c
-
-
-def _check_crank_rocker_data(method, theta, psi):
-    """The data of every FOURB-CR method: 0 < psi < 180, |theta| < 180 (crank rotations
-    180 + theta and 180 - theta both positive)."""
-    _require(0 < psi < 180, f"{method}: the rocker swing psi = {psi:g} is not in (0, 180)")
-    _require(-180 < theta < 180, f"{method}: theta = {theta:g} is not in (-180, 180)")
+    c = math.sin(t0) / math.sin(alpha * _R)
+    pins = ((1.0 + c * math.cos(p0), c * math.sin(p0), t0),
+            (1.0 + c * math.cos(p0 + p), c * math.sin(p0 + p), t0 + t))
+    # signed distances along the crank's direction at the extended dead centre and the opposite
+    # of it at the folded one: b + a and b - a (both negative for theta0 + 180)
+    far, near = (math.copysign(math.hypot(x, y), x * math.cos(u) + y * math.sin(u))
+                 for x, y, u in pins)
+    if far * near > 0:
+        a = 2.0 * c * math.sin(p0 + p / 2) * math.sin(p / 2) / (far + near)
+    else:
+        a = (far - near) / 2
+    return a, (far + near) / 2, c
 
 
 @_method("FOURB-CR-1")
@@ -3073,18 +3228,23 @@ def fourb_cr_1(theta, psi, theta0):
     """FOURB-CR-1 (Chen; Pamidi): crank-rocker with rocker swing psi while the crank turns
     180 + theta, the extended dead centre at crank angle theta0 (degrees)."""
     method = "FOURB-CR-1"
-    _check_crank_rocker_data(method, theta, psi)
     data = {"theta": theta, "psi": psi, "theta0": theta0}
+    check_data(method, data)
+    theta0 = _wrap(theta0)
     t, p, t0 = theta * _R, psi * _R, theta0 * _R
-    n1, n2, n3 = math.sin(t0), math.cos(t0), math.sin(t + t0)
-    n4, n5 = math.sin(p - t - t0), math.cos(p - t - t0)
-    # ERRATUM S11: psi0 = atan(...) fixes psi0 modulo 180; psi0 + 180 gives the same a and b and
-    # c < 0, so take the one with c = sin(theta0) / sin(psi0 - theta0) > 0.
-    psi0 = _deg(math.atan2(n1 * (n3 + n4), n2 * n3 - n1 * n5))
-    if math.sin(psi0 * _R - t0) * n1 < 0:
-        psi0 += 180.0
-    psi0 = _wrap(psi0)
-    a, b, c = _chen_links(method, theta, psi, theta0, psi0)
+    # ERRATUM S14: the review's psi0 = atan(n1 (n3 + n4) / (n2 n3 - n1 n5)), n1..n5 sines and
+    # cosines of theta0, theta + theta0, psi - theta - theta0, written as alpha = psi0 - theta0
+    # with tan(alpha) = sin(theta0) sin(psi - theta) / (sin(theta + theta0)
+    # - sin(theta0) cos(psi - theta)), the denominator as sums of products that do not cancel.
+    # ERRATUM S11: alpha is fixed modulo 180; alpha + 180 gives the same a and b and c < 0, so
+    # take the one with c = sin(theta0) / sin(alpha) > 0.
+    alpha = _deg(math.atan2(math.sin(t0) * math.sin(p - t),
+                            2 * math.cos(t0 + t / 2) * math.sin(t / 2)
+                            + 2 * math.sin(t0) * math.sin((p - t) / 2) ** 2))
+    if math.sin(alpha * _R) * math.sin(t0) < 0:
+        alpha = alpha + 180.0 if alpha <= 0 else alpha - 180.0
+    psi0 = _wrap(theta0 + alpha)
+    a, b, c = _chen_links(method, theta, psi, theta0, psi0, alpha)
     return _one(_crank_rocker(method, data, a, b, c, 1.0, theta0, psi0, theta, psi,
                               {"psi0": psi0}))
 
@@ -3094,43 +3254,37 @@ def fourb_cr_2(theta, psi, psi0):
     """FOURB-CR-2 (Chen; Pamidi): crank-rocker with rocker swing psi while the crank turns
     180 + theta, the rocker at angle psi0 at the extended dead centre (degrees)."""
     method = "FOURB-CR-2"
-    _check_crank_rocker_data(method, theta, psi)
     data = {"theta": theta, "psi": psi, "psi0": psi0}
-    theta_f = (theta + 180.0) * _R
-    p0 = psi0 * _R
-    y = p0 + psi * _R - theta_f
-    # ERRATUM S1: the printed m2 and m0 are exchanged; with x = tan(theta0) the quadratic is
-    # m2 x^2 + m1 x + m0 = 0 with these (the printed ones solve for cot(theta0)).
-    m2 = math.cos(p0) * math.cos(theta_f) - math.cos(y)
-    m1 = math.sin(y) + math.cos(p0) * math.sin(theta_f) - math.sin(p0) * math.cos(theta_f)
-    m0 = -math.sin(p0) * math.sin(theta_f)
-    roots = _quadratic_roots(m2, m1, m0, f"{method}: the quadratic in tan(theta0)")
+    check_data(method, data)
+    psi0 = _wrap(psi0)
+    t, p, p0 = theta * _R, psi * _R, psi0 * _R
+    # ERRATUM S1: the printed m2 and m0 are exchanged: with x = tan(theta0) the quadratic is
+    # m2 x^2 + m1 x + m0 = 0, m2 = cos psi0 cos thetaf - cos y, m0 = -sin psi0 sin thetaf.
+    # ERRATUM S14: its coefficients cancel (m2 for a small swing and time ratio); the same
+    # equation, sin(theta0) sin(psi + psi0 - theta - theta0) = sin(theta + theta0)
+    # sin(psi0 - theta0), is sin(2 theta0 + theta - psi0 - psi/2) = K with
+    # K = sin(psi0 + psi/2) sin(theta - psi/2) / sin(psi/2), solved in closed form.
+    k = math.sin(p0 + p / 2) * math.sin(t - p / 2) / math.sin(p / 2)
+    _require(abs(k) <= 1.0 + 1e-12,
+             f"{method}: no extended dead centre: sin(2 theta0 + theta - psi0 - psi/2) = "
+             f"{k:.6g} is outside [-1, 1] (the quadratic in tan(theta0) has complex roots)")
+    base = _deg(math.asin(max(-1.0, min(1.0, k))))
     solutions, rejected = [], []
-    # ERRATUM S11: theta0 = atan(x) fixes theta0 modulo 180; theta0 + 180 gives -a, -b and the
-    # same c, so both are tried (step 8 keeps the one with all links positive, if any).
-    for theta0 in (_wrap(_deg(math.atan(x)) + turn) for x in roots for turn in (0.0, 180.0)):
-        try:
-            a, b, c = _chen_links(method, theta, psi, theta0, psi0)
-            solutions.append(_crank_rocker(method, data, a, b, c, 1.0, theta0, psi0, theta, psi,
-                                           {"theta0": theta0}))
-        except DesignError as error:                  # step 8: only all-positive links
-            rejected.append(f"theta0 = {theta0:.6g}: {error}")
+    # ERRATUM S11: theta0 is fixed modulo 180; theta0 + 180 gives -a, -b and the same c, so
+    # both are tried (step 8 keeps the one with all links positive, if any).
+    for two in sorted({base, 180.0 - base}):
+        for turn in (0.0, 180.0):
+            # alpha = psi0 - theta0 as a sum of the data, not a difference of theta0
+            alpha = _wrap((psi0 + theta - psi / 2 - two) / 2 - turn)
+            theta0 = _wrap((psi0 - theta + psi / 2 + two) / 2 + turn)
+            try:
+                a, b, c = _chen_links(method, theta, psi, theta0, psi0, alpha)
+                solutions.append(_crank_rocker(method, data, a, b, c, 1.0, theta0, psi0, theta,
+                                               psi, {"theta0": theta0}))
+            except DesignError as error:                  # step 8: only all-positive links
+                rejected.append(f"theta0 = {theta0:.6g}: {error}")
     _require(solutions, f"{method}: no root gives a crank-rocker ({'; '.join(rejected)})")
     return Synthesis(method, tuple(solutions), 0, tuple(rejected))
-
-
-def _quadratic_roots(a2, a1, a0, what):
-    """The real roots of a2 x^2 + a1 x + a0 = 0 (one when a2 = 0); DesignError when complex."""
-    scale = max(abs(a2), abs(a1), abs(a0))
-    _require(scale > 0, f"{what} vanishes identically")
-    if abs(a2) <= 1e-14 * scale:
-        _require(abs(a1) > 1e-14 * scale, f"{what} has no root")
-        return [-a0 / a1]
-    disc = a1 * a1 - 4 * a2 * a0
-    _require(disc >= 0, f"{what} has complex roots (discriminant {disc:.6g} < 0): the data "
-                        f"are inconsistent")
-    q = -0.5 * (a1 + math.copysign(math.sqrt(disc), a1))
-    return sorted([q / a2, a0 / q] if q != 0 else [0.0, 0.0])
 
 
 def _cubic_real_roots(a2, a1, a0):
@@ -3171,13 +3325,10 @@ def fourb_cr_3(theta, psi):
     """FOURB-CR-3 (Freudenstein & Primrose): crank-rocker with rocker swing psi while the crank
     turns 180 + theta (degrees), with the least greatest deviation of mu from 90 degrees."""
     method = "FOURB-CR-3"
-    _check_crank_rocker_data(method, theta, psi)
-    _require(abs(theta) >= 1e-6, f"{method}: theta = 0 (to 1e-6 degree: {theta:g}), the unit time "
-                                 f"ratio, makes t = tan(90 deg) infinite; use FOURB-CR-4")
     data = {"theta": theta, "psi": psi}
+    check_data(method, data)
     theta_f, p = (theta + 180.0) * _R, psi * _R
     t, u = math.tan(theta_f / 2), math.tan((theta_f - p) / 2)
-    _require(abs(u) > 1e-12, f"{method}: theta + 180 - psi = 0 makes u = 0")
     solutions, rejected = [], []
     for lam in _transmission_cubic(t, u):
         if not 1.0 <= lam * lam <= u * u * t * t:
@@ -3221,11 +3372,21 @@ def _extended_dead_centre(a, b, c):
     return theta0, _deg(math.atan2(y, x))
 
 
-def _check_centric_data(method, psi, mu_min):
-    """FOURB-CR-4's data: 0 < psi < 180 and 0 < mu_min < 90 - psi/2 (degrees)."""
-    _require(0 < psi < 180, f"{method}: the rocker swing psi = {psi:g} is not in (0, 180)")
-    _require(0 < mu_min < 90 - psi / 2, f"{method}: mu_min = {mu_min:g} is not in "
-                                        f"(0, 90 - psi/2 = {90 - psi / 2:g})")
+def _centric(psi, mu_min):
+    """What FOURB-CR-4 and Volmer's eqs. need of psi and mu_min, without cancellation
+    (ERRATUM S14): sin h, cos h (h = psi/2), cos m (m = mu_min),
+    D = cos(m - h) cos(m + h) = cos^2 m - sin^2 h, which the review computes as that difference
+    (1 - b^2 in FOURB-CR-4, the denominator of eqs. 6a-6b), and the extended dead centre
+    (theta0, psi0): the rocker's chord between the dead centres of a centric crank-rocker passes
+    through the crank pivot, so tan(theta0) = sqrt(D) / sin h and psi0 = theta0 + 90 - psi/2."""
+    h = psi / 2 * _R
+    cos_h = math.sin((90.0 - psi / 2) * _R)                  # 90 - psi/2 exact for psi near 180
+    # m + h near 90 is the degenerate end (rocker c -> 0): sin(90 - psi/2 - mu_min), whose
+    # argument is exact there, not cos(m + h)
+    big_d = math.sin((90.0 - psi / 2 + mu_min) * _R) * math.sin((90.0 - psi / 2 - mu_min) * _R)
+    _require(big_d > 0, f"cos(mu_min - psi/2) cos(mu_min + psi/2) = {big_d:.6g} is not positive")
+    theta0 = _deg(math.atan2(math.sqrt(big_d), math.sin(h)))
+    return math.sin(h), cos_h, math.cos(mu_min * _R), big_d, theta0, theta0 + 90.0 - psi / 2
 
 
 @_method("FOURB-CR-4")
@@ -3233,14 +3394,17 @@ def fourb_cr_4(psi, mu_min):
     """FOURB-CR-4 (Brodell & Soni): centric crank-rocker (theta = 0, unit time ratio) with rocker
     swing psi and least transmission angle mu_min (degrees)."""
     method = "FOURB-CR-4"
-    _check_centric_data(method, psi, mu_min)
-    p, m = psi * _R, mu_min * _R
-    b = math.sqrt((1 - math.cos(p)) / (2 * math.cos(m) ** 2))
-    c = math.sqrt((1 - b * b) / (1 - b * b * math.cos(m) ** 2))
-    a = math.sqrt(b * b + c * c - 1)
-    theta0, psi0 = _extended_dead_centre(a, b, c)
-    return _one(_crank_rocker(method, {"psi": psi, "mu_min": mu_min}, a, b, c, 1.0, theta0, psi0,
-                              0.0, psi, {"theta0": theta0, "psi0": psi0}))
+    data = {"psi": psi, "mu_min": mu_min}
+    check_data(method, data)
+    sin_h, cos_h, cos_m, big_d, theta0, psi0 = _centric(psi, mu_min)
+    # b = sqrt((1 - cos psi) / 2 cos^2 mu_min), c = sqrt((1 - b^2) / (1 - b^2 cos^2 mu_min)),
+    # a = sqrt(b^2 + c^2 - 1), rewritten (ERRATUM S14): 1 - cos psi = 2 sin^2 h,
+    # 1 - b^2 = D / cos^2 m, 1 - b^2 cos^2 m = cos^2 h, b^2 + c^2 - 1 = (b c cos m)^2.
+    b = sin_h / cos_m
+    c = math.sqrt(big_d) / (cos_m * cos_h)
+    a = c * sin_h
+    return _one(_crank_rocker(method, data, a, b, c, 1.0, theta0, psi0, 0.0, psi,
+                              {"theta0": theta0, "psi0": psi0}))
 
 
 @_method("FOURB-CR-4 (Volmer)")
@@ -3248,15 +3412,14 @@ def volmer_crank_rocker(psi, mu_min):
     """FOURB-CR-4 by Volmer's eqs. (6a)-(6c): the same centric crank-rocker from the ratios
     d/a, b/a, c/a (crank a = 1), normalised to d = 1."""
     method = "FOURB-CR-4 (Volmer)"
-    _check_centric_data(method, psi, mu_min)
-    h, cm2 = psi / 2 * _R, math.cos(mu_min * _R) ** 2
-    denominator = cm2 - math.sin(h) ** 2
-    d_a = math.sqrt(cm2 / math.tan(h) ** 2 / denominator)
-    b_a = math.sqrt(math.cos(h) ** 2 / denominator)
-    c_a = 1 / math.sin(h)
-    theta0, psi0 = _extended_dead_centre(1 / d_a, b_a / d_a, c_a / d_a)
-    return _one(_crank_rocker(method, {"psi": psi, "mu_min": mu_min}, 1.0, b_a, c_a, d_a,
-                              theta0, psi0, 0.0, psi,
+    data = {"psi": psi, "mu_min": mu_min}
+    check_data(method, data)
+    sin_h, cos_h, cos_m, big_d, theta0, psi0 = _centric(psi, mu_min)
+    # eqs. (6a)-(6c) with the denominator cos^2 mu_min - sin^2(psi/2) as D (ERRATUM S14)
+    d_a = cos_m * cos_h / (sin_h * math.sqrt(big_d))
+    b_a = cos_h / math.sqrt(big_d)
+    c_a = 1 / sin_h
+    return _one(_crank_rocker(method, data, 1.0, b_a, c_a, d_a, theta0, psi0, 0.0, psi,
                               {"d/a": d_a, "b/a": b_a, "c/a": c_a, "theta0": theta0,
                                "psi0": psi0}))
 
@@ -3283,9 +3446,8 @@ def draglink_1(dpsi0, mu_min):
     between the crank-on-frame-line positions, with transmission angles mu_min, 180 - mu_min
     there."""
     method = "DRAGLINK-1"
-    _require(0 < dpsi0 < 360, f"{method}: the output rotation dpsi0 = {dpsi0:g} is not in (0, 360)")
-    _require(0 < mu_min < 90, f"{method}: mu_min = {mu_min:g} is not in (0, 90)")
     data = {"dpsi0": dpsi0, "mu_min": mu_min}
+    check_data(method, data)
     dp, m = dpsi0 * _R, mu_min * _R
     c = 1.0
     # ERRATUM S3: b = c sqrt(sin dpsi0 / sin(dpsi0 - 2 mu_min)); the print has dpsi0 - mu_min.
@@ -3339,25 +3501,15 @@ def draglink_2(dphi, dpsi, lam=None):
     crank and dpsi on the output (degrees); lambda = b/d given, or chosen for the least greatest
     deviation of mu from 90 degrees (lam=None)."""
     method = "DRAGLINK-2"
-    dl = dphi - dpsi
-    # Footnote 5: 0 <= dL <= 180, 90 + dL/2 <= dphi <= 270 + dL/2; the algorithm fails at 180.
-    _require(0 < dl < 180, f"{method}: dL = dphi - dpsi = {dl:g} is not in (0, 180)")
-    _require(90 + dl / 2 <= dphi <= 270 + dl / 2,
-             f"{method}: dphi = {dphi:g} is not in [90 + dL/2, 270 + dL/2] = "
-             f"[{90 + dl / 2:g}, {270 + dl / 2:g}]")
-    _require(abs(dphi - 180) >= 1e-6, f"{method}: dphi = 180 (to 1e-6 degree: {dphi:g}) makes "
-                                      f"t = tan(dphi/2) infinite")
-    _require(0 < dpsi < 360 and dpsi != 180,
-             f"{method}: dpsi = {dpsi:g} is not in (0, 360) without 180")
-    data = {"dphi": dphi, "dpsi": dpsi}
+    data = {"dphi": dphi, "dpsi": dpsi} if lam is None else {"dphi": dphi, "dpsi": dpsi,
+                                                             "lambda": lam}
+    check_data(method, dict(data, lam=lam))
     t, u = math.tan(dphi * _R / 2), math.tan(dpsi * _R / 2)
     if lam is None:
         # ERRATUM S13: lambda = t / sqrt(x) is negative for dphi > 180 (t < 0), and b/d = lambda
         # with it; the lengths depend on lambda^2 but b: take |lambda| (FOURB-CR-3 takes |b|).
         lambdas = [abs(x) for x in _transmission_cubic(t, u)]
     else:
-        _require(lam > 0, f"{method}: lambda = {lam:g} is not positive")
-        data["lambda"] = lam
         lambdas = [lam]
     solutions, rejected = [], []
     for value in lambdas:
@@ -3460,11 +3612,8 @@ def fourb_fg2_1(phij, psij, phi0, a, c):
     """FOURB-FG2-1 (Chiang): four-bar whose output turns psij while the crank turns phij from
     phi0 (degrees), for given crank a/d and output c/d; finds b/d and the output's psi0."""
     method = "FOURB-FG2-1"
-    _require(a > 0 and c > 0, f"{method}: link length a = {a:g} or c = {c:g} is not positive")
-    _require(abs(math.sin((phij - psij) * _R / 2)) > 1e-12,
-             f"{method}: phij = psij (mod 360): sin(xi - epsilon) = 0")
-    _require(phij != 0, f"{method}: the crank rotation phij is 0")
     data = {"phij": phij, "psij": psij, "phi0": phi0, "a": a, "c": c}
+    check_data(method, data)
     xi, ej = phij * _R / 2, psij * _R / 2
     r_a = math.sin(ej) / math.sin(xi - ej)
     r_b = math.sin(xi) / math.sin(xi - ej)
@@ -3527,11 +3676,12 @@ def _solve3(matrix, rhs):
 
 
 @_method("FOURB-FG3-1")
-def fourb_fg3_1(phis, psis):
-    """FOURB-FG3-1 (Freudenstein's equation): four-bar whose output is at psis[i] when the crank
-    is at phis[i], three positions (degrees; the review's output angles, see the names above)."""
+def fourb_fg3_1(phi, psi):
+    """FOURB-FG3-1 (Freudenstein's equation): four-bar whose output is at psi[i] when the crank
+    is at phi[i], three positions (degrees; the review's output angles, see the names above)."""
     method = "FOURB-FG3-1"
-    _require(len(phis) == 3 and len(psis) == 3, f"{method}: three input and three output angles")
+    check_data(method, {"phi": list(phi), "psi": list(psi)})
+    phis, psis = list(phi), list(psi)
     data = {"phi1": phis[0], "phi2": phis[1], "phi3": phis[2],
             "psi1": psis[0], "psi2": psis[1], "psi3": psis[2]}
     f, p = [x * _R for x in phis], [x * _R for x in psis]
@@ -3549,8 +3699,10 @@ def fourb_fg3_1(phis, psis):
                      f"is not real and positive")
     b = math.sqrt(b2)
     _require_lengths(a_crank=a, b_coupler=b, c_output=c, d_frame=1.0)
-    mus = [_acos_deg((b * b + c * c - (a * a + 1) + 2 * a * math.cos(x)) / (2 * b * c),
-                     f"{method}: transmission angle") for x in f]
+    # at a position on a dead centre cos(mu) may round beyond 1: _travel_problem refuses it
+    mus = [_deg(math.acos(max(-1.0, min(1.0, _cos_transmission(four_bar_from_review(a, b, c, 1.0),
+                                                                x)))))
+           for x in phis]
     # The review's output angle is measured from the opposite direction (S7): paper psi =
     # psi - 180.
     positions = tuple((phi, _wrap(psi - 180.0)) for phi, psi in zip(phis, psis))
@@ -3598,11 +3750,8 @@ def slid_fg2_1(dtheta, ds, epsilon):
     """SLID-FG2-1 (Chen): slider-crank whose slider moves ds between the dead centres while the
     crank turns dtheta (degrees), for the assumed offset epsilon."""
     method = "SLID-FG2-1"
-    _require(ds > 0, f"{method}: the slider displacement ds = {ds:g} is not positive")
-    _require(0 < dtheta < 360 and abs(math.sin(dtheta * _R)) > 1e-12,
-             f"{method}: dtheta = {dtheta:g} is not in (0, 360) without 180: cot(dtheta) is "
-             f"infinite")
     data = {"dtheta": dtheta, "ds": ds, "epsilon": epsilon}
+    check_data(method, data)
     disc = ds * ds - 4 * (epsilon * ds / math.tan(dtheta * _R) + epsilon * epsilon)
     _require(disc >= 0, f"{method}: s1 is complex (ds^2 - 4(epsilon ds cot(dtheta) + "
                         f"epsilon^2) = {disc:.6g} < 0)")
@@ -3619,7 +3768,7 @@ def slid_fg2_2(theta1, theta2, s1, s2, tolerance=1e-9):
     review's theta2: the pin's direction, crank at theta2 - 180) slider s2 (degrees)."""
     method = "SLID-FG2-2"
     data = {"theta1": theta1, "theta2": theta2, "s1": s1, "s2": s2}
-    _require(abs(math.cos(theta1 * _R)) > 1e-12, f"{method}: cos(theta1) = 0")
+    check_data(method, data)
     epsilon = -s1 * math.tan(theta1 * _R)
     # ERRATUM S8: both pins lie on the slider's line y = -epsilon, so the data must have
     # s1 tan(theta1) = s2 tan(theta2); the formulas use only the first.
@@ -4025,40 +4174,20 @@ def misses(design, checks=None):
 
 # -- the command line: python3 linkage.py design METHOD --name value ... -------------------------
 
-METHODS = {
-    # name: (function, [(option, help)])
-    "fourb-cr-1": (fourb_cr_1, [("theta", "crank rotation is 180 + theta"),
-                                ("psi", "rocker swing"),
-                                ("theta0", "crank angle at the extended dead centre")]),
-    "fourb-cr-2": (fourb_cr_2, [("theta", "crank rotation is 180 + theta"),
-                                ("psi", "rocker swing"),
-                                ("psi0", "rocker angle at the extended dead centre")]),
-    "fourb-cr-3": (fourb_cr_3, [("theta", "crank rotation is 180 + theta (not 0)"),
-                                ("psi", "rocker swing")]),
-    "fourb-cr-4": (fourb_cr_4, [("psi", "rocker swing"),
-                                ("mu_min", "least transmission angle, 0 < mu_min < 90 - psi/2")]),
-    "volmer": (volmer_crank_rocker, [("psi", "rocker swing"),
-                                     ("mu_min", "least transmission angle")]),
-    "draglink-1": (draglink_1, [("dpsi0", "output rotation while the crank turns 180"),
-                                ("mu_min", "transmission angle at the design positions")]),
-    "draglink-2": (draglink_2, [("dphi", "crank rotation between the unit-ratio positions"),
-                                ("dpsi", "output rotation between them"),
-                                ("lam", "lambda = b/d, coupler/frame (omitted: optimised)")]),
-    "fourb-fg2-1": (fourb_fg2_1, [("phij", "crank rotation"), ("psij", "output rotation"),
-                                  ("phi0", "initial crank angle"), ("a", "crank a/d"),
-                                  ("c", "output c/d")]),
-    "fourb-fg3-1": (fourb_fg3_1, [("phi", "three crank angles"),
-                                  ("psi", "three output angles (the review's)")]),
-    "slid-fg2-1": (slid_fg2_1, [("dtheta", "crank rotation between the dead centres"),
-                                ("ds", "slider displacement s1 - s2"),
-                                ("epsilon", "offset (slider on y = -epsilon)")]),
-    "slid-fg2-2": (slid_fg2_2, [("theta1", "crank angle at the outer dead centre"),
-                                ("theta2", "pin direction at the inner dead centre"),
-                                ("s1", "slider at the outer dead centre"),
-                                ("s2", "slider at the inner dead centre")]),
+METHODS = {  # the command's name: (function, the method's name in DATA)
+    "fourb-cr-1": (fourb_cr_1, "FOURB-CR-1"), "fourb-cr-2": (fourb_cr_2, "FOURB-CR-2"),
+    "fourb-cr-3": (fourb_cr_3, "FOURB-CR-3"), "fourb-cr-4": (fourb_cr_4, "FOURB-CR-4"),
+    "volmer": (volmer_crank_rocker, "FOURB-CR-4 (Volmer)"),
+    "draglink-1": (draglink_1, "DRAGLINK-1"), "draglink-2": (draglink_2, "DRAGLINK-2"),
+    "fourb-fg2-1": (fourb_fg2_1, "FOURB-FG2-1"), "fourb-fg3-1": (fourb_fg3_1, "FOURB-FG3-1"),
+    "slid-fg2-1": (slid_fg2_1, "SLID-FG2-1"), "slid-fg2-2": (slid_fg2_2, "SLID-FG2-2"),
 }
-_OPTIONAL = {("draglink-2", "lam")}
-_THREE = {("fourb-fg3-1", "phi"), ("fourb-fg3-1", "psi")}
+
+
+def datum_help(datum):
+    """The help of a datum: what it is, its valid range, the values refused in it (DATA)."""
+    refused = "".join(f"; refused: {reason}" for reason, _ in datum.excluded)
+    return f"{datum.meaning}; in {range_text(datum)}{refused}"
 
 
 def _number(x):
@@ -4088,16 +4217,13 @@ def _design_parser():
                                  "(Pennestri & Valentini's review); angles in degrees.")
     methods = parser.add_subparsers(dest="method", metavar="METHOD", parser_class=_Parser)
     methods.required = True
-    for name, (function, options) in METHODS.items():
+    for name, (function, method) in METHODS.items():
         summary = " ".join(function.__doc__.split())
         sub = methods.add_parser(name, help=summary, description=summary)
-        for option, text in options:
-            flag = "--lambda" if option == "lam" else "--" + option.replace("_", "-")
-            if (name, option) in _THREE:
-                sub.add_argument(flag, dest=option, type=float, nargs=3, required=True, help=text)
-            else:
-                sub.add_argument(flag, dest=option, type=float,
-                                 required=(name, option) not in _OPTIONAL, help=text)
+        for datum in DATA[method]:
+            flag = "--lambda" if datum.name == "lam" else "--" + datum.name.replace("_", "-")
+            sub.add_argument(flag, dest=datum.name, type=float, required=not datum.optional,
+                             help=datum_help(datum), **({"nargs": 3} if datum.count == 3 else {}))
         sub.add_argument("--analyze", action="store_true",
                          help="run the design through the analysis and print what it does")
         sub.add_argument("--dat", metavar="DIR",
@@ -4140,16 +4266,9 @@ def design_command(argv):
         argv = argv[1:]
     try:
         args = _design_parser().parse_args(argv)
-        function, options = METHODS[args.method]
-        values = {option: getattr(args, option) for option, _ in options
-                  if getattr(args, option) is not None}
-        for option, value in values.items():
-            for v in (value if isinstance(value, list) else [value]):
-                _require(math.isfinite(v), f"{option} = {v} is not finite")
-        if args.method == "fourb-fg3-1":
-            result = function(values["phi"], values["psi"])
-        else:
-            result = function(**values)
+        function, method = METHODS[args.method]
+        result = function(**{datum.name: getattr(args, datum.name) for datum in DATA[method]
+                             if getattr(args, datum.name) is not None})
     except DesignError as error:
         print(f"linkage.py design: error: {error}", file=sys.stderr)
         return 1
