@@ -2837,13 +2837,14 @@ def _require_lengths(**lengths):
     longest = max(abs(v) for v in lengths.values())
     for name, value in lengths.items():
         _require(value > 1e-6 * longest, f"link length {name.replace('_', ' ')} = {value:.6g} "
-                                         f"is not positive" + (" (to 1e-6 of the longest)"
+                                         f"is not positive" + (" (to 1e-6 of the longest: a "
+                                                                "degenerate linkage)"
                                                                 if value > 0 else ""))
 
 
 def _require_margin(mu_min, mu_max, design=None):
     """Refuse a design whose transmission angle comes within MU_MARGIN of 0 or 180 degrees."""
-    _require(min(mu_min, 180.0 - mu_max) >= MU_MARGIN,
+    _require(min(mu_min, 180.0 - mu_max) >= MU_MARGIN - 1e-9,       # mu_min = 0.1 + 1e-16: met
              f"dead centre: the transmission angle comes within {MU_MARGIN:g} degree of 0 or 180 "
              f"(mu from {mu_min:.6g} to {mu_max:.6g})", design)
 
@@ -2902,7 +2903,7 @@ def _near(angle, target, period=360.0):
 _SWING = Datum("psi", "rocker swing", PSI_MIN, 180.0, ("lo",))
 _TIME_RATIO = Datum("theta", "crank rotation is 180 + theta", -180.0, 180.0)
 _CENTRIC = (_SWING, Datum("mu_min", "least transmission angle", MU_MARGIN,
-                          ("90 - psi/2", lambda d: 90.0 - d["psi"] / 2), ("lo",)))
+                          ("90 - psi/2", lambda d: 90.0 - d["psi"] / 2)))
 _LENGTH = dict(lo=LENGTH_MIN, hi=LENGTH_MAX, closed=("lo", "hi"))
 _ANGLE = dict(lo=-360.0, hi=360.0, closed=("lo", "hi"))        # a position (not a rotation)
 DATA = {
@@ -2931,7 +2932,7 @@ DATA = {
     "FOURB-CR-4 (Volmer)": _CENTRIC,
     "DRAGLINK-1": (
         Datum("dpsi0", "output rotation while the crank turns 180", 0.0, 360.0),
-        Datum("mu_min", "transmission angle at the design positions", MU_MARGIN, 90.0, ("lo",))),
+        Datum("mu_min", "transmission angle at the design positions", MU_MARGIN, 90.0)),
     "DRAGLINK-2": (   # footnote 5: 0 < dphi - dpsi < 180, 90 + dL/2 <= dphi <= 270 + dL/2
         Datum("dphi", "crank rotation between the unit-ratio positions", 90.0, 360.0, excluded=(
             ("dphi = 180 makes t = tan(dphi/2) infinite (footnote 5)",
@@ -3327,8 +3328,13 @@ def fourb_cr_3(theta, psi):
     method = "FOURB-CR-3"
     data = {"theta": theta, "psi": psi}
     check_data(method, data)
-    theta_f, p = (theta + 180.0) * _R, psi * _R
-    t, u = math.tan(theta_f / 2), math.tan((theta_f - p) / 2)
+    p = psi * _R
+    # ERRATUM S14: t = tan(theta_f / 2) and u = tan((theta_f - psi) / 2), theta_f = 180 + theta,
+    # as -cot(theta/2) and -cot((theta - psi)/2): 180 + theta loses the digits of a small theta;
+    # likewise sin(theta_f/2) = cos(theta/2), cos(theta_f/2) = -sin(theta/2) below.
+    h, g = theta / 2 * _R, (theta - psi) / 2 * _R
+    t = -1.0 / math.tan(h)
+    u = -math.cos(g) / math.sin(g) if math.sin(g) else math.inf      # theta = psi: u infinite
     solutions, rejected = [], []
     for lam in _transmission_cubic(t, u):
         if not 1.0 <= lam * lam <= u * u * t * t:
@@ -3337,9 +3343,8 @@ def fourb_cr_3(theta, psi):
             continue
         a = math.sin(p / 2)
         b = abs(lam * a)
-        c = math.sqrt(math.sin(theta_f / 2) ** 2 + lam * lam * math.cos(theta_f / 2) ** 2)
-        d = math.sqrt(math.sin((theta_f - p) / 2) ** 2
-                      + lam * lam * math.cos((theta_f - p) / 2) ** 2)
+        c = math.hypot(math.cos(h), lam * math.sin(h))
+        d = math.hypot(math.cos(g), lam * math.sin(g))
         try:
             theta0, psi0 = _extended_dead_centre(a / d, b / d, c / d)
             design = _crank_rocker(method, data, a, b, c, d, theta0, psi0, theta, psi,
@@ -3361,15 +3366,26 @@ def fourb_cr_3(theta, psi):
     return Synthesis(method, tuple(solutions), best, tuple(rejected))
 
 
+def _triangle_angle(x, y, z):
+    """The angle (degrees) between sides x and y of the triangle x, y, z, opposite z, by Kahan's
+    formula ("Miscalculating area and angles of a needle-like triangle"), accurate to a few
+    roundings of the sides where the law of cosines cancels; DesignError if there is none."""
+    x, y = max(x, y), min(x, y)
+    _require(x <= y + z and z <= x + y, f"no triangle has the sides {x:.6g}, {y:.6g}, {z:.6g}")
+    mu = z - (x - y) if y >= z else y - (x - z)
+    return _deg(2 * math.atan(math.sqrt(max(0.0, ((x - y) + z) * mu)
+                                        / ((x + (y + z)) * ((x - z) + y)))))
+
+
 def _extended_dead_centre(a, b, c):
     """Crank angle theta0 and rocker angle psi0 (degrees) at the extended dead centre of the
-    crank-rocker (review letters, d = 1), the rocker tip above the frame line."""
+    crank-rocker (review letters, d = 1), the rocker tip above the frame line: the angles of the
+    triangle frame 1, crank and coupler in line a + b, rocker c (ERRATUM S14: the law of cosines
+    cancels for a small crank and a rocker near the frame's length)."""
     reach = a + b
-    cos_t0 = (1.0 + reach * reach - c * c) / (2.0 * reach)
-    _require(abs(cos_t0) < 1.0, f"the extended dead centre does not exist (cos = {cos_t0:.6g})")
-    theta0 = _deg(math.acos(cos_t0))
-    x, y = reach * math.cos(theta0 * _R) - 1.0, reach * math.sin(theta0 * _R)
-    return theta0, _deg(math.atan2(y, x))
+    theta0 = _triangle_angle(1.0, reach, c)
+    _require(0.0 < theta0 < 180.0, f"the extended dead centre lies on the frame line")
+    return theta0, 180.0 - _triangle_angle(1.0, c, reach)
 
 
 def _centric(psi, mu_min):
@@ -3765,7 +3781,8 @@ def slid_fg2_1(dtheta, ds, epsilon):
 @_method("SLID-FG2-2")
 def slid_fg2_2(theta1, theta2, s1, s2, tolerance=1e-9):
     """SLID-FG2-2 (Chen): slider-crank with dead centres at crank theta1, slider s1 and (the
-    review's theta2: the pin's direction, crank at theta2 - 180) slider s2 (degrees)."""
+    review's theta2: the pin's direction, crank at theta2 - 180) slider s2 (degrees); theta2 may
+    differ by `tolerance` degrees from the direction the offset of the first gives."""
     method = "SLID-FG2-2"
     data = {"theta1": theta1, "theta2": theta2, "s1": s1, "s2": s2}
     check_data(method, data)
@@ -3773,14 +3790,18 @@ def slid_fg2_2(theta1, theta2, s1, s2, tolerance=1e-9):
     # ERRATUM S8: both pins lie on the slider's line y = -epsilon, so the data must have
     # s1 tan(theta1) = s2 tan(theta2); the formulas use only the first.
     epsilon_2 = -s2 * math.tan(theta2 * _R)
-    if abs(epsilon - epsilon_2) > tolerance * max(abs(s1), abs(s2)):
+    # compared as the pin's direction at the second (an offset that agrees to 1e-9 of s1 can
+    # turn the direction by much more when s2 is small)
+    if abs(_wrap(theta2 - _deg(math.atan2(-epsilon, s2)))) > tolerance:
         try:                                   # what the formulas give, for the error to show
             design = _slider_design(method, data, s1, s2, theta1, theta2, {"epsilon": epsilon})
         except DesignError:
             design = None
         raise DesignError(f"{method}: inconsistent dead centres: the offset from position 1, "
                           f"-s1 tan(theta1) = {epsilon:.6g}, differs from that from position 2, "
-                          f"-s2 tan(theta2) = {epsilon_2:.6g}", design)
+                          f"-s2 tan(theta2) = {epsilon_2:.6g} (theta2 = {theta2:.9g} is not "
+                          f"the direction {_deg(math.atan2(-epsilon, s2)):.9g} of that pin)",
+                          design)
     design = _slider_design(method, data, s1, s2, theta1, theta2, {"epsilon": epsilon})
     return _one(design)
 
@@ -3946,11 +3967,21 @@ def _dead_centre(link, lo, hi):
     return (lo + hi) / 2
 
 
+_FULL_TURN_OFFSET = 0.1234567890123     # degrees: where measure starts a full turn
+
+
 def measure(link, lo=0.0, hi=360.0, samples=720):
     """Measure the analysed linkage over input angles lo..hi (default: a full turn) by dense
     sampling: the output's extremes at the dead centres (crank and coupler in line, located by
     bisection) or the travel's ends, the transmission angle's refined on the analysis."""
     angular = isinstance(link, FourBar)
+    full_turn = abs(hi - lo - 360.0) < 1e-9
+    if full_turn:
+        # A full turn starts off the round angles, where designs put their dead centres: the
+        # first and last samples are the same position, and a dead centre between them (a
+        # crossing at 360 - 1e-14, in_line(0) and in_line(360) of opposite signs to rounding)
+        # would be lost.
+        lo, hi = lo + _FULL_TURN_OFFSET, hi + _FULL_TURN_OFFSET
     step = (hi - lo) / samples
     phis = [lo + step * i for i in range(samples)] + [hi]
     outputs = _outputs(link, phis)
@@ -3958,7 +3989,6 @@ def measure(link, lo=0.0, hi=360.0, samples=720):
         nan = Extreme(math.nan, math.nan)
         return Measured(False, nan, nan, math.nan, nan, nan)
     outputs = _continuous(outputs, angular)
-    full_turn = abs(hi - lo - 360.0) < 1e-9
 
     def output_near(phi, reference):
         """The output at phi, continuous with `reference`."""
