@@ -2783,11 +2783,12 @@ def png_drawing(drawing: Drawing, positions: int = 12) -> bytes:
 # Each design comes converted (FourBar, SliderCrank: the paper's letters and the assembly branch,
 # the engine's branch 1 or 2), with the review's numbers under the review's names beside it.
 #
-# Bad data raise DesignError, naming the condition: a link length <= 0 or complex (a quadratic or
-# a square root with no real value), angles out of a method's range (psi in (0, 180), theta = 0
-# for FOURB-CR-3, mu_min in (0, 90 - psi/2) for FOURB-CR-4, footnote 5's limits for DRAGLINK-2),
-# a design of the wrong type (not a crank-rocker, not a drag-link), a branch defect or a dead
-# centre between the positions, and inconsistent dead-centre data (SLID-FG2-2).
+# Bad data raise DesignError, naming the condition: data outside the method's valid range (DATA
+# below, stated once for the refusals, the command's help and the tests: the message names the
+# datum), a link length <= 0, degenerate or complex (a square root with no real value), a design
+# of the wrong type (not a crank-rocker, not a drag-link), a branch defect or a dead centre
+# between the positions, and inconsistent dead-centre data (SLID-FG2-2). Where the review's
+# formulas cancel, the same quantities are computed by identities that do not (ERRATUM S14).
 #
 # Checking. Every design can be run through `analyze`, the one adapter to the analysis (the
 # accurate engine, never the synthesis formulas), and
