@@ -208,9 +208,9 @@ def log_uniform_table(module, count, seed):
             notes.append(f"{method}: worst angle miss {angle[0]:.3g} at {angle[2]}")
         notes += [f"{method}: crash {c}" for c in crashes[:2]]
         notes += [f"{method}: beyond the targets at {b}" for b in beyond[:3]]
-    print(f"\nworst angle miss over all methods: {total:.1e} degree; beyond the targets: a miss over "
-          f"1e-9 degree (lengths 1e-12) and over 4 times what rounding the lengths alone causes "
-          f"(test_synthesis.assert_meets_targets)")
+    print(f"\nworst angle miss over all methods: {total:.1e} degree; beyond the targets: a miss "
+          f"over 1e-9 degree (lengths 1e-12) and over 4 times what rounding the lengths alone "
+          f"causes (test_synthesis.assert_meets_targets)")
     for note in notes:
         print(note)
 

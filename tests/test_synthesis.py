@@ -688,28 +688,6 @@ def design_in_range(method, data):
     return result.solutions, None
 
 
-def rounding_floor(design, module=s):
-    """Per check, the miss that rounding the design's lengths to doubles alone can cause: the
-    change of the measured value when each length moves by 2^-40 of itself, scaled to a rounding
-    (2^-53) and summed over the lengths. A formula that cancels misses by far more (FOURB-CR-2's
-    old a = c (p1 - p2)/2: 1e-5 degree against a floor of 1e-10)."""
-    base = {c.name: c for c in module.analyze_design(design)}
-    floor = dict.fromkeys(base, 0.0)
-    link = design.linkage
-    for name in link._fields[:-1]:
-        if getattr(link, name) == 0:
-            continue
-        moved = link._replace(**{name: getattr(link, name) * (1 + 2.0 ** -40)})
-        for check in module.analyze_design(dataclasses.replace(design, linkage=moved)):
-            was = base[check.name]
-            if check.measured is None or was.measured is None:
-                continue
-            change = check.measured - was.measured
-            change = abs(s._wrap(change) if check.unit == "deg" else change)
-            floor[check.name] += change * 2.0 ** -13
-    return floor
-
-
 def assert_meets_targets(design):
     """Every check of the analysed design within ANGLE_TARGET degrees (velocity ratios: within
     ANGLE_TARGET, lengths: LENGTH_TARGET of the longest link), or within 4 times the miss that
@@ -721,7 +699,7 @@ def assert_meets_targets(design):
               "length": LENGTH_TARGET * size}
     over = [c for c in checks if not c.miss <= target[c.unit]]
     if over:
-        floor = rounding_floor(design)
+        floor = s.rounding_floor(design, checks)
         bad = [(c.name, c.measured, c.expected, c.miss, floor[c.name]) for c in over
                if not c.miss <= target[c.unit] + 4 * floor[c.name]]
         assert not bad, (design.method, design.data, bad)
@@ -1159,9 +1137,9 @@ def design_argv(draw):
         choice = draw(st.sampled_from(["range", "range", "odd", "none"]))
         if choice == "none" or (choice == "range" and datum.name not in data):
             continue
-        values = data[datum.name] if datum.count == 3 else [data[datum.name]]
         if choice == "range":
-            texts = [repr(v) for v in values]
+            texts = [repr(v) for v in (data[datum.name] if datum.count == 3
+                                       else [data[datum.name]])]
         else:
             texts = [draw(st.sampled_from(_ODD)) for _ in range(datum.count)]
         argv += [flag] + texts
