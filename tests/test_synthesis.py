@@ -718,6 +718,11 @@ FOUND = [
     ("FOURB-CR-4", dict(psi=179.0, mu_min=0.4999), "meets"),
     ("FOURB-CR-4", dict(psi=10.0, mu_min=0.1), "mu_min = 0.1 is not in (0.1, 90 - psi/2"),
     ("FOURB-CR-4", dict(psi=10.0, mu_min=0.1000001), "meets"),
+    ("FOURB-CR-4", dict(psi=0.001000000000018, mu_min=0.100000898995), "meets"),  # to rounding
+    ("FOURB-CR-4", dict(psi=0.0010037026852812829, mu_min=0.10000000000313938),
+     "within 0.1 degree of 0 or 180"),                 # missed mu_min by 0.048 degree before
+    ("FOURB-CR-3", dict(theta=2.0, psi=2.0), "meets"),  # u infinite: a ZeroDivisionError
+    ("DRAGLINK-2", dict(dphi=170.0, dpsi=130.0, lam=math.nan), "lam = nan is not a finite"),
     ("FOURB-CR-4 (Volmer)", dict(psi=98.86952740796924, mu_min=40.565236295980704), "meets"),
     ("FOURB-CR-4", dict(psi=179.9999999751578, mu_min=1.2421097039805316e-08),
      "mu_min = 1.2421097039805316e-08 is not in (0.1"),
@@ -1154,6 +1159,13 @@ def design_argv(draw):
 @example(["fourb-cr-4", "--psi", "178.99999999999997", "--mu-min", "0.5", "--analyze"])
 @example(["fourb-fg3-1", "--phi", "0", "0", "0.0078125", "--psi", "0", "1", "-1", "--analyze"])
 @example(["fourb-cr-2", "--theta", "0.0078125", "--psi", "2", "--psi0", "1", "--analyze"])
+@example(["fourb-cr-4", "--psi", "0.001000000000018", "--mu-min", "0.100000898995", "--analyze"])
+@example(["fourb-cr-2", "--theta", "0.0019054916127522886", "--psi", "4.871142230897151",
+          "--psi0", "1.6334467858098702", "--analyze"])
+@example(["slid-fg2-2", "--theta1", "-9.690188312937713e-15", "--theta2",
+          "-1.047597775477277e-06", "--s1", "0.005944152468677084", "--s2",
+          "0.0002149166099709943", "--analyze"])
+@example(["draglink-2", "--dphi", "170", "--dpsi", "130", "--lambda", "nan", "--analyze"])
 @given(design_argv())
 def test_fuzzed_command_lines(argv):
     """No traceback, a one-line message on error; exit 0 only with designs that meet their
