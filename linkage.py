@@ -2938,7 +2938,7 @@ DATA = {
         Datum("dphi", "crank rotation between the unit-ratio positions", 90.0, 360.0, excluded=(
             ("dphi = 180 makes t = tan(dphi/2) infinite (footnote 5)",
              lambda d: _near(d["dphi"], 180.0)),)),
-        Datum("dpsi", "output rotation between them (footnote 5)",
+        Datum("dpsi", "output rotation between those positions (footnote 5)",
               ("|dphi - 180|", lambda d: abs(d["dphi"] - 180.0)),
               ("min(dphi, 540 - dphi)", lambda d: min(d["dphi"], 540.0 - d["dphi"])), excluded=(
                   ("dpsi = 180 makes u = tan(dpsi/2) infinite", lambda d: _near(d["dpsi"], 180.0)),
