@@ -3641,6 +3641,12 @@ def fourb_fg2_1(phij, psij, phi0, a, c):
     b1 = r_a * math.sin(ej) / a - math.sin(f0 + xi - ej)
     c1 = -r_b / c * math.sin(f0 + xi)
     radius = math.hypot(a1, b1)
+    # Data for which the coupler's length is the same at both positions for every psi0 (e.g. the
+    # crank positions symmetric about the frame line with a matching psij): a1 = b1 = c1 = 0.
+    scale = max(1.0, abs(r_a) / a, abs(r_b) / c)
+    _require(max(radius, abs(c1)) > 1e-9 * scale,
+             f"{method}: a1 = b1 = c1 = 0 (to 1e-9 of their terms): every psi0 gives a "
+             f"four-bar through both positions; the data do not determine psi0 and b")
     _require(radius > 0 and abs(c1) <= radius,
              f"{method}: a1 sin(psi0) + b1 cos(psi0) + c1 = 0 has no real root (|c1| = "
              f"{abs(c1):.6g} > sqrt(a1^2 + b1^2) = {radius:.6g})")
