@@ -336,6 +336,7 @@ def test_four_bar_roles_convert_explicitly():
 
 
 @SETTINGS
+@example(0.6, 0.2, 0.2, 1.0, 0.0, 1)                # mu = 180 exactly: acos of -1 + 2e-12
 @given(st.floats(0.2, 3), st.floats(0.2, 3), st.floats(0.2, 3), st.floats(0.2, 3),
        st.floats(-180, 180), st.sampled_from([1, 2]))
 def test_eq_1_in_the_review_letters_is_the_angle_on_the_paper_linkage(a, b, c, d, phi, branch):
@@ -346,7 +347,10 @@ def test_eq_1_in_the_review_letters_is_the_angle_on_the_paper_linkage(a, b, c, d
     assume(out is not None)
     cos_mu = (b * b + c * c - (a * a + d * d) + 2 * a * d * math.cos(phi * R)) / (2 * b * c)
     expected = math.degrees(math.acos(max(-1.0, min(1.0, cos_mu))))
-    assert s.measured_transmission_angle(link, phi, out) == pytest.approx(expected, abs=1e-6)
+    measured = s.measured_transmission_angle(link, phi, out)
+    assert math.cos(math.radians(measured)) == pytest.approx(cos_mu, abs=1e-9)
+    if abs(cos_mu) < 1 - 1e-9:             # near 0 or 180 an angle from its cosine loses digits
+        assert measured == pytest.approx(expected, abs=1e-6)
     assert s.four_bar_transmission_angle(link, phi) == pytest.approx(expected, abs=1e-6)
 
 
@@ -413,6 +417,7 @@ def test_adapter_closes_the_four_bar_loop(a, b, c, d, phis, branch):
 
 
 @SETTINGS
+@example(1.0, 1.0, 1.0, [-9.384265649045253e-30], 1)   # the rod tangent to the slider's line
 @given(st.floats(0.1, 3), st.floats(0.1, 3), st.floats(-2, 2),
        st.lists(st.floats(-720, 720), min_size=1, max_size=8), st.sampled_from([1, 2]))
 def test_adapter_closes_the_slider_loop(b, c, e, phis, branch):
@@ -420,7 +425,7 @@ def test_adapter_closes_the_slider_loop(b, c, e, phis, branch):
     for phi, x in zip(phis, outs):
         pin = (b * math.cos(phi * R), b * math.sin(phi * R))
         if x is None:
-            assert abs(e - pin[1]) > c
+            assert abs(e - pin[1]) > c * (1 - 1e-12)      # tangent to rounding: either answer
             continue
         assert math.hypot(x - pin[0], e - pin[1]) == pytest.approx(c, abs=1e-12 * 4)
         assert (x - pin[0] >= 0) == (branch == 1) or abs(x - pin[0]) < 1e-9
