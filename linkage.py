@@ -3240,9 +3240,10 @@ def fourb_cr_1(theta, psi, theta0):
     # - sin(theta0) cos(psi - theta)), the denominator as sums of products that do not cancel.
     # ERRATUM S11: alpha is fixed modulo 180; alpha + 180 gives the same a and b and c < 0, so
     # take the one with c = sin(theta0) / sin(alpha) > 0.
-    alpha = _deg(math.atan2(math.sin(t0) * math.sin(p - t),
-                            2 * math.cos(t0 + t / 2) * math.sin(t / 2)
-                            + 2 * math.sin(t0) * math.sin((p - t) / 2) ** 2))
+    swing_less_theta = (psi - theta) * _R                  # in degrees first: exact when close
+    alpha = _deg(math.atan2(math.sin(t0) * math.sin(swing_less_theta),
+                            2 * math.cos(math.fsum((theta0, theta / 2)) * _R) * math.sin(t / 2)
+                            + 2 * math.sin(t0) * math.sin(swing_less_theta / 2) ** 2))
     if math.sin(alpha * _R) * math.sin(t0) < 0:
         alpha = alpha + 180.0 if alpha <= 0 else alpha - 180.0
     psi0 = _wrap(theta0 + alpha)
@@ -3266,7 +3267,8 @@ def fourb_cr_2(theta, psi, psi0):
     # equation, sin(theta0) sin(psi + psi0 - theta - theta0) = sin(theta + theta0)
     # sin(psi0 - theta0), is sin(2 theta0 + theta - psi0 - psi/2) = K with
     # K = sin(psi0 + psi/2) sin(theta - psi/2) / sin(psi/2), solved in closed form.
-    k = math.sin(p0 + p / 2) * math.sin(t - p / 2) / math.sin(p / 2)
+    k = (math.sin(math.fsum((psi0, psi / 2)) * _R) * math.sin(math.fsum((theta, -psi / 2)) * _R)
+         / math.sin(p / 2))
     _require(abs(k) <= 1.0 + 1e-12,
              f"{method}: no extended dead centre: sin(2 theta0 + theta - psi0 - psi/2) = "
              f"{k:.6g} is outside [-1, 1] (the quadratic in tan(theta0) has complex roots)")
@@ -3277,8 +3279,8 @@ def fourb_cr_2(theta, psi, psi0):
     for two in sorted({base, 180.0 - base}):
         for turn in (0.0, 180.0):
             # alpha = psi0 - theta0 as a sum of the data, not a difference of theta0
-            alpha = _wrap((psi0 + theta - psi / 2 - two) / 2 - turn)
-            theta0 = _wrap((psi0 - theta + psi / 2 + two) / 2 + turn)
+            alpha = _wrap(math.fsum((psi0, theta, -psi / 2, -two)) / 2 - turn)
+            theta0 = _wrap(math.fsum((psi0, -theta, psi / 2, two)) / 2 + turn)
             try:
                 a, b, c = _chen_links(method, theta, psi, theta0, psi0, alpha)
                 solutions.append(_crank_rocker(method, data, a, b, c, 1.0, theta0, psi0, theta,
@@ -3398,9 +3400,10 @@ def _centric(psi, mu_min):
     through the crank pivot, so tan(theta0) = sqrt(D) / sin h and psi0 = theta0 + 90 - psi/2."""
     h = psi / 2 * _R
     cos_h = math.sin((90.0 - psi / 2) * _R)                  # 90 - psi/2 exact for psi near 180
-    # m + h near 90 is the degenerate end (rocker c -> 0): sin(90 - psi/2 - mu_min), whose
-    # argument is exact there, not cos(m + h)
-    big_d = math.sin((90.0 - psi / 2 + mu_min) * _R) * math.sin((90.0 - psi / 2 - mu_min) * _R)
+    # m + h near 90 is the degenerate end (rocker c -> 0): sin(90 - psi/2 - mu_min), its
+    # argument summed exactly (fsum), not cos(m + h)
+    big_d = (math.sin(math.fsum((90.0, -psi / 2, mu_min)) * _R)
+             * math.sin(math.fsum((90.0, -psi / 2, -mu_min)) * _R))
     _require(big_d > 0, f"cos(mu_min - psi/2) cos(mu_min + psi/2) = {big_d:.6g} is not positive")
     theta0 = _deg(math.atan2(math.sqrt(big_d), math.sin(h)))
     return math.sin(h), cos_h, math.cos(mu_min * _R), big_d, theta0, theta0 + 90.0 - psi / 2
