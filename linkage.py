@@ -3406,7 +3406,8 @@ def _centric(psi, mu_min):
              * math.sin(math.fsum((90.0, -psi / 2, -mu_min)) * _R))
     _require(big_d > 0, f"cos(mu_min - psi/2) cos(mu_min + psi/2) = {big_d:.6g} is not positive")
     theta0 = _deg(math.atan2(math.sqrt(big_d), math.sin(h)))
-    return math.sin(h), cos_h, math.cos(mu_min * _R), big_d, theta0, theta0 + 90.0 - psi / 2
+    cos_m = math.sin(math.fsum((90.0, -mu_min)) * _R)         # keeps its digits near 90
+    return math.sin(h), cos_h, cos_m, big_d, theta0, theta0 + 90.0 - psi / 2
 
 
 @_method("FOURB-CR-4")

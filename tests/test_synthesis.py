@@ -734,6 +734,9 @@ FOUND = [
     ("FOURB-CR-4", dict(psi=0.0010037026852812829, mu_min=0.10000000000313938),
      "within 0.1 degree of 0 or 180"),                 # missed mu_min by 0.048 degree before
     ("FOURB-CR-3", dict(theta=2.0, psi=2.0), "meets"),  # u infinite: a ZeroDivisionError
+    ("FOURB-CR-4 (Volmer)", dict(psi=0.0010000039802219602, mu_min=89.99945203303886),
+     "meets"),                                          # cos(mu_min) near 90: 2e-9 degree
+    ("FOURB-CR-4", dict(psi=0.0534037168595954, mu_min=89.97329778891731), "meets"),
     ("DRAGLINK-2", dict(dphi=170.0, dpsi=130.0, lam=math.nan), "lam = nan is not a finite"),
     ("FOURB-CR-4 (Volmer)", dict(psi=98.86952740796924, mu_min=40.565236295980704), "meets"),
     ("FOURB-CR-4", dict(psi=179.9999999751578, mu_min=1.2421097039805316e-08),
