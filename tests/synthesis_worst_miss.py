@@ -1,12 +1,17 @@
 """Per synthesis method, the worst miss between what the analysed linkage does and what the method
-prescribes (or the design claims): over the review's worked example and over random feasible
-designs (fixed seed). Every number is measured through linkage.analyze (the accurate engine).
+prescribes (or the design claims): over the review's worked example, over random feasible
+designs, and over data drawn log-uniformly across each method's valid range (linkage.DATA; the
+long, unseeded run of the test test_synthesis.test_every_method_meets_its_targets_in_range).
+Every number is measured through linkage.analyze (the accurate engine).
 
-    python3 tests/synthesis_worst_miss.py [designs per method, default 200] [seed, default 1]
+    python3 tests/synthesis_worst_miss.py [designs per method, default 200] [seed, default 1;
+        "random": a new one] [--log-uniform-only] [--module PATH/linkage.py: design and analyse
+        with another version of the module (the data ranges stay this one's)]
 """
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import random
 import sys
@@ -103,8 +108,26 @@ def worst(designs):
 
 
 def main(argv):
+    module = s
+    if "--module" in argv:
+        at = argv.index("--module")
+        spec = importlib.util.spec_from_file_location("linkage_other", argv[at + 1])
+        module = sys.modules["linkage_other"] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        argv = argv[:at] + argv[at + 2:]
+    only = "--log-uniform-only" in argv
+    argv = [a for a in argv if a != "--log-uniform-only"]
     count = int(argv[1]) if len(argv) > 1 else 200
-    seed = int(argv[2]) if len(argv) > 2 else 1
+    seed = (random.randrange(10 ** 6) if argv[2] == "random" else int(argv[2])) \
+        if len(argv) > 2 else 1
+    if not only:
+        worst_feasible(count, seed)
+    log_uniform_table(module, count, seed)
+    return 0
+
+
+def worst_feasible(count, seed):
+    """Print the table of the worked examples and random feasible designs."""
     rng = random.Random(seed)
     examples = {name: run() for name, run in t.RUNS.items() if name != "SLID-FG2-2"}
     examples["SLID-FG2-2"] = None                          # its example data are inconsistent (S8)
@@ -132,7 +155,64 @@ def main(argv):
               f"| {ratio} | {near} |")
     print(f"\nworst angle miss over all methods: {total:.1e} degree "
           f"(tolerance {s.ANGLE_TOLERANCE:g}, widened as 1/sin(mu) for near-locking designs)")
-    return 0
+
+
+def log_uniform(module, method, rng, count):
+    """`count` draws of data log-uniform across the method's valid range (test_synthesis.
+    data_in_range): how many were designed, refused and crashed (any exception but DesignError,
+    with the first one), and the worst misses of the designs."""
+    function = getattr(module, t.FUNCTIONS[method].__name__)
+    designed = refused = 0
+    beyond = []
+    crashes, worst_ = [], {"angle": (0.0, "", None), "length": (0.0, "", None),
+                           "ratio": (0.0, "", None)}
+    for _ in range(count):
+        data = t.data_in_range(method, [rng.random() for _ in range(t.units_needed(method))])
+        try:
+            result = function(*data.values())
+        except module.DesignError:
+            refused += 1
+            continue
+        except Exception as error:                                      # noqa: BLE001
+            crashes.append(f"{data}: {type(error).__name__}: {error}")
+            continue
+        designed += 1
+        for design in result.solutions:
+            if module is s:
+                try:
+                    t.assert_meets_targets(design)
+                except AssertionError:
+                    beyond.append(data)
+            for unit, (miss, name) in t.design_misses(design, module).items():
+                if miss > worst_[unit][0]:
+                    worst_[unit] = (miss, name, data)
+    return designed, refused, crashes, worst_, beyond
+
+
+def log_uniform_table(module, count, seed):
+    """Print the log-uniform table: per method, the worst misses and the data that give them."""
+    rng = random.Random(seed)
+    print(f"\n# Log-uniform data across each method's valid range (linkage.DATA), {count} draws a "
+          f"method, seed {seed}, module {module.__file__}\n")
+    print("| method | designed | refused | crashed | worst angle miss (check) | worst length miss |"
+          " worst velocity-ratio miss | beyond the targets |")
+    print("|---|---|---|---|---|---|---|---|")
+    notes, total = [], 0.0
+    for method in s.DATA:
+        designed, refused, crashes, w, beyond = log_uniform(module, method, rng, count)
+        angle, length, ratio = w["angle"], w["length"], w["ratio"]
+        total = max(total, angle[0])
+        print(f"| {method} | {designed} | {refused} | {len(crashes)} | {angle[0]:.1e} ({angle[1]})"
+              f" | {length[0]:.1e} | {ratio[0]:.1e} | {len(beyond) if module is s else '-'} |")
+        if angle[2] is not None:
+            notes.append(f"{method}: worst angle miss {angle[0]:.3g} at {angle[2]}")
+        notes += [f"{method}: crash {c}" for c in crashes[:2]]
+        notes += [f"{method}: beyond the targets at {b}" for b in beyond[:3]]
+    print(f"\nworst angle miss over all methods: {total:.1e} degree; beyond the targets: a miss "
+          f"over 1e-9 degree (lengths 1e-12) and over 4 times what rounding the lengths alone "
+          f"causes (test_synthesis.assert_meets_targets)")
+    for note in notes:
+        print(note)
 
 
 if __name__ == "__main__":

@@ -114,12 +114,11 @@ def run_argv(draw):
 def design_argv(draw):
     method = draw(st.sampled_from(list(linkage.METHODS) + ["nosuch"]))
     argv = ["design", method]
-    options = linkage.METHODS[method][1] if method in linkage.METHODS else [("x", "")]
-    for option, _ in options:
+    data = linkage.DATA[linkage.METHODS[method][1]] if method in linkage.METHODS else ()
+    for datum in data:
         if draw(st.integers(0, 9)):
-            flag = "--lambda" if option == "lam" else "--" + option.replace("_", "-")
-            count = 3 if (method, option) in linkage._THREE else 1
-            argv += [flag] + [draw(st.sampled_from(VALUES)) for _ in range(count)]
+            flag = "--lambda" if datum.name == "lam" else "--" + datum.name.replace("_", "-")
+            argv += [flag] + [draw(st.sampled_from(VALUES)) for _ in range(datum.count)]
     argv += draw(st.lists(st.sampled_from([["--analyze"], ["--dat", "."], ["--text"],
                                            ["--svg", "d.svg"], ["--dat", "/proc"]]), max_size=2)
                   .map(lambda options: sum(options, [])))
