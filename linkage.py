@@ -2747,7 +2747,7 @@ def joint_positions(linkage: Linkage, phi: float, branch: int = 1) -> Pose:
                   meets it, B0 = (sin a, 0, cos a) the output axis's, A and B the pins.
     skew:         A0 = (0, 0, 0) on the input axis z; the common perpendicular (length a) runs
                   along x from F0 = (0, 0, f) to F1 = (a, 0, f) on the output axis, of direction
-                  (0, -sin ksi, cos ksi); B0 = (a, f tan ksi, 0), g = f / cos ksi along it from F1,
+                  w = (0, -sin ksi, cos ksi); B0 = F1 - g w = (a, f tan ksi, 0), g = f / cos ksi,
                   is the centre of the output crank's circle, in the plane z = 0 as the crank's.
     slider:       A0, A; the slider C = (x, e, 0) on the guide y = e.
     skew-slider:  A0, A, F0 = (0, 0, f); the slider C = F1 + x (0, sin ksi, -cos ksi) on the
@@ -3177,15 +3177,19 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
         if kind == SPHERICAL_FOUR_BAR and not 0 < value < 180:
             raise ValueError(f"the arc {key} = {value:g} degrees cannot be drawn: arcs are "
                              "drawn between 0 and 180 degrees")
-        if value is not None and kind != SPHERICAL_FOUR_BAR and not value > 0:
+        skew_offset = key == "a" and kind in (SKEW_FOUR_BAR, SKEW_SLIDER_CRANK)
+        if value is not None and kind != SPHERICAL_FOUR_BAR and not (
+                value != 0 if skew_offset else value > 0):   # a skew linkage's a is signed
             raise ValueError(f"{DIMENSION_NAMES[key]} {key} = {value:g} cannot be drawn: "
-                             "links are drawn with lengths greater than 0")
+                             + ("the fixed link is drawn along the common perpendicular, which "
+                                "needs a != 0" if skew_offset else
+                                "links are drawn with lengths greater than 0"))
     poses = [joint_positions(linkage, phi, branch) for phi in phis]
     if not poses:
         raise ValueError("a drawing needs at least one input angle")
     x0, y0, x1, y1 = _extent([project(kind, p) for pose in poses for p in pose.joints.values()])
     span = max(x1 - x0, y1 - y0, 2.0 if kind == SPHERICAL_FOUR_BAR else 1e-300)
-    links = [v for k, v in linkage.dims.items() if k in "abcd" and v]
+    links = [abs(v) for k, v in linkage.dims.items() if k in "abcd" and v]
     size = 0.07 * span if kind == SPHERICAL_FOUR_BAR else max(          # symbols not hiding a
         0.035 * span, min(0.07 * span, 0.6 * min(links)))               # short crank
     ground = _GROUNDS[kind](linkage, poses, size)

@@ -189,3 +189,21 @@ def test_the_readmes_svg_is_what_the_program_draws(tmp_path):
                           str(tmp_path / "now.svg")])
     assert status == 0, err
     assert (tmp_path / "now.svg").read_bytes() == (SCENES / "fig1c-skew-four-bar.svg").read_bytes()
+
+
+@pytest.mark.parametrize("kind, dims", [
+    ("skew-slider", dict(a=-1.5, b=2.0, c=7.0, f=0.0, ksi=90.0)),    # the hard case skew-slider-ksi-90
+    ("skew", dict(a=-3.0, b=0.5, c=1.5, d=3.0, f=3.0, ksi=30.0)),
+])
+def test_a_skew_linkage_with_a_negative_offset_is_drawn(kind, dims):
+    """A skew linkage's a is the signed horizontal sector of the fixed link: a < 0 is drawn (the
+    fixed link hatched from F0 to F1 = (a, 0, f), the pivots where joint_positions puts them);
+    a = 0 has no fixed link to draw and is refused with the reason."""
+    link = linkage.Linkage(kind, **dims)
+    drawing = linkage.mechanism_drawing(link, [0.0, 90.0, 180.0, 270.0])
+    placed = [f for f in drawing.frames if f.message is None]
+    assert placed and "a" in [label.text for label in drawing.ground.labels]
+    f1 = linkage.project(kind, linkage.joint_positions(link, 0.0).joints["F1"])
+    assert f1[0] != 0 or f1[1] != 0
+    with pytest.raises(ValueError, match="needs a != 0"):
+        linkage.mechanism_drawing(linkage.Linkage(kind, **{**dims, "a": 0.0}), [0.0])
