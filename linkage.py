@@ -2974,7 +2974,8 @@ def _sphere_strokes(kind, points, style):
     for p in points:
         facing = _dot(p, toward) >= 0.0
         if run and facing != front:
-            strokes.append(Stroke(tuple(run), style if front else "hidden"))
+            if len(run) > 1:                    # a lone point is no stroke
+                strokes.append(Stroke(tuple(run), style if front else "hidden"))
             run = run[-1:]
         run.append(project(kind, p))
         front = facing

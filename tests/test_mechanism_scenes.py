@@ -207,3 +207,23 @@ def test_a_skew_linkage_with_a_negative_offset_is_drawn(kind, dims):
     assert f1[0] != 0 or f1[1] != 0
     with pytest.raises(ValueError, match="needs a != 0"):
         linkage.mechanism_drawing(linkage.Linkage(kind, **{**dims, "a": 0.0}), [0.0])
+
+
+def test_every_stroke_of_a_spherical_drawing_has_two_points_or_more():
+    """An arc that crosses the sphere's rim is split there into its front and hidden parts; a
+    part of one point is no stroke (it drew nothing, and a renderer may choke on it)."""
+    import random
+    rng = random.Random(1)
+    strokes = 0
+    for _ in range(60):
+        a, b, c, d = (rng.uniform(5.0, 170.0) for _ in range(4))
+        try:
+            drawing = linkage.mechanism_drawing(linkage.Linkage("spherical", a=a, b=b, c=c, d=d),
+                                                [15.0 * i for i in range(24)])
+        except ValueError:
+            continue
+        for layer in [drawing.ground] + [frame.layer for frame in drawing.frames]:
+            for stroke in layer.strokes:
+                strokes += 1
+                assert len(stroke.points) >= 2, (a, b, c, d, stroke)
+    assert strokes > 1000
