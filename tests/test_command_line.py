@@ -6,6 +6,7 @@ from __future__ import annotations
 import csv
 import importlib.metadata
 import os
+import struct
 import subprocess
 import sys
 
@@ -116,3 +117,46 @@ def test_ksi_is_the_one_spelling_and_skew_still_works(tmp_path):
         assert (tmp_path / "new" / name).read_bytes() == (tmp_path / "old" / name).read_bytes()
     help_text = run(["run", "--help"], tmp_path).stdout
     assert b"--ksi" in help_text and b"--skew" not in help_text.replace(b"--skew-", b"")
+
+
+def test_the_test_run_is_derandomized_unless_asked_to_explore():
+    """The README's test command is CI's run: the same examples every time (LINKAGE_EXPLORE=1
+    explores)."""
+    import hypothesis
+    assert hypothesis.settings().derandomize == (not os.environ.get("LINKAGE_EXPLORE"))
+
+
+def _two_curve_figure(second):
+    """A one-panel figure of velocity (0 everywhere) and `second`, as the text plot draws it."""
+    xs = [float(x) for x in range(0, 361, 10)]
+    curve = lambda quantity, ys: linkage.Curve(quantity, quantity, "basic", 1,
+                                               (tuple(zip(xs, ys)),))
+    panel = linkage.Panel("b", ("velocity", "acceleration"),
+                          (("velocity", "v", "rad/rad"), ("acceleration", "a", "rad/rad^2")),
+                          (curve("velocity", [0.0] * len(xs)),
+                           curve("acceleration", [second(x) for x in xs])), None)
+    return linkage.text_figure(linkage.Figure("t", "s", ("input angle", "phi", "deg"), (panel,)))
+
+
+def test_a_curve_under_another_stays_visible():
+    """Where the acceleration lies on the velocity the cells show # (not the acceleration's o
+    alone), and the line under the plot says what # is; apart, each keeps its marker."""
+    together = _two_curve_figure(lambda x: 0.0 if x < 180 else 2.0)
+    rows = [line for line in together.splitlines() if "#" in line]
+    assert rows and together.splitlines()[-1].endswith("# = two curves")
+    apart = _two_curve_figure(lambda x: 2.0)
+    assert "#" not in apart and "*" in apart and "o" in apart
+
+
+def test_png_size_and_dpi(tmp_path):
+    scene = str(SCENES / "fig3-plane-four-bar.toml")
+    run(["scene", scene, "--png", "a.png", "--size", "1200x900"], tmp_path)
+    run(["scene", scene, "--png", "b.png", "--dpi", "180"], tmp_path)
+    run(["scene", scene, "--png", "c.png"], tmp_path)
+    size = {n: struct.unpack(">II", (tmp_path / n).read_bytes()[16:24]) for n in
+            ("a.png", "b.png", "c.png")}
+    assert size["a.png"] == (1200, 900)
+    assert size["c.png"][0] == 648 and size["b.png"] == (2 * size["c.png"][0],
+                                                          2 * size["c.png"][1])
+    refused = run(["plot", ".", "--size", "10x10"], tmp_path)
+    assert refused.returncode == 2 and b"WIDTHxHEIGHT" in refused.stderr
