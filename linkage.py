@@ -3034,17 +3034,17 @@ def _slider_range(poses, linkage, size):
 
 def _slider_ground(linkage, poses, size):
     e, b = linkage.dims["e"], linkage.dims["b"]
-    lo, hi = _slider_range(poses, linkage, size)
-    lo = min(lo, -b - size)
-    below = e - 0.45 * size
+    lo, hi = _slider_range(poses, linkage, size)      # the guide under the slider's travel only:
+    below = e - 0.45 * size                            # not through the crank's circle
     strokes = _ground_symbol((0.0, 0.0), (0.0, -1.0), size)
     strokes += _hatched((lo, below), (hi, below), -1, size)
-    strokes.append(Stroke(((lo, 0.0), (hi, 0.0)), "axis"))
+    strokes.append(Stroke(((-b - 2.5 * size, 0.0), (hi, 0.0)), "axis"))
     strokes.append(Stroke(tuple((b * c, b * s) for c, s in (
         _cos_sin_deg(5.0 * i) for i in range(73))), "path"))
     labels = []
     if e:
-        lines, label = _dimension((lo + 0.5 * size, e), (lo + 0.5 * size, 0.0), "e", size)
+        left = -b - 1.5 * size                         # beside the crank's circle
+        lines, label = _dimension((left, e), (left, 0.0), "e", size)
         strokes += lines
         labels.append(label)
     return Layer(tuple(strokes), (Mark((0.0, 0.0), "pivot", "A0"),), tuple(labels))
