@@ -1571,8 +1571,8 @@ class Progress:
         self.total, self.done, self.out, self.shown = total, 0, out, False
         self.live = bool(total) and out is not None and _isatty(out)
         self.clock = time.monotonic
-        self.start = self.next = self.clock() + 1.0 if self.live else 0.0
-        self.start -= 1.0
+        self.start = self.clock()
+        self.next = self.start + 1.0            # first shown once the sweep has run a second
 
     def __call__(self, points: int = 1) -> None:
         self.done += points
