@@ -7192,13 +7192,9 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
         return _said(f"the sweep from {start:g} to {stop:g} by {step:g} has no point", 1)
     if count > 10**8:
         return _said(f"{count:,} points is more than 100 million: choose a larger step", 1)
-    assembled = 0
-    try:
-        table = _Temporary(args.csv) if args.csv else None
-    except OSError as e:
-        return _said(f"cannot write {args.csv}: {e.strerror}", 1)
+    assembled, points = 0, None
 
-    def motions():
+    def motions(table):
         nonlocal assembled
         if table:
             table.write(csv_line(CSV_HEADER).encode("ascii"))
@@ -7220,26 +7216,21 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
         if not assembled:
             raise ProgramStop(f"Illegal linkage (impossible to assemble): it assembles at none "
                               f"of the {count:,} input angles")
-    try:
-        points = write_dat_files(motions(), args.dir, clip=args.clip)
-        if table:
-            table.finish()
-            with _renaming(os.path.dirname(os.path.abspath(args.csv))):
-                table.rename()
+    try:                            # the CSV file, if asked, is renamed into place after the DATs
+        with written_whole(args.csv) if args.csv else contextlib.nullcontext() as table:
+            points = write_dat_files(motions(table), args.dir, clip=args.clip)
     except ProgramStop as stop:
         return _said(stop, 1)
     except OSError as e:
-        return _said(f"cannot write {args.csv}: {e.strerror} (the DAT files are written)", 1)
+        return _said(f"cannot write {args.csv}: {e.strerror}"
+                     + (" (the DAT files are written)" if points is not None else ""), 1)
     except KeyboardInterrupt as e:
         return _said("interrupted; the DAT files there are as they were", interrupted_status(e))
-    finally:
-        if table:
-            table.discard()
     left_out = (f"; {points - assembled:,} without a position, left out"
                 if points > assembled else "")
     _say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)}"
          f"{left_out})")
-    if table:
+    if args.csv:
         _say(f"wrote {args.csv} ({points:,} rows)")
     return 0
 
