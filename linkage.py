@@ -775,7 +775,7 @@ def _assembles(v: Variables, bartype: int) -> bool:
 
 def coefficients(v: Variables, bartype: int) -> tuple[Single, ...]:
     """Lines 520-930: the coefficients A1..J1 of the half-tangent equation (2)."""
-    A, B, C, D, E, F, G, KSI, S = v.A, v.B, v.C, v.D, v.E, v.F, v.G, v.KSI, v.S
+    A, B, C, D, F, G, KSI, S = v.A, v.B, v.C, v.D, v.F, v.G, v.KSI, v.S
     P, PIM = [ZERO] * 9, [ZERO] * 9                     # P(1..8), PIM(1..8); index 0 unused
     if v.CIM == 0:                                                          # 520
         P[1] = (A - B + C - D) / 2; P[2] = (A - B - C - D) / 2              # 540
@@ -6247,6 +6247,7 @@ def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
 # ---- Benchmarks ---------------------------------------------------------------------------
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
+QUICK_KEYS = b"12\r7\r9\r6\r0\r360\r10\r1"     # bench --quick: 37 points
 
 
 def _timed(repeats: int, function):
@@ -6265,12 +6266,12 @@ def _best_of(repeats: int, function) -> float:
     return _timed(repeats, function)[0]
 
 
-def bench_mbf(out) -> None:
+def bench_mbf(out, quick: bool = False) -> None:
     """Time each single-precision operation and one sweep point of lines 1060-1330."""
     import random
-    rng = random.Random(1)
-    xs = [mbf_parse(f"{rng.uniform(-100, 100):.6g}") for _ in range(1000)]
-    ys = [mbf_parse(f"{rng.uniform(0.5, 100):.6g}") for _ in range(1000)]
+    rng, count, repeats = random.Random(1), 20 if quick else 1000, 1 if quick else 5
+    xs = [mbf_parse(f"{rng.uniform(-100, 100):.6g}") for _ in range(count)]
+    ys = [mbf_parse(f"{rng.uniform(0.5, 100):.6g}") for _ in range(count)]
     pairs = list(zip(xs, ys))
     operations = {
         "X+Y": lambda: [mbf_add(x, y) for x, y in pairs],
@@ -6289,95 +6290,113 @@ def bench_mbf(out) -> None:
     }
     print("operation        microseconds", file=out)
     for name, function in operations.items():
-        print(f"{name:16} {_best_of(5, function) / len(xs) * 1e6:12.2f}", file=out)
+        print(f"{name:16} {_best_of(repeats, function) / len(xs) * 1e6:12.2f}", file=out)
     v = Variables()
     answers = iter(["2", "7", "9", "6"])
     dimensions(v, 1, lambda prompt: input_value(next(answers)))
     co = coefficients(v, 1)
     angles = list(sweep_angles(ZERO, degrees_to_radians(Single(360.0)),
-                               degrees_to_radians(Single(1.0))))
-    seconds = _best_of(5, lambda: [sweep_point(co, phi, 1, v.S) for phi in angles])
+                               degrees_to_radians(Single(90.0 if quick else 1.0))))
+    seconds = _best_of(repeats, lambda: [sweep_point(co, phi, 1, v.S) for phi in angles])
     print(f"{'sweep point':16} {seconds / len(angles) * 1e6:12.2f}   (lines 1060-1330 with "
           f"the three WRITE #, plane four-bar a=6 b=2 c=7 d=9)", file=out)
     Single.errors.clear()
 
 
-def bench_scene(out) -> None:
+def bench_scene(out, quick: bool = False) -> None:
     """A displacement-only scene against the same scene drawing velocity and acceleration."""
     import tempfile
+    step, many, few = (10.0, 1, 1) if quick else (0.01, 15, 5)
     panels = {"displacement only": (PanelSpec(("displacement",), None),),
               "all three": (PanelSpec(("displacement",), None),
                             PanelSpec(("velocity", "acceleration"), None))}
-    print("plane four-bar a=6 b=2 c=7 d=9, branch 1, precision double, 0 to 360 by 0.01 degree "
-          "(36,001 points); seconds, best of 15 (engine) or 5", file=out)
+    print(f"plane four-bar a=6 b=2 c=7 d=9, branch 1, precision double, 0 to 360 by {step:g} "
+          f"degree ({angle_count(0.0, 360.0, step):,} points); seconds, best of {many} (engine) "
+          f"or {few}", file=out)
     print(f"{'panels':18} {'engine':>8} {'+ DAT files':>12} {'+ text plot':>12}", file=out)
     times = {}
     for name, specs in panels.items():
         scene = Scene("bench", "bench", PLANE_FOUR_BAR, dict(a=6.0, b=2.0, c=7.0, d=9.0),
-                      0.0, 360.0, 0.01, (1,), ("double",), specs)
+                      0.0, 360.0, step, (1,), ("double",), specs)
         angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
         linkage = Linkage(scene.mechanism, **scene.dimensions)
         with tempfile.TemporaryDirectory() as directory:
             times[name] = (
-                _best_of(15, lambda: linkage.sweep(angles, 1, scene.derivatives)),
-                _best_of(5, lambda: compute_scene(scene, directory)),
-                _best_of(5, lambda: text_figure(scene_figure(scene,
+                _best_of(many, lambda: linkage.sweep(angles, 1, scene.derivatives)),
+                _best_of(few, lambda: compute_scene(scene, directory)),
+                _best_of(few, lambda: text_figure(scene_figure(scene,
                                                              compute_scene(scene, directory)))))
         print(f"{name:18} {times[name][0]:8.3f} {times[name][1]:12.3f} {times[name][2]:12.3f}",
               file=out)
     saved = [1 - d / a for d, a in zip(times["displacement only"], times["all three"])]
     print(f"{'time saved':18} {saved[0]:8.0%} {saved[1]:12.0%} {saved[2]:12.0%}", file=out)
-    _bench_mechanism_view(out)
+    _bench_mechanism_view(out, few)
 
 
-def _bench_mechanism_view(out) -> None:
+def _bench_mechanism_view(out, repeats: int) -> None:
     """What drawing the mechanism costs: 72 poses of each kind (the Figs. 1-2 scenes' sweep)."""
     angles = evenly_spaced_angles(30.0, 385.0, 5.0)
     print(f"\nthe mechanism view, {len(angles)} positions (30 to 385 by 5 degrees, the Figs. 1-2 "
-          "scenes); milliseconds, best of 5", file=out)
+          f"scenes); milliseconds, best of {repeats}", file=out)
     print(f"{'linkage':12} {'engine':>8} {'+ joints':>9} {'drawing':>9} {'text frame':>11} "
           f"{'SVG':>8} {'SVG bytes':>10}", file=out)
     for kind, dims in MECHANISM_EXAMPLES.items():
         linkage = Linkage(kind, **dims)
         drawing = mechanism_drawing(linkage, angles)
-        times = (_best_of(5, lambda: linkage.sweep(angles, 1, 0)),
-                 _best_of(5, lambda: [joint_positions(linkage, phi) for phi in angles]),
-                 _best_of(5, lambda: mechanism_drawing(linkage, angles)),
-                 _best_of(5, lambda: text_drawing(drawing, 0, 80, 24, True)),
-                 _best_of(5, lambda: svg_drawing(drawing)))
+        times = (_best_of(repeats, lambda: linkage.sweep(angles, 1, 0)),
+                 _best_of(repeats, lambda: [joint_positions(linkage, phi) for phi in angles]),
+                 _best_of(repeats, lambda: mechanism_drawing(linkage, angles)),
+                 _best_of(repeats, lambda: text_drawing(drawing, 0, 80, 24, True)),
+                 _best_of(repeats, lambda: svg_drawing(drawing)))
         print(f"{kind:12} " + " ".join(f"{1e3 * t:{w}.2f}" for t, w in zip(times, (8, 9, 9, 11, 8)))
               + f" {len(svg_drawing(drawing).encode()):10,}", file=out)
 
 
-def bench_port(out) -> None:
-    """The 3601-point session (0 to 360 degrees by 0.1) in the port and in PC-BASIC."""
+def bench_port(out, quick: bool = False) -> None:
+    """The 3601-point session (0 to 360 degrees by 0.1) in the port and in PC-BASIC: wall and CPU
+    time (PC-BASIC's CPU time is its process's, user and system, from getrusage)."""
     import io
+    import resource
     import subprocess
     import tempfile
+    import time
+    keys, repeats = (QUICK_KEYS, 1) if quick else (BENCH_KEYS, 3)
+    points = angle_count(0.0, 360.0, float(keys.split(b"\r")[-2]))
+
+    def port_run():
+        cpu = time.process_time()
+        redirected_program(io.BytesIO(keys), io.BytesIO(), port_dir)
+        return time.process_time() - cpu
+
+    def show(who, wall, cpu):
+        print(f"{who:9} {wall:8.2f} s wall, {cpu:8.2f} s CPU for {points} points "
+              f"({wall / points * 1e3:.3f} and {cpu / points * 1e3:.3f} ms a point)", file=out)
     with tempfile.TemporaryDirectory() as port_dir:
-        port = _best_of(3, lambda: redirected_program(io.BytesIO(BENCH_KEYS), io.BytesIO(),
-                                                      port_dir))
-        print(f"port:     {port:8.2f} s for 3601 points ({port / 3601 * 1e3:.3f} ms a point)",
-              file=out)
+        runs = [_timed(1, port_run) for _ in range(repeats)]
+        port, port_cpu = min(runs)
         listing = os.path.join(os.path.dirname(os.path.abspath(__file__)), "legacy_basic",
                                "LINKAGE.BAS")
         with tempfile.TemporaryDirectory() as basic_dir:
             with open(os.path.join(basic_dir, "keys.txt"), "wb") as f:
-                f.write(BENCH_KEYS)
+                f.write(keys)
             command = [sys.executable, "-m", "pcbasic", listing, "--interface=none", "-q",
                        "--input=keys.txt", "--output=STDOUT", "--sound=False"]
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
             try:
                 basic = _best_of(1, lambda: subprocess.run(command, cwd=basic_dir, check=True,
                                                            capture_output=True))
             except (OSError, subprocess.CalledProcessError):
+                show("port:", port, port_cpu)
                 print("PC-BASIC: not installed (pip install pcbasic==2.0.8)", file=out)
                 return
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            basic_cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
             same = all(open(os.path.join(port_dir, n), "rb").read()
                        == open(os.path.join(basic_dir, n), "rb").read() for n in DatFiles.NAMES)
-    print(f"PC-BASIC: {basic:8.2f} s for 3601 points ({basic / 3601 * 1e3:.3f} ms a point)",
-          file=out)
-    print(f"the port is {basic / port:.0f} times faster; the DAT files are "
-          f"{'identical' if same else 'DIFFERENT'}", file=out)
+    print(f"the port is {basic / port:.0f} times faster by wall time, {basic_cpu / port_cpu:.0f} "
+          f"by CPU time; the DAT files are {'identical' if same else 'DIFFERENT'}", file=out)
+    show("port:", port, port_cpu)
+    show("PC-BASIC:", basic, basic_cpu)
 
 
 ENGINE_TARGET = 100_000    # points per second, displacement, velocity and acceleration (issue 5)
@@ -6413,8 +6432,11 @@ def _pylinkage_rates(points: int) -> dict | str:
             PLANE_SLIDER_CRANK: points / _best_of(3, lambda: list(slider.step(points)))}
 
 
-def bench_engine(out, points: int = 100_001, pylinkage_points: int = 10_001) -> None:
+def bench_engine(out, quick: bool = False, points: int = 100_001,
+                 pylinkage_points: int = 10_001) -> None:
     """The accurate engine's speed, scalar and vectorised (numpy), beside pylinkage's."""
+    if quick:
+        points, pylinkage_points = 1001, 101
     angles = evenly_spaced_angles(0.0, 360.0, 360.0 / (points - 1))
     try:
         np = _numpy()
@@ -6455,6 +6477,8 @@ def bench_engine(out, points: int = 100_001, pylinkage_points: int = 10_001) -> 
                     else "")
             print(f"{kind:12} {pylinkage[kind]:12,.0f} points/s {what}; ours/pylinkage: {ours}"
                   f"scalar engine {scalar[kind][level] / pylinkage[kind]:,.1f}x", file=out)
+    if quick:
+        return
     slowest = min(r[2] for r in scalar.values())
     print(f"target: scalar >= {ENGINE_TARGET:,} points/s with velocity and acceleration on one "
           f"core (one Python thread): {'met' if slowest >= ENGINE_TARGET else 'NOT MET'}, "
@@ -6470,459 +6494,10 @@ def bench_engine(out, points: int = 100_001, pylinkage_points: int = 10_001) -> 
               f"{min(r for k, r in fast.items() if k != PLANE_FOUR_BAR):,.0f}", file=out)
 
 
-# -- What accuracy costs in time: `bench accuracy` ------------------------------------------------
-#
-# Six ways of computing the same points, each timed and scored against the 50-digit reference.
-# The measuring instruments are the tests' own, read from tests/ beside this file (imported only
-# here): engine_harness.py (the two sweeps, the scoring rules), engine_reference.py (the mpmath
-# solver written from the geometry, which is the reference), listing_model.py (the listing's
-# formulas in double precision) and basic_runner.py (PC-BASIC). A point is one input angle on one
-# branch.
-
-DIVISION = "division by zero"   # GW-BASIC's soft error (or overflow) at the point, K7; Python's
-#                                 ZeroDivisionError or a non-finite number for the listing in double
-ILLEGAL = "illegal linkage"     # line 480's assembly check refuses the linkage: no point computed
-NO_ANSWER = "no answer"         # the solver gave up, or PC-BASIC wrote no line
-WRONG_STATUS = "wrong status"   # a value where the reference has none, or none where it has one
-FAILURES = (DIVISION, ILLEGAL, NO_ANSWER, WRONG_STATUS)
-CLIP = 3.0                      # lines 1200-1300 write VEL and ACC clipped to +-3 (K9)
-ERROR_COLUMNS = ("angle", "position", "velocity", "acceleration")
-PCBASIC_EVERY = 5               # PC-BASIC's short sweep: every 5th angle of the ordinary sweep
-ACCURACY_REPEATS = 3            # the fast methods' time is the best of this many runs
-PCBASIC_TIMEOUT = 1800          # seconds: PC-BASIC takes a quarter of a second a session
-
-
-class Answer(NamedTuple):
-    """One method's answer at one point: a status (the engine's ASSEMBLED, DEAD_CENTRE,
-    NOT_ASSEMBLED, INDETERMINATE, or DIVISION, ILLEGAL, NO_ANSWER), the values it gives (None
-    where it gives none), whether VEL and ACC are clipped to +-3, and the lines written (the
-    faithful program and PC-BASIC)."""
-
-    status: str
-    output: object = None
-    velocity: object = None
-    acceleration: object = None
-    clipped: bool = False
-    lines: bytes | None = None
-
-
-@dataclasses.dataclass
-class Tally:
-    """One method on one sweep: its time per point and its worst errors against the reference,
-    each with the point where it occurs; the points where it failed, by kind, are not in them."""
-
-    method: str
-    note: str = ""                 # why the row has no numbers, or how it was run
-    seconds: float | None = None   # time for the `computed` points
-    computed: int = 0
-    points: int = 0
-    worst: dict = dataclasses.field(default_factory=dict)   # column: (error, where)
-    failures: dict = dataclasses.field(default_factory=dict)
-    beyond_clip: int = 0           # VEL/ACC values whose reference exceeds +-3, compared clipped
-    first_wrong: str = ""
-    unscored: str = ""             # why there are no errors (no reference)
-
-    @property
-    def per_point(self) -> float | None:
-        return self.seconds / self.computed if self.seconds is not None and self.computed else None
-
-
-INSTRUMENTS = ("basic_runner", "engine_harness", "listing_model", "test_physics")
-
-
-def _instruments():
-    """The tests' modules the accuracy bench measures with: (harness, reference, listing_model,
-    basic_runner, why the reference is missing). ImportError names what is missing."""
-    tests = os.path.join(os.path.dirname(os.path.abspath(__file__)), "tests")
-    sys.path.insert(0, tests)
-    try:
-        import basic_runner
-        import engine_harness
-        import listing_model
-        try:
-            import engine_reference
-            missing = ""
-        except ImportError as e:
-            engine_reference, missing = None, f"{e.name} is not installed (pip install mpmath)"
-    finally:
-        sys.path.remove(tests)
-    return engine_harness, engine_reference, listing_model, basic_runner, missing
-
-
-def _typed_linkage(kind: str, dims: dict):
-    """Lines 250-480 given the dimensions typed at the prompts: the menu key, the answers typed
-    (in the order the listing asks), and the listing's variables, or None where line 480 refuses
-    the linkage. Soft errors are left in Single.errors."""
-    key, typed = _typed_dimensions(kind, dims)
-    v, answers = Variables(), iter(typed)
-    legal = dimensions(v, int(key), lambda prompt: input_value(next(answers)))
-    return key, typed, v if legal else None
-
-
-def _written(lines, soft_errors: int) -> Answer:
-    """What the listing wrote for one point (the "phi,value" lines of ANG, VEL and ACC.DAT, str or
-    bytes) and the soft errors it printed meanwhile, as an Answer: 0, 0, 0 is its mark of a
-    position that does not assemble (K8); after "Division by zero" or "Overflow" the values are
-    not compared."""
-    text = tuple(line.encode("ascii") if isinstance(line, str) else line for line in lines)
-    output, velocity, acceleration = (float(line.split(b",")[1]) for line in text)
-    if output == velocity == acceleration == 0:
-        return Answer(NOT_ASSEMBLED, clipped=True, lines=b"".join(text))
-    status = DIVISION if soft_errors else ASSEMBLED
-    return Answer(status, output, velocity, acceleration, True, b"".join(text))
-
-
-def _faithful_method(cases, repeats):
-    """GW-BASIC single precision, the port's own lines 250-930 (coefficients) and 1060-1330
-    (sweep_point): what `run --precision basic` computes, each angle typed as the sweep's bounds
-    (--from PHI --to PHI), so without the FOR loop's drift (K10)."""
-    jobs = []
-    for label, kind, dims, phis in cases:
-        Single.errors.clear()
-        key, _, v = _typed_linkage(kind, dims)
-        if v is not None:
-            co = coefficients(v, int(key))
-            angles = [degrees_to_radians(input_value(_typed(phi))) for phi in phis]
-            jobs.append((label, phis, (co, v.S, angles), len(Single.errors)))
-        else:
-            jobs.append((label, phis, None, 0))
-
-    def compute():
-        out = []
-        for _, _, job, _ in jobs:
-            rows = []
-            if job is not None:
-                co, S, angles = job
-                for PHI in angles:
-                    for SOL in (1, 2):
-                        del Single.errors[:]
-                        rows.append((sweep_point(co, PHI, SOL, S), len(Single.errors)))
-            out.append(rows)
-        return out
-    seconds, raw = _timed(repeats, compute)
-    Single.errors.clear()
-    answers, computed = {}, 0
-    for (label, phis, job, setup_errors), rows in zip(jobs, raw):
-        for i, phi in enumerate(phis):
-            for branch in (1, 2):
-                if job is None:
-                    answers[label, phi, branch] = Answer(ILLEGAL)
-                    continue
-                lines, soft = rows[2 * i + branch - 1]
-                answers[label, phi, branch] = _written(lines, soft + setup_errors)
-                computed += 1
-    return seconds, computed, answers
-
-
-def _listing_double_method(cases, repeats, model):
-    """The listing's formulas in double precision: tests/listing_model.py, the transcription of
-    lines 250-930 and 1060-1330 that the tests hold against PC-BASIC's DEFDBL variant; unclipped."""
-    coefficients_of = []
-    for _, kind, dims, _ in cases:
-        try:
-            coefficients_of.append(model.coefficients(kind, dims))
-        except (ArithmeticError, ValueError):
-            coefficients_of.append(None)
-
-    def compute():
-        return [[model.point(co, phi, branch) for phi in phis for branch in (1, 2)]
-                if co is not None else [] for co, (_, _, _, phis) in zip(coefficients_of, cases)]
-    seconds, raw = _timed(repeats, compute)
-    status_of = {"ok": ASSEMBLED, "uim": NOT_ASSEMBLED, "division": DIVISION}
-    answers, computed = {}, 0
-    for (label, _, _, phis), co, rows in zip(cases, coefficients_of, raw):
-        for i, phi in enumerate(phis):
-            for branch in (1, 2):
-                if co is None:
-                    answers[label, phi, branch] = Answer(DIVISION)
-                    continue
-                status, *values = rows[2 * i + branch - 1]
-                status = status_of[status]
-                if status == ASSEMBLED and not all(math.isfinite(x) for x in values):
-                    status = DIVISION
-                answers[label, phi, branch] = (Answer(status, *values) if status == ASSEMBLED
-                                               else Answer(status))
-                computed += 1
-    return seconds, computed, answers
-
-
-def _engine_method(cases, repeats):
-    """The accurate engine: Linkage(kind, **dims).sweep(phis, branch), displacement, velocity and
-    acceleration."""
-    links = [Linkage(kind, **dims) for _, kind, dims, _ in cases]
-
-    def compute():
-        return [(link.sweep(phis, 1), link.sweep(phis, 2))
-                for link, (_, _, _, phis) in zip(links, cases)]
-    seconds, raw = _timed(repeats, compute)
-    answers, computed = {}, 0
-    for (label, _, _, phis), branches in zip(cases, raw):
-        for branch, motions in zip((1, 2), branches):
-            for phi, m in zip(phis, motions):
-                answers[label, phi, branch] = Answer(m.status, m.output, m.velocity,
-                                                     m.acceleration)
-                computed += 1
-    return seconds, computed, answers
-
-
-def _mpmath_method(cases, reference, dps):
-    """tests/engine_reference.py's solver at `dps` digits: root finding on the loop closure
-    written from the geometry, implicit differentiation; one solve gives both branches. Returns
-    also the solver's own points (the reference for the others)."""
-    def compute():
-        out = {}
-        for label, kind, dims, phis in cases:
-            for phi in phis:
-                try:
-                    out[label, phi] = reference.solve(kind, dims, phi, dps)
-                except ArithmeticError as e:   # the output link is free ("indeterminate")
-                    out[label, phi] = INDETERMINATE if "indeterminate" in str(e) else NO_ANSWER
-                except ValueError:             # mpmath's root finder gave up
-                    out[label, phi] = NO_ANSWER
-        return out
-    seconds, solved = _timed(1, compute)
-    answers = {}
-    for (label, phi), result in solved.items():
-        for branch in (1, 2):
-            if isinstance(result, str):
-                answers[label, phi, branch] = Answer(result)
-            else:
-                r = result[branch]
-                answers[label, phi, branch] = Answer(r.status, r.output, r.velocity,
-                                                     r.acceleration)
-    return seconds, len(answers), answers, {k: v for k, v in solved.items()
-                                            if not isinstance(v, str)}
-
-
-def _pcbasic_method(cases, runner):
-    """legacy_basic/LINKAGE.BAS under PC-BASIC, one session per point (menu key, dimensions,
-    --from PHI --to PHI, branch) in one interpreter (tests/basic_runner.run_batch, at most
-    PCBASIC_TIMEOUT seconds); the time is the whole run's, start-up and menus included. Soft
-    errors are read from each session's part of the screen. Linkages the listing refuses (line
-    480) are not typed in: the program would return to its menu and swallow the next session's
-    keys."""
-    import time
-    sessions, where, answers = [], [], {}
-    for label, kind, dims, phis in cases:
-        key, typed, v = _typed_linkage(kind, dims)
-        Single.errors.clear()
-        for phi in phis:
-            for branch in (1, 2):
-                if v is None:
-                    answers[label, phi, branch] = Answer(ILLEGAL)
-                    continue
-                answers_typed = typed + [_typed(phi), _typed(phi), "1"]      # from, to, step
-                keys = key + "".join(t + "\r" for t in answers_typed)
-                sessions.append((keys + str(branch)).encode("ascii"))
-                where.append((label, phi, branch))
-    if not sessions:
-        return 0.0, 0, answers
-    start = time.perf_counter()
-    results = runner.run_batch(sessions, timeout=PCBASIC_TIMEOUT)
-    seconds = time.perf_counter() - start
-    screens = results[0]["SCREEN"].split(b'NAME "ANG.DAT" AS')
-    for i, (point, files) in enumerate(zip(where, results)):
-        if not all(name in files for name in runner.DAT_FILES):
-            answers[point] = Answer(NO_ANSWER)
-            continue
-        lines = [files[name].rstrip(b"\x1a") for name in runner.DAT_FILES]
-        if not all(line.count(b"\r\n") == 1 for line in lines):
-            answers[point] = Answer(NO_ANSWER)
-            continue
-        soft = screens[i].count(DIV_ZERO.encode()) + screens[i].count(OVERFLOW.encode())
-        answers[point] = _written(tuple(lines), soft)
-    return seconds, len(sessions), answers
-
-
-def _clipped(r):
-    """The reference point r as the listing writes it: VEL and ACC clipped to +-3."""
-    if r.velocity is None:
-        return r, 0
-    clip = [max(-CLIP, min(CLIP, x)) for x in (r.velocity, r.acceleration)]
-    beyond = sum(abs(x) > CLIP for x in (r.velocity, r.acceleration))
-    return dataclasses.replace(r, velocity=clip[0], acceleration=clip[1]), beyond
-
-
-def _score(tally, harness, cases, answers, references):
-    """Add each answer of `answers` (those of `cases`' points it has) to `tally`, against
-    `references` {(label, phi): {branch: reference point}} (none: times only)."""
-    for label, kind, dims, phis in cases:
-        for phi in phis:
-            for branch in (1, 2):
-                a = answers.get((label, phi, branch))
-                if a is None:
-                    continue
-                tally.points += 1
-                if a.status in FAILURES:
-                    tally.failures[a.status] = tally.failures.get(a.status, 0) + 1
-                    continue
-                if (label, phi) not in references:
-                    continue
-                r = references[label, phi][branch]
-                if a.clipped:
-                    r, beyond = _clipped(r)
-                    tally.beyond_clip += beyond
-                verdict, errors = harness.score(kind, dims, phi, branch, a.status, a.output,
-                                                a.velocity, a.acceleration, r)
-                here = f"{label} {phi}/{branch}"
-                if verdict != "ok":
-                    tally.failures[WRONG_STATUS] = tally.failures.get(WRONG_STATUS, 0) + 1
-                    tally.first_wrong = tally.first_wrong or f"{here}: {verdict}"
-                for quantity, error in errors.items():
-                    column = quantity
-                    if quantity == "output":
-                        column = "position" if kind in harness.SLIDERS else "angle"
-                    if error >= tally.worst.get(column, (-1.0, ""))[0]:
-                        tally.worst[column] = (error, here)
-
-
-ACCURACY_METHODS = ("GW-BASIC single precision (the port)", "the listing's formulas in double",
-                    "the engine", "mpmath, 30 digits", "mpmath, 50 digits (the reference)",
-                    "PC-BASIC running the listing")
-ACCURACY_NOTES = (
-    "How it is measured. A point is one input angle on one branch. Each method's worst error over "
-    "the sweep against the 50-digit reference (tests/engine_reference.py: root finding on the "
-    "loop closure written from the geometry; mpmath rows carry 10 guard digits), as "
-    "tests/test_engine.py scores:",
-    """\
-  angle         |psi - psi_ref| in degrees, wrapped (the four-bars' output)
-  position      |x - x_ref| / the linkage's largest length (the slider-cranks' output)
-  velocity,     |v - v_ref| where |v_ref| <= 1, |v - v_ref| / |v_ref| above (d/dphi and
-  acceleration  d2/dphi2 of psi in radians per radian, of x in length per radian)""",
-    f"Time a point: the sweep's time over its points, best of {ACCURACY_REPEATS} (mpmath, "
-    "PC-BASIC: one run), each linkage set up beforehand (Linkage(), the coefficients); the mpmath "
-    "solver gives both branches of an angle at once. Not in the errors, counted in the last "
-    f"column: {DIVISION} (GW-BASIC's soft error or overflow; Python's, or a number not finite, "
-    f"for the listing in double), {ILLEGAL} (line 480 refuses the linkage), {WRONG_STATUS} (a "
-    "value where the reference has no position, or none where it has one, beyond rounding). The "
-    "faithful program and PC-BASIC get each angle typed as both bounds (no FOR-loop drift, K10); "
-    "they write 0, 0, 0 where the linkage does not assemble (K8), and their VEL and ACC are "
-    "compared with the reference clipped to +-3 (K9). \"Worst at\" names the point: case "
-    "phi/branch.")
-
-
-def measure_accuracy(cases, pcbasic_cases=None, repeats=ACCURACY_REPEATS) -> list[Tally]:
-    """Time the six methods on `cases` [(label, kind, dims, phis)] and score them against the
-    50-digit reference (the 50-digit row against an 80-digit run). PC-BASIC runs `pcbasic_cases`
-    (None: not at all). One Tally per method, in the order of ACCURACY_METHODS."""
-    import subprocess
-    harness, reference, model, runner, missing = _instruments()
-    tallies = [Tally(name) for name in ACCURACY_METHODS]
-    faithful, listing, engine, mp30, mp50, basic = tallies
-    runs = [(faithful, _faithful_method(cases, repeats)),
-            (listing, _listing_double_method(cases, repeats, model)),
-            (engine, _engine_method(cases, repeats))]
-    references, truth = {}, {}
-    if reference is None:
-        mp30.note = mp50.note = missing
-    else:
-        *run50, references = _mpmath_method(cases, reference, 50)
-        runs.append((mp50, tuple(run50)))
-        runs.append((mp30, _mpmath_method(cases, reference, 30)[:3]))
-        truth_seconds, truth_points, _, truth = _mpmath_method(cases, reference, 80)
-        mp50.note = (f"errors against an 80-digit run "
-                     f"({_duration(truth_seconds / max(truth_points, 1))} a point)")
-    if pcbasic_cases is None:
-        basic.note = "not run"
-    else:
-        try:
-            version = runner.pcbasic_version()
-        except (OSError, subprocess.CalledProcessError) as e:
-            basic.note = f"PC-BASIC is not installed (pip install pcbasic==2.0.8): {e}"
-        else:
-            try:
-                run = _pcbasic_method(pcbasic_cases, runner)
-            except subprocess.TimeoutExpired:
-                basic.note = f"{version} did not finish in {PCBASIC_TIMEOUT} s"
-            else:
-                runs.append((basic, run))
-                port = runs[0][1][2]
-                same = sum(a.lines is not None and a.lines == getattr(port.get(k), "lines", None)
-                           for k, a in run[2].items())
-                basic.note = (f"{version}, one session per point; wrote the port's bytes at "
-                              f"{same} of {run[1]} points")
-    for tally, (seconds, computed, answers) in runs:
-        tally.seconds, tally.computed = seconds, computed
-        against = truth if tally is mp50 else references
-        _score(tally, harness, pcbasic_cases if tally is basic else cases, answers, against)
-        tally.unscored = missing
-    return tallies
-
-
-def _duration(seconds: float | None) -> str:
-    if seconds is None:
-        return "—"
-    for unit, scale in (("s", 1.0), ("ms", 1e-3), ("µs", 1e-6)):
-        if seconds >= scale or unit == "µs":
-            return f"{seconds / scale:.3g} {unit}"
-    raise AssertionError
-
-
-def _error_text(tally: Tally, column: str) -> str:
-    if column not in tally.worst:
-        return "n/a" if tally.unscored else "—"
-    error = tally.worst[column][0]
-    return "0" if error == 0 else f"{error:.1e}"
-
-
-def print_accuracy_table(tallies: list[Tally], out) -> None:
-    """The tallies as a Markdown table, then where each method's worst errors are."""
-    print("| method | time a point | points | angle ° | position | velocity | acceleration "
-          "| not in the errors |", file=out)
-    print("|---|--:|--:|--:|--:|--:|--:|---|", file=out)
-    for t in tallies:
-        failed = ", ".join(f"{n} {kind}" for kind, n in t.failures.items()) or "—"
-        if t.seconds is None:
-            print(f"| {t.method} | {t.note} ||||||||", file=out)
-            continue
-        errors = " | ".join(_error_text(t, column) for column in ERROR_COLUMNS)
-        print(f"| {t.method} | {_duration(t.per_point)} | {t.points} | {errors} | {failed} |",
-              file=out)
-    print(file=out)
-    for t in tallies:
-        if t.seconds is None:
-            continue
-        where = "; ".join(f"{column} {t.worst[column][1]}" for column in ERROR_COLUMNS
-                          if column in t.worst and t.worst[column][0] > 0)
-        extra = [t.note] if t.note else []
-        if t.unscored:
-            extra.append(f"no errors: {t.unscored}")
-        if t.beyond_clip:
-            extra.append(f"{t.beyond_clip} VEL/ACC values beyond ±3 compared clipped")
-        if t.first_wrong:
-            extra.append(f"first wrong status: {t.first_wrong}")
-        print(f"- {t.method}: worst at {where or '—'}"
-              + "".join(f"; {e}" for e in extra), file=out)
-
-
-def bench_accuracy(out) -> None:
-    """What accuracy costs in time: six methods, two sweeps, errors against 50 digits."""
-    try:
-        harness = _instruments()[0]
-    except ImportError as e:
-        what = ("the repository's tests/ beside linkage.py" if e.name in INSTRUMENTS
-                else f"{e.name}: python3 -m pip install -e '.[test]'")
-        print(f"not measured: the accuracy bench measures with the tests' modules, and needs "
-              f"{what}", file=out)
-        return
-    ordinary = [(name, kind, dims, harness.ORDINARY_PHIS)
-                for name, (kind, dims) in harness.ORDINARY_CASES.items()]
-    hard = [(c["name"], c["kind"], c["dims"], [float(phi) for phi in c["phis"]])
-            for c in harness.load_hard_cases()]
-    short = [(name, kind, dims, phis[::PCBASIC_EVERY]) for name, kind, dims, phis in ordinary]
-    import textwrap
-    intro, definitions, rules = ACCURACY_NOTES
-    print(textwrap.fill(intro, 100), definitions, textwrap.fill(rules, 100), sep="\n", file=out)
-    for title, cases, pcbasic_cases in (
-            ("ordinary sweep: tests/test_physics.py's linkages, phi = 3, 11, ..., 355; PC-BASIC "
-             f"every {PCBASIC_EVERY}th angle", ordinary, short),
-            (f"hard catalogue: data/hard_cases.toml, {len(hard)} linkages", hard, hard)):
-        print(f"\n{title}\n", file=out)
-        print_accuracy_table(measure_accuracy(cases, pcbasic_cases), out)
-
-
-BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
-              "accuracy": bench_accuracy}
+BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene}
+ELSEWHERE = {"accuracy": "python3 tests/bench_accuracy.py (it measures with the tests' "
+                         "instruments: the 50-digit mpmath reference, the listing in double, "
+                         "PC-BASIC; README, Benchmarks)"}
 
 
 def machine() -> str:
@@ -6946,9 +6521,11 @@ def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     """`python3 linkage.py bench [NAME ...]`: print the benchmarks' numbers and how they ran."""
     print(f"$ python3 linkage.py bench {' '.join(args.names)}".rstrip())
     print(f"{PROG} {__version__} on {machine()}")
+    if args.quick:
+        print("--quick: a check that each runs, on tiny sizes; its numbers mean nothing")
     for name in args.names or list(BENCHMARKS):
         print(f"\n== {name}: {BENCHMARKS[name].__doc__.splitlines()[0]}")
-        BENCHMARKS[name](sys.stdout)
+        BENCHMARKS[name](sys.stdout, quick=args.quick)
     return 0
 
 # ---- The command line ---------------------------------------------------------------------
@@ -7267,6 +6844,8 @@ def _png_size(text: str) -> tuple[int, int]:
 
 
 def _benchmark_name(text: str) -> str:
+    if text in ELSEWHERE:
+        raise argparse.ArgumentTypeError(f"{text} is measured by {ELSEWHERE[text]}")
     if text not in BENCHMARKS:
         raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(BENCHMARKS)}")
     return text
@@ -7368,11 +6947,14 @@ def build_parser() -> argparse.ArgumentParser:
     commands.add_parser("design", help="synthesise a linkage by one of the review's methods "
                                       "(python3 linkage.py design --help)", add_help=False)
     bench = commands.add_parser("bench", help="measure speed, and what accuracy costs in time",
-                                description="Run the benchmarks and print their numbers. "
-                                            "accuracy takes minutes and needs the repository's "
-                                            "tests/ and their dependencies (mpmath, PC-BASIC).")
+                                description="Run the benchmarks and print their numbers "
+                                            "(port runs PC-BASIC for minutes). What accuracy "
+                                            "costs is measured by the repository's script "
+                                            "python3 tests/bench_accuracy.py.")
     bench.add_argument("names", nargs="*", type=_benchmark_name, metavar="NAME",
                        help=f"which: {', '.join(BENCHMARKS)} (default: all)")
+    bench.add_argument("--quick", action="store_true",
+                       help="tiny sizes: a check that each runs (its numbers mean nothing)")
     bench.set_defaults(handler=bench_command, parser=bench)
     return parser
 

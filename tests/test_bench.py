@@ -1,19 +1,26 @@
-"""The accuracy bench's machinery (python3 linkage.py bench accuracy), on a tiny sweep: it scores
-the engine within the bounds tests/test_engine.py asserts and the faithful program at single
-precision's error, it counts the points where the listing fails apart from the errors, PC-BASIC's
-row agrees with the port's, and a missing mpmath, PC-BASIC or tests/ is said, not a traceback.
-No time is asserted: the benchmark prints times."""
+"""The benchmarks. The accuracy bench's machinery (python3 tests/bench_accuracy.py), on a tiny
+sweep: it scores the engine within the bounds tests/test_engine.py asserts and the faithful program
+at single precision's error, it counts the points where the listing fails apart from the errors,
+PC-BASIC's row agrees with the port's, and a missing mpmath or PC-BASIC is said, not a traceback.
+And linkage.py's own benchmarks run with nothing of tests/: the program stands without its tests.
+No time is asserted: the benchmarks print times."""
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 import sys
+import textwrap
+from pathlib import Path
 
 import pytest
 
 import basic_runner
+import bench_accuracy
 import linkage
 from test_engine import TOL
+
+ROOT = Path(__file__).resolve().parent.parent
 
 # (label, kind, dims, input angles): each point is an angle on one branch, so 16 points here.
 TINY = [
@@ -33,12 +40,12 @@ COLUMNS = {"angle": TOL["output"], "position": TOL["slider-output"],
 
 @pytest.fixture(scope="module")
 def tallies():
-    rows = linkage.measure_accuracy(TINY, TINY, repeats=1)
+    rows = bench_accuracy.measure_accuracy(TINY, TINY, repeats=1)
     return dict(zip(("faithful", "listing", "engine", "mp30", "mp50", "basic"), rows))
 
 
 def test_every_row_is_measured_on_every_point(tallies):
-    assert [t.method for t in tallies.values()] == list(linkage.ACCURACY_METHODS)
+    assert [t.method for t in tallies.values()] == list(bench_accuracy.ACCURACY_METHODS)
     for name, t in tallies.items():
         assert t.points == POINTS, name
         assert t.seconds is not None and t.seconds > 0, name
@@ -71,9 +78,9 @@ def test_the_faithful_program_has_single_precisions_error(tallies):
 
 def test_failures_are_counted_apart_from_the_errors(tallies):
     faithful, listing = tallies["faithful"], tallies["listing"]
-    assert faithful.failures[linkage.ILLEGAL] == 2      # skew-slider-ksi-90, both branches
-    assert faithful.failures[linkage.DIVISION] >= 1     # the change point at 0 (K7)
-    assert listing.failures[linkage.DIVISION] >= 1
+    assert faithful.failures[bench_accuracy.ILLEGAL] == 2      # skew-slider-ksi-90, both branches
+    assert faithful.failures[bench_accuracy.DIVISION] >= 1     # the change point at 0 (K7)
+    assert listing.failures[bench_accuracy.DIVISION] >= 1
     for t in (faithful, listing):
         for error, where in t.worst.values():
             assert not where.startswith("change-point 0.0/"), (t.method, where)
@@ -85,7 +92,7 @@ def test_failures_are_counted_apart_from_the_errors(tallies):
 def test_ratios_beyond_3_are_compared_clipped():
     """The listing clips VEL and ACC to +-3 (K9): there its 3 is right, and the bench counts the
     values it compared so."""
-    faithful = linkage.measure_accuracy(CLIPPED, None, repeats=1)[0]
+    faithful = bench_accuracy.measure_accuracy(CLIPPED, None, repeats=1)[0]
     assert faithful.beyond_clip == 4 and faithful.failures == {}
     assert faithful.worst["velocity"][0] <= 1e-5 and faithful.worst["acceleration"][0] <= 1e-5
 
@@ -115,23 +122,55 @@ def test_missing_mpmath_and_pcbasic_are_said(monkeypatch, capsys):
     monkeypatch.delitem(sys.modules, "engine_reference", raising=False)
     monkeypatch.setattr(basic_runner, "pcbasic_command",
                         lambda: [sys.executable, "-m", "no_pcbasic_here"])
-    rows = linkage.measure_accuracy(TINY[:1], TINY[:1], repeats=1)
+    rows = bench_accuracy.measure_accuracy(TINY[:1], TINY[:1], repeats=1)
     faithful, listing, engine, mp30, mp50, basic = rows
     assert "mpmath is not installed" in mp30.note and "mpmath is not installed" in mp50.note
     assert mp30.seconds is None and mp50.seconds is None
     assert basic.note.startswith("PC-BASIC is not installed") and basic.seconds is None
     for t in (faithful, listing, engine):
         assert t.seconds is not None and t.worst == {} and "mpmath" in t.unscored
-    linkage.print_accuracy_table(rows, sys.stdout)
+    bench_accuracy.print_accuracy_table(rows, sys.stdout)
     printed = capsys.readouterr().out
     assert "mpmath is not installed" in printed and "PC-BASIC is not installed" in printed
 
 
-def test_without_the_tests_directory_the_bench_says_so(tmp_path):
-    """linkage.py alone (no tests/ beside it): a message, exit status 0, no traceback."""
-    (tmp_path / "linkage.py").write_bytes(open(linkage.__file__, "rb").read())
-    run = subprocess.run([sys.executable, str(tmp_path / "linkage.py"), "bench", "accuracy"],
-                         capture_output=True, text=True, cwd=tmp_path, timeout=60)
+def test_the_programs_benchmarks_run_without_tests(tmp_path):
+    """linkage.py copied alone (with legacy_basic/ for PC-BASIC's run), none of tests/ on sys.path
+    and every module of tests/ refused at import: each bench name runs (--quick: tiny sizes), the
+    port writes PC-BASIC's bytes, and `bench accuracy` names the script that measures it."""
+    shutil.copy(linkage.__file__, tmp_path / "linkage.py")
+    shutil.copytree(ROOT / "legacy_basic", tmp_path / "legacy_basic")
+    refused = sorted(p.stem for p in (ROOT / "tests").glob("*.py"))
+    code = textwrap.dedent(f"""
+        import importlib.abc, runpy, sys
+        class Refuse(importlib.abc.MetaPathFinder):
+            def find_spec(self, name, path=None, target=None):
+                if name.split(".")[0] in {refused!r}:
+                    raise ImportError(f"linkage.py imported {{name}} from tests/")
+        sys.meta_path.insert(0, Refuse())
+        sys.path = [p for p in sys.path if "tests" not in p]
+        sys.argv = ["linkage.py"] + sys.argv[1:]
+        runpy.run_path("linkage.py", run_name="__main__")
+    """)
+    run = subprocess.run([sys.executable, "-I", "-c", code, "bench", "--quick"],
+                         capture_output=True, text=True, cwd=tmp_path, timeout=300)
+    assert run.returncode == 0 and "Traceback" not in run.stderr, run.stderr
+    for name in linkage.BENCHMARKS:
+        assert f"\n== {name}: " in run.stdout, name
+    assert "the DAT files are identical" in run.stdout
+    elsewhere = subprocess.run([sys.executable, "-I", "-c", code, "bench", "accuracy"],
+                               capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    assert elsewhere.returncode == 2 and "Traceback" not in elsewhere.stderr
+    assert "python3 tests/bench_accuracy.py" in elsewhere.stderr
+
+
+def test_the_accuracy_script_runs_as_a_script():
+    """python3 tests/bench_accuracy.py from another folder finds the program and its instruments
+    (only the import is run here: the whole run takes minutes)."""
+    code = ("import runpy, sys; sys.argv = ['bench_accuracy.py']; "
+            f"m = runpy.run_path({str(ROOT / 'tests' / 'bench_accuracy.py')!r}); "
+            "print(m['ACCURACY_METHODS'][2], m['linkage'].__file__)")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd="/", timeout=60)
     assert run.returncode == 0, run.stderr
-    assert "Traceback" not in run.stderr + run.stdout
-    assert "not measured" in run.stdout and "tests/" in run.stdout
+    assert run.stdout.split()[:2] == ["the", "engine"]
