@@ -17,9 +17,10 @@ tests/test_differential.py to random sessions). Deviations from the original are
 `# ERRATA Pn` here and listed in legacy_basic/ERRATA.md, Part 3: only where the original would
 hang or lose data (P1-P6).
 
-Sections: GW-BASIC single precision; the listing's computation; the original program
-(screen, keys, INPUT, the menu session, files); the accurate engine; synthesis; scenes and
-plots; benchmarks; the command line.
+Sections, each used only by those after it (its header says which it uses): 1. GW-BASIC
+single precision; 2. the listing's computation; 3. the original program (screen, keys, INPUT,
+the menu session, the one writer of files); 4. the accurate engine; 5. the mechanism view;
+6. synthesis; 7. scenes and plots; 8. benchmarks; 9. the command line, last.
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ __version__ = "0.2.0"
 PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linkage.py"
 
 
-# ---- GW-BASIC single precision --------------------------------------------------------------
+# ---- 1. GW-BASIC single precision ----------------------------------------------------------------
 # GW-BASIC single precision (Microsoft Binary Format) as PC-BASIC 2.0.8 computes it.
 #
 # A single is held as a plain Python float whose value is exactly representable
@@ -55,6 +56,9 @@ PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linka
 # Soft errors ("Overflow", "Division by zero") do not stop the computation:
 # the function returns +-MAX and calls the `err` callable it was given with the
 # message, in the order the interpreter prints them.
+#
+# Uses: none (the sections after it compute GW-BASIC's numbers with it).
+
 MBF_MAX = math.ldexp(0xFFFFFF, 127 - 24)      # 1.701412E+38, the overflow value
 OVERFLOW = "Overflow"
 DIV_ZERO = "Division by zero"
@@ -565,7 +569,7 @@ def mbf_for_final(start, stop, step, err=_ignore):
     return mbf_add(last, step, err)
 
 
-# ---- The listing's computation: lines 110, 250-930 and 1050-1340 ----------------------------
+# ---- 2. The listing's computation: lines 110, 250-930 and 1050-1340 ------------------------------
 #
 # The listing's variables keep their BASIC names here, so that this section can be read beside
 # legacy_basic/LINKAGE.BAS line by line. In the paper's symbols (eqs. (1)-(3), Table 1):
@@ -584,6 +588,8 @@ def mbf_for_final(start, stop, step, err=_ignore):
 # right), so an expression below evaluates in the listing's order when written as the listing
 # writes it. Literals (2, .5, 180 for 180!) are exact singles. Soft errors ("Overflow",
 # "Division by zero") collect in Single.errors, in order, for the screen to show.
+#
+# Uses: section 1 (the single-precision operations).
 
 
 class Single:
@@ -998,7 +1004,23 @@ def sweep_point_as_listed(co: tuple[Single, ...], PHI: Single, SOL: int, S: Sing
         M22[k] = _clip3(M22[k])                                                          # 1290-1300
     return _write_lines(angle, ang, M11[SOL - 1], M22[SOL - 1], derivatives)            # 1320-1330
 
-# ---- The original program: keys, screen, INPUT, the session, the files ---------------------
+
+MECHANISM_TYPES = {  # name: (menu key, the dimensions in the order the listing asks for them)
+    "plane": ("1", ("b", "c", "d", "a")),
+    "spherical": ("2", ("b", "c", "d", "a")),
+    "skew": ("3", ("b", "c", "d", "a", "f", "ksi")),
+    "slider": ("4", ("b", "c", "e")),
+    "skew-slider": ("5", ("b", "c", "a", "f", "ksi")),
+}
+
+
+# ---- 3. The original program: keys, screen, INPUT, the session, the files ------------------------
+#
+# Holds: the menu program as the original runs it: the screen and its transcript, keys one
+# at a time, INPUT's reading of an answer, the session of menus and prompts, and the one
+# writer every file of the program goes through (whole or not at all); the menu program on
+# a terminal or driven by keys (menu_program, redirected_program).
+# Uses: sections 1 and 2 (GW-BASIC's numbers, the listing's computation).
 
 
 class EndOfKeys(Exception):  # ERRATA P4
@@ -1230,11 +1252,11 @@ def key_value(key: str) -> int:
 # comes under a unique name in the target folder, flushed to the disk and renamed over its own
 # name only when complete; on any failure or signal it is removed and the old file stands.
 
-def _say(message) -> None:
+def _say(message, who: str = PROG) -> None:
     """A line on standard error, where there is one (it may be closed)."""
     if sys.stderr is not None:                  # None: closed (print would use stdout)
         with contextlib.suppress(OSError, ValueError, AttributeError):
-            print(f"{PROG}: {message}", file=sys.stderr, flush=True)
+            print(f"{who}: {message}", file=sys.stderr, flush=True)
 
 
 def _said(message, status: int) -> int:
@@ -1615,7 +1637,150 @@ def _isatty(stream) -> bool:
     return False
 
 
-# ---- The accurate engine ------------------------------------------------------------------
+@contextlib.contextmanager
+def single_keys(fd, enter=None, leave=None, carriage_return=False):
+    """The terminal on file descriptor fd takes single keys with no echo (Ctrl-C still
+    interrupts) inside the block, and is put back as it was on leaving it, however it is left.
+    Ctrl-Z (SIGTSTP) puts it back before the program stops; `fg` takes single keys again.
+    enter() and leave() draw what else the screen needs; carriage_return keeps Enter a CR.
+    fd None (no terminal to read): only enter() and leave()."""
+    import signal
+    saved = mode = None
+    if fd is not None:
+        import termios
+        saved, mode = termios.tcgetattr(fd), termios.tcgetattr(fd)
+        if carriage_return:
+            mode[0] &= ~termios.ICRNL
+        mode[3] &= ~(termios.ICANON | termios.ECHO)
+        mode[6][termios.VMIN], mode[6][termios.VTIME] = 1, 0
+
+    def begin():
+        if fd is not None:
+            termios.tcsetattr(fd, termios.TCSAFLUSH, mode)
+        if enter:
+            enter()
+
+    def end():                      # the terminal may be gone (SIGHUP): restore what can be
+        if leave:
+            with contextlib.suppress(OSError, ValueError):
+                leave()
+        if fd is not None:
+            with contextlib.suppress(OSError, termios.error):
+                termios.tcsetattr(fd, termios.TCSAFLUSH, saved)
+
+    def stop(signum, frame):
+        end()
+        signal.signal(signal.SIGTSTP, signal.SIG_DFL)
+        os.kill(os.getpid(), signal.SIGTSTP)         # stopped here until `fg`
+        signal.signal(signal.SIGTSTP, stop)
+        begin()
+
+    try:
+        before = signal.signal(signal.SIGTSTP, stop)
+    except ValueError:                               # not the main thread: no signals
+        before = None
+    try:
+        begin()
+        yield
+    finally:
+        end()
+        if before is not None:
+            signal.signal(signal.SIGTSTP, before)
+
+
+def menu_program(stdin=None, stdout=None, directory: str = ".") -> int:
+    """`python3 linkage.py`: the original program on this terminal, or driven by the keys on
+    standard input (`python3 linkage.py < keys.txt`) with PC-BASIC's screen transcript. A closed
+    standard input is no keys; a closed standard output, no transcript."""
+    stdin = sys.stdin if stdin is None else stdin
+    stdout = sys.stdout if stdout is None else stdout
+    if not (_isatty(stdin) and _isatty(stdout)):
+        return redirected_program(getattr(stdin, "buffer", None),
+                                  getattr(stdout, "buffer", None), directory)
+    import select
+    fd = stdin.fileno()
+    screen_out = _Transcript(stdout, encode=False)
+    with single_keys(fd, carriage_return=True):    # Enter arrives as CR, as on the PC
+        keys = Keys(lambda: os.read(fd, 1), fold_crlf=False,
+                    pending=lambda: bool(select.select([fd], [], [], 0.05)[0]))
+        status = _run_guarded(Screen(screen_out.write, terminal=True), keys, directory)
+    return screen_out.status(status)
+
+
+def redirected_program(keys_in, screen_out, directory: str = ".") -> int:
+    """The menu program reading its keys from the byte stream `keys_in` and writing PC-BASIC's
+    screen transcript (CR LF lines) to the byte stream `screen_out` (either may be None: closed).
+    The transcript's failures (a closed pipe, a full disk) never cost the DAT files."""
+    keys = Keys((lambda: keys_in.read(1)) if keys_in is not None else (lambda: b""),
+                fold_crlf=True)
+    transcript = _Transcript(screen_out)
+    status = _run_guarded(Screen(transcript.write, terminal=False), keys, directory)
+    return transcript.status(status)
+
+
+class _Transcript:
+    """The screen's output stream. A failure to write it (a reader that went away, a closed or
+    full standard output) is remembered, not raised: the session goes on and writes its files,
+    and status() says what happened on standard error and gives the exit status."""
+
+    def __init__(self, out, encode: bool = True):
+        self.out, self.encode, self.error = out, encode, None
+        if out is None:
+            self.error = "standard output is closed: no screen transcript"
+
+    def write(self, text: str) -> None:
+        if self.error is None:
+            try:
+                self.out.write(text.encode("utf-8") if self.encode else text)
+                if not self.encode:
+                    self.out.flush()
+            except (OSError, ValueError) as e:
+                self._failed(e)
+
+    def _failed(self, e: Exception) -> None:
+        self.broken_pipe = isinstance(e, BrokenPipeError)
+        self.error = ("the screen transcript's reader stopped reading" if self.broken_pipe
+                      else f"cannot write the screen transcript: {getattr(e, 'strerror', e)}")
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            # nothing more goes there, not even Python's flush at exit
+            os.dup2(os.open(os.devnull, os.O_WRONLY), self.out.fileno())
+
+    def status(self, status: int) -> int:
+        if self.error is None:
+            try:
+                self.out.flush()
+            except (OSError, ValueError) as e:
+                self._failed(e)
+        if self.error is None:
+            return status
+        _say(f"{self.error}; the session went on"
+             + ("" if status else " and its DAT files were written"))
+        return status or (141 if getattr(self, "broken_pipe", False) else 1)
+
+
+def _run_guarded(screen: Screen, keys: Keys, directory: str) -> int:
+    """Run the session; turn the ways it can stop into a message and an exit status."""
+    try:
+        run_session(screen, keys, directory)
+        screen.show_soft_errors()
+        return 0
+    except EndOfKeys:
+        error, status = "the keystrokes ended before the program did; no DAT file was written", 1
+        if keys.line_feeds:
+            error += (" (the keys hold line feeds, \\n, but Enter is a carriage return, \\r, "
+                      "as on the PC: printf '1\\r2\\r...' types them)")
+    except ProgramStop as stop:
+        error, status = str(stop), 1
+    except KeyboardInterrupt as e:
+        error, status = "interrupted; no DAT file was written", interrupted_status(e)
+    finally:
+        if screen.terminal:
+            screen.line()
+    _say(error)
+    return status
+
+
+# ---- 4. The accurate engine ----------------------------------------------------------------------
 #
 # The five linkages in IEEE double precision, stable where the
 # listing is not.
@@ -1654,6 +1819,8 @@ def _isatty(stream) -> bool:
 # CHANGE_POINT; branch k gets the limit of the listing's branch k from above (phi -> phi0+),
 # i.e. branch 1 the root with E_phipsi + E_psipsi v = +sqrt(E_phipsi^2 - E_psipsi E_phiphi) > 0,
 # the sign dE/dpsi takes on it just past phi0 (sliders: G_x = 2(x - m), v = m' +- sqrt(...)).
+#
+# Uses: section 3 (the one writer, for the DAT and CSV files).
 
 
 # The mechanisms, named as tests/test_physics.py names them, with their dimensions: lengths as
@@ -2705,7 +2872,7 @@ def write_csv(path: str, rows, header=CSV_HEADER) -> int:
     return count
 
 
-# ---- The mechanism view: joint positions, drawings, and their renderers ----------------------
+# ---- 5. The mechanism view: joint positions, drawings, and their renderers -----------------------
 #
 # What the engine computes, made visible. joint_positions() places every joint of a linkage in
 # 3-D, in the frame the listing's coefficients imply (tests/test_physics.py derives it): the input
@@ -2715,6 +2882,8 @@ def write_csv(path: str, rows, header=CSV_HEADER) -> int:
 # linkages in a fixed isometric view with their two shaft axes - and gives a Drawing: the ground
 # (fixed pivots hatched, axes, labels), drawn once, and one Frame a pose. The renderers draw a
 # Drawing: the terminal (Unicode braille, or ASCII), an animated SVG, a PNG (matplotlib).
+#
+# Uses: sections 3 and 4 (single keys for the animation; the engine's positions).
 
 class Pose(NamedTuple):
     """Where every joint of a linkage is at one input angle (see joint_positions).
@@ -3426,57 +3595,6 @@ def _key_within(fd, seconds):
     return None
 
 
-@contextlib.contextmanager
-def single_keys(fd, enter=None, leave=None, carriage_return=False):
-    """The terminal on file descriptor fd takes single keys with no echo (Ctrl-C still
-    interrupts) inside the block, and is put back as it was on leaving it, however it is left.
-    Ctrl-Z (SIGTSTP) puts it back before the program stops; `fg` takes single keys again.
-    enter() and leave() draw what else the screen needs; carriage_return keeps Enter a CR.
-    fd None (no terminal to read): only enter() and leave()."""
-    import signal
-    saved = mode = None
-    if fd is not None:
-        import termios
-        saved, mode = termios.tcgetattr(fd), termios.tcgetattr(fd)
-        if carriage_return:
-            mode[0] &= ~termios.ICRNL
-        mode[3] &= ~(termios.ICANON | termios.ECHO)
-        mode[6][termios.VMIN], mode[6][termios.VTIME] = 1, 0
-
-    def begin():
-        if fd is not None:
-            termios.tcsetattr(fd, termios.TCSAFLUSH, mode)
-        if enter:
-            enter()
-
-    def end():                      # the terminal may be gone (SIGHUP): restore what can be
-        if leave:
-            with contextlib.suppress(OSError, ValueError):
-                leave()
-        if fd is not None:
-            with contextlib.suppress(OSError, termios.error):
-                termios.tcsetattr(fd, termios.TCSAFLUSH, saved)
-
-    def stop(signum, frame):
-        end()
-        signal.signal(signal.SIGTSTP, signal.SIG_DFL)
-        os.kill(os.getpid(), signal.SIGTSTP)         # stopped here until `fg`
-        signal.signal(signal.SIGTSTP, stop)
-        begin()
-
-    try:
-        before = signal.signal(signal.SIGTSTP, stop)
-    except ValueError:                               # not the main thread: no signals
-        before = None
-    try:
-        begin()
-        yield
-    finally:
-        end()
-        if before is not None:
-            signal.signal(signal.SIGTSTP, before)
-
-
 # -- the SVG -------------------------------------------------------------------------------------
 # One self-contained file a browser plays with no script: each frame a group whose visibility a
 # SMIL <animate> switches in turn. Without animation (a static viewer) the first frame with the
@@ -3603,6 +3721,21 @@ def _png_layer(ax, layer: Layer, alpha: float, letters: bool) -> None:
                     fontstyle="italic", family="serif")
 
 
+class PlotUnavailable(RuntimeError):
+    """--png without matplotlib."""
+
+
+def _matplotlib():
+    """matplotlib's Figure and Agg canvas (no pyplot: no global state), or PlotUnavailable."""
+    try:
+        from matplotlib.figure import Figure as MplFigure
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+    except ImportError:
+        raise PlotUnavailable("--png needs matplotlib, which is not installed: "
+                              "pip install 'linkage[plot]' (or pip install matplotlib)") from None
+    return MplFigure, FigureCanvasAgg
+
+
 def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
                 size: tuple[int, int] | None = None) -> bytes:
     """The drawing as a PNG: up to `positions` of its frames spread over the sweep, overlaid
@@ -3637,7 +3770,7 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
     return out.getvalue()
 
 
-# ---- Synthesis: four-bar and slider-crank function generators (issue 7) -----------------------
+# ---- 6. Synthesis: four-bar and slider-crank function generators ---------------------------------
 # The classical analytical synthesis methods collected by E. Pennestrì and P. P. Valentini, "A
 # review of simple analytical methods for the kinematic synthesis of four-bar and slider-crank
 # function generators for two and three prescribed finite positions" (2009): the transmission
@@ -3673,6 +3806,8 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
 # rotation between the dead centres, the prescribed positions met or missed, the
 # transmission-angle extremes. Corrections to the review are marked `# ERRATUM Sn` and justified
 # in SYNTHESIS_ERRATA.md.
+#
+# Uses: sections 4 and 5 (the engine checks every design; a design drawn).
 
 
 _R = math.pi / 180.0                    # radians per degree
@@ -5144,66 +5279,6 @@ def _number(x):
     return f"{x:.10g}"
 
 
-class _UsageError(Exception):
-    """A command line argparse refuses."""
-
-
-class CommandParser(argparse.ArgumentParser):
-    """argparse, taking a negative number in any form (-1e3, -.5, -1D3) as an option's value
-    (argparse before Python 3.13 takes -1e3 for an option and says "expected one argument")."""
-
-    def __init__(self, *args, **kwargs):
-        super().__init__(*args, **kwargs)
-        self._negative_number_matcher = re.compile(r"-\.?\d")
-
-
-class _Parser(CommandParser):
-    """argparse that raises instead of exiting, so that design_command returns its code."""
-
-    def error(self, message):
-        raise _UsageError(f"{message} (see {self.prog} --help)")
-
-
-def _design_number(flag: str):
-    """The argparse type of a datum: an ordinary decimal (decimal_number), its refusal naming
-    the option."""
-    def number(text: str) -> float:
-        try:
-            return decimal_number(text, flag, basic_hint=False)
-        except ValueError as e:
-            raise argparse.ArgumentTypeError(str(e).removeprefix(f"{flag}: ")) from None
-    number.__name__ = "number"
-    return number
-
-
-def _design_parser():
-    """The parser of `design METHOD --name value ... [--analyze]`."""
-    parser = _Parser(prog=f"{PROG} design",
-                     description="Synthesis of four-bar and slider-crank function generators "
-                                 "(Pennestri & Valentini's review); angles in degrees.")
-    methods = parser.add_subparsers(dest="method", metavar="METHOD", parser_class=_Parser)
-    methods.required = True
-    for name, (function, method) in METHODS.items():
-        summary = " ".join(function.__doc__.split())
-        sub = methods.add_parser(name, help=summary, description=summary)
-        for datum in DATA[method]:
-            flag = "--lambda" if datum.name == "lam" else "--" + datum.name.replace("_", "-")
-            sub.add_argument(flag, dest=datum.name, type=_design_number(flag),
-                             required=not datum.optional,
-                             help=datum_help(datum), **({"nargs": 3} if datum.count == 3 else {}))
-        sub.add_argument("--analyze", action="store_true",
-                         help="run the design through the analysis and print what it does")
-        sub.add_argument("--dat", metavar="DIR",
-                         help="write ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution there "
-                              "(engine, 0 to 360 by 1 degree)")
-        sub.add_argument("--svg", metavar="OUT", help="draw the preferred solution at its "
-                         "design positions as an animated SVG")
-        sub.add_argument("--png", metavar="OUT", help="draw it as a PNG, the positions "
-                         "overlaid (needs matplotlib)")
-        sub.add_argument("--text", action="store_true", help="draw it in the terminal")
-    return parser
-
-
 def _design_lines(design):
     """The `name = value` lines of one design: the paper's letters, branch, the review's
     unknowns, the design positions and the transmission-angle extremes."""
@@ -5224,66 +5299,6 @@ def _design_lines(design):
     return lines
 
 
-def design_command(argv):
-    """`python3 linkage.py design METHOD --name value ... [--analyze] [--dat DIR] [--svg OUT]
-    [--png OUT] [--text]` (argv: the words after `design`): print the design, `name = value` a
-    line, and draw it; exit 0, 1 bad data, 2 usage, 3 a miss."""
-    argv = list(argv)
-    if argv[:1] == ["design"]:
-        argv = argv[1:]
-    try:
-        args = _design_parser().parse_args(argv)
-        function, method = METHODS[args.method]
-        result = function(**{datum.name: getattr(args, datum.name) for datum in DATA[method]
-                             if getattr(args, datum.name) is not None})
-    except DesignError as error:
-        print(f"{PROG} design: error: {error}", file=sys.stderr)
-        return 1
-    except _UsageError as error:
-        print(f"{PROG} design: error: {error}", file=sys.stderr)
-        return 2
-    except SystemExit as exit_:                     # argparse's --help
-        return int(exit_.code or 0)
-    print(f"method = {result.method}")
-    for key, value in result.design.data.items():
-        print(f"data.{key} = {_number(value)}")
-    print(f"solutions = {len(result.solutions)}")
-    print(f"preferred = {result.preferred + 1}")
-    for reason in result.rejected:
-        print(f"rejected = {reason}")
-    code = 0
-    for number, design in enumerate(result.solutions, 1):
-        print(f"solution = {number}")
-        for line in _design_lines(design):
-            print(line)
-        if args.analyze:
-            checks = analyze_design(design)
-            bad = misses(design, checks)
-            for check in checks:
-                measured = "none" if check.measured is None else _number(check.measured)
-                print(f"measured.{check.name} = {measured}  # expected {_number(check.expected)}"
-                      f", miss {check.miss:.2g}")
-            print(f"verdict = {'meets' if not bad else 'misses ' + ', '.join(c.name for c in bad)}")
-            code = code or (3 if bad else 0)
-    if args.dat is not None:
-        link = result.design.linkage
-        kind, dims = _kind_dims(link)
-        try:
-            motions = Linkage(kind, **dims).sweep(evenly_spaced_angles(0.0, 360.0, 1.0),
-                                                  link.branch)
-            write_dat_files(motions, args.dat)
-        except ProgramStop as error:
-            print(f"{PROG} design: error: {error}", file=sys.stderr)
-            return 1
-        print(f"dat = {args.dat}  # ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution, "
-              f"0 to 360 by 1 degree, branch {link.branch}, double precision")
-    if args.svg or args.png or args.text:
-        sys.stdout.flush()
-        args.frames = len(result.design.positions) if args.text else None
-        return drawing_command(args, lambda: design_drawing(result)) or code
-    return code
-
-
 def design_drawing(result) -> Drawing:
     """The preferred solution of a Synthesis drawn at its design positions."""
     link = result.design.linkage
@@ -5295,7 +5310,7 @@ def design_drawing(result) -> Drawing:
                              f"{len(result.design.positions)} design positions")
 
 
-# ---- Scenes and plots: the paper's Figures 3-6 (issue 6) -------------------------------------
+# ---- 7. Scenes and plots: the paper's Figures 3-6 ------------------------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a mechanism and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -5316,6 +5331,9 @@ def design_drawing(result) -> Drawing:
 # where the input angle skips a step (the engine leaves out positions that do not exist). Output
 # angles are drawn unwrapped: whole turns are added so that a curve is continuous across +-180
 # degrees, and so that the curves of a panel lie within half a turn of the first one.
+#
+# Uses: sections 2, 3, 4 and 5 (the menu's dimensions; the menu session and the writer; the
+# engine; the mechanism drawn).
 
 SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "title": "a string (the figure's title)",
@@ -5354,10 +5372,6 @@ INPUT_AXIS = ("input angle", "phi", "deg")
 class SceneError(ValueError):
     """A scene file, or a DAT file, that cannot be drawn; the message names the file and the key
     (or line) and what was expected."""
-
-
-class PlotUnavailable(RuntimeError):
-    """--png without matplotlib."""
 
 
 class PanelSpec(NamedTuple):
@@ -6079,17 +6093,6 @@ def _pretty(text: str) -> str:
     return text
 
 
-def _matplotlib():
-    """matplotlib's Figure and Agg canvas (no pyplot: no global state), or PlotUnavailable."""
-    try:
-        from matplotlib.figure import Figure as MplFigure
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-    except ImportError:
-        raise PlotUnavailable("--png needs matplotlib, which is not installed: "
-                              "pip install 'linkage[plot]' (or pip install matplotlib)") from None
-    return MplFigure, FigureCanvasAgg
-
-
 def png_figure(figure: Figure, path: str, dpi: float | None = None,
                size: tuple[int, int] | None = None) -> None:
     """Render the figure with matplotlib (the `plot` extra) into the PNG file `path`: 90 dots an
@@ -6137,32 +6140,6 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
 
 # -- the commands ------------------------------------------------------------------------------
 
-def _reported(work) -> int:
-    """work()'s exit status (0 for None), or, where it fails, a message on standard error and
-    status 1 (130 for Ctrl-C)."""
-    try:
-        return work() or 0
-    except (SceneError, PlotUnavailable) as e:
-        return _said(e, 1)
-    except OSError as e:
-        return _said(f"{e.filename or ''}: {e.strerror}", 1)
-    except KeyboardInterrupt as e:
-        return _said("interrupted", interrupted_status(e))
-
-
-def _draw_command(args: argparse.Namespace, make_figure) -> int:
-    """Make the figure and draw it: the PNG with --png, the text plot with --text or without
-    --png (_reported: every way it can fail is a message and a non-zero status)."""
-    def draw():
-        if args.png:
-            _matplotlib()                       # fail before any work
-        figure = make_figure()
-        if args.png:
-            png_figure(figure, args.png, args.dpi, args.size)
-        if args.text or not args.png:
-            sys.stdout.write(text_figure(figure))
-    return _reported(draw)
-
 
 def scene_drawing(scene: Scene) -> Drawing:
     """A mechanism scene's drawing: the linkage at each of its angles on its first branch."""
@@ -6180,71 +6157,11 @@ def scene_drawing(scene: Scene) -> Drawing:
     return drawing
 
 
-def _check_frames(frames) -> None:
-    if frames is not None and not 1 <= frames <= MAX_FRAMES:
-        raise SceneError(f"--frames {frames}: expected 1 to {MAX_FRAMES:,} frames")
-
-
-def drawing_command(args: argparse.Namespace, make_drawing) -> int:
-    """Draw the mechanism: an animated SVG with --svg, a PNG with --png, the terminal view with
-    --text or neither (animated on a terminal; piped, --frames N stills). Files are written
-    whole or not at all (_reported: every way it can fail is a message and a non-zero status)."""
-    def draw():
-        _check_frames(args.frames)
-        if args.png:
-            _matplotlib()                       # fail before any work
-        drawing = make_drawing()
-        for path, render in ((args.svg, lambda: svg_drawing(drawing).encode("utf-8")),
-                             (args.png, lambda: png_drawing(drawing, dpi=getattr(args, "dpi", None),
-                                                            size=getattr(args, "size", None)))):
-            if path:
-                with written_whole(path) as fh:
-                    fh.write(render())
-                print(f"{PROG}: wrote {path} ({len(drawing.frames)} position"
-                      f"{'s' * (len(drawing.frames) > 1)})", file=sys.stderr)
-        if args.text or not (args.svg or args.png):
-            return show_drawing(drawing, frames=args.frames)
-    return _reported(draw)
-
-
-def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py scene FILE`: compute the scene and draw it, keeping its DAT files in
-    --dir if given; a mechanism scene is drawn (and animated) instead, and writes no DAT file."""
-    try:
-        scene = load_scene(args.file)
-    except SceneError as e:
-        print(f"{PROG}: {e}", file=sys.stderr)
-        return 1
-    if scene.draws_mechanism:
-        if args.csv or args.dir is not None:
-            parser.error(f"--csv and --dir go with a scene of curves; {args.file} draws the "
-                         "mechanism (--svg, --png, --text, --frames)")
-        return drawing_command(args, lambda: scene_drawing(scene))
-    if args.svg or args.frames is not None:
-        parser.error(f"--svg and --frames draw a mechanism scene; {args.file} plots curves "
-                     "(--png, --text)")
-
-    def figure(where):
-        series = compute_scene(scene, where, _say)
-        if args.dir is not None:
-            _say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.dir}")
-        if args.csv:
-            _say(f"wrote {args.csv} ({scene_csv(scene, series, args.csv):,} rows)")
-        return scene_figure(scene, series)
-
-    def temporary():
-        import tempfile
-        with tempfile.TemporaryDirectory(prefix="linkage-scene-") as where:
-            return figure(where)
-    return _draw_command(args, (lambda: figure(args.dir)) if args.dir is not None else temporary)
-
-
-def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR."""
-    return _draw_command(args, lambda: dat_figure(args.directory, args.mechanism))
-
-
-# ---- Benchmarks ---------------------------------------------------------------------------
+# ---- 8. Benchmarks -------------------------------------------------------------------------------
+#
+# Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS; what
+# accuracy costs is measured by tests/bench_accuracy.py, with the tests' instruments.
+# Uses: sections 1, 2, 3, 4, 5 and 7 (what each bench times).
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
 QUICK_KEYS = b"12\r7\r9\r6\r0\r360\r10\r1"     # bench --quick: 37 points
@@ -6485,11 +6402,11 @@ def bench_engine(out, quick: bool = False, points: int = 100_001,
           f"slowest {slowest:,.0f}", file=out)
     if fast:
         fast = {k: r[2] for k, r in fast.items()}
-        misses = [k for k, r in fast.items()
+        short = [k for k, r in fast.items()
                   if r < FAST_TARGETS.get(k, FAST_TARGETS["others"])]
         print(f"target: numpy path >= {FAST_TARGETS[PLANE_FOUR_BAR]:,} (plane), "
               f">= {FAST_TARGETS['others']:,} (the others) with velocity and acceleration: "
-              + (f"NOT MET for {', '.join(misses)}" if misses else "met")
+              + (f"NOT MET for {', '.join(short)}" if short else "met")
               + f", plane {fast[PLANE_FOUR_BAR]:,.0f}, slowest other "
               f"{min(r for k, r in fast.items() if k != PLANE_FOUR_BAR):,.0f}", file=out)
 
@@ -6517,126 +6434,15 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py bench [NAME ...]`: print the benchmarks' numbers and how they ran."""
-    print(f"$ python3 linkage.py bench {' '.join(args.names)}".rstrip())
-    print(f"{PROG} {__version__} on {machine()}")
-    if args.quick:
-        print("--quick: a check that each runs, on tiny sizes; its numbers mean nothing")
-    for name in args.names or list(BENCHMARKS):
-        print(f"\n== {name}: {BENCHMARKS[name].__doc__.splitlines()[0]}")
-        BENCHMARKS[name](sys.stdout, quick=args.quick)
-    return 0
+# ---- 9. The command line -------------------------------------------------------------------------
+#
+# Holds: the shared parsers of what is typed on the command line (numbers in each precision,
+# mechanism types, PNG sizes), one handler a sub-command, and COMMANDS, the table of every
+# sub-command's help and options that build_parser turns into argparse; main() last.
+#
+# Uses: sections 2, 3, 4, 5, 6, 7 and 8 (every command runs a part of the program).
 
-# ---- The command line ---------------------------------------------------------------------
-
-MECHANISM_TYPES = {  # name: (menu key, the dimensions in the order the listing asks for them)
-    "plane": ("1", ("b", "c", "d", "a")),
-    "spherical": ("2", ("b", "c", "d", "a")),
-    "skew": ("3", ("b", "c", "d", "a", "f", "ksi")),
-    "slider": ("4", ("b", "c", "e")),
-    "skew-slider": ("5", ("b", "c", "a", "f", "ksi")),
-}
-DIMENSION_HELP = {
-    "a": "fixed link (skew linkages: its horizontal sector); degrees for the spherical linkage",
-    "b": "input crank", "c": "connecting rod (coupler)", "d": "output crank",
-    "e": "slider offset", "f": "vertical sector of the fixed link", "ksi": "skew angle, degrees",
-}
-
-
-def menu_program(stdin=None, stdout=None, directory: str = ".") -> int:
-    """`python3 linkage.py`: the original program on this terminal, or driven by the keys on
-    standard input (`python3 linkage.py < keys.txt`) with PC-BASIC's screen transcript. A closed
-    standard input is no keys; a closed standard output, no transcript."""
-    stdin = sys.stdin if stdin is None else stdin
-    stdout = sys.stdout if stdout is None else stdout
-    if not (_isatty(stdin) and _isatty(stdout)):
-        return redirected_program(getattr(stdin, "buffer", None),
-                                  getattr(stdout, "buffer", None), directory)
-    import select
-    fd = stdin.fileno()
-    screen_out = _Transcript(stdout, encode=False)
-    with single_keys(fd, carriage_return=True):    # Enter arrives as CR, as on the PC
-        keys = Keys(lambda: os.read(fd, 1), fold_crlf=False,
-                    pending=lambda: bool(select.select([fd], [], [], 0.05)[0]))
-        status = _run_guarded(Screen(screen_out.write, terminal=True), keys, directory)
-    return screen_out.status(status)
-
-
-def redirected_program(keys_in, screen_out, directory: str = ".") -> int:
-    """The menu program reading its keys from the byte stream `keys_in` and writing PC-BASIC's
-    screen transcript (CR LF lines) to the byte stream `screen_out` (either may be None: closed).
-    The transcript's failures (a closed pipe, a full disk) never cost the DAT files."""
-    keys = Keys((lambda: keys_in.read(1)) if keys_in is not None else (lambda: b""),
-                fold_crlf=True)
-    transcript = _Transcript(screen_out)
-    status = _run_guarded(Screen(transcript.write, terminal=False), keys, directory)
-    return transcript.status(status)
-
-
-class _Transcript:
-    """The screen's output stream. A failure to write it (a reader that went away, a closed or
-    full standard output) is remembered, not raised: the session goes on and writes its files,
-    and status() says what happened on standard error and gives the exit status."""
-
-    def __init__(self, out, encode: bool = True):
-        self.out, self.encode, self.error = out, encode, None
-        if out is None:
-            self.error = "standard output is closed: no screen transcript"
-
-    def write(self, text: str) -> None:
-        if self.error is None:
-            try:
-                self.out.write(text.encode("utf-8") if self.encode else text)
-                if not self.encode:
-                    self.out.flush()
-            except (OSError, ValueError) as e:
-                self._failed(e)
-
-    def _failed(self, e: Exception) -> None:
-        self.broken_pipe = isinstance(e, BrokenPipeError)
-        self.error = ("the screen transcript's reader stopped reading" if self.broken_pipe
-                      else f"cannot write the screen transcript: {getattr(e, 'strerror', e)}")
-        with contextlib.suppress(OSError, ValueError, AttributeError):
-            # nothing more goes there, not even Python's flush at exit
-            os.dup2(os.open(os.devnull, os.O_WRONLY), self.out.fileno())
-
-    def status(self, status: int) -> int:
-        if self.error is None:
-            try:
-                self.out.flush()
-            except (OSError, ValueError) as e:
-                self._failed(e)
-        if self.error is None:
-            return status
-        _say(f"{self.error}; the session went on"
-             + ("" if status else " and its DAT files were written"))
-        return status or (141 if getattr(self, "broken_pipe", False) else 1)
-
-
-def _run_guarded(screen: Screen, keys: Keys, directory: str) -> int:
-    """Run the session; turn the ways it can stop into a message and an exit status."""
-    try:
-        run_session(screen, keys, directory)
-        screen.show_soft_errors()
-        return 0
-    except EndOfKeys:
-        error, status = "the keystrokes ended before the program did; no DAT file was written", 1
-        if keys.line_feeds:
-            error += (" (the keys hold line feeds, \\n, but Enter is a carriage return, \\r, "
-                      "as on the PC: printf '1\\r2\\r...' types them)")
-    except ProgramStop as stop:
-        error, status = str(stop), 1
-    except KeyboardInterrupt as e:
-        error, status = "interrupted; no DAT file was written", interrupted_status(e)
-    finally:
-        if screen.terminal:
-            screen.line()
-    _say(error)
-    return status
-
-
-# -- numbers from the user: one parser a precision ---------------------------------------------
+# -- what is typed: one parser a kind of value, shared by every command -------------------------
 
 DECIMAL = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
 LONGEST_NUMBER = 100        # characters of an ordinary decimal (a typed answer: INPUT_LINE)
@@ -6677,6 +6483,68 @@ def basic_answer(text: str, what: str) -> str:
         raise ValueError(f"{what}: {text!r} is not a number the original's INPUT takes")
     Single.errors.clear()                       # "Overflow": the session says it again
     return text
+
+
+def _design_number(flag: str):
+    """The argparse type of a datum: an ordinary decimal (decimal_number), its refusal naming
+    the option."""
+    def number(text: str) -> float:
+        try:
+            return decimal_number(text, flag, basic_hint=False)
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(str(e).removeprefix(f"{flag}: ")) from None
+    number.__name__ = "number"
+    return number
+
+
+def _mechanism_type(text: str) -> str:
+    by_number = {key: name for name, (key, _) in MECHANISM_TYPES.items()}
+    name = by_number.get(text, text)
+    if name not in MECHANISM_TYPES:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not one of {', '.join(MECHANISM_TYPES)} (or 1-5)")
+    return name
+
+
+def _png_dpi(text: str) -> float:
+    try:
+        dpi = decimal_number(text, "--dpi")
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+    if not 10 <= dpi <= 1200:
+        raise argparse.ArgumentTypeError(f"{text} dots an inch: expected 10 to 1200")
+    return dpi
+
+
+def _png_size(text: str) -> tuple[int, int]:
+    match = re.fullmatch(r"([0-9]{1,5})[xX]([0-9]{1,5})", text.strip())
+    if not match or not all(100 <= int(v) <= 20000 for v in match.groups()):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected WIDTHxHEIGHT in pixels, each 100 "
+                                         "to 20000, e.g. 1600x1200")
+    return int(match[1]), int(match[2])
+
+
+def _benchmark_name(text: str) -> str:
+    if text in ELSEWHERE:
+        raise argparse.ArgumentTypeError(f"{text} is measured by {ELSEWHERE[text]}")
+    if text not in BENCHMARKS:
+        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(BENCHMARKS)}")
+    return text
+
+
+# -- the sub-commands: each takes its parsed arguments and gives the exit status ---------------
+
+def _reported(work) -> int:
+    """work()'s exit status (0 for None), or, where it fails, a message on standard error and
+    status 1 (130 for Ctrl-C)."""
+    try:
+        return work() or 0
+    except (SceneError, PlotUnavailable) as e:
+        return _said(e, 1)
+    except OSError as e:
+        return _said(f"{e.filename or ''}: {e.strerror}", 1)
+    except KeyboardInterrupt as e:
+        return _said("interrupted", interrupted_status(e))
 
 
 def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
@@ -6816,152 +6684,355 @@ def _dat_names(count: int) -> str:
     return ", ".join(DatFiles.NAMES[:count])
 
 
-def _mechanism_type(text: str) -> str:
-    by_number = {key: name for name, (key, _) in MECHANISM_TYPES.items()}
-    name = by_number.get(text, text)
-    if name not in MECHANISM_TYPES:
-        raise argparse.ArgumentTypeError(
-            f"{text!r} is not one of {', '.join(MECHANISM_TYPES)} (or 1-5)")
-    return name
+def _draw_command(args: argparse.Namespace, make_figure) -> int:
+    """Make the figure and draw it: the PNG with --png, the text plot with --text or without
+    --png (_reported: every way it can fail is a message and a non-zero status)."""
+    def draw():
+        if args.png:
+            _matplotlib()                       # fail before any work
+        figure = make_figure()
+        if args.png:
+            png_figure(figure, args.png, args.dpi, args.size)
+        if args.text or not args.png:
+            sys.stdout.write(text_figure(figure))
+    return _reported(draw)
 
 
-def _png_dpi(text: str) -> float:
+def _check_frames(frames) -> None:
+    if frames is not None and not 1 <= frames <= MAX_FRAMES:
+        raise SceneError(f"--frames {frames}: expected 1 to {MAX_FRAMES:,} frames")
+
+
+def drawing_command(args: argparse.Namespace, make_drawing) -> int:
+    """Draw the mechanism: an animated SVG with --svg, a PNG with --png, the terminal view with
+    --text or neither (animated on a terminal; piped, --frames N stills). Files are written
+    whole or not at all (_reported: every way it can fail is a message and a non-zero status)."""
+    def draw():
+        _check_frames(args.frames)
+        if args.png:
+            _matplotlib()                       # fail before any work
+        drawing = make_drawing()
+        for path, render in ((args.svg, lambda: svg_drawing(drawing).encode("utf-8")),
+                             (args.png, lambda: png_drawing(drawing, dpi=getattr(args, "dpi", None),
+                                                            size=getattr(args, "size", None)))):
+            if path:
+                with written_whole(path) as fh:
+                    fh.write(render())
+                _say(f"wrote {path} ({len(drawing.frames)} position"
+                     f"{'s' * (len(drawing.frames) > 1)})")
+        if args.text or not (args.svg or args.png):
+            return show_drawing(drawing, frames=args.frames)
+    return _reported(draw)
+
+
+def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py scene FILE`: compute the scene and draw it, keeping its DAT files in
+    --dir if given; a mechanism scene is drawn (and animated) instead, and writes no DAT file."""
     try:
-        dpi = decimal_number(text, "--dpi")
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(str(e)) from None
-    if not 10 <= dpi <= 1200:
-        raise argparse.ArgumentTypeError(f"{text} dots an inch: expected 10 to 1200")
-    return dpi
+        scene = load_scene(args.file)
+    except SceneError as e:
+        return _said(e, 1)
+    if scene.draws_mechanism:
+        if args.csv or args.dir is not None:
+            parser.error(f"--csv and --dir go with a scene of curves; {args.file} draws the "
+                         "mechanism (--svg, --png, --text, --frames)")
+        return drawing_command(args, lambda: scene_drawing(scene))
+    if args.svg or args.frames is not None:
+        parser.error(f"--svg and --frames draw a mechanism scene; {args.file} plots curves "
+                     "(--png, --text)")
+
+    def figure(where):
+        series = compute_scene(scene, where, _say)
+        if args.dir is not None:
+            _say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.dir}")
+        if args.csv:
+            _say(f"wrote {args.csv} ({scene_csv(scene, series, args.csv):,} rows)")
+        return scene_figure(scene, series)
+
+    def temporary():
+        import tempfile
+        with tempfile.TemporaryDirectory(prefix="linkage-scene-") as where:
+            return figure(where)
+    return _draw_command(args, (lambda: figure(args.dir)) if args.dir is not None else temporary)
 
 
-def _png_size(text: str) -> tuple[int, int]:
-    match = re.fullmatch(r"([0-9]{1,5})[xX]([0-9]{1,5})", text.strip())
-    if not match or not all(100 <= int(v) <= 20000 for v in match.groups()):
-        raise argparse.ArgumentTypeError(f"{text!r}: expected WIDTHxHEIGHT in pixels, each 100 "
-                                         "to 20000, e.g. 1600x1200")
-    return int(match[1]), int(match[2])
+def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR."""
+    return _draw_command(args, lambda: dat_figure(args.directory, args.mechanism))
 
 
-def _benchmark_name(text: str) -> str:
-    if text in ELSEWHERE:
-        raise argparse.ArgumentTypeError(f"{text} is measured by {ELSEWHERE[text]}")
-    if text not in BENCHMARKS:
-        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(BENCHMARKS)}")
-    return text
+def design_command(argv):
+    """`python3 linkage.py design METHOD --name value ... [--analyze] [--dat DIR] [--svg OUT]
+    [--png OUT] [--text]` (argv: the words after `design`): print the design, `name = value` a
+    line, and draw it; exit 0, 1 bad data, 2 usage, 3 a miss."""
+    argv = list(argv)
+    if argv[:1] == ["design"]:
+        argv = argv[1:]
+    try:
+        args = _design_parser().parse_args(argv)
+        function, method = METHODS[args.method]
+        result = function(**{datum.name: getattr(args, datum.name) for datum in DATA[method]
+                             if getattr(args, datum.name) is not None})
+    except DesignError as error:
+        _say(f"error: {error}", f"{PROG} design")
+        return 1
+    except _UsageError as error:
+        _say(f"error: {error}", f"{PROG} design")
+        return 2
+    except SystemExit as exit_:                     # argparse's --help
+        return int(exit_.code or 0)
+    print(f"method = {result.method}")
+    for key, value in result.design.data.items():
+        print(f"data.{key} = {_number(value)}")
+    print(f"solutions = {len(result.solutions)}")
+    print(f"preferred = {result.preferred + 1}")
+    for reason in result.rejected:
+        print(f"rejected = {reason}")
+    code = 0
+    for number, design in enumerate(result.solutions, 1):
+        print(f"solution = {number}")
+        for line in _design_lines(design):
+            print(line)
+        if args.analyze:
+            checks = analyze_design(design)
+            bad = misses(design, checks)
+            for check in checks:
+                measured = "none" if check.measured is None else _number(check.measured)
+                print(f"measured.{check.name} = {measured}  # expected {_number(check.expected)}"
+                      f", miss {check.miss:.2g}")
+            print(f"verdict = {'meets' if not bad else 'misses ' + ', '.join(c.name for c in bad)}")
+            code = code or (3 if bad else 0)
+    if args.dat is not None:
+        link = result.design.linkage
+        kind, dims = _kind_dims(link)
+        try:
+            motions = Linkage(kind, **dims).sweep(evenly_spaced_angles(0.0, 360.0, 1.0),
+                                                  link.branch)
+            write_dat_files(motions, args.dat)
+        except ProgramStop as error:
+            _say(f"error: {error}", f"{PROG} design")
+            return 1
+        print(f"dat = {args.dat}  # ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution, "
+              f"0 to 360 by 1 degree, branch {link.branch}, double precision")
+    if args.svg or args.png or args.text:
+        sys.stdout.flush()
+        args.frames = len(result.design.positions) if args.text else None
+        return drawing_command(args, lambda: design_drawing(result)) or code
+    return code
+
+
+def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py bench [NAME ...]`: print the benchmarks' numbers and how they ran."""
+    print(f"$ python3 linkage.py bench {' '.join(args.names)}".rstrip())
+    print(f"{PROG} {__version__} on {machine()}")
+    if args.quick:
+        print("--quick: a check that each runs, on tiny sizes; its numbers mean nothing")
+    for name in args.names or list(BENCHMARKS):
+        print(f"\n== {name}: {BENCHMARKS[name].__doc__.splitlines()[0]}")
+        BENCHMARKS[name](sys.stdout, quick=args.quick)
+    return 0
+
+
+# -- the table: every sub-command, its help and its options -------------------------------------
+
+class Option(NamedTuple):
+    """One argument of a sub-command: its name or flags, and what argparse's add_argument takes."""
+
+    names: tuple[str, ...]
+    settings: dict
+
+
+def option(*names: str, **settings) -> Option:
+    return Option(names, settings)
+
+
+class Command(NamedTuple):
+    """A sub-command: handler(args, parser) gives the exit status; help is its line in the
+    program's --help, description its own --help. own_words: it parses the words after its name
+    itself (design: one parser a method, built from DATA)."""
+
+    handler: object
+    help: str
+    description: str
+    options: tuple[Option, ...]
+    own_words: bool = False
+
+
+DIMENSION_HELP = {
+    "a": "fixed link (skew linkages: its horizontal sector); degrees for the spherical linkage",
+    "b": "input crank", "c": "connecting rod (coupler)", "d": "output crank",
+    "e": "slider offset", "f": "vertical sector of the fixed link", "ksi": "skew angle, degrees",
+}
+PNG_OPTIONS = (
+    option("--png", metavar="OUT",
+           help="write the figure as a PNG (needs matplotlib: pip install 'linkage[plot]')"),
+    option("--text", action="store_true",
+           help="draw the plain-text plot (the default without --png)"),
+    option("--dpi", type=_png_dpi, metavar="N",
+           help="the PNG's dots an inch: its scale (default 90; a mechanism 100)"),
+    option("--size", type=_png_size, metavar="WxH",
+           help="the PNG's width and height in pixels, e.g. 1600x1200"),
+)
+COMMANDS = {
+    "run": Command(
+        run_command, "the original program driven by options",
+        "The original program given these answers: writes ANG.DAT, VEL.DAT and ACC.DAT exactly "
+        "as the menu would. Dimensions are typed as in the menu (degrees for the spherical "
+        "linkage's arcs). " + "; ".join(f"{name}: {' '.join('--' + d for d in dims)}"
+                                       for name, (_, dims) in MECHANISM_TYPES.items()) + ".",
+        (option("type", type=_mechanism_type, metavar="TYPE",
+                help="plane, spherical, skew, slider, skew-slider (or 1-5)"),
+         *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
+         option("--skew", dest="old_skew", metavar="X", help=argparse.SUPPRESS),
+         option("--from", dest="start", required=True, metavar="P1",
+                help="first bound of the input angle, degrees"),
+         option("--to", dest="stop", required=True, metavar="P2",
+                help="second bound of the input angle, degrees"),
+         option("--step", required=True, metavar="INC", help="increment, degrees"),
+         option("--branch", required=True, choices=("1", "2", FOLLOW),
+                help="1: the (A+B) solution, 2: the (A-B) solution; follow (with --precision "
+                     "double): the assembly the sweep starts in, followed through phi = 180 and "
+                     "change points as the linkage moves, ending at a dead centre the crank "
+                     "cannot pass"),
+         option("--start-branch", choices=("1", "2"), metavar="1|2",
+                help="with --branch follow: the branch the motion starts in (default 1)"),
+         option("--dir", default=".", metavar="OUT", help="where to write the DAT files"),
+         option("--precision", choices=("basic", "double"), default="basic",
+                help="basic: the original's GW-BASIC single precision, byte for byte (default); "
+                     "double: the accurate engine"),
+         option("--csv", metavar="OUT",
+                help="also write one CSV file: a header row phi,output,velocity,acceleration,"
+                     "status and a row a point, every point (a position that does not exist: "
+                     "its status, values nan)"),
+         option("--clip", action="store_true",
+                help="with --precision double: clip VEL and ACC to +-3 as the original does"),
+         option("--fast", action="store_true",
+                help="with --precision double: the same numbers by the vectorised engine (needs "
+                     "numpy: pip install 'linkage[fast]')"))),
+    "scene": Command(
+        scene_command, "draw a scene of data/scenes: the paper's figures, the hard cases, the "
+                       "linkage moving",
+        "Compute a scene (a TOML file, see data/scenes), keep its DAT files (with --dir) and draw "
+        "its figure: a plain-text plot of 80 x 24 characters unless --png is given. A mechanism "
+        "scene (panels = [{quantities = [\"mechanism\"]}], e.g. "
+        "data/scenes/fig1a-plane-four-bar.toml) draws the linkage itself at each input angle of "
+        "its sweep (or its panel's angles) and writes no DAT file: on a terminal it moves until "
+        "you press q; piped, one still frame (--frames N: N frames); --svg OUT an animated SVG; "
+        "--png OUT the positions overlaid.",
+        (option("file", metavar="FILE", help="the scene"),
+         option("--svg", metavar="OUT", help="a mechanism scene: write it as one animated SVG"),
+         option("--frames", type=int, metavar="N",
+                help="a mechanism scene: print N still frames spread evenly over the sweep "
+                     "instead of the animation (piped, the default is 1)"),
+         option("--csv", metavar="OUT",
+                help="also write the scene's numbers as one CSV file: a header row series,phi,"
+                     "output,velocity,acceleration,status and a row a point of each series, "
+                     "every point (one without a position: its status)"),
+         option("--dir", metavar="DIR",
+                help="also keep the scene's DAT files, in DIR (without it none is written); a "
+                     "scene that overlays several series writes one folder each"),
+         *PNG_OPTIONS)),
+    "plot": Command(
+        plot_command, "draw the figure of ANG.DAT, VEL.DAT and ACC.DAT already written",
+        "Draw the figure of the DAT files in DIR (the menu program's, run's or a scene's): a "
+        "plain-text plot of 80 x 24 characters unless --png is given. To see the linkage itself "
+        "move, draw a mechanism scene: python3 linkage.py scene "
+        "data/scenes/fig1a-plane-four-bar.toml (scene --help).",
+        (option("directory", nargs="?", default=".", metavar="DIR",
+                help="the folder of the DAT files, or of folders of them (default: here)"),
+         option("--mechanism", type=_mechanism_type, metavar="TYPE",
+                help="plane, spherical, skew, slider or skew-slider (or 1-5): gives the axes "
+                     "their units"),
+         *PNG_OPTIONS)),
+    "design": Command(
+        design_command, "synthesise a linkage by one of the review's methods (python3 "
+                        "linkage.py design --help)",
+        "Synthesis of four-bar and slider-crank function generators (Pennestri & Valentini's "
+        "review); angles in degrees.",
+        (option("--analyze", action="store_true",
+                help="run the design through the analysis and print what it does"),
+         option("--dat", metavar="DIR",
+                help="write ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution there (engine, 0 "
+                     "to 360 by 1 degree)"),
+         option("--svg", metavar="OUT",
+                help="draw the preferred solution at its design positions as an animated SVG"),
+         option("--png", metavar="OUT",
+                help="draw it as a PNG, the positions overlaid (needs matplotlib)"),
+         option("--text", action="store_true", help="draw it in the terminal")),
+        own_words=True),
+    "bench": Command(
+        bench_command, "measure speed, and what accuracy costs in time",
+        "Run the benchmarks and print their numbers (port runs PC-BASIC for minutes). What "
+        "accuracy costs is measured by the repository's script python3 tests/bench_accuracy.py.",
+        (option("names", nargs="*", type=_benchmark_name, metavar="NAME",
+                help=f"which: {', '.join(BENCHMARKS)} (default: all)"),
+         option("--quick", action="store_true",
+                help="tiny sizes: a check that each runs (its numbers mean nothing)"))),
+}
+
+
+class _UsageError(Exception):
+    """A command line argparse refuses."""
+
+
+class CommandParser(argparse.ArgumentParser):
+    """argparse, taking a negative number in any form (-1e3, -.5, -1D3) as an option's value
+    (argparse before Python 3.13 takes -1e3 for an option and says "expected one argument")."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"-\.?\d")
+
+    def add_options(self, options) -> None:
+        for o in options:
+            self.add_argument(*o.names, **o.settings)
+
+
+class _Parser(CommandParser):
+    """argparse that raises instead of exiting, so that design_command returns its code."""
+
+    def error(self, message):
+        raise _UsageError(f"{message} (see {self.prog} --help)")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = CommandParser(
-        prog=PROG, description=__doc__.split("\n\n")[0],
-        epilog="With no command: the original menu program.")
+    """The program's parser, from COMMANDS (a command that parses its own words is only named)."""
+    parser = CommandParser(prog=PROG, description=__doc__.split("\n\n")[0],
+                           epilog="With no command: the original menu program.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
-    commands = parser.add_subparsers(dest="command")
-    run = commands.add_parser(
-        "run", help="the original program driven by options",
-        description="The original program given these answers: writes ANG.DAT, VEL.DAT and "
-                    "ACC.DAT exactly as the menu would. Dimensions are typed as in the menu "
-                    "(degrees for the spherical linkage's arcs). "
-                    + "; ".join(f"{name}: {' '.join('--' + d for d in dims)}"
-                                for name, (_, dims) in MECHANISM_TYPES.items()) + ".")
-    run.add_argument("type", type=_mechanism_type, metavar="TYPE",
-                     help="plane, spherical, skew, slider, skew-slider (or 1-5)")
-    for name, text in DIMENSION_HELP.items():
-        run.add_argument(f"--{name}", metavar="X", help=text)
-    run.add_argument("--skew", dest="old_skew", metavar="X", help=argparse.SUPPRESS)
-    run.add_argument("--from", dest="start", required=True, metavar="P1",
-                     help="first bound of the input angle, degrees")
-    run.add_argument("--to", dest="stop", required=True, metavar="P2",
-                     help="second bound of the input angle, degrees")
-    run.add_argument("--step", required=True, metavar="INC", help="increment, degrees")
-    run.add_argument("--branch", required=True, choices=("1", "2", FOLLOW),
-                     help="1: the (A+B) solution, 2: the (A-B) solution; follow (with "
-                          "--precision double): the assembly the sweep starts in, followed "
-                          "through phi = 180 and change points as the linkage moves, ending at "
-                          "a dead centre the crank cannot pass")
-    run.add_argument("--start-branch", choices=("1", "2"), metavar="1|2",
-                     help="with --branch follow: the branch the motion starts in (default 1)")
-    run.add_argument("--dir", default=".", metavar="OUT", help="where to write the DAT files")
-    run.add_argument("--precision", choices=("basic", "double"), default="basic",
-                     help="basic: the original's GW-BASIC single precision, byte for byte "
-                          "(default); double: the accurate engine")
-    run.add_argument("--csv", metavar="OUT",
-                     help="also write one CSV file: a header row phi,output,velocity,"
-                          "acceleration,status and a row a point, every point (a position that "
-                          "does not exist: its status, values nan)")
-    run.add_argument("--clip", action="store_true",
-                     help="with --precision double: clip VEL and ACC to +-3 as the original does")
-    run.add_argument("--fast", action="store_true",
-                     help="with --precision double: the same numbers by the vectorised engine "
-                          "(needs numpy: pip install 'linkage[fast]')")
-    run.set_defaults(handler=run_command, parser=run)
-    scene = commands.add_parser(
-        "scene", help="draw a scene of data/scenes: the paper's figures, the hard cases, "
-                      "the linkage moving",
-        description="Compute a scene (a TOML file, see data/scenes), keep its DAT files (with "
-                    "--dir) and "
-                    "draw its figure: a plain-text plot of 80 x 24 characters unless --png "
-                    "is given. A mechanism scene (panels = [{quantities = [\"mechanism\"]}], "
-                    "e.g. data/scenes/fig1a-plane-four-bar.toml) draws the linkage itself at "
-                    "each input angle of its sweep (or its panel's angles) and writes no DAT "
-                    "file: on a terminal it moves until you press q; piped, one still frame "
-                    "(--frames N: N frames); --svg OUT an animated SVG; --png OUT the positions "
-                    "overlaid.")
-    scene.add_argument("file", metavar="FILE", help="the scene")
-    scene.add_argument("--svg", metavar="OUT",
-                       help="a mechanism scene: write it as one animated SVG")
-    scene.add_argument("--frames", type=int, metavar="N",
-                       help="a mechanism scene: print N still frames spread evenly over the "
-                            "sweep instead of the animation (piped, the default is 1)")
-    scene.add_argument("--csv", metavar="OUT",
-                       help="also write the scene's numbers as one CSV file: a header row "
-                            "series,phi,output,velocity,acceleration,status and a row a point of "
-                            "each series, every point (one without a position: its status)")
-    scene.add_argument("--dir", metavar="DIR",
-                       help="also keep the scene's DAT files, in DIR (without it none is "
-                            "written); a scene that overlays several series writes one folder "
-                            "each")
-    scene.set_defaults(handler=scene_command, parser=scene)
-    plot = commands.add_parser(
-        "plot", help="draw the figure of ANG.DAT, VEL.DAT and ACC.DAT already written",
-        description="Draw the figure of the DAT files in DIR (the menu program's, run's or a "
-                    "scene's): a plain-text plot of 80 x 24 characters unless --png is given. "
-                    "To see the linkage itself move, draw a mechanism scene: python3 linkage.py "
-                    "scene data/scenes/fig1a-plane-four-bar.toml (scene --help).")
-    plot.add_argument("directory", nargs="?", default=".", metavar="DIR",
-                      help="the folder of the DAT files, or of folders of them (default: here)")
-    plot.add_argument("--mechanism", type=_mechanism_type, metavar="TYPE",
-                      help="plane, spherical, skew, slider or skew-slider (or 1-5): gives the "
-                           "axes their units")
-    plot.set_defaults(handler=plot_command, parser=plot)
-    for command in (scene, plot):
-        command.add_argument("--png", metavar="OUT", help="write the figure as a PNG "
-                             "(needs matplotlib: pip install 'linkage[plot]')")
-        command.add_argument("--text", action="store_true",
-                             help="draw the plain-text plot (the default without --png)")
-        command.add_argument("--dpi", type=_png_dpi, metavar="N",
-                             help="the PNG's dots an inch: its scale (default 90; a mechanism "
-                                  "100)")
-        command.add_argument("--size", type=_png_size, metavar="WxH",
-                             help="the PNG's width and height in pixels, e.g. 1600x1200")
-    commands.add_parser("design", help="synthesise a linkage by one of the review's methods "
-                                      "(python3 linkage.py design --help)", add_help=False)
-    bench = commands.add_parser("bench", help="measure speed, and what accuracy costs in time",
-                                description="Run the benchmarks and print their numbers "
-                                            "(port runs PC-BASIC for minutes). What accuracy "
-                                            "costs is measured by the repository's script "
-                                            "python3 tests/bench_accuracy.py.")
-    bench.add_argument("names", nargs="*", type=_benchmark_name, metavar="NAME",
-                       help=f"which: {', '.join(BENCHMARKS)} (default: all)")
-    bench.add_argument("--quick", action="store_true",
-                       help="tiny sizes: a check that each runs (its numbers mean nothing)")
-    bench.set_defaults(handler=bench_command, parser=bench)
+    commands = parser.add_subparsers(dest="command", parser_class=CommandParser)
+    for name, command in COMMANDS.items():
+        if command.own_words:
+            commands.add_parser(name, help=command.help, add_help=False)
+            continue
+        sub = commands.add_parser(name, help=command.help, description=command.description)
+        sub.add_options(command.options)
+        sub.set_defaults(handler=command.handler, parser=sub)
+    return parser
+
+
+def _design_parser() -> argparse.ArgumentParser:
+    """The parser of `design METHOD --name value ...`: one sub-parser a method, its data from
+    DATA (each an ordinary decimal, required unless optional), then design's own options."""
+    design = COMMANDS["design"]
+    parser = _Parser(prog=f"{PROG} design", description=design.description)
+    methods = parser.add_subparsers(dest="method", metavar="METHOD", parser_class=_Parser)
+    methods.required = True
+    for name, (function, method) in METHODS.items():
+        summary = " ".join(function.__doc__.split())
+        sub = methods.add_parser(name, help=summary, description=summary)
+        for datum in DATA[method]:
+            flag = "--lambda" if datum.name == "lam" else "--" + datum.name.replace("_", "-")
+            sub.add_argument(flag, dest=datum.name, type=_design_number(flag),
+                             required=not datum.optional, help=datum_help(datum),
+                             **({"nargs": 3} if datum.count == 3 else {}))
+        sub.add_options(design.options)
     return parser
 
 
 def main(argv=None) -> int:
-    """The command line (see build_parser): the exit status. Every way a run can fail is a line
-    on standard error and a non-zero status, never a traceback."""
+    """The command line (COMMANDS): the exit status. Every way a run can fail is a line on
+    standard error and a non-zero status, never a traceback."""
     argv = sys.argv[1:] if argv is None else list(argv)
     _reopen_closed_streams()
     with contextlib.suppress(ValueError):       # not the main thread
@@ -6969,8 +7040,8 @@ def main(argv=None) -> int:
     try:
         if not argv:
             return menu_program()
-        if argv[0] == "design":
-            return design_command(argv[1:])
+        if argv[0] in COMMANDS and COMMANDS[argv[0]].own_words:
+            return COMMANDS[argv[0]].handler(argv[1:])
         parser = build_parser()
         args = parser.parse_args(argv)
         if args.command is None:

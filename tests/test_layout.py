@@ -1,0 +1,140 @@
+"""linkage.py reads as its design: numbered sections in the order a reader needs them, each header
+saying which earlier sections it uses (and saying it truly), none reaching into a later one, and
+nothing imported from tests/ (the program stands without its tests; tests/test_bench.py runs its
+benchmarks so)."""
+
+from __future__ import annotations
+
+import ast
+import re
+from pathlib import Path
+
+import linkage
+
+SOURCE = Path(linkage.__file__).read_text(encoding="utf-8")
+LINES = SOURCE.splitlines()
+BANNER = re.compile(r"# ---- (\d+)\. (.+?) -+$")
+TREE = ast.parse(SOURCE)
+
+
+def sections(lines=LINES) -> list[tuple[int, int, str]]:
+    """(number, first line, title) of each section banner, in file order."""
+    return [(int(m[1]), i + 1, m[2]) for i, line in enumerate(lines) if (m := BANNER.match(line))]
+
+
+def section_of(lineno: int, banners) -> int:
+    """The section a line is in, among `banners` (sections()); 0: the preamble before them."""
+    return max((n for n, first, _ in banners if first <= lineno), default=0)
+
+
+def top_level_names(lines=LINES, tree=TREE) -> dict[str, int]:
+    """Each module-level name and the section that defines it."""
+    defined, banners = {}, sections(lines)
+    for node in tree.body:
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            names = [node.name]
+        elif isinstance(node, (ast.Assign, ast.AnnAssign)):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            names = [n.id for t in targets for n in ast.walk(t) if isinstance(n, ast.Name)]
+        else:
+            continue
+        for name in names:
+            defined.setdefault(name, section_of(node.lineno, banners))
+    return defined
+
+
+def local_names(node) -> set[str]:
+    """Names a function or class binds itself (arguments, assignments, loops, imports)."""
+    local = set()
+    for n in ast.walk(node):
+        if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store):
+            local.add(n.id)
+        elif isinstance(n, ast.arg):
+            local.add(n.arg)
+        elif isinstance(n, (ast.Import, ast.ImportFrom)):
+            local.update((a.asname or a.name).split(".")[0] for a in n.names)
+    return local
+
+
+def uses(lines=LINES, tree=TREE) -> dict[int, dict[int, set[str]]]:
+    """{section: {earlier or later section: the names it takes from there}}."""
+    defined, found, banners = top_level_names(lines, tree), {}, sections(lines)
+    for node in tree.body:
+        here = section_of(node.lineno, banners)
+        own = local_names(node) if isinstance(node, (ast.FunctionDef, ast.ClassDef)) else set()
+        for n in ast.walk(node):
+            if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load) and n.id not in own:
+                there = defined.get(n.id)
+                if there not in (None, 0, here):
+                    found.setdefault(here, {}).setdefault(there, set()).add(n.id)
+    return found
+
+
+def declared_uses() -> dict[int, set[int]]:
+    """What each header says: a line "# Uses: sections 1 and 3 (why)." or "# Uses: none." among
+    the comment lines right under the banner (the numbers before any parenthesis count)."""
+    declared = {}
+    for number, first, title in sections():
+        header = []
+        for line in LINES[first:]:
+            if not line.startswith("#"):
+                break
+            header.append(line)
+        said = [line for line in header if line.startswith("# Uses:")]
+        assert len(said) == 1, f"section {number} ({title}) has no '# Uses:' line in its header"
+        listed = re.split(r"[(;]", said[0])[0]
+        declared[number] = {int(n) for n in re.findall(r"\b(\d+)\b", listed)}
+    return declared
+
+
+def test_sections_are_numbered_in_order():
+    numbers = [n for n, _, _ in sections()]
+    assert numbers == list(range(1, len(numbers) + 1)), numbers
+    assert len(numbers) >= 8
+
+
+def test_no_section_reaches_into_a_later_one():
+    later = {(here, there): sorted(names) for here, used in uses().items()
+             for there, names in used.items() if there > here}
+    assert later == {}, later
+
+
+def test_each_header_says_which_sections_it_uses():
+    actual = {n: set(uses().get(n, {})) for n, _, _ in sections()}
+    assert declared_uses() == actual
+
+
+def test_the_program_imports_nothing_of_tests():
+    tests = {p.stem for p in (Path(linkage.__file__).parent / "tests").glob("*.py")}
+    imported = set()
+    for n in ast.walk(TREE):
+        if isinstance(n, ast.Import):
+            imported.update(a.name.split(".")[0] for a in n.names)
+        elif isinstance(n, ast.ImportFrom) and n.module:
+            imported.add(n.module.split(".")[0])
+    assert imported & tests == set()
+    assert "sys.path" not in SOURCE
+
+
+def test_the_layout_test_can_fail():
+    """A function put into section 1 that calls main() is seen reaching forward, into the last."""
+    first = sections()[0][1]
+    lines = LINES[:first] + ["def _reach():", "    return main()"] + LINES[first:]
+    reached = uses(lines, ast.parse("\n".join(lines)))
+    assert reached[1][len(sections())] == {"main"}
+
+
+def test_the_readmes_layout_matches_the_file():
+    """README's "Layout": a row for each section (its line count within 15 %) and each file of
+    tests/."""
+    readme = (Path(linkage.__file__).parent / "README.md").read_text(encoding="utf-8")
+    layout = readme[readme.index("## Layout"):readme.index("## How the listing is checked")]
+    banners = sections()
+    ends = [first for _, first, _ in banners[1:]] + [len(LINES) + 1]
+    for (number, first, title), end in zip(banners, ends):
+        row = re.search(rf"^\| {number}\. ([^|]+) \| ([\d,]+) \|", layout, re.M)
+        assert row and title.startswith(row[1].strip()), (number, title)
+        assert abs(int(row[2].replace(",", "")) - (end - first)) <= 0.15 * (end - first), \
+            (title, row[2], end - first)
+    for path in (Path(linkage.__file__).parent / "tests").glob("*.py"):
+        assert path.name in layout, path.name
