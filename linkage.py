@@ -6316,6 +6316,42 @@ def bench_port(out, quick: bool = False) -> None:
     show("PC-BASIC:", basic, basic_cpu)
 
 
+def bench_startup(out, quick: bool = False) -> None:
+    """Start-up: a one-point session run as a script (compiled every time) and as a module
+    (python3 -m linkage, from cached bytecode), beside Python starting alone."""
+    import statistics
+    import subprocess
+    import tempfile
+    import time
+    here, runs = os.path.dirname(os.path.abspath(__file__)), 2 if quick else 21
+    env = dict(os.environ, PYTHONPATH=here)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)         # as where bytecode is kept, the default
+    commands = {"python3 -c pass": [sys.executable, "-c", "pass"],
+                "python3 linkage.py": [sys.executable, os.path.join(here, "linkage.py")],
+                "python3 -m linkage": [sys.executable, "-m", "linkage"]}
+    times = {name: [] for name in commands}
+    with tempfile.TemporaryDirectory() as folder:
+        subprocess.run([sys.executable, "-c", "import linkage"], env=env, cwd=folder, check=True)
+        for _ in range(runs):                      # alternated, so that drift hits all alike
+            for name, command in commands.items():
+                start = time.perf_counter()
+                subprocess.run(command, input=QUICK_KEYS.replace(b"360", b"0"), cwd=folder,
+                               env=env, capture_output=True, check=True)
+                times[name].append(time.perf_counter() - start)
+    with open(os.path.join(here, "linkage.py"), encoding="utf-8") as f:
+        source = f.read()
+    compiling = _best_of(1 if quick else 5, lambda: compile(source, "linkage.py", "exec"))
+    medians = {name: statistics.median(t) for name, t in times.items()}
+    print(f"a one-point session (plane four-bar, 0 to 0 degrees); milliseconds, median of {runs} "
+          f"runs each, alternated", file=out)
+    print(f"the script takes {medians['python3 linkage.py'] / medians['python3 -m linkage']:.1f} "
+          f"times as long as the module", file=out)
+    for name, median in medians.items():
+        print(f"{name:20} {median * 1e3:8.1f}", file=out)
+    print(f"{'compiling linkage.py':20} {compiling * 1e3:8.1f}   ({len(source.encode()):,} bytes, "
+          f"in this process, best of {1 if quick else 5}; the script pays it every run)", file=out)
+
+
 ENGINE_TARGET = 100_000    # points per second, displacement, velocity and acceleration (issue 5)
 FAST_TARGETS = {PLANE_FOUR_BAR: 10_000_000, "others": 5_000_000}   # the numpy path (issue 13)
 BENCH_LINKAGES = ((PLANE_FOUR_BAR, dict(a=6, b=2, c=7, d=9)),
@@ -6411,7 +6447,8 @@ def bench_engine(out, quick: bool = False, points: int = 100_001,
               f"{min(r for k, r in fast.items() if k != PLANE_FOUR_BAR):,.0f}", file=out)
 
 
-BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene}
+BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
+              "startup": bench_startup}
 ELSEWHERE = {"accuracy": "python3 tests/bench_accuracy.py (it measures with the tests' "
                          "instruments: the 50-digit mpmath reference, the listing in double, "
                          "PC-BASIC; README, Benchmarks)"}
