@@ -8,7 +8,7 @@ Machine Theory, 1980s).
     python3 linkage.py scene FILE       a figure of the paper (data/scenes), text or PNG
     python3 linkage.py plot [DIR]       the figure of DAT files already written
     python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
-    python3 linkage.py bench            speed, and what accuracy costs in time
+    python3 linkage.py bench            speed (what accuracy costs: tests/bench_accuracy.py)
 
 Fidelity: ANG.DAT, VEL.DAT and ACC.DAT are byte-identical to those legacy_basic/LINKAGE.BAS
 writes under PC-BASIC 2.0.8 given the same keystrokes, and so is the screen transcript, computed
