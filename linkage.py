@@ -5455,39 +5455,8 @@ def load_scene(path: str) -> Scene:
     mechanism = data["mechanism"]
     if not isinstance(mechanism, str) or mechanism not in LINKAGE_DIMENSIONS:
         raise _scene_error(path, "mechanism", SCENE_KEYS["mechanism"], mechanism)
-    names = LINKAGE_DIMENSIONS[mechanism]
-    given = data["dimensions"]
-    if not isinstance(given, dict):
-        raise _scene_error(path, "dimensions", SCENE_KEYS["dimensions"], given)
-    takes = f"a {mechanism} linkage takes {', '.join(names)}"
-    for key in given:
-        if key not in names:
-            raise SceneError(f"{path}: unknown key 'dimensions.{key}': {takes}")
-    for key in names:
-        if key not in given:
-            raise SceneError(f"{path}: key 'dimensions.{key}' is missing: expected a number, "
-                             f"{DIMENSION_NAMES[key]} ({takes})")
-        if not _is_number(given[key]):
-            raise _scene_error(path, f"dimensions.{key}",
-                               f"a number, {DIMENSION_NAMES[key]}", given[key])
-    dims = {k: float(given[k]) for k in names}
-
-    sweep = data["input"]
-    if not isinstance(sweep, dict):
-        raise _scene_error(path, "input", SCENE_KEYS["input"], sweep)
-    _unknown_keys(path, sweep, ("from", "to", "step"), "input.")
-    for key in ("from", "to", "step"):
-        if key not in sweep:
-            raise SceneError(f"{path}: key 'input.{key}' is missing: expected a number (degrees)")
-        if not _is_number(sweep[key]):
-            raise _scene_error(path, f"input.{key}", "a number (degrees)", sweep[key])
-    start, stop, step = (float(sweep[k]) for k in ("from", "to", "step"))
-    if step == 0 or (stop - start) / step < 0:
-        raise _scene_error(path, "input.step", f"a step that goes from {start:g} to {stop:g} "
-                           "(non-zero, with the sign of to - from)", sweep["step"])
-    if (stop - start) / step >= MAX_SCENE_POINTS:
-        raise _scene_error(path, "input.step", f"a step giving at most {MAX_SCENE_POINTS:,} "
-                           "points", sweep["step"])
+    dims = _scene_dimensions(path, mechanism, data["dimensions"])
+    start, stop, step = _scene_sweep(path, data["input"])
 
     branches = data["branches"]
     if (not isinstance(branches, list) or not branches
@@ -5525,6 +5494,52 @@ def load_scene(path: str) -> Scene:
     if fast and FOLLOW in branches:
         raise _scene_error(path, "fast", "false with the branch \"follow\": the vectorised path "
                            "computes the listing's branches 1 and 2", fast)
+    specs = _scene_panels(path, panels)
+    return Scene(path, _scene_title(path, data), mechanism, dims, start, stop, step,
+                 tuple(branches), PRECISIONS[precision], specs, fast)
+
+
+def _scene_dimensions(path, mechanism: str, given) -> dict:
+    """The scene's `dimensions` table, checked against what the mechanism takes."""
+    names = LINKAGE_DIMENSIONS[mechanism]
+    if not isinstance(given, dict):
+        raise _scene_error(path, "dimensions", SCENE_KEYS["dimensions"], given)
+    takes = f"a {mechanism} linkage takes {', '.join(names)}"
+    for key in given:
+        if key not in names:
+            raise SceneError(f"{path}: unknown key 'dimensions.{key}': {takes}")
+    for key in names:
+        if key not in given:
+            raise SceneError(f"{path}: key 'dimensions.{key}' is missing: expected a number, "
+                             f"{DIMENSION_NAMES[key]} ({takes})")
+        if not _is_number(given[key]):
+            raise _scene_error(path, f"dimensions.{key}",
+                               f"a number, {DIMENSION_NAMES[key]}", given[key])
+    return {k: float(given[k]) for k in names}
+
+
+def _scene_sweep(path, sweep) -> tuple[float, float, float]:
+    """The scene's `input` table: from, to, step in degrees, a sweep of at most MAX_SCENE_POINTS."""
+    if not isinstance(sweep, dict):
+        raise _scene_error(path, "input", SCENE_KEYS["input"], sweep)
+    _unknown_keys(path, sweep, ("from", "to", "step"), "input.")
+    for key in ("from", "to", "step"):
+        if key not in sweep:
+            raise SceneError(f"{path}: key 'input.{key}' is missing: expected a number (degrees)")
+        if not _is_number(sweep[key]):
+            raise _scene_error(path, f"input.{key}", "a number (degrees)", sweep[key])
+    start, stop, step = (float(sweep[k]) for k in ("from", "to", "step"))
+    if step == 0 or (stop - start) / step < 0:
+        raise _scene_error(path, "input.step", f"a step that goes from {start:g} to {stop:g} "
+                           "(non-zero, with the sign of to - from)", sweep["step"])
+    if (stop - start) / step >= MAX_SCENE_POINTS:
+        raise _scene_error(path, "input.step", f"a step giving at most {MAX_SCENE_POINTS:,} "
+                           "points", sweep["step"])
+    return start, stop, step
+
+
+def _scene_panels(path, panels) -> tuple[PanelSpec, ...]:
+    """The panels of a scene of curves: each its quantities and optional y limits."""
     specs = []
     for i, panel in enumerate(panels, 1):
         key = f"panels[{i}]"
@@ -5543,9 +5558,7 @@ def load_scene(path: str) -> Scene:
                                limits)
         specs.append(PanelSpec(tuple(quantities),
                                None if limits is None else (float(limits[0]), float(limits[1]))))
-
-    return Scene(path, _scene_title(path, data), mechanism, dims, start, stop, step,
-                 tuple(branches), PRECISIONS[precision], tuple(specs), fast)
+    return tuple(specs)
 
 
 def _scene_title(path, data) -> str:
