@@ -512,10 +512,10 @@ def mbf_parse(text, err=_ignore):
     rounded to nearest, ties to even, on the guard byte of the 32 bits (a
     double is first rounded so to 56 bits, and its top 32 bits kept)."""
     negative, n, k, double = decimal_parts(text)
-    return _scaled_to_single(negative, n, k, double, err) if n else 0.0
+    return scaled_to_single(negative, n, k, double, err) if n else 0.0
 
 
-def _scaled_to_single(negative, n, k, double, err):
+def scaled_to_single(negative, n, k, double, err):
     """N * 10**k through the decimal register (see mbf_parse); n may be 0 only with the
     zero-mantissa quirk of input_value (n=0 reads as 2**-129)."""
     width = 64 if double else 32
@@ -615,50 +615,50 @@ class Single:
             return self if self.v != 0 else ZERO
         if self.v == 0:
             return _single(y)
-        return _single(mbf_add(self.v, y, _soft_error))
+        return _single(mbf_add(self.v, y, soft_error))
 
-    def __radd__(self, other): return _single(mbf_add(float(other), self.v, _soft_error))
+    def __radd__(self, other): return _single(mbf_add(float(other), self.v, soft_error))
 
     def __sub__(self, other):
         return _single(mbf_sub(self.v, other.v if other.__class__ is Single else float(other),
-                               _soft_error))
+                               soft_error))
 
-    def __rsub__(self, other): return _single(mbf_sub(float(other), self.v, _soft_error))
+    def __rsub__(self, other): return _single(mbf_sub(float(other), self.v, soft_error))
 
     def __mul__(self, other):
         y = other.v if other.__class__ is Single else float(other)
         if y == 0 or self.v == 0:               # a product with a zero is +0 (mbf_mul)
             return ZERO
-        return _single(mbf_mul(self.v, y, _soft_error))
+        return _single(mbf_mul(self.v, y, soft_error))
 
     def __rmul__(self, other):
         if self.v == 0:
             return ZERO
-        return _single(mbf_mul(float(other), self.v, _soft_error))
+        return _single(mbf_mul(float(other), self.v, soft_error))
 
     def __truediv__(self, other):
         return _single(mbf_div(self.v, other.v if other.__class__ is Single else float(other),
-                               _soft_error))
+                               soft_error))
 
-    def __rtruediv__(self, other): return _single(mbf_div(float(other), self.v, _soft_error))
+    def __rtruediv__(self, other): return _single(mbf_div(float(other), self.v, soft_error))
 
     def __pow__(self, other):
         if other.__class__ is not int:
-            return _single(mbf_power(self.v, _value(other), _soft_error))
+            return _single(mbf_power(self.v, _value(other), soft_error))
         if other != 2:                 # an integer literal: repeated multiplication
-            return _single(mbf_ipower(self.v, other, _soft_error))
+            return _single(mbf_ipower(self.v, other, soft_error))
         # T^2 comes twenty times a point: remembered, unless it overflowed (the interpreter
         # says "Overflow" each time it evaluates it)
         try:
             return self._square
         except AttributeError:
             before = len(Single.errors)
-            square = _single(mbf_mul(self.v, self.v, _soft_error))
+            square = _single(mbf_mul(self.v, self.v, soft_error))
             if len(Single.errors) == before:
                 self._square = square
             return square
 
-    def __rpow__(self, other): return _single(mbf_power(float(other), self.v, _soft_error))
+    def __rpow__(self, other): return _single(mbf_power(float(other), self.v, soft_error))
     def __neg__(self): return _single(mbf_neg(self.v))
     def __lt__(self, other): return self.v < _value(other)
     def __le__(self, other): return self.v <= _value(other)
@@ -682,14 +682,14 @@ def _value(x) -> float:
     return x.v if x.__class__ is Single else float(x)
 
 
-def _soft_error(message: str) -> None:
+def soft_error(message: str) -> None:
     Single.errors.append(message)
 
 
-def SIN(x: Single) -> Single: return Single(mbf_sin(x.v, _soft_error))
-def COS(x: Single) -> Single: return Single(mbf_cos(x.v, _soft_error))
-def TAN(x: Single) -> Single: return Single(mbf_tan(x.v, _soft_error))
-def ATN(x: Single) -> Single: return Single(mbf_atn(x.v, _soft_error))
+def SIN(x: Single) -> Single: return Single(mbf_sin(x.v, soft_error))
+def COS(x: Single) -> Single: return Single(mbf_cos(x.v, soft_error))
+def TAN(x: Single) -> Single: return Single(mbf_tan(x.v, soft_error))
+def ATN(x: Single) -> Single: return Single(mbf_atn(x.v, soft_error))
 def INT(x: Single) -> Single: return Single(mbf_int(x.v))
 
 
@@ -842,7 +842,7 @@ def degrees_to_radians(x: Single) -> Single:
 
 def sweep_angles(PHI1: Single, PHI2: Single, INC: Single):
     """Line 1050, FOR PHI=PHIB(1) TO PHIB(2) STEP INC: the values PHI takes."""
-    for phi in mbf_for_values(PHI1.v, PHI2.v, INC.v, _soft_error):
+    for phi in mbf_for_values(PHI1.v, PHI2.v, INC.v, soft_error):
         yield Single(phi)
 
 
@@ -1203,11 +1203,11 @@ def input_value(typed: str) -> Single | None:
         # and the exponent: 39 digits or more can overflow it ("1.5" then 38 zeros; "E-30"
         # after them does not help), and the answer is the largest single, signed.
         if len(number) < INPUT_LINE:
-            _soft_error(OVERFLOW)
+            soft_error(OVERFLOW)
             if double:
-                _soft_error(OVERFLOW)
+                soft_error(OVERFLOW)
             return Single(-MBF_MAX if negative else MBF_MAX)
-        _soft_error(OVERFLOW)
+        soft_error(OVERFLOW)
     if len(number) >= INPUT_LINE:  # ERRATA P7: a number as long as the whole line
         return None
     if n == 0:
@@ -1217,8 +1217,8 @@ def input_value(typed: str) -> Single | None:
             return Single(0.0)
         negative = False
     elif double and fractions.Fraction(n) * fractions.Fraction(10) ** power >= DOUBLE_OVERFLOW:
-        _soft_error(OVERFLOW)
-    return Single(_scaled_to_single(negative, n, power, double, _soft_error))
+        soft_error(OVERFLOW)
+    return Single(scaled_to_single(negative, n, power, double, soft_error))
 
 
 DOUBLE_OVERFLOW = fractions.Fraction(2**127) * (1 - fractions.Fraction(1, 2**57))
@@ -1252,15 +1252,15 @@ def key_value(key: str) -> int:
 # comes under a unique name in the target folder, flushed to the disk and renamed over its own
 # name only when complete; on any failure or signal it is removed and the old file stands.
 
-def _say(message, who: str = PROG) -> None:
+def say(message, who: str = PROG) -> None:
     """A line on standard error, where there is one (it may be closed)."""
     if sys.stderr is not None:                  # None: closed (print would use stdout)
         with contextlib.suppress(OSError, ValueError, AttributeError):
             print(f"{who}: {message}", file=sys.stderr, flush=True)
 
 
-def _said(message, status: int) -> int:
-    _say(message)
+def said(message, status: int) -> int:
+    say(message)
     return status
 
 
@@ -1753,7 +1753,7 @@ class _Transcript:
                 self._failed(e)
         if self.error is None:
             return status
-        _say(f"{self.error}; the session went on"
+        say(f"{self.error}; the session went on"
              + ("" if status else " and its DAT files were written"))
         return status or (141 if getattr(self, "broken_pipe", False) else 1)
 
@@ -1776,7 +1776,7 @@ def _run_guarded(screen: Screen, keys: Keys, directory: str) -> int:
     finally:
         if screen.terminal:
             screen.line()
-    _say(error)
+    say(error)
     return status
 
 
@@ -1896,7 +1896,7 @@ class Motion(NamedTuple):
 
 # -- cos and sin of degrees, reduced exactly ------------------------------------------------------
 
-def _cos_sin_deg(x):
+def cos_sin_degrees(x):
     """cos and sin of x degrees (a float), reduced exactly in degrees: exact at multiples of 90."""
     r = math.fmod(x, 360.0)                 # exact
     n = round(r / 90.0)
@@ -1909,7 +1909,7 @@ def _trig_double(q):
     """cos and sin of q degrees (a Fraction, reduced exactly) as exact Fractions of the doubles."""
     r = q % 360
     n = round(r / 90)
-    c, s = _cos_sin_deg(float(r - 90 * n))  # the reduced angle, rounded once
+    c, s = cos_sin_degrees(float(r - 90 * n))  # the reduced angle, rounded once
     return tuple(Fraction(v) for v in ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4])
 
 
@@ -2468,7 +2468,7 @@ class FastUnavailable(RuntimeError):
     cannot be imported."""
 
 
-def _numpy():
+def numpy_module():
     """numpy, imported at the first use; FastUnavailable, saying what to install, without it."""
     try:
         import numpy
@@ -2743,7 +2743,7 @@ _FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "x
 
 def _sweep_arrays(linkage, phis, branch, derivatives):
     """Linkage.sweep_arrays: see there."""
-    np = _numpy()
+    np = numpy_module()
     if branch not in (1, 2):
         raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
     if derivatives not in (0, 1, 2):
@@ -2924,17 +2924,17 @@ def joint_positions(linkage: Linkage, phi: float, branch: int = 1) -> Pose:
     """
     motion = linkage.motion(phi, branch, derivatives=0)
     dims, kind = linkage.dims, linkage.kind
-    cf, sf = _cos_sin_deg(motion.phi)
+    cf, sf = cos_sin_degrees(motion.phi)
     out = motion.output
     z_axis = (0.0, 0.0, 1.0)
     if kind == SPHERICAL_FOUR_BAR:
-        ca, sa = _cos_sin_deg(dims["a"])
-        cb, sb = _cos_sin_deg(dims["b"])
-        cd, sd = _cos_sin_deg(dims["d"])
+        ca, sa = cos_sin_degrees(dims["a"])
+        cb, sb = cos_sin_degrees(dims["b"])
+        cd, sd = cos_sin_degrees(dims["d"])
         b0 = (sa, 0.0, ca)
         joints = {"O": (0.0, 0.0, 0.0), "A0": z_axis, "B0": b0, "A": (sb * cf, sb * sf, cb)}
         if out is not None:
-            cp, sp = _cos_sin_deg(out)
+            cp, sp = cos_sin_degrees(out)
             joints["B"] = _rot_y(ca, sa, (sd * cp, sd * sp, cd))
         axes = {"input": ((0.0, 0.0, 0.0), z_axis), "output": ((0.0, 0.0, 0.0), b0)}
         return Pose(motion.phi, motion.status, out, joints, axes)
@@ -2944,15 +2944,15 @@ def joint_positions(linkage: Linkage, phi: float, branch: int = 1) -> Pose:
         a, d = dims["a"], dims["d"]
         joints["B0"] = (a, 0.0, 0.0)
         if out is not None:
-            cp, sp = _cos_sin_deg(out)
+            cp, sp = cos_sin_degrees(out)
             joints["B"] = (a + d * cp, d * sp, 0.0)
         axes = {"input": (joints["A0"], z_axis), "output": (joints["B0"], z_axis)}
     elif kind == SKEW_FOUR_BAR:
         a, d, f = dims["a"], dims["d"], dims["f"]
-        cx, sx = _cos_sin_deg(dims["ksi"])
+        cx, sx = cos_sin_degrees(dims["ksi"])
         joints.update(F0=(0.0, 0.0, f), F1=(a, 0.0, f), B0=(a, f * sx / cx, 0.0))
         if out is not None:
-            cp, sp = _cos_sin_deg(out)
+            cp, sp = cos_sin_degrees(out)
             joints["B"] = (a + d * cp, joints["B0"][1] + d * sp * cx, d * sp * sx)
         axes = {"input": (joints["A0"], z_axis), "output": (joints["F1"], (0.0, -sx, cx))}
     elif kind == PLANE_SLIDER_CRANK:
@@ -2962,7 +2962,7 @@ def joint_positions(linkage: Linkage, phi: float, branch: int = 1) -> Pose:
         axes = {"input": (joints["A0"], z_axis), "guide": ((0.0, e, 0.0), (1.0, 0.0, 0.0))}
     else:
         a, f = dims["a"], dims["f"]
-        cx, sx = _cos_sin_deg(dims["ksi"])
+        cx, sx = cos_sin_degrees(dims["ksi"])
         joints.update(F0=(0.0, 0.0, f), F1=(a, 0.0, f))
         if out is not None:
             joints["C"] = (a, out * sx, f - out * cx)
@@ -3045,8 +3045,8 @@ def _view(kind):
     """(right, up, toward the viewer) unit vectors of the kind's view; None for plane ones."""
     if kind not in VIEWS:
         return None
-    ca, sa = _cos_sin_deg(VIEWS[kind][0])
-    ce, se = _cos_sin_deg(VIEWS[kind][1])
+    ca, sa = cos_sin_degrees(VIEWS[kind][0])
+    ce, se = cos_sin_degrees(VIEWS[kind][1])
     return (-sa, ca, 0.0), (-se * ca, -se * sa, ce), (ce * ca, ce * sa, se)
 
 
@@ -3130,7 +3130,7 @@ def _circle_3d(centre, u, v, radius, steps=72):
     """Points of the circle about `centre` in the plane of the unit vectors u, v."""
     out = []
     for i in range(steps + 1):
-        c, s = _cos_sin_deg(360.0 * i / steps)
+        c, s = cos_sin_degrees(360.0 * i / steps)
         out.append(tuple(m + radius * (c * a + s * b) for m, a, b in zip(centre, u, v)))
     return out
 
@@ -3209,7 +3209,7 @@ def _slider_ground(linkage, poses, size):
     strokes += _hatched((lo, below), (hi, below), -1, size)
     strokes.append(Stroke(((-b - 2.5 * size, 0.0), (hi, 0.0)), "axis"))
     strokes.append(Stroke(tuple((b * c, b * s) for c, s in (
-        _cos_sin_deg(5.0 * i) for i in range(73))), "path"))
+        cos_sin_degrees(5.0 * i) for i in range(73))), "path"))
     labels = []
     if e:
         left = -b - 1.5 * size                         # beside the crank's circle
@@ -3222,7 +3222,7 @@ def _slider_ground(linkage, poses, size):
 def _spherical_ground(linkage, poses, size):
     kind = SPHERICAL_FOUR_BAR
     joints = poses[0].joints
-    strokes = [Stroke(tuple(_cos_sin_deg(5.0 * i) for i in range(73)), "outline")]
+    strokes = [Stroke(tuple(cos_sin_degrees(5.0 * i) for i in range(73)), "outline")]
     for name in ("A0", "B0"):
         axis = joints[name]
         strokes.append(Stroke((project(kind, tuple(-1.35 * c for c in axis)),
@@ -3231,9 +3231,9 @@ def _spherical_ground(linkage, poses, size):
         away = _unit(at + (0.0,))[:2] if math.hypot(*at) > 1e-9 else (0.0, 1.0)
         strokes += _ground_symbol(at, away, size)
     strokes += _sphere_strokes(kind, _great_arc(joints["A0"], joints["B0"]), "ground")
-    cb, sb = _cos_sin_deg(linkage.dims["b"])
+    cb, sb = cos_sin_degrees(linkage.dims["b"])
     strokes += _sphere_strokes(kind, [(sb * c, sb * s, cb) for c, s in (
-        _cos_sin_deg(5.0 * i) for i in range(73))], "path")
+        cos_sin_degrees(5.0 * i) for i in range(73))], "path")
     middle = _great_arc(joints["A0"], joints["B0"], 2)[1]
     labels = (Label(project(kind, tuple(1.15 * c for c in middle)), "a"),)
     marks = (Mark((0.0, 0.0), "pivot", "O"), Mark(project(kind, joints["A0"]), "pivot", "A0"),
@@ -3260,7 +3260,7 @@ def _skew_ground(linkage, poses, size):
     marks = [Mark(a0, "pivot", "A0")]
     point, direction = axes["output" if "output" in axes else "guide"]
     if kind == SKEW_FOUR_BAR:
-        g = -f / _cos_sin_deg(dims["ksi"])[0]      # B0 = F1 + g w
+        g = -f / cos_sin_degrees(dims["ksi"])[0]      # B0 = F1 + g w
         ts = (min(0.0, g) - reach, max(0.0, g) + reach)
         strokes += _page_strokes(kind, [tuple(p + t * w for p, w in zip(point, direction))
                                         for t in ts], "axis")
@@ -3268,7 +3268,7 @@ def _skew_ground(linkage, poses, size):
         lines, g_label = _dimension(f1, b0, "g", size, 1.0)
         strokes += lines
         labels.append(g_label)
-        cx, sx = _cos_sin_deg(dims["ksi"])
+        cx, sx = cos_sin_degrees(dims["ksi"])
         strokes += _page_strokes(kind, _circle_3d(joints["B0"], (1.0, 0.0, 0.0), (0.0, cx, sx),
                                                   dims["d"]), "path")
         marks.append(Mark(b0, "pivot", "B0"))
@@ -3725,7 +3725,7 @@ class PlotUnavailable(RuntimeError):
     """--png without matplotlib."""
 
 
-def _matplotlib():
+def matplotlib_canvas():
     """matplotlib's Figure and Agg canvas (no pyplot: no global state), or PlotUnavailable."""
     try:
         from matplotlib.figure import Figure as MplFigure
@@ -3742,7 +3742,7 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
     from faint to solid over the ground; the last one with its joints and letters. 100 dots an
     inch (`dpi`), 800 pixels wide unless `size` (width, height in pixels) says otherwise."""
     import io
-    MplFigure, FigureCanvasAgg = _matplotlib()
+    MplFigure, FigureCanvasAgg = matplotlib_canvas()
     placed = [f for f in drawing.frames if f.message is None] or list(drawing.frames)
     chosen = [placed[i] for i in _spread(len(placed), positions)]
     x0, y0, x1, y1 = drawing.bounds
@@ -4851,7 +4851,7 @@ def _engine_linkage(kind, values):
 
 # -- measuring the analysed linkage ---------------------------------------------------------------
 
-def _kind_dims(link):
+def kind_and_dimensions(link):
     """The adapter's kind and dims of a FourBar or SliderCrank."""
     if isinstance(link, FourBar):
         return "plane", {"a": link.a, "b": link.b, "c": link.c, "d": link.d}
@@ -4860,7 +4860,7 @@ def _kind_dims(link):
 
 def _outputs(link, phis):
     """The analysed output at each input angle (degrees), None where not assembled."""
-    kind, dims = _kind_dims(link)
+    kind, dims = kind_and_dimensions(link)
     return analyze(kind, dims, list(phis), link.branch)
 
 
@@ -5270,7 +5270,7 @@ def datum_help(datum):
     return f"{datum.meaning}; in {range_text(datum)}{refused}"
 
 
-def _number(x):
+def value_text(x):
     """A number for `name = value` output: up to 10 significant digits."""
     if isinstance(x, bool):
         return str(x).lower()
@@ -5279,30 +5279,30 @@ def _number(x):
     return f"{x:.10g}"
 
 
-def _design_lines(design):
+def design_lines(design):
     """The `name = value` lines of one design: the paper's letters, branch, the review's
     unknowns, the design positions and the transmission-angle extremes."""
     link = design.linkage
     names = ("a", "b", "c", "d") if isinstance(link, FourBar) else ("b", "c", "e")
-    lines = [f"{n} = {_number(getattr(link, n))}" for n in names]
+    lines = [f"{n} = {value_text(getattr(link, n))}" for n in names]
     lines.append(f"branch = {link.branch}")
-    lines += [f"review.{k} = {_number(v)}" for k, v in design.review.items()]
+    lines += [f"review.{k} = {value_text(v)}" for k, v in design.review.items()]
     for i, (phi, out) in enumerate(design.positions, 1):
-        lines.append(f"position{i}.phi = {_number(phi)}")
+        lines.append(f"position{i}.phi = {value_text(phi)}")
         lines.append(f"position{i}.{'psi' if isinstance(link, FourBar) else 'x'} = "
-                     f"{_number(out)}")
+                     f"{value_text(out)}")
     if design.travel is not None:
-        lines.append(f"travel.from = {_number(design.travel[0])}")
-        lines.append(f"travel.to = {_number(design.travel[1])}")
-    lines.append(f"mu_min = {_number(design.mu_min)}")
-    lines.append(f"mu_max = {_number(design.mu_max)}")
+        lines.append(f"travel.from = {value_text(design.travel[0])}")
+        lines.append(f"travel.to = {value_text(design.travel[1])}")
+    lines.append(f"mu_min = {value_text(design.mu_min)}")
+    lines.append(f"mu_max = {value_text(design.mu_max)}")
     return lines
 
 
 def design_drawing(result) -> Drawing:
     """The preferred solution of a Synthesis drawn at its design positions."""
     link = result.design.linkage
-    kind, dims = _kind_dims(link)
+    kind, dims = kind_and_dimensions(link)
     text = " ".join(f"{k}={v:.4g}" for k, v in dims.items())
     return mechanism_drawing(Linkage(kind, **dims), [phi for phi, _ in result.design.positions],
                              link.branch, f"{result.method}: {text}",
@@ -5887,7 +5887,7 @@ def build_figure(title: str, subtitle: str, group: str, specs, series: list[Seri
                 if len(spec.quantities) > 1 or not label:
                     label = f"{quantity}, {label}" if label else quantity
                 angles = quantity == "displacement" and group != "slider"
-                points = read_dat(path, warn=_say)
+                points = read_dat(path, warn=say)
                 big = max((abs(v) for point in points for v in point), default=0.0)
                 if big > DRAWN_UP_TO:
                     raise SceneError(f"{path}: a value of {big:.3g} is too large to draw "
@@ -6110,7 +6110,7 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
                size: tuple[int, int] | None = None) -> None:
     """Render the figure with matplotlib (the `plot` extra) into the PNG file `path`: 90 dots an
     inch (`dpi`), 648 pixels wide unless `size` (width, height in pixels) says otherwise."""
-    MplFigure, FigureCanvasAgg = _matplotlib()
+    MplFigure, FigureCanvasAgg = matplotlib_canvas()
     from matplotlib.ticker import MultipleLocator
     xs_all = [x for p in figure.panels for c in p.curves for r in c.runs for x, _ in r]
     x_step = _nice_axis(min(xs_all), max(xs_all), 73, 8, angles=True).step if xs_all else 1.0
@@ -6405,7 +6405,7 @@ def bench_engine(out, quick: bool = False, points: int = 100_001,
         points, pylinkage_points = 1001, 101
     angles = evenly_spaced_angles(0.0, 360.0, 360.0 / (points - 1))
     try:
-        np = _numpy()
+        np = numpy_module()
         array = np.array(angles)
     except FastUnavailable:
         np = None
@@ -6590,18 +6590,18 @@ def _reported(work) -> int:
     try:
         return work() or 0
     except (SceneError, PlotUnavailable) as e:
-        return _said(e, 1)
+        return said(e, 1)
     except OSError as e:
-        return _said(f"{e.filename or ''}: {e.strerror}", 1)
+        return said(f"{e.filename or ''}: {e.strerror}", 1)
     except KeyboardInterrupt as e:
-        return _said("interrupted", interrupted_status(e))
+        return said("interrupted", interrupted_status(e))
 
 
 def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py run TYPE ...`: the menu program given these answers."""
     key, needed = MECHANISM_TYPES[args.type]
     if args.old_skew is not None:               # the spelling before 0.2.0
-        _say("--skew is now --ksi (the skew angle's name in the paper, the API and the scenes)")
+        say("--skew is now --ksi (the skew angle's name in the paper, the API and the scenes)")
         if args.ksi is None:
             args.ksi = args.old_skew
     given = {name for name in DIMENSION_HELP if getattr(args, name) is not None}
@@ -6639,11 +6639,11 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
     try:
         points = answered_session(screen, key, answers, args.branch, args.dir)
     except ProgramStop as stop:
-        return _said(stop, 1)
+        return said(stop, 1)
     except KeyboardInterrupt as e:
-        return _said("interrupted; the DAT files there are as they were", interrupted_status(e))
+        return said("interrupted; the DAT files there are as they were", interrupted_status(e))
     screen.show_soft_errors()
-    _say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)})")
+    say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)})")
     if args.csv:
         return _reported(lambda: _basic_csv(args, answers))
     return 0
@@ -6662,7 +6662,7 @@ def _basic_csv(args: argparse.Namespace, answers: list[str]) -> None:
         statuses = ["unknown"] * len(ang)
     rows = ((phi, psi, v, a, status) for (phi, psi), (_, v), (_, a), status
             in zip(ang, vel, acc, statuses))
-    _say(f"wrote {args.csv} ({write_csv(args.csv, rows):,} rows)")
+    say(f"wrote {args.csv} ({write_csv(args.csv, rows):,} rows)")
 
 
 def _run_double(args: argparse.Namespace, numbers: dict) -> int:
@@ -6677,16 +6677,16 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
         linkage = Linkage(args.type, **dims)
         count = angle_count(start, stop, step)
         if args.fast:
-            _numpy()                            # fail before any work
+            numpy_module()                            # fail before any work
     except (ValueError, FastUnavailable) as e:
-        return _said(e, 1)
+        return said(e, 1)
     # in blocks, to keep a long sweep out of memory; a followed motion in one, as it goes on
     # from each position to the next
     block = count if args.branch == FOLLOW else 65536 if args.fast else 4096
     if not count:
-        return _said(f"the sweep from {start:g} to {stop:g} by {step:g} has no point", 1)
+        return said(f"the sweep from {start:g} to {stop:g} by {step:g} has no point", 1)
     if count > 10**8:
-        return _said(f"{count:,} points is more than 100 million: choose a larger step", 1)
+        return said(f"{count:,} points is more than 100 million: choose a larger step", 1)
     assembled, points = 0, None
 
     def motions(table):
@@ -6715,18 +6715,18 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
         with written_whole(args.csv) if args.csv else contextlib.nullcontext() as table:
             points = write_dat_files(motions(table), args.dir, clip=args.clip)
     except ProgramStop as stop:
-        return _said(stop, 1)
+        return said(stop, 1)
     except OSError as e:
-        return _said(f"cannot write {args.csv}: {e.strerror}"
+        return said(f"cannot write {args.csv}: {e.strerror}"
                      + (" (the DAT files are written)" if points is not None else ""), 1)
     except KeyboardInterrupt as e:
-        return _said("interrupted; the DAT files there are as they were", interrupted_status(e))
+        return said("interrupted; the DAT files there are as they were", interrupted_status(e))
     left_out = (f"; {points - assembled:,} without a position, left out"
                 if points > assembled else "")
-    _say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)}"
+    say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)}"
          f"{left_out})")
     if args.csv:
-        _say(f"wrote {args.csv} ({points:,} rows)")
+        say(f"wrote {args.csv} ({points:,} rows)")
     return 0
 
 
@@ -6739,7 +6739,7 @@ def _draw_command(args: argparse.Namespace, make_figure) -> int:
     --png (_reported: every way it can fail is a message and a non-zero status)."""
     def draw():
         if args.png:
-            _matplotlib()                       # fail before any work
+            matplotlib_canvas()                       # fail before any work
         figure = make_figure()
         if args.png:
             png_figure(figure, args.png, args.dpi, args.size)
@@ -6760,7 +6760,7 @@ def drawing_command(args: argparse.Namespace, make_drawing) -> int:
     def draw():
         _check_frames(args.frames)
         if args.png:
-            _matplotlib()                       # fail before any work
+            matplotlib_canvas()                       # fail before any work
         drawing = make_drawing()
         for path, render in ((args.svg, lambda: svg_drawing(drawing).encode("utf-8")),
                              (args.png, lambda: png_drawing(drawing, dpi=getattr(args, "dpi", None),
@@ -6768,7 +6768,7 @@ def drawing_command(args: argparse.Namespace, make_drawing) -> int:
             if path:
                 with written_whole(path) as fh:
                     fh.write(render())
-                _say(f"wrote {path} ({len(drawing.frames)} position"
+                say(f"wrote {path} ({len(drawing.frames)} position"
                      f"{'s' * (len(drawing.frames) > 1)})")
         if args.text or not (args.svg or args.png):
             return show_drawing(drawing, frames=args.frames)
@@ -6781,7 +6781,7 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     try:
         scene = load_scene(args.file)
     except SceneError as e:
-        return _said(e, 1)
+        return said(e, 1)
     if scene.draws_mechanism:
         if args.csv or args.dir is not None:
             parser.error(f"--csv and --dir go with a scene of curves; {args.file} draws the "
@@ -6792,11 +6792,11 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
                      "(--png, --text)")
 
     def figure(where):
-        series = compute_scene(scene, where, _say)
+        series = compute_scene(scene, where, say)
         if args.dir is not None:
-            _say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.dir}")
+            say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.dir}")
         if args.csv:
-            _say(f"wrote {args.csv} ({scene_csv(scene, series, args.csv):,} rows)")
+            say(f"wrote {args.csv} ({scene_csv(scene, series, args.csv):,} rows)")
         return scene_figure(scene, series)
 
     def temporary():
@@ -6824,16 +6824,16 @@ def design_command(argv):
         result = function(**{datum.name: getattr(args, datum.name) for datum in DATA[method]
                              if getattr(args, datum.name) is not None})
     except DesignError as error:
-        _say(f"error: {error}", f"{PROG} design")
+        say(f"error: {error}", f"{PROG} design")
         return 1
     except _UsageError as error:
-        _say(f"error: {error}", f"{PROG} design")
+        say(f"error: {error}", f"{PROG} design")
         return 2
     except SystemExit as exit_:                     # argparse's --help
         return int(exit_.code or 0)
     print(f"method = {result.method}")
     for key, value in result.design.data.items():
-        print(f"data.{key} = {_number(value)}")
+        print(f"data.{key} = {value_text(value)}")
     print(f"solutions = {len(result.solutions)}")
     print(f"preferred = {result.preferred + 1}")
     for reason in result.rejected:
@@ -6841,26 +6841,26 @@ def design_command(argv):
     code = 0
     for number, design in enumerate(result.solutions, 1):
         print(f"solution = {number}")
-        for line in _design_lines(design):
+        for line in design_lines(design):
             print(line)
         if args.analyze:
             checks = analyze_design(design)
             bad = misses(design, checks)
             for check in checks:
-                measured = "none" if check.measured is None else _number(check.measured)
-                print(f"measured.{check.name} = {measured}  # expected {_number(check.expected)}"
+                measured = "none" if check.measured is None else value_text(check.measured)
+                print(f"measured.{check.name} = {measured}  # expected {value_text(check.expected)}"
                       f", miss {check.miss:.2g}")
             print(f"verdict = {'meets' if not bad else 'misses ' + ', '.join(c.name for c in bad)}")
             code = code or (3 if bad else 0)
     if args.dat is not None:
         link = result.design.linkage
-        kind, dims = _kind_dims(link)
+        kind, dims = kind_and_dimensions(link)
         try:
             motions = Linkage(kind, **dims).sweep(evenly_spaced_angles(0.0, 360.0, 1.0),
                                                   link.branch)
             write_dat_files(motions, args.dat)
         except ProgramStop as error:
-            _say(f"error: {error}", f"{PROG} design")
+            say(f"error: {error}", f"{PROG} design")
             return 1
         print(f"dat = {args.dat}  # ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution, "
               f"0 to 360 by 1 degree, branch {link.branch}, double precision")
@@ -7098,11 +7098,11 @@ def main(argv=None) -> int:
             parser.error("give a command, or none for the menu program")
         return args.handler(args, args.parser)
     except KeyboardInterrupt as e:
-        return _said("interrupted", interrupted_status(e))
+        return said("interrupted", interrupted_status(e))
     except RecursionError as e:
-        return _said(f"too deeply nested: {e}", 1)
+        return said(f"too deeply nested: {e}", 1)
     except MemoryError:
-        return _said("out of memory", 1)
+        return said("out of memory", 1)
 
 
 def _reopen_closed_streams() -> None:

@@ -5,7 +5,6 @@ reference (engine_reference.py, imported at the first use: the bench runs withou
 from __future__ import annotations
 
 import functools
-import math
 import tomllib
 from pathlib import Path
 

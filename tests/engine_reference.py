@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import dataclasses
 
-import mpmath
 from mpmath import mp
 
 KAPPA = {"plane": 1, "spherical": -1, "skew": 1, "slider": 1, "skew-slider": 1}

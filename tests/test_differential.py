@@ -15,7 +15,6 @@ import math
 import os
 import tempfile
 
-import pytest
 
 from hypothesis import HealthCheck, Phase, assume, given, settings, strategies as st
 

@@ -21,7 +21,6 @@ the rest of the program runs on the standard library alone.
 from __future__ import annotations
 
 import math
-import os
 import subprocess
 import sys
 from pathlib import Path

@@ -1,7 +1,7 @@
 """linkage.py reads as its design: numbered sections in the order a reader needs them, each header
-saying which earlier sections it uses (and saying it truly), none reaching into a later one, and
-nothing imported from tests/ (the program stands without its tests; tests/test_bench.py runs its
-benchmarks so)."""
+saying which earlier sections it uses (and saying it truly), none reaching into a later one or
+into another's private names, and nothing imported from tests/ (the program stands without its
+tests; tests/test_bench.py runs its benchmarks so)."""
 
 from __future__ import annotations
 
@@ -97,6 +97,14 @@ def test_no_section_reaches_into_a_later_one():
     later = {(here, there): sorted(names) for here, used in uses().items()
              for there, names in used.items() if there > here}
     assert later == {}, later
+
+
+def test_each_section_is_one_room():
+    """A name with a leading underscore is its section's own: no other section uses it (what
+    sections share is named without one)."""
+    private = {(here, there): sorted(n for n in names if n.startswith("_"))
+               for here, used in uses().items() for there, names in used.items()}
+    assert {k: v for k, v in private.items() if v} == {}
 
 
 def test_each_header_says_which_sections_it_uses():
