@@ -2441,7 +2441,7 @@ def _slider_point(k, zero, fine, phi, c, s, sign, level, unit):
     return Motion(phi, float(x) * unit, float(vel) * unit, float(acc) * unit, ASSEMBLED)
 
 
-# -- the vectorised path: numpy, a block of angles at a time (issue 13) -------------------------
+# -- the vectorised path: numpy, a block of angles at a time ------------------------------------
 #
 # Linkage.sweep_arrays is _sweep_four_bar and _sweep_slider written on numpy arrays: the same
 # formulas with the same operations in the same order, hypot computed as CPython's math.hypot
@@ -6178,6 +6178,7 @@ def scene_drawing(scene: Scene) -> Drawing:
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
 QUICK_KEYS = b"12\r7\r9\r6\r0\r360\r10\r1"     # bench --quick: 37 points
+ONE_POINT_KEYS = b"12\r7\r9\r6\r0\r0\r1\r1"     # bench startup: one point
 
 
 def _timed(repeats: int, function):
@@ -6290,8 +6291,7 @@ def bench_port(out, quick: bool = False) -> None:
     import subprocess
     import tempfile
     import time
-    keys, repeats = (QUICK_KEYS, 1) if quick else (BENCH_KEYS, 3)
-    points = angle_count(0.0, 360.0, float(keys.split(b"\r")[-2]))
+    keys, points, repeats = (QUICK_KEYS, 37, 1) if quick else (BENCH_KEYS, 3601, 3)
 
     def port_run():
         cpu = time.process_time()
@@ -6336,7 +6336,8 @@ def bench_startup(out, quick: bool = False) -> None:
     import subprocess
     import tempfile
     import time
-    here, runs = os.path.dirname(os.path.abspath(__file__)), 2 if quick else 21
+    here = os.path.dirname(os.path.abspath(__file__))
+    runs, repeats = (2, 1) if quick else (21, 5)
     env = dict(os.environ, PYTHONPATH=here)
     env.pop("PYTHONDONTWRITEBYTECODE", None)         # as where bytecode is kept, the default
     commands = {"python3 -c pass": [sys.executable, "-c", "pass"],
@@ -6348,12 +6349,12 @@ def bench_startup(out, quick: bool = False) -> None:
         for _ in range(runs):                      # alternated, so that drift hits all alike
             for name, command in commands.items():
                 start = time.perf_counter()
-                subprocess.run(command, input=QUICK_KEYS.replace(b"360", b"0"), cwd=folder,
+                subprocess.run(command, input=ONE_POINT_KEYS, cwd=folder,
                                env=env, capture_output=True, check=True)
                 times[name].append(time.perf_counter() - start)
     with open(os.path.join(here, "linkage.py"), encoding="utf-8") as f:
         source = f.read()
-    compiling = _best_of(1 if quick else 5, lambda: compile(source, "linkage.py", "exec"))
+    compiling = _best_of(repeats, lambda: compile(source, "linkage.py", "exec"))
     medians = {name: statistics.median(t) for name, t in times.items()}
     print(f"a one-point session (plane four-bar, 0 to 0 degrees); milliseconds, median of {runs} "
           f"runs each, alternated", file=out)
@@ -6362,11 +6363,11 @@ def bench_startup(out, quick: bool = False) -> None:
     for name, median in medians.items():
         print(f"{name:20} {median * 1e3:8.1f}", file=out)
     print(f"{'compiling linkage.py':20} {compiling * 1e3:8.1f}   ({len(source.encode()):,} bytes, "
-          f"in this process, best of {1 if quick else 5}; the script pays it every run)", file=out)
+          f"in this process, best of {repeats}; the script pays it every run)", file=out)
 
 
-ENGINE_TARGET = 100_000    # points per second, displacement, velocity and acceleration (issue 5)
-FAST_TARGETS = {PLANE_FOUR_BAR: 10_000_000, "others": 5_000_000}   # the numpy path (issue 13)
+ENGINE_TARGET = 100_000    # points per second, displacement, velocity and acceleration, one core
+FAST_TARGETS = {PLANE_FOUR_BAR: 10_000_000, "others": 5_000_000}   # the numpy path, likewise
 BENCH_LINKAGES = ((PLANE_FOUR_BAR, dict(a=6, b=2, c=7, d=9)),
                   (SPHERICAL_FOUR_BAR, dict(a=80, b=20, c=75, d=60)),
                   (SKEW_FOUR_BAR, dict(a=6, b=2, c=7, d=9, f=1.5, ksi=25)),
