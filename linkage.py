@@ -2087,6 +2087,32 @@ class Linkage:
         FastUnavailable where numpy is not installed."""
         return _sweep_arrays(self, phis, branch, derivatives)
 
+    def coupler(self, phis, u, v=0.0, branch=1, derivatives=2, *, start=None):
+        """The coupler point (u, v) at each input angle of `phis`: a CouplerMotion each, its
+        position, velocity and acceleration (x, y, z) on the branch (or motion) that sweep takes.
+        The point is fixed to the coupler, in its own frame: plane kinds P = A + u e + v n (u, v
+        lengths, e the unit vector from A to the output pin, n = e turned +90 degrees about z);
+        the spherical four-bar P = cos v (cos u A + sin u t) + sin v (A x t) (u, v degrees, t
+        the unit tangent at A toward B); the skew kinds P = A + u e, v = 0 (their coupler may
+        spin about that line). A ValueError says why a point is refused."""
+        u, v = check_coupler_point(self, u, v)
+        return coupler_of(self, self.sweep(phis, branch, derivatives, start=start), u, v)
+
+    def transmission(self, phis, branch=1, *, start=None):
+        """The transmission angle mu (degrees, [0, 180]) at each input angle, None where there
+        is no position: the angle between the output pin's velocity and its velocity relative
+        to the crank pin A (the review's section 2; see the section's notes)."""
+        return transmission_of(self, self.sweep(phis, branch, 0, start=start))
+
+    def coupler_arrays(self, phis, u, v=0.0, branch=1, derivatives=2):
+        """coupler on numpy arrays (sweep_arrays's numbers): a CouplerArrays."""
+        u, v = check_coupler_point(self, u, v)
+        return coupler_of_arrays(self, self.sweep_arrays(phis, branch, derivatives), u, v)
+
+    def transmission_arrays(self, phis, branch=1):
+        """transmission on numpy arrays: a float64 array, NaN where there is no position."""
+        return transmission_of_arrays(self, self.sweep_arrays(phis, branch, 0))
+
     def _precise(self, phi, sign, level):
         """One point in 50-digit decimal arithmetic (near a dead-centre), as a Motion; in 110
         digits where the discriminant is within 1e-12 of its scale (near a change point)."""
@@ -2799,6 +2825,304 @@ def _sweep_arrays(linkage, phis, branch, derivatives):
     return MotionArrays(phi, res["output"], res["velocity"], res["acceleration"], status)
 
 
+# -- the joints, the coupler point and the transmission angle -----------------------------------
+#
+# Each kind's two moving pins, written once for a float and for a numpy array alike (arithmetic
+# only; sqrt and atan2 passed in): the crank pin A(phi) and the output's pin P(q), q the output
+# (psi in degrees for the four-bars, the slider's x), each with its first two derivatives by phi
+# (radians) and by q (radians, or length), in the frames joint_positions documents. Their total
+# derivatives by phi follow from the engine's q' and q'': P' = P_q q', P'' = P_qq q'^2 + P_q q''.
+#
+# A coupler point is fixed to the coupler, the body from A to P, in the coupler's own frame:
+# plane kinds P = A + u e + v n (e the unit vector A->P, n = e turned +90 degrees about z); the
+# spherical four-bar P = cos v (cos u A + sin u t) + sin v (A x t) on the unit sphere, t the unit
+# tangent at A toward the output pin (u, v in degrees); the skew kinds' coupler has ball joints
+# and may spin about A->P, so only the points of that line, A + u e, are fixed. Each form is
+# linear in A, P and (spherical) A x P with constant coefficients (|P - A| = c, A.P = cos c along
+# the motion), so the derivatives follow by the product rule, exactly.
+#
+# The transmission angle mu (the review's section 2) is the angle between t_a, the output pin's
+# velocity when the output turns (slides) in its positive sense, P_q, and t_r, the pin's velocity
+# relative to A when the coupler turns about its joint at A in the positive sense: axis x (P - A),
+# the axis z (plane kinds; the skew kinds' ball joints, taken about the input shaft's direction
+# so that a skew linkage made plane, f = 0 and ksi = 0, is the plane four-bar) or OA (the
+# spherical four-bar, whose joint axes meet at the centre). In degrees in [0, 180]: the review's
+# eq. (1) for the plane four-bar (the inner angle between coupler and output crank), its eq. (3)
+# for the slider-crank (data/SYNTHESIS_ERRATA.md, R3), the spherical inner angle at B.
+
+def _plane_crank_pin(dims, c, s):
+    b = dims["b"]
+    return (b * c, b * s, 0.0), (-b * s, b * c, 0.0), (-b * c, -b * s, 0.0)
+
+
+def _spherical_crank_pin(dims, c, s):
+    cb, sb = cos_sin_degrees(dims["b"])
+    return (sb * c, sb * s, cb), (-sb * s, sb * c, 0.0), (-sb * c, -sb * s, 0.0)
+
+
+def _plane_output_pin(dims, cq, sq, x):
+    a, d = dims["a"], dims["d"]
+    return (a + d * cq, d * sq, 0.0), (-d * sq, d * cq, 0.0), (-d * cq, -d * sq, 0.0)
+
+
+def _skew_output_pin(dims, cq, sq, x):
+    a, d, f = dims["a"], dims["d"], dims["f"]
+    cx, sx = cos_sin_degrees(dims["ksi"])
+    return ((a + d * cq, f * sx / cx + d * sq * cx, d * sq * sx),
+            (-d * sq, d * cq * cx, d * cq * sx), (-d * cq, -d * sq * cx, -d * sq * sx))
+
+
+def _spherical_output_pin(dims, cq, sq, x):
+    ca, sa = cos_sin_degrees(dims["a"])
+    cd, sd = cos_sin_degrees(dims["d"])
+    return tuple(rotated_y(ca, sa, v) for v in ((sd * cq, sd * sq, cd), (-sd * sq, sd * cq, 0.0),
+                                             (-sd * cq, -sd * sq, 0.0)))
+
+
+def _slider_output_pin(dims, cq, sq, x):
+    return (x, dims["e"], 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+
+
+def _skew_slider_output_pin(dims, cq, sq, x):
+    a, f = dims["a"], dims["f"]
+    cx, sx = cos_sin_degrees(dims["ksi"])
+    return (a, x * sx, f - x * cx), (0.0, sx, -cx), (0.0, 0.0, 0.0)
+
+
+class Pins(NamedTuple):
+    """One kind's moving pins and coupler: crank_pin(dims, cos phi, sin phi) and
+    output_pin(dims, cos q, sin q, x), each (position, d/d, d2/d2) as 3-tuples; coupler the form
+    of its coupler's frame ("plane", "sphere" or "line"); joint_at_a the axis the coupler turns
+    about relative to the crank ("z", or "OA" through the sphere's centre)."""
+    crank_pin: object
+    output_pin: object
+    coupler: str
+    joint_at_a: str
+
+
+PINS = {
+    PLANE_FOUR_BAR: Pins(_plane_crank_pin, _plane_output_pin, "plane", "z"),
+    SPHERICAL_FOUR_BAR: Pins(_spherical_crank_pin, _spherical_output_pin, "sphere", "OA"),
+    SKEW_FOUR_BAR: Pins(_plane_crank_pin, _skew_output_pin, "line", "z"),
+    PLANE_SLIDER_CRANK: Pins(_plane_crank_pin, _slider_output_pin, "plane", "z"),
+    SKEW_SLIDER_CRANK: Pins(_plane_crank_pin, _skew_slider_output_pin, "line", "z"),
+}
+COUPLER_REACH = 1e9      # a coupler point at most this many times the linkage's size from A
+
+
+def _add(*terms):
+    """The sum of (coefficient, 3-vector) terms, componentwise."""
+    return tuple(sum(k * v[i] for k, v in terms) for i in range(3))
+
+
+def _sub(p, q):
+    return (p[0] - q[0], p[1] - q[1], p[2] - q[2])
+
+
+def cross(u, v):
+    """The cross product of two 3-vectors (floats or numpy arrays alike)."""
+    return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+
+
+def dot(u, v):
+    """The dot product of two 3-vectors."""
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def rotated_y(c, s, v):
+    """v rotated about the y axis by the angle of cosine c, sine s (z turns toward +x)."""
+    return (c * v[0] + s * v[2], v[1], -s * v[0] + c * v[2])
+
+
+def _quarter_turned(w):
+    """w turned +90 degrees about z (its z component dropped): n of the plane coupler frame."""
+    return (-w[1], w[0], 0.0)
+
+
+def check_coupler_point(linkage, u, v=0.0):
+    """(u, v) as floats if they name a point of `linkage`'s coupler (see Linkage.coupler), or a
+    ValueError that says why not."""
+    try:
+        u, v = float(u), float(v)
+    except (TypeError, ValueError):
+        raise ValueError("a coupler point is two numbers, u and v") from None
+    if not (math.isfinite(u) and math.isfinite(v)):
+        raise ValueError(f"coupler point ({u:g}, {v:g}): u and v must be finite")
+    pins, dims = PINS[linkage.kind], linkage.dims
+    if pins.coupler == "line" and v != 0.0:
+        raise ValueError(f"coupler point v = {v:g}: the {MECHANISM_NAMES[linkage.kind]}'s coupler "
+                         "has ball joints and may spin about the line from A to its output pin, "
+                         "so only the points of that line are fixed to it: v must be 0")
+    if pins.coupler == "sphere":
+        if cos_sin_degrees(dims["c"])[1] == 0.0:
+            raise ValueError(f"coupler arc c = {dims['c']:g} degrees: the coupler's great circle "
+                             "is not defined (c is 0 or 180 modulo 360)")
+        reach = 360.0
+    else:
+        if dims["c"] == 0.0:
+            raise ValueError("coupler c = 0: the coupler has no direction to fix a point to")
+        reach = max(abs(x) for k, x in dims.items() if k != "ksi")
+    if max(abs(u), abs(v)) > COUPLER_REACH * reach:
+        raise ValueError(f"coupler point ({u:g}, {v:g}) is more than {COUPLER_REACH:g} times "
+                         f"the linkage's size ({reach:g}) from A")
+    return u, v
+
+
+def _joint_kinematics(linkage, c, s, out, level, q1, q2, cos_sin):
+    """A, P (positions and total derivatives by phi, as many as `level` asks) and P_q, in the
+    linkage's scaled lengths (divided by its unit, as the engine computes), from cos and sin of
+    phi, the output (degrees, or length) and its derivatives q1, q2; cos_sin is
+    cos_sin_degrees or its array form."""
+    pins, dims = PINS[linkage.kind], linkage._scaled
+    a = pins.crank_pin(dims, c, s)
+    if linkage.is_slider:
+        unit = linkage._unit
+        out, q1, q2 = (None if q is None else q / unit for q in (out, q1, q2))
+        p = pins.output_pin(dims, None, None, out)
+    else:
+        cq, sq = cos_sin(out)
+        p = pins.output_pin(dims, cq, sq, None)
+    if level == 0:
+        return a[:1], p[:1], p[1]
+    p1 = _add((q1, p[1]))
+    if level == 1:
+        return a[:2], (p[0], p1), p[1]
+    p2 = _add((q1 * q1, p[2]), (q2, p[1]))
+    return a, (p[0], p1, p2), p[1]
+
+
+def _coupler_form(linkage, a, p, u, v, sqrt):
+    """The coupler point and its derivatives (as many as a and p carry) from the pins' (scaled
+    lengths: see _joint_kinematics), in the linkage's lengths."""
+    form = PINS[linkage.kind].coupler
+    if form == "sphere":
+        cu, su = cos_sin_degrees(u)
+        cv, sv = cos_sin_degrees(v)
+        k = dot(a[0], p[0])                               # cos c
+        n = cross(a[0], p[0])
+        sn = sqrt(dot(n, n))                              # sin c
+        alpha, beta, gamma = cv * cu - cv * su * k / sn, cv * su / sn, sv / sn
+        normal = [n]
+        if len(a) > 1:
+            normal.append(_add((1.0, cross(a[1], p[0])), (1.0, cross(a[0], p[1]))))
+        if len(a) > 2:
+            normal.append(_add((1.0, cross(a[2], p[0])), (2.0, cross(a[1], p[1])),
+                               (1.0, cross(a[0], p[2]))))
+        return [_add((alpha, ai), (beta, pi), (gamma, ni)) for ai, pi, ni in zip(a, p, normal)]
+    unit = linkage._unit
+    w = _sub(p[0], a[0])
+    length = sqrt(dot(w, w))                              # c, to rounding
+    out = []
+    for ai, pi in zip(a, p):
+        e = _sub(pi, ai)
+        terms = [(unit, ai), (u / length, e)]
+        if form == "plane" and v:
+            terms.append((v / length, _quarter_turned(e)))
+        out.append(_add(*terms))
+    return out
+
+
+def _transmission_form(kind, a, p, p_q, atan2):
+    """mu in degrees from the pins' positions and the output pin's P_q (see the notes above)."""
+    t_r = cross(a if PINS[kind].joint_at_a == "OA" else (0.0, 0.0, 1.0), _sub(p, a))
+    normal = cross(p_q, t_r)
+    return atan2(dot(normal, normal) ** 0.5, dot(p_q, t_r)) * _DEG
+
+
+class CouplerMotion(NamedTuple):
+    """One input angle's coupler point: position, velocity and acceleration as (x, y, z) in the
+    frame of joint_positions, the derivatives by the input angle in radians (as Motion's); None
+    where not asked for or where there is no position (status, as the Motion's)."""
+    phi: float
+    position: tuple | None
+    velocity: tuple | None
+    acceleration: tuple | None
+    status: str
+
+
+def coupler_of(linkage, motions, u, v=0.0):
+    """The coupler point (u, v) (see Linkage.coupler) at each of `motions` (Linkage.sweep's): as
+    many derivatives as each Motion carries."""
+    u, v = check_coupler_point(linkage, u, v)
+    out = []
+    for m in motions:
+        if m.output is None:
+            out.append(CouplerMotion(m.phi, None, None, None, m.status))
+            continue
+        level = 0 if m.velocity is None else 1 if m.acceleration is None else 2
+        c, s = cos_sin_degrees(m.phi)
+        a, p, _ = _joint_kinematics(linkage, c, s, m.output, level, m.velocity, m.acceleration,
+                                    cos_sin_degrees)
+        point = _coupler_form(linkage, a, p, u, v, math.sqrt) + [None, None]
+        out.append(CouplerMotion(m.phi, *point[:3], m.status))
+    return out
+
+
+def transmission_of(linkage, motions):
+    """The transmission angle mu (degrees, [0, 180]) at each of `motions`, None where there is no
+    position."""
+    out = []
+    for m in motions:
+        if m.output is None:
+            out.append(None)
+            continue
+        c, s = cos_sin_degrees(m.phi)
+        a, p, p_q = _joint_kinematics(linkage, c, s, m.output, 0, None, None, cos_sin_degrees)
+        out.append(_transmission_form(linkage.kind, a[0], p[0], p_q, math.atan2))
+    return out
+
+
+def _cos_sin_degrees_array(np, x):
+    """cos_sin_degrees elementwise (NaN stays NaN)."""
+    with np.errstate(invalid="ignore"):
+        r = np.fmod(x, 360.0)
+        n = np.rint(r / 90.0)
+        y = (r - 90.0 * n) * _RAD
+        quarter = np.nan_to_num(n).astype(np.intp) & 3
+    cy, sy = np.cos(y), np.sin(y)
+    tc, ts = np.take(_QUARTER_COS, quarter), np.take(_QUARTER_SIN, quarter)
+    return cy * tc - sy * ts, sy * tc + cy * ts
+
+
+class CouplerArrays(NamedTuple):
+    """Linkage.coupler_arrays' answer: phi, then position, velocity and acceleration as float64
+    arrays of shape (n, 3) (NaN where there is no position; velocity and acceleration None when
+    not asked for), and the MotionArrays status codes."""
+    phi: object
+    position: object
+    velocity: object
+    acceleration: object
+    status: object
+
+
+def coupler_of_arrays(linkage, arrays, u, v=0.0):
+    """coupler_of on a MotionArrays (Linkage.sweep_arrays'): a CouplerArrays."""
+    np = numpy_module()
+    u, v = check_coupler_point(linkage, u, v)
+    level = 0 if arrays.velocity is None else 1 if arrays.acceleration is None else 2
+    c, s = _cos_sin_degrees_array(np, arrays.phi)
+    with np.errstate(all="ignore"):
+        a, p, _ = _joint_kinematics(linkage, c, s, arrays.output, level, arrays.velocity,
+                                    arrays.acceleration, functools.partial(_cos_sin_degrees_array,
+                                                                           np))
+        point = _coupler_form(linkage, a, p, u, v, np.sqrt)
+    count = len(arrays.phi)
+    stacked = [np.stack([np.broadcast_to(np.asarray(x, dtype=np.float64), (count,))
+                         for x in w], axis=1) for w in point] + [None, None]
+    return CouplerArrays(arrays.phi, *stacked[:3], arrays.status)
+
+
+def transmission_of_arrays(linkage, arrays):
+    """transmission_of on a MotionArrays: a float64 array, NaN where there is no position."""
+    np = numpy_module()
+    c, s = _cos_sin_degrees_array(np, arrays.phi)
+    with np.errstate(all="ignore"):
+        a, p, p_q = _joint_kinematics(linkage, c, s, arrays.output, 0, None, None,
+                                      functools.partial(_cos_sin_degrees_array, np))
+        mu = _transmission_form(linkage.kind, a[0], p[0], p_q, np.arctan2)
+    return np.broadcast_to(np.asarray(mu, dtype=np.float64), (len(arrays.phi),)).copy()
+
+
 # -- angles and files ----------------------------------------------------------------------------
 
 def angle_count(start, stop, step) -> int:
@@ -2902,11 +3226,6 @@ class Pose(NamedTuple):
     axes: dict
 
 
-def _rot_y(c, s, v):
-    """v rotated about the y axis by the angle of cosine c, sine s (z turns toward +x)."""
-    return (c * v[0] + s * v[2], v[1], -s * v[0] + c * v[2])
-
-
 def joint_positions(linkage: Linkage, phi: float, branch: int = 1) -> Pose:
     """The 3-D position of every joint of `linkage` at input angle phi (degrees) on `branch`.
 
@@ -2923,51 +3242,56 @@ def joint_positions(linkage: Linkage, phi: float, branch: int = 1) -> Pose:
                   guide through F1 = (a, 0, f).
     """
     motion = linkage.motion(phi, branch, derivatives=0)
-    dims, kind = linkage.dims, linkage.kind
-    cf, sf = cos_sin_degrees(motion.phi)
+    dims, kind, pins = linkage.dims, linkage.kind, PINS[linkage.kind]
+    joints, axes = _GROUND_JOINTS[kind](dims)
+    joints["A"] = pins.crank_pin(dims, *cos_sin_degrees(motion.phi))[0]
     out = motion.output
-    z_axis = (0.0, 0.0, 1.0)
-    if kind == SPHERICAL_FOUR_BAR:
-        ca, sa = cos_sin_degrees(dims["a"])
-        cb, sb = cos_sin_degrees(dims["b"])
-        cd, sd = cos_sin_degrees(dims["d"])
-        b0 = (sa, 0.0, ca)
-        joints = {"O": (0.0, 0.0, 0.0), "A0": z_axis, "B0": b0, "A": (sb * cf, sb * sf, cb)}
-        if out is not None:
-            cp, sp = cos_sin_degrees(out)
-            joints["B"] = _rot_y(ca, sa, (sd * cp, sd * sp, cd))
-        axes = {"input": ((0.0, 0.0, 0.0), z_axis), "output": ((0.0, 0.0, 0.0), b0)}
-        return Pose(motion.phi, motion.status, out, joints, axes)
-    b = dims["b"]
-    joints = {"A0": (0.0, 0.0, 0.0), "A": (b * cf, b * sf, 0.0)}
-    if kind == PLANE_FOUR_BAR:
-        a, d = dims["a"], dims["d"]
-        joints["B0"] = (a, 0.0, 0.0)
-        if out is not None:
-            cp, sp = cos_sin_degrees(out)
-            joints["B"] = (a + d * cp, d * sp, 0.0)
-        axes = {"input": (joints["A0"], z_axis), "output": (joints["B0"], z_axis)}
-    elif kind == SKEW_FOUR_BAR:
-        a, d, f = dims["a"], dims["d"], dims["f"]
-        cx, sx = cos_sin_degrees(dims["ksi"])
-        joints.update(F0=(0.0, 0.0, f), F1=(a, 0.0, f), B0=(a, f * sx / cx, 0.0))
-        if out is not None:
-            cp, sp = cos_sin_degrees(out)
-            joints["B"] = (a + d * cp, joints["B0"][1] + d * sp * cx, d * sp * sx)
-        axes = {"input": (joints["A0"], z_axis), "output": (joints["F1"], (0.0, -sx, cx))}
-    elif kind == PLANE_SLIDER_CRANK:
-        e = dims["e"]
-        if out is not None:
-            joints["C"] = (out, e, 0.0)
-        axes = {"input": (joints["A0"], z_axis), "guide": ((0.0, e, 0.0), (1.0, 0.0, 0.0))}
-    else:
-        a, f = dims["a"], dims["f"]
-        cx, sx = cos_sin_degrees(dims["ksi"])
-        joints.update(F0=(0.0, 0.0, f), F1=(a, 0.0, f))
-        if out is not None:
-            joints["C"] = (a, out * sx, f - out * cx)
-        axes = {"input": (joints["A0"], z_axis), "guide": (joints["F1"], (0.0, sx, -cx))}
+    if out is not None:
+        cq, sq = (None, None) if linkage.is_slider else cos_sin_degrees(out)
+        joints["C" if linkage.is_slider else "B"] = pins.output_pin(dims, cq, sq, out)[0]
     return Pose(motion.phi, motion.status, out, joints, axes)
+
+
+_Z_AXIS = (0.0, 0.0, 1.0)
+_ORIGIN = (0.0, 0.0, 0.0)
+
+
+def _plane_ground_joints(dims):
+    b0 = (dims["a"], 0.0, 0.0)
+    return {"A0": _ORIGIN, "B0": b0}, {"input": (_ORIGIN, _Z_AXIS), "output": (b0, _Z_AXIS)}
+
+
+def _spherical_ground_joints(dims):
+    ca, sa = cos_sin_degrees(dims["a"])
+    b0 = (sa, 0.0, ca)
+    return ({"O": _ORIGIN, "A0": _Z_AXIS, "B0": b0},
+            {"input": (_ORIGIN, _Z_AXIS), "output": (_ORIGIN, b0)})
+
+
+def _skew_ground_joints(dims):
+    a, f = dims["a"], dims["f"]
+    cx, sx = cos_sin_degrees(dims["ksi"])
+    f1 = (a, 0.0, f)
+    return ({"A0": _ORIGIN, "F0": (0.0, 0.0, f), "F1": f1, "B0": (a, f * sx / cx, 0.0)},
+            {"input": (_ORIGIN, _Z_AXIS), "output": (f1, (0.0, -sx, cx))})
+
+
+def _slider_ground_joints(dims):
+    return {"A0": _ORIGIN}, {"input": (_ORIGIN, _Z_AXIS),
+                             "guide": ((0.0, dims["e"], 0.0), (1.0, 0.0, 0.0))}
+
+
+def _skew_slider_ground_joints(dims):
+    a, f = dims["a"], dims["f"]
+    cx, sx = cos_sin_degrees(dims["ksi"])
+    f1 = (a, 0.0, f)
+    return ({"A0": _ORIGIN, "F0": (0.0, 0.0, f), "F1": f1},
+            {"input": (_ORIGIN, _Z_AXIS), "guide": (f1, (0.0, sx, -cx))})
+
+
+_GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _spherical_ground_joints,
+                  SKEW_FOUR_BAR: _skew_ground_joints, PLANE_SLIDER_CRANK: _slider_ground_joints,
+                  SKEW_SLIDER_CRANK: _skew_slider_ground_joints}
 
 
 # -- the drawing: what every renderer draws ------------------------------------------------------
@@ -3050,17 +3374,13 @@ def _view(kind):
     return (-sa, ca, 0.0), (-se * ca, -se * sa, ce), (ce * ca, ce * sa, se)
 
 
-def _dot(u, v):
-    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
-
-
 def project(kind: str, point) -> tuple:
     """The page position (x, y) of a 3-D point in the kind's view: plane linkages as they lie,
     the others by orthographic projection (VIEWS)."""
     view = _view(kind)
     if view is None:
         return (point[0], point[1])
-    return (_dot(point, view[0]), _dot(point, view[1]))
+    return (dot(point, view[0]), dot(point, view[1]))
 
 
 def _along(p, q, t):
@@ -3110,7 +3430,7 @@ def _label_beside(p, q, text, size, side=1.0):
 
 def _great_arc(p, q, steps=24):
     """Points along the shorter great-circle arc from p to q (unit vectors)."""
-    angle = math.atan2(math.sqrt(sum(c * c for c in _cross(p, q))), _dot(p, q))
+    angle = math.atan2(math.sqrt(sum(c * c for c in cross(p, q))), dot(p, q))
     if angle < 1e-12:
         return [p, q]
     s = math.sin(angle)
@@ -3120,10 +3440,6 @@ def _great_arc(p, q, steps=24):
         wp, wq = math.sin((1 - t) * angle) / s, math.sin(t * angle) / s
         out.append(tuple(wp * a + wq * b for a, b in zip(p, q)))
     return out
-
-
-def _cross(u, v):
-    return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
 
 
 def _circle_3d(centre, u, v, radius, steps=72):
@@ -3141,7 +3457,7 @@ def _sphere_strokes(kind, points, style):
     toward = _view(kind)[2]
     strokes, run, front = [], [], None
     for p in points:
-        facing = _dot(p, toward) >= 0.0
+        facing = dot(p, toward) >= 0.0
         if run and facing != front:
             if len(run) > 1:                    # a lone point is no stroke
                 strokes.append(Stroke(tuple(run), style if front else "hidden"))
@@ -3180,7 +3496,7 @@ def _dimension(p, q, text, size, side=1.0):
 
 
 def _unit(v):
-    n = math.sqrt(_dot(v, v))
+    n = math.sqrt(dot(v, v))
     return tuple(c / n for c in v)
 
 
