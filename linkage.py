@@ -3123,6 +3123,379 @@ def transmission_of_arrays(linkage, arrays):
     return np.broadcast_to(np.asarray(mu, dtype=np.float64), (len(arrays.phi),)).copy()
 
 
+# -- the linkage's type and range of motion (analyse) -------------------------------------------
+#
+# Where the crank can turn is where the closure's discriminant D(phi) (P^2 + Q^2 - S^2 of the
+# four-bars, c^2 - u^2 - v^2 of the sliders: section notes above) is not negative. D is a
+# trigonometric polynomial of degree two in phi, so it has at most four zeros and four extremes:
+# sampled every half degree, its extremes are found by bisection on D', and its zeros between
+# samples (and extremes) of opposite sign by bisection on D, to the last bit of phi. A zero where
+# D changes sign is a dead centre, the crank's limit; a minimum of D that touches zero (within
+# 1e-12 of its scale, the engine's decimal line) is a change point, where the branches cross.
+# The motion is then swept on the branch asked (through a change point with branch "follow");
+# where the crank rocks between two dead centres, its circuit runs out on the listing's branch
+# and back on the other (the two meet at the dead centres). Along it: the output's extremes
+# (where its velocity changes sign, refined by bisection) and whether it turns fully, the time
+# ratio (review eq. (5)), and the transmission angle's extremes (refined by extreme_of). The
+# type is Grashof's class for the plane four-bar (exact in the typed lengths), the offset
+# slider-crank's b + |e| against c, and for the other kinds the class the motion shows.
+
+ANALYSIS_SAMPLES = 720              # D and the motion sampled every half degree
+_TOUCHING = 1e-12                   # |D| over its scale under which a minimum touches zero
+
+
+def _golden(f, lo, hi, maximum):
+    """The extreme of f on [lo, hi] by golden-section search: (x, f(x))."""
+    g = (math.sqrt(5) - 1) / 2
+    sign = -1.0 if maximum else 1.0
+    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
+    f1, f2 = sign * f(x1), sign * f(x2)
+    for _ in range(80):
+        if f1 < f2:
+            hi, x2, f2 = x2, x1, f1
+            x1 = hi - g * (hi - lo)
+            f1 = sign * f(x1)
+        else:
+            lo, x1, f1 = x1, x2, f2
+            x2 = lo + g * (hi - lo)
+            f2 = sign * f(x2)
+        if hi - lo < 1e-12:
+            break
+    x = (lo + hi) / 2
+    return x, f(x)
+
+
+def extreme_of(f, lo, hi, maximum, h=1e-3):
+    """The extreme of f on [lo, hi]: golden-section search, then the zero of the central
+    difference of f (step h) by bisection, which places a smooth extreme to ~1e-10 rather than
+    ~1e-8; that one is kept unless its value is worse beyond rounding (a kink, |.|, is better
+    left to the first)."""
+    x, fx = _golden(f, lo, hi, maximum)
+    slope = lambda z: f(z + h) - f(z - h)                      # noqa: E731
+    left, right = x - 1e-4, x + 1e-4
+    if left - h < lo or right + h > hi:                        # f is known on [lo, hi] only
+        return x, fx
+    sl, sr = slope(left), slope(right)
+    if sl * sr < 0:
+        for _ in range(60):
+            mid = (left + right) / 2
+            sm = slope(mid)
+            if sm == 0:
+                left = right = mid
+                break
+            if (sm > 0) == (sl > 0):
+                left, sl = mid, sm
+            else:
+                right = mid
+        z = (left + right) / 2
+        fz = f(z)
+        noise = 8.0 * math.ulp(abs(fx))         # the values differ by rounding: keep the slope's
+        if (fz >= fx - noise) if maximum else (fz <= fx + noise):
+            x, fx = z, fz
+    return x, fx
+
+
+def _bisect(f, lo, hi, f_lo):
+    """The point of [lo, hi] where f changes sign (f(lo) = f_lo, f(hi) of the other sign), to the
+    last bit."""
+    for _ in range(200):
+        mid = lo + (hi - lo) / 2
+        if mid in (lo, hi):
+            break
+        f_mid = f(mid)
+        if f_mid == 0:
+            return mid
+        if (f_mid > 0) == (f_lo > 0):
+            lo, f_lo = mid, f_mid
+        else:
+            hi = mid
+    return lo + (hi - lo) / 2
+
+
+def _discriminant(linkage):
+    """D(phi) and D'(phi) (phi in degrees, D' by radians) over the scale of D, in double."""
+    k = linkage._constants
+    scale = float(_size_squared(linkage.kind, k))
+
+    def terms(phi):
+        c, s = cos_sin_degrees(phi)
+        if linkage.is_slider:
+            u, v = (k[i] + k[i + 1] * c + k[i + 2] * s for i in (6, 9))
+            du, dv = (k[i + 2] * c - k[i + 1] * s for i in (6, 9))
+            rod = k[12]
+            return (rod * rod - u * u - v * v) / scale, -2.0 * (u * du + v * dv) / scale
+        p, q, sv = (k[i] + k[i + 1] * c + k[i + 2] * s for i in (0, 3, 6))
+        dp, dq, ds = (k[i + 2] * c - k[i + 1] * s for i in (0, 3, 6))
+        return (p * p + q * q - sv * sv) / scale, 2.0 * (p * dp + q * dq - sv * ds) / scale
+
+    return (lambda phi: terms(phi)[0]), (lambda phi: terms(phi)[1])
+
+
+def crank_limits(linkage):
+    """(dead centres, change points): the input angles in [0, 360) where D changes sign, and
+    where a minimum of D touches zero. ValueError if the linkage assembles at no input angle."""
+    d, slope = _discriminant(linkage)
+    step = 360.0 / ANALYSIS_SAMPLES
+    phis = [i * step for i in range(ANALYSIS_SAMPLES + 1)]
+    slopes = [slope(phi) for phi in phis]
+    points = set(phis[:-1])
+    minima = []
+    for i in range(ANALYSIS_SAMPLES):
+        if slopes[i] == 0 or slopes[i] * slopes[i + 1] < 0:
+            x = phis[i] if slopes[i] == 0 else _bisect(slope, phis[i], phis[i + 1], slopes[i])
+            points.add(x % 360.0)
+            if slopes[i] < 0 or (slopes[i] == 0 and slopes[i - 1] < 0):
+                minima.append(x % 360.0)
+    changes = sorted(x for x in minima if abs(d(x)) <= _TOUCHING)
+    ordered = sorted(points)
+    signs = [(x, d(x)) for x in ordered]
+    if all(v < -_TOUCHING for _, v in signs):
+        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle")
+    strict = [(x, v) for x, v in signs if abs(v) > _TOUCHING or x in changes or v == 0]
+    dead = []
+    for (x0, v0), (x1, v1) in zip(strict, strict[1:] + [(strict[0][0] + 360.0, strict[0][1])]):
+        if v0 == 0 and x0 not in changes:
+            dead.append(x0)
+        elif v0 * v1 < 0 and x0 not in changes and x1 % 360.0 not in changes:
+            dead.append(_bisect(d, x0, x1, v0) % 360.0)
+    return sorted(set(dead)), changes
+
+
+class Extreme(NamedTuple):
+    """An extreme of a quantity along the motion: the input angle (degrees) and its value."""
+    phi: float
+    value: float
+
+
+class Analysis(NamedTuple):
+    """What `analyse` finds (see the notes above). Angles in degrees; crank_range the intervals
+    (from, to) the crank turns through, None when it turns fully; output_min/max None when the
+    output turns fully; time_ratio and the strokes None where the crank rocks or the output
+    turns fully."""
+    linkage: Linkage
+    branch: object
+    type: str
+    criterion: str
+    crank_range: tuple | None
+    output_min: Extreme | None
+    output_max: Extreme | None
+    forward_stroke: float | None
+    return_stroke: float | None
+    mu_min: Extreme
+    mu_max: Extreme
+    dead_centres: tuple
+    change_points: tuple
+
+    @property
+    def time_ratio(self):
+        """The review's eq. (5): the crank's turn while the output rises over its turn back."""
+        if self.forward_stroke is None:
+            return None
+        return self.forward_stroke / self.return_stroke
+
+
+def _assembled_near(linkage, phi, branch, inward):
+    """The Motion at phi on `branch`, or where the crank first assembles stepping `inward`
+    (+1 or -1) from it by a few ulps (phi, a dead centre found in double, may miss by one)."""
+    for k in range(60):
+        x = phi + inward * k * k * 1e-13 * max(1.0, abs(phi))
+        m = linkage.motion(x, branch)
+        if m.output is not None:
+            return m
+    return linkage.motion(phi, branch)
+
+
+def _circuits(linkage, branch, start, dead):
+    """The motion in order, as runs [(Motion, the listing's branch or FOLLOW)]: one run over a
+    full turn where the crank turns fully, else one a crank interval, out on the branch and back
+    on the other."""
+    step = 360.0 / ANALYSIS_SAMPLES
+    if not dead:
+        phis = [i * step for i in range(ANALYSIS_SAMPLES + 1)]
+        return None, [[(m, branch) for m in linkage.sweep(phis, branch, 2, start=start)]]
+    ends = dead + [dead[0] + 360.0]
+    intervals = []
+    for lo, hi in zip(ends, ends[1:]):
+        middle = lo + (hi - lo) / 2
+        if linkage.motion(middle, 1, 0).output is not None:
+            intervals.append((lo, hi))
+    runs = []
+    out = 1 if branch == FOLLOW else branch
+    for lo, hi in intervals:
+        inner = [lo + i * step for i in range(1, math.ceil((hi - lo) / step)) if lo + i * step < hi]
+        run = [(_assembled_near(linkage, lo, out, 1), out)]
+        run += [(m, out) for m in linkage.sweep(inner, out)]
+        run.append((_assembled_near(linkage, hi, out, -1), out))
+        back = 3 - out
+        run += [(m, back) for m in reversed(linkage.sweep(inner, back))]
+        run.append((run[0][0], out))
+        runs.append([(m, b) for m, b in run if m.output is not None])
+    return tuple((lo % 360.0, hi % 360.0 if hi % 360.0 else 360.0) for lo, hi in intervals), runs
+
+
+def unwrapped(values, angular):
+    """Values along a path with 360-degree jumps of angles (angular) removed."""
+    out = [values[0]]
+    for v in values[1:]:
+        out.append(v + 360.0 * round((out[-1] - v) / 360.0) if angular else v)
+    return out
+
+
+def _motion_extremes(linkage, run, outputs):
+    """Where the output's velocity changes sign along a run, refined by bisection on the branch
+    of the sample before: [(phi, output continuous with the run, listing's branch)]."""
+    found = []
+    angular = not linkage.is_slider
+    for i in range(len(run) - 1):
+        (m0, b0), (m1, b1) = run[i], run[i + 1]
+        if b0 != b1 or b0 == FOLLOW or m0.velocity is None or m1.velocity is None:
+            found.append((m0.phi, outputs[i]))
+            continue
+        if m0.velocity * m1.velocity < 0:
+            x = _bisect(lambda p: linkage.motion(p, b0, 1).velocity or 0.0, m0.phi, m1.phi,
+                        m0.velocity)
+            value = linkage.motion(x, b0, 0).output
+            if value is not None:
+                if angular:
+                    value += 360.0 * round((outputs[i] - value) / 360.0)
+                found.append((x, value))
+    return found
+
+
+def _mu_extremes(linkage, run, maximum):
+    """The transmission angle's greatest (least) value along a run: each sampled local extreme
+    refined on its branch within its neighbours."""
+    mus = transmission_of(linkage, [m for m, _ in run])
+    pick = max if maximum else min
+    best = pick(zip(mus, range(len(run))))
+    candidates = [Extreme(run[best[1]][0].phi % 360.0, best[0])]
+    for i in range(1, len(run) - 1):
+        if not all((mus[i] >= mus[j]) if maximum else (mus[i] <= mus[j]) for j in (i - 1, i + 1)):
+            continue
+        (m0, b0), (m, b), (m1, b1) = run[i - 1], run[i], run[i + 1]
+        if not (b0 == b == b1 != FOLLOW):
+            continue
+        lo, hi = sorted((m0.phi, m1.phi))
+
+        def mu(phi, b=b):
+            value = transmission_of(linkage, [linkage.motion(phi, b, 0)])[0]
+            return value if value is not None else (-1.0 if maximum else 361.0)
+        x, value = extreme_of(mu, lo, hi, maximum)
+        candidates.append(Extreme(x % 360.0, value))
+    return pick(candidates, key=lambda e: e.value)
+
+
+def _linkage_type(linkage, crank_turns, output_turns, changes):
+    """(type, criterion): Grashof's rule for the plane four-bar, b + |e| against c for the plane
+    slider-crank, else the motion's class."""
+    dims = linkage.dims
+    if linkage.kind == PLANE_FOUR_BAR:
+        lengths = {n: Fraction(abs(dims[n])) for n in "abcd"}
+        ordered = sorted(lengths, key=lengths.get)
+        s, p, q, l = (lengths[n] for n in ordered)
+        shortest = ordered[0]
+        text = (f"Grashof: s + l = {dims[shortest]:g} + {dims[ordered[3]]:g} "
+                f"{'<' if s + l < p + q else '=' if s + l == p + q else '>'} p + q = "
+                f"{dims[ordered[1]]:g} + {dims[ordered[2]]:g}; shortest {shortest} "
+                f"({DIMENSION_NAMES[shortest]})")
+        if s + l == p + q:
+            return "change-point", text
+        if s + l > p + q:
+            return "double-rocker", text + " (non-Grashof: no link turns fully)"
+        return {"b": "crank-rocker", "a": "double-crank", "d": "rocker-crank",
+                "c": "double-rocker"}[shortest], text
+    if linkage.kind == PLANE_SLIDER_CRANK:
+        reach, rod = Fraction(abs(dims["b"])) + Fraction(abs(dims["e"])), Fraction(abs(dims["c"]))
+        sign = "<" if reach < rod else "=" if reach == rod else ">"
+        text = f"b + |e| = {float(reach):g} {sign} c = {dims['c']:g}"
+        return {"<": "crank-slider", "=": "change-point", ">": "rocker-slider"}[sign], text
+    text = "the motion (no closed-form rule for this kind here)"
+    if changes:
+        return "change-point", text
+    if linkage.is_slider:
+        return ("crank-slider" if crank_turns else "rocker-slider"), text
+    return {(True, False): "crank-rocker", (True, True): "double-crank",
+            (False, True): "rocker-crank", (False, False): "double-rocker"}[
+        (crank_turns, output_turns)], text
+
+
+def analyse(linkage, branch=1, start=None):
+    """The linkage's type and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
+    Analysis (see the notes above). ValueError if it assembles at no input angle."""
+    if branch not in (1, 2, FOLLOW):
+        raise ValueError('branch is 1, 2 or "follow"')
+    dead, changes = crank_limits(linkage)
+    crank_range, runs = _circuits(linkage, branch, start, dead)
+    angular = not linkage.is_slider
+    extremes, turns = [], False
+    for run in runs:
+        if len(run) < 2:
+            continue
+        outputs = unwrapped([m.output for m, _ in run], angular)
+        turns |= angular and abs(outputs[-1] - outputs[0]) > 180.0
+        extremes += _motion_extremes(linkage, run, outputs) + [(run[-1][0].phi, outputs[-1])]
+    runs = [run for run in runs if run]
+    if not runs:
+        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle on "
+                         f"branch {branch}")
+    low = high = forward = back = None
+    if not turns and extremes:
+        low = min(extremes, key=lambda e: e[1])
+        high = max(extremes, key=lambda e: e[1])
+        shift = 360.0 * math.floor(low[1] / 360.0 + 0.5) if angular and len(runs) == 1 else 0.0
+        low, high = (Extreme(p % 360.0, v - shift) for p, v in (low, high))
+        if crank_range is None:
+            forward = (high.phi - low.phi) % 360.0
+            back = 360.0 - forward
+    kind, criterion = _linkage_type(linkage, crank_range is None, turns, changes)
+    # at a dead centre the coupler lies along the output crank (D = 0: E_psi = 0), mu is 0 or 180
+    locked = [Extreme(phi, 180.0 * round(mu / 180.0)) for phi, mu in zip(dead, transmission_of(
+        linkage, [_assembled_near(linkage, phi, 1, 1) for phi in dead])) if mu is not None]
+    mu_min = min([_mu_extremes(linkage, run, False) for run in runs] + locked,
+                 key=lambda e: e.value)
+    mu_max = max([_mu_extremes(linkage, run, True) for run in runs] + locked,
+                 key=lambda e: e.value)
+    return Analysis(linkage, branch, kind, criterion, crank_range, low, high, forward, back,
+                    mu_min, mu_max, tuple(dead), tuple(changes))
+
+
+def value_text(x):
+    """A number for `name = value` output: up to 10 significant digits."""
+    if isinstance(x, bool):
+        return str(x).lower()
+    if isinstance(x, int):
+        return str(x)
+    return f"{x:.10g}"
+
+
+def analysis_lines(analysis, prefix=""):
+    """The `name = value` lines of an Analysis, each name after `prefix`."""
+    a, linkage = analysis, analysis.linkage
+    unit = "" if linkage.is_slider else " deg"
+    rows = [("mechanism", linkage.kind)]
+    rows += [(n, value_text(v)) for n, v in linkage.dims.items()]
+    rows += [("branch", str(a.branch)), ("type", a.type), ("criterion", a.criterion),
+             ("crank_range", "full" if a.crank_range is None else ", ".join(
+                 f"{value_text(lo)} to {value_text(hi)}" for lo, hi in a.crank_range))]
+    if a.output_min is None:
+        rows.append(("output_range", "full"))
+    else:
+        rows += [("output_range", f"{value_text(a.output_min.value)} to "
+                                  f"{value_text(a.output_max.value)}"),
+                 ("swing", value_text(a.output_max.value - a.output_min.value) + unit),
+                 ("output_min_phi", value_text(a.output_min.phi)),
+                 ("output_max_phi", value_text(a.output_max.phi))]
+    if a.forward_stroke is not None:
+        rows += [("time_ratio", value_text(a.time_ratio)),
+                 ("forward_stroke", value_text(a.forward_stroke)),
+                 ("return_stroke", value_text(a.return_stroke))]
+    rows += [("mu_min", value_text(a.mu_min.value)), ("mu_min_phi", value_text(a.mu_min.phi)),
+             ("mu_max", value_text(a.mu_max.value)), ("mu_max_phi", value_text(a.mu_max.phi)),
+             ("dead_centres", ", ".join(map(value_text, a.dead_centres)) or "none"),
+             ("change_points", ", ".join(map(value_text, a.change_points)) or "none")]
+    return [f"{prefix}{name} = {value}" for name, value in rows]
+
+
 # -- angles and files ----------------------------------------------------------------------------
 
 def angle_count(start, stop, step) -> int:
@@ -3174,6 +3547,8 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files
 
 
 CSV_HEADER = ("phi", "output", "velocity", "acceleration", "status")
+TRANSMISSION_COLUMN = ("transmission",)          # run --csv in double precision
+COUPLER_COLUMNS = tuple(f"coupler_{q}{axis}" for q in ("", "v", "a") for axis in "xyz")
 
 
 def csv_line(fields) -> str:
@@ -5197,69 +5572,6 @@ def measured_transmission_angle(link, phi, output):
     return _deg(math.atan2(abs(wx), abs(wy)))
 
 
-def _continuous(values, angular):
-    """Values along a path with 360-degree jumps of angles removed."""
-    out = [values[0]]
-    for v in values[1:]:
-        out.append(v + 360.0 * round((out[-1] - v) / 360.0) if angular else v)
-    return out
-
-
-def _golden(f, lo, hi, maximum):
-    """The extreme of f on [lo, hi] by golden-section search: (x, f(x))."""
-    g = (math.sqrt(5) - 1) / 2
-    sign = -1.0 if maximum else 1.0
-    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
-    f1, f2 = sign * f(x1), sign * f(x2)
-    for _ in range(80):
-        if f1 < f2:
-            hi, x2, f2 = x2, x1, f1
-            x1 = hi - g * (hi - lo)
-            f1 = sign * f(x1)
-        else:
-            lo, x1, f1 = x1, x2, f2
-            x2 = lo + g * (hi - lo)
-            f2 = sign * f(x2)
-        if hi - lo < 1e-12:
-            break
-    x = (lo + hi) / 2
-    return x, f(x)
-
-
-def _stationary(f, lo, hi, maximum, h=1e-3):
-    """The extreme of f on [lo, hi]: golden-section search, then the zero of the central
-    difference of f (step h) by bisection, which places a smooth extreme to ~1e-10 rather than
-    ~1e-8; the better of the two is kept (a kink, |.|, is better left to the first)."""
-    x, fx = _golden(f, lo, hi, maximum)
-    slope = lambda z: f(z + h) - f(z - h)                      # noqa: E731
-    left, right = x - 1e-4, x + 1e-4
-    if left - h < lo or right + h > hi:                        # f is known on [lo, hi] only
-        return x, fx
-    sl, sr = slope(left), slope(right)
-    if sl * sr < 0:
-        for _ in range(60):
-            mid = (left + right) / 2
-            sm = slope(mid)
-            if sm == 0:
-                left = right = mid
-                break
-            if (sm > 0) == (sl > 0):
-                left, sl = mid, sm
-            else:
-                right = mid
-        z = (left + right) / 2
-        fz = f(z)
-        if (fz >= fx) if maximum else (fz <= fx):
-            x, fx = z, fz
-    return x, fx
-
-
-class Extreme(NamedTuple):
-    """An extreme of a measured quantity: where (input angle, degrees) and its value."""
-    phi: float
-    value: float
-
-
 class Measured(NamedTuple):
     """What the analysed linkage does over an input range (degrees): whether it assembles
     throughout, the output's and the transmission angle's extremes, the net output change."""
@@ -5327,7 +5639,7 @@ def measure(link, lo=0.0, hi=360.0, samples=720):
     if any(o is None for o in outputs):
         nan = Extreme(math.nan, math.nan)
         return Measured(False, nan, nan, math.nan, nan, nan)
-    outputs = _continuous(outputs, angular)
+    outputs = unwrapped(outputs, angular)
 
     def output_near(phi, reference):
         """The output at phi, continuous with `reference`."""
@@ -5373,7 +5685,7 @@ def measure(link, lo=0.0, hi=360.0, samples=720):
                 right = phis[i] + step if full_turn or i < last else phis[i]
                 candidates.append(Extreme(phis[i], v))
                 if right > left:
-                    x, value = _stationary(mu_at, left, right, maximum)
+                    x, value = extreme_of(mu_at, left, right, maximum)
                     candidates.append(Extreme(x % 360.0 if full_turn else x, value))
         pick = max if maximum else min
         return pick(candidates, key=lambda e: e.value)
@@ -5390,7 +5702,7 @@ def output_change(link, phi_from, phi_to, samples=720):
     values = _outputs(link, phis)
     if any(v is None for v in values):
         return None
-    values = _continuous(values, isinstance(link, FourBar))
+    values = unwrapped(values, isinstance(link, FourBar))
     return values[-1] - values[0]
 
 
@@ -5584,15 +5896,6 @@ def datum_help(datum):
     """The help of a datum: what it is, its valid range, the values refused in it (DATA)."""
     refused = "".join(f"; refused: {reason}" for reason, _ in datum.excluded)
     return f"{datum.meaning}; in {range_text(datum)}{refused}"
-
-
-def value_text(x):
-    """A number for `name = value` output: up to 10 significant digits."""
-    if isinstance(x, bool):
-        return str(x).lower()
-    if isinstance(x, int):
-        return str(x)
-    return f"{x:.10g}"
 
 
 def design_lines(design):
@@ -6914,6 +7217,18 @@ def _reported(work) -> int:
         return said("interrupted", interrupted_status(e))
 
 
+def _check_dimensions(args: argparse.Namespace, parser: argparse.ArgumentParser,
+                      needed: tuple[str, ...]) -> None:
+    """Refuse (parser.error) a command line that misses one of the type's dimensions or gives
+    one it has no use for."""
+    given = {name for name in DIMENSION_HELP if getattr(args, name) is not None}
+    missing = [f"--{n}" for n in needed if n not in given]
+    extra = [f"--{n}" for n in sorted(given - set(needed))]
+    if missing or extra:
+        what = ("missing " + " ".join(missing)) if missing else ("no use for " + " ".join(extra))
+        parser.error(f"{args.type} needs {' '.join('--' + n for n in needed)}: {what}")
+
+
 def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py run TYPE ...`: the menu program given these answers."""
     key, needed = MECHANISM_TYPES[args.type]
@@ -6921,12 +7236,7 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
         say("--skew is now --ksi (the skew angle's name in the paper, the API and the scenes)")
         if args.ksi is None:
             args.ksi = args.old_skew
-    given = {name for name in DIMENSION_HELP if getattr(args, name) is not None}
-    missing = [f"--{n}" for n in needed if n not in given]
-    extra = [f"--{n}" for n in sorted(given - set(needed))]
-    if missing or extra:
-        what = ("missing " + " ".join(missing)) if missing else ("no use for " + " ".join(extra))
-        parser.error(f"{args.type} needs {' '.join('--' + n for n in needed)}: {what}")
+    _check_dimensions(args, parser, needed)
     names = list(needed) + ["from", "to", "step"]
     answers = [getattr(args, n) for n in needed] + [args.start, args.stop, args.step]
     number = decimal_number if args.precision == "double" else basic_answer
@@ -6944,6 +7254,18 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
     if args.fast and args.branch == FOLLOW:
         parser.error("--fast goes with --branch 1 or 2 (the vectorised path computes the "
                      "listing's branches)")
+    if args.coupler is not None:
+        if args.precision != "double":
+            parser.error("--coupler goes with --precision double (the original program computes "
+                         "the output link only)")
+        if not args.csv:
+            parser.error("--coupler adds columns to --csv: give --csv OUT too")
+        if len(args.coupler) not in (1, 2):
+            parser.error("--coupler takes U, or U and V")
+        try:
+            args.coupler = [decimal_number(text, "--coupler") for text in args.coupler]
+        except ValueError as e:
+            parser.error(str(e))
     if args.precision == "double":
         return _run_double(args, dict(zip(names, answers)))
     if args.clip:
@@ -6995,6 +7317,8 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
         count = angle_count(start, stop, step)
         if args.fast:
             numpy_module()                            # fail before any work
+        if args.coupler:
+            args.coupler = check_coupler_point(linkage, *args.coupler)
     except (ValueError, FastUnavailable) as e:
         return said(e, 1)
     # in blocks, to keep a long sweep out of memory; a followed motion in one, as it goes on
@@ -7005,24 +7329,43 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
     if count > 10**8:
         return said(f"{count:,} points is more than 100 million: choose a larger step", 1)
     assembled, points = 0, None
+    coupler = args.coupler
+
+    def columns(swept, arrays):
+        """The CSV's columns after the Motion's: mu, and the coupler point's if asked."""
+        if arrays is not None:
+            mus = transmission_of_arrays(linkage, arrays).tolist()
+            point = coupler_of_arrays(linkage, arrays, *coupler) if coupler else None
+            rows = (zip(*(a.tolist() for a in point[1:4])) if point else None)
+        else:
+            mus = transmission_of(linkage, swept)
+            rows = ((c.position, c.velocity, c.acceleration)
+                    for c in coupler_of(linkage, swept, *coupler)) if coupler else None
+        if rows is None:
+            return ((mu,) for mu in mus)
+        return ((mu, *(v for w in row for v in (w or (None,) * 3))) for mu, row in zip(mus, rows))
 
     def motions(table):
         nonlocal assembled
         if table:
-            table.write(csv_line(CSV_HEADER).encode("ascii"))
+            table.write(csv_line(CSV_HEADER + TRANSMISSION_COLUMN
+                                 + (COUPLER_COLUMNS if coupler else ())).encode("ascii"))
         with Progress(count) as progress:
             for first in range(0, count, block):
                 angles = [start + i * step for i in range(first, min(first + block, count))]
+                arrays = None
                 if args.branch == FOLLOW:
                     swept = linkage.sweep(angles, FOLLOW, start=int(args.start_branch or 1))
                 elif args.fast:
-                    swept = linkage.sweep_arrays(angles, int(args.branch)).motions()
+                    arrays = linkage.sweep_arrays(angles, int(args.branch))
+                    swept = arrays.motions()
                 else:
                     swept = linkage.sweep(angles, int(args.branch))
+                extra = columns(swept, arrays) if table else None
                 for m in swept:
                     assembled += m.output is not None
                     if table:
-                        table.write(csv_line(m).encode("ascii"))
+                        table.write(csv_line(m + next(extra)).encode("ascii"))
                     yield m
                 progress(len(angles))
         if not assembled:
@@ -7044,6 +7387,28 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
          f"{left_out})")
     if args.csv:
         say(f"wrote {args.csv} ({points:,} rows)")
+    return 0
+
+
+def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py analyse TYPE ...`: the linkage's type and range of motion, one
+    `name = value` a line (analysis_lines)."""
+    needed = MECHANISM_TYPES[args.type][1]
+    _check_dimensions(args, parser, needed)
+    try:
+        dims = {n: decimal_number(getattr(args, n), f"--{n}") for n in needed}
+    except ValueError as e:
+        parser.error(str(e))
+    if args.start_branch is not None and args.branch != FOLLOW:
+        parser.error("--start-branch goes with --branch follow")
+    branch = args.branch if args.branch == FOLLOW else int(args.branch)
+    start = None if args.start_branch is None else int(args.start_branch)
+    try:
+        analysis = analyse(Linkage(args.type, **dims), branch, start)
+    except ValueError as e:
+        return said(f"Illegal linkage (impossible to assemble): {e}"
+                    if "assembles at no" in str(e) else e, 1)
+    sys.stdout.write("".join(line + "\n" for line in analysis_lines(analysis)))
     return 0
 
 
@@ -7169,6 +7534,12 @@ def design_command(argv):
                       f", miss {check.miss:.2g}")
             print(f"verdict = {'meets' if not bad else 'misses ' + ', '.join(c.name for c in bad)}")
             code = code or (3 if bad else 0)
+            kind, dims = kind_and_dimensions(design.linkage)
+            try:
+                analysis = analyse(Linkage(kind, **dims), design.linkage.branch)
+                print("\n".join(analysis_lines(analysis, "analysis.")))
+            except ValueError as error:
+                print(f"analysis = none  # {error}")
     if args.dat is not None:
         link = result.design.linkage
         kind, dims = kind_and_dimensions(link)
@@ -7269,13 +7640,37 @@ COMMANDS = {
                      "double: the accurate engine"),
          option("--csv", metavar="OUT",
                 help="also write one CSV file: a header row phi,output,velocity,acceleration,"
-                     "status and a row a point, every point (a position that does not exist: "
-                     "its status, values nan)"),
+                     "status (with --precision double: and transmission, the transmission "
+                     "angle in degrees) and a row a point, every point (a position that does "
+                     "not exist: its status, values nan)"),
+         option("--coupler", nargs="+", metavar=("U", "V"),
+                help="with --precision double and --csv: add the columns coupler_x, coupler_y, "
+                     "coupler_z, coupler_vx, ..., coupler_az of the point (U, V) fixed to the "
+                     "coupler: plane kinds U along A->B (A->C) and V across it, lengths; the "
+                     "spherical linkage U along the coupler's great circle and V off it, "
+                     "degrees; the skew kinds U along A->B only (their coupler may spin about "
+                     "that line). Velocity and acceleration by the input angle in radians"),
          option("--clip", action="store_true",
                 help="with --precision double: clip VEL and ACC to +-3 as the original does"),
          option("--fast", action="store_true",
                 help="with --precision double: the same numbers by the vectorised engine (needs "
                      "numpy: pip install 'linkage[fast]')"))),
+    "analyse": Command(
+        analyse_command, "the linkage's type, range of motion and transmission angle",
+        "The linkage's type (Grashof's class for the plane four-bar, b + |e| against c for the "
+        "plane slider-crank, the class its motion shows for the other kinds), the crank's range "
+        "(full, or between its dead centres), the output's range and swing, the time ratio "
+        "(review eq. (5): the crank's turn while the output rises over its turn back), the "
+        "transmission angle's extremes with the crank angles where they occur, and the dead "
+        "centres and change points: one `name = value` a line. Dimensions as for run.",
+        (option("type", type=_mechanism_type, metavar="TYPE",
+                help="plane, spherical, skew, slider, skew-slider (or 1-5)"),
+         *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
+         option("--branch", choices=("1", "2", FOLLOW), default="1",
+                help="the assembly: 1 (A+B, the default), 2 (A-B), or follow (the motion "
+                     "followed through change points from --start-branch)"),
+         option("--start-branch", choices=("1", "2"), metavar="1|2",
+                help="with --branch follow: the branch the motion starts in (default 1)"))),
     "scene": Command(
         scene_command, "draw a scene of data/scenes: the paper's figures, the hard cases, the "
                        "linkage moving",
