@@ -3717,6 +3717,7 @@ class Drawing(NamedTuple):
     frames: tuple
     bounds: tuple
     size: float
+    chart: tuple | None = None     # the transmission angle along the sweep: ((phi, mu), ...)
 
 
 # One linkage of each kind that turns fully, as Figs. 1 and 2 draw them (data/scenes/fig1*, fig2*).
@@ -3731,7 +3732,8 @@ MECHANISM_EXAMPLES = {
 # link: a moving link; ground: the fixed link and the slider's guide; hatch: the ground's
 # hatching; axis: a shaft axis (dash-dot); path: a joint's traced path (dotted); hidden: a link
 # behind the sphere (dashed); outline: the sphere; dimension: a dimension line (thin).
-STROKE_STYLES = ("link", "ground", "hatch", "axis", "path", "hidden", "outline", "dimension")
+STROKE_STYLES = ("link", "ground", "hatch", "axis", "path", "hidden", "outline", "dimension",
+                 "coupler", "coupler-other")   # the coupler curve of the frames' branch, another
 
 # Oblique views (azimuth, elevation in degrees) of the 3-D linkages: the input axis z upright on
 # the page, seen from a little above.
@@ -4011,16 +4013,62 @@ _GROUNDS = {PLANE_FOUR_BAR: _plane_ground, PLANE_SLIDER_CRANK: _slider_ground,
             SKEW_SLIDER_CRANK: _skew_ground}
 
 
-def _frame(linkage, pose, size):
+def _frame(linkage, pose, size, point=None, mu=None):
+    """One pose's Frame; `point` the coupler point there (3-D) and mu the transmission angle, to
+    be drawn and told when given."""
     where = f"φ = {pose.phi:g}°"
     caption = where
     if pose.output is not None:
         caption += (f"  x = {pose.output:.4g}" if linkage.is_slider
                     else f"  ψ = {pose.output:.2f}°")
+    if mu is not None:
+        caption += f"  μ = {mu:.1f}°"
     message = {NOT_ASSEMBLED: f"not assembled at {where}",
                INDETERMINATE: f"the output link is free at {where} (indeterminate)",
                DEAD_CENTRE: f"dead centre at {where}"}.get(pose.status)
-    return Frame(pose, _links(linkage, pose, size), caption, message)
+    layer = _links(linkage, pose, size)
+    if point is not None:
+        layer = _with_coupler_point(linkage, pose, layer, point)
+    return Frame(pose, layer, caption, message)
+
+
+def _with_coupler_point(linkage, pose, layer, point):
+    """The layer with the coupler point drawn on the coupler: a mark, joined to both pins (the
+    coupler as the plate that carries it)."""
+    kind = linkage.kind
+    output = pose.joints["C" if linkage.is_slider else "B"]
+    strokes = []
+    for pin in (pose.joints["A"], output):
+        if kind == SPHERICAL_FOUR_BAR:
+            strokes += _sphere_strokes(kind, _great_arc(pin, point), "link")
+        else:
+            strokes.append(Stroke((project(kind, pin), project(kind, point)), "link"))
+    return Layer(layer.strokes + tuple(strokes),
+                 layer.marks + (Mark(project(kind, point), "point", "P"),), layer.labels)
+
+
+def _coupler_curves(linkage, phis, coupler, traced, start):
+    """The coupler point's curve on each branch of `traced` as page strokes (the first
+    "coupler", the others "coupler-other"), broken where the linkage does not assemble; and the
+    first branch's points (3-D, None where there is none)."""
+    strokes, first = [], None
+    for i, branch in enumerate(traced):
+        points = [c.position for c in linkage.coupler(phis, *coupler, branch, 0, start=start
+                                                       if branch == FOLLOW else None)]
+        if first is None:
+            first = points
+        style = "coupler" if i == 0 else "coupler-other"
+        run = []
+        for p in points + [None]:
+            if p is not None:
+                run.append(p)
+                continue
+            if len(run) > 1:
+                strokes += (_sphere_strokes(linkage.kind, run, style)
+                            if linkage.kind == SPHERICAL_FOUR_BAR
+                            else _page_strokes(linkage.kind, run, style))
+            run = []
+    return strokes, first
 
 
 def _extent(points):
@@ -4029,10 +4077,18 @@ def _extent(points):
 
 
 def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None = None,
-                      subtitle: str | None = None) -> Drawing:
+                      subtitle: str | None = None, coupler: tuple | None = None,
+                      traced: tuple = ()) -> Drawing:
     """The linkage drawn at each input angle of `phis` (degrees) on `branch`: one Frame a pose
-    over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS)."""
+    over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS).
+
+    coupler (u, v): the point of Linkage.coupler drawn on the coupler in each frame, its curve
+    traced over the sweep on `branch` (solid) and on each branch of `traced` (dashed; FOLLOW:
+    the motion followed from `branch`), and the transmission angle told in each caption and
+    charted along the sweep (Drawing.chart)."""
     kind = linkage.kind
+    if coupler is not None:
+        coupler = check_coupler_point(linkage, *coupler)
     for key in ("a", "b", "c", "d"):
         value = linkage.dims.get(key)
         if kind == SPHERICAL_FOUR_BAR and not 0 < value < 180:
@@ -4054,7 +4110,17 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
     size = 0.07 * span if kind == SPHERICAL_FOUR_BAR else max(          # symbols not hiding a
         0.035 * span, min(0.07 * span, 0.6 * min(links)))               # short crank
     ground = _GROUNDS[kind](linkage, poses, size)
-    frames = tuple(_frame(linkage, pose, size) for pose in poses)
+    points, mus, chart = [None] * len(poses), [None] * len(poses), None
+    if coupler is not None:
+        curves, points = _coupler_curves(linkage, phis, coupler, (branch,) + tuple(traced),
+                                         branch if branch != FOLLOW else 1)
+        ground = Layer(ground.strokes + tuple(curves), ground.marks, ground.labels)
+        mus = transmission_of(linkage, [linkage.motion(pose.phi, branch, 0) if pose.output
+                                        is not None else Motion(pose.phi, None, None, None,
+                                                                pose.status) for pose in poses])
+        chart = tuple((pose.phi, mu) for pose, mu in zip(poses, mus))
+    frames = tuple(_frame(linkage, pose, size, point, mu)
+                   for pose, point, mu in zip(poses, points, mus))
     points = [p for layer in (ground,) + tuple(f.layer for f in frames)
               for p in [q for s in layer.strokes for q in s.points]
               + [m.at for m in layer.marks] + [label.at for label in layer.labels]]
@@ -4064,8 +4130,12 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
                  + " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in linkage.dims.items()))
     if subtitle is None:
         subtitle = f"branch {branch} ({'A+B' if branch == 1 else 'A-B'})"
+    if coupler is not None:
+        others = ", ".join(str(b) for b in traced)
+        subtitle += (f"; P({coupler[0]:g}, {coupler[1]:g})"
+                     + (f" solid, branch {others} dashed" if others else ""))
     return Drawing(title, subtitle, kind, ground, frames,
-                   (x0 - size, y0 - size, x1 + size, y1 + size), size)
+                   (x0 - size, y0 - size, x1 + size, y1 + size), size, chart)
 
 
 # -- the terminal view ---------------------------------------------------------------------------
@@ -4075,11 +4145,14 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
 
 # Strokes drawn first to last (later ones win a shared ASCII cell), and each style's dash
 # pattern in dots along the stroke (on, off, ...); styles not listed are solid.
-_TEXT_ORDER = ("outline", "path", "axis", "dimension", "hidden", "hatch", "ground", "link")
+_TEXT_ORDER = ("outline", "path", "axis", "dimension", "hidden", "coupler-other", "coupler",
+               "hatch", "ground", "link")
 _TEXT_DASHES = {"outline": (1, 1), "path": (1, 2), "axis": (4, 2, 1, 2), "dimension": (1, 1),
+                "coupler-other": (3, 3),
                 "hidden": (2, 2)}
 _BRAILLE_BITS = ((0x01, 0x02, 0x04, 0x40), (0x08, 0x10, 0x20, 0x80))    # [column][row]
-_TEXT_MARKS = {True: {"joint": "●", "pivot": "◉"}, False: {"joint": "o", "pivot": "@"}}
+_TEXT_MARKS = {True: {"joint": "●", "pivot": "◉", "point": "◆"},
+               False: {"joint": "o", "pivot": "@", "point": "*"}}
 _ASCII_TEXT = str.maketrans({"φ": "phi", "ψ": "psi", "ξ": "ksi", "°": " deg"})
 
 
@@ -4135,7 +4208,8 @@ class _DotGrid:
             (x0, y0), (x1, y1) = self.dot(p), self.dot(q)
             dx, dy = x1 - x0, (y1 - y0) * self.aspect
             length = math.hypot(dx, dy)
-            char = "." if stroke.style in ("path", "outline") else _ascii_line(dx, dy)
+            char = ("." if stroke.style in ("path", "outline") else "*"
+                    if stroke.style.startswith("coupler") else _ascii_line(dx, dy))
             steps = max(1, math.ceil(2 * max(abs(x1 - x0), abs(y1 - y0))))
             for i in range(steps + 1):
                 if dashes is None or _dash_on(dashes, travelled + i / steps * length):
@@ -4304,7 +4378,13 @@ polyline.path{stroke:#8a8a8a;stroke-width:1.2;stroke-dasharray:1 4}
 polyline.hidden{stroke:#6a6a6a;stroke-width:2;stroke-dasharray:6 4}
 polyline.outline{stroke:#b5b5b5;stroke-width:1.3}
 polyline.dimension{stroke:#7a7a7a;stroke-width:0.9}
+polyline.coupler{stroke:#c0392b;stroke-width:2}
+polyline.coupler-other{stroke:#e67e22;stroke-width:2;stroke-dasharray:8 5}
+polyline.chart{stroke:#2f6db3;stroke-width:1.6}
+polyline.grid{stroke:#ccc;stroke-width:1}
 .joint,.pivot{fill:#fff;stroke:#1b1b1b;stroke-width:2}
+.point{fill:#c0392b;stroke:#1b1b1b;stroke-width:1.5}
+.tick{font:12px 'DejaVu Sans',Arial,sans-serif;fill:#555}
 .pivot{fill:#d8d8d8}
 .label{font:italic 19px 'DejaVu Serif',Georgia,serif;fill:#1b1b1b;text-anchor:middle;
 dominant-baseline:central}
@@ -4340,6 +4420,48 @@ def _svg_layer(page: _SvgPage, layer: Layer, size: float) -> list[str]:
     return out
 
 
+_SVG_CHART_HEIGHT = 170         # pixels under the drawing for the transmission angle's chart
+
+
+class _SvgChart(NamedTuple):
+    """The transmission angle's chart under an SVG drawing: its static lines, and where a
+    (phi, mu) point is in pixels."""
+    lines: list
+    x: object
+    y: object
+
+
+def _svg_chart(chart, top, width, margin) -> _SvgChart:
+    """mu from 0 to 180 degrees against the sweep's input angles, 130 pixels tall from `top`."""
+    phis = [phi for phi, _ in chart]
+    lo, hi = min(phis), max(phis)
+    left, right, bottom = margin + 70, width - margin - 10, top + 130
+
+    def x(phi):
+        return left + (right - left) * ((phi - lo) / (hi - lo) if hi > lo else 0.5)
+
+    def y(mu):
+        return bottom - (bottom - top) * mu / 180.0
+
+    lines = [f'<polyline class="grid" points="{left},{y(v):.1f} {right},{y(v):.1f}"/>'
+             for v in (0.0, 90.0, 180.0)]
+    lines += [f'<text class="tick" x="{left - 6}" y="{y(v) + 4:.1f}" text-anchor="end">{v:g}°'
+              "</text>" for v in (0.0, 90.0, 180.0)]
+    lines.append(f'<text class="tick" x="{margin}" y="{top + 70}">μ</text>')
+    lines.append(f'<text class="tick" x="{left}" y="{bottom + 16}">φ = {lo:g}°</text>')
+    lines.append(f'<text class="tick" x="{right}" y="{bottom + 16}" text-anchor="end">'
+                 f'{hi:g}°</text>')
+    run = []
+    for phi, mu in list(chart) + [(None, None)]:
+        if mu is not None:
+            run.append(f"{x(phi):.1f},{y(mu):.1f}")
+            continue
+        if len(run) > 1:
+            lines.append(f'<polyline class="chart" points="{" ".join(run)}"/>')
+        run = []
+    return _SvgChart(lines, x, y)
+
+
 def _xml(text: str) -> str:
     from xml.sax.saxutils import escape
     return escape(text, {'"': "&quot;"})
@@ -4354,6 +4476,9 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
     width = SVG_WIDTH
     height = round(head + foot + (y1 - y0) * scale)
     page = _SvgPage(scale, (width - (x1 - x0) * scale) / 2 - x0 * scale, head + y1 * scale)
+    chart = _svg_chart(drawing.chart, height - foot + 10, width, margin) if drawing.chart else None
+    if chart:
+        height += _SVG_CHART_HEIGHT
     count = len(drawing.frames)
     shown = _still_frames(drawing, None)[0]
     period = (seconds_per_frame or frame_seconds(count)) * count
@@ -4364,7 +4489,8 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
            '<rect width="100%" height="100%" fill="#fff"/>',
            f'<text class="title" x="{margin}" y="24">{_xml(drawing.title)}</text>',
            f'<text class="subtitle" x="{margin}" y="44">{_xml(drawing.subtitle)}</text>',
-           '<g class="ground">', *_svg_layer(page, drawing.ground, drawing.size), "</g>"]
+           '<g class="ground">', *_svg_layer(page, drawing.ground, drawing.size), "</g>",
+           *(chart.lines if chart else ())]
     for i, frame in enumerate(drawing.frames):
         out.append(f'<g class="frame" data-phi="{frame.pose.phi!r}" '
                    f'visibility="{"visible" if i == shown else "hidden"}">')
@@ -4375,6 +4501,9 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
                        + ";".join(f"{t / count:.6g}" for t in times)
                        + f'" dur="{period:.6g}s" calcMode="discrete" repeatCount="indefinite"/>')
         out += _svg_layer(page, frame.layer, drawing.size)
+        if chart and drawing.chart[i][1] is not None:
+            out.append(f'<circle class="point" cx="{chart.x(frame.pose.phi):.1f}" '
+                       f'cy="{chart.y(drawing.chart[i][1]):.1f}" r="4"/>')
         out.append(f'<text class="caption" x="{margin}" y="{height - 14}">'
                    f"{_xml(frame.caption)}</text>")
         if frame.message:
@@ -4396,7 +4525,9 @@ _PNG_STYLES = {"link": dict(color="#1b1b1b", linewidth=2.4),
                "path": dict(color="#8a8a8a", linewidth=0.9, linestyle=":"),
                "hidden": dict(color="#6a6a6a", linewidth=1.4, linestyle="--"),
                "outline": dict(color="#b5b5b5", linewidth=1.0),
-               "dimension": dict(color="#7a7a7a", linewidth=0.7)}
+               "dimension": dict(color="#7a7a7a", linewidth=0.7),
+               "coupler": dict(color="#c0392b", linewidth=1.6),
+               "coupler-other": dict(color="#e67e22", linewidth=1.6, linestyle="--")}
 
 
 def _png_layer(ax, layer: Layer, alpha: float, letters: bool) -> None:
@@ -4405,11 +4536,35 @@ def _png_layer(ax, layer: Layer, alpha: float, letters: bool) -> None:
         ax.plot(xs, ys, alpha=alpha, solid_capstyle="round", **_PNG_STYLES[stroke.style])
     if letters:
         for mark in layer.marks:
-            ax.plot(*mark.at, marker="o", markersize=6, markeredgewidth=1.4, zorder=5,
-                    color="#1b1b1b", markerfacecolor="#d8d8d8" if mark.kind == "pivot" else "w")
+            ax.plot(*mark.at, marker="D" if mark.kind == "point" else "o", markersize=6,
+                    markeredgewidth=1.4, zorder=5, color="#1b1b1b",
+                    markerfacecolor={"pivot": "#d8d8d8", "point": "#c0392b"}.get(mark.kind, "w"))
         for label in layer.labels:
             ax.text(*label.at, label.text, ha="center", va="center", fontsize=13,
                     fontstyle="italic", family="serif")
+
+
+def _png_chart(ax, chart, marked) -> None:
+    """The transmission angle along the sweep, the drawn positions marked."""
+    runs, run = [], []
+    for phi, mu in list(chart) + [(None, None)]:
+        if mu is None:
+            runs, run = runs + [run] * (len(run) > 0), []
+        else:
+            run.append((phi, mu))
+    for run in runs:
+        ax.plot(*zip(*run), color="#2f6db3", linewidth=1.4)
+    shown = dict(chart)
+    ax.plot([p for p in marked if shown.get(p) is not None],
+            [shown[p] for p in marked if shown.get(p) is not None], "o", color="#2f6db3",
+            markersize=3)
+    ax.axhline(90.0, color="#999999", linewidth=0.8, linestyle="--")
+    ax.set_ylim(0.0, 180.0)
+    ax.set_yticks([0, 30, 60, 90, 120, 150, 180])
+    ax.set_xlabel("input angle φ [deg]", fontsize=8)
+    ax.set_ylabel("transmission angle μ [deg]", fontsize=8)
+    ax.tick_params(labelsize=7)
+    ax.grid(True, linewidth=0.3)
 
 
 class PlotUnavailable(RuntimeError):
@@ -4443,7 +4598,11 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
                     layout="constrained")
     FigureCanvasAgg(mpl)
     mpl.suptitle(f"{drawing.title}\n{drawing.subtitle}", fontsize=10)
-    ax = mpl.add_subplot()
+    if drawing.chart:
+        ax, chart = mpl.subplots(1, 2, width_ratios=(2.2, 1))
+        _png_chart(chart, drawing.chart, [f.pose.phi for f in chosen])
+    else:
+        ax = mpl.add_subplot()
     _png_layer(ax, drawing.ground, 1.0, True)
     for i, frame in enumerate(chosen):
         last = i == len(chosen) - 1
@@ -5965,6 +6124,9 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "fast": "true or false: the double-precision numbers by the vectorised engine (needs numpy)",
     "panels": "a list of 1 to 3 tables [[panels]], each with quantities and optional limits; "
               "or one [[panels]] with quantities = [\"mechanism\"] and optional angles",
+    "coupler": "[u] or [u, v], a mechanism scene's point of the coupler (as run --coupler): "
+               "drawn on the coupler, its curve traced on each branch, the transmission angle "
+               "charted",
 }
 REQUIRED_SCENE_KEYS = ("mechanism", "dimensions", "input", "branches", "panels")
 QUANTITIES = ("displacement", "velocity", "acceleration")      # ANG.DAT, VEL.DAT, ACC.DAT
@@ -6012,6 +6174,7 @@ class Scene:
     precisions: tuple[str, ...]
     panels: tuple[PanelSpec, ...]
     fast: bool = False               # the double series by Linkage.sweep_arrays
+    coupler: tuple[float, float] | None = None   # a mechanism scene's coupler point (u, v)
 
     @property
     def derivatives(self) -> int:
@@ -6094,10 +6257,16 @@ def load_scene(path: str) -> Scene:
         if fast:
             raise _scene_error(path, "fast", "false, or no fast: a mechanism scene's few "
                                "positions are computed one at a time", fast)
-        if FOLLOW in branches:
+        if branches[0] == FOLLOW or (FOLLOW in branches and "coupler" not in data):
             raise _scene_error(path, "branches", "[1] or [2]: a mechanism scene draws one of "
-                               "the listing's branches", branches)
+                               "the listing's branches (and with a coupler, traces the "
+                               "coupler curve of the others given, \"follow\" among them)",
+                               branches)
         return _mechanism_scene(path, data, dims, start, stop, step, tuple(branches))
+    if "coupler" in data:
+        raise _scene_error(path, "coupler", "no coupler: a coupler point is drawn by a "
+                           "mechanism scene (panels = [{quantities = [\"mechanism\"]}])",
+                           data["coupler"])
     if "precision" not in data:
         raise SceneError(f"{path}: key 'precision' is missing: expected {SCENE_KEYS['precision']}")
     precision = data["precision"]
@@ -6208,8 +6377,18 @@ def _mechanism_scene(path, data, dims, start, stop, step, branches) -> Scene:
                            "to draw (or a list panels[1].angles)", data["input"]["step"])
     spec = PanelSpec((MECHANISM_PANEL,), None,
                      None if angles is None else tuple(float(v) for v in angles))
+    coupler = data.get("coupler")
+    if coupler is not None:
+        if not (isinstance(coupler, list) and len(coupler) in (1, 2)
+                and all(_is_number(v) for v in coupler)):
+            raise _scene_error(path, "coupler", SCENE_KEYS["coupler"], coupler)
+        try:
+            coupler = check_coupler_point(Linkage(data["mechanism"], **dims), *coupler)
+        except ValueError as e:
+            raise _scene_error(path, "coupler", f"a point of this coupler: {e}", data["coupler"]) \
+                from None
     return Scene(path, _scene_title(path, data), data["mechanism"], dims, start, stop, step,
-                 branches, ("double",), (spec,))
+                 branches, ("double",), (spec,), coupler=coupler)
 
 
 # -- computing a scene: the DAT files ----------------------------------------------------------
@@ -6781,7 +6960,8 @@ def scene_drawing(scene: Scene) -> Drawing:
         drawing = mechanism_drawing(
             Linkage(scene.mechanism, **scene.dimensions), scene.angles(), branch,
             f"{scene.title}: {dims}", f"{MECHANISM_NAMES[scene.mechanism]}; branch {branch} "
-            f"({'A+B' if branch == 1 else 'A-B'}); positions by the accurate engine")
+            f"({'A+B' if branch == 1 else 'A-B'}); positions by the accurate engine",
+            scene.coupler, scene.branches[1:])
     except ValueError as e:
         raise _scene_error(scene.path, "dimensions", f"dimensions that can be drawn: {e}") \
             from None
