@@ -2848,7 +2848,7 @@ def _sweep_arrays(linkage, phis, branch, derivatives):
 # so that a skew linkage made plane, f = 0 and ksi = 0, is the plane four-bar) or OA (the
 # spherical four-bar, whose joint axes meet at the centre). In degrees in [0, 180]: the review's
 # eq. (1) for the plane four-bar (the inner angle between coupler and output crank), its eq. (3)
-# for the slider-crank (data/SYNTHESIS_ERRATA.md, R3), the spherical inner angle at B.
+# for the slider-crank (data/SYNTHESIS_ERRATA.md, S9), the spherical inner angle at B.
 
 def _plane_crank_pin(dims, c, s):
     b = dims["b"]
@@ -2912,7 +2912,10 @@ COUPLER_REACH = 1e9      # a coupler point at most this many times the linkage's
 
 def _add(*terms):
     """The sum of (coefficient, 3-vector) terms, componentwise."""
-    return tuple(sum(k * v[i] for k, v in terms) for i in range(3))
+    (k, v), x, y, z = terms[0], 0.0, 0.0, 0.0
+    for k, v in terms:
+        x, y, z = x + k * v[0], y + k * v[1], z + k * v[2]
+    return x, y, z
 
 
 def _sub(p, q):
@@ -7260,8 +7263,50 @@ def bench_engine(out, quick: bool = False, points: int = 100_001,
               f"{min(r for k, r in fast.items() if k != PLANE_FOUR_BAR):,.0f}", file=out)
 
 
+def bench_coupler(out, quick: bool = False, points: int = 100_001) -> None:
+    """What the coupler point (with velocity and acceleration) and the transmission angle add
+    to a sweep with velocity and acceleration, scalar and numpy: the time of the sweep with them
+    over the sweep alone."""
+    if quick:
+        points = 1001
+    angles = evenly_spaced_angles(0.0, 360.0, 360.0 / (points - 1))
+    try:
+        np = numpy_module()
+        array = np.array(angles)
+    except FastUnavailable:
+        np = None
+    print(f"{points:,} input angles, 0 to 360 degrees, branch 1, velocity and acceleration; the "
+          "time with the coupler point (u = c/2, v = c/4: the skew kinds v = 0) and mu over the "
+          "time without; best of 3 (numpy: of 9), one run", file=out)
+    print(f"{'linkage':12} {'scalar sweep':>13} {'+coupler':>9} {'+mu':>6} {'+both':>6} "
+          f"{'numpy sweep':>12} {'+coupler':>9} {'+mu':>6} {'+both':>6}", file=out)
+    for kind, dims in BENCH_LINKAGES:
+        linkage = Linkage(kind, **dims)
+        u, v = dims["c"] / 2, 0.0 if PINS[kind].coupler == "line" else dims["c"] / 4
+        base = _best_of(3, lambda: linkage.sweep(angles))
+        row = [base, _best_of(3, lambda: coupler_of(linkage, linkage.sweep(angles), u, v)),
+               _best_of(3, lambda: transmission_of(linkage, linkage.sweep(angles))),
+               _best_of(3, lambda: (lambda m: (coupler_of(linkage, m, u, v),
+                                               transmission_of(linkage, m)))(
+                   linkage.sweep(angles)))]
+        text = (f"{kind:12} {len(angles) / base:10,.0f}/s " + " ".join(
+            f"{t / base:{w}.2f}x" for t, w in zip(row[1:], (8, 5, 5))))
+        if np is not None:
+            fast = _best_of(9, lambda: linkage.sweep_arrays(array))
+            times = [_best_of(9, lambda: coupler_of_arrays(linkage, linkage.sweep_arrays(array),
+                                                           u, v)),
+                     _best_of(9, lambda: transmission_of_arrays(linkage,
+                                                                linkage.sweep_arrays(array))),
+                     _best_of(9, lambda: (lambda a: (coupler_of_arrays(linkage, a, u, v),
+                                                     transmission_of_arrays(linkage, a)))(
+                         linkage.sweep_arrays(array)))]
+            text += f" {len(angles) / fast:9,.0f}/s " + " ".join(
+                f"{t / fast:{w}.2f}x" for t, w in zip(times, (8, 5, 5)))
+        print(text, file=out)
+
+
 BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
-              "startup": bench_startup}
+              "startup": bench_startup, "coupler": bench_coupler}
 ELSEWHERE = {"accuracy": "python3 tests/bench_accuracy.py (it measures with the tests' "
                          "instruments: the 50-digit mpmath reference, the listing in double, "
                          "PC-BASIC; README, Benchmarks)"}
