@@ -4156,7 +4156,7 @@ _TEXT_DASHES = {"outline": (1, 1), "path": (1, 2), "axis": (4, 2, 1, 2), "dimens
 _BRAILLE_BITS = ((0x01, 0x02, 0x04, 0x40), (0x08, 0x10, 0x20, 0x80))    # [column][row]
 _TEXT_MARKS = {True: {"joint": "●", "pivot": "◉", "point": "◆"},
                False: {"joint": "o", "pivot": "@", "point": "*"}}
-_ASCII_TEXT = str.maketrans({"φ": "phi", "ψ": "psi", "ξ": "ksi", "°": " deg"})
+_ASCII_TEXT = str.maketrans({"φ": "phi", "ψ": "psi", "ξ": "ksi", "μ": "mu", "°": " deg"})
 
 
 def _plain(text: str, unicode: bool) -> str:
@@ -4211,8 +4211,8 @@ class _DotGrid:
             (x0, y0), (x1, y1) = self.dot(p), self.dot(q)
             dx, dy = x1 - x0, (y1 - y0) * self.aspect
             length = math.hypot(dx, dy)
-            char = ("." if stroke.style in ("path", "outline") else "*"
-                    if stroke.style.startswith("coupler") else _ascii_line(dx, dy))
+            char = {"path": ".", "outline": ".", "coupler": "*", "coupler-other": "+"}.get(
+                stroke.style) or _ascii_line(dx, dy)
             steps = max(1, math.ceil(2 * max(abs(x1 - x0), abs(y1 - y0))))
             for i in range(steps + 1):
                 if dashes is None or _dash_on(dashes, travelled + i / steps * length):
@@ -6963,7 +6963,8 @@ def scene_drawing(scene: Scene) -> Drawing:
         drawing = mechanism_drawing(
             Linkage(scene.mechanism, **scene.dimensions), scene.angles(), branch,
             f"{scene.title}: {dims}", f"{MECHANISM_NAMES[scene.mechanism]}; branch {branch} "
-            f"({'A+B' if branch == 1 else 'A-B'}); positions by the accurate engine",
+            f"({'A+B' if branch == 1 else 'A-B'})"
+            + ("" if scene.coupler else "; positions by the accurate engine"),
             scene.coupler, scene.branches[1:])
     except ValueError as e:
         raise _scene_error(scene.path, "dimensions", f"dimensions that can be drawn: {e}") \

@@ -34,8 +34,10 @@ def test_the_csv_of_a_double_run_has_every_point_with_its_status(tmp_path):
     assert b"wrote out.csv (13 rows)" in result.stderr
     with open(tmp_path / "out.csv", newline="") as f:
         rows = list(csv.DictReader(f))
-    assert list(rows[0]) == ["phi", "output", "velocity", "acceleration", "status"]
+    assert list(rows[0]) == ["phi", "output", "velocity", "acceleration", "status",
+                             "transmission"]
     assert [float(r["phi"]) for r in rows] == [30.0 * i for i in range(13)]
+    assert all((r["transmission"] == "nan") == (r["status"] != "assembled") for r in rows)
     missing = [r for r in rows if r["status"] != "assembled"]
     assert [(r["phi"], r["status"], r["output"]) for r in missing] == [
         ("180.0", "not-assembled", "nan"), ("210.0", "not-assembled", "nan")]
