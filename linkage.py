@@ -1409,14 +1409,17 @@ class DatFiles:  # ERRATA P3
     the file and the reason."""
 
     NAMES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
+    MU = "MU.DAT"        # the accurate engine's transmission angle, beside them (a scene's)
 
-    def __init__(self, directory: str, count: int = 3):
-        """The first `count` of the three files (a scene may ask for fewer)."""
+    def __init__(self, directory: str, count: int = 3, transmission: bool = False):
+        """The first `count` of the three files (a scene may ask for fewer), and MU.DAT where
+        `transmission` (a set without it removes an old one, as it does the three's)."""
         self.directory = directory
         self.points = 0
         self._files: list[_Temporary] = []
+        self._names = self.NAMES[:count] + ((self.MU,) if transmission else ())
         try:
-            for name in self.NAMES[:count]:
+            for name in self._names:
                 self._files.append(_Temporary(os.path.join(directory, name), "ascii"))
             self._open = [t.file for t in self._files]      # written to directly: the sweep's
             #                                                 inner loop
@@ -1462,9 +1465,10 @@ class DatFiles:  # ERRATA P3
                         raise IsADirectoryError(21, "it is a folder", f.path)
                 for f in self._files:
                     f.rename()
-                for name in self.NAMES[len(self._files):]:
-                    with contextlib.suppress(FileNotFoundError):
-                        os.unlink(os.path.join(self.directory, name))
+                for name in self.NAMES + ((self.MU,) if self.MU in self._names else ()):
+                    if name not in self._names:
+                        with contextlib.suppress(FileNotFoundError):
+                            os.unlink(os.path.join(self.directory, name))
         except OSError as e:
             raise WriteError(self._why(e)) from None
         finally:
@@ -3518,7 +3522,8 @@ def evenly_spaced_angles(start, stop, step):
     return [start + i * step for i in range(angle_count(start, stop, step))]
 
 
-def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files=3) -> int:
+def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files=3,
+                    transmission=False) -> int:
     """Write ANG.DAT, VEL.DAT and ACC.DAT (the first `files` of them) in the listing's format
     ("phi,value" lines, CRLF, a 0x1A end byte) at full precision: each number as the shortest
     text that reads back exactly (repr). `motions` may be any iterable (a generator keeps a long
@@ -3528,6 +3533,9 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files
     Unclipped unless clip=True (then VEL and ACC are clipped to +-3 as lines 1200-1300 do). A value
     that is None (see Motion.status) is left out of its file (missing="skip"), or written as 0 as
     the listing writes positions it cannot assemble (missing="zero", quirk K8).
+
+    transmission=True: each row's sixth field (after a Motion's five), the transmission angle,
+    goes to MU.DAT too.
     """
     if missing not in ("skip", "zero"):
         raise ValueError('missing is "skip" or "zero"')
@@ -3542,10 +3550,11 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files
             value = min(3.0, max(-3.0, value))
         return "%r,%r\r\n" % (phi, float(value))
 
-    with DatFiles(directory, files) as out:
+    with DatFiles(directory, files, transmission) as out:
         for row in motions:
             phi = float(row[0])
-            out.write((line(phi, row[1], False), line(phi, row[2], clip), line(phi, row[3], clip)))
+            lines = (line(phi, row[1], False), line(phi, row[2], clip), line(phi, row[3], clip))
+            out.write(lines[:files] + ((line(phi, row[5], False),) if transmission else ()))
     return out.points
 
 
@@ -6132,7 +6141,8 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
                "charted",
 }
 REQUIRED_SCENE_KEYS = ("mechanism", "dimensions", "input", "branches", "panels")
-QUANTITIES = ("displacement", "velocity", "acceleration")      # ANG.DAT, VEL.DAT, ACC.DAT
+QUANTITIES = ("displacement", "velocity", "acceleration", "transmission")
+QUANTITY_FILES = dict(zip(QUANTITIES, DatFiles.NAMES + (DatFiles.MU,)))
 MECHANISM_PANEL = "mechanism"    # the linkage drawn (a scene of its own, mechanism_drawing)
 MAX_FRAMES = 3600                # the most poses a mechanism scene draws
 PRECISIONS = {"basic": ("basic",), "double": ("double",), "both": ("basic", "double")}
@@ -6150,6 +6160,8 @@ AXIS_LABELS = {
                 "velocity": ("velocity", "VEL.DAT", "per rad"),
                 "acceleration": ("acceleration", "ACC.DAT", "per rad^2")},
 }
+for _labels in AXIS_LABELS.values():
+    _labels["transmission"] = ("transmission angle", "mu", "deg")
 INPUT_AXIS = ("input angle", "phi", "deg")
 
 
@@ -6178,6 +6190,11 @@ class Scene:
     panels: tuple[PanelSpec, ...]
     fast: bool = False               # the double series by Linkage.sweep_arrays
     coupler: tuple[float, float] | None = None   # a mechanism scene's coupler point (u, v)
+
+    @property
+    def transmission(self) -> bool:
+        """Whether a panel shows the transmission angle (MU.DAT, the accurate engine's)."""
+        return any("transmission" in panel.quantities for panel in self.panels)
 
     @property
     def derivatives(self) -> int:
@@ -6286,6 +6303,10 @@ def load_scene(path: str) -> Scene:
         raise _scene_error(path, "fast", "false with the branch \"follow\": the vectorised path "
                            "computes the listing's branches 1 and 2", fast)
     specs = _scene_panels(path, panels)
+    if precision == "basic" and any("transmission" in spec.quantities for spec in specs):
+        raise _scene_error(path, "precision", "double or both with a transmission panel: the "
+                           "transmission angle is the accurate engine's (the original program "
+                           "computes the output link only)", precision)
     return Scene(path, _scene_title(path, data), mechanism, dims, start, stop, step,
                  tuple(branches), PRECISIONS[precision], specs, fast)
 
@@ -6482,8 +6503,13 @@ def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
         except OSError as e:
             raise SceneError(f"cannot make the folder {where!r}: {e.strerror}") from None
         if precision == "double":
+            motions = accurate[branch]
+            if scene.transmission:
+                linkage = Linkage(scene.mechanism, **scene.dimensions)
+                motions = [m + (mu,) for m, mu in zip(motions, transmission_of(linkage, motions))]
             try:
-                write_dat_files(accurate[branch], where, files=1 + scene.derivatives)
+                write_dat_files(motions, where, files=1 + scene.derivatives,
+                                transmission=scene.transmission)
             except WriteError as e:
                 raise SceneError(str(e)) from None
         else:
@@ -6577,7 +6603,7 @@ def dat_series(directory: str) -> list[Series]:
     """The DAT files of `directory`: one series, or (if it holds none) one for each folder in it
     that does, named after the folder ("basic-branch1" tells its precision and branch)."""
     def has_dat(d):
-        return any(os.path.exists(os.path.join(d, n)) for n in DatFiles.NAMES)
+        return any(os.path.exists(os.path.join(d, n)) for n in QUANTITY_FILES.values())
     if has_dat(directory):
         return [Series(os.path.basename(os.path.abspath(directory)), _dat_precision(directory),
                        None, directory)]
@@ -6679,7 +6705,7 @@ def build_figure(title: str, subtitle: str, group: str, specs, series: list[Seri
     for letter, spec in zip("abc", specs):
         curves = []
         for quantity in spec.quantities:
-            name = DatFiles.NAMES[QUANTITIES.index(quantity)]
+            name = QUANTITY_FILES[quantity]
             for s in series:
                 path = os.path.join(s.directory, name)
                 if not os.path.exists(path):
@@ -6721,10 +6747,11 @@ def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
     """The figure of the DAT files in `directory` (see dat_series): (a) ANG.DAT, (b) VEL.DAT and
     ACC.DAT, the panels of the files there are."""
     series = dat_series(directory)
-    present = {q for q, n in zip(QUANTITIES, DatFiles.NAMES)
+    present = {q for q, n in QUANTITY_FILES.items()
                for s in series if os.path.exists(os.path.join(s.directory, n))}
     specs = [PanelSpec(tuple(q for q in qs if q in present), None)
-             for qs in (("displacement",), ("velocity", "acceleration")) if present & set(qs)]
+             for qs in (("displacement",), ("velocity", "acceleration"), ("transmission",))
+             if present & set(qs)]
     group = ("unknown" if mechanism is None else
              "slider" if mechanism in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK) else "four-bar")
     precisions = " and ".join(dict.fromkeys(s.precision or "unknown" for s in series))
@@ -6902,7 +6929,7 @@ def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIG
 def _pretty(text: str) -> str:
     """Greek letters and superscripts for the PNG's labels."""
     for ascii_, shown in (("dphi2", "dφ²"), ("d2", "d²"), ("^2", "²"), ("psi", "ψ"),
-                          ("phi", "φ"), ("ksi", "ξ"), ("+-", "±")):
+                          ("phi", "φ"), ("ksi", "ξ"), ("+-", "±"), ("mu [", "μ [")):
         text = text.replace(ascii_, shown)
     return text
 

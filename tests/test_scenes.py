@@ -119,8 +119,10 @@ def test_the_scene_writes_its_dat_files(drawn):
         names = sorted(n for n in os.listdir(folder) if n.endswith(".DAT"))
         shown = {q for panel in scene.panels for q in panel.quantities}
         level = 2 if "acceleration" in shown else 1 if "velocity" in shown else 0
-        want = sorted(["ANG.DAT", "VEL.DAT", "ACC.DAT"][:level + 1])
-        assert names == want, folder
+        want = ["ANG.DAT", "VEL.DAT", "ACC.DAT"][:level + 1]
+        if "transmission" in shown and precision == "double":
+            want.append("MU.DAT")           # the engine's transmission angle, beside them
+        assert names == sorted(want), folder
         for name in names:
             data = (folder / name).read_bytes()
             assert data.endswith(b"\x1a") and b"\r\n" in data, name
@@ -187,7 +189,8 @@ def test_the_figure_is_labelled(drawn):
     slider = scene.mechanism in ("slider", "skew-slider")
     units = {"displacement": "[length]" if slider else "[deg]",
              "velocity": "[length/rad]" if slider else "[rad/rad]",
-             "acceleration": "[length/rad^2]" if slider else "[rad/rad^2]"}
+             "acceleration": "[length/rad^2]" if slider else "[rad/rad^2]",
+             "transmission": "mu [deg]"}
     for header, panel in zip(headers, scene.panels):
         for quantity in panel.quantities:
             assert units[quantity] in header, header
