@@ -1411,13 +1411,15 @@ class DatFiles:  # ERRATA P3
     NAMES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
     MU = "MU.DAT"        # the accurate engine's transmission angle, beside them (a scene's)
 
-    def __init__(self, directory: str, count: int = 3, transmission: bool = False):
+    def __init__(self, directory: str, count: int = 3, transmission: bool | None = None):
         """The first `count` of the three files (a scene may ask for fewer), and MU.DAT where
-        `transmission` (a set without it removes an old one, as it does the three's)."""
+        `transmission` is True (False: an old one is removed with the old set, as the three's
+        are; None, the original program's sets: MU.DAT is not theirs to touch)."""
         self.directory = directory
         self.points = 0
         self._files: list[_Temporary] = []
         self._names = self.NAMES[:count] + ((self.MU,) if transmission else ())
+        self._family = self.NAMES + (() if transmission is None else (self.MU,))
         try:
             for name in self._names:
                 self._files.append(_Temporary(os.path.join(directory, name), "ascii"))
@@ -1465,7 +1467,7 @@ class DatFiles:  # ERRATA P3
                         raise IsADirectoryError(21, "it is a folder", f.path)
                 for f in self._files:
                     f.rename()
-                for name in self.NAMES + ((self.MU,) if self.MU in self._names else ()):
+                for name in self._family:
                     if name not in self._names:
                         with contextlib.suppress(FileNotFoundError):
                             os.unlink(os.path.join(self.directory, name))
@@ -3523,7 +3525,7 @@ def evenly_spaced_angles(start, stop, step):
 
 
 def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files=3,
-                    transmission=False) -> int:
+                    transmission=None) -> int:
     """Write ANG.DAT, VEL.DAT and ACC.DAT (the first `files` of them) in the listing's format
     ("phi,value" lines, CRLF, a 0x1A end byte) at full precision: each number as the shortest
     text that reads back exactly (repr). `motions` may be any iterable (a generator keeps a long
@@ -3535,7 +3537,7 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files
     the listing writes positions it cannot assemble (missing="zero", quirk K8).
 
     transmission=True: each row's sixth field (after a Motion's five), the transmission angle,
-    goes to MU.DAT too.
+    goes to MU.DAT too; False: an old MU.DAT there is removed with the old set (DatFiles).
     """
     if missing not in ("skip", "zero"):
         raise ValueError('missing is "skip" or "zero"')
