@@ -3,7 +3,8 @@ forms), checked against definitions written here, not against the engine's own f
 
 1. Geometry: along the motion the point keeps its distances (arcs on the sphere) from the crank
    pin A and the output pin P (B, or the slider C) that its definition implies, on the side v
-   says, from joint_positions' joints.
+   says, from joint_positions' joints; a linkage scaled by 2^-600 .. 2^600 moves its point
+   scaled; at a dead centre the point stands (no velocity) and mu is 0 or 180.
 2. Velocity and acceleration: positions solved here in mpmath at 40 digits from the joint frames
    of joint_positions' docstring (the closure |P(q) - A(phi)| = c, or A.B = cos c on the unit
    sphere, by findroot), the point built from its definition, differentiated by 7-point central
@@ -12,11 +13,13 @@ forms), checked against definitions written here, not against the engine's own f
    `angle` from the coupler's first joint, the angle from the direction to its second joint) on
    random plane four-bars and slider-cranks.
 4. The transmission angle: the review's eq. (1) (plane four-bar, both branches), eq. (3)
-   corrected (slider-crank), the spherical law of cosines, skew with f = ksi = 0 as plane, the
-   skew kinds from the definition (dP/dq from differences of the mpmath positions) and the
-   review's worked examples of eqs. (2a), (2b).
-5. coupler_arrays and transmission_arrays against the scalar forms.
-6. branch="follow" through change points: the coupler curve and its velocity are continuous.
+   corrected (slider-crank), the spherical law of cosines, skew with f = ksi = 0 as plane, every
+   kind (the skew ones above all) from the definition (dP/dq from differences of the mpmath
+   positions), and the review's worked examples of eqs. (2a), (2b).
+5. coupler_arrays and transmission_arrays against the scalar forms, on random linkages and at
+   dead centres and change points.
+6. branch="follow" through change points (fixed ones, random Grashof-boundary four-bars): the
+   coupler curve and its velocity are continuous.
 7. Refusals: each reason check_coupler_point gives.
 """
 
@@ -40,7 +43,6 @@ from test_pylinkage import condition, startable
 KINDS = tuple(engine.LINKAGE_DIMENSIONS)
 SLIDERS = ("slider", "skew-slider")
 LINE_KINDS = ("skew", "skew-slider")          # only v = 0
-SHOWN = (engine.ASSEMBLED, engine.DEAD_CENTRE, engine.CHANGE_POINT)
 DPS = 40
 
 
@@ -83,10 +85,10 @@ def point_scale(kind, dims, u, v):
 
 @st.composite
 def points_on(draw, kind, dims):
-    """A coupler point (u, v): lengths up to twice the linkage's size, degrees on the sphere,
-    v = 0 on the skew kinds."""
+    """A coupler point (u, v): lengths up to twice the linkage's size, degrees on the sphere
+    (beyond a turn, too), v = 0 on the skew kinds."""
     if kind == "spherical":
-        u, v = draw(st.floats(-180.0, 180.0)), draw(st.floats(-89.0, 89.0))
+        u, v = draw(st.floats(-720.0, 720.0)), draw(st.floats(-360.0, 360.0))
     else:
         size = size_of(kind, dims)
         u, v = draw(st.floats(-2.0, 2.0)) * size, draw(st.floats(-2.0, 2.0)) * size
@@ -159,6 +161,62 @@ def test_the_point_is_none_where_the_linkage_does_not_assemble():
     assert link.transmission([0.0]) == [None]
 
 
+SCALES = (2.0 ** -600, 2.0 ** -30, 2.0 ** 40, 2.0 ** 600)
+
+
+@given(linkages(("plane", "slider", "skew", "skew-slider")), st.floats(-360.0, 360.0),
+       st.sampled_from((1, 2)), st.floats(-2.0, 2.0), st.floats(-2.0, 2.0),
+       st.sampled_from(SCALES))
+@settings(max_examples=80)
+def test_a_linkage_scaled_moves_its_point_scaled(drawn, start, branch, fu, fv, scale):
+    """Every length (and u, v) times a power of two from 2^-600 to 2^600: the point, its
+    velocity and acceleration scale with them (to 1e-13), the transmission angle stays."""
+    kind, dims = drawn
+    size = size_of(kind, dims)
+    u, v = fu * size, 0.0 if kind in LINE_KINDS else fv * size
+    big = {k: x if k == "ksi" else x * scale for k, x in dims.items()}
+    phis = [start + 45.0 * k for k in range(8)]
+    base, other = engine.Linkage(kind, **dims), engine.Linkage(kind, **big)
+    scaled = other.coupler(phis, u * scale, v * scale, branch)
+    reach = point_scale(kind, dims, u, v)
+    for was, now in zip(base.coupler(phis, u, v, branch), scaled):
+        assert now.status == was.status, (kind, dims, scale, now, was)
+        for x, y in zip(was[1:4], now[1:4]):
+            assert (x is None) == (y is None), (was, now)
+            if x is not None:
+                error = norm(sub(tuple(c / scale for c in y), x)) / max(reach, norm(x))
+                assert error <= 1e-13, (kind, dims, scale, was, now)
+    for x, y in zip(base.transmission(phis, branch), other.transmission(phis, branch)):
+        assert (x is None) == (y is None) and (x is None or abs(x - y) <= 1e-9), (x, y)
+
+
+DEAD_CENTRES = [("plane", dict(a=3.0, b=4.0, c=2.0, d=3.0), 90.0, 180.0),     # stretched
+                ("plane", dict(a=3.0, b=4.0, c=4.0, d=9.0), 90.0, 0.0),       # folded
+                ("slider", dict(b=2.0, c=1.0, e=0.0), 30.0, 0.0),             # rod square
+                ("slider", dict(b=2.0, c=1.0, e=0.0), 150.0, 0.0),            # to the guide
+                ("slider", dict(b=2.0, c=1.0, e=0.0), 210.0, 180.0),
+                ("spherical", dict(a=90.0, b=30.0, c=50.0, d=40.0), 90.0, 180.0),
+                ("spherical", dict(a=90.0, b=30.0, c=130.0, d=40.0), 90.0, 0.0),
+                ("spherical", dict(a=90.0, b=30.0, c=20.0, d=110.0), 90.0, 0.0)]
+
+
+@pytest.mark.parametrize("kind, dims, phi, mu", DEAD_CENTRES,
+                         ids=[f"{k}-{phi:g}-{d['c']:g}" for k, d, phi, _ in DEAD_CENTRES])
+def test_at_a_dead_centre_the_point_stands_and_mu_is_0_or_180(kind, dims, phi, mu):
+    """Coupler and output crank in line (the rod square to the guide; on the sphere |AB0| =
+    c + d or |c - d|): the point is there, with no velocity (infinite), and mu is 180 (stretched)
+    or 0 (folded)."""
+    link = engine.Linkage(kind, **dims)
+    u, v = (20.0, 10.0) if kind == "spherical" else (0.5, 0.25)
+    for branch in (1, 2):
+        [cm] = link.coupler([phi], u, v, branch)
+        assert cm.status == engine.DEAD_CENTRE, cm
+        assert cm.position is not None and cm.velocity is None and cm.acceleration is None
+        assert not geometry_problems(kind, dims, link, phi, branch, u, v, cm)
+        [got] = link.transmission([phi], branch)
+        assert got == pytest.approx(mu, abs=1e-6), (branch, got)
+
+
 # -- 2. velocity and acceleration against 40-digit differences --------------------------------
 
 def mp_rad(x):
@@ -212,9 +270,15 @@ def mp_closure(kind, dims, phi, q):
 
 
 def mp_solve(kind, dims, phi, guess):
-    """The output q at phi (radians) nearest the guess: 40 digits."""
-    q = mpmath.findroot(lambda x: mp_closure(kind, dims, phi, x), mpmath.mpf(guess))
+    """The output q at phi (radians) next to the guess (to 1e-6; the engine's output, or its
+    Taylor step): 40 digits. The secant starts from two points 1e-9 apart (mpmath's default
+    second point, a quarter further, can reach the other branch's root)."""
+    guess = mpmath.mpf(guess)
+    step = mpmath.mpf("1e-9") * (1 + abs(guess))
+    q = mpmath.findroot(lambda x: mp_closure(kind, dims, phi, x), (guess, guess + step))
     assert abs(mp_closure(kind, dims, phi, q)) < mpmath.mpf(10) ** (8 - DPS), (kind, dims, phi)
+    assert abs(q - guess) <= 1e-6 * (1 + abs(guess)), \
+        f"{kind} {dims}: no root next to {float(guess)!r} at phi = {float(phi)!r} rad"
     return q
 
 
@@ -561,7 +625,7 @@ def test_transmission_is_the_angle_of_the_output_pins_motion(drawn, start, branc
     q' = dq/dphi), and t_r = axis x (P - A), the axis z (OA on the sphere). To 1e-7 degree."""
     kind, dims = drawn
     link = engine.Linkage(kind, **dims)
-    size = size_of(kind, dims)
+    size = size_of(kind, dims) if kind in SLIDERS else 1.0
     phis = assembled_angles(link, start, branch, 4)
     motions = [m for m in link.sweep(phis, branch)
                if well_conditioned(m, 20.0 * size, 200.0 * size)]
@@ -572,7 +636,7 @@ def test_transmission_is_the_angle_of_the_output_pins_motion(drawn, start, branc
             stencil = mp_stencil(kind, dims, m)
             _, dq, _ = differences([q for *_, q in stencil])
             if abs(dq) < 1e-3 * size:
-                continue
+                continue                    # the output at rest: dP/dphi tells no direction
             _, a, p, _ = stencil[3]
             _, dp, _ = differences([pin for _, _, pin, _ in stencil])
             t_a = tuple(mpmath.sign(dq) * x for x in dp)
@@ -660,14 +724,41 @@ def test_the_numpy_forms_are_the_scalar_ones(drawn, start, branch, derivatives):
     assert not wrong, (kind, dims, u, v, branch, [(phis[i], why) for i, why in wrong[:4]])
 
 
+SINGULAR = [(k, d, phi) for k, d, phi, _ in DEAD_CENTRES] + list(CHANGE_POINTS)
+
+
+@pytest.mark.parametrize("kind, dims, phi0", SINGULAR,
+                         ids=[f"{k}-{phi:g}-{d['c']:g}" for k, d, phi in SINGULAR])
+def test_the_numpy_forms_at_dead_centres_and_change_points(kind, dims, phi0):
+    """On and 1e-9, 1e-3 degree either side of a dead centre or change point (where
+    sweep_arrays hands points to sweep): the scalar numbers, NaN where there are none."""
+    link = engine.Linkage(kind, **dims)
+    phis = [phi0 + x for x in (-1e-3, -1e-9, 0.0, 1e-9, 1e-3)]
+    u, v = (20.0, 10.0) if kind == "spherical" else (0.5, 0.0 if kind in LINE_KINDS else 0.25)
+    for branch in (1, 2):
+        scalar = link.coupler(phis, u, v, branch)
+        arrays = link.coupler_arrays(np.array(phis), u, v, branch)
+        wrong = [(name, same_vectors(getattr(arrays, name), [getattr(cm, name) for cm in scalar],
+                                     1.0)) for name in ("position", "velocity", "acceleration")]
+        mus = zip(link.transmission_arrays(np.array(phis), branch),
+                  link.transmission(phis, branch))
+        wrong.append(("mu", [(x, y) for x, y in mus if not (
+            math.isnan(x) if y is None else abs(x - y) <= 1e-12 * max(abs(y), 1.0))]))
+        assert not [w for w in wrong if w[1]], (branch, [cm.status for cm in scalar], wrong)
+
+
 # -- 6. followed through change points ---------------------------------------------------------
 
 FOLLOW_STEP = 0.01          # degrees
 FOLLOW_COUNT = 200          # the sweep: the change point +- 1 degree
 
 
-@pytest.mark.parametrize("kind, dims, phi0", CHANGE_POINTS,
-                         ids=[f"{k}-{phi0:g}" for k, _, phi0 in CHANGE_POINTS])
+FOLLOWED = [("plane", dict(a=3.0, b=1.0, c=2.0, d=2.0), 180.0)] + CHANGE_POINTS
+
+
+@pytest.mark.parametrize("kind, dims, phi0", FOLLOWED,
+                         ids=[f"{k}-{'-'.join(f'{x:g}' for x in d.values())}-{phi0:g}"
+                              for k, d, phi0 in FOLLOWED])
 @pytest.mark.parametrize("start", (1, 2))
 def test_the_followed_coupler_curve_is_smooth_through_a_change_point(kind, dims, phi0, start):
     """branch="follow" across a change point: consecutive points differ by at most the fastest
@@ -700,11 +791,44 @@ def test_the_followed_coupler_curve_is_smooth_through_a_change_point(kind, dims,
     assert step <= 1.01 * speed * h, (step, speed * h)
     assert second <= 2.0 * accel * h * h, (second, accel * h * h)
     assert turn <= 2.0 * accel * h, (turn, accel * h)
-    for cm in followed:         # each followed point is one of the fixed branches'
-        assert min(norm(sub(cm.position, f[phis.index(cm.phi)].position))
-                   for f in fixed.values()) <= 1e-12 * (1 + speed), cm
+    fixed_mu = {br: link.transmission(phis, br) for br in (1, 2)}
+    followed_mu = link.transmission(phis, engine.FOLLOW, start=start)
+    for i, cm in enumerate(followed):   # each followed point is one of the fixed branches'
+        gaps = {br: norm(sub(cm.position, fixed[br][i].position)) for br in (1, 2)}
+        br = min(gaps, key=gaps.get)
+        assert gaps[br] <= 1e-12 * (1 + speed), cm
+        assert abs(followed_mu[i] - fixed_mu[br][i]) <= 1e-9 or \
+            abs(followed_mu[i] - fixed_mu[3 - br][i]) <= 1e-9, (cm, followed_mu[i])
     if kind == "plane":         # the listing's labels swap at these change points: a kink
         assert max(kinks(fixed[start])[1:]) > 10 * max(second, turn)
+
+
+@given(st.integers(1, 40), st.integers(1, 40), st.integers(1, 40), st.sampled_from((1, 2)),
+       st.floats(-2.0, 2.0), st.floats(-2.0, 2.0))
+@settings(max_examples=40)
+def test_a_random_grashof_boundary_coupler_curve_is_smooth(a, b, c, start, fu, fv):
+    """a + b = c + d exactly (quarters, test_follow's draw): followed from 170 to 190 degrees by
+    0.1, the point moves by at most its speed times the step (plus its acceleration's share),
+    and its velocity by at most its acceleration times the step."""
+    a, b, c = a / 4.0, b / 4.0, c / 4.0
+    d = a + b - c
+    assume(d > 0.1 and abs(c - d) < a + b - 0.3)
+    link = engine.Linkage("plane", a=a, b=b, c=c, d=d)
+    v1, v2 = (link.motion(180.0, br).velocity for br in (1, 2))
+    assume(v1 is not None and v2 is not None and abs(v1 - v2) > 1e-3)
+    size = max(a, b, c, d)
+    u, v = fu * size, fv * size
+    phis = engine.evenly_spaced_angles(170.0, 190.0, 0.1)
+    curve = link.coupler(phis, u, v, engine.FOLLOW, start=start)
+    assume(all(cm.velocity is not None for cm in curve))
+    h = math.radians(0.1)
+    for m0, m1 in zip(curve, curve[1:]):
+        vmax = max(norm(m0.velocity), norm(m1.velocity))
+        amax = max(norm(m0.acceleration), norm(m1.acceleration))
+        assert norm(sub(m1.position, m0.position)) <= vmax * h + amax * h * h + 1e-12 * size, \
+            (a, b, c, d, u, v, m0, m1)
+        assert norm(sub(m1.velocity, m0.velocity)) <= 1.5 * amax * h + 1e-3 * h * size, \
+            (a, b, c, d, u, v, m0, m1)
 
 
 # -- 7. refusals ---------------------------------------------------------------------------------
