@@ -26,6 +26,7 @@ forms), checked against definitions written here, not against the engine's own f
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import mpmath
 import numpy as np
@@ -903,3 +904,45 @@ def test_a_spherical_coupler_of_no_great_circle_is_refused(c):
 def test_a_point_that_is_not_two_numbers_is_refused(u, v):
     for message in refusals(engine.Linkage("plane", **EXAMPLE["plane"]), u, v):
         assert "two numbers" in message, message
+
+
+# -- what a drawing, a scene or a run that asks for neither pays: nothing ------------------------
+
+@pytest.fixture
+def coupler_calls(monkeypatch):
+    """Every call of the coupler point's and the transmission angle's computations."""
+    calls = []
+    for name in ("coupler_of", "transmission_of", "coupler_of_arrays", "transmission_of_arrays"):
+        function = getattr(engine, name)
+
+        def counted(*args, function=function, name=name):
+            calls.append(name)
+            return function(*args)
+        monkeypatch.setattr(engine, name, counted)
+    return calls
+
+
+@pytest.mark.parametrize("argv", [
+    ["scene", "{scenes}/fig1a-plane-four-bar.toml", "--frames", "2"],
+    ["scene", "{scenes}/fig3-plane-four-bar.toml", "--dir", "{tmp}"],
+    ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0", "--to",
+     "360", "--step", "10", "--branch", "1", "--precision", "double", "--dir", "{tmp}"],
+    ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0", "--to",
+     "360", "--step", "10", "--branch", "1", "--precision", "double", "--dir", "{tmp}",
+     "--fast"],
+])
+def test_what_asks_for_neither_computes_neither(argv, coupler_calls, tmp_path, capsys):
+    scenes = Path(engine.__file__).parent / "data" / "scenes"
+    argv = [a.format(scenes=scenes, tmp=tmp_path) for a in argv]
+    assert engine.main(argv) == 0
+    assert coupler_calls == []
+
+
+def test_a_csv_without_a_coupler_point_computes_only_mu(coupler_calls, tmp_path, capsys):
+    argv = ["run", "slider", "--b", "2", "--c", "7", "--e", "1.5", "--from", "0", "--to", "360",
+            "--step", "10", "--branch", "1", "--precision", "double", "--dir", str(tmp_path),
+            "--csv", str(tmp_path / "out.csv")]
+    assert engine.main(argv) == 0
+    assert set(coupler_calls) == {"transmission_of"}
+    assert engine.main(argv + ["--coupler", "3"]) == 0
+    assert set(coupler_calls) == {"transmission_of", "coupler_of"}
