@@ -2862,7 +2862,7 @@ def _plane_crank_pin(dims, c, s):
 
 
 def _spherical_crank_pin(dims, c, s):
-    cb, sb = cos_sin_degrees(dims["b"])
+    cb, sb = dims["cos b"], dims["sin b"]
     return (sb * c, sb * s, cb), (-sb * s, sb * c, 0.0), (-sb * c, -sb * s, 0.0)
 
 
@@ -2873,14 +2873,13 @@ def _plane_output_pin(dims, cq, sq, x):
 
 def _skew_output_pin(dims, cq, sq, x):
     a, d, f = dims["a"], dims["d"], dims["f"]
-    cx, sx = cos_sin_degrees(dims["ksi"])
+    cx, sx = dims["cos ksi"], dims["sin ksi"]
     return ((a + d * cq, f * sx / cx + d * sq * cx, d * sq * sx),
             (-d * sq, d * cq * cx, d * cq * sx), (-d * cq, -d * sq * cx, -d * sq * sx))
 
 
 def _spherical_output_pin(dims, cq, sq, x):
-    ca, sa = cos_sin_degrees(dims["a"])
-    cd, sd = cos_sin_degrees(dims["d"])
+    ca, sa, cd, sd = dims["cos a"], dims["sin a"], dims["cos d"], dims["sin d"]
     return tuple(rotated_y(ca, sa, v) for v in ((sd * cq, sd * sq, cd), (-sd * sq, sd * cq, 0.0),
                                              (-sd * cq, -sd * sq, 0.0)))
 
@@ -2890,14 +2889,14 @@ def _slider_output_pin(dims, cq, sq, x):
 
 
 def _skew_slider_output_pin(dims, cq, sq, x):
-    a, f = dims["a"], dims["f"]
-    cx, sx = cos_sin_degrees(dims["ksi"])
+    a, f, cx, sx = dims["a"], dims["f"], dims["cos ksi"], dims["sin ksi"]
     return (a, x * sx, f - x * cx), (0.0, sx, -cx), (0.0, 0.0, 0.0)
 
 
 class Pins(NamedTuple):
     """One kind's moving pins and coupler: crank_pin(dims, cos phi, sin phi) and
-    output_pin(dims, cos q, sin q, x), each (position, d/d, d2/d2) as 3-tuples; coupler the form
+    output_pin(dims, cos q, sin q, x), each (position, d/d, d2/d2) as 3-tuples (dims: see
+    pin_dimensions); coupler the form
     of its coupler's frame ("plane", "sphere" or "line"); joint_at_a the axis the coupler turns
     about relative to the crank ("z", or "OA" through the sphere's centre)."""
     crank_pin: object
@@ -2914,6 +2913,16 @@ PINS = {
     SKEW_SLIDER_CRANK: Pins(_plane_crank_pin, _skew_slider_output_pin, "line", "z"),
 }
 COUPLER_REACH = 1e9      # a coupler point at most this many times the linkage's size from A
+
+
+def pin_dimensions(dims):
+    """dims with the cosines and sines of its angles ("cos a", "sin ksi", ...), computed once for
+    the pins of PINS."""
+    out = dict(dims)
+    for name in ("a", "b", "d", "ksi"):
+        if name in dims:
+            out[f"cos {name}"], out[f"sin {name}"] = cos_sin_degrees(dims[name])
+    return out
 
 
 def _add(*terms):
@@ -2977,12 +2986,12 @@ def check_coupler_point(linkage, u, v=0.0):
     return u, v
 
 
-def _joint_kinematics(linkage, c, s, out, level, q1, q2, cos_sin):
+def _joint_kinematics(linkage, dims, c, s, out, level, q1, q2, cos_sin):
     """A, P (positions and total derivatives by phi, as many as `level` asks) and P_q, in the
     linkage's scaled lengths (divided by its unit, as the engine computes), from cos and sin of
-    phi, the output (degrees, or length) and its derivatives q1, q2; cos_sin is
-    cos_sin_degrees or its array form."""
-    pins, dims = PINS[linkage.kind], linkage._scaled
+    phi, the output (degrees, or length) and its derivatives q1, q2; dims is
+    pin_dimensions(linkage._scaled); cos_sin is cos_sin_degrees or its array form."""
+    pins = PINS[linkage.kind]
     a = pins.crank_pin(dims, c, s)
     if linkage.is_slider:
         unit = linkage._unit
@@ -3053,15 +3062,15 @@ def coupler_of(linkage, motions, u, v=0.0):
     """The coupler point (u, v) (see Linkage.coupler) at each of `motions` (Linkage.sweep's): as
     many derivatives as each Motion carries."""
     u, v = check_coupler_point(linkage, u, v)
-    out = []
+    out, dims = [], pin_dimensions(linkage._scaled)
     for m in motions:
         if m.output is None:
             out.append(CouplerMotion(m.phi, None, None, None, m.status))
             continue
         level = 0 if m.velocity is None else 1 if m.acceleration is None else 2
         c, s = cos_sin_degrees(m.phi)
-        a, p, _ = _joint_kinematics(linkage, c, s, m.output, level, m.velocity, m.acceleration,
-                                    cos_sin_degrees)
+        a, p, _ = _joint_kinematics(linkage, dims, c, s, m.output, level, m.velocity,
+                                    m.acceleration, cos_sin_degrees)
         point = _coupler_form(linkage, a, p, u, v, math.sqrt) + [None, None]
         out.append(CouplerMotion(m.phi, *point[:3], m.status))
     return out
@@ -3070,13 +3079,14 @@ def coupler_of(linkage, motions, u, v=0.0):
 def transmission_of(linkage, motions):
     """The transmission angle mu (degrees, [0, 180]) at each of `motions`, None where there is no
     position."""
-    out = []
+    out, dims = [], pin_dimensions(linkage._scaled)
     for m in motions:
         if m.output is None:
             out.append(None)
             continue
         c, s = cos_sin_degrees(m.phi)
-        a, p, p_q = _joint_kinematics(linkage, c, s, m.output, 0, None, None, cos_sin_degrees)
+        a, p, p_q = _joint_kinematics(linkage, dims, c, s, m.output, 0, None, None,
+                                      cos_sin_degrees)
         out.append(_transmission_form(linkage.kind, a[0], p[0], p_q, math.atan2))
     return out
 
@@ -3111,7 +3121,8 @@ def coupler_of_arrays(linkage, arrays, u, v=0.0):
     level = 0 if arrays.velocity is None else 1 if arrays.acceleration is None else 2
     c, s = _cos_sin_degrees_array(np, arrays.phi)
     with np.errstate(all="ignore"):
-        a, p, _ = _joint_kinematics(linkage, c, s, arrays.output, level, arrays.velocity,
+        a, p, _ = _joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
+                                    arrays.output, level, arrays.velocity,
                                     arrays.acceleration, functools.partial(_cos_sin_degrees_array,
                                                                            np))
         point = _coupler_form(linkage, a, p, u, v, np.sqrt)
@@ -3126,7 +3137,8 @@ def transmission_of_arrays(linkage, arrays):
     np = numpy_module()
     c, s = _cos_sin_degrees_array(np, arrays.phi)
     with np.errstate(all="ignore"):
-        a, p, p_q = _joint_kinematics(linkage, c, s, arrays.output, 0, None, None,
+        a, p, p_q = _joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
+                                      arrays.output, 0, None, None,
                                       functools.partial(_cos_sin_degrees_array, np))
         mu = _transmission_form(linkage.kind, a[0], p[0], p_q, np.arctan2)
     return np.broadcast_to(np.asarray(mu, dtype=np.float64), (len(arrays.phi),)).copy()
@@ -3631,7 +3643,7 @@ def joint_positions(linkage: Linkage, phi: float, branch: int = 1) -> Pose:
                   guide through F1 = (a, 0, f).
     """
     motion = linkage.motion(phi, branch, derivatives=0)
-    dims, kind, pins = linkage.dims, linkage.kind, PINS[linkage.kind]
+    dims, kind, pins = pin_dimensions(linkage.dims), linkage.kind, PINS[linkage.kind]
     joints, axes = _GROUND_JOINTS[kind](dims)
     joints["A"] = pins.crank_pin(dims, *cos_sin_degrees(motion.phi))[0]
     out = motion.output
