@@ -2359,7 +2359,7 @@ def _follow_step(linkage, state, phi, here, length, depth):
               and best <= _FOLLOW_CLEAR * other and (label == label0 or may_switch))
     apart = abs(step - other_step)
     if (not smooth and apart <= _FOLLOW_MEET * length
-            and apart * max(abs(m.velocity), abs(other_m.velocity)) <= _FOLLOW_CROSS * length ** 2):
+            and apart * max(abs(m.velocity), abs(other_m.velocity)) <= _FOLLOW_CROSS * length * length):
         # the branches cross here, with finite velocities: the outputs cannot tell them apart,
         # the velocities can (at a dead centre, where the roots meet too, apart * velocity
         # stays finite as they meet)
@@ -3234,9 +3234,14 @@ def _bisect(f, lo, hi, f_lo):
 
 
 def _discriminant(linkage):
-    """D(phi) and D'(phi) (phi in degrees, D' by radians) over the scale of D, in double."""
+    """D(phi) and D'(phi) (phi in degrees, D' by radians) over the scale of D, in double: each
+    term divided by the scale's root before it is squared (no overflow, no underflow)."""
     k = linkage._constants
-    scale = float(_size_squared(linkage.kind, k))
+    if linkage.is_slider:
+        root = abs(k[12]) + sum(abs(v) for v in k[6:12]) or 1.0
+    else:
+        root = sum(abs(v) for v in k[:9]) or 1.0
+    k = tuple(v / root for v in k)
 
     def terms(phi):
         c, s = cos_sin_degrees(phi)
@@ -3244,41 +3249,73 @@ def _discriminant(linkage):
             u, v = (k[i] + k[i + 1] * c + k[i + 2] * s for i in (6, 9))
             du, dv = (k[i + 2] * c - k[i + 1] * s for i in (6, 9))
             rod = k[12]
-            return (rod * rod - u * u - v * v) / scale, -2.0 * (u * du + v * dv) / scale
+            return rod * rod - u * u - v * v, -2.0 * (u * du + v * dv)
         p, q, sv = (k[i] + k[i + 1] * c + k[i + 2] * s for i in (0, 3, 6))
         dp, dq, ds = (k[i + 2] * c - k[i + 1] * s for i in (0, 3, 6))
-        return (p * p + q * q - sv * sv) / scale, 2.0 * (p * dp + q * dq - sv * ds) / scale
+        return p * p + q * q - sv * sv, 2.0 * (p * dp + q * dq - sv * ds)
 
     return (lambda phi: terms(phi)[0]), (lambda phi: terms(phi)[1])
 
 
 def crank_limits(linkage):
     """(dead centres, change points): the input angles in [0, 360) where D changes sign, and
-    where a minimum of D touches zero. ValueError if the linkage assembles at no input angle."""
+    where a minimum of D touches zero. A minimum within the touching line where the engine (in
+    50 or 110 digits) finds no position is a gap too narrow for double: its two dead centres
+    are found by bisection on whether the engine assembles. ValueError if the linkage assembles
+    at no input angle."""
     d, slope = _discriminant(linkage)
-    step = 360.0 / ANALYSIS_SAMPLES
-    phis = [i * step for i in range(ANALYSIS_SAMPLES + 1)]
+    count = ANALYSIS_SAMPLES
+    step = 360.0 / count
+    phis = [i * step for i in range(count + 1)]
     slopes = [slope(phi) for phi in phis]
     points = set(phis[:-1])
     minima = []
-    for i in range(ANALYSIS_SAMPLES):
-        if slopes[i] == 0 or slopes[i] * slopes[i + 1] < 0:
-            x = phis[i] if slopes[i] == 0 else _bisect(slope, phis[i], phis[i + 1], slopes[i])
-            points.add(x % 360.0)
-            if slopes[i] < 0 or (slopes[i] == 0 and slopes[i - 1] < 0):
-                minima.append(x % 360.0)
-    changes = sorted(x for x in minima if abs(d(x)) <= _TOUCHING)
-    ordered = sorted(points)
-    signs = [(x, d(x)) for x in ordered]
+    for i in range(count):
+        before, here, after = slopes[i - 1 if i else count - 1], slopes[i], slopes[i + 1]
+        if here == 0:
+            x, low = phis[i], before < 0 <= after
+        elif here * after < 0:
+            x, low = _bisect(slope, phis[i], phis[i + 1], here), here < 0
+        else:
+            continue
+        x %= 360.0
+        if 360.0 - x < 1e-9:            # found from both ends of the turn: the same point
+            x = 0.0
+        points.add(x)
+        if low and x not in minima:
+            minima.append(x)
+
+    def assembles(phi):
+        return -1.0 if linkage.motion(phi, 1, 0).status == NOT_ASSEMBLED else 1.0
+
+    changes, gaps = [], set()
+    for x in minima:
+        if abs(d(x)) > _TOUCHING:
+            continue
+        # the engine's verdict, at the minimum and a few 1e-12 degree about it (D's rounding
+        # places the minimum only so well: a gap there may lie beside it)
+        h = 1e-12 * max(1.0, abs(x))
+        probes = [(x + j * h) % 360.0 for j in (0, -1, 1, -2, 2, -4, 4)]
+        gap = next((p for p in probes if assembles(p) < 0), None)
+        if gap is None:
+            changes.append(x)
+        else:
+            points.add(gap)
+            gaps.add(gap)
+    changes.sort()
+    signs = [(x, -1.0 if x in gaps else d(x)) for x in sorted(points)]
     if all(v < -_TOUCHING for _, v in signs):
         raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle")
-    strict = [(x, v) for x, v in signs if abs(v) > _TOUCHING or x in changes or v == 0]
+    strict = [(x, v) for x, v in signs
+              if abs(v) > _TOUCHING or x in changes or x in gaps or v == 0]
     dead = []
     for (x0, v0), (x1, v1) in zip(strict, strict[1:] + [(strict[0][0] + 360.0, strict[0][1])]):
         if v0 == 0 and x0 not in changes:
             dead.append(x0)
         elif v0 * v1 < 0 and x0 not in changes and x1 % 360.0 not in changes:
-            dead.append(_bisect(d, x0, x1, v0) % 360.0)
+            by_engine = x0 in gaps or x1 % 360.0 in gaps
+            f = assembles if by_engine else d
+            dead.append(_bisect(f, x0, x1, f(x0)) % 360.0)
     return sorted(set(dead)), changes
 
 
@@ -3333,12 +3370,15 @@ def _circuits(linkage, branch, start, dead):
     step = 360.0 / ANALYSIS_SAMPLES
     if not dead:
         phis = [i * step for i in range(ANALYSIS_SAMPLES + 1)]
-        return None, [[(m, branch) for m in linkage.sweep(phis, branch, 2, start=start)]]
+        return None, [[(m, branch) for m in linkage.sweep(phis, branch, 2, start=start)
+                       if m.output is not None]]
     ends = dead + [dead[0] + 360.0]
     intervals = []
     for lo, hi in zip(ends, ends[1:]):
-        middle = lo + (hi - lo) / 2
-        if linkage.motion(middle, 1, 0).output is not None:
+        # assembled between them: at two of three points inside (one may fall on a change point
+        # that the engine's digits see as a gap)
+        inside = [x for x in (lo + (hi - lo) * t for t in (0.25, 0.5, 0.75)) if lo < x < hi]
+        if sum(linkage.motion(x, 1, 0).output is not None for x in inside) >= 2:
             intervals.append((lo, hi))
     runs = []
     out = 1 if branch == FOLLOW else branch
@@ -3372,7 +3412,9 @@ def _motion_extremes(linkage, run, outputs):
         if b0 != b1 or b0 == FOLLOW or m0.velocity is None or m1.velocity is None:
             found.append((m0.phi, outputs[i]))
             continue
-        if m0.velocity * m1.velocity < 0:
+        if m0.velocity == 0:                          # an extreme on the sample itself
+            found.append((m0.phi, outputs[i]))
+        elif m0.velocity * m1.velocity < 0:
             x = _bisect(lambda p: linkage.motion(p, b0, 1).velocity or 0.0, m0.phi, m1.phi,
                         m0.velocity)
             value = linkage.motion(x, b0, 0).output

@@ -20,7 +20,7 @@ from fractions import Fraction
 import mpmath
 import numpy
 import pytest
-from hypothesis import HealthCheck, assume, given, settings, strategies as st
+from hypothesis import HealthCheck, Phase, assume, given, settings, strategies as st
 
 import linkage
 
@@ -28,8 +28,12 @@ NOT = linkage.NOT_ASSEMBLED
 ALL_HEALTH = list(HealthCheck)
 
 
-def examples(n):
-    return settings(max_examples=n, deadline=None, suppress_health_check=ALL_HEALTH)
+def examples(n, shrink=True):
+    """n examples; shrink=False for the costly tests (a failure is reported as found: shrinking
+    one of them takes minutes)."""
+    phases = list(Phase) if shrink else [Phase.explicit, Phase.reuse, Phase.generate]
+    return settings(max_examples=n, deadline=None, suppress_health_check=ALL_HEALTH,
+                    phases=phases)
 
 
 def wrapped(x):
@@ -58,6 +62,28 @@ def grashof(a, b, c, d):
 def grashof_margin(a, b, c, d):
     s, p, q, l = sorted(abs(v) for v in (a, b, c, d))
     return abs((s + l) - (p + q))
+
+
+@pytest.fixture
+def signals_kept():
+    """main() turns SIGTERM and SIGHUP into exceptions: give pytest its own back."""
+    saved = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGHUP)}
+    yield
+    for s, handler in saved.items():
+        signal.signal(s, handler)
+
+
+def main(argv, capsys):
+    """linkage.main(argv) in this process: (status, stdout, stderr)."""
+    try:
+        status = linkage.main(argv)
+    except SystemExit as e:                       # argparse's refusals
+        status = e.code
+    except Exception as e:                        # noqa: BLE001 - what a user would see
+        out, err = capsys.readouterr()
+        return None, out, err + f"Traceback (in process): {e!r}\n"
+    out, err = capsys.readouterr()
+    return status, out, err
 
 
 # == 1. Grashof's rule against the sampled motion (plane four-bar) ==============================
@@ -111,28 +137,37 @@ def assembles(m):
 
 @pytest.mark.parametrize("kind", list(LINKAGES))
 def test_the_crank_range_and_dead_centres_are_where_the_engine_stops_assembling(kind):
+    """Linkages the engine finds degenerate at a grid angle (a change point or a free output
+    link exactly there: equal lengths, s + l = p + q) are left to the fixed tests below; any
+    exception but ValueError from analyse is collected and reported at the end (as the
+    remaining examples are still checked)."""
     seen = {"rocking": 0, "full": 0}
+    crashes = []
 
-    @examples(150)
+    @examples(150, shrink=False)
     @given(LINKAGES[kind], st.sampled_from([1, 2]))
     def check(dims, branch):
-        if kind == "plane":         # s + l = p + q: test_a_change_point_at_phi_0_is_no_dead_centre
-            assume(grashof_margin(*(dims[k] for k in "abcd")) > 0)
         link = linkage.Linkage(kind, **dims)
         swept = link.sweep(FINE, 1, 0)
+        assume(not any(m.status in (linkage.CHANGE_POINT, linkage.INDETERMINATE) for m in swept))
         try:
             analysis = linkage.analyse(link, branch)
         except ValueError as e:
             assert "assembles at no input angle" in str(e), e
             assert not any(assembles(m) for m in swept), (dims, "assembles but analyse says not")
             return
+        except Exception as e:                    # noqa: BLE001 - reported below
+            crashes.append((kind, dims, branch, repr(e)))
+            return
         dead = analysis.dead_centres
         limits = linkage.crank_limits(link)
         assert (tuple(limits[0]), tuple(limits[1])) == (dead, analysis.change_points), dims
         probes = []
-        for dc in dead:
+        for j, dc in enumerate(dead):
             assert 0.0 <= dc < 360.0, (dims, dc)
-            below, above = link.motion(dc - PROBE, 1, 0), link.motion(dc + PROBE, 1, 0)
+            # within a quarter of the way to the next dead centre (a gap may be 1e-11 wide)
+            near = min([PROBE] + [abs(wrapped(dc - other)) / 4 for other in dead if other != dc])
+            below, above = link.motion(dc - near, 1, 0), link.motion(dc + near, 1, 0)
             assert {below.status == NOT, above.status == NOT} == {True, False}, \
                 (kind, dims, dc, below.status, above.status)
             assert assembles(below) != assembles(above), (kind, dims, dc)
@@ -159,6 +194,7 @@ def test_the_crank_range_and_dead_centres_are_where_the_engine_stops_assembling(
             assert dead == (), (kind, dims, dead)
 
     check()
+    assert not crashes, f"analyse raised on {len(crashes)} linkages, e.g. {crashes[:3]}"
     assert seen["rocking"] >= 10 and seen["full"] >= 10, seen
 
 
@@ -189,10 +225,10 @@ def _refined(link, branch, coarse, which):
     sign = 1.0 if which == "min" else -1.0
     ys = sign * coarse
     best = ys.min()
-    n = len(ys)
     found = []
-    for i in numpy.nonzero((ys <= numpy.roll(ys, 1)) & (ys <= numpy.roll(ys, -1))
-                           & (ys <= best + 1e-3))[0]:
+    candidates = numpy.nonzero((ys <= numpy.roll(ys, 1)) & (ys <= numpy.roll(ys, -1))
+                               & (ys <= best + 1e-3))[0]
+    for i in sorted(candidates, key=lambda i: ys[i])[:8]:
         phis = [COARSE[i] + k * 1e-5 for k in range(-1100, 1101)]
         local = _values(link, phis, branch, coarse[i])
         if local is None:
@@ -213,6 +249,8 @@ def brute_force(link, branch):
             (coarse[-1] - coarse[0]) / 360.0))))
         if abs(coarse[-1] - coarse[0]) > 180.0 or steps.max() > 5.0:
             return None                           # the output turns (or the branch jumps)
+    if coarse.max() - coarse.min() < 1e-2:
+        return None                               # the output barely moves
     ends = []
     for which in ("min", "max"):
         found = _refined(link, branch, coarse, which)
@@ -275,7 +313,7 @@ def check_extremes_against_brute_force(link, branch):
 def test_output_range_swing_and_time_ratio_against_a_brute_force_sweep(kind):
     checked = []
 
-    @examples(25)
+    @examples(25, shrink=False)
     @given(CRANK_ROCKERS[kind], st.sampled_from([1, 2]))
     def check(dims, branch):
         checked.append(check_extremes_against_brute_force(linkage.Linkage(kind, **dims), branch))
@@ -349,33 +387,61 @@ def law_of_cosines_phi(a, b, distance):
         return float(mpmath.degrees(mpmath.acos((a * a + b * b - distance ** 2) / (2 * a * b))))
 
 
-@pytest.mark.parametrize("dims, changes, dead", [
+@pytest.mark.parametrize("kind, dims, changes, dead", [
     # a parallelogram: flat at phi = 0 (the crank tip 2 = c - d from the output pivot) and at
     # 180 (4 = c + d); the crank turns fully, through both
-    (dict(a=3, b=1, c=3, d=1), [0.0, 180.0], []),
+    ("plane", dict(a=3, b=1, c=3, d=1), [0.0, 180.0], []),
     # a - b = c - d = 2: flat at phi = 0; the crank tip reaches c + d = 3 at cos phi = 1/6
-    (dict(a=3, b=1, c=2.5, d=0.5), [0.0], [law_of_cosines_phi(3, 1, 3), 360.0 - law_of_cosines_phi(
+    ("plane", dict(a=3, b=1, c=2.5, d=0.5), [0.0], [law_of_cosines_phi(3, 1, 3), 360.0 - law_of_cosines_phi(
         3, 1, 3)]),
     # a rhombus: at phi = 0 the crank tip is on the output pivot (the output is free there, the
     # branches cross); at 180 all four links lie on a line
-    (dict(a=1, b=1, c=1, d=1), [0.0, 180.0], []),
+    ("plane", dict(a=1, b=1, c=1, d=1), [0.0, 180.0], []),
+    # the spherical rhombus, the same on the sphere
+    ("spherical", dict(a=5, b=5, c=5, d=5), [0.0, 180.0], []),
 ])
-def test_a_change_point_at_phi_0_is_no_dead_centre(dims, changes, dead):
+def test_a_change_point_at_phi_0_is_no_dead_centre(kind, dims, changes, dead):
     """D touches zero at phi = 0 without changing sign: the engine assembles the linkage on both
     sides (checked here), so the crank passes 0: a change point, not a dead centre, and the
     crank's range is not cut at 0."""
-    link = linkage.Linkage("plane", **dims)
+    link = linkage.Linkage(kind, **dims)
     for phi in (-1e-6, 1e-6):
         assert link.motion(phi, 1, 0).output is not None
     analysis = linkage.analyse(link)
-    assert analysis.type == "change-point"
+    assert analysis.type == "change-point", analysis
     got = (list(analysis.change_points), list(analysis.dead_centres))
     assert len(got[0]) == len(changes) and len(got[1]) == len(dead), (got, changes, dead)
     assert all(abs(x - y) <= 1e-9 for x, y in zip(got[0] + got[1], changes + dead)), got
     if dead:
-        assert analysis.crank_range == pytest.approx(((dead[1], dead[0]),), abs=1e-9)
+        (lo, hi), = analysis.crank_range
+        assert (lo, hi) == (pytest.approx(dead[1], abs=1e-9), pytest.approx(dead[0], abs=1e-9))
     else:
         assert analysis.crank_range is None
+
+
+@pytest.mark.parametrize("kind, dims, expected", [
+    # b + |e| = c + 1e-13: D dips 2e-13 of its scale below zero around phi = 270, where the
+    # engine does not assemble the linkage (a gap 5e-5 degree wide)
+    ("slider", dict(b=1.0, c=1.0, e=1e-13), "rocker-slider"),
+    # the rhombus made skew by 1e-130 degree: the output link is free at phi = 0
+    ("skew", dict(a=1.0, b=1.0, c=1.0, d=1.0, f=1.0, ksi=1e-130), None),
+], ids=["slider-touching", "skew-rhombus"])
+def test_a_linkage_at_the_edge_of_a_change_point_is_analysed(kind, dims, expected, capsys,
+                                                             signals_kept):
+    """analyse gives an Analysis (or a ValueError), never another exception, and the command
+    line no traceback."""
+    analysis = linkage.analyse(linkage.Linkage(kind, **dims))
+    if expected:
+        assert analysis.type == expected
+    if kind == "slider":
+        # x = cos phi +- |cos phi| (b = c = 1, e ~ 0): 2 at phi = 0 and 0 at 180 on branch 1
+        # (and -2 at 0 on branch 2, if the circuit comes back on it): the output moves by 2 at
+        # least
+        assert analysis.output_min is not None, analysis
+        assert analysis.output_max.value - analysis.output_min.value >= 2.0 - 1e-6, analysis
+    argv = ["analyse", kind] + [w for n, v in dims.items() for w in (f"--{n}", repr(v))]
+    status, out, err = main(argv, capsys)
+    assert "Traceback" not in err and status == 0, err[-300:]
 
 
 @pytest.mark.parametrize("kind, dims, expected", [
@@ -393,25 +459,6 @@ def test_near_a_change_point_is_not_one(kind, dims, expected):
 
 
 # == 6. the review's worked examples, designed and analysed =====================================
-
-@pytest.fixture
-def signals_kept():
-    """main() turns SIGTERM and SIGHUP into exceptions: give pytest its own back."""
-    saved = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGHUP)}
-    yield
-    for s, handler in saved.items():
-        signal.signal(s, handler)
-
-
-def main(argv, capsys):
-    """linkage.main(argv) in this process: (status, stdout, stderr)."""
-    try:
-        status = linkage.main(argv)
-    except SystemExit as e:                       # argparse's refusals
-        status = e.code
-    out, err = capsys.readouterr()
-    return status, out, err
-
 
 def analysis_values(out):
     lines = [line for line in out.splitlines() if line.startswith("analysis.")]
