@@ -5,6 +5,7 @@ Machine Theory, 1980s).
 
     python3 linkage.py                  the original program: menu 1-6, prompts, ANG/VEL/ACC.DAT
     python3 linkage.py run TYPE ...     the same program driven by options (see --help)
+    python3 linkage.py analyse TYPE ... the linkage's type, ranges and transmission angle
     python3 linkage.py scene FILE       a figure of the paper (data/scenes), text or PNG
     python3 linkage.py plot [DIR]       the figure of DAT files already written
     python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
