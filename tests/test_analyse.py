@@ -16,6 +16,7 @@ import csv
 import math
 import signal
 from fractions import Fraction
+from pathlib import Path
 
 import mpmath
 import numpy
@@ -645,3 +646,13 @@ def test_run_fast_gives_the_same_csv(tmp_path, capsys, signals_kept, point):
     scalar = run_csv(tmp_path, capsys, "scalar", PLANE + point)
     fast = run_csv(tmp_path, capsys, "fast", PLANE + point + ["--fast"])
     assert same_table(scalar, fast)
+
+
+def test_the_readmes_analysis_is_what_the_program_prints(capsys):
+    """README's `analyse` of Fig. 3's linkage is the program's output now."""
+    readme = (Path(linkage.__file__).parent / "README.md").read_text(encoding="utf-8")
+    command = "    $ python3 linkage.py analyse plane --a 6 --b 2 --c 7 --d 9\n"
+    block = readme[readme.index(command) + len(command):].split("\n\n")[0]
+    shown = [line.removeprefix("    ") for line in block.splitlines()]
+    assert linkage.main(["analyse", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9"]) == 0
+    assert capsys.readouterr().out.splitlines() == shown
