@@ -3436,7 +3436,7 @@ def _mu_extremes(linkage, run, maximum):
     for i in range(1, len(run) - 1):
         if not all((mus[i] >= mus[j]) if maximum else (mus[i] <= mus[j]) for j in (i - 1, i + 1)):
             continue
-        (m0, b0), (m, b), (m1, b1) = run[i - 1], run[i], run[i + 1]
+        (m0, b0), (_, b), (m1, b1) = run[i - 1], run[i], run[i + 1]
         if not (b0 == b == b1 != FOLLOW):
             continue
         lo, hi = sorted((m0.phi, m1.phi))
