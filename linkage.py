@@ -3802,7 +3802,8 @@ MECHANISM_EXAMPLES = {
 # hatching; axis: a shaft axis (dash-dot); path: a joint's traced path (dotted); hidden: a link
 # behind the sphere (dashed); outline: the sphere; dimension: a dimension line (thin).
 STROKE_STYLES = ("link", "ground", "hatch", "axis", "path", "hidden", "outline", "dimension",
-                 "coupler", "coupler-other")   # the coupler curve of the frames' branch, another
+                 "coupler", "coupler-other", "coupler-follow")   # the coupler curve of the frames'
+#                                         branch, of the other, of the motion followed
 
 # Oblique views (azimuth, elevation in degrees) of the 3-D linkages: the input axis z upright on
 # the page, seen from a little above.
@@ -4118,7 +4119,7 @@ def _with_coupler_point(linkage, pose, layer, point):
 
 def _coupler_curves(linkage, phis, coupler, traced, start):
     """The coupler point's curve on each branch of `traced` as page strokes (the first
-    "coupler", the others "coupler-other"), broken where the linkage does not assemble; and the
+    "coupler", a followed motion "coupler-follow", the others "coupler-other"), broken where the linkage does not assemble; and the
     first branch's points (3-D, None where there is none)."""
     strokes, first = [], None
     for i, branch in enumerate(traced):
@@ -4126,7 +4127,8 @@ def _coupler_curves(linkage, phis, coupler, traced, start):
                                                        if branch == FOLLOW else None)]
         if first is None:
             first = points
-        style = "coupler" if i == 0 else "coupler-other"
+        style = ("coupler" if i == 0 else "coupler-follow" if branch == FOLLOW
+                 else "coupler-other")
         run = []
         for p in points + [None]:
             if p is not None:
@@ -4200,9 +4202,9 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
     if subtitle is None:
         subtitle = f"branch {branch} ({'A+B' if branch == 1 else 'A-B'})"
     if coupler is not None:
-        others = ", ".join(str(b) for b in traced)
-        subtitle += (f"; P({coupler[0]:g}, {coupler[1]:g})"
-                     + (f" solid, branch {others} dashed" if others else ""))
+        others = ", ".join("followed dotted" if b == FOLLOW else f"branch {b} dashed"
+                           for b in traced)
+        subtitle += f"; P({coupler[0]:g}, {coupler[1]:g})" + (f" solid, {others}" if others else "")
     return Drawing(title, subtitle, kind, ground, frames,
                    (x0 - size, y0 - size, x1 + size, y1 + size), size, chart)
 
@@ -4214,10 +4216,10 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
 
 # Strokes drawn first to last (later ones win a shared ASCII cell), and each style's dash
 # pattern in dots along the stroke (on, off, ...); styles not listed are solid.
-_TEXT_ORDER = ("outline", "path", "axis", "dimension", "hidden", "coupler-other", "coupler",
-               "hatch", "ground", "link")
+_TEXT_ORDER = ("outline", "path", "axis", "dimension", "hidden", "coupler-follow",
+               "coupler-other", "coupler", "hatch", "ground", "link")
 _TEXT_DASHES = {"outline": (1, 1), "path": (1, 2), "axis": (4, 2, 1, 2), "dimension": (1, 1),
-                "coupler-other": (3, 3),
+                "coupler-other": (3, 3), "coupler-follow": (1, 2),
                 "hidden": (2, 2)}
 _BRAILLE_BITS = ((0x01, 0x02, 0x04, 0x40), (0x08, 0x10, 0x20, 0x80))    # [column][row]
 _TEXT_MARKS = {True: {"joint": "●", "pivot": "◉", "point": "◆"},
@@ -4277,7 +4279,8 @@ class _DotGrid:
             (x0, y0), (x1, y1) = self.dot(p), self.dot(q)
             dx, dy = x1 - x0, (y1 - y0) * self.aspect
             length = math.hypot(dx, dy)
-            char = {"path": ".", "outline": ".", "coupler": "*", "coupler-other": "+"}.get(
+            char = {"path": ".", "outline": ".", "coupler": "*", "coupler-other": "+",
+                    "coupler-follow": ":"}.get(
                 stroke.style) or _ascii_line(dx, dy)
             steps = max(1, math.ceil(2 * max(abs(x1 - x0), abs(y1 - y0))))
             for i in range(steps + 1):
@@ -4449,6 +4452,7 @@ polyline.outline{stroke:#b5b5b5;stroke-width:1.3}
 polyline.dimension{stroke:#7a7a7a;stroke-width:0.9}
 polyline.coupler{stroke:#c0392b;stroke-width:2}
 polyline.coupler-other{stroke:#e67e22;stroke-width:2;stroke-dasharray:8 5}
+polyline.coupler-follow{stroke:#8e44ad;stroke-width:2.4;stroke-dasharray:2 4}
 polyline.chart{stroke:#2f6db3;stroke-width:1.6}
 polyline.grid{stroke:#ccc;stroke-width:1}
 .joint,.pivot{fill:#fff;stroke:#1b1b1b;stroke-width:2}
@@ -4596,7 +4600,8 @@ _PNG_STYLES = {"link": dict(color="#1b1b1b", linewidth=2.4),
                "outline": dict(color="#b5b5b5", linewidth=1.0),
                "dimension": dict(color="#7a7a7a", linewidth=0.7),
                "coupler": dict(color="#c0392b", linewidth=1.6),
-               "coupler-other": dict(color="#e67e22", linewidth=1.6, linestyle="--")}
+               "coupler-other": dict(color="#e67e22", linewidth=1.6, linestyle="--"),
+               "coupler-follow": dict(color="#8e44ad", linewidth=1.8, linestyle=":")}
 
 
 def _png_layer(ax, layer: Layer, alpha: float, letters: bool) -> None:
