@@ -1278,12 +1278,22 @@ def _interrupted(signum, frame):
     raise Interrupted(signum)
 
 
-def catch_signals() -> None:
-    """SIGTERM and SIGHUP become Interrupted (main() calls this; the main thread only)."""
+@contextlib.contextmanager
+def signals_caught():
+    """While it lasts, SIGTERM and SIGHUP become Interrupted (main() runs in it; in the main
+    thread only, elsewhere nothing changes); the handlers they had are given back after."""
     import signal
-    for name in ("SIGTERM", "SIGHUP"):
-        if hasattr(signal, name):
-            signal.signal(getattr(signal, name), _interrupted)
+    saved = {}
+    with contextlib.suppress(ValueError):       # not the main thread
+        for name in ("SIGTERM", "SIGHUP"):
+            if hasattr(signal, name):
+                number = getattr(signal, name)
+                saved[number] = signal.signal(number, _interrupted)
+    try:
+        yield
+    finally:
+        for number, handler in saved.items():
+            signal.signal(number, handler)
 
 
 def interrupted_status(e: KeyboardInterrupt) -> int:
@@ -8112,8 +8122,12 @@ def main(argv=None) -> int:
     standard error and a non-zero status, never a traceback."""
     argv = sys.argv[1:] if argv is None else list(argv)
     _reopen_closed_streams()
-    with contextlib.suppress(ValueError):       # not the main thread
-        catch_signals()
+    with signals_caught():
+        return _command(argv)
+
+
+def _command(argv: list[str]) -> int:
+    """main's work: the menu program, or the sub-command argv names."""
     try:
         if not argv:
             return menu_program()

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import csv
 import math
-import signal
 from fractions import Fraction
 from pathlib import Path
 
@@ -63,15 +62,6 @@ def grashof(a, b, c, d):
 def grashof_margin(a, b, c, d):
     s, p, q, l = sorted(abs(v) for v in (a, b, c, d))
     return abs((s + l) - (p + q))
-
-
-@pytest.fixture
-def signals_kept():
-    """main() turns SIGTERM and SIGHUP into exceptions: give pytest its own back."""
-    saved = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGHUP)}
-    yield
-    for s, handler in saved.items():
-        signal.signal(s, handler)
 
 
 def main(argv, capsys):
@@ -427,8 +417,7 @@ def test_a_change_point_at_phi_0_is_no_dead_centre(kind, dims, changes, dead):
     # the rhombus made skew by 1e-130 degree: the output link is free at phi = 0
     ("skew", dict(a=1.0, b=1.0, c=1.0, d=1.0, f=1.0, ksi=1e-130), None),
 ], ids=["slider-touching", "skew-rhombus"])
-def test_a_linkage_at_the_edge_of_a_change_point_is_analysed(kind, dims, expected, capsys,
-                                                             signals_kept):
+def test_a_linkage_at_the_edge_of_a_change_point_is_analysed(kind, dims, expected, capsys):
     """analyse gives an Analysis (or a ValueError), never another exception, and the command
     line no traceback."""
     analysis = linkage.analyse(linkage.Linkage(kind, **dims))
@@ -479,7 +468,7 @@ def designed(capsys, *argv):
     return values
 
 
-def test_fourb_cr_4_psi_60_mu_40_is_analysed_as_designed(capsys, signals_kept):
+def test_fourb_cr_4_psi_60_mu_40_is_analysed_as_designed(capsys):
     values = designed(capsys, "fourb-cr-4", "--psi", "60", "--mu-min", "40")
     assert values["type"] == "crank-rocker" and values["crank_range"] == "full"
     assert number(values["swing"]) == pytest.approx(60, abs=1e-7)
@@ -488,7 +477,7 @@ def test_fourb_cr_4_psi_60_mu_40_is_analysed_as_designed(capsys, signals_kept):
     assert number(values["mu_max"]) == pytest.approx(140, abs=1e-7)
 
 
-def test_fourb_cr_4_review_example_psi_50_mu_30(capsys, signals_kept):
+def test_fourb_cr_4_review_example_psi_50_mu_30(capsys):
     """The review's FOURB-CR-4 example: crank 0.407014, coupler 0.487998, rocker 0.963078, frame
     1 (the project's b, c, d, a); centric (time ratio 1), swing 50, mu 30 to 150 (the review's
     'Delta = 149.99' is erratum S2: 150.00)."""
@@ -502,7 +491,7 @@ def test_fourb_cr_4_review_example_psi_50_mu_30(capsys, signals_kept):
     assert f"{number(values['mu_max']):.2f}" == "150.00"
 
 
-def test_fourb_cr_1_review_example_theta_10_psi_50_theta0_30(capsys, signals_kept):
+def test_fourb_cr_1_review_example_theta_10_psi_50_theta0_30(capsys):
     """The review's FOURB-CR-1 example: the rocker swings psi = 50 while the crank turns
     180 + theta = 190 (and back in 170: time ratio 19/17), from the extended dead centre at
     theta0 = 30; printed mu_min = 47.022 (truncated, erratum S2) and mu_max = 96.380."""
@@ -527,7 +516,7 @@ def one_error_line(err):
     return said[0]
 
 
-def test_analyse_prints_the_analysis_lines(capsys, signals_kept):
+def test_analyse_prints_the_analysis_lines(capsys):
     status, out, err = main(["analyse", "plane", "--a", "3", "--b", "1", "--c", "2.5",
                              "--d", "2.2"], capsys)
     assert status == 0 and err == ""
@@ -541,7 +530,7 @@ def test_analyse_prints_the_analysis_lines(capsys, signals_kept):
     assert number(values["mu_max"]) == pytest.approx(mu_review(3, 1, 2.5, 2.2, 180), abs=1e-7)
 
 
-def test_analyse_refuses_a_linkage_that_never_assembles(capsys, signals_kept):
+def test_analyse_refuses_a_linkage_that_never_assembles(capsys):
     status, out, err = main(["analyse", "plane", "--a", "10", "--b", "1", "--c", "1",
                              "--d", "1"], capsys)
     assert status == 1 and out == ""
@@ -554,7 +543,7 @@ def test_analyse_refuses_a_linkage_that_never_assembles(capsys, signals_kept):
     (["--a", "1", "--b", "1e999", "--c", "1", "--d", "1"], "--b"),
     (["--a", "1", "--b", "1", "--c", "1"], "missing --d"),
 ])
-def test_analyse_refuses_bad_dimensions(capsys, signals_kept, dims, message):
+def test_analyse_refuses_bad_dimensions(capsys, dims, message):
     status, out, err = main(["analyse", "plane", *dims], capsys)
     assert status == 2 and out == ""
     line = one_error_line(err)
@@ -579,7 +568,7 @@ SWEEP = ["--from", "0", "--to", "360", "--step", "7.5", "--branch", "1"]
     (SKEW_SLIDER + ["--precision", "double", "--fast", "--coupler", "1e300"], None),
 ], ids=["basic", "no-csv", "nan", "v-nan", "1e300", "skew-v", "skew-slider-v", "skew-v-fast",
         "skew-slider-1e300-fast"])
-def test_run_refuses_a_bad_coupler_point_and_writes_nothing(tmp_path, capsys, signals_kept, argv,
+def test_run_refuses_a_bad_coupler_point_and_writes_nothing(tmp_path, capsys, argv,
                                                             status):
     out_dir = tmp_path / "out"
     out_dir.mkdir()
@@ -607,8 +596,7 @@ def run_csv(tmp_path, capsys, name, argv):
     return read_csv(folder / "out.csv")
 
 
-def test_run_csv_columns_in_double_with_and_without_a_coupler_point(tmp_path, capsys,
-                                                                    signals_kept):
+def test_run_csv_columns_in_double_with_and_without_a_coupler_point(tmp_path, capsys):
     plain = run_csv(tmp_path, capsys, "plain", PLANE)
     assert plain[0] == ["phi", "output", "velocity", "acceleration", "status", "transmission"]
     with_point = run_csv(tmp_path, capsys, "point", PLANE + ["--coupler", "0.5", "0.3"])
@@ -642,7 +630,7 @@ def same_table(one, other):
 
 
 @pytest.mark.parametrize("point", [[], ["--coupler", "0.5", "0.3"]], ids=["output", "coupler"])
-def test_run_fast_gives_the_same_csv(tmp_path, capsys, signals_kept, point):
+def test_run_fast_gives_the_same_csv(tmp_path, capsys, point):
     scalar = run_csv(tmp_path, capsys, "scalar", PLANE + point)
     fast = run_csv(tmp_path, capsys, "fast", PLANE + point + ["--fast"])
     assert same_table(scalar, fast)

@@ -162,3 +162,21 @@ def test_png_size_and_dpi(tmp_path):
                                                           2 * size["c.png"][1])
     refused = run(["plot", ".", "--size", "10x10"], tmp_path)
     assert refused.returncode == 2 and b"WIDTHxHEIGHT" in refused.stderr
+
+
+def test_main_gives_back_the_signal_handlers_it_installed(tmp_path, capsys):
+    """main() turns SIGTERM and SIGHUP into an interrupt while it runs, and only then: a caller
+    in the same process (pytest itself) keeps its own handlers."""
+    import signal
+    mine = {s: (lambda *a: None) for s in (signal.SIGTERM, signal.SIGHUP)}
+    saved = {s: signal.signal(s, h) for s, h in mine.items()}
+    try:
+        assert linkage.main(["analyse", "plane", "--a", "6", "--b", "2", "--c", "7",
+                             "--d", "9"]) == 0
+        assert linkage.main(["analyse", "plane", "--a", "6", "--b", "1", "--c", "1",
+                             "--d", "1"]) == 1          # a run that fails gives them back too
+        for s, h in mine.items():
+            assert signal.getsignal(s) is h
+    finally:
+        for s, h in saved.items():
+            signal.signal(s, h)
