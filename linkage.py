@@ -7301,17 +7301,23 @@ def _pylinkage_rates(points: int) -> dict | str:
             PLANE_SLIDER_CRANK: points / _best_of(3, lambda: list(slider.step(points)))}
 
 
+def _bench_angles(points: int):
+    """`points` input angles from 0 to 360 degrees: as a list, and numpy with them as an array
+    (None, None without numpy)."""
+    angles = evenly_spaced_angles(0.0, 360.0, 360.0 / (points - 1))
+    try:
+        np = numpy_module()
+    except FastUnavailable:
+        return angles, None, None
+    return angles, np, np.array(angles)
+
+
 def bench_engine(out, quick: bool = False, points: int = 100_001,
                  pylinkage_points: int = 10_001) -> None:
     """The accurate engine's speed, scalar and vectorised (numpy), beside pylinkage's."""
     if quick:
         points, pylinkage_points = 1001, 101
-    angles = evenly_spaced_angles(0.0, 360.0, 360.0 / (points - 1))
-    try:
-        np = numpy_module()
-        array = np.array(angles)
-    except FastUnavailable:
-        np = None
+    angles, np, array = _bench_angles(points)
     print(f"{points:,} input angles, 0 to 360 degrees, branch 1; points per second, best of 3 "
           "(numpy: of 15; this machine's speed drifts 2x within an hour: compare within one run, "
           "the ratios first)", file=out)
@@ -7369,12 +7375,7 @@ def bench_coupler(out, quick: bool = False, points: int = 100_001) -> None:
     over the sweep alone."""
     if quick:
         points = 1001
-    angles = evenly_spaced_angles(0.0, 360.0, 360.0 / (points - 1))
-    try:
-        np = numpy_module()
-        array = np.array(angles)
-    except FastUnavailable:
-        np = None
+    angles, np, array = _bench_angles(points)
     print(f"{points:,} input angles, 0 to 360 degrees, branch 1, velocity and acceleration; the "
           "time with the coupler point (u = c/2, v = c/4: the skew kinds v = 0) and mu over the "
           "time without; best of 3 (numpy: of 9), one run", file=out)
