@@ -1217,12 +1217,23 @@ def input_value(typed: str) -> Single | None:
         if not marker or power <= 0:
             return Single(0.0)
         negative = False
-    elif double and fractions.Fraction(n) * fractions.Fraction(10) ** power >= DOUBLE_OVERFLOW:
+    elif double and _reaches_double_overflow(n, power):
         soft_error(OVERFLOW)
     return Single(scaled_to_single(negative, n, power, double, soft_error))
 
 
 DOUBLE_OVERFLOW = fractions.Fraction(2**127) * (1 - fractions.Fraction(1, 2**57))
+
+
+def _reaches_double_overflow(n: int, power: int) -> bool:
+    """n * 10**power >= DOUBLE_OVERFLOW (about 1.7E+38), decided from the number of digits where
+    that is enough (an exponent of 99999999 is never raised to: GW-BASIC overflows at once)."""
+    magnitude = len(str(n)) + power         # 10**(magnitude - 1) <= n * 10**power < 10**magnitude
+    if magnitude >= 40:
+        return True
+    if magnitude <= 38:
+        return False
+    return fractions.Fraction(n) * fractions.Fraction(10) ** power >= DOUBLE_OVERFLOW
 
 
 def _input_integer(digits: str) -> Single | None:
@@ -3414,8 +3425,9 @@ def unwrapped(values, angular):
 
 
 def _motion_extremes(linkage, run, outputs):
-    """Where the output's velocity changes sign along a run, refined by bisection on the branch
-    of the sample before: [(phi, output continuous with the run, listing's branch)]."""
+    """Where the output's velocity changes sign along a run (or is zero on a sample), refined by
+    bisection on the branch of the sample before, and the ends of each piece on one branch:
+    [(phi, output continuous with the run)]."""
     found = []
     angular = not linkage.is_slider
     for i in range(len(run) - 1):

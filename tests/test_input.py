@@ -7,6 +7,7 @@ from __future__ import annotations
 import io
 import os
 
+import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import basic_runner
@@ -118,3 +119,28 @@ LONG_ANSWERS = [
 def test_input_reads_long_answers_as_pcbasic_does():
     for answer in LONG_ANSWERS:      # one run each: PC-BASIC's cap moves with the screen's state
         _check_answers([answer])
+
+
+@pytest.mark.parametrize("huge, moderate", [
+    ("11D99999999", "11D400"), ("1E99999999", "1E400"), ("-1D999999999", "-1D400"),
+    ("12345678E9999999", "12345678E400"), ("1D-99999999", "1D-400"),
+    ("99999999D-99999999", "99999999D-400"), (".5D+0999999999", ".5D400"),
+])
+def test_a_huge_exponent_is_decided_at_once(huge, moderate):
+    """An exponent of eight or nine digits overflows (or vanishes) as one of 400 does - GW-BASIC
+    decides it at once - instead of raising ten to it first (the menu and `run` hung for
+    minutes on 1D99999999). The alarm only turns a hang into a failure."""
+    import signal
+
+    def hung(*_):
+        raise TimeoutError(f"{huge!r} is still being read after 20 s")
+    previous = signal.signal(signal.SIGALRM, hung)
+    signal.alarm(20)
+    try:
+        linkage.Single.errors.clear()
+        got = linkage.input_value(huge), list(linkage.Single.errors)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    linkage.Single.errors.clear()
+    assert got == (linkage.input_value(moderate), list(linkage.Single.errors))
