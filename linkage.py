@@ -3627,7 +3627,7 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files
                 return None
         elif clipped:
             value = min(3.0, max(-3.0, value))
-        return "%r,%r\r\n" % (phi, float(value))
+        return "%r,%r\r\n" % (phi, float(value) + 0.0)    # -0.0 written as 0.0
 
     with DatFiles(directory, files, transmission) as out:
         for row in motions:
@@ -3644,8 +3644,9 @@ COUPLER_COLUMNS = tuple(f"coupler_{q}{axis}" for q in ("", "v", "a") for axis in
 
 def csv_line(fields) -> str:
     """One CSV row (CR LF, as the DAT files): numbers as the shortest text that reads back
-    exactly, None (no value: see the status) as nan, which numpy and pandas read as NaN."""
-    return ",".join("nan" if v is None else repr(float(v)) if isinstance(v, (int, float))
+    exactly (a zero as 0.0, whatever its sign, as in the DAT files), None (no value: see the
+    status) as nan, which numpy and pandas read as NaN."""
+    return ",".join("nan" if v is None else repr(float(v) + 0.0) if isinstance(v, (int, float))
                     else str(v) for v in fields) + "\r\n"
 
 
