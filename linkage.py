@@ -7568,6 +7568,24 @@ def _check_dimensions(args: argparse.Namespace, parser: argparse.ArgumentParser,
         parser.error(f"{args.type} needs {' '.join('--' + n for n in needed)}: {what}")
 
 
+def _check_outputs(parser: argparse.ArgumentParser, files: dict, folder: str | None = None,
+                   names=()) -> None:
+    """Refuse (parser.error), before anything is written, a command whose outputs name one file
+    twice: `files` {option: path} given, and `names` the files it writes in `folder` (one would
+    overwrite the other, exit 0: `--csv cf/ANG.DAT` with `--dir cf`)."""
+    seen = {}
+    if folder is not None:
+        seen.update((os.path.realpath(os.path.join(folder, n)), f"--dir's {os.path.normpath(n)}")
+                    for n in names)
+    for option, path in files.items():
+        if not path or path == "-":
+            continue
+        real = os.path.realpath(path)
+        if real in seen:
+            parser.error(f"{option} {path!r} is {seen[real]}: the same file twice")
+        seen[real] = option
+
+
 def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py run TYPE ...`: the menu program given these answers."""
     key, needed = MECHANISM_TYPES[args.type]
@@ -7585,6 +7603,7 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
         parser.error(str(e))
     if not os.path.isdir(args.dir):
         parser.error(f"--dir {args.dir!r} is not a folder")
+    _check_outputs(parser, {"--csv": args.csv}, args.dir, DatFiles.NAMES)
     if args.branch == FOLLOW and args.precision != "double":
         parser.error("--branch follow goes with --precision double (the original program has "
                      "branches 1 and 2 only)")
@@ -7807,10 +7826,15 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
         if args.csv or args.dir is not None:
             parser.error(f"--csv and --dir go with a scene of curves; {args.file} draws the "
                          "mechanism (--svg, --png, --text, --frames)")
+        _check_outputs(parser, {"--svg": args.svg, "--png": args.png})
         return drawing_command(args, lambda: scene_drawing(scene))
     if args.svg or args.frames is not None:
         parser.error(f"--svg and --frames draw a mechanism scene; {args.file} plots curves "
                      "(--png, --text)")
+    plan = [f"{p}-branch{b}" for b in scene.branches for p in scene.precisions]
+    _check_outputs(parser, {"--csv": args.csv, "--png": args.png}, args.dir,
+                   [os.path.join(d, n) for d in (plan if len(plan) > 1 else ["."])
+                    for n in DatFiles.NAMES + (DatFiles.MU,)])
 
     def figure(where):
         series = compute_scene(scene, where, say)

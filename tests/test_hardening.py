@@ -427,3 +427,28 @@ def test_a_hang_up_mid_sweep_on_a_terminal_leaves_nothing(signum, tmp_path):
     finally:
         term.close()
     assert os.listdir(tmp_path) == []
+
+
+@pytest.mark.parametrize("argv", [
+    ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0", "--to", "360",
+     "--step", "10", "--branch", "1", "--dir", "cf", "--csv", "cf/ANG.DAT"],
+    ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0", "--to", "360",
+     "--step", "10", "--branch", "1", "--dir", "cf", "--csv", "cf/./VEL.DAT", "--precision",
+     "double"],
+    ["scene", "{scenes}/fig3-plane-four-bar.toml", "--dir", "cf", "--csv", "cf/ACC.DAT"],
+    ["scene", "{scenes}/fig3-plane-four-bar.toml", "--png", "cf/x", "--csv", "cf/x"],
+    ["scene", "{scenes}/fig1a-plane-four-bar.toml", "--svg", "cf/x", "--png", "cf/../cf/x"],
+])
+def test_an_output_named_twice_is_refused_before_anything_is_written(argv, tmp_path):
+    """Issue 22, item 5: --csv naming the run's own DAT file overwrote it, exit 0. Two outputs of
+    one command that are one file are refused (exit 2) and the folder keeps what it had."""
+    scenes = basic_runner.ROOT / "data" / "scenes"
+    folder = tmp_path / "cf"
+    folder.mkdir()
+    for name in ("ANG.DAT", "VEL.DAT", "ACC.DAT", "x"):
+        (folder / name).write_bytes(b"old " + name.encode())
+    before = snapshot(folder)
+    result = run([a.format(scenes=scenes) for a in argv], tmp_path)
+    assert result.returncode == 2, result.stderr
+    assert b"the same file twice" in result.stderr and b"Traceback" not in result.stderr
+    assert snapshot(folder) == before
