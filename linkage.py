@@ -6846,7 +6846,11 @@ def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
                if branches else ", branch not recorded"))
     if mechanism:
         what = f"{MECHANISM_NAMES[mechanism]}; {what}"
-    return build_figure(f"The DAT files in {directory}", what, group, specs, series)
+    figure = build_figure(f"The DAT files in {directory}", what, group, specs, series)
+    if not any(run for panel in figure.panels for curve in panel.curves for run in curve.runs):
+        raise SceneError(f"{directory}: its DAT files hold no point to draw (no \"angle,value\" "
+                         "line)")
+    return figure
 
 
 # -- the plain-text plot -----------------------------------------------------------------------

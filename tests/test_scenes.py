@@ -551,6 +551,8 @@ def test_plot_overlays_the_series_of_a_scene(tmp_path):
     (b"0,.5\r\n10;3\r\n\x1a", "ANG.DAT: line 2: expected two numbers"),
     (b"0,.5\r\nten,3\r\n\x1a", "ANG.DAT: line 2: expected two numbers"),
     (b"0,.5\r\n1,nan\r\n\x1a", "ANG.DAT: line 2: expected two numbers"),
+    (b"\r\n\x1a", "hold no point to draw"),      # issue 22, item 9: was drawn empty, exit 0
+    (b"\x1a", "hold no point to draw"),
 ])
 def test_plot_of_bad_files_says_which_line(content, message, tmp_path):
     if content is not None:
