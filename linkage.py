@@ -1264,6 +1264,13 @@ def key_value(key: str) -> int:
 # comes under a unique name in the target folder, flushed to the disk and renamed over its own
 # name only when complete; on any failure or signal it is removed and the old file stands.
 
+def printable(text: str) -> str:
+    """text with every character that is not printable (a control character, an escape
+    sequence's ESC) written as its Python escape, \\x1b: what a scene's title or a user's word
+    may show on a terminal or in an SVG."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
 def say(message, who: str = PROG) -> None:
     """A line on standard error, where there is one (it may be closed)."""
     if sys.stderr is not None:                  # None: closed (print would use stdout)
@@ -4560,7 +4567,7 @@ def _svg_chart(chart, top, width, margin) -> _SvgChart:
 
 def _xml(text: str) -> str:
     from xml.sax.saxutils import escape
-    return escape(text, {'"': "&quot;"})
+    return escape(printable(text), {'"': "&quot;"})
 
 
 def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str:
@@ -6462,7 +6469,7 @@ def _scene_title(path, data) -> str:
     title = data.get("title", MECHANISM_NAMES[data["mechanism"]].capitalize())
     if not isinstance(title, str):
         raise _scene_error(path, "title", SCENE_KEYS["title"], title)
-    return title
+    return printable(title)
 
 
 def _mechanism_scene(path, data, dims, start, stop, step, branches) -> Scene:

@@ -452,3 +452,21 @@ def test_an_output_named_twice_is_refused_before_anything_is_written(argv, tmp_p
     assert result.returncode == 2, result.stderr
     assert b"the same file twice" in result.stderr and b"Traceback" not in result.stderr
     assert snapshot(folder) == before
+
+
+def test_control_characters_in_a_title_reach_neither_terminal_nor_svg_raw(tmp_path):
+    """Issue 22, item 4: a scene's title with an escape sequence cleared the screen (--text,
+    --frames) and made --svg invalid XML, exit 0. They are shown as their escapes."""
+    import xml.dom.minidom
+    scene = tmp_path / "ctl.toml"
+    scene.write_text('title = "T\\u001b[2J\\u001b]0;pwned\\u0007\\u0001x"\nmechanism = "plane"\n'
+                     'dimensions = { a = 6, b = 2, c = 7, d = 9 }\n'
+                     'input = { from = 0, to = 360, step = 30 }\nbranches = [1]\n\n'
+                     '[[panels]]\nquantities = ["mechanism"]\n')
+    shown = run(["scene", str(scene), "--frames", "2"], tmp_path)
+    assert shown.returncode == 0, shown.stderr
+    assert not any(b < 32 and b != 10 for b in shown.stdout), shown.stdout[:80]
+    assert b"T\\x1b[2J" in shown.stdout
+    assert run(["scene", str(scene), "--svg", "d.svg"], tmp_path).returncode == 0
+    title = xml.dom.minidom.parse(str(tmp_path / "d.svg")).getElementsByTagName("title")[0]
+    assert title.firstChild.data.startswith("T\\x1b[2J\\x1b]0;pwned\\x07\\x01x")
