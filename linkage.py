@@ -7072,7 +7072,11 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
         ax.tick_params(labelsize=8)
         if len(panel.curves) > 1:
             ax.legend(fontsize=7, loc="best")
-    mpl.savefig(path, format="png")
+    import io
+    image = io.BytesIO()
+    mpl.savefig(image, format="png")
+    with written_whole(path) as out:            # whole or not at all, as every file written
+        out.write(image.getvalue())
 
 
 # -- the commands ------------------------------------------------------------------------------

@@ -470,3 +470,30 @@ def test_control_characters_in_a_title_reach_neither_terminal_nor_svg_raw(tmp_pa
     assert run(["scene", str(scene), "--svg", "d.svg"], tmp_path).returncode == 0
     title = xml.dom.minidom.parse(str(tmp_path / "d.svg")).getElementsByTagName("title")[0]
     assert title.firstChild.data.startswith("T\\x1b[2J\\x1b]0;pwned\\x07\\x01x")
+
+
+@pytest.mark.parametrize("argv", [
+    ["scene", "{scenes}/fig3-plane-four-bar.toml", "--png", "out/f.png"],
+    ["plot", "{scenes_golden}", "--png", "out/f.png"],
+])
+def test_a_curve_figure_is_written_whole_or_not_at_all(argv, tmp_path):
+    """Issue 22, item 1: matplotlib wrote the curve PNG in place: a file-size limit (a full
+    disk) left a truncated PNG where the old one was, with the message "linkage.py: : No space
+    left on device"; a symbolic link at the name had its target overwritten. Now through the
+    one writer: the old file kept and the file named; the link's target untouched."""
+    root = basic_runner.ROOT
+    argv = [a.format(scenes=root / "data" / "scenes", scenes_golden=root / "data" / "golden" /
+                     "plane-b1") for a in argv]
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "f.png").write_bytes(b"the old figure")
+    result = run(argv, tmp_path, preexec_fn=limit_file_size(20_000))
+    assert result.returncode == 1 and b"Traceback" not in result.stderr
+    assert b"f.png" in result.stderr and b"File too large" in result.stderr, result.stderr
+    assert snapshot(out) == {"f.png": b"the old figure"}
+    (out / "f.png").unlink()
+    (tmp_path / "target.txt").write_bytes(b"keep me")
+    (out / "f.png").symlink_to(tmp_path / "target.txt")
+    assert run(argv, tmp_path).returncode == 0
+    assert (tmp_path / "target.txt").read_bytes() == b"keep me"
+    assert (out / "f.png").read_bytes().startswith(b"\x89PNG")
