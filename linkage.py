@@ -1416,7 +1416,13 @@ def _renaming(folder: str):
 def written_whole(path):
     """Open `path` for writing (bytes) so that it is written whole or not at all: into a
     temporary file of a unique name in the same folder, flushed to the disk and renamed over
-    `path` when the block ends; removed on any failure or interrupt, leaving `path` as it was."""
+    `path` when the block ends; removed on any failure or interrupt, leaving `path` as it was.
+    An output that is no regular file - "-" (standard output), a FIFO, a character device such
+    as /dev/null - is written straight through, never replaced by one."""
+    if path == "-" or _is_stream(path):
+        with _streamed(path) as out:
+            yield out
+        return
     temporary = _Temporary(path)
     try:
         yield temporary
@@ -1425,6 +1431,31 @@ def written_whole(path):
             temporary.rename()
     finally:
         temporary.discard()
+
+
+def _is_stream(path: str) -> bool:
+    """Whether `path` names an existing FIFO or character device (through a link too)."""
+    import stat
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        return False
+    return stat.S_ISFIFO(mode) or stat.S_ISCHR(mode)
+
+
+@contextlib.contextmanager
+def _streamed(path: str):
+    """The output written straight to standard output ("-") or to the FIFO or device."""
+    if path == "-":
+        stdout = sys.stdout
+        if stdout is None:
+            raise OSError(9, "standard output is closed", "-")
+        stdout.flush()
+        yield stdout.buffer
+        stdout.buffer.flush()
+        return
+    with open(path, "wb") as out:
+        yield out
 
 
 class DatFiles:  # ERRATA P3

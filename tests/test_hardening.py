@@ -497,3 +497,28 @@ def test_a_curve_figure_is_written_whole_or_not_at_all(argv, tmp_path):
     assert run(argv, tmp_path).returncode == 0
     assert (tmp_path / "target.txt").read_bytes() == b"keep me"
     assert (out / "f.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_an_output_that_is_no_regular_file_is_written_through(tmp_path):
+    """Issue 22, item 3: a FIFO given as --csv was replaced by a regular file (the reader got
+    nothing, exit 0). A FIFO and a device are written straight through and stay what they
+    were; "-" is standard output."""
+    import stat
+    import threading
+    fifo = tmp_path / "p"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()), daemon=True)
+    reader.start()
+    argv = ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
+            "--to", "360", "--step", "90", "--branch", "1", "--precision", "double", "--csv"]
+    result = run(argv + [str(fifo)], tmp_path)
+    reader.join(timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    assert got and got[0].startswith(b"phi,output,") and got[0].count(b"\r\n") == 6
+    assert run(argv + [os.devnull], tmp_path).returncode == 0
+    assert stat.S_ISCHR(os.stat(os.devnull).st_mode)
+    shown = run(argv + ["-"], tmp_path)
+    assert shown.returncode == 0 and shown.stdout.startswith(b"phi,output,")
+    assert not (tmp_path / "-").exists()
