@@ -7589,6 +7589,12 @@ def _benchmark_name(text: str) -> str:
 
 # -- the sub-commands: each takes its parsed arguments and gives the exit status ---------------
 
+def _unwritten(e: OSError) -> str:
+    """The message of a write that failed: the file it names, or else standard output (the one
+    output the program writes without naming it)."""
+    return f"{e.filename or 'standard output'}: {e.strerror}"
+
+
 def _reported(work) -> int:
     """work()'s exit status (0 for None), or, where it fails, a message on standard error and
     status 1 (130 for Ctrl-C)."""
@@ -7597,7 +7603,7 @@ def _reported(work) -> int:
     except (SceneError, PlotUnavailable) as e:
         return said(e, 1)
     except OSError as e:
-        return said(f"{e.filename or ''}: {e.strerror}", 1)
+        return said(_unwritten(e), 1)
     except KeyboardInterrupt as e:
         return said("interrupted", interrupted_status(e))
 
@@ -7813,6 +7819,7 @@ def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
         return said(f"Illegal linkage (impossible to assemble): {e}"
                     if "assembles at no" in str(e) else e, 1)
     sys.stdout.write("".join(line + "\n" for line in analysis_lines(analysis)))
+    sys.stdout.flush()
     return 0
 
 
@@ -8224,6 +8231,10 @@ def _command(argv: list[str]) -> int:
         return args.handler(args, args.parser)
     except KeyboardInterrupt as e:
         return said("interrupted", interrupted_status(e))
+    except OSError as e:                        # standard output full or gone (> /dev/full)
+        with contextlib.suppress(OSError, ValueError):
+            sys.stdout = None                   # nothing more to flush into it at exit
+        return said(_unwritten(e), 1)
     except RecursionError as e:
         return said(f"too deeply nested: {e}", 1)
     except MemoryError:

@@ -522,3 +522,21 @@ def test_an_output_that_is_no_regular_file_is_written_through(tmp_path):
     shown = run(argv + ["-"], tmp_path)
     assert shown.returncode == 0 and shown.stdout.startswith(b"phi,output,")
     assert not (tmp_path / "-").exists()
+
+
+@pytest.mark.parametrize("argv", [
+    ["analyse", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9"],
+    ["scene", "{scenes}/fig3-plane-four-bar.toml"],
+    ["scene", "{scenes}/fig1a-plane-four-bar.toml", "--frames", "2"],
+    ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--analyze"],
+])
+def test_a_full_standard_output_is_named(argv, tmp_path):
+    """Issue 22, item 8: `scene fig3 > /dev/full` said "linkage.py: : No space left on device",
+    and `design ... > /dev/full` (and analyse) ended in a traceback. Now one line naming
+    standard output, exit 1."""
+    scenes = basic_runner.ROOT / "data" / "scenes"
+    with open("/dev/full", "wb") as full:
+        result = subprocess.run(PROGRAM + [a.format(scenes=scenes) for a in argv], cwd=tmp_path,
+                                stdout=full, stderr=subprocess.PIPE, timeout=120)
+    assert result.returncode == 1
+    assert result.stderr == b"linkage.py: standard output: No space left on device\n"
