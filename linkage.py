@@ -6838,10 +6838,10 @@ def build_figure(title: str, subtitle: str, group: str, specs, series: list[Seri
                     label = f"{quantity}, {label}" if label else quantity
                 angles = quantity == "displacement" and group != "slider"
                 points = read_dat(path, warn=say)
-                big = max((abs(v) for point in points for v in point), default=0.0)
-                if big > DRAWN_UP_TO:
+                big = max((v for point in points for v in point), key=abs, default=0.0)
+                if abs(big) > DRAWN_UP_TO:
                     raise SceneError(f"{path}: a value of {big:.3g} is too large to draw "
-                                     f"(the figures go up to {DRAWN_UP_TO:g})")
+                                     f"(the figures go up to +-{DRAWN_UP_TO:g})")
                 runs = _runs(points, angles)
                 if (s.precision == "basic" and quantity != "displacement"
                         and any(abs(y) == 3.0 for _, y in points)):

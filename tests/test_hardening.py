@@ -354,8 +354,8 @@ def test_line_feeds_for_enter_get_a_hint(tmp_path):
 
 @pytest.mark.parametrize("data, status, said", [
     (b"0,1e308\r\n10,-1e308\r\n\x1a", 1, "too large to draw"),
-    (b"0,1\r\n10,-1e101\r\n\x1a", 1, "too large to draw"),
-    (b"", 0, "empty"),
+    (b"0,1\r\n10,-1e101\r\n\x1a", 1, "a value of -1e+101 is too large"),   # its sign kept
+    (b"", 1, "empty"),                  # and refused: no point to draw (issue 22, item 9)
     (b"0,1\r\n10,2\r\n", 0, "no end-of-file byte"),
     (b"0,1\r\n10,2\r\n20,3", 0, "no end-of-file byte"),
     (b"0,1\r\n10,2\r\n20,3\x1a", 0, "last line has no line end"),
