@@ -1327,8 +1327,9 @@ def _umask() -> int:
 
 class _Temporary:
     """A file being written under a unique temporary name beside `path` (binary, or text in
-    `encoding` with no newline translation). commit() flushes it to the disk and gives it its
-    name; discard() removes it. OSError from here names `path`, never the temporary."""
+    `encoding` with no newline translation). finish() flushes it to the disk and closes it,
+    rename() then gives it its name; discard() removes it. OSError from here names `path`, never
+    the temporary."""
 
     def __init__(self, path: str, encoding: str | None = None):
         import tempfile
@@ -1357,7 +1358,9 @@ class _Temporary:
             raise OSError(e.errno, e.strerror, self.path) from None
 
     def finish(self) -> None:
-        """Flush and close, ready to be renamed."""
+        """Flush and close, ready to be renamed (again: nothing more to do)."""
+        if self.file.closed:
+            return
         try:
             self.file.flush()
             os.fsync(self.file.fileno())
@@ -1515,12 +1518,16 @@ class DatFiles:  # ERRATA P3
             raise WriteError(self._why(OSError(e.errno, e.strerror, written.path))) from None
         self.points += 1
 
-    def close(self) -> None:
-        """CLOSE (line 1350): the end-of-file byte, then the files get their names."""
+    def close(self, before_rename=None) -> None:
+        """CLOSE (line 1350): the end-of-file byte, then the files get their names;
+        before_rename(), if given, runs once they are on the disk and before any is renamed
+        (another file of the same command finishing: if it fails, this set is not put in place)."""
         try:
             for f in self._files:
                 f.write("\x1a")
                 f.finish()
+            if before_rename is not None:
+                before_rename()
             with _renaming(self.directory):
                 for f in self._files:
                     if os.path.isdir(f.path):
@@ -3640,7 +3647,7 @@ def evenly_spaced_angles(start, stop, step):
 
 
 def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files=3,
-                    transmission=None) -> int:
+                    transmission=None, before_rename=None) -> int:
     """Write ANG.DAT, VEL.DAT and ACC.DAT (the first `files` of them) in the listing's format
     ("phi,value" lines, CRLF, a 0x1A end byte) at full precision: each number as the shortest
     text that reads back exactly (repr). `motions` may be any iterable (a generator keeps a long
@@ -3653,6 +3660,7 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files
 
     transmission=True: each row's sixth field (after a Motion's five), the transmission angle,
     goes to MU.DAT too; False: an old MU.DAT there is removed with the old set (DatFiles).
+    before_rename: see DatFiles.close.
     """
     if missing not in ("skip", "zero"):
         raise ValueError('missing is "skip" or "zero"')
@@ -3667,11 +3675,16 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files
             value = min(3.0, max(-3.0, value))
         return "%r,%r\r\n" % (phi, float(value) + 0.0)    # -0.0 written as 0.0
 
-    with DatFiles(directory, files, transmission) as out:
+    out = DatFiles(directory, files, transmission)
+    try:
         for row in motions:
             phi = float(row[0])
             lines = (line(phi, row[1], False), line(phi, row[2], clip), line(phi, row[3], clip))
             out.write(lines[:files] + ((line(phi, row[5], False),) if transmission else ()))
+    except BaseException:
+        out.discard()
+        raise
+    out.close(before_rename)
     return out.points
 
 
@@ -7781,9 +7794,11 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
         if not assembled:
             raise ProgramStop(f"Illegal linkage (impossible to assemble): it assembles at none "
                               f"of the {count:,} input angles")
-    try:                            # the CSV file, if asked, is renamed into place after the DATs
+    try:                            # the CSV file, if asked, is on the disk before the DATs are
+        #                             renamed into place, and renamed after them
         with written_whole(args.csv) if args.csv else contextlib.nullcontext() as table:
-            points = write_dat_files(motions(table), args.dir, clip=args.clip)
+            points = write_dat_files(motions(table), args.dir, clip=args.clip,
+                                     before_rename=getattr(table, "finish", None))
     except ProgramStop as stop:
         return said(stop, 1)
     except OSError as e:

@@ -20,6 +20,7 @@ import time
 import pytest
 
 import basic_runner
+import linkage
 import make_golden
 from terminal import Terminal
 
@@ -540,3 +541,26 @@ def test_a_full_standard_output_is_named(argv, tmp_path):
                                 stdout=full, stderr=subprocess.PIPE, timeout=120)
     assert result.returncode == 1
     assert result.stderr == b"linkage.py: standard output: No space left on device\n"
+
+
+def test_a_csv_that_cannot_be_finished_leaves_the_dat_files_as_they_were(tmp_path, monkeypatch,
+                                                                         capsys):
+    """Issue 22, item 6: the set of files one command writes is all-or-nothing. A CSV whose last
+    flush fails (a full disk) used to fail after the new DAT files were already in place, exit
+    1; now the CSV is on the disk before any DAT file is renamed, and the old set stays."""
+    argv = ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0", "--to",
+            "360", "--step", "10", "--branch", "1", "--precision", "double", "--dir",
+            str(tmp_path)]
+    assert linkage.main(argv) == 0
+    before = snapshot(tmp_path)
+    finish = linkage._Temporary.finish
+
+    def full(self):
+        if self.path.endswith(".csv"):
+            raise OSError(28, "No space left on device", self.path)
+        finish(self)
+    monkeypatch.setattr(linkage._Temporary, "finish", full)
+    assert linkage.main(argv[:-2] + ["--step", "5", "--dir", str(tmp_path), "--csv",
+                                     str(tmp_path / "t.csv")]) == 1
+    assert "No space left on device" in capsys.readouterr().err
+    assert snapshot(tmp_path) == before
