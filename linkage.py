@@ -2573,7 +2573,7 @@ def numpy_module():
         import numpy
     except ImportError:
         raise FastUnavailable("the vectorised path (--fast, a scene's fast = true) needs numpy, "
-                              "which is not installed: pip install 'linkage[fast]' (or numpy); "
+                              "which is not installed: python3 -m pip install numpy; "
                               "without it, leave --fast out: the same numbers, computed one "
                               "point at a time") from None
     return numpy
@@ -4726,7 +4726,7 @@ def matplotlib_canvas():
         from matplotlib.backends.backend_agg import FigureCanvasAgg
     except ImportError:
         raise PlotUnavailable("--png needs matplotlib, which is not installed: "
-                              "pip install 'linkage[plot]' (or pip install matplotlib)") from None
+                              "python3 -m pip install matplotlib") from None
     return MplFigure, FigureCanvasAgg
 
 
@@ -8034,7 +8034,7 @@ DIMENSION_HELP = {
 }
 PNG_OPTIONS = (
     option("--png", metavar="OUT",
-           help="write the figure as a PNG (needs matplotlib: pip install 'linkage[plot]')"),
+           help="write the figure as a PNG (needs matplotlib: python3 -m pip install matplotlib)"),
     option("--text", action="store_true",
            help="draw the plain-text plot (the default without --png)"),
     option("--dpi", type=_png_dpi, metavar="N",
@@ -8085,7 +8085,7 @@ COMMANDS = {
                 help="with --precision double: clip VEL and ACC to +-3 as the original does"),
          option("--fast", action="store_true",
                 help="with --precision double: the same numbers by the vectorised engine (needs "
-                     "numpy: pip install 'linkage[fast]')"))),
+                     "numpy: python3 -m pip install numpy)"))),
     "analyse": Command(
         analyse_command, "the linkage's type, range of motion and transmission angle",
         "The linkage's type (Grashof's class for the plane four-bar, b + |e| against c for the "
