@@ -23,6 +23,7 @@ import pytest
 from hypothesis import HealthCheck, Phase, assume, given, settings, strategies as st
 
 import linkage
+from test_mechanism_geometry import LINKAGES     # the random linkages of every kind
 
 NOT = linkage.NOT_ASSEMBLED
 ALL_HEALTH = list(HealthCheck)
@@ -107,17 +108,6 @@ def test_grashof_says_what_the_sampled_motion_does(a, b, c, d, branch):
 
 # == 2. the crank's range and its dead centres, every kind ======================================
 
-ARC = st.floats(5.0, 175.0)
-OFFSET = st.floats(-5.0, 5.0)
-KSI = st.floats(-75.0, 75.0)
-LINKAGES = {
-    "plane": st.fixed_dictionaries(dict(a=LENGTH, b=LENGTH, c=LENGTH, d=LENGTH)),
-    "spherical": st.fixed_dictionaries(dict(a=ARC, b=ARC, c=ARC, d=ARC)),
-    "skew": st.fixed_dictionaries(dict(a=LENGTH, b=LENGTH, c=LENGTH, d=LENGTH, f=OFFSET,
-                                       ksi=KSI)),
-    "slider": st.fixed_dictionaries(dict(b=LENGTH, c=LENGTH, e=OFFSET)),
-    "skew-slider": st.fixed_dictionaries(dict(a=LENGTH, b=LENGTH, c=LENGTH, f=OFFSET, ksi=KSI)),
-}
 FINE = [0.25 * i for i in range(1440)]           # [0, 360) by 0.25
 PROBE = 1e-6
 
