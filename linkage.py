@@ -4913,8 +4913,10 @@ def _near(angle, target, period=360.0):
 
 _SWING = Datum("psi", "rocker swing", PSI_MIN, 180.0, ("lo",))
 _TIME_RATIO = Datum("theta", "crank rotation is 180 + theta", -180.0, 180.0)
-_CENTRIC = (_SWING, Datum("mu_min", "least transmission angle", MU_MARGIN,
-                          ("90 - psi/2", lambda d: 90.0 - d["psi"] / 2)))
+# centric crank-rockers: MU_MARGIN < mu_min < 90 - psi/2 is empty unless psi < 180 - 2 MU_MARGIN
+_CENTRIC = (_SWING._replace(hi=180.0 - 2 * MU_MARGIN),
+            Datum("mu_min", "least transmission angle", MU_MARGIN,
+                  ("90 - psi/2", lambda d: 90.0 - d["psi"] / 2)))
 _LENGTH = dict(lo=LENGTH_MIN, hi=LENGTH_MAX, closed=("lo", "hi"))
 _ANGLE = dict(lo=-360.0, hi=360.0, closed=("lo", "hi"))        # a position (not a rotation)
 DATA = {

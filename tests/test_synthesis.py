@@ -722,8 +722,8 @@ FOUND = [
     ("FOURB-CR-2", dict(theta=0.0019054916127522886, psi=4.871142230897151,
                         psi0=1.6334467858098702), "meets"),
     ("FOURB-CR-2", dict(theta=0.0078125, psi=2.0, psi0=1.0), "meets"),
-    ("FOURB-CR-4", dict(psi=1e-9, mu_min=40.0), "psi = 1e-09 is not in [0.001, 180)"),
-    ("FOURB-CR-4", dict(psi=1e-6, mu_min=40.0), "psi = 1e-06 is not in [0.001, 180)"),
+    ("FOURB-CR-4", dict(psi=1e-9, mu_min=40.0), "psi = 1e-09 is not in [0.001, 179.8)"),
+    ("FOURB-CR-4", dict(psi=1e-6, mu_min=40.0), "psi = 1e-06 is not in [0.001, 179.8)"),
     ("FOURB-CR-4 (Volmer)", dict(psi=1e-300, mu_min=40.0), "psi = 1e-300 is not in"),
     ("FOURB-CR-4", dict(psi=178.99999999999997, mu_min=0.5), "degenerate linkage"),
     ("FOURB-CR-4", dict(psi=179.0, mu_min=0.4999), "meets"),
@@ -738,8 +738,11 @@ FOUND = [
     ("FOURB-CR-4", dict(psi=0.0534037168595954, mu_min=89.97329778891731), "meets"),
     ("DRAGLINK-2", dict(dphi=170.0, dpsi=130.0, lam=math.nan), "lam = nan is not a finite"),
     ("FOURB-CR-4 (Volmer)", dict(psi=98.86952740796924, mu_min=40.565236295980704), "meets"),
+    # psi past 180 - 2 * 0.1 leaves no valid mu_min (0.1 < mu_min < 90 - psi/2): refused as
+    # such, not with an empty interval for mu_min (issue 22, item 10)
     ("FOURB-CR-4", dict(psi=179.9999999751578, mu_min=1.2421097039805316e-08),
-     "mu_min = 1.2421097039805316e-08 is not in (0.1"),
+     "psi = 179.9999999751578 is not in [0.001, 179.8)"),
+    ("FOURB-CR-4", dict(psi=179.999, mu_min=0.1), "psi = 179.999 is not in [0.001, 179.8)"),
     ("FOURB-FG3-1", dict(phi=[0.0, 0.0, 0.0078125], psi=[0.0, 1.0, -1.0]),
      "a repeated input angle"),
     ("SLID-FG2-2", dict(theta1=-9.690188312937713e-15, theta2=-1.047597775477277e-06,
