@@ -4191,17 +4191,18 @@ def _with_coupler_point(linkage, pose, layer, point):
                  layer.marks + (Mark(project(kind, point), "point", "P"),), layer.labels)
 
 
-def _coupler_curves(linkage, phis, coupler, traced, start):
-    """The coupler point's curve on each branch of `traced` as page strokes (the first
-    "coupler", a followed motion "coupler-follow", the others "coupler-other"), broken where the linkage does not assemble; and the
-    first branch's points (3-D, None where there is none)."""
+def _coupler_curves(linkage, phis, coupler, motions, branch, traced):
+    """The coupler point's curve as page strokes, broken where the linkage does not assemble:
+    "coupler" on the frames' `motions` (of `branch`), then "coupler-other" on each branch of
+    `traced`, "coupler-follow" for the motion followed from `branch`; and the frames' points
+    (3-D, None where there is none)."""
     strokes, first = [], None
-    for i, branch in enumerate(traced):
-        points = [c.position for c in linkage.coupler(phis, *coupler, branch, 0, start=start
-                                                       if branch == FOLLOW else None)]
-        if first is None:
-            first = points
-        style = ("coupler" if i == 0 else "coupler-follow" if branch == FOLLOW
+    for other in (None,) + tuple(traced):
+        swept = motions if other is None else linkage.sweep(
+            phis, other, 0, start=branch if other == FOLLOW else None)
+        points = [c.position for c in coupler_of(linkage, swept, *coupler)]
+        first = points if first is None else first
+        style = ("coupler" if other is None else "coupler-follow" if other == FOLLOW
                  else "coupler-other")
         run = []
         for p in points + [None]:
@@ -4257,12 +4258,10 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
     ground = _GROUNDS[kind](linkage, poses, size)
     points, mus, chart = [None] * len(poses), [None] * len(poses), None
     if coupler is not None:
-        curves, points = _coupler_curves(linkage, phis, coupler, (branch,) + tuple(traced),
-                                         branch if branch != FOLLOW else 1)
+        motions = [Motion(pose.phi, pose.output, None, None, pose.status) for pose in poses]
+        curves, points = _coupler_curves(linkage, phis, coupler, motions, branch, traced)
         ground = Layer(ground.strokes + tuple(curves), ground.marks, ground.labels)
-        mus = transmission_of(linkage, [linkage.motion(pose.phi, branch, 0) if pose.output
-                                        is not None else Motion(pose.phi, None, None, None,
-                                                                pose.status) for pose in poses])
+        mus = transmission_of(linkage, motions)
         chart = tuple((pose.phi, mu) for pose, mu in zip(poses, mus))
     frames = tuple(_frame(linkage, pose, size, point, mu)
                    for pose, point, mu in zip(poses, points, mus))
