@@ -6448,6 +6448,62 @@ def load_scene(path: str) -> Scene:
                  tuple(branches), PRECISIONS[precision], specs, fast)
 
 
+# The scenes that come with the program: data/scenes beside linkage.py in the repository, or
+# where `pip install` put them (pyproject.toml's data-files: share/fmb-linkage/scenes under the
+# installation's prefix). A scene is named by its file or by a unique prefix of its name.
+SCENE_FOLDER = os.path.join("share", "fmb-linkage", "scenes")
+
+
+def scene_folders() -> list[str]:
+    """The folders that hold the scenes that come with the program, the repository's first."""
+    import site
+    here = os.path.dirname(os.path.abspath(__file__))
+    places = [os.path.join(here, "data", "scenes")]
+    places += [os.path.join(base, SCENE_FOLDER)
+               for base in (sys.prefix, getattr(site, "USER_BASE", None) or "") if base]
+    return [p for p in dict.fromkeys(places) if os.path.isdir(p)]
+
+
+def known_scenes() -> dict[str, str]:
+    """{name: path} of the scenes that come with the program (a name once: the first folder's)."""
+    scenes = {}
+    for folder in scene_folders():
+        for entry in sorted(os.listdir(folder)):
+            if entry.endswith(".toml"):
+                scenes.setdefault(entry.removesuffix(".toml"), os.path.join(folder, entry))
+    return scenes
+
+
+def scene_path(name: str) -> str:
+    """The scene file `name` means: a file that exists, else the scene that comes with the program
+    whose name is `name` or starts with it (fig3: fig3-plane-four-bar); SceneError if none or
+    several do."""
+    if os.path.exists(name) or os.sep in name or name.endswith(".toml"):
+        return name
+    scenes = known_scenes()
+    if name in scenes:
+        return scenes[name]
+    matches = [n for n in scenes if n.startswith(name)]
+    if len(matches) == 1:
+        return scenes[matches[0]]
+    if matches:
+        raise SceneError(f"{name!r} names {len(matches)} scenes: {', '.join(matches)}")
+    raise SceneError(f"{name!r} is neither a scene file nor the name of a scene of the program "
+                     "(scene --list names them)")
+
+
+def scene_list() -> list[tuple[str, str]]:
+    """(name, title) of each scene that comes with the program."""
+    listed = []
+    for name, path in known_scenes().items():
+        try:
+            title = load_scene(path).title
+        except SceneError as e:
+            title = f"(cannot be read: {e})"
+        listed.append((name, title))
+    return listed
+
+
 def _scene_dimensions(path, mechanism: str, given) -> dict:
     """The scene's `dimensions` table, checked against what the mechanism takes."""
     names = LINKAGE_DIMENSIONS[mechanism]
@@ -7802,6 +7858,8 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
                                      before_rename=getattr(table, "finish", None))
     except ProgramStop as stop:
         return said(stop, 1)
+    except BrokenPipeError:                     # --csv -: the reader stopped (main's to say)
+        raise
     except OSError as e:
         return said(f"cannot write {args.csv}: {e.strerror}"
                      + (" (the DAT files are written)" if points is not None else ""), 1)
@@ -7852,6 +7910,7 @@ def _draw_command(args: argparse.Namespace, make_figure) -> int:
         figure = make_figure()
         if args.png:
             png_figure(figure, args.png, args.dpi, args.size)
+            say(f"wrote {args.png}")
         if args.text or not args.png:
             sys.stdout.write(text_figure(figure))
     return _reported(draw)
@@ -7887,7 +7946,16 @@ def drawing_command(args: argparse.Namespace, make_drawing) -> int:
 def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py scene FILE`: compute the scene and draw it, keeping its DAT files in
     --dir if given; a mechanism scene is drawn (and animated) instead, and writes no DAT file."""
+    if args.list:
+        if args.file is not None:
+            parser.error("--list takes no scene")
+        for name, title in scene_list():
+            print(f"{name:34} {printable(title)}")
+        return 0
+    if args.file is None:
+        parser.error("give a scene: a file, or a name of scene --list (e.g. fig3)")
     try:
+        args.file = scene_path(args.file)
         scene = load_scene(args.file)
     except SceneError as e:
         return said(e, 1)
@@ -8113,7 +8181,11 @@ COMMANDS = {
         "its sweep (or its panel's angles) and writes no DAT file: on a terminal it moves until "
         "you press q; piped, one still frame (--frames N: N frames); --svg OUT an animated SVG; "
         "--png OUT the positions overlaid.",
-        (option("file", metavar="FILE", help="the scene"),
+        (option("file", nargs="?", metavar="SCENE",
+                help="the scene: a TOML file, or the name of a scene that comes with the "
+                     "program, or its start (fig3: fig3-plane-four-bar; scene --list)"),
+         option("--list", action="store_true",
+                help="list the scenes that come with the program, with their titles"),
          option("--svg", metavar="OUT", help="a mechanism scene: write it as one animated SVG"),
          option("--frames", type=int, metavar="N",
                 help="a mechanism scene: print N still frames spread evenly over the sweep "
@@ -8247,6 +8319,12 @@ def _command(argv: list[str]) -> int:
         return args.handler(args, args.parser)
     except KeyboardInterrupt as e:
         return said("interrupted", interrupted_status(e))
+    except BrokenPipeError as e:                # the reader (head, less) stopped reading
+        if e.filename is not None:
+            return said(_unwritten(e), 1)
+        with contextlib.suppress(OSError, ValueError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
     except OSError as e:                        # standard output full or gone (> /dev/full)
         with contextlib.suppress(OSError, ValueError):
             sys.stdout = None                   # nothing more to flush into it at exit

@@ -9,6 +9,7 @@ import os
 import struct
 import subprocess
 import sys
+import tempfile
 
 import numpy
 import pytest
@@ -180,3 +181,21 @@ def test_main_gives_back_the_signal_handlers_it_installed(tmp_path, capsys):
     finally:
         for s, h in saved.items():
             signal.signal(s, h)
+
+
+def test_the_installed_command_stops_quietly_when_its_reader_stops():
+    """The `linkage` command calls main() itself (no __main__ guard): a reader that stops
+    (`| head`) ends it with status 141 and nothing on standard error, as for a shell tool."""
+    program = [sys.executable, "-c", "import sys, linkage; sys.exit(linkage.main(sys.argv[1:]))",
+               "run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
+               "--to", "360", "--step", ".001", "--branch", "1", "--precision", "double",
+               "--csv", "-", "--dir", "{dir}"]
+    with tempfile.TemporaryDirectory() as where:
+        child = subprocess.Popen([w.replace("{dir}", where) for w in program],
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                 cwd=basic_runner.ROOT)
+        assert child.stdout.readline().startswith(b"phi,")
+        child.stdout.close()
+        stderr = child.stderr.read()
+        assert child.wait(timeout=120) == 141, stderr
+        assert stderr == b""

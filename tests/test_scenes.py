@@ -712,3 +712,50 @@ def test_the_readme_shows_a_current_terminal_plot():
     data = (ROOT / png).read_bytes()
     assert png.startswith("data/") and len(data) < 100_000
     assert png_chunks(data)[0] >= 400
+
+
+# -- scenes by name: those that come with the program ------------------------------------------
+
+def test_a_scene_is_named_by_a_unique_start_of_its_name(tmp_path):
+    by_name = subprocess.run(PROGRAM + ["scene", "fig3"], capture_output=True, text=True,
+                             cwd=tmp_path)
+    by_file = subprocess.run(PROGRAM + ["scene", str(ROOT / "data/scenes/fig3-plane-four-bar.toml")],
+                             capture_output=True, text=True, cwd=tmp_path)
+    assert by_name.returncode == 0, by_name.stderr
+    assert by_name.stdout == by_file.stdout and by_name.stdout.startswith("Fig. 3  Plane")
+
+
+@pytest.mark.parametrize("name, message", [
+    ("fig1", "'fig1' names 3 scenes: fig1a-plane-four-bar, fig1b-spherical-four-bar, "
+             "fig1c-skew-four-bar"),
+    ("fig9", "'fig9' is neither a scene file nor the name of a scene of the program"),
+    ("fig3.toml", "fig3.toml: cannot read the scene: No such file or directory"),
+])
+def test_a_name_that_is_not_one_scene_is_refused_with_the_reason(tmp_path, name, message):
+    got = subprocess.run(PROGRAM + ["scene", name], capture_output=True, text=True, cwd=tmp_path)
+    assert got.returncode == 1 and not got.stdout
+    assert got.stderr.startswith(f"linkage.py: {message}")
+
+
+def test_the_list_names_every_scene_with_its_title():
+    got = subprocess.run(PROGRAM + ["scene", "--list"], capture_output=True, text=True)
+    assert got.returncode == 0 and not got.stderr
+    listed = [line.split(None, 1) for line in got.stdout.splitlines()]
+    files = sorted((ROOT / "data" / "scenes").glob("*.toml"))
+    assert [name for name, _ in listed] == [p.stem for p in files]
+    for (_, title), path in zip(listed, files):
+        assert f'title = "{title}"' in path.read_text()
+
+
+def test_the_list_takes_no_scene_and_a_scene_is_needed_without_it():
+    for argv, message in ((["--list", "fig3"], "--list takes no scene"),
+                          ([], "give a scene")):
+        got = subprocess.run(PROGRAM + ["scene", *argv], capture_output=True, text=True)
+        assert got.returncode == 2 and message in got.stderr
+
+
+def test_a_curve_scene_says_the_png_it_wrote(tmp_path):
+    got = subprocess.run(PROGRAM + ["scene", "fig3", "--png", "f.png"], capture_output=True,
+                         text=True, cwd=tmp_path)
+    assert got.returncode == 0, got.stderr
+    assert got.stderr == "linkage.py: wrote f.png\n" and (tmp_path / "f.png").exists()

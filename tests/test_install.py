@@ -1,0 +1,70 @@
+"""The project as a newcomer installs it: a wheel built from the clone, installed in a fresh venv
+(no site packages, so nothing of the test environment helps), then run from an empty folder
+that has no data/ beside it. The install hint that `--png` prints without matplotlib is run as
+printed (the package index is reachable wherever the test set-up could install the test
+dependencies), and then the PNG is written."""
+
+import re
+import subprocess
+import sys
+import venv
+
+import pytest
+
+from basic_runner import ROOT
+
+
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory):
+    """(the venv's python, the `linkage` command, an empty folder) with the built wheel installed."""
+    where = tmp_path_factory.mktemp("install")
+    wheels = where / "wheels"
+    subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps",
+                    "-q", "-w", str(wheels), str(ROOT)], check=True)
+    (wheel,) = wheels.glob("*.whl")
+    assert wheel.name.startswith("fmb_linkage-")
+    venv.EnvBuilder(with_pip=True, clear=True).create(where / "venv")
+    python = where / "venv" / "bin" / "python"
+    subprocess.run([str(python), "-m", "pip", "install", "-q", "--no-deps", str(wheel)],
+                   check=True)
+    empty = where / "empty"
+    empty.mkdir()
+    return python, where / "venv" / "bin" / "linkage", empty
+
+
+def _run(command, folder, *args):
+    return subprocess.run([str(command), *args], cwd=folder, capture_output=True, text=True,
+                          timeout=300)
+
+
+def test_the_installed_command_lists_the_scenes_by_name_and_title(installed):
+    _, linkage, empty = installed
+    got = _run(linkage, empty, "scene", "--list")
+    assert got.returncode == 0, got.stderr
+    names = dict(line.split(None, 1) for line in got.stdout.splitlines())
+    scenes = sorted(p.stem for p in (ROOT / "data" / "scenes").glob("*.toml"))
+    assert sorted(names) == scenes
+    assert names["fig3-plane-four-bar"] == "Fig. 3  Plane four-bar linkage"
+
+
+def test_the_installed_command_draws_a_design(installed):
+    _, linkage, empty = installed
+    got = _run(linkage, empty, "design", "fourb-cr-4", "--psi", "60", "--mu-min", "40",
+               "--svg", "d.svg")
+    assert got.returncode == 0, got.stderr
+    assert (empty / "d.svg").read_text().startswith("<svg")
+
+
+def test_the_png_hint_installs_what_the_png_needs(installed):
+    python, linkage, empty = installed
+    got = _run(linkage, empty, "scene", "fig3", "--png", "x.png")
+    assert got.returncode == 1 and not (empty / "x.png").exists()
+    hint = re.search(r"python3 -m pip install (\S+)$", got.stderr.strip())
+    assert hint, got.stderr
+    assert "linkage" not in hint[1]            # "linkage" on the index is somebody else's
+    subprocess.run([str(python), "-m", "pip", "install", "-q", hint[1]], check=True,
+                   timeout=600)
+    got = _run(linkage, empty, "scene", "fig3", "--png", "x.png")
+    assert got.returncode == 0, got.stderr
+    assert "wrote x.png" in got.stderr
+    assert (empty / "x.png").read_bytes().startswith(b"\x89PNG")
