@@ -1415,6 +1415,32 @@ def _renaming(folder: str):
             os.close(lock)                      # and with it the lock
 
 
+# The files that come with the program: beside linkage.py in the repository (data/scenes,
+# legacy_basic), or where `pip install` put them (pyproject.toml's data-files, under
+# share/fmb-linkage/ of the installation's prefix).
+SHIPPED = {"scenes": os.path.join("data", "scenes"), "legacy_basic": "legacy_basic"}
+
+
+def shipped_folders(kind: str) -> list[str]:
+    """The folders that hold the files of `kind` (a key of SHIPPED) that come with the program,
+    the repository's first; those that exist."""
+    import site
+    here = os.path.dirname(os.path.abspath(__file__))
+    places = [os.path.join(here, SHIPPED[kind])]
+    places += [os.path.join(base, "share", "fmb-linkage", kind)
+               for base in (sys.prefix, getattr(site, "USER_BASE", None) or "") if base]
+    return [p for p in dict.fromkeys(places) if os.path.isdir(p)]
+
+
+def shipped_file(kind: str, name: str) -> str:
+    """The path of the file `name` of `kind` that comes with the program (FileNotFoundError,
+    naming where it looked, if none does)."""
+    for folder in shipped_folders(kind):
+        if os.path.isfile(os.path.join(folder, name)):
+            return os.path.join(folder, name)
+    raise FileNotFoundError(2, "not installed with the program", os.path.join(SHIPPED[kind], name))
+
+
 @contextlib.contextmanager
 def written_whole(path):
     """Open `path` for writing (bytes) so that it is written whole or not at all: into a
@@ -6448,26 +6474,10 @@ def load_scene(path: str) -> Scene:
                  tuple(branches), PRECISIONS[precision], specs, fast)
 
 
-# The scenes that come with the program: data/scenes beside linkage.py in the repository, or
-# where `pip install` put them (pyproject.toml's data-files: share/fmb-linkage/scenes under the
-# installation's prefix). A scene is named by its file or by a unique prefix of its name.
-SCENE_FOLDER = os.path.join("share", "fmb-linkage", "scenes")
-
-
-def scene_folders() -> list[str]:
-    """The folders that hold the scenes that come with the program, the repository's first."""
-    import site
-    here = os.path.dirname(os.path.abspath(__file__))
-    places = [os.path.join(here, "data", "scenes")]
-    places += [os.path.join(base, SCENE_FOLDER)
-               for base in (sys.prefix, getattr(site, "USER_BASE", None) or "") if base]
-    return [p for p in dict.fromkeys(places) if os.path.isdir(p)]
-
-
 def known_scenes() -> dict[str, str]:
     """{name: path} of the scenes that come with the program (a name once: the first folder's)."""
     scenes = {}
-    for folder in scene_folders():
+    for folder in shipped_folders("scenes"):
         for entry in sorted(os.listdir(folder)):
             if entry.endswith(".toml"):
                 scenes.setdefault(entry.removesuffix(".toml"), os.path.join(folder, entry))
@@ -8059,6 +8069,75 @@ def design_command(argv):
     return code
 
 
+ERRATUM = re.compile(r"^### ([EL]\d+)\. Lines? ([0-9, ]+): `(.+)` → `(.+)`$", re.MULTILINE)
+SCAN_LINE = re.compile(r"^(\d+|B30)\s")   # a line of the scan starts so (ERRATA.md L3, E22)
+
+
+def _squeezed(text: str) -> str:
+    return "".join(text.split())
+
+
+def scan_lines(scan: str, renumbered: dict[str, int]) -> dict[int, str]:
+    """{line number: text} of the scan (LINKAGE.OCR.txt): a line that does not start with a
+    number continues the one before (ERRATA.md L3), the later of two copies is kept, and a
+    number the scan misread is the one `renumbered` gives it."""
+    lines: dict[int, str] = {}
+    number = None
+    for raw in scan.splitlines():
+        start = SCAN_LINE.match(raw)
+        if start:
+            label = start[1]
+            number = renumbered.get(label) or int(label)
+            lines[number] = raw
+        elif number is not None:
+            lines[number] += " " + raw.strip()
+    return {n: " ".join(t.replace("\t", " ").split()) for n, t in lines.items()}
+
+
+def annotated_listing(listing: str, errata: str, scan: str | None = None) -> list[str]:
+    """The corrected listing (LINKAGE.BAS), each line that corrects the scan marked `*` in the
+    margin and followed by its errata (ERRATA.md's headings, `### E1. Line 210: ...`); with
+    `scan` (LINKAGE.OCR.txt), each line whose text the scan prints otherwise (white space
+    aside) followed by the scan's text."""
+    numbered = [(int(line.split(" ", 1)[0]), line) for line in listing.splitlines()]
+    corrections: dict[int, list[str]] = {}
+    renumbered = {}
+    for name, where, printed, corrected in ERRATUM.findall(errata):
+        numbers = [int(n) for n in re.findall(r"\d+", where)]
+        lines = [n for n, text in numbered if _squeezed(corrected) in _squeezed(text)]
+        on = [n for n in lines if n in numbers] or lines
+        for n in on:
+            corrections.setdefault(n, []).append(f"{name}: the scan printed `{printed}`, "
+                                                 f"corrected `{corrected}`")
+        if printed.split()[0] != corrected.split()[0] and corrected.split()[0].isdigit():
+            renumbered[printed.split()[0]] = int(corrected.split()[0])
+    scanned = scan_lines(scan, renumbered) if scan is not None else {}
+    out = ["LINKAGE.BAS as corrected; * marks a line that corrects the scan "
+           "(legacy_basic/ERRATA.md)" + ("; scan: the scan's text where it differs" if scan
+                                          is not None else ""), ""]
+    for number, text in numbered:
+        out.append(f"{'*' if number in corrections else ' '} {text}")
+        out += [f"        {note}" for note in corrections.get(number, ())]
+        if scan is not None and _squeezed(scanned.get(number, "")) != _squeezed(text):
+            out.append(f"        scan: {scanned.get(number, '(not in the scan)')}")
+    count = len({note.split(":")[0] for notes in corrections.values() for note in notes})
+    out += ["", f"{count} corrections on {len(corrections)} lines. The bugs of the original kept "
+                "(K1-K14) and where this port deviates (P1-P7): legacy_basic/ERRATA.md."]
+    return out
+
+
+def listing_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py listing [--ocr]`: the corrected listing with its errata."""
+    def show():
+        texts = [open(shipped_file("legacy_basic", name), encoding="utf-8").read()
+                 for name in ("LINKAGE.BAS", "ERRATA.md")]
+        scan = (open(shipped_file("legacy_basic", "LINKAGE.OCR.txt"), encoding="utf-8").read()
+                if args.ocr else None)
+        sys.stdout.write("".join(f"{printable(line)}\n"
+                                 for line in annotated_listing(*texts, scan)))
+    return _reported(show)
+
+
 def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py bench [NAME ...]`: print the benchmarks' numbers and how they ran."""
     print(f"$ python3 linkage.py bench {' '.join(args.names)}".rstrip())
@@ -8226,6 +8305,15 @@ COMMANDS = {
                 help="draw it as a PNG, the positions overlaid (needs matplotlib)"),
          option("--text", action="store_true", help="draw it in the terminal")),
         own_words=True),
+    "listing": Command(
+        listing_command, "the original BASIC listing as corrected, with its errata",
+        "The program of the paper's appendix as it must have run (legacy_basic/LINKAGE.BAS): "
+        "each line that corrects the scan of the printed listing is marked * and followed by "
+        "its erratum (legacy_basic/ERRATA.md explains each one); --ocr also shows the scan's "
+        "own text of every line it prints otherwise.",
+        (option("--ocr", action="store_true",
+                help="show the scan's text (legacy_basic/LINKAGE.OCR.txt) under each line it "
+                     "prints otherwise (white space aside)"),)),
     "bench": Command(
         bench_command, "measure speed, and what accuracy costs in time",
         "Run the benchmarks and print their numbers (port runs PC-BASIC for minutes). What "

@@ -7,6 +7,8 @@ from __future__ import annotations
 import concurrent.futures
 import dataclasses
 import re
+import subprocess
+import sys
 
 import pytest
 
@@ -188,3 +190,47 @@ def test_every_deviation_of_the_port_is_tagged_in_the_code():
     documented = set(re.findall(r"^### (P\d+)\.", (LEGACY / "ERRATA.md").read_text(), re.M))
     tagged = set(re.findall(r"# ERRATA (P\d+)", (basic_runner.ROOT / "linkage.py").read_text()))
     assert documented and documented == tagged
+
+
+# -- `linkage.py listing`: the corrected listing for the historical reader ---------------------
+
+def _listing(*options):
+    got = subprocess.run([sys.executable, str(basic_runner.ROOT / "linkage.py"), "listing", *options], capture_output=True,
+                         text=True, encoding="utf-8")
+    assert got.returncode == 0 and not got.stderr, got.stderr
+    return got.stdout.splitlines()
+
+
+def test_the_listing_is_linkage_bas_with_each_correction_marked_under_its_line():
+    out = _listing()
+    program = [line[2:] for line in out if line[:2] in ("  ", "* ") and line[2:3].isdigit()]
+    assert program == (LEGACY / "LINKAGE.BAS").read_text().splitlines()
+    notes = {}                                 # erratum name: the program line it is under
+    for i, line in enumerate(out):
+        match = re.match(r"^ {8}([EL]\d+): the scan printed `(.+)`, corrected `(.+)`$", line)
+        if match:
+            above = next(out[j] for j in range(i - 1, 0, -1) if not out[j].startswith("    "))
+            assert above.startswith("* ") and "".join(match[3].split()) in "".join(above.split())
+            notes.setdefault(match[1], []).append(above)
+    assert sorted(notes) == sorted(e.name for e in errata())
+    assert len(notes["E24"]) == 3 and notes["E30"][0].startswith("* 1265 ")
+    assert sum(line.startswith("* ") for line in out) == 33
+
+
+def test_the_scan_shows_under_exactly_the_lines_that_differ_from_it_beyond_layout():
+    """Independent sources agree: the lines the errata's headings mark are the lines whose
+    text the scan prints otherwise (white space aside), but for the remark box (L2)."""
+    out = _listing("--ocr")
+    differs, marked = set(), set()
+    for i, line in enumerate(out):
+        if line[:2] in ("  ", "* ") and line[2:3].isdigit():
+            number = int(line[2:].split()[0])
+            marked.update([number] if line.startswith("*") else [])
+            following = out[i + 1:i + 6]
+            scan = next((f for f in following if f.startswith("        scan: ")), None)
+            ends = next((k for k, f in enumerate(following) if not f.startswith("    ")), 5)
+            if scan is not None and following.index(scan) < ends:
+                differs.add(number)
+    assert marked - differs == set()
+    assert differs - marked == set(COMMENT_LINES)
+    assert "        scan: B30 C1=SIN(P(3))*SIN(P(4))" in out

@@ -68,3 +68,10 @@ def test_the_png_hint_installs_what_the_png_needs(installed):
     assert got.returncode == 0, got.stderr
     assert "wrote x.png" in got.stderr
     assert (empty / "x.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_the_installed_command_prints_the_listing_with_the_scan(installed):
+    _, linkage, empty = installed
+    got = _run(linkage, empty, "listing", "--ocr")
+    assert got.returncode == 0, got.stderr
+    assert "* 1265 IF S=1 THEN" in got.stdout and "        scan: 1245 IF S=1 THEN" in got.stdout
