@@ -780,6 +780,29 @@ def _assembles(v: Variables, bartype: int) -> bool:
                                   or CT > DIAG + BT + DT or DT > DIAG + BT + CT))
 
 
+ASSEMBLY_NAMES = {"DIAG": "the fixed link DIAG", "BT": "the input crank BT",
+                  "CT": "the connecting rod CT", "DT": "the output crank DT"}
+
+
+def assembly_refusal(v: Variables, bartype: int) -> str:
+    """Why line 480 refuses the linkage: the link longer than the other three together, in the
+    units typed (a spherical arc in degrees, modulo 180 as line 340-370 reduce it, ERRATA K11;
+    the skew slider-crank's DT is the output crank it never asks for, K4)."""
+    links = {name: getattr(v, name).v for name in ASSEMBLY_NAMES}
+    degrees = bartype == 2
+    if degrees:
+        links = {name: value * 180 / math.pi for name, value in links.items()}
+    longest = max(links, key=lambda name: links[name] - (sum(links.values()) - links[name]))
+    others = [name for name in links if name != longest]
+    unit = " degrees" if degrees else ""
+    note = {2: " (the arcs taken modulo 180 degrees, ERRATA K11)",
+            3: " (DIAG = (a^2 + (f tan ksi)^2)^.5)",
+            5: " (DIAG = (a^2 + (f tan ksi)^2)^.5; DT is the output crank the skew slider-crank "
+               "is never asked for, ERRATA K4)"}.get(bartype, "")
+    return (f"line 480: {ASSEMBLY_NAMES[longest]} = {links[longest]:.7g}{unit} is longer than "
+            f"{' + '.join(others)} = {sum(links[n] for n in others):.7g}{unit}{note}")
+
+
 def coefficients(v: Variables, bartype: int) -> tuple[Single, ...]:
     """Lines 520-930: the coefficients A1..J1 of the half-tangent equation (2)."""
     A, B, C, D, F, G, KSI, S = v.A, v.B, v.C, v.D, v.F, v.G, v.KSI, v.S
@@ -1610,8 +1633,9 @@ def run_session(screen: Screen, keys: Keys, directory: str = ".",
         screen.cls()                                                        # 260
         if dimensions(v, bartype, lambda prompt: input_number(screen, keys, prompt)):
             break
-        if answered:
-            raise ProgramStop("Illegal linkage (impossible to assemble)")
+        if answered:                        # the run command says why (the menu as the original)
+            raise ProgramStop("Illegal linkage (impossible to assemble): "
+                              + assembly_refusal(v, bartype))
         screen.cls()                                                        # 500
         screen.locate(12, 20)
         screen.line("Illegal linkage (impossible to assemble)")
@@ -7718,6 +7742,15 @@ def _check_outputs(parser: argparse.ArgumentParser, files: dict, folder: str | N
         seen[real] = option
 
 
+def output_folder(parser: argparse.ArgumentParser, option: str, path: str) -> None:
+    """The one rule of every command's output folder (--dir, --dat): made if missing, with its
+    parents; refused (parser.error) where it cannot be, e.g. a file in the way."""
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as e:
+        parser.error(f"{option} {path!r}: cannot make the folder: {e.strerror}")
+
+
 def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py run TYPE ...`: the menu program given these answers."""
     key, needed = MECHANISM_TYPES[args.type]
@@ -7733,8 +7766,6 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
         answers = [number(text, f"--{name}") for name, text in zip(names, answers)]
     except ValueError as e:
         parser.error(str(e))
-    if not os.path.isdir(args.dir):
-        parser.error(f"--dir {args.dir!r} is not a folder")
     _check_outputs(parser, {"--csv": args.csv}, args.dir, DatFiles.NAMES)
     if args.branch == FOLLOW and args.precision != "double":
         parser.error("--branch follow goes with --precision double (the original program has "
@@ -7756,13 +7787,14 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
             args.coupler = [decimal_number(text, "--coupler") for text in args.coupler]
         except ValueError as e:
             parser.error(str(e))
-    if args.precision == "double":
-        return _run_double(args, dict(zip(names, answers)))
-    if args.clip:
+    if args.precision == "basic" and args.clip:
         parser.error("--clip goes with --precision double (the original always clips VEL and ACC)")
-    if args.fast:
+    if args.precision == "basic" and args.fast:
         parser.error("--fast goes with --precision double (the original's numbers are "
                      "computed one point at a time)")
+    output_folder(parser, "--dir", args.dir)
+    if args.precision == "double":
+        return _run_double(args, dict(zip(names, answers)))
     screen = Screen(lambda s: None, terminal=False,
                     soft_errors=lambda s: sys.stderr.write(s.replace("\r\n", "\n")))
     try:
@@ -7778,10 +7810,15 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
     return 0
 
 
+CLIPPED = "clipped"     # run --csv in basic precision: VEL or ACC written as +-3 (ERRATA K9)
+
+
 def _basic_csv(args: argparse.Namespace, answers: list[str]) -> None:
     """run --csv, basic precision: the rows of the DAT files just written (the original's numbers:
     zeros where it finds no position, VEL and ACC clipped to +-3), each with the accurate engine's
-    status of that position, so that a written zero that is no position can be told apart."""
+    status of that position, so that a written zero that is no position can be told apart; an
+    assembled row whose VEL or ACC the original wrote as +-3, its clip (ERRATA K9), is
+    `clipped`."""
     dims = {n: input_value(a).v for n, a in zip(MECHANISM_TYPES[args.type][1], answers)}
     ang, vel, acc = (read_dat(os.path.join(args.dir, n)) for n in DatFiles.NAMES)
     try:
@@ -7789,8 +7826,8 @@ def _basic_csv(args: argparse.Namespace, answers: list[str]) -> None:
             [phi for phi, _ in ang], int(args.branch), derivatives=0)]
     except ValueError:                          # dimensions the engine refuses (a 0 link)
         statuses = ["unknown"] * len(ang)
-    rows = ((phi, psi, v, a, status) for (phi, psi), (_, v), (_, a), status
-            in zip(ang, vel, acc, statuses))
+    rows = ((phi, psi, v, a, CLIPPED if status == ASSEMBLED and 3.0 in (abs(v), abs(a))
+             else status) for (phi, psi), (_, v), (_, a), status in zip(ang, vel, acc, statuses))
     say(f"wrote {args.csv} ({write_csv(args.csv, rows):,} rows)")
 
 
@@ -8221,7 +8258,8 @@ COMMANDS = {
                 help="also write one CSV file: a header row phi,output,velocity,acceleration,"
                      "status (with --precision double: and transmission, the transmission "
                      "angle in degrees) and a row a point, every point (a position that does "
-                     "not exist: its status, values nan)"),
+                     "not exist: its status, values nan; in basic precision a velocity or "
+                     "acceleration the original clipped to +-3: status clipped)"),
          option("--coupler", nargs="+", metavar=("U", "V"),
                 help="with --precision double and --csv: add the columns coupler_x, coupler_y, "
                      "coupler_z, coupler_vx, ..., coupler_az of the point (U, V) fixed to the "

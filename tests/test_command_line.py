@@ -199,3 +199,65 @@ def test_the_installed_command_stops_quietly_when_its_reader_stops():
         stderr = child.stderr.read()
         assert child.wait(timeout=120) == 141, stderr
         assert stderr == b""
+
+
+@pytest.mark.parametrize("argv, why", [
+    ("plane --a 6 --b 2 --c 1 --d 1", "the fixed link DIAG = 6 is longer than BT + CT + DT = 4"),
+    ("plane --a 1 --b 2 --c 9 --d 1", "the connecting rod CT = 9 is longer than DIAG + BT + DT = 4"),
+    ("spherical --a 100 --b 20 --c 30 --d 40",          # 100 > 20 + 30 + 40, in degrees
+     "the fixed link DIAG = 100 degrees is longer than BT + CT + DT = 90 degrees"),
+    ("spherical --a 280 --b 20 --c 30 --d 40",          # 280 modulo 180 is 100 (ERRATA K11),
+     "the fixed link DIAG = 99.9999"),                  # in single precision
+    ("skew --a 6 --b 2 --c 20 --d 1 --f 1 --ksi 30",     # DIAG = (36 + tan^2 30)^.5 = 6.027714
+     "the connecting rod CT = 20 is longer than DIAG + BT + DT = 9.02771"),
+    ("skew-slider --a 6 --b 2 --c 20 --f 1 --ksi 30",    # DT never asked: 0 (ERRATA K4)
+     "the connecting rod CT = 20 is longer than DIAG + BT + DT = 8.02771"),
+])
+def test_run_says_why_a_linkage_is_illegal(tmp_path, argv, why):
+    """The menu says only "Illegal linkage (impossible to assemble)", as the original; run says
+    which link line 480 finds longer than the other three together, and writes nothing."""
+    got = subprocess.run(PROGRAM + ["run", *argv.split(), "--from", "0", "--to", "360",
+                                    "--step", "10", "--branch", "1", "--dir", str(tmp_path)],
+                         capture_output=True, text=True)
+    assert got.returncode == 1 and not list(tmp_path.iterdir())
+    assert got.stderr.startswith("linkage.py: Illegal linkage (impossible to assemble): "
+                                 f"line 480: {why}"), got.stderr
+
+
+def test_the_basic_csv_marks_the_points_the_original_clipped(tmp_path):
+    """The original clips VEL and ACC to +-3 (ERRATA K9): its spike at phi = 180 (K6) and the
+    rates near the plane four-bar's dead centres are written as +-3. Those rows say `clipped`;
+    the engine's rates there are beyond 3 (or, at 180, the spike is the listing's own)."""
+    got = subprocess.run(PROGRAM + ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9",
+                                    "--from", "0", "--to", "360", "--step", "2", "--branch", "1",
+                                    "--dir", str(tmp_path), "--csv", "-"],
+                         capture_output=True, text=True)
+    rows = list(csv.DictReader(got.stdout.splitlines()))
+    clipped = [r for r in rows if r["status"] == "clipped"]
+    assert [(round(float(r["phi"]), 3), r["acceleration"]) for r in clipped] == [(180, "-3.0")]
+    assert all(r["status"] == "assembled" for r in rows if r not in clipped)
+    rocker = subprocess.run(PROGRAM + ["run", "plane", "--a", "4", "--b", "3.9", "--c", "1.1",
+                                       "--d", "1", "--from", "0", "--to", "360", "--step", "1",
+                                       "--branch", "1", "--dir", str(tmp_path), "--csv", "-"],
+                            capture_output=True, text=True)
+    rows = list(csv.DictReader(rocker.stdout.splitlines()))
+    at_three = [r for r in rows if "3.0" in (r["velocity"].lstrip("-"),
+                                             r["acceleration"].lstrip("-"))]
+    assert at_three and all(r["status"] in ("clipped", "not-assembled", "dead-centre")
+                            for r in at_three)
+    assert {r["status"] for r in at_three} >= {"clipped"}
+
+
+@pytest.mark.parametrize("precision", ["basic", "double"])
+def test_run_makes_a_missing_output_folder_as_scene_does(tmp_path, precision):
+    argv = PROGRAM + ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
+                      "--to", "360", "--step", "90", "--branch", "1", "--precision", precision]
+    got = subprocess.run(argv + ["--dir", str(tmp_path / "new" / "folder")], capture_output=True)
+    assert got.returncode == 0, got.stderr
+    assert sorted(p.name for p in (tmp_path / "new" / "folder").iterdir()) == [
+        "ACC.DAT", "ANG.DAT", "VEL.DAT"]
+    (tmp_path / "file").write_text("in the way")
+    got = subprocess.run(argv + ["--dir", str(tmp_path / "file" / "x")], capture_output=True,
+                         text=True)
+    assert got.returncode == 2 and "cannot make the folder: Not a directory" in got.stderr
+    assert (tmp_path / "file").read_text() == "in the way"
