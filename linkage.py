@@ -1410,18 +1410,20 @@ class _Temporary:
 
 
 @contextlib.contextmanager
-def _renaming(folder: str):
-    """While the block runs: SIGINT, SIGTERM and SIGHUP held back, and the folder locked against
-    another of our sessions renaming its set into it; a signal that came meanwhile is dropped,
-    as the work it would have stopped is done."""
+def _renaming(*folders: str):
+    """While the block runs: SIGINT, SIGTERM and SIGHUP held back, and the folders locked (in
+    one order) against another of our sessions renaming its set into them; a signal that came
+    meanwhile is dropped, as the work it would have stopped is done."""
     import signal
     held = {getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n)}
     masks = hasattr(signal, "pthread_sigmask")              # not on Windows
-    lock = None
-    with contextlib.suppress(ImportError, OSError):
-        import fcntl
-        lock = os.open(folder, os.O_RDONLY)
-        fcntl.flock(lock, fcntl.LOCK_EX)
+    locks = []
+    for folder in sorted({os.path.realpath(f) for f in folders}):
+        with contextlib.suppress(ImportError, OSError):
+            import fcntl
+            lock = os.open(folder, os.O_RDONLY)
+            locks.append(lock)
+            fcntl.flock(lock, fcntl.LOCK_EX)
     try:
         if masks:
             signal.pthread_sigmask(signal.SIG_BLOCK, held)
@@ -1434,8 +1436,93 @@ def _renaming(folder: str):
                     signal.sigtimedwait(pending, 0)
                 signal.pthread_sigmask(signal.SIG_UNBLOCK, held)
     finally:
-        if lock is not None:
+        for lock in locks:
             os.close(lock)                      # and with it the lock
+
+
+class WrittenSet:
+    """The files one command writes, put in place all together or not at all: each is written
+    under a temporary name (file()) or staged elsewhere in its folder's file system (adopt(),
+    e.g. a scene's DAT files written in a hidden folder), and only when the block ends without
+    an error are they renamed into place, together, signals held (with the names removed() of an
+    old set that the new one does not write). On any failure every one is removed and the old
+    files stand. Outputs that are no regular file (-, a FIFO, a device) are not held back:
+    stream() writes them after the set is in place."""
+
+    def __init__(self):
+        self._files: list[_Temporary] = []
+        self._moves: list[tuple[str, str]] = []
+        self._removed: list[str] = []
+        self._streams: list[tuple[str, object]] = []
+
+    def __enter__(self) -> "WrittenSet":
+        return self
+
+    def __exit__(self, kind, error, trace) -> None:
+        try:
+            if kind is None:
+                self._commit()
+        finally:
+            for f in self._files:
+                f.discard()
+
+    def file(self, path: str) -> "_Temporary":
+        """A file of the set, to write (bytes) now and to be put in place with the rest."""
+        self._files.append(_Temporary(path))
+        return self._files[-1]
+
+    def adopt(self, staged: str, path: str) -> None:
+        """`staged`, a finished file on the same file system, becomes `path` with the rest."""
+        self._moves.append((staged, path))
+
+    def removed(self, path: str) -> None:
+        """`path`, a file of the old set that the new one does not write, goes with the old set."""
+        self._removed.append(path)
+
+    @contextlib.contextmanager
+    def opened(self, path: str):
+        """As written_whole(path), but put in place with the set; an output that is no regular
+        file gets what was written once the set is in place."""
+        if path == "-" or _is_stream(path):
+            import io
+            buffer = io.BytesIO()
+            yield buffer
+            self._streams.append((path, buffer.getvalue()))
+        else:
+            yield self.file(path)
+
+    def _commit(self) -> None:
+        for f in self._files:
+            f.finish()
+        targets = [f.path for f in self._files] + [p for _, p in self._moves] + self._removed
+        folders = {os.path.dirname(os.path.abspath(p)) for p in targets}
+        for folder in folders:
+            try:
+                os.makedirs(folder, exist_ok=True)
+            except OSError as e:
+                raise OSError(e.errno, e.strerror, folder) from None
+        with _renaming(*folders):
+            for path in targets:
+                if os.path.isdir(path):
+                    raise IsADirectoryError(21, "it is a folder", path)
+            for f in self._files:
+                f.rename()
+            for staged, path in self._moves:
+                try:
+                    os.replace(staged, path)
+                except OSError as e:
+                    raise OSError(e.errno, e.strerror, path) from None
+            for path in self._removed:
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(path)
+        for path, data in self._streams:
+            with written_whole(path) as out:
+                out.write(data)
+
+
+def written(path: str, outputs: WrittenSet | None = None):
+    """written_whole(path), or the file of the set `outputs` if one is given."""
+    return written_whole(path) if outputs is None else outputs.opened(path)
 
 
 # The files that come with the program: beside linkage.py in the repository (data/scenes,
@@ -3751,12 +3838,13 @@ def csv_line(fields) -> str:
                     else str(v) for v in fields) + "\r\n"
 
 
-def write_csv(path: str, rows, header=CSV_HEADER) -> int:
+def write_csv(path: str, rows, header=CSV_HEADER, outputs: WrittenSet | None = None) -> int:
     """Write `rows` (tuples of `header`'s fields) as one CSV file with a header row, whole or not
-    at all (written_whole); the number of rows. Read it with csv.DictReader, numpy.loadtxt(path,
-    delimiter=",", skiprows=1, usecols=...) or pandas.read_csv(path)."""
+    at all (written_whole, or with the set `outputs`); the number of rows. Read it with
+    csv.DictReader, numpy.loadtxt(path, delimiter=",", skiprows=1, usecols=...) or
+    pandas.read_csv(path)."""
     count = 0
-    with written_whole(path) as out:
+    with written(path, outputs) as out:
         out.write(csv_line(header).encode("ascii"))
         for row in rows:
             out.write(csv_line(row).encode("ascii"))
@@ -6750,7 +6838,8 @@ def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
     return series
 
 
-def scene_csv(scene: Scene, series: list[Series], path: str) -> int:
+def scene_csv(scene: Scene, series: list[Series], path: str,
+              outputs: WrittenSet | None = None) -> int:
     """The scene's numbers as one CSV file, a row a point of each series (header: series, then
     CSV_HEADER): the engine's motions for a double series, every point with its status; the
     original's numbers for a basic one, with the engine's status of each position. Returns the
@@ -6771,7 +6860,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str) -> int:
                 status = statuses.get(phi) or Linkage(scene.mechanism, **scene.dimensions) \
                     .motion(phi, s.branch, 0).status
                 yield (s.name, phi, output, *values, status)
-    return write_csv(path, rows(), ("series",) + CSV_HEADER)
+    return write_csv(path, rows(), ("series",) + CSV_HEADER, outputs)
 
 
 # -- reading DAT files -------------------------------------------------------------------------
@@ -7166,7 +7255,7 @@ def _pretty(text: str) -> str:
 
 
 def png_figure(figure: Figure, path: str, dpi: float | None = None,
-               size: tuple[int, int] | None = None) -> None:
+               size: tuple[int, int] | None = None, outputs: WrittenSet | None = None) -> None:
     """Render the figure with matplotlib (the `plot` extra) into the PNG file `path`: 90 dots an
     inch (`dpi`), 648 pixels wide unless `size` (width, height in pixels) says otherwise."""
     MplFigure, FigureCanvasAgg = matplotlib_canvas()
@@ -7210,7 +7299,7 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
     import io
     image = io.BytesIO()
     mpl.savefig(image, format="png")
-    with written_whole(path) as out:            # whole or not at all, as every file written
+    with written(path, outputs) as out:         # whole or not at all, as every file written
         out.write(image.getvalue())
 
 
@@ -8019,20 +8108,50 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     _check_outputs(parser, {"--csv": args.csv, "--png": args.png}, args.dir,
                    [os.path.join(d, n) for d in (plan if len(plan) > 1 else ["."])
                     for n in DatFiles.NAMES + (DatFiles.MU,)])
+    return _reported(lambda: _scene_outputs(scene, args))
 
-    def figure(where):
+
+def _scene_outputs(scene: Scene, args: argparse.Namespace) -> None:
+    """A scene of curves: computed in a hidden folder (in --dir, or a temporary one), then its DAT
+    files (with --dir), its CSV and its PNG put in place as one set (WrittenSet: all or none),
+    then the text plot printed."""
+    import tempfile
+    if args.png:
+        matplotlib_canvas()                             # fail before any work
+    if args.dir is not None:
+        try:
+            os.makedirs(args.dir, exist_ok=True)
+        except OSError as e:
+            raise SceneError(f"cannot make the folder {args.dir!r}: {e.strerror}") from None
+    try:
+        staging = tempfile.TemporaryDirectory(prefix=".linkage-scene-", dir=args.dir)
+    except OSError as e:
+        raise SceneError(f"cannot write the DAT files in {args.dir!r}: {e.strerror}") from None
+    with staging as where:
         series = compute_scene(scene, where, say)
-        if args.dir is not None:
-            say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.dir}")
-        if args.csv:
-            say(f"wrote {args.csv} ({scene_csv(scene, series, args.csv):,} rows)")
-        return scene_figure(scene, series)
-
-    def temporary():
-        import tempfile
-        with tempfile.TemporaryDirectory(prefix="linkage-scene-") as where:
-            return figure(where)
-    return _draw_command(args, (lambda: figure(args.dir)) if args.dir is not None else temporary)
+        figure = scene_figure(scene, series)
+        text = text_figure(figure) if args.text or not args.png else ""    # may not fit
+        with WrittenSet() as outputs:
+            if args.dir is not None:
+                for s in series:
+                    family = DatFiles.NAMES + ((DatFiles.MU,) if s.precision == "double" else ())
+                    target = os.path.join(args.dir, os.path.relpath(s.directory, where))
+                    for name in family:
+                        staged = os.path.join(s.directory, name)
+                        if os.path.exists(staged):
+                            outputs.adopt(staged, os.path.join(target, name))
+                        else:
+                            outputs.removed(os.path.join(target, name))
+            rows = scene_csv(scene, series, args.csv, outputs) if args.csv else 0
+            if args.png:
+                png_figure(figure, args.png, args.dpi, args.size, outputs)
+    if args.dir is not None:
+        say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.dir}")
+    if args.csv:
+        say(f"wrote {args.csv} ({rows:,} rows)")
+    if args.png:
+        say(f"wrote {args.png}")
+    sys.stdout.write(text)
 
 
 def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:

@@ -672,7 +672,34 @@ def test_a_png_that_cannot_be_written_is_explained(tmp_path, capsys):
     path.write_text(scene_file())
     out = tmp_path / "no such folder" / "f.png"
     assert linkage.main(["scene", str(path), "--dir", str(tmp_path), "--png", str(out)]) == 1
-    assert capsys.readouterr().err.endswith(f"\nlinkage.py: {out}: No such file or directory\n")
+    assert capsys.readouterr().err == f"linkage.py: {out}: No such file or directory\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]   # the set: none of it
+
+
+def test_a_scene_writes_its_set_of_files_all_or_none(tmp_path, capsys):
+    """DAT files of every series, the CSV and the PNG: a failure of any one (here the PNG, the
+    last to be made; then the CSV) leaves the old set as it was, byte for byte."""
+    path = tmp_path / "s.toml"
+    panels = GOOD_PANELS + '[[panels]]\nquantities = ["velocity", "acceleration"]\n'
+    path.write_text(scene_file(precision='"both"', branches="[1, 2]", panels=panels))
+    out = tmp_path / "out"
+    assert linkage.main(["scene", str(path), "--dir", str(out), "--csv", str(tmp_path / "t.csv"),
+                         "--png", str(tmp_path / "f.png")]) == 0
+    def state():
+        return {p.relative_to(tmp_path): p.read_bytes() for p in sorted(tmp_path.rglob("*"))
+                if p.is_file() and p != path}
+    before = state()
+    assert len([p for p in before if p.suffix == ".DAT"]) == 12
+    path.write_text(scene_file(precision='"both"', branches="[1, 2]", panels=panels,
+                               input="{ from = 0, to = 90, step = 5 }"))
+    (tmp_path / "f.png").unlink()
+    (tmp_path / "f.png").mkdir()                             # the PNG cannot be written
+    capsys.readouterr()
+    assert linkage.main(["scene", str(path), "--dir", str(out), "--csv", str(tmp_path / "t.csv"),
+                         "--png", str(tmp_path / "f.png")]) == 1
+    assert "f.png: it is a folder" in capsys.readouterr().err
+    assert state() == {p: b for p, b in before.items() if p.name != "f.png"}
+    assert not [p for p in out.rglob(".*")]                  # no staging folder left behind
 
 
 @pytest.mark.parametrize("what, content, fragments", MISTAKES, ids=[m[0] for m in MISTAKES])
