@@ -1520,6 +1520,17 @@ class WrittenSet:
                 out.write(data)
 
 
+def staging_folder(folder: str | None):
+    """A hidden temporary folder in `folder` (the system's temporary folder for None), to write
+    a set in before WrittenSet.adopt puts it in place: on the same file system, so that the
+    renames are atomic; removed with what is left in it. OSError names `folder`."""
+    import tempfile
+    try:
+        return tempfile.TemporaryDirectory(prefix=".linkage-", dir=folder)
+    except OSError as e:
+        raise OSError(e.errno, e.strerror, folder) from None
+
+
 def written(path: str, outputs: WrittenSet | None = None):
     """written_whole(path), or the file of the set `outputs` if one is given."""
     return written_whole(path) if outputs is None else outputs.opened(path)
@@ -7887,29 +7898,39 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
     screen = Screen(lambda s: None, terminal=False,
                     soft_errors=lambda s: sys.stderr.write(s.replace("\r\n", "\n")))
     try:
-        points = answered_session(screen, key, answers, args.branch, args.dir)
+        if not args.csv:
+            points = answered_session(screen, key, answers, args.branch, args.dir)
+        else:                                   # the DAT files and the CSV as one set
+            with staging_folder(args.dir) as where, WrittenSet() as outputs:
+                points = answered_session(screen, key, answers, args.branch, where)
+                for name in DatFiles.NAMES:
+                    outputs.adopt(os.path.join(where, name), os.path.join(args.dir, name))
+                rows = _basic_csv(args, answers, where, outputs)
     except ProgramStop as stop:
         return said(stop, 1)
     except KeyboardInterrupt as e:
         return said("interrupted; the DAT files there are as they were", interrupted_status(e))
+    except OSError as e:
+        return said(f"{_unwritten(e)}; the DAT files there are as they were", 1)
     screen.show_soft_errors()
     say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)})")
     if args.csv:
-        return _reported(lambda: _basic_csv(args, answers))
+        say(f"wrote {args.csv} ({rows:,} rows)")
     return 0
 
 
 CLIPPED = "clipped"     # run --csv in basic precision: VEL or ACC written as +-3 (ERRATA K9)
 
 
-def _basic_csv(args: argparse.Namespace, answers: list[str]) -> None:
-    """run --csv, basic precision: the rows of the DAT files just written (the original's numbers:
-    zeros where it finds no position, VEL and ACC clipped to +-3), each with the accurate engine's
-    status of that position, so that a written zero that is no position can be told apart; an
-    assembled row whose VEL or ACC the original wrote as +-3, its clip (ERRATA K9), is
-    `clipped`."""
+def _basic_csv(args: argparse.Namespace, answers: list[str], where: str,
+               outputs: WrittenSet) -> int:
+    """run --csv, basic precision: the rows of the DAT files just written in `where`, as a file of
+    the set `outputs`; the rows written. The original's numbers (zeros where it finds no
+    position, VEL and ACC clipped to +-3), each with the accurate engine's status of that
+    position, so that a written zero that is no position can be told apart; an assembled row
+    whose VEL or ACC the original wrote as +-3, its clip (ERRATA K9), is `clipped`."""
     dims = {n: input_value(a).v for n, a in zip(MECHANISM_TYPES[args.type][1], answers)}
-    ang, vel, acc = (read_dat(os.path.join(args.dir, n)) for n in DatFiles.NAMES)
+    ang, vel, acc = (read_dat(os.path.join(where, n)) for n in DatFiles.NAMES)
     try:
         statuses = [m.status for m in Linkage(args.type, **dims).sweep(
             [phi for phi, _ in ang], int(args.branch), derivatives=0)]
@@ -7917,7 +7938,7 @@ def _basic_csv(args: argparse.Namespace, answers: list[str]) -> None:
         statuses = ["unknown"] * len(ang)
     rows = ((phi, psi, v, a, CLIPPED if status == ASSEMBLED and 3.0 in (abs(v), abs(a))
              else status) for (phi, psi), (_, v), (_, a), status in zip(ang, vel, acc, statuses))
-    say(f"wrote {args.csv} ({write_csv(args.csv, rows):,} rows)")
+    return write_csv(args.csv, rows, outputs=outputs)
 
 
 def _run_double(args: argparse.Namespace, numbers: dict) -> int:
@@ -8066,14 +8087,17 @@ def drawing_command(args: argparse.Namespace, make_drawing) -> int:
         if args.png:
             matplotlib_canvas()                       # fail before any work
         drawing = make_drawing()
-        for path, render in ((args.svg, lambda: svg_drawing(drawing).encode("utf-8")),
-                             (args.png, lambda: png_drawing(drawing, dpi=getattr(args, "dpi", None),
-                                                            size=getattr(args, "size", None)))):
-            if path:
-                with written_whole(path) as fh:
+        files = [(path, render) for path, render in (
+            (args.svg, lambda: svg_drawing(drawing).encode("utf-8")),
+            (args.png, lambda: png_drawing(drawing, dpi=getattr(args, "dpi", None),
+                                           size=getattr(args, "size", None)))) if path]
+        with WrittenSet() as outputs:                 # the SVG and the PNG: both or neither
+            for path, render in files:
+                with outputs.opened(path) as fh:
                     fh.write(render())
-                say(f"wrote {path} ({len(drawing.frames)} position"
-                     f"{'s' * (len(drawing.frames) > 1)})")
+        for path, _ in files:
+            say(f"wrote {path} ({len(drawing.frames)} position"
+                 f"{'s' * (len(drawing.frames) > 1)})")
         if args.text or not (args.svg or args.png):
             return show_drawing(drawing, frames=args.frames)
     return _reported(draw)
@@ -8115,7 +8139,6 @@ def _scene_outputs(scene: Scene, args: argparse.Namespace) -> None:
     """A scene of curves: computed in a hidden folder (in --dir, or a temporary one), then its DAT
     files (with --dir), its CSV and its PNG put in place as one set (WrittenSet: all or none),
     then the text plot printed."""
-    import tempfile
     if args.png:
         matplotlib_canvas()                             # fail before any work
     if args.dir is not None:
@@ -8124,7 +8147,7 @@ def _scene_outputs(scene: Scene, args: argparse.Namespace) -> None:
         except OSError as e:
             raise SceneError(f"cannot make the folder {args.dir!r}: {e.strerror}") from None
     try:
-        staging = tempfile.TemporaryDirectory(prefix=".linkage-scene-", dir=args.dir)
+        staging = staging_folder(args.dir)
     except OSError as e:
         raise SceneError(f"cannot write the DAT files in {args.dir!r}: {e.strerror}") from None
     with staging as where:

@@ -564,3 +564,27 @@ def test_a_csv_that_cannot_be_finished_leaves_the_dat_files_as_they_were(tmp_pat
                                      str(tmp_path / "t.csv")]) == 1
     assert "No space left on device" in capsys.readouterr().err
     assert snapshot(tmp_path) == before
+
+
+def test_a_basic_run_writes_its_dat_files_and_csv_all_or_none(tmp_path):
+    """run --csv in basic precision: the CSV that cannot be written (a folder in its place)
+    leaves the DAT files as they were (the set a command writes is all or nothing)."""
+    argv = ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
+            "--to", "360", "--branch", "1", "--dir", str(tmp_path)]
+    assert run(argv + ["--step", "90"], tmp_path).returncode == 0
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    (tmp_path / "t.csv").mkdir()
+    result = run(argv + ["--step", "45", "--csv", str(tmp_path / "t.csv")], tmp_path)
+    assert_clean(result)
+    assert result.returncode == 1 and b"t.csv: it is a folder" in result.stderr
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir() if p.is_file()} == before
+    assert [p.name for p in tmp_path.iterdir() if p.is_dir()] == ["t.csv"]
+
+
+def test_a_mechanism_scene_writes_its_svg_and_png_both_or_neither(tmp_path):
+    (tmp_path / "f.png").mkdir()
+    result = run(["scene", "fig1a", "--svg", str(tmp_path / "f.svg"), "--png",
+                  str(tmp_path / "f.png")], tmp_path)
+    assert_clean(result)
+    assert result.returncode == 1 and b"f.png: it is a folder" in result.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f.png"]
