@@ -12,10 +12,16 @@ reliability issue reports 10,000 key streams and 10,000 command lines, no failur
 
 from __future__ import annotations
 
+import contextlib
 import io
+import json
 import os
+import re
 import signal
+import stat
+import threading
 import typing
+from xml.etree import ElementTree
 from pathlib import Path
 
 import pytest
@@ -27,6 +33,25 @@ import linkage
 LONG_RUN = int(os.environ.get("LINKAGE_FUZZ", "0"))
 SCENES = sorted((basic_runner.ROOT / "data" / "scenes").glob("*.toml"))
 GOLDEN = basic_runner.ROOT / "data" / "golden"
+
+
+class Hung(Exception):
+    """An example that took longer than HANG seconds: the program hangs (not a speed limit)."""
+
+
+HANG = 20
+
+
+@pytest.fixture
+def no_hang():
+    """Each example within HANG seconds, else Hung (a number with a huge exponent once took
+    minutes: the port raised 10 to the exponent)."""
+    def alarm(signum, frame):
+        raise Hung(f"no answer within {HANG} s")
+    previous = signal.signal(signal.SIGALRM, alarm)
+    yield lambda: signal.setitimer(signal.ITIMER_REAL, HANG)
+    signal.setitimer(signal.ITIMER_REAL, 0)
+    signal.signal(signal.SIGALRM, previous)
 
 
 def fuzz(examples: int):
@@ -64,13 +89,18 @@ KEY_TOKENS = [b"1", b"2", b"3", b"4", b"5", b"6", b"0", b"\r", b"\n", b"\r\n", b
               b"&O", b"9", b"1e30", b"1e38", b"1e39", b"360\r", b"-90\r", b".5\r", b"10\r",
               b"\x03", b"\x7f", b"\xff", b"\x1a", b",", b"#", b"!", b"9" * 300, b" " * 300,
               b"1" + b"0" * 40, b"12\r7\r9\r6\r", b"2\r3\r4\r", b"0\r360\r45\r1",
-              b"0\r360\r45\r2", b"-1e3\r1e3\r100\r1"]
+              b"0\r360\r45\r2", b"-1e3\r1e3\r100\r1",
+              # exponents up to 10^9: GW-BASIC overflows (or underflows) at once, never builds
+              # the number (issue 22, item 2)
+              b"11D99999999\r", b"12345678E9999999\r", b"1E-999999999\r", b".1D+999999999\r",
+              b"-9E999999999\r"]
 
 
 @fuzz(600)
 @given(keys=st.binary(max_size=80) | st.lists(st.sampled_from(KEY_TOKENS), max_size=50)
        .map(b"".join))
-def test_any_keys_through_the_menu(keys, tmp_path_factory, monkeypatch):
+def test_any_keys_through_the_menu(keys, tmp_path_factory, monkeypatch, no_hang):
+    no_hang()
     folder = tmp_path_factory.mktemp("menu")
     monkeypatch.setattr(linkage.shutil, "disk_usage", lambda d: FreeSpace(300_000))  # <= 3k points
     status = linkage.redirected_program(io.BytesIO(keys), io.BytesIO(), str(folder))
@@ -85,7 +115,8 @@ def test_any_keys_through_the_menu(keys, tmp_path_factory, monkeypatch):
 VALUES = ["0", "1", "2", "-1", "7", "9", "6", "3", "60", "90", "360", "-90", "1e3", "-1e3", "1D2",
           "&H10", "&O7", ".5", "-.5", "1e", "", " ", "x", "--", "nan", "inf", "-inf", "1e308",
           "1e-308", "-1e-308", "1" * 300, "9" * 5000, "1#", "1!", "\u0663", "1e39", "1,2", "+",
-          "0.0078125", "178.99999999999997", "1e-9", "1e-300", "-0", "\x00", "1\n2"]
+          "0.0078125", "178.99999999999997", "1e-9", "1e-300", "-0", "\x00", "1\n2",
+          "12345678E9999999", "1D999999999", "-1E999999999", "1e-999999999"]
 STEPS = ["10", "45", "-30", "0", "1e30", "x", "", "1e-308", "-1e-308", "90", "-90", "1e3"]
 MECHANISMS = ["plane", "spherical", "skew", "slider", "skew-slider", "1", "5", "6", "x", ""]
 
@@ -167,7 +198,8 @@ def run_main(argv, folder: Path, capsys) -> int:
 
 @fuzz(1000)
 @given(argv=st.one_of(run_argv(), design_argv(), other_argv()))
-def test_any_command_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept):
+def test_any_command_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
+    no_hang()
     folder = tmp_path_factory.mktemp("argv")
     (folder / "sub").mkdir()
     monkeypatch.chdir(folder)
@@ -235,3 +267,130 @@ def test_any_dat_file(data, tmp_path_factory, capsys, signals_kept):
         (folder / n).write_bytes(original)
     status = run_main(["plot", str(folder)], folder, capsys)
     assert status in (0, 1)
+
+
+# ---- outputs that are not plain new files ------------------------------------------------------
+
+WRITERS = {   # a command that writes files, its outputs as {0}, {1}
+    "run basic": ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
+                  "--to", "360", "--step", "30", "--branch", "1", "--dir", ".", "--csv", "{0}"],
+    "run double": ["run", "slider", "--b", "2", "--c", "5", "--e", "1", "--from", "0", "--to",
+                   "360", "--step", "30", "--branch", "1", "--precision", "double", "--dir", ".",
+                   "--csv", "{0}"],
+    "scene of curves": ["scene", "fig3", "--dir", ".", "--csv", "{0}", "--png", "{1}"],
+    "mechanism scene": ["scene", "fig1a", "--svg", "{0}", "--png", "{1}"],
+    "design": ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--dat", ".",
+               "--svg", "{0}"],
+}
+OUTPUTS = ["fifo", "symlink", "dangling symlink", "/dev/null", "-", "new", "ANG.DAT", "twice",
+           "folder"]
+
+
+class Outputs:
+    """The output paths an example names, made in `folder`: a FIFO with a reader, a symlink to a
+    file that must not change, /dev/null, standard output, the run's own DAT file, the other
+    output's path again, a folder."""
+
+    def __init__(self, folder: Path, kinds):
+        self.folder, self.paths, self.readers = folder, [], []
+        (folder / "target.txt").write_bytes(b"keep")
+        for i, kind in enumerate(kinds):
+            path = {"fifo": f"p{i}", "symlink": f"link{i}", "dangling symlink": f"dangle{i}",
+                    "/dev/null": "/dev/null", "-": "-", "new": f"out{i}", "ANG.DAT": "ANG.DAT",
+                    "twice": self.paths[-1] if self.paths else "out", "folder": f"dir{i}"}[kind]
+            if kind == "fifo":
+                os.mkfifo(folder / path)
+                reader = threading.Thread(target=self._drain, args=(folder / path,), daemon=True)
+                reader.start()
+                self.readers.append((folder / path, reader))
+            elif kind == "symlink":
+                os.symlink(folder / "target.txt", folder / path)
+            elif kind == "dangling symlink":
+                os.symlink(folder / "nowhere" / "x", folder / path)
+            elif kind == "folder":
+                (folder / path).mkdir()
+            self.paths.append(path)
+
+    @staticmethod
+    def _drain(path: Path) -> None:
+        with open(path, "rb") as fifo:
+            while fifo.read(65536):
+                pass
+
+    def close(self) -> None:
+        """Unblock a reader whose FIFO the program never opened."""
+        for path, reader in self.readers:
+            if reader.is_alive():
+                with contextlib.suppress(OSError):
+                    os.close(os.open(path, os.O_WRONLY | os.O_NONBLOCK))
+            reader.join(timeout=10)
+            assert not reader.is_alive(), f"{path}: the FIFO is still open"
+
+
+@fuzz(80)
+@given(writer=st.sampled_from(list(WRITERS)), kinds=st.lists(st.sampled_from(OUTPUTS),
+                                                             min_size=2, max_size=2))
+@example(writer="run double", kinds=["fifo", "new"])                       # issue 22, item 3
+@example(writer="run basic", kinds=["ANG.DAT", "new"])                     # issue 22, item 5
+@example(writer="scene of curves", kinds=["new", "symlink"])               # issue 22, item 1
+def test_any_output_path(writer, kinds, tmp_path_factory, monkeypatch, capsysbinary,
+                         signals_kept, no_hang):
+    """Whatever the output names: a FIFO stays a FIFO and gets the data, a symlink's target is
+    never written through, /dev/null stays a device, the same file twice is refused before
+    anything is written, no temporary is left; no traceback, no hang."""
+    no_hang()
+    folder = tmp_path_factory.mktemp("out")
+    monkeypatch.chdir(folder)
+    outputs = Outputs(folder, kinds)
+    try:
+        argv = [a.format(*outputs.paths) for a in WRITERS[writer]]
+        try:
+            status = linkage.main(argv)
+        except SystemExit as e:                # argparse: usage errors
+            status = e.code
+        assert b"Traceback" not in capsysbinary.readouterr().err
+    finally:
+        outputs.close()
+    assert status in (0, 1, 2), (argv, status)
+    assert (folder / "target.txt").read_bytes() == b"keep"
+    assert os.path.exists("/dev/null") and stat.S_ISCHR(os.stat("/dev/null").st_mode)
+    for kind, path in zip(kinds, outputs.paths):
+        if kind == "fifo":
+            assert stat.S_ISFIFO(os.lstat(folder / path).st_mode)
+    used = kinds[:2 if "{1}" in WRITERS[writer] else 1]
+    if "ANG.DAT" in used and writer != "mechanism scene":     # --dir's own file (the mechanism
+        assert status == 2                                     # scene writes none)
+    if used[1:] == ["twice"] and outputs.paths[0] not in ("/dev/null", "-"):
+        assert status == 2                                     # the same file twice
+    if writer == "mechanism scene":                            # a PNG may be named ANG.DAT
+        assert not [p for p in folder.rglob(".*")]
+    else:
+        assert_whole(folder, status)
+
+
+# ---- what a scene's title can hold ---------------------------------------------------------------
+
+@fuzz(60)
+@given(title=st.text(st.characters(codec="utf-8", exclude_categories=["Cs"]), max_size=30),
+       mechanism=st.booleans())
+@example(title="\x1b]0;pwned\x07\x1b[2J<&>", mechanism=True)               # issue 22, item 4
+def test_any_title_reaches_the_terminal_and_svg_printable(title, mechanism, tmp_path_factory,
+                                                          monkeypatch, capsys, signals_kept):
+    folder = tmp_path_factory.mktemp("title")
+    monkeypatch.chdir(folder)
+    scene = SCENES[[p.stem for p in SCENES].index("fig1a-plane-four-bar" if mechanism
+                                                  else "fig3-plane-four-bar")]
+    text = scene.read_text()
+    text = re.sub(r'^title = .*$', lambda m: "title = " + json.dumps(title), text, flags=re.M)
+    (folder / "s.toml").write_text(text, encoding="utf-8")
+    argv = ["scene", "s.toml", "--text"] + (["--frames", "1", "--svg", "s.svg"] if mechanism else [])
+    try:
+        status = linkage.main(argv)
+    except SystemExit as e:
+        status = e.code
+    out, err = capsys.readouterr()
+    assert "Traceback" not in err
+    if status == 0:
+        assert all(c.isprintable() or c == "\n" for c in out), repr(out[:200])
+        if mechanism:
+            ElementTree.parse(folder / "s.svg")                # well-formed XML
