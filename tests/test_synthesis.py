@@ -1412,3 +1412,46 @@ def test_a_scene_refuses_bad_marked_positions(tmp_path, marked, message):
                     .replace(f"marked = {marked}", "marked = [30]") + 'precision = "double"\n')
     with pytest.raises(s.SceneError, match="no marked: marked positions are drawn by a mechanism"):
         s.load_scene(str(path))
+
+
+# == DRAGLINK-2 where dpsi ~ dphi: the misses are the data's conditioning (issue 22, item 10) =====
+
+def _draglink_2_exact(dphi, dpsi, lam):
+    """DRAGLINK-2's link ratios a/d, b/d, c/d (review letters) for lambda, in 50 digits from the
+    data as doubles: the review's step 5, independent of linkage.py's arithmetic."""
+    mp = pytest.importorskip("mpmath")
+    with mp.workdps(50):
+        half = mp.pi / 360
+        t, u = mp.tan(mp.mpf(dphi) * half), mp.tan(mp.mpf(dpsi) * half)
+        dl = (mp.mpf(dphi) - mp.mpf(dpsi)) * half
+        eps = mp.mpf(lam) / (u * t)
+        return (float(mp.sin(mp.mpf(dpsi) * half) / mp.sin(dl) * mp.sqrt(1 + t * t * eps * eps)),
+                float(abs(u * t * eps)),
+                float(mp.sin(mp.mpf(dphi) * half) / mp.sin(dl) * mp.sqrt(1 + u * u * eps * eps)))
+
+
+@settings(SETTINGS, max_examples=int(os.environ.get("SYNTHESIS_EXAMPLES", "25")) // 2)
+@example(263.6237778003716, 0.0001898478902768632, None)        # crank and output 6e5 x frame
+@example(209.12127858040645, 0.0005764943954265948, 0.6273415056958008)
+@given(st.floats(91, 269), st.floats(-4.5, -0.5), st.one_of(st.none(), st.floats(0, 1)))
+def test_draglink_2_misses_near_dpsi_equal_dphi_are_rounding_limited(dphi, log_dl, log_lam):
+    """dpsi a hair under dphi makes the crank and output up to ~1e6 times the frame: the designed
+    lengths are within 4 ulp of the exact ones (the formulas cancel nothing), and every check
+    misses by at most 1e-9 degree plus twice what one rounding of the lengths moves it
+    (rounding_floor): what is left is the data's conditioning, not the method's arithmetic."""
+    dpsi = dphi - 10 ** log_dl
+    try:
+        result = s.draglink_2(dphi, dpsi, None if log_lam is None else 10 ** log_lam)
+    except s.DesignError:
+        return
+    for design in result.solutions:
+        exact = _draglink_2_exact(dphi, dpsi, design.review["lambda"])
+        got = (design.linkage.b, design.linkage.c, design.linkage.d)
+        assert all(abs(g - e) <= 4 * math.ulp(e) for g, e in zip(got, exact)), (got, exact)
+        checks = s.analyze_design(design)
+        floor = s.rounding_floor(design, checks)
+        target = {"deg": ANGLE_TARGET, "rotation": ANGLE_TARGET, "ratio": ANGLE_TARGET,
+                  "length": LENGTH_TARGET * max(design.linkage[:4])}
+        bad = [(c.name, c.miss, floor[c.name]) for c in checks
+               if not c.miss <= target[c.unit] + 2 * floor[c.name]]
+        assert not bad, bad
