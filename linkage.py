@@ -8131,7 +8131,10 @@ def design_command(argv):
     if argv[:1] == ["design"]:
         argv = argv[1:]
     try:
-        args = _design_parser().parse_args(argv)
+        parser = _design_parser()
+        args = parser.parse_args(argv)
+        _check_outputs(parser, {"--scene": args.scene, "--svg": args.svg, "--png": args.png},
+                       args.dat, DatFiles.NAMES)
         function, method = METHODS[args.method]
         result = function(**{datum.name: getattr(args, datum.name) for datum in DATA[method]
                              if getattr(args, datum.name) is not None})
@@ -8191,7 +8194,8 @@ def design_command(argv):
             with written_whole(args.scene) as fh:
                 fh.write(scene_text(scene, f"python3 linkage.py design {' '.join(argv)}")
                          .encode("utf-8"))
-            say(f"wrote {args.scene} (a scene: python3 linkage.py scene {args.scene})")
+            if args.scene != "-":
+                say(f"wrote {args.scene} (a scene: python3 linkage.py scene {args.scene})")
         failed = _reported(write_scene)
         if failed:
             return failed

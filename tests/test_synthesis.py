@@ -1143,6 +1143,8 @@ def test_command_every_example(capsys):
     (["fourb-fg2-1", "--phij", "60", "--psij", "60", "--phi0", "50", "--a", "4", "--c", "2"],
      "psij = phij"),
     (["fourb-cr-1", "--theta", "10", "--psi", "50"], "required: --theta0"),
+    (["fourb-cr-4", "--psi", "60", "--mu-min", "40", "--svg", "same.svg", "--scene", "same.svg"],
+     "--scene: the same file twice"),
     (["fourb-fg2-1", "--phij", "153.67990628555174", "--psij", "-252.4631485065922", "--phi0",
       "173.0948865991486", "--a", "7.811462839092383", "--c", "5.649811005185785", "--analyze"],
      "turns 107.537, not -252.4631485065922"),
