@@ -32,6 +32,7 @@ import dataclasses
 import decimal
 import fractions
 import functools
+import json
 import math
 import os
 import re
@@ -4025,8 +4026,8 @@ MECHANISM_EXAMPLES = {
 # hatching; axis: a shaft axis (dash-dot); path: a joint's traced path (dotted); hidden: a link
 # behind the sphere (dashed); outline: the sphere; dimension: a dimension line (thin).
 STROKE_STYLES = ("link", "ground", "hatch", "axis", "path", "hidden", "outline", "dimension",
-                 "coupler", "coupler-other", "coupler-follow")   # the coupler curve of the frames'
-#                                         branch, of the other, of the motion followed
+                 "coupler", "coupler-other", "coupler-follow",   # the coupler curve of the frames'
+                 "marked")      # branch, of the other, of the motion followed; a marked position
 
 # Oblique views (azimuth, elevation in degrees) of the 3-D linkages: the input axis z upright on
 # the page, seen from a little above.
@@ -4340,6 +4341,26 @@ def _with_coupler_point(linkage, pose, layer, point):
                  layer.marks + (Mark(project(kind, point), "point", "P"),), layer.labels)
 
 
+def _with_marked(linkage, ground, phis, branch, size):
+    """The ground with the linkage's moving links at each input angle of `phis` drawn faint
+    ("marked") and numbered 1, 2, ... beyond the output pin (or the slider's pin)."""
+    strokes, labels = list(ground.strokes), list(ground.labels)
+    kind = linkage.kind
+    for number, phi in enumerate(phis, 1):
+        pose = joint_positions(linkage, phi, branch)
+        links = _links(linkage, pose, size)
+        strokes += [s._replace(style="marked") for s in links.strokes]
+        output = "C" if linkage.is_slider else "B"
+        if output in pose.joints:
+            pin = project(kind, pose.joints[output])
+            away = project(kind, pose.joints["A"]) if linkage.is_slider else \
+                project(kind, pose.joints["B0"])
+            direction = _page_normal(away, pin)          # along away -> pin: its normal's
+            labels.append(Label(_shifted(pin, (direction[1], -direction[0]), 0.9 * size),
+                                str(number)))
+    return Layer(tuple(strokes), ground.marks, tuple(labels))
+
+
 def _coupler_curves(linkage, phis, coupler, motions, branch, traced):
     """The coupler point's curve as page strokes, broken where the linkage does not assemble:
     "coupler" on the frames' `motions` (of `branch`), then "coupler-other" on each branch of
@@ -4373,14 +4394,15 @@ def _extent(points):
 
 def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None = None,
                       subtitle: str | None = None, coupler: tuple | None = None,
-                      traced: tuple = ()) -> Drawing:
+                      traced: tuple = (), marked: tuple = ()) -> Drawing:
     """The linkage drawn at each input angle of `phis` (degrees) on `branch`: one Frame a pose
     over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS).
 
     coupler (u, v): the point of Linkage.coupler drawn on the coupler in each frame, its curve
     traced over the sweep on `branch` (solid) and on each branch of `traced` (dashed; FOLLOW:
     the motion followed from `branch`), and the transmission angle told in each caption and
-    charted along the sweep (Drawing.chart)."""
+    charted along the sweep (Drawing.chart). marked: input angles at which the linkage is drawn
+    faint under every frame, numbered 1, 2, ... at the output (a design's positions)."""
     kind = linkage.kind
     if coupler is not None:
         coupler = check_coupler_point(linkage, *coupler)
@@ -4405,6 +4427,8 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
     size = 0.07 * span if kind == SPHERICAL_FOUR_BAR else max(          # symbols not hiding a
         0.035 * span, min(0.07 * span, 0.6 * min(links)))               # short crank
     ground = _GROUNDS[kind](linkage, poses, size)
+    if marked:
+        ground = _with_marked(linkage, ground, marked, branch, size)
     points, mus, chart = [None] * len(poses), [None] * len(poses), None
     if coupler is not None:
         motions = [Motion(pose.phi, pose.output, None, None, pose.status) for pose in poses]
@@ -4438,11 +4462,11 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
 
 # Strokes drawn first to last (later ones win a shared ASCII cell), and each style's dash
 # pattern in dots along the stroke (on, off, ...); styles not listed are solid.
-_TEXT_ORDER = ("outline", "path", "axis", "dimension", "hidden", "coupler-follow",
+_TEXT_ORDER = ("outline", "path", "axis", "dimension", "marked", "hidden", "coupler-follow",
                "coupler-other", "coupler", "hatch", "ground", "link")
 _TEXT_DASHES = {"outline": (1, 1), "path": (1, 2), "axis": (4, 2, 1, 2), "dimension": (1, 1),
                 "coupler-other": (3, 3), "coupler-follow": (1, 2),
-                "hidden": (2, 2)}
+                "hidden": (2, 2), "marked": (1, 1)}
 _BRAILLE_BITS = ((0x01, 0x02, 0x04, 0x40), (0x08, 0x10, 0x20, 0x80))    # [column][row]
 _TEXT_MARKS = {True: {"joint": "●", "pivot": "◉", "point": "◆"},
                False: {"joint": "o", "pivot": "@", "point": "*"}}
@@ -4675,6 +4699,7 @@ polyline.dimension{stroke:#7a7a7a;stroke-width:0.9}
 polyline.coupler{stroke:#c0392b;stroke-width:2}
 polyline.coupler-other{stroke:#e67e22;stroke-width:2;stroke-dasharray:8 5}
 polyline.coupler-follow{stroke:#8e44ad;stroke-width:2.4;stroke-dasharray:2 4}
+polyline.marked{stroke:#2e8b57;stroke-width:2;stroke-dasharray:5 3}
 polyline.chart{stroke:#2f6db3;stroke-width:1.6}
 polyline.grid{stroke:#ccc;stroke-width:1}
 .joint,.pivot{fill:#fff;stroke:#1b1b1b;stroke-width:2}
@@ -4823,7 +4848,8 @@ _PNG_STYLES = {"link": dict(color="#1b1b1b", linewidth=2.4),
                "dimension": dict(color="#7a7a7a", linewidth=0.7),
                "coupler": dict(color="#c0392b", linewidth=1.6),
                "coupler-other": dict(color="#e67e22", linewidth=1.6, linestyle="--"),
-               "coupler-follow": dict(color="#8e44ad", linewidth=1.8, linestyle=":")}
+               "coupler-follow": dict(color="#8e44ad", linewidth=1.8, linestyle=":"),
+               "marked": dict(color="#2e8b57", linewidth=1.4, linestyle="--")}
 
 
 def _png_layer(ax, layer: Layer, alpha: float, letters: bool) -> None:
@@ -4953,7 +4979,7 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
 # transmission-angle extremes. Corrections to the review are marked `# ERRATUM Sn` and justified
 # in SYNTHESIS_ERRATA.md.
 #
-# Uses: sections 4 and 5 (the engine checks every design; a design drawn).
+# Uses: section 4 (the engine checks every design; scenes draw a design, section 9).
 
 
 _R = math.pi / 180.0                    # radians per degree
@@ -5337,7 +5363,8 @@ def _deviation(design):
 
 def _crank_rocker(method, data, a, b, c, d, theta0, psi0, theta, psi, review):
     """Normalise a crank-rocker (review letters, d = frame) to d = 1, convert it, check that it is
-    a crank-rocker, and give its dead-centre positions: extended (theta0, psi0), folded."""
+    a crank-rocker, and give its dead-centre positions: extended (theta0, psi0), folded (theta0 +
+    180 + theta, psi0 + psi), as the data state them (not brought into one turn)."""
     _require_lengths(a_crank=a, b_coupler=b, c_rocker=c, d_frame=d)
     a, b, c = a / d, b / d, c / d
     link = four_bar_from_review(a, b, c, 1.0)
@@ -5347,8 +5374,7 @@ def _crank_rocker(method, data, a, b, c, d, theta0, psi0, theta, psi, review):
     # ERRATUM S11: both dead centres must lie on one assembly branch: the sine rule also accepts
     # a folded position on the mirror branch, where this linkage's real folded dead centre is
     # elsewhere.
-    positions = ((theta0 % 360.0, _wrap(psi0)),
-                 ((theta0 + 180.0 + theta) % 360.0, _wrap(psi0 + psi)))
+    positions = ((theta0, psi0), (theta0 + 180.0 + theta, psi0 + psi))
     branches = [_branch_at(link, phi, psi_) for phi, psi_ in positions]
     _require(branches[0] == branches[1],
              f"{method}: branch defect: the extended and folded dead centres of a = {a:.6g}, "
@@ -5408,8 +5434,9 @@ def fourb_cr_1(theta, psi, theta0):
         alpha = alpha + 180.0 if alpha <= 0 else alpha - 180.0
     psi0 = _wrap(theta0 + alpha)
     a, b, c = _chen_links(method, theta, psi, theta0, psi0, alpha)
-    return _one(_crank_rocker(method, data, a, b, c, 1.0, theta0, psi0, theta, psi,
-                              {"psi0": psi0}))
+    turns = data["theta0"] - theta0                      # whole turns: the position as given
+    return _one(_crank_rocker(method, data, a, b, c, 1.0, data["theta0"], psi0 + turns, theta,
+                              psi, {"psi0": psi0}))
 
 
 @_method("FOURB-CR-2")
@@ -5443,7 +5470,8 @@ def fourb_cr_2(theta, psi, psi0):
             theta0 = _wrap(math.fsum((psi0, -theta, psi / 2, two)) / 2 + turn)
             try:
                 a, b, c = _chen_links(method, theta, psi, theta0, psi0, alpha)
-                solutions.append(_crank_rocker(method, data, a, b, c, 1.0, theta0, psi0, theta,
+                solutions.append(_crank_rocker(method, data, a, b, c, 1.0,
+                                               theta0 + data["psi0"] - psi0, data["psi0"], theta,
                                                psi, {"theta0": theta0}))
             except DesignError as error:                  # step 8: only all-positive links
                 rejected.append(f"theta0 = {theta0:.6g}: {error}")
@@ -5659,7 +5687,8 @@ def draglink_1(dpsi0, mu_min):
     else:
         raise DesignError(f"{method}: on neither branch does the output turn dpsi0 = {dpsi0:g}")
     link = link._replace(branch=branch)
-    positions = ((0.0, _wrap(psi_1)), (180.0, _wrap(psi_2)))
+    psi_1 = _wrap(psi_1)                 # the second as the first plus the turn (to rounding)
+    positions = ((0.0, psi_1), (180.0, psi_1 + dpsi0 + _wrap(psi_2 - psi_1 - dpsi0)))
     return _one(Design(method, data, link, review, positions, None,
                        review["mu_min"], review["mu_max"]))
 
@@ -5740,7 +5769,7 @@ def _draglink_2_design(method, data, dphi, dpsi, lam):
     link = link._replace(branch=positions[0][2])
     psi1 = _wrap(positions[0][1])
     return Design(method, data, link, review,
-                  ((phi1, psi1), (phi1 + dphi, _wrap(psi1 + dpsi))), None,
+                  ((phi1, psi1), (phi1 + dphi, psi1 + dpsi)), None,
                   review["mu_min"], review["mu_max"])
 
 
@@ -5777,6 +5806,27 @@ def _travel_problem(link, positions):
     except DesignError as error:
         return str(error)
     return None
+
+
+def _output_turn(link, phi_from, phi_to, psi_from, psi_to):
+    """The output's turn (degrees, signed) while the crank turns from phi_from to phi_to on one
+    branch with no dead centre of the input between, the output at psi_from and psi_to: the turn
+    of the diagonal from the output pivot to the crank pin (exact: for b >= a it turns with the
+    crank, arg(b - a e^-i phi) staying within 90 degrees; for b < a, arg(a - b e^i phi) does),
+    plus the change of the angle between diagonal and output, which keeps its sign (it is 0 or
+    180 only where coupler and output are in line) and so changes by less than 180."""
+    def diagonal(phi):
+        """arg(B - O4) less the part that turns with the crank (b >= a) or less 180 (b < a)."""
+        x, y = math.cos(phi * _R), math.sin(phi * _R)
+        if link.b >= link.a:
+            return _deg(math.atan2(link.a * y, link.b - link.a * x))
+        return _deg(math.atan2(-link.b * y, link.a - link.b * x))
+
+    turns = phi_to - phi_from if link.b >= link.a else 0.0
+    ends = [(phi, diagonal(phi) + (phi if link.b >= link.a else 180.0))
+            for phi in (phi_from, phi_to)]
+    gamma = [_wrap(psi - direction) for psi, (_, direction) in zip((psi_from, psi_to), ends)]
+    return turns + diagonal(phi_to) - diagonal(phi_from) + gamma[1] - gamma[0]
 
 
 def _travel_transmission(link, lo, hi):
@@ -5827,12 +5877,20 @@ def fourb_fg2_1(phij, psij, phi0, a, c):
             rejected.append(f"psi0 = {psi0:.6g}: {error}")
             continue
         link = four_bar_from_review(a, b, c, 1.0)
-        positions = ((phi0, psi0), (phi0 + phij, _wrap(psi0 + psij)))
+        positions = ((phi0, psi0), (phi0 + phij, psi0 + psij))
         problem = _travel_problem(link, positions)
         if problem:
             rejected.append(f"psi0 = {psi0:.6g}, b = {b:.6g}: {problem}")
             continue
         link = link._replace(branch=_branch_at(link, phi0, psi0))
+        # The equations cannot tell psij from psij -+ 360 (nor phij from phij -+ 360): the root
+        # meets the positions; the output's turn along the crank's motion must be psij itself.
+        turn = _output_turn(link, phi0, phi0 + phij, psi0, psi0 + psij)
+        if abs(turn - psij) > 180.0:
+            rejected.append(f"psi0 = {psi0:.6g}, b = {b:.6g}: while the crank turns "
+                            f"{_g(phij)} the output turns {turn:.6g}, not {_g(psij)}: it meets "
+                            f"the position, not the motion")
+            continue
         travel = (min(phi0, phi0 + phij), max(phi0, phi0 + phij))
         mu_min, mu_max = _travel_transmission(link, *travel)
         review = {"a": a, "b": b, "c": c, "d": 1.0, "psi0": psi0}
@@ -5891,8 +5949,8 @@ def fourb_fg3_1(phi, psi):
                                                                 x)))))
            for x in phis]
     # The review's output angle is measured from the opposite direction (S7): paper psi =
-    # psi - 180.
-    positions = tuple((phi, _wrap(psi - 180.0)) for phi, psi in zip(phis, psis))
+    # psi - 180 (design_lines shows it as given: ASKED_ANGLES).
+    positions = tuple((phi, psi - 180.0) for phi, psi in zip(phis, psis))
     link = four_bar_from_review(a, b, c, 1.0)
     problem = _travel_problem(link, positions)
     review = {f"A{i + 1}{j + 1}": matrix[i][j] for i in range(3) for j in range(3)}
@@ -6258,9 +6316,11 @@ def analyze_design(design):
         for i, (phi, psi) in enumerate(design.positions, 1):
             add(f"position{i}_psi", _output(link, phi), psi)
             if i > 1:
-                # modulo 360: the methods' equations (cosines, half-angle sines) cannot tell
-                # a rotation from one 360 degrees less
-                add(f"rotation_1_to_{i}", output_change(link, first_phi, phi), rotations[i - 2])
+                # FOURB-FG2-1 prescribes a motion, psij: the turn itself (its equations cannot
+                # tell psij from psij -+ 360, the method checks the turn); FOURB-FG3-1
+                # prescribes positions: their differences, modulo 360
+                add(f"rotation_1_to_{i}", output_change(link, first_phi, phi), rotations[i - 2],
+                    "rotation" if "psij" in data else "deg")
             if f"mu{i}" in design.review:
                 add(f"position{i}_mu", measured_transmission_angle(link, phi, _output(link, phi)),
                     design.review[f"mu{i}"])
@@ -6349,24 +6409,96 @@ METHODS = {  # the command's name: (function, the method's name in DATA)
 }
 
 
+ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
+               "towards the output pivot B0)")
+METHOD_HELP = {  # each method's --help: what it designs from what (the data: DATA)
+    "FOURB-CR-1": "A crank-rocker (Chen; Pamidi) whose rocker swings through psi while the crank "
+                  "turns 180 + theta from the extended dead centre (crank and coupler in line) to "
+                  "the folded one, the crank at theta0 at the extended one.",
+    "FOURB-CR-2": "A crank-rocker (Chen; Pamidi) whose rocker swings through psi while the crank "
+                  "turns 180 + theta from the extended dead centre (crank and coupler in line) to "
+                  "the folded one, the rocker at psi0 at the extended one; up to two linkages.",
+    "FOURB-CR-3": "A crank-rocker (Freudenstein & Primrose) whose rocker swings through psi "
+                  "while the crank turns 180 + theta from the extended dead centre to the folded "
+                  "one, with the least greatest deviation of the transmission angle from 90 "
+                  "degrees.",
+    "FOURB-CR-4": "A centric crank-rocker (Brodell & Soni: theta = 0, the crank turning 180 "
+                  "degrees each way) whose rocker swings through psi, with least transmission "
+                  "angle mu_min.",
+    "FOURB-CR-4 (Volmer)": "The centric crank-rocker of FOURB-CR-4 by Volmer's equations (6a-c): "
+                           "rocker swing psi, least transmission angle mu_min.",
+    "DRAGLINK-1": "A drag-link (Bagci: frame shortest, crank and output turning fully) whose "
+                  "output turns dpsi0 while the crank turns 180 degrees from the frame line "
+                  "(phi = 0) to its extension (phi = 180), with transmission angle mu_min at "
+                  "phi = 0 and 180 - mu_min at phi = 180.",
+    "DRAGLINK-2": "A drag-link (Tsai: frame shortest) with unit velocity ratio (output as fast as "
+                  "the crank) at two positions dphi apart on the crank and dpsi on the output; "
+                  "lambda = coupler / frame given, or chosen for the transmission angle closest "
+                  "to 90 degrees.",
+    "FOURB-FG2-1": "A four-bar function generator (Chiang): while the crank turns through phij "
+                   "from phi0 the output turns through psij (signed, counter-clockwise positive: "
+                   "the motion itself, not only the end position), for a given crank a and "
+                   "output c (frame 1); finds the coupler and the output's start psi0. Up to two "
+                   "linkages.",
+    "FOURB-FG3-1": "A four-bar function generator (Freudenstein's equation) through three "
+                   "positions: the output at psi1, psi2, psi3 when the crank is at phi1, phi2, "
+                   "phi3. The output angles are the review's: measured from the opposite "
+                   "direction to the program's, which are 180 less.",
+    "SLID-FG2-1": "A slider-crank (Chen) whose slider moves ds between its dead centres while the "
+                  "crank turns dtheta from the outer to the inner one, for a chosen offset "
+                  "epsilon (the slider's line is y = -epsilon: the program's e = -epsilon).",
+    "SLID-FG2-2": "A slider-crank (Chen) through its two dead centres: the crank at theta1 with "
+                  "the slider at s1 (outer), the crank pin in the direction theta2 with the "
+                  "slider at s2 (inner; the crank itself at theta2 - 180). The two must agree: "
+                  "s1 tan(theta1) = s2 tan(theta2).",
+}
+DESIGN_OUTPUT_HELP = (
+    "Prints, a `name = value` line each: the data; per solution the linkage in the program's "
+    "letters, as `run` takes them (four-bars: a the fixed link = 1, b the input crank, c the "
+    "coupler, d the output crank; slider-cranks: b the crank, c the rod, e the offset of the "
+    "slider's line y = e), its branch (run --branch), the design positions (phi the crank, psi "
+    "the output, x the slider; angles as the data give them), the transmission angle's extremes "
+    "mu_min and mu_max; then, labelled review, the review's own numbers in its letters. Exit 0, "
+    "1 for data no design meets, 2 for a usage error, 3 when --analyze finds a miss.")
+
+
 def datum_help(datum):
     """The help of a datum: what it is, its valid range, the values refused in it (DATA)."""
     refused = "".join(f"; refused: {reason}" for reason, _ in datum.excluded)
     return f"{datum.meaning}; in {range_text(datum)}{refused}"
 
 
+# The angles a method's data measure otherwise than the program (the crank angle phi and the
+# output angle psi counter-clockwise from the frame line, the output pivot at (a, 0)): (method,
+# coordinate): what the program's angle is added to, to give the data's, and what it means.
+ASKED_ANGLES = {
+    ("FOURB-FG3-1", "psi"): (180.0, "as given: the review's output angle, measured from the "
+                                    "opposite direction; the program's psi is 180 less"),
+}
+REVIEW_LETTERS = {FourBar: "a crank, b coupler, c output, d frame",
+                  SliderCrank: "r crank, l rod, epsilon offset (the slider on y = -epsilon)"}
+
+
+def letters(link):
+    """The program's letters of a designed linkage and their meanings, as `run` takes them."""
+    names = ("a", "b", "c", "d") if isinstance(link, FourBar) else ("b", "c", "e")
+    return ", ".join(f"{n} {DIMENSION_NAMES[n].removeprefix('the ')}" for n in names)
+
+
 def design_lines(design):
-    """The `name = value` lines of one design: the paper's letters, branch, the review's
-    unknowns, the design positions and the transmission-angle extremes."""
+    """The `name = value` lines of one design, in the program's letters and angles: the lengths,
+    the branch, the design positions (angles as the data give them: ASKED_ANGLES) and the
+    transmission angle's extremes."""
     link = design.linkage
     names = ("a", "b", "c", "d") if isinstance(link, FourBar) else ("b", "c", "e")
     lines = [f"{n} = {value_text(getattr(link, n))}" for n in names]
     lines.append(f"branch = {link.branch}")
-    lines += [f"review.{k} = {value_text(v)}" for k, v in design.review.items()]
-    for i, (phi, out) in enumerate(design.positions, 1):
-        lines.append(f"position{i}.phi = {value_text(phi)}")
-        lines.append(f"position{i}.{'psi' if isinstance(link, FourBar) else 'x'} = "
-                     f"{value_text(out)}")
+    output = "psi" if isinstance(link, FourBar) else "x"
+    for i, position in enumerate(design.positions, 1):
+        for name, value in zip(("phi", output), position):
+            shift, note = ASKED_ANGLES.get((design.method, name), (0.0, ""))
+            lines.append(f"position{i}.{name} = {value_text(value + shift)}"
+                         + (f"  # {note}" if note else ""))
     if design.travel is not None:
         lines.append(f"travel.from = {value_text(design.travel[0])}")
         lines.append(f"travel.to = {value_text(design.travel[1])}")
@@ -6375,15 +6507,30 @@ def design_lines(design):
     return lines
 
 
-def design_drawing(result) -> Drawing:
-    """The preferred solution of a Synthesis drawn at its design positions."""
-    link = result.design.linkage
-    kind, dims = kind_and_dimensions(link)
-    text = " ".join(f"{k}={v:.4g}" for k, v in dims.items())
-    return mechanism_drawing(Linkage(kind, **dims), [phi for phi, _ in result.design.positions],
-                             link.branch, f"{result.method}: {text}",
-                             f"{MECHANISM_NAMES[kind]}; branch {link.branch}; the "
-                             f"{len(result.design.positions)} design positions")
+def review_lines(design):
+    """The review's own unknowns of one design, under its names and letters: a second block,
+    labelled, apart from design_lines."""
+    return ([f"review = its own numbers, in its letters: {REVIEW_LETTERS[type(design.linkage)]}"]
+            + [f"review.{k} = {value_text(v)}" for k, v in design.review.items()])
+
+
+def whole_motion(design, step=5.0):
+    """The input angles (from, to, step in degrees) over which the designed linkage moves: a
+    full turn from the first design position when its crank turns fully, else from one limit
+    of the input to the next across the design's travel (half a step inside each, where the
+    position still exists)."""
+    link = design.linkage
+    first = design.positions[0][0]
+    limits = [] if isinstance(link, SliderCrank) else _limit_angles(link)
+    if not limits or (isinstance(link, FourBar)
+                      and grashof_type(link) in ("crank-rocker", "drag-link")):
+        return first, first + 360.0 - step, step
+    lo = min(phi for phi, _ in design.positions)
+    below = max(lo - (lo - x) % 360.0 for x in limits)
+    above = min(lo + (x - lo) % 360.0 for x in limits if (x - lo) % 360.0 > 0)
+    count = max(24, math.ceil((above - below) / step))
+    step = (above - below) / count
+    return below + step / 2, above - step / 2, step
 
 
 # ---- 7. Scenes and plots: the paper's Figures 3-6 ------------------------------------------------
@@ -6425,6 +6572,8 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "coupler": "[u] or [u, v], a mechanism scene's point of the coupler (as run --coupler): "
                "drawn on the coupler, its curve traced on each branch, the transmission angle "
                "charted",
+    "marked": "a list of input angles (degrees): a mechanism scene's positions drawn faint under "
+              "every frame and numbered 1, 2, ... (design --scene writes the design positions)",
 }
 REQUIRED_SCENE_KEYS = ("mechanism", "dimensions", "input", "branches", "panels")
 QUANTITIES = ("displacement", "velocity", "acceleration", "transmission")
@@ -6476,6 +6625,7 @@ class Scene:
     panels: tuple[PanelSpec, ...]
     fast: bool = False               # the double series by Linkage.sweep_arrays
     coupler: tuple[float, float] | None = None   # a mechanism scene's coupler point (u, v)
+    marked: tuple[float, ...] = ()   # a mechanism scene's input angles drawn faint and numbered
 
     @property
     def transmission(self) -> bool:
@@ -6569,10 +6719,10 @@ def load_scene(path: str) -> Scene:
                                "coupler curve of the others given, \"follow\" among them)",
                                branches)
         return _mechanism_scene(path, data, dims, start, stop, step, tuple(branches))
-    if "coupler" in data:
-        raise _scene_error(path, "coupler", "no coupler: a coupler point is drawn by a "
-                           "mechanism scene (panels = [{quantities = [\"mechanism\"]}])",
-                           data["coupler"])
+    for key, what in (("coupler", "a coupler point is"), ("marked", "marked positions are")):
+        if key in data:
+            raise _scene_error(path, key, f"no {key}: {what} drawn by a mechanism scene "
+                               "(panels = [{quantities = [\"mechanism\"]}])", data[key])
     if "precision" not in data:
         raise SceneError(f"{path}: key 'precision' is missing: expected {SCENE_KEYS['precision']}")
     precision = data["precision"]
@@ -6737,8 +6887,13 @@ def _mechanism_scene(path, data, dims, start, stop, step, branches) -> Scene:
         except ValueError as e:
             raise _scene_error(path, "coupler", f"a point of this coupler: {e}", data["coupler"]) \
                 from None
+    marked = data.get("marked", [])
+    if not (isinstance(marked, list) and len(marked) <= MAX_FRAMES
+            and all(_is_number(v) for v in marked)):
+        raise _scene_error(path, "marked", SCENE_KEYS["marked"], marked)
     return Scene(path, _scene_title(path, data), data["mechanism"], dims, start, stop, step,
-                 branches, ("double",), (spec,), coupler=coupler)
+                 branches, ("double",), (spec,), coupler=coupler,
+                 marked=tuple(float(v) for v in marked))
 
 
 # -- computing a scene: the DAT files ----------------------------------------------------------
@@ -7326,13 +7481,44 @@ def scene_drawing(scene: Scene) -> Drawing:
             Linkage(scene.mechanism, **scene.dimensions), scene.angles(), branch,
             f"{scene.title}: {dims}", f"{MECHANISM_NAMES[scene.mechanism]}; branch {branch} "
             f"({'A+B' if branch == 1 else 'A-B'})"
-            + ("" if scene.coupler else "; positions by the accurate engine"),
-            scene.coupler, scene.branches[1:])
+            + ("" if scene.coupler else "; positions by the accurate engine")
+            + (f"; marked: {len(scene.marked)} positions, faint and numbered" if scene.marked
+               else ""),
+            scene.coupler, scene.branches[1:], scene.marked)
     except ValueError as e:
         raise _scene_error(scene.path, "dimensions", f"dimensions that can be drawn: {e}") \
             from None
     _check_assembles(scene, [frame.pose for frame in drawing.frames])
     return drawing
+
+
+def _toml_string(text: str) -> str:
+    """A TOML basic string of text (its escapes are JSON's, and DEL too)."""
+    return json.dumps(text).replace("\x7f", "\\u007f")
+
+
+def scene_text(scene: Scene, comment: str = "") -> str:
+    """A mechanism scene as the TOML that load_scene reads back into the same scene: the file
+    a user can edit and run (`scene FILE`); `comment` (one line) heads it."""
+    if not scene.draws_mechanism:
+        raise ValueError("scene_text writes mechanism scenes")
+
+    def numbers(values):
+        return ", ".join(repr(float(v)) for v in values)
+    dims = ", ".join(f"{k} = {float(v)!r}" for k, v in scene.dimensions.items())
+    lines = [f"# {printable(comment)}"] if comment else []
+    lines += [f"title = {_toml_string(scene.title)}", f"mechanism = {_toml_string(scene.mechanism)}",
+              f"dimensions = {{ {dims} }}",
+              f"input = {{ from = {scene.start!r}, to = {scene.stop!r}, step = {scene.step!r} }}",
+              "branches = [" + ", ".join(json.dumps(b) for b in scene.branches) + "]"]
+    if scene.coupler is not None:
+        lines.append(f"coupler = [{numbers(scene.coupler)}]")
+    if scene.marked:
+        lines.append(f"marked = [{numbers(scene.marked)}]")
+    lines += ["", "[[panels]]", 'quantities = ["mechanism"]']
+    if scene.panels[0].angles is not None:
+        lines.append(f"angles = [{numbers(scene.panels[0].angles)}]")
+    return "\n".join(lines) + "\n"
 
 
 # ---- 8. Benchmarks -------------------------------------------------------------------------------
@@ -8182,15 +8368,30 @@ def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
     return _draw_command(args, lambda: dat_figure(args.directory, args.mechanism))
 
 
+def design_scene(result, path="design") -> Scene:
+    """The preferred design of a Synthesis as a mechanism scene: its whole motion (whole_motion)
+    on its branch, its design positions marked; `path` names it in messages."""
+    design = result.design
+    kind, dims = kind_and_dimensions(design.linkage)
+    start, stop, step = whole_motion(design)
+    data = ", ".join(f"{k} = {value_text(v)}" for k, v in design.data.items())
+    return Scene(path, f"{result.method} ({data})", kind, dims, start, stop, step,
+                 (design.linkage.branch,), ("double",), (PanelSpec((MECHANISM_PANEL,), None),),
+                 marked=tuple(phi for phi, _ in design.positions))
+
+
 def design_command(argv):
     """`python3 linkage.py design METHOD --name value ... [--analyze] [--dat DIR] [--svg OUT]
-    [--png OUT] [--text]` (argv: the words after `design`): print the design, `name = value` a
-    line, and draw it; exit 0, 1 bad data, 2 usage, 3 a miss."""
+    [--png OUT] [--text] [--scene OUT]` (argv: the words after `design`): print the design,
+    `name = value` a line, and draw it; exit 0, 1 bad data, 2 usage, 3 a miss."""
     argv = list(argv)
     if argv[:1] == ["design"]:
         argv = argv[1:]
     try:
-        args = _design_parser().parse_args(argv)
+        parser = _design_parser()
+        args = parser.parse_args(argv)
+        _check_outputs(parser, {"--scene": args.scene, "--svg": args.svg, "--png": args.png},
+                       args.dat, DatFiles.NAMES)
         function, method = METHODS[args.method]
         result = function(**{datum.name: getattr(args, datum.name) for datum in DATA[method]
                              if getattr(args, datum.name) is not None})
@@ -8205,6 +8406,7 @@ def design_command(argv):
     print(f"method = {result.method}")
     for key, value in result.design.data.items():
         print(f"data.{key} = {value_text(value)}")
+    print(f"letters = {letters(result.design.linkage)} (as run takes them)")
     print(f"solutions = {len(result.solutions)}")
     print(f"preferred = {result.preferred + 1}")
     for reason in result.rejected:
@@ -8229,6 +8431,8 @@ def design_command(argv):
                 print("\n".join(analysis_lines(analysis, "analysis.")))
             except ValueError as error:
                 print(f"analysis = none  # {error}")
+        for line in review_lines(design):
+            print(line)
     if args.dat is not None:
         link = result.design.linkage
         kind, dims = kind_and_dimensions(link)
@@ -8241,10 +8445,21 @@ def design_command(argv):
             return 1
         print(f"dat = {args.dat}  # ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution, "
               f"0 to 360 by 1 degree, branch {link.branch}, double precision")
+    if args.scene:
+        def write_scene():
+            scene = design_scene(result, args.scene)
+            with written_whole(args.scene) as fh:
+                fh.write(scene_text(scene, f"python3 linkage.py design {' '.join(argv)}")
+                         .encode("utf-8"))
+            if args.scene != "-":
+                say(f"wrote {args.scene} (a scene: python3 linkage.py scene {args.scene})")
+        failed = _reported(write_scene)
+        if failed:
+            return failed
     if args.svg or args.png or args.text:
         sys.stdout.flush()
         args.frames = len(result.design.positions) if args.text else None
-        return drawing_command(args, lambda: design_drawing(result)) or code
+        return drawing_command(args, lambda: scene_drawing(design_scene(result))) or code
     return code
 
 
@@ -8480,10 +8695,18 @@ COMMANDS = {
                 help="write ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution there (engine, 0 "
                      "to 360 by 1 degree)"),
          option("--svg", metavar="OUT",
-                help="draw the preferred solution at its design positions as an animated SVG"),
+                help="draw the preferred solution moving through its whole motion (a full turn "
+                     "of a crank that turns fully, else from one limit of the input to the "
+                     "other) as an animated SVG, its design positions drawn faint and numbered"),
          option("--png", metavar="OUT",
-                help="draw it as a PNG, the positions overlaid (needs matplotlib)"),
-         option("--text", action="store_true", help="draw it in the terminal")),
+                help="draw that motion as a PNG, the positions overlaid (needs matplotlib: "
+                     "python3 -m pip install matplotlib)"),
+         option("--text", action="store_true",
+                help="draw that motion in the terminal (animated until q; piped, the design "
+                     "positions as still frames)"),
+         option("--scene", metavar="OUT",
+                help="write that motion as a scene file (TOML) to edit and draw with python3 "
+                     "linkage.py scene OUT")),
         own_words=True),
     "listing": Command(
         listing_command, "the original BASIC listing as corrected, with its errata",
@@ -8553,8 +8776,9 @@ def _design_parser() -> argparse.ArgumentParser:
     methods = parser.add_subparsers(dest="method", metavar="METHOD", parser_class=_Parser)
     methods.required = True
     for name, (function, method) in METHODS.items():
-        summary = " ".join(function.__doc__.split())
-        sub = methods.add_parser(name, help=summary, description=summary)
+        summary = f"{method}: {METHOD_HELP[method]} {ANGLES_HELP}."
+        sub = methods.add_parser(name, help=METHOD_HELP[method], description=summary,
+                                 epilog=DESIGN_OUTPUT_HELP)
         for datum in DATA[method]:
             flag = "--lambda" if datum.name == "lam" else "--" + datum.name.replace("_", "-")
             sub.add_argument(flag, dest=datum.name, type=_design_number(flag),

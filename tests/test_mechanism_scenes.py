@@ -73,17 +73,32 @@ def test_piped_a_mechanism_scene_prints_one_still_frame_or_n(tmp_path):
     assert three.count("φ = ") + three.count("phi = ") == 3
 
 
-def test_the_design_is_drawn_at_its_design_positions(tmp_path):
+def test_the_design_moves_with_its_design_positions_marked(tmp_path):
+    """design --svg animates the whole motion (a full turn of this crank-rocker); each design
+    position is drawn faint in the ground, its pins where the engine puts them, and numbered."""
     svg = tmp_path / "design.svg"
     argv = ["design", "fourb-fg3-1", "--phi", "45", "90", "135", "--psi", "95", "70", "60"]
     status, out, err = run(argv + ["--svg", str(svg)])
     assert status in (0, 3), err
-    positions = [line.split(" = ")[1] for line in out.splitlines()
-                 if line.startswith("position") and ".phi = " in line]
+    values = dict(line.split(" = ", 1) for line in out.splitlines())
+    positions = [float(values[f"position{i}.phi"]) for i in (1, 2, 3)]
     frames = frames_of(svg)
-    assert len(frames) == 3 and len(positions) >= 3
-    assert [float(g.get("data-phi")) for g in frames] == pytest.approx(
-        [float(p) for p in positions[:3]])
+    assert len(frames) == 72
+    assert float(frames[0].get("data-phi")) == pytest.approx(positions[0])
+    root = ET.parse(svg).getroot()
+    ground = next(g for g in root.iter(f"{SVG}g") if g.get("class") == "ground")
+    marked = [p for p in ground.iter(f"{SVG}polyline") if p.get("class") == "marked"]
+    assert len(marked) == 3 * 3                                  # crank, coupler, output each
+    scale = float(root.get("data-scale"))
+    left, top = (float(v) for v in root.get("data-origin").split())
+    link = linkage.Linkage("plane", **{k: float(values[k]) for k in "abcd"})
+    for i, phi in enumerate(positions):
+        pose = linkage.joint_positions(link, phi, int(values["branch"]))
+        crank = [tuple(map(float, xy.split(","))) for xy in marked[3 * i].get("points").split()]
+        assert crank[1] == pytest.approx((left + scale * pose.joints["A"][0],
+                                          top - scale * pose.joints["A"][1]), abs=0.06)
+    numbers = [t.text for t in ground.iter(f"{SVG}text")]
+    assert numbers[-3:] == ["1", "2", "3"]
     status, text, err = run(argv + ["--text"])
     assert status in (0, 3), err
     assert text.startswith(out)                           # the design first, then its drawing

@@ -17,6 +17,7 @@
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import io
 import math
 import os
@@ -540,7 +541,7 @@ def test_draglink_2_gives_back_a_random_drag_link(u1, u2, u3):
 def test_fourb_fg2_1_gives_back_a_random_four_bar(u1, u2, u3, u4, u5, branch):
     link = s.FourBar(1.0, 0.3 + 3 * u1, 0.3 + 3 * u2, 0.3 + 3 * u3, branch)
     phi0 = -180 + 360 * u4
-    phij = -120 + 240 * u5
+    phij = -359 + 718 * u5
     assume(abs(phij) > 5)
     lo, hi = min(phi0, phi0 + phij), max(phi0, phi0 + phij)
     m = s.measure(link, lo, hi, 200)
@@ -557,6 +558,31 @@ def test_fourb_fg2_1_gives_back_a_random_four_bar(u1, u2, u3, u4, u5, branch):
                for d in result.solutions)
     for design in result.solutions:
         assert not s.misses(design)
+    # a turn more or less: the same positions, another motion; what is designed turns as asked
+    other = psij - math.copysign(360, psij)
+    if abs(other) < 360:
+        _design_or_error(lambda: s.fourb_fg2_1(phij, other, phi0, link.b, link.d))
+
+
+@SETTINGS
+@given(unit, unit, unit, unit, unit, st.sampled_from([1, 2]), st.sampled_from([-360, 360]))
+def test_fourb_fg2_1_checks_the_turn_not_the_turn_modulo_360(u1, u2, u3, u4, u5, branch, turn):
+    """A design whose prescribed output turn is changed by a whole turn reaches the same positions
+    but misses the motion: the analysis says so (it compared the turn modulo 360 before)."""
+    link = s.FourBar(1.0, 0.3 + 3 * u1, 0.3 + 3 * u2, 0.3 + 3 * u3, branch)
+    phi0, phij = -180 + 360 * u4, -150 + 300 * u5
+    assume(abs(phij) > 5)
+    m = s.measure(link, min(phi0, phi0 + phij), max(phi0, phi0 + phij), 200)
+    assume(m.assembled and m.mu_min.value > 5 and m.mu_max.value < 175)
+    psij = s.output_change(link, phi0, phi0 + phij)
+    assume(abs(s._wrap(phij - psij)) > 1)
+    try:
+        design = s.fourb_fg2_1(phij, psij, phi0, link.b, link.d).design
+    except s.DesignError:
+        return
+    assert not s.misses(design)
+    moved = dataclasses.replace(design, data=dict(design.data, psij=psij + turn))
+    assert [c.name for c in s.misses(moved)] == ["rotation_1_to_2"]
 
 
 @SETTINGS
@@ -743,6 +769,11 @@ FOUND = [
     ("FOURB-CR-4", dict(psi=179.9999999751578, mu_min=1.2421097039805316e-08),
      "psi = 179.9999999751578 is not in [0.001, 179.8)"),
     ("FOURB-CR-4", dict(psi=179.999, mu_min=0.1), "psi = 179.999 is not in [0.001, 179.8)"),
+    # the output reaches psi0 + psij but turns +107.54, not -252.46: designed and "meets" before
+    # (issue 22, item 10)
+    ("FOURB-FG2-1", dict(phij=153.67990628555174, psij=-252.4631485065922,
+                         phi0=173.0948865991486, a=7.811462839092383, c=5.649811005185785),
+     "the output turns 107.537, not -252.4631485065922: it meets the position, not the motion"),
     ("FOURB-FG3-1", dict(phi=[0.0, 0.0, 0.0078125], psi=[0.0, 1.0, -1.0]),
      "a repeated input angle"),
     ("SLID-FG2-2", dict(theta1=-9.690188312937713e-15, theta2=-1.047597775477277e-06,
@@ -1112,6 +1143,11 @@ def test_command_every_example(capsys):
     (["fourb-fg2-1", "--phij", "60", "--psij", "60", "--phi0", "50", "--a", "4", "--c", "2"],
      "psij = phij"),
     (["fourb-cr-1", "--theta", "10", "--psi", "50"], "required: --theta0"),
+    (["fourb-cr-4", "--psi", "60", "--mu-min", "40", "--svg", "same.svg", "--scene", "same.svg"],
+     "--scene: the same file twice"),
+    (["fourb-fg2-1", "--phij", "153.67990628555174", "--psij", "-252.4631485065922", "--phi0",
+      "173.0948865991486", "--a", "7.811462839092383", "--c", "5.649811005185785", "--analyze"],
+     "turns 107.537, not -252.4631485065922"),
     (["fourb-cr-1", "--theta", "ten", "--psi", "50", "--theta0", "30"], "'ten' is not a number"),
     (["fourb-cr-1", "--theta", "nan", "--psi", "50", "--theta0", "30"], "not"),
     (["four-bar"], "invalid choice"),
@@ -1208,3 +1244,216 @@ def test_fuzzed_command_lines(argv):
                          if getattr(args, d.name) is not None})
     for design in result.solutions:
         assert_meets_targets(design)
+
+
+# == the answer: one lettering, angles as asked (issue 23, item 6) ================================
+
+def _answer(capsys, *argv):
+    code, out, err = _run(capsys, *argv)
+    assert code == 0, err
+    return out.splitlines()
+
+
+def test_the_answer_gives_the_angles_as_asked(capsys):
+    """FOURB-FG3-1's output angles are the review's: shown as typed (95, not the program's -85)."""
+    lines = _answer(capsys, "fourb-fg3-1", "--phi", "45", "90", "135", "--psi", "95", "70", "60")
+    shown = {k: v.split("  #")[0] for k, v in (line.split(" = ", 1) for line in lines)}
+    assert [shown[f"position{i}.psi"] for i in (1, 2, 3)] == ["95", "70", "60"]
+    assert [shown[f"position{i}.phi"] for i in (1, 2, 3)] == ["45", "90", "135"]
+
+
+@pytest.mark.parametrize("argv, turn", [
+    (["fourb-cr-1", "--theta", "10", "--psi", "50", "--theta0", "-330"], ("phi", 190.0)),
+    (["fourb-cr-2", "--theta", "36.5", "--psi", "85", "--psi0", "-290"], ("psi", 85.0)),
+    (["draglink-1", "--dpsi0", "120", "--mu-min", "45"], ("psi", 120.0)),
+    (["draglink-2", "--dphi", "170", "--dpsi", "130"], ("psi", 130.0)),
+    (["fourb-fg2-1", "--phij", "60", "--psij", "30", "--phi0", "50", "--a", "4", "--c", "2"],
+     ("psi", 30.0)),
+])
+def test_the_positions_differ_by_the_turn_asked(capsys, argv, turn):
+    """Position 2 is position 1 moved by the data's turn, not brought into (-180, 180]: the
+    FOURB-FG2-1 example's second solution is at 169.19 and 199.19, not -160.81."""
+    lines = _answer(capsys, *argv)
+    name, expected = turn
+    firsts = [float(line.split(" = ")[1]) for line in lines if line.startswith(f"position1.{name}")]
+    seconds = [float(line.split(" = ")[1]) for line in lines
+               if line.startswith(f"position2.{name}")]
+    assert firsts and all(abs(b - a - expected) < 1e-6 for a, b in zip(firsts, seconds)), \
+        (firsts, seconds)
+    if argv[0] in ("fourb-cr-1", "fourb-cr-2"):                  # the datum as typed
+        assert any(line in (f"position1.phi = {argv[-1]}", f"position1.psi = {argv[-1]}")
+                   for line in lines), lines
+
+
+@pytest.mark.parametrize("command", sorted(s.METHODS))
+def test_the_answer_is_in_one_lettering_the_review_in_a_labelled_block(capsys, command):
+    """The program's letters (as run takes them) first; the review's lettering only after a line
+    that names it, each of its names under review."""
+    method = s.METHODS[command][1]
+    argv = {"FOURB-CR-1": ["--theta", "10", "--psi", "50", "--theta0", "30"],
+            "FOURB-CR-2": ["--theta", "36.5", "--psi", "85", "--psi0", "70"],
+            "FOURB-CR-3": ["--theta", "-10", "--psi", "45"],
+            "FOURB-CR-4": ["--psi", "50", "--mu-min", "30"],
+            "FOURB-CR-4 (Volmer)": ["--psi", "50", "--mu-min", "30"],
+            "DRAGLINK-1": ["--dpsi0", "120", "--mu-min", "45"],
+            "DRAGLINK-2": ["--dphi", "170", "--dpsi", "130"],
+            "FOURB-FG2-1": ["--phij", "60", "--psij", "30", "--phi0", "50", "--a", "4", "--c", "2"],
+            "FOURB-FG3-1": ["--phi", "30", "45", "60", "--psi", "195", "220", "245"],
+            "SLID-FG2-1": ["--dtheta", "145", "--ds", "3.3", "--epsilon", "0.9"],
+            "SLID-FG2-2": [x for name in ("theta1", "theta2", "s1", "s2") for x in
+                           (f"--{name}", repr(s.slid_fg2_1(145, 3.3, 0.9).design.review[name]))]
+            }[method]
+    code, out, err = _run(capsys, command, *argv)
+    assert code == 0, err
+    lines = out.splitlines()
+    assert lines[0] == f"method = {method}"
+    slider = method.startswith("SLID")
+    assert (f"letters = {'b input crank, c coupler, e slider offset' if slider else 'a fixed link, b input crank, c coupler, d output crank'} (as run takes them)"
+            in lines)
+    for block in out.split("solution = ")[1:]:
+        own, _, review = block.partition("\nreview = its own numbers, in its letters: ")
+        names = [line.split(" = ")[0] for line in own.splitlines()[1:]]
+        assert not any(n.startswith("review") for n in names), names
+        assert [n for n in names if len(n) == 1] == (["b", "c", "e"] if slider
+                                                     else ["a", "b", "c", "d"])
+        assert review.startswith("r crank, l rod" if slider else "a crank, b coupler, c output,"
+                                 " d frame")
+        assert all(line.startswith("review.") for line in review.splitlines()[1:])
+
+
+def test_every_method_has_help_that_stands_alone():
+    """Each method's help says what it designs and what the answer's letters are, and points at
+    nothing it does not show ("see the names above" had nothing above)."""
+    for command, (_, method) in s.METHODS.items():
+        done = subprocess.run([sys.executable, str(ROOT / "linkage.py"), "design", command,
+                               "--help"], capture_output=True, text=True)
+        text = re.sub(r"-\s+", "-", " ".join(done.stdout.split()))
+        assert done.returncode == 0 and "above" not in text, (command, text)
+        assert re.sub(r"-\s+", "-", s.METHOD_HELP[method]) in text, command
+        assert "a the fixed link = 1, b the input crank, c the coupler, d the output crank" in text
+        assert "counter-clockwise from the frame line" in text
+
+
+# == the design seen moving (issue 23, item 4) =====================================================
+
+def test_design_svg_moves_through_the_whole_motion_with_the_positions_marked(tmp_path):
+    svg = tmp_path / "d.svg"
+    done = subprocess.run([sys.executable, str(ROOT / "linkage.py"), "design", "fourb-cr-4",
+                           "--psi", "60", "--mu-min", "40", "--svg", str(svg)],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    text = svg.read_text()
+    phis = [float(x) for x in re.findall(r'<g class="frame" data-phi="([^"]+)"', text)]
+    assert len(phis) == 72 and max(phis) - min(phis) == pytest.approx(355)   # a full turn
+    ground = text.split('<g class="ground">')[1].split("</g>")[0]
+    assert ground.count('class="marked"') == 2 * 3                  # b, c, d at each position
+    assert re.findall(r'<text class="label"[^>]*>(\d)</text>', ground) == ["1", "2"]
+
+
+def test_a_crank_that_does_not_turn_fully_is_drawn_from_limit_to_limit():
+    """A FOURB-FG3-1 design of a double-rocker: every frame assembled, the design positions
+    inside the motion, its ends within a step of the input's limits."""
+    link = s.FourBar(1.0, 1.6, 0.5, 1.4, 1)               # input from 30.75 to 90.90
+    assert s.grashof_type(link) == "double-rocker"
+    phis = [40.0, 55.0, 70.0]
+    result = s.fourb_fg3_1(phis, [s._output(link, p) + 180 for p in phis])
+    start, stop, step = s.whole_motion(result.design)
+    limits = s._limit_angles(result.design.linkage)
+    assert start < 40 and stop > 70
+    assert any(abs(s._wrap(start - step / 2 - x)) < 1e-9 for x in limits)
+    assert any(abs(s._wrap(stop + step / 2 - x)) < 1e-9 for x in limits)
+    drawing = s.scene_drawing(s.design_scene(result))
+    assert all(frame.message is None for frame in drawing.frames)
+
+
+def test_design_scene_is_a_scene_file_that_runs(tmp_path):
+    """--scene writes through the one writer a TOML scene that load_scene reads back as the
+    design's scene, and that `scene` draws as design does (the same SVG)."""
+    program = [sys.executable, str(ROOT / "linkage.py")]
+    argv = ["design", "fourb-fg2-1", "--phij", "60", "--psij", "30", "--phi0", "50", "--a", "4",
+            "--c", "2"]
+    done = subprocess.run(program + argv + ["--scene", str(tmp_path / "d.toml"), "--svg",
+                                            str(tmp_path / "design.svg")],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert f"wrote {tmp_path / 'd.toml'}" in done.stderr
+    scene = s.load_scene(str(tmp_path / "d.toml"))
+    expected = s.design_scene(s.fourb_fg2_1(60, 30, 50, 4.0, 2.0), str(tmp_path / "d.toml"))
+    assert scene == expected
+    assert scene.marked == (50.0, 110.0)
+    ran = subprocess.run(program + ["scene", str(tmp_path / "d.toml"), "--svg",
+                                    str(tmp_path / "scene.svg")], capture_output=True, text=True)
+    assert ran.returncode == 0, ran.stderr
+    assert (tmp_path / "scene.svg").read_bytes() == (tmp_path / "design.svg").read_bytes()
+    frames = subprocess.run(program + ["scene", str(tmp_path / "d.toml"), "--frames", "2"],
+                            capture_output=True, text=True)
+    assert frames.returncode == 0 and frames.stdout.count("φ = ") == 2, frames.stderr
+
+
+def test_design_text_draws_the_motion(capsys):
+    code, out, _ = _run(capsys, "draglink-1", "--dpsi0", "120", "--mu-min", "45", "--text")
+    assert code == 0
+    drawn = out.split("mu_max = ")[-1]
+    assert drawn.count("φ = ") == 2                                  # two stills, piped
+    assert "marked: 2" in drawn
+
+
+@pytest.mark.parametrize("marked, message", [
+    ("[1, \"x\"]", "key 'marked': expected a list of input angles"),
+    ("30", "key 'marked': expected a list of input angles"),
+])
+def test_a_scene_refuses_bad_marked_positions(tmp_path, marked, message):
+    path = tmp_path / "m.toml"
+    path.write_text('mechanism = "plane"\ndimensions = { a = 6, b = 2, c = 7, d = 9 }\n'
+                    'input = { from = 0, to = 360, step = 30 }\nbranches = [1]\n'
+                    f'marked = {marked}\n[[panels]]\nquantities = ["mechanism"]\n')
+    with pytest.raises(s.SceneError, match=re.escape(message)):
+        s.load_scene(str(path))
+    path.write_text(path.read_text().replace('quantities = ["mechanism"]',
+                                             'quantities = ["displacement"]')
+                    .replace(f"marked = {marked}", "marked = [30]") + 'precision = "double"\n')
+    with pytest.raises(s.SceneError, match="no marked: marked positions are drawn by a mechanism"):
+        s.load_scene(str(path))
+
+
+# == DRAGLINK-2 where dpsi ~ dphi: the misses are the data's conditioning (issue 22, item 10) =====
+
+def _draglink_2_exact(dphi, dpsi, lam):
+    """DRAGLINK-2's link ratios a/d, b/d, c/d (review letters) for lambda, in 50 digits from the
+    data as doubles: the review's step 5, independent of linkage.py's arithmetic."""
+    mp = pytest.importorskip("mpmath")
+    with mp.workdps(50):
+        half = mp.pi / 360
+        t, u = mp.tan(mp.mpf(dphi) * half), mp.tan(mp.mpf(dpsi) * half)
+        dl = (mp.mpf(dphi) - mp.mpf(dpsi)) * half
+        eps = mp.mpf(lam) / (u * t)
+        return (float(mp.sin(mp.mpf(dpsi) * half) / mp.sin(dl) * mp.sqrt(1 + t * t * eps * eps)),
+                float(abs(u * t * eps)),
+                float(mp.sin(mp.mpf(dphi) * half) / mp.sin(dl) * mp.sqrt(1 + u * u * eps * eps)))
+
+
+@settings(SETTINGS, max_examples=int(os.environ.get("SYNTHESIS_EXAMPLES", "25")) // 2)
+@example(263.6237778003716, 0.0001898478902768632, None)        # crank and output 6e5 x frame
+@example(209.12127858040645, 0.0005764943954265948, 0.6273415056958008)
+@given(st.floats(91, 269), st.floats(-4.5, -0.5), st.one_of(st.none(), st.floats(0, 1)))
+def test_draglink_2_misses_near_dpsi_equal_dphi_are_rounding_limited(dphi, log_dl, log_lam):
+    """dpsi a hair under dphi makes the crank and output up to ~1e6 times the frame: the designed
+    lengths are within 4 ulp of the exact ones (the formulas cancel nothing), and every check
+    misses by at most 1e-9 degree plus twice what one rounding of the lengths moves it
+    (rounding_floor): what is left is the data's conditioning, not the method's arithmetic."""
+    dpsi = dphi - 10 ** log_dl
+    try:
+        result = s.draglink_2(dphi, dpsi, None if log_lam is None else 10 ** log_lam)
+    except s.DesignError:
+        return
+    for design in result.solutions:
+        exact = _draglink_2_exact(dphi, dpsi, design.review["lambda"])
+        got = (design.linkage.b, design.linkage.c, design.linkage.d)
+        assert all(abs(g - e) <= 4 * math.ulp(e) for g, e in zip(got, exact)), (got, exact)
+        checks = s.analyze_design(design)
+        floor = s.rounding_floor(design, checks)
+        target = {"deg": ANGLE_TARGET, "rotation": ANGLE_TARGET, "ratio": ANGLE_TARGET,
+                  "length": LENGTH_TARGET * max(design.linkage[:4])}
+        bad = [(c.name, c.miss, floor[c.name]) for c in checks
+               if not c.miss <= target[c.unit] + 2 * floor[c.name]]
+        assert not bad, bad
