@@ -8433,34 +8433,59 @@ def design_command(argv):
                 print(f"analysis = none  # {error}")
         for line in review_lines(design):
             print(line)
+    if args.dat is not None or args.scene or args.svg or args.png or args.text:
+        sys.stdout.flush()
+        status = _reported(lambda: _design_outputs(result, args, argv))
+        return status or code
+    return code
+
+
+def _design_outputs(result, args: argparse.Namespace, argv: list[str]) -> int:
+    """design's files - the DAT files (--dat), the scene (--scene), the drawings (--svg, --png) -
+    put in place as one set (WrittenSet: all or none), then --text's terminal drawing. The status
+    (1: a DAT file that cannot be written)."""
+    if args.png:
+        matplotlib_canvas()                               # fail before any work
+    link = result.design.linkage
+    kind, dims = kind_and_dimensions(link)
+    drawing = (scene_drawing(design_scene(result)) if args.svg or args.png or args.text
+               else None)
+    with contextlib.ExitStack() as stack:
+        outputs = WrittenSet()
+        if args.dat is not None:
+            try:
+                os.makedirs(args.dat, exist_ok=True)
+                where = stack.enter_context(staging_folder(args.dat))
+                write_dat_files(Linkage(kind, **dims).sweep(
+                    evenly_spaced_angles(0.0, 360.0, 1.0), link.branch), where)
+            except ProgramStop as error:
+                return said(f"error: {error}", 1)
+            for name in DatFiles.NAMES:
+                outputs.adopt(os.path.join(where, name), os.path.join(args.dat, name))
+        with outputs:
+            if args.scene:
+                with outputs.opened(args.scene) as fh:
+                    fh.write(scene_text(design_scene(result, args.scene),
+                                        f"python3 linkage.py design {' '.join(argv)}")
+                             .encode("utf-8"))
+            if args.svg:
+                with outputs.opened(args.svg) as fh:
+                    fh.write(svg_drawing(drawing).encode("utf-8"))
+            if args.png:
+                with outputs.opened(args.png) as fh:
+                    fh.write(png_drawing(drawing, dpi=getattr(args, "dpi", None),
+                                         size=getattr(args, "size", None)))
     if args.dat is not None:
-        link = result.design.linkage
-        kind, dims = kind_and_dimensions(link)
-        try:
-            motions = Linkage(kind, **dims).sweep(evenly_spaced_angles(0.0, 360.0, 1.0),
-                                                  link.branch)
-            write_dat_files(motions, args.dat)
-        except ProgramStop as error:
-            say(f"error: {error}", f"{PROG} design")
-            return 1
         print(f"dat = {args.dat}  # ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution, "
               f"0 to 360 by 1 degree, branch {link.branch}, double precision")
-    if args.scene:
-        def write_scene():
-            scene = design_scene(result, args.scene)
-            with written_whole(args.scene) as fh:
-                fh.write(scene_text(scene, f"python3 linkage.py design {' '.join(argv)}")
-                         .encode("utf-8"))
-            if args.scene != "-":
-                say(f"wrote {args.scene} (a scene: python3 linkage.py scene {args.scene})")
-        failed = _reported(write_scene)
-        if failed:
-            return failed
-    if args.svg or args.png or args.text:
-        sys.stdout.flush()
-        args.frames = len(result.design.positions) if args.text else None
-        return drawing_command(args, lambda: scene_drawing(design_scene(result))) or code
-    return code
+    if args.scene and args.scene != "-":
+        say(f"wrote {args.scene} (a scene: python3 linkage.py scene {args.scene})")
+    for path in (args.svg, args.png):
+        if path:
+            say(f"wrote {path} ({len(drawing.frames)} position{'s' * (len(drawing.frames) > 1)})")
+    if args.text:
+        return show_drawing(drawing, frames=len(result.design.positions))
+    return 0
 
 
 ERRATUM = re.compile(r"^### ([EL]\d+)\. Lines? ([0-9, ]+): `(.+)` → `(.+)`$", re.MULTILINE)

@@ -320,10 +320,12 @@ class Outputs:
     def close(self) -> None:
         """Unblock a reader whose FIFO the program never opened."""
         for path, reader in self.readers:
-            if reader.is_alive():
+            for _ in range(200):                 # the reader may not have reached open() yet
+                if not reader.is_alive():
+                    break
                 with contextlib.suppress(OSError):
                     os.close(os.open(path, os.O_WRONLY | os.O_NONBLOCK))
-            reader.join(timeout=10)
+                reader.join(timeout=0.05)
             assert not reader.is_alive(), f"{path}: the FIFO is still open"
 
 

@@ -588,3 +588,20 @@ def test_a_mechanism_scene_writes_its_svg_and_png_both_or_neither(tmp_path):
     assert_clean(result)
     assert result.returncode == 1 and b"f.png: it is a folder" in result.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["f.png"]
+
+
+def test_design_writes_its_dat_files_scene_and_drawings_all_or_none(tmp_path):
+    """design --dat (a folder made if missing, the one rule of --dir) --scene --svg: the SVG that
+    cannot be written (a folder in its place) leaves no DAT file and no scene."""
+    argv = ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--dat",
+            str(tmp_path / "new" / "dats"), "--scene", str(tmp_path / "d.toml"), "--svg"]
+    (tmp_path / "d.svg").mkdir()
+    result = run(argv + [str(tmp_path / "d.svg")], tmp_path)
+    assert_clean(result)
+    assert result.returncode == 1 and b"d.svg: it is a folder" in result.stderr
+    assert [p for p in tmp_path.rglob("*") if not p.is_dir()] == []    # folders made, no file
+    result = run(argv + [str(tmp_path / "e.svg")], tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert sorted(p.name for p in (tmp_path / "new" / "dats").iterdir()) == [
+        "ACC.DAT", "ANG.DAT", "VEL.DAT"]
+    assert (tmp_path / "d.toml").exists() and (tmp_path / "e.svg").exists()
