@@ -2495,6 +2495,10 @@ def _sweep_slider(linkage, phis, sign, level):
 
 FOLLOW = "follow"
 _FOLLOW_DEPTH = 50           # at most 50 halvings of one step
+_FOLLOW_SPLITS = 400         # and at most 400 steps split in all between two angles of the
+#                              sweep (a bisection toward one change point takes 50; positions
+#                              that never agree with their neighbours, e.g. lengths of 1e308
+#                              beside lengths of 1, would split all 2^50 halves)
 _FOLLOW_AGREE = 1e-3         # a step's misfit over |h| (1 + |v0| + |v1|) below this: smooth
 _FOLLOW_CLEAR = 0.1          # and below this fraction of the other root's misfit
 _FOLLOW_MEET = 1e-9          # two roots this close (radians, or of the size) meet: a crossing
@@ -2520,7 +2524,7 @@ def _follow(linkage, phis, start, level):
                 state = _follow_state(linkage, m, start)
             out.append(_with_level(m, level))
             continue
-        state, last = _follow_step(linkage, state, phi, here, length, 0)
+        state, last = _follow_step(linkage, state, phi, here, length, 0, [_FOLLOW_SPLITS])
         if state is None:
             ended = True
             out.append(last if last.status == DEAD_CENTRE and last.phi == phi
@@ -2543,14 +2547,15 @@ def _with_level(m, level):
     return Motion(m.phi, m.output, m.velocity if level == 1 else None, None, m.status)
 
 
-def _follow_step(linkage, state, phi, here, length, depth):
+def _follow_step(linkage, state, phi, here, length, depth, splits):
     """From the followed position `state` to angle phi, whose two roots are `here` (Motions of
     labels 1, 2, or None to compute them). Returns (state, Motion) of the root that continues the
     motion, or (None, Motion) where it ends (that Motion: the dead centre or the position that
     does not assemble, maybe between the angles). A step that changes the label is halved until
     a change point is one of its ends or the roots meet (to 1e-9): the labels swap only where
     the branches meet, and a near miss (the branches passing close without meeting, or a gap
-    between them) looks like a crossing from afar."""
+    between them) looks like a crossing from afar. `splits` ([n]) counts down the halvings
+    this step may still make; at 0 a step is taken as at the deepest halving."""
     if here is None:
         here = tuple(linkage.sweep((phi,), b, 2)[0] for b in (1, 2))
     status = here[0].status
@@ -2582,15 +2587,17 @@ def _follow_step(linkage, state, phi, here, length, depth):
         _, label, step, m = min(misfits, key=lambda t: abs(
             t[3].velocity - v0 - 0.5 * h * (a0 + t[3].acceleration)))
         smooth = True
-    if not smooth and depth >= _FOLLOW_DEPTH and label != label0 and not may_switch:
+    deepest = depth >= _FOLLOW_DEPTH or splits[0] <= 0
+    if not smooth and deepest and label != label0 and not may_switch:
         _, label, step, m = next(t for t in misfits if t[1] == label0)
-    if smooth or depth >= _FOLLOW_DEPTH or h == 0.0:
+    if smooth or deepest or h == 0.0:
         return (phi, y0 + step, m.velocity, m.acceleration, label, status == CHANGE_POINT), m
+    splits[0] -= 1
     middle = phi0 + 0.5 * (phi - phi0)
-    state, last = _follow_step(linkage, state, middle, None, length, depth + 1)
+    state, last = _follow_step(linkage, state, middle, None, length, depth + 1, splits)
     if state is None:
         return None, last
-    return _follow_step(linkage, state, phi, here, length, depth + 1)
+    return _follow_step(linkage, state, phi, here, length, depth + 1, splits)
 
 
 # -- the same formulas, one point at a time in 50-digit decimal (near dead-centres) -------------

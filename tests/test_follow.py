@@ -13,6 +13,7 @@ branches where only the choice of branch is under test.
 from __future__ import annotations
 
 import math
+import signal
 import subprocess
 from fractions import Fraction
 import sys
@@ -491,3 +492,21 @@ def test_a_scene_refuses_follow_where_it_has_no_meaning(tmp_path, change, messag
     done = subprocess.run([sys.executable, str(ROOT / "linkage.py"), "scene", str(path),
                            "--dir", str(tmp_path)], capture_output=True, text=True)
     assert done.returncode != 0 and message in done.stderr and "Traceback" not in done.stderr
+
+
+def test_a_motion_that_never_agrees_with_its_neighbours_ends_its_halvings():
+    """Lengths of 1e308 beside lengths of 1 leave the output angle to rounding (180 degrees
+    everywhere, the velocity not zero): no step is smooth, and halving both halves of every
+    step made 2^50 of them (a hang). The halvings between two angles are bounded; the sweep
+    answers, every angle with a position (a hang guard of 60 s, not a speed limit)."""
+    def hung(signum, frame):
+        raise TimeoutError("the followed sweep hangs")
+    previous = signal.signal(signal.SIGALRM, hung)
+    signal.alarm(60)
+    try:
+        motions = engine.Linkage("plane", a=6, b=1.7e308, c=1.7e308, d=9).sweep(
+            [10.0 * i for i in range(37)], engine.FOLLOW)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    assert len(motions) == 37 and all(m.status == "assembled" for m in motions)
