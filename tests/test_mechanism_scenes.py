@@ -202,7 +202,7 @@ def test_a_skew_linkage_with_a_negative_offset_is_drawn(kind, dims):
     link = linkage.Linkage(kind, **dims)
     drawing = linkage.mechanism_drawing(link, [0.0, 90.0, 180.0, 270.0])
     placed = [f for f in drawing.frames if f.message is None]
-    assert placed and "a" in [label.text for label in drawing.ground.labels]
+    assert placed and "a" in [label.text for label in drawing.frames[0].layer.labels]
     f1 = linkage.project(kind, linkage.joint_positions(link, 0.0).joints["F1"])
     assert f1[0] != 0 or f1[1] != 0
     with pytest.raises(ValueError, match="needs a != 0"):
