@@ -32,6 +32,7 @@ import dataclasses
 import decimal
 import fractions
 import functools
+import heapq
 import math
 import os
 import re
@@ -4302,11 +4303,17 @@ def _extent(points):
 # curves, the sphere) a letter keeps off where it can.
 _SOLID_STYLES = ("link", "ground", "hatch", "hidden")
 _ALONG = (0.5, 0.38, 0.62, 0.26, 0.74, 0.14, 0.86)   # where along what it names a letter may go
+# The spots beside it, cheapest first: (cost, where along, how far out, other side or not).
+_BESIDE = sorted((step + 0.4 * other + 3.0 * abs(along - 0.5), along, step, other)
+                 for along in _ALONG for step in range(4) for other in (False, True))
+_AROUND = tuple((math.cos(math.pi * k / 8), math.sin(math.pi * k / 8)) for k in range(16))
 
 
 def stroke_segments(strokes) -> list:
-    """The strokes as segments (x0, y0, x1, y1, solid) for place_labels."""
-    return [(p[0], p[1], q[0], q[1], s.style in _SOLID_STYLES)
+    """The strokes as segments for place_labels: (left, bottom, right, top) of each, its ends
+    x0, y0, x1, y1, and whether it is solid."""
+    return [(min(p[0], q[0]), min(p[1], q[1]), max(p[0], q[0]), max(p[1], q[1]),
+             p[0], p[1], q[0], q[1], s.style in _SOLID_STYLES)
             for s in strokes for p, q in zip(s.points, s.points[1:])]
 
 
@@ -4328,40 +4335,51 @@ def _box_meets_segment(box, x0, y0, x1, y1) -> bool:
 
 
 def _spots(label, letters, n):
-    """Where the label may go, as (cost, centre), nearest first: beside what it names, on
-    both sides of it at points along it, then on rings about its middle."""
+    """Where the label may go, as (cost, centre) nearest first - beside what it names, on both
+    sides of it at points along it, then on rings about its middle - and how far from it the
+    nearest (the first rows out) and all of them reach."""
     names = label.names or (label.at,)
     hw, hh = n * letters.width / 2, letters.height / 2
     gap = 0.35 * letters.height + letters.line
-    spots = []
     if len(names) > 1:
         ends = list(zip(names, names[1:]))
         lengths = [math.dist(p, q) for p, q in ends]
         total = sum(lengths) or 1.0
-        for fraction in _ALONG:
-            left, i = fraction * total, 0
-            while i < len(ends) - 1 and left > lengths[i]:
-                left, i = left - lengths[i], i + 1
-            p, q = ends[i]
-            at = _along(p, q, left / lengths[i] if lengths[i] else 0.0)
-            normal = _page_normal(p, q)
-            reach = hw * abs(normal[0]) + hh * abs(normal[1])
-            side = 1.0 if (label.at[0] - at[0]) * normal[0] + (label.at[1] - at[1]) * \
-                normal[1] >= 0 else -1.0                       # the side it was put on first
-            for step in range(4):
-                for turn, cost in ((side, 0.0), (-side, 0.4)):
-                    spots.append((step + cost + 3.0 * abs(fraction - 0.5),
-                                  _shifted(at, normal, turn * (reach + gap * (1 + 1.3 * step)))))
         middle, first = _along(*ends[len(ends) // 2], 0.5 if len(ends) % 2 else 0.0), 2.0
     else:
-        middle, first = names[0], 0.0
-    for step in range(8):
-        for k in range(16):
-            c, s = cos_sin_degrees(22.5 * k)
-            spots.append((first + step, (middle[0] + c * (hw + gap * (1 + 1.3 * step)),
-                                         middle[1] + s * (hh + gap * (1 + 1.3 * step)))))
-    spots.sort(key=lambda spot: spot[0])
-    return spots
+        ends, middle, first = [], names[0], 0.0
+
+    @functools.cache
+    def place(along):
+        """The point `along` the way, its normal, the box's reach along it, the first side."""
+        left, i = along * total, 0
+        while i < len(ends) - 1 and left > lengths[i]:
+            left, i = left - lengths[i], i + 1
+        p, q = ends[i]
+        at = _along(p, q, left / lengths[i] if lengths[i] else 0.0)
+        normal = _page_normal(p, q)
+        side = 1.0 if (label.at[0] - at[0]) * normal[0] + (label.at[1] - at[1]) * normal[1] \
+            >= 0 else -1.0                                     # the side it was put on first
+        return at, normal, hw * abs(normal[0]) + hh * abs(normal[1]), side
+
+    def beside():
+        for cost, along, step, other in _BESIDE if ends else ():
+            at, normal, reach, side = place(along)
+            yield cost, _shifted(at, normal, (-side if other else side) * (
+                reach + gap * (1 + 1.3 * step)))
+
+    def rings():
+        for step in range(8):
+            rx, ry = hw + gap * (1 + 1.3 * step), hh + gap * (1 + 1.3 * step)
+            yield from ((first + step, (middle[0] + c * rx, middle[1] + s * ry))
+                        for c, s in _AROUND)
+    return heapq.merge(beside(), rings(), key=lambda spot: spot[0]), (hw + hh + gap * 5.0,
+                                                                        hw + hh + gap * 10.2)
+
+
+def _within(box, region, margin) -> bool:
+    return (region[0] < box[0] - margin and region[1] < box[1] - margin
+            and box[2] + margin < region[2] and box[3] + margin < region[3])
 
 
 def place_labels(labels, segments, marks, letters: Letters, bounds, snap=None) -> tuple:
@@ -4377,18 +4395,23 @@ def place_labels(labels, segments, marks, letters: Letters, bounds, snap=None) -
     for label in labels:
         n = len(label.text)
         hw, hh = n * letters.width / 2, letters.height / 2
-        spots = _spots(label, letters, n)
-        x0, y0, x1, y1 = _extent([at for _, at in spots])
-        wx, wy = hw + reach + letters.width, hh + reach + letters.height   # snapped a cell off
-        x0, y0, x1, y1 = x0 - wx, y0 - wy, x1 + wx, y1 + wy
-        near = [s for s in segments if min(s[0], s[2]) <= x1 and max(s[0], s[2]) >= x0
-                and min(s[1], s[3]) <= y1 and max(s[1], s[3]) >= y0]
+        spots, reaches = _spots(label, letters, n)
+        x0, y0, x1, y1 = _extent(label.names or (label.at,))
+        regions = [(x0 - out, y0 - out, x1 + out, y1 + out) for out in (
+            r + hw + hh + 2 * reach + letters.width + letters.height for r in reaches)]
+        region, near = (math.inf,) * 4, []          # the segments near the spots tried so far
         best, best_at = None, label.at
         for cost, at in spots:
             if best is not None and cost >= best:
                 break
             cx, cy = snap(at, n)
             box = (cx - hw, cy - hh, cx + hw, cy + hh)
+            if not _within(box, region, reach):
+                while regions and not _within(box, regions[0], reach):
+                    regions.pop(0)
+                region = regions.pop(0) if regions else (-math.inf, -math.inf, math.inf, math.inf)
+                near = [s for s in segments if s[0] <= region[2] and s[2] >= region[0]
+                        and s[1] <= region[3] and s[3] >= region[1]]
             solid = int(box[0] < bounds[0] or box[1] < bounds[1] or box[2] > bounds[2]
                         or box[3] > bounds[3])
             solid += sum(box[0] - letters.mark < mx < box[2] + letters.mark
@@ -4402,10 +4425,9 @@ def place_labels(labels, segments, marks, letters: Letters, bounds, snap=None) -
             wide = (box[0] - letters.line, box[1] - letters.line, box[2] + letters.line,
                     box[3] + letters.line)
             other = 0
-            for sx0, sy0, sx1, sy1, hard in near:
-                if (min(sx0, sx1) <= wide[2] and max(sx0, sx1) >= wide[0]
-                        and min(sy0, sy1) <= wide[3] and max(sy0, sy1) >= wide[1]
-                        and _box_meets_segment(wide, sx0, sy0, sx1, sy1)):
+            for left, bottom, right, top, sx0, sy0, sx1, sy1, hard in near:
+                if (left <= wide[2] and right >= wide[0] and bottom <= wide[3]
+                        and top >= wide[1] and _box_meets_segment(wide, sx0, sy0, sx1, sy1)):
                     if hard:
                         solid += 1
                     else:
