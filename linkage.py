@@ -3723,8 +3723,11 @@ def write_csv(path: str, rows, header=CSV_HEADER) -> int:
 # slider's x) is the engine's. mechanism_drawing() projects the poses of a sweep onto the page -
 # plane linkages as they are, the spherical linkage on its sphere seen obliquely, the skew
 # linkages in a fixed isometric view with their two shaft axes - and gives a Drawing: the ground
-# (fixed pivots hatched, axes, labels), drawn once, and one Frame a pose. The renderers draw a
-# Drawing: the terminal (Unicode braille, or ASCII), an animated SVG, a PNG (matplotlib).
+# (fixed pivots hatched on the side the links cross least, axes), drawn once, and one Frame a
+# pose with its letters. The renderers draw a Drawing: the terminal (Unicode braille, or ASCII),
+# an animated SVG, a PNG (matplotlib). The letters go where no mark, link, hatching or other
+# letter covers them (place_labels): placed for the SVG's letters in the Drawing, placed again
+# by the terminal and the PNG for the sizes they draw letters at.
 #
 # Uses: sections 3 and 4 (single keys for the animation; the engine's positions).
 
@@ -3983,9 +3986,9 @@ def _segments_cross(p, q, r, s) -> bool:
 
 def _clearest(choices, links, skip=0):
     """Of `choices` (each a list of ground strokes: a symbol or a guide drawn one way), the
-    first that the fewest of `links` (the moving links' strokes over the sweep) cross, but
-    for one (the sweep's steps make a link that turns fully cross a few more or fewer of
-    equal choices); the first `skip` strokes of a choice are not counted."""
+    first that no more than one more of `links` (the moving links' strokes over the sweep)
+    cross than cross the clearest (a link that turns fully crosses equal choices one step more
+    or less, as the sweep's steps fall); the first `skip` strokes of a choice not counted."""
     def crossings(strokes):
         counted = [(a, b) for s in strokes[skip:] for a, b in zip(s.points, s.points[1:])]
         x0, y0, x1, y1 = _extent([p for ab in counted for p in ab])
