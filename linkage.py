@@ -32,6 +32,7 @@ import dataclasses
 import decimal
 import fractions
 import functools
+import heapq
 import json
 import math
 import os
@@ -3879,8 +3880,11 @@ def write_csv(path: str, rows, header=CSV_HEADER, outputs: WrittenSet | None = N
 # slider's x) is the engine's. mechanism_drawing() projects the poses of a sweep onto the page -
 # plane linkages as they are, the spherical linkage on its sphere seen obliquely, the skew
 # linkages in a fixed isometric view with their two shaft axes - and gives a Drawing: the ground
-# (fixed pivots hatched, axes, labels), drawn once, and one Frame a pose. The renderers draw a
-# Drawing: the terminal (Unicode braille, or ASCII), an animated SVG, a PNG (matplotlib).
+# (fixed pivots hatched on the side the links cross least, axes), drawn once, and one Frame a
+# pose with its letters. The renderers draw a Drawing: the terminal (Unicode braille, or ASCII),
+# an animated SVG, a PNG (matplotlib). The letters go where no mark, link, hatching or other
+# letter covers them (place_labels): placed for the SVG's letters in the Drawing, placed again
+# by the terminal and the PNG for the sizes they draw letters at.
 #
 # Uses: sections 3 and 4 (single keys for the animation; the engine's positions).
 
@@ -3986,9 +3990,21 @@ class Mark(NamedTuple):
 
 
 class Label(NamedTuple):
-    """A letter of the paper (a, b, c, d, e, f, g, ξ, c*) centred at `at`."""
+    """A letter of the paper (a, b, c, d, e, f, g, ξ, c*) centred at `at`, naming the page
+    polyline `names` (its link or dimension line; one point for an angle): place_labels() moves
+    it beside what it names, where nothing drawn covers it."""
     at: tuple
     text: str
+    names: tuple = ()
+
+
+class Letters(NamedTuple):
+    """How big a renderer draws things, in page units: a letter's box (one character's width,
+    its height), a joint's mark (its radius) and a line (half its width)."""
+    width: float
+    height: float
+    mark: float
+    line: float
 
 
 class Layer(NamedTuple):
@@ -3998,8 +4014,9 @@ class Layer(NamedTuple):
 
 
 class Frame(NamedTuple):
-    """One pose drawn: its layer, a caption (the angles), and a message where the position does
-    not exist or is singular (then only the crank is drawn)."""
+    """One pose drawn: its layer (with every letter of the drawing, placed for this pose), a
+    caption (the angles), and a message where the position does not exist or is singular (then
+    only the crank is drawn)."""
     pose: Pose
     layer: Layer
     caption: str
@@ -4008,8 +4025,9 @@ class Frame(NamedTuple):
 
 class Drawing(NamedTuple):
     """A linkage drawn at a sequence of poses: the ground (fixed links hatched, shaft axes,
-    traced paths, the fixed letters), drawn once, and one Frame a pose, all in page units (x to
-    the right, y up) within bounds (x0, y0, x1, y1); size is the ground symbols' size."""
+    traced paths), drawn once, and one Frame a pose, all in page units (x to the right, y up)
+    within bounds (x0, y0, x1, y1); size is the ground symbols' size, letters how big the SVG
+    draws letters and marks (the frames' letters are placed for it)."""
     title: str
     subtitle: str
     kind: str
@@ -4017,6 +4035,7 @@ class Drawing(NamedTuple):
     frames: tuple
     bounds: tuple
     size: float
+    letters: Letters
     chart: tuple | None = None     # the transmission angle along the sweep: ((phi, mu), ...)
 
 
@@ -4103,7 +4122,56 @@ def _ground_symbol(at, away, size):
 
 def _label_beside(p, q, text, size, side=1.0):
     """The letter of the link p -> q (page points), beside its middle on `side`."""
-    return Label(_shifted(_along(p, q, 0.5), _page_normal(p, q), side * 0.7 * size), text)
+    return Label(_shifted(_along(p, q, 0.5), _page_normal(p, q), side * 0.7 * size), text, (p, q))
+
+
+def _segments_cross(p, q, r, s) -> bool:
+    """Whether the page segments p q and r s meet (touching counts)."""
+    def turn(a, b, c):
+        return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    d1, d2, d3, d4 = turn(r, s, p), turn(r, s, q), turn(p, q, r), turn(p, q, s)
+    if ((d1 > 0 and d2 < 0) or (d1 < 0 and d2 > 0)) and ((d3 > 0 and d4 < 0)
+                                                         or (d3 < 0 and d4 > 0)):
+        return True
+
+    def on(a, b, c):                       # c on the segment a b, given a, b, c in a line
+        return min(a[0], b[0]) <= c[0] <= max(a[0], b[0]) and \
+            min(a[1], b[1]) <= c[1] <= max(a[1], b[1])
+    return (d1 == 0 and on(r, s, p)) or (d2 == 0 and on(r, s, q)) or \
+        (d3 == 0 and on(p, q, r)) or (d4 == 0 and on(p, q, s))
+
+
+def _clearest(choices, links, skip=0):
+    """Of `choices` (each a list of ground strokes: a symbol or a guide drawn one way), the
+    first that no more than one more of `links` (the moving links' strokes over the sweep)
+    cross than cross the clearest (a link that turns fully crosses equal choices one step more
+    or less, as the sweep's steps fall); the first `skip` strokes of a choice not counted."""
+    def crossings(strokes):
+        counted = [(a, b) for s in strokes[skip:] for a, b in zip(s.points, s.points[1:])]
+        x0, y0, x1, y1 = _extent([p for ab in counted for p in ab])
+        return sum(any(_segments_cross(a, b, p, q) for p, q in zip(s.points, s.points[1:])
+                       if min(p[0], q[0]) <= x1 and max(p[0], q[0]) >= x0
+                       and min(p[1], q[1]) <= y1 and max(p[1], q[1]) >= y0
+                       for a, b in counted) for s in links)
+    counts = [crossings(strokes) for strokes in choices]
+    return next(c for c, n in zip(choices, counts) if n <= min(counts) + 1)
+
+
+def _pivot_symbol(at, aways, links, size):
+    """The ground symbol at the fixed pivot `at` pointing the first of the unit directions
+    `aways` whose base and hatching the links cross least: off the links' way where there is
+    such a side."""
+    return _clearest([_ground_symbol(at, away, size) for away in aways], links, skip=1)
+
+
+def _guide(p, q, links, size):
+    """The slider's guide under the travel p -> q of the slider's centre (page points): a
+    ground line along the block's side, hatched away from it, on the side (left, then right)
+    that the links cross least."""
+    normal = _page_normal(p, q)
+    return _clearest([_hatched(_shifted(p, normal, side * 0.45 * size),
+                               _shifted(q, normal, side * 0.45 * size), side, size)
+                      for side in (1, -1)], links)
 
 
 def _great_arc(p, q, steps=24):
@@ -4178,9 +4246,13 @@ def _unit(v):
     return tuple(c / n for c in v)
 
 
-def _plane_ground(linkage, poses, size):
+_DOWN, _UP, _LEFT, _RIGHT = (0.0, -1.0), (0.0, 1.0), (-1.0, 0.0), (1.0, 0.0)
+
+
+def _plane_ground(linkage, poses, size, links):
     a0, b0 = (0.0, 0.0), (linkage.dims["a"], 0.0)
-    strokes = _ground_symbol(a0, (0.0, -1.0), size) + _ground_symbol(b0, (0.0, -1.0), size)
+    strokes = _pivot_symbol(a0, (_DOWN, _UP, _LEFT), links, size)         # not across a
+    strokes += _pivot_symbol(b0, (_DOWN, _UP, _RIGHT), links, size)
     strokes.append(Stroke((a0, b0), "ground"))
     strokes.append(Stroke(tuple(project(PLANE_FOUR_BAR, p) for p in _circle_3d(
         (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), linkage.dims["b"])), "path"))
@@ -4195,25 +4267,24 @@ def _slider_range(poses, linkage, size):
     return min(xs) - 2.5 * size, max(xs) + 2.5 * size
 
 
-def _slider_ground(linkage, poses, size):
+def _slider_ground(linkage, poses, size, links):
     e, b = linkage.dims["e"], linkage.dims["b"]
-    lo, hi = _slider_range(poses, linkage, size)      # the guide under the slider's travel only:
-    below = e - 0.45 * size                            # not through the crank's circle
-    strokes = _ground_symbol((0.0, 0.0), (0.0, -1.0), size)
-    strokes += _hatched((lo, below), (hi, below), -1, size)
+    lo, hi = _slider_range(poses, linkage, size)      # the guide along the slider's travel only:
+    strokes = _pivot_symbol((0.0, 0.0), (_DOWN, _UP), links, size)  # not across the axis
+    strokes += _guide((lo, e), (hi, e), links, size)
     strokes.append(Stroke(((-b - 2.5 * size, 0.0), (hi, 0.0)), "axis"))
     strokes.append(Stroke(tuple((b * c, b * s) for c, s in (
         cos_sin_degrees(5.0 * i) for i in range(73))), "path"))
     labels = []
     if e:
-        left = -b - 1.5 * size                         # beside the crank's circle
-        lines, label = _dimension((left, e), (left, 0.0), "e", size)
+        left = -b - 0.6 * size                         # beside the crank's circle, lettered
+        lines, label = _dimension((left, e), (left, 0.0), "e", size, -1.0)   # outside it
         strokes += lines
         labels.append(label)
     return Layer(tuple(strokes), (Mark((0.0, 0.0), "pivot", "A0"),), tuple(labels))
 
 
-def _spherical_ground(linkage, poses, size):
+def _spherical_ground(linkage, poses, size, links):
     kind = SPHERICAL_FOUR_BAR
     joints = poses[0].joints
     strokes = [Stroke(tuple(cos_sin_degrees(5.0 * i) for i in range(73)), "outline")]
@@ -4222,20 +4293,27 @@ def _spherical_ground(linkage, poses, size):
         strokes.append(Stroke((project(kind, tuple(-1.35 * c for c in axis)),
                                project(kind, tuple(1.35 * c for c in axis))), "axis"))
         at = project(kind, axis)
-        away = _unit(at + (0.0,))[:2] if math.hypot(*at) > 1e-9 else (0.0, 1.0)
-        strokes += _ground_symbol(at, away, size)
+        out = math.degrees(math.atan2(at[1], at[0])) if math.hypot(*at) > 1e-9 else 90.0
+        strokes += _pivot_symbol(at, [cos_sin_degrees(out + turn) for turn in (
+            0.0, 40.0, -40.0, 80.0, -80.0)], links, size)     # off the sphere, the links' side
     strokes += _sphere_strokes(kind, _great_arc(joints["A0"], joints["B0"]), "ground")
     cb, sb = cos_sin_degrees(linkage.dims["b"])
     strokes += _sphere_strokes(kind, [(sb * c, sb * s, cb) for c, s in (
         cos_sin_degrees(5.0 * i) for i in range(73))], "path")
-    middle = _great_arc(joints["A0"], joints["B0"], 2)[1]
-    labels = (Label(project(kind, tuple(1.15 * c for c in middle)), "a"),)
+    labels = (_arc_label(kind, joints["A0"], joints["B0"], "a"),)
     marks = (Mark((0.0, 0.0), "pivot", "O"), Mark(project(kind, joints["A0"]), "pivot", "A0"),
              Mark(project(kind, joints["B0"]), "pivot", "B0"))
     return Layer(tuple(strokes), marks, labels)
 
 
-def _skew_ground(linkage, poses, size):
+def _arc_label(kind, p, q, text):
+    """The letter of the arc p q on the sphere: outside the sphere beside its middle."""
+    middle = _great_arc(p, q, 2)[1]
+    return Label(project(kind, tuple(1.15 * c for c in middle)), text,
+                 tuple(project(kind, r) for r in _great_arc(p, q)))
+
+
+def _skew_ground(linkage, poses, size, links):
     """Both skew linkages: the input axis, the fixed link a (the common perpendicular, hatched),
     f along the input axis, the output axis or the slider's guide, and the angle ksi."""
     kind, dims = linkage.kind, linkage.dims
@@ -4271,14 +4349,15 @@ def _skew_ground(linkage, poses, size):
         lo, hi = _slider_range(poses, linkage, size)          # from F1 past the travel
         ends = [project(kind, tuple(p + t * w for p, w in zip(point, direction)))
                 for t in (min(lo, -size), max(hi, size))]
-        strokes += _hatched(ends[0], ends[1], 1, size)
+        strokes.append(Stroke(tuple(ends), "axis"))
+        strokes += _guide(ends[0], ends[1], links, size)
         upright = (0.0, 0.0, -1.0)
     # ksi: between the shaft (the guide) and a parallel to the input axis through F1
     strokes += _page_strokes(kind, [joints["F1"], tuple(p + 3.0 * size * u for p, u in zip(
         joints["F1"], upright))], "dimension")
     between = _unit(tuple(u + w for u, w in zip(upright, direction)))
-    labels.append(Label(project(kind, tuple(p + 2.2 * size * u for p, u in zip(
-        joints["F1"], between))), "ξ"))
+    at = project(kind, tuple(p + 2.2 * size * u for p, u in zip(joints["F1"], between)))
+    labels.append(Label(at, "ξ", (at,)))
     return Layer(tuple(strokes), tuple(marks), tuple(labels))
 
 
@@ -4297,8 +4376,7 @@ def _links(linkage, pose, size):
     for p, q, text in pairs:
         if kind == SPHERICAL_FOUR_BAR:
             strokes += _sphere_strokes(kind, _great_arc(joints[p], joints[q]), "link")
-            middle = _great_arc(joints[p], joints[q], 2)[1]
-            labels.append(Label(project(kind, tuple(1.15 * c for c in middle)), text))
+            labels.append(_arc_label(kind, joints[p], joints[q], text))
         else:
             strokes.append(Stroke((at[p], at[q]), "link"))
             labels.append(_label_beside(at[p], at[q], text, size))
@@ -4399,6 +4477,149 @@ def _extent(points):
     return min(xs), min(ys), max(xs), max(ys)
 
 
+# -- the letters: each beside what it names, where nothing drawn covers it -----------------------
+
+# Strokes no letter may touch (with the marks and the other letters); the rest (axes, paths,
+# curves, the sphere) a letter keeps off where it can.
+_SOLID_STYLES = ("link", "ground", "hatch", "hidden")
+_ALONG = (0.5, 0.38, 0.62, 0.26, 0.74, 0.14, 0.86)   # where along what it names a letter may go
+# The spots beside it, cheapest first: (cost, where along, how far out, other side or not).
+_BESIDE = sorted((step + 0.4 * other + 3.0 * abs(along - 0.5), along, step, other)
+                 for along in _ALONG for step in range(4) for other in (False, True))
+_AROUND = tuple((math.cos(math.pi * k / 8), math.sin(math.pi * k / 8)) for k in range(16))
+
+
+def stroke_segments(strokes) -> list:
+    """The strokes as segments for place_labels: (left, bottom, right, top) of each, its ends
+    x0, y0, x1, y1, and whether it is solid."""
+    return [(min(p[0], q[0]), min(p[1], q[1]), max(p[0], q[0]), max(p[1], q[1]),
+             p[0], p[1], q[0], q[1], s.style in _SOLID_STYLES)
+            for s in strokes for p, q in zip(s.points, s.points[1:])]
+
+
+def _box_meets_segment(box, x0, y0, x1, y1) -> bool:
+    """Whether the segment (x0, y0) (x1, y1) enters the box (left, bottom, right, top):
+    Liang-Barsky clipping."""
+    dx, dy, t0, t1 = x1 - x0, y1 - y0, 0.0, 1.0
+    for p, q in ((-dx, x0 - box[0]), (dx, box[2] - x0), (-dy, y0 - box[1]), (dy, box[3] - y0)):
+        if p == 0.0:
+            if q < 0.0:
+                return False
+        elif p < 0.0:
+            t0 = max(t0, q / p)
+        else:
+            t1 = min(t1, q / p)
+        if t0 > t1:
+            return False
+    return True
+
+
+def _spots(label, letters, n):
+    """Where the label may go, as (cost, centre) nearest first - beside what it names, on both
+    sides of it at points along it, then on rings about its middle - and how far from it the
+    nearest (the first rows out) and all of them reach."""
+    names = label.names or (label.at,)
+    hw, hh = n * letters.width / 2, letters.height / 2
+    gap = 0.35 * letters.height + letters.line
+    if len(names) > 1:
+        ends = list(zip(names, names[1:]))
+        lengths = [math.dist(p, q) for p, q in ends]
+        total = sum(lengths) or 1.0
+        middle, first = _along(*ends[len(ends) // 2], 0.5 if len(ends) % 2 else 0.0), 2.0
+    else:
+        ends, middle, first = [], names[0], 0.0
+
+    @functools.cache
+    def place(along):
+        """The point `along` the way, its normal, the box's reach along it, the first side."""
+        left, i = along * total, 0
+        while i < len(ends) - 1 and left > lengths[i]:
+            left, i = left - lengths[i], i + 1
+        p, q = ends[i]
+        at = _along(p, q, left / lengths[i] if lengths[i] else 0.0)
+        normal = _page_normal(p, q)
+        side = 1.0 if (label.at[0] - at[0]) * normal[0] + (label.at[1] - at[1]) * normal[1] \
+            >= 0 else -1.0                                     # the side it was put on first
+        return at, normal, hw * abs(normal[0]) + hh * abs(normal[1]), side
+
+    def beside():
+        for cost, along, step, other in _BESIDE if ends else ():
+            at, normal, reach, side = place(along)
+            yield cost, _shifted(at, normal, (-side if other else side) * (
+                reach + gap * (1 + 1.3 * step)))
+
+    def rings():
+        for step in range(8):
+            rx, ry = hw + gap * (1 + 1.3 * step), hh + gap * (1 + 1.3 * step)
+            yield from ((first + step, (middle[0] + c * rx, middle[1] + s * ry))
+                        for c, s in _AROUND)
+    return heapq.merge(beside(), rings(), key=lambda spot: spot[0]), (hw + hh + gap * 5.0,
+                                                                        hw + hh + gap * 10.2)
+
+
+def _within(box, region, margin) -> bool:
+    return (region[0] < box[0] - margin and region[1] < box[1] - margin
+            and box[2] + margin < region[2] and box[3] + margin < region[3])
+
+
+def place_labels(labels, segments, marks, letters: Letters, bounds, snap=None) -> tuple:
+    """The labels placed in turn, each where it touches the fewest things drawn: first no mark,
+    solid stroke (link, ground, hatching, a hidden link) or letter placed before it, nor the
+    bounds' edge; then the fewest other strokes; then the nearest to what it names (_spots).
+    segments from stroke_segments(); snap(centre, n) moves the centre of a box n characters
+    wide onto the renderer's grid (the terminal's cells), marks included."""
+    snap = snap or (lambda p, n: p)
+    reach = max(letters.mark, letters.line)
+    discs = [snap(m.at, 1) for m in marks]
+    placed, boxes = [], []
+    for label in labels:
+        n = len(label.text)
+        hw, hh = n * letters.width / 2, letters.height / 2
+        spots, reaches = _spots(label, letters, n)
+        x0, y0, x1, y1 = _extent(label.names or (label.at,))
+        regions = [(x0 - out, y0 - out, x1 + out, y1 + out) for out in (
+            r + hw + hh + 2 * reach + letters.width + letters.height for r in reaches)]
+        region, near = (math.inf,) * 4, []          # the segments near the spots tried so far
+        best, best_at = None, label.at
+        for cost, at in spots:
+            if best is not None and cost >= best:
+                break
+            cx, cy = snap(at, n)
+            box = (cx - hw, cy - hh, cx + hw, cy + hh)
+            if not _within(box, region, reach):
+                while regions and not _within(box, regions[0], reach):
+                    regions.pop(0)
+                region = regions.pop(0) if regions else (-math.inf, -math.inf, math.inf, math.inf)
+                near = [s for s in segments if s[0] <= region[2] and s[2] >= region[0]
+                        and s[1] <= region[3] and s[3] >= region[1]]
+            solid = int(box[0] < bounds[0] or box[1] < bounds[1] or box[2] > bounds[2]
+                        or box[3] > bounds[3])
+            solid += sum(box[0] - letters.mark < mx < box[2] + letters.mark
+                         and box[1] - letters.mark < my < box[3] + letters.mark
+                         and math.hypot(max(box[0] - mx, 0.0, mx - box[2]),
+                                        max(box[1] - my, 0.0, my - box[3])) < letters.mark
+                         for mx, my in discs)
+            apart = letters.width / 2                   # letters side by side read as a word
+            solid += sum(box[0] < b[2] + apart and b[0] < box[2] + apart and box[1] < b[3]
+                         and b[1] < box[3] for b in boxes)
+            wide = (box[0] - letters.line, box[1] - letters.line, box[2] + letters.line,
+                    box[3] + letters.line)
+            other = 0
+            for left, bottom, right, top, sx0, sy0, sx1, sy1, hard in near:
+                if (left <= wide[2] and right >= wide[0] and bottom <= wide[3]
+                        and top >= wide[1] and _box_meets_segment(wide, sx0, sy0, sx1, sy1)):
+                    if hard:
+                        solid += 1
+                    else:
+                        other += 1
+            score = 1000.0 * solid + other + cost
+            if best is None or score < best:
+                best, best_at, best_box = score, (cx, cy), box
+        boxes.append(best_box)
+        placed.append(label._replace(at=best_at))
+    return tuple(placed)
+
+
 def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None = None,
                       subtitle: str | None = None, coupler: tuple | None = None,
                       traced: tuple = (), marked: tuple = ()) -> Drawing:
@@ -4433,22 +4654,30 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
     links = [abs(v) for k, v in linkage.dims.items() if k in "abcd" and v]
     size = 0.07 * span if kind == SPHERICAL_FOUR_BAR else max(          # symbols not hiding a
         0.035 * span, min(0.07 * span, 0.6 * min(links)))               # short crank
-    ground = _GROUNDS[kind](linkage, poses, size)
-    if marked:
-        ground = _with_marked(linkage, ground, marked, branch, size)
-    points, mus, chart = [None] * len(poses), [None] * len(poses), None
+    points, mus, chart, curves = [None] * len(poses), [None] * len(poses), None, ()
     if coupler is not None:
         motions = [Motion(pose.phi, pose.output, None, None, pose.status) for pose in poses]
         curves, points = _coupler_curves(linkage, phis, coupler, motions, branch, traced)
-        ground = Layer(ground.strokes + tuple(curves), ground.marks, ground.labels)
         mus = transmission_of(linkage, motions)
         chart = tuple((pose.phi, mu) for pose, mu in zip(poses, mus))
-    frames = tuple(_frame(linkage, pose, size, point, mu)
-                   for pose, point, mu in zip(poses, points, mus))
-    points = [p for layer in (ground,) + tuple(f.layer for f in frames)
+    frames = [_frame(linkage, pose, size, point, mu)
+              for pose, point, mu in zip(poses, points, mus)]
+    links = [s for i in _spread(len(frames), 120) for s in frames[i].layer.strokes]
+    ground = _GROUNDS[kind](linkage, poses, size, links)
+    if marked:
+        ground = _with_marked(linkage, ground, marked, branch, size)
+    ground = Layer(ground.strokes + tuple(curves), ground.marks, ground.labels)
+    points = [p for layer in [ground] + [f.layer for f in frames]
               for p in [q for s in layer.strokes for q in s.points]
               + [m.at for m in layer.marks] + [label.at for label in layer.labels]]
     x0, y0, x1, y1 = _extent(points)
+    bounds = (x0 - size, y0 - size, x1 + size, y1 + size)
+    letters = svg_letters(bounds, size)
+    ground_segments = stroke_segments(ground.strokes)
+    frames = tuple(f._replace(layer=f.layer._replace(labels=place_labels(
+        f.layer.labels + ground.labels, ground_segments + stroke_segments(f.layer.strokes),
+        ground.marks + f.layer.marks, letters, bounds))) for f in frames)
+    ground = ground._replace(labels=())
     if title is None:
         title = (MECHANISM_NAMES[kind] + ": "
                  + " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in linkage.dims.items()))
@@ -4458,8 +4687,7 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
         others = ", ".join("followed dotted" if b == FOLLOW else f"branch {b} dashed"
                            for b in traced)
         subtitle += f"; P({coupler[0]:g}, {coupler[1]:g})" + (f" solid, {others}" if others else "")
-    return Drawing(title, subtitle, kind, ground, frames,
-                   (x0 - size, y0 - size, x1 + size, y1 + size), size, chart)
+    return Drawing(title, subtitle, kind, ground, frames, bounds, size, letters, chart)
 
 
 # -- the terminal view ---------------------------------------------------------------------------
@@ -4542,10 +4770,27 @@ class _DotGrid:
                               round(y0 + i / steps * (y1 - y0))] = char
             travelled += length
 
-    def put(self, p, text: str) -> None:
-        """text centred on the character cell of page point p (what falls outside is cut)."""
+    def cell(self, p, n: int = 1) -> tuple[int, int]:
+        """The first (col, row) of the n character cells nearest to centred on page point p."""
         x, y = self.dot(p)
-        row, col = round(y) // self.per_row, round(x) // self.per_col - (len(text) - 1) // 2
+        return (math.floor((x + 0.5) / self.per_col - n / 2 + 0.5),
+                math.floor((y + 0.5) / self.per_row))
+
+    def snap(self, p, n: int = 1) -> tuple:
+        """The page point at the middle of the n cells that cell(p, n) begins."""
+        col, row = self.cell(p, n)
+        x, y = (col + n / 2) * self.per_col - 0.5, (row + 0.5) * self.per_row - 0.5
+        return (x - self.left) / self.scale, (self.top - y) * self.aspect / self.scale
+
+    def letters(self) -> Letters:
+        """A character cell as place_labels sees it: a letter fills one, a mark stands in
+        one, a line is a dot wide."""
+        return Letters(self.per_col / self.scale, self.per_row * self.aspect / self.scale,
+                       0.45 * self.per_col / self.scale, 0.5 / self.scale)
+
+    def put(self, p, text: str) -> None:
+        """text centred on the character cells of page point p (what falls outside is cut)."""
+        col, row = self.cell(p, len(text))
         for i, ch in enumerate(text):
             if 0 <= col + i < self.cols and 0 <= row < self.rows:
                 self.chars[col + i, row] = ch
@@ -4571,15 +4816,17 @@ def text_drawing(drawing: Drawing, index: int = 0, width: int = 80, height: int 
     width, height = max(width, 20), max(height, 8)
     frame = drawing.frames[index]
     grid = _DotGrid(width, height - 3, drawing.bounds, unicode)
-    strokes = drawing.ground.strokes + frame.layer.strokes
+    strokes = [s for s in drawing.ground.strokes + frame.layer.strokes       # hatching too fine
+               if s.style != "hatch" or math.dist(*s.points[:2]) * grid.scale >= 3.0]  # is a blot
     for stroke in sorted(strokes, key=lambda s: _TEXT_ORDER.index(s.style)):
         grid.stroke(stroke)
-    for layer in (drawing.ground, frame.layer):
-        for label in layer.labels:
-            grid.put(label.at, _plain(label.text, unicode))
-    for layer in (drawing.ground, frame.layer):
-        for mark in layer.marks:
-            grid.put(mark.at, _TEXT_MARKS[unicode][mark.kind])
+    marks = drawing.ground.marks + frame.layer.marks
+    labels = [label._replace(text=_plain(label.text, unicode)) for label in frame.layer.labels]
+    for label in place_labels(labels, stroke_segments(strokes), marks, grid.letters(),
+                              drawing.bounds, grid.snap):
+        grid.put(label.at, label.text)
+    for mark in marks:
+        grid.put(mark.at, _TEXT_MARKS[unicode][mark.kind])
     bottom = frame.message or frame.caption
     lines = [drawing.title, drawing.subtitle] + grid.lines() + [bottom + footer]
     return "\n".join(_plain(line, unicode)[:width] for line in lines)
@@ -4693,6 +4940,9 @@ def _key_within(fd, seconds):
 # (x, -y)).
 
 SVG_WIDTH = 800
+SVG_HEIGHT = 640                # the most the drawing itself takes, in pixels
+SVG_MARGIN = 16
+SVG_LETTER = 19                 # the letters' font size, in pixels
 _SVG_STYLE = """
 polyline{fill:none;stroke-linecap:round;stroke-linejoin:round}
 polyline.link{stroke:#1b1b1b;stroke-width:3.2}
@@ -4713,13 +4963,34 @@ polyline.grid{stroke:#ccc;stroke-width:1}
 .point{fill:#c0392b;stroke:#1b1b1b;stroke-width:1.5}
 .tick{font:12px 'DejaVu Sans',Arial,sans-serif;fill:#555}
 .pivot{fill:#d8d8d8}
-.label{font:italic 19px 'DejaVu Serif',Georgia,serif;fill:#1b1b1b;text-anchor:middle;
+.label{font:italic %dpx 'DejaVu Serif',Georgia,serif;fill:#1b1b1b;text-anchor:middle;
 dominant-baseline:central}
 .title{font:bold 16px 'DejaVu Sans',Arial,sans-serif;fill:#1b1b1b}
 .subtitle{font:13px 'DejaVu Sans',Arial,sans-serif;fill:#555}
 .caption{font:15px 'DejaVu Sans',Arial,sans-serif;fill:#1b1b1b;white-space:pre}
 .message{font:bold 17px 'DejaVu Sans',Arial,sans-serif;fill:#b3001b}
-"""
+""" % SVG_LETTER
+
+
+def _svg_scale(bounds) -> float:
+    """SVG pixels a page unit: the bounds fitted in SVG_WIDTH less the margins by SVG_HEIGHT."""
+    x0, y0, x1, y1 = bounds
+    return min((SVG_WIDTH - 2 * SVG_MARGIN) / max(x1 - x0, 1e-300),
+               SVG_HEIGHT / max(y1 - y0, 1e-300))
+
+
+def _svg_radius(size, scale) -> float:
+    """A joint's circle, in pixels, for ground symbols of `size` page units."""
+    return max(3.0, min(7.0, 0.16 * size * scale))
+
+
+def svg_letters(bounds, size) -> Letters:
+    """How big the SVG of a drawing within `bounds` draws letters, marks and lines, in page
+    units: a letter's box 0.6 by 0.8 of its font size, a mark's circle with its edge, the
+    links' half width."""
+    scale = _svg_scale(bounds)
+    return Letters(0.6 * SVG_LETTER / scale, 0.8 * SVG_LETTER / scale,
+                   (_svg_radius(size, scale) + 1.0) / scale, 1.6 / scale)
 
 
 class _SvgPage(NamedTuple):
@@ -4739,7 +5010,7 @@ class _SvgPage(NamedTuple):
 def _svg_layer(page: _SvgPage, layer: Layer, size: float) -> list[str]:
     out = [f'<polyline class="{s.style}" points="{" ".join(page.xy(p) for p in s.points)}"/>'
            for s in sorted(layer.strokes, key=lambda s: _TEXT_ORDER.index(s.style))]
-    radius = max(3.0, min(7.0, 0.16 * size * page.scale))
+    radius = _svg_radius(size, page.scale)
     out += [f'<circle class="{m.kind}" data-joint="{m.name}" {page.attrs(m.at, "cx", "cy")} '
             f'r="{radius:.1f}"/>' for m in layer.marks]
     out += [f'<text class="label" {page.attrs(label.at)}>{_xml(label.text)}</text>'
@@ -4798,8 +5069,8 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
     """The drawing as one animated SVG (SMIL; each frame frame_seconds() unless
     seconds_per_frame)."""
     x0, y0, x1, y1 = drawing.bounds
-    margin, head, foot = 16, 58, 40
-    scale = min((SVG_WIDTH - 2 * margin) / max(x1 - x0, 1e-300), 640 / max(y1 - y0, 1e-300))
+    margin, head, foot = SVG_MARGIN, 58, 40
+    scale = _svg_scale(drawing.bounds)
     width = SVG_WIDTH
     height = round(head + foot + (y1 - y0) * scale)
     page = _SvgPage(scale, (width - (x1 - x0) * scale) / 2 - x0 * scale, head + y1 * scale)
@@ -4859,18 +5130,32 @@ _PNG_STYLES = {"link": dict(color="#1b1b1b", linewidth=2.4),
                "marked": dict(color="#2e8b57", linewidth=1.4, linestyle="--")}
 
 
-def _png_layer(ax, layer: Layer, alpha: float, letters: bool) -> None:
+_PNG_LETTER, _PNG_MARK = 13, 6          # points: the letters' font size, the marks' size
+
+
+def _png_layer(ax, layer: Layer, alpha: float, marks: bool) -> None:
     for stroke in layer.strokes:
         xs, ys = zip(*stroke.points)
         ax.plot(xs, ys, alpha=alpha, solid_capstyle="round", **_PNG_STYLES[stroke.style])
-    if letters:
+    if marks:
         for mark in layer.marks:
-            ax.plot(*mark.at, marker="D" if mark.kind == "point" else "o", markersize=6,
-                    markeredgewidth=1.4, zorder=5, color="#1b1b1b",
+            ax.plot(*mark.at, marker="D" if mark.kind == "point" else "o",
+                    markersize=_PNG_MARK, markeredgewidth=1.4, zorder=5, color="#1b1b1b",
                     markerfacecolor={"pivot": "#d8d8d8", "point": "#c0392b"}.get(mark.kind, "w"))
-        for label in layer.labels:
-            ax.text(*label.at, label.text, ha="center", va="center", fontsize=13,
-                    fontstyle="italic", family="serif")
+
+
+def _png_letters(mpl, ax, drawing: Drawing, frame: Frame) -> None:
+    """The frame's letters, placed for the size the PNG draws them at (the axes laid out)."""
+    mpl.draw_without_rendering()
+    (x0, _), (x1, _) = ax.transData.transform([(0.0, 0.0), (1.0, 0.0)])
+    points = (x1 - x0) * 72.0 / mpl.dpi                   # typographic points a page unit
+    letters = Letters(0.6 * _PNG_LETTER / points, 0.8 * _PNG_LETTER / points,
+                      (_PNG_MARK / 2 + 0.7) / points, 1.2 / points)
+    for label in place_labels(frame.layer.labels,
+                              stroke_segments(drawing.ground.strokes + frame.layer.strokes),
+                              drawing.ground.marks + frame.layer.marks, letters, drawing.bounds):
+        ax.text(*label.at, label.text, ha="center", va="center", fontsize=_PNG_LETTER,
+                fontstyle="italic", family="serif")
 
 
 def _png_chart(ax, chart, marked) -> None:
@@ -4944,6 +5229,7 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")
     ax.set_axis_off()
+    _png_letters(mpl, ax, drawing, chosen[-1])
     out = io.BytesIO()
     mpl.savefig(out, format="png")
     return out.getvalue()
