@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import csv
 import math
+import random
 from fractions import Fraction
 from pathlib import Path
 
@@ -27,6 +28,26 @@ from test_mechanism_geometry import LINKAGES     # the random linkages of every 
 
 NOT = linkage.NOT_ASSEMBLED
 ALL_HEALTH = list(HealthCheck)
+
+# Uniform draws from a seeded generator, for the tests that must see enough linkages of each
+# class (crank-rocker and rocking crank, ...): hypothesis' floats favour the ends of a range and
+# the numbers written in the code under test, so how many of each class it draws changed with
+# any edit of linkage.py. These are the ranges of LINKAGES (test_mechanism_geometry).
+LENGTH, OFFSET, ARC, KSI = (0.1, 10.0), (-5.0, 5.0), (5.0, 175.0), (-75.0, 75.0)
+RANGES = {
+    "plane": dict(a=LENGTH, b=LENGTH, c=LENGTH, d=LENGTH),
+    "spherical": dict(a=ARC, b=ARC, c=ARC, d=ARC),
+    "skew": dict(a=LENGTH, b=LENGTH, c=LENGTH, d=LENGTH, f=OFFSET, ksi=KSI),
+    "slider": dict(b=LENGTH, c=LENGTH, e=OFFSET),
+    "skew-slider": dict(a=LENGTH, b=LENGTH, c=LENGTH, f=OFFSET, ksi=KSI),
+}
+
+
+def uniform_linkages(ranges: dict, n: int, seed: str) -> list[tuple[dict, int]]:
+    """n (dimensions, branch), each dimension uniform in its range, from random.Random(seed)."""
+    rng = random.Random(seed)
+    return [({k: rng.uniform(lo, hi) for k, (lo, hi) in ranges.items()}, rng.choice((1, 2)))
+            for _ in range(n)]
 
 
 def examples(n, shrink=True):
@@ -125,12 +146,11 @@ def test_the_crank_range_and_dead_centres_are_where_the_engine_stops_assembling(
     seen = {"rocking": 0, "full": 0}
     crashes = []
 
-    @examples(150, shrink=False)
-    @given(LINKAGES[kind], st.sampled_from([1, 2]))
     def check(dims, branch):
         link = linkage.Linkage(kind, **dims)
         swept = link.sweep(FINE, 1, 0)
-        assume(not any(m.status in (linkage.CHANGE_POINT, linkage.INDETERMINATE) for m in swept))
+        if any(m.status in (linkage.CHANGE_POINT, linkage.INDETERMINATE) for m in swept):
+            return
         try:
             analysis = linkage.analyse(link, branch)
         except ValueError as e:
@@ -174,7 +194,8 @@ def test_the_crank_range_and_dead_centres_are_where_the_engine_stops_assembling(
             seen["full"] += 1
             assert dead == (), (kind, dims, dead)
 
-    check()
+    for dims, branch in uniform_linkages(RANGES[kind], 150, kind):
+        check(dims, branch)
     assert not crashes, f"analyse raised on {len(crashes)} linkages, e.g. {crashes[:3]}"
     assert seen["rocking"] >= 10 and seen["full"] >= 10, seen
 
@@ -241,6 +262,15 @@ def brute_force(link, branch):
     return ends
 
 
+CRANK_ROCKER_RANGES = {
+    "plane": dict(a=(1.5, 10.0), b=(0.2, 1.0), c=(1.5, 10.0), d=(1.5, 10.0)),
+    "spherical": dict(a=(30.0, 150.0), b=(5.0, 25.0), c=(30.0, 150.0), d=(30.0, 150.0)),
+    "skew": dict(a=(1.5, 10.0), b=(0.2, 1.0), c=(1.5, 10.0), d=(1.5, 10.0), f=(-2.0, 2.0),
+                 ksi=(-60.0, 60.0)),
+    "slider": dict(b=(0.2, 2.0), c=(0.5, 10.0), e=(-3.0, 3.0)),
+    "skew-slider": dict(a=(-3.0, 3.0), b=(0.2, 2.0), c=(0.5, 10.0), f=(-2.0, 2.0),
+                        ksi=(-60.0, 60.0)),
+}
 CRANK_ROCKERS = {
     "plane": st.fixed_dictionaries(dict(a=st.floats(1.5, 10.0), b=st.floats(0.2, 1.0),
                                         c=st.floats(1.5, 10.0), d=st.floats(1.5, 10.0))),
@@ -292,14 +322,8 @@ def check_extremes_against_brute_force(link, branch):
 
 @pytest.mark.parametrize("kind", list(CRANK_ROCKERS))
 def test_output_range_swing_and_time_ratio_against_a_brute_force_sweep(kind):
-    checked = []
-
-    @examples(25, shrink=False)
-    @given(CRANK_ROCKERS[kind], st.sampled_from([1, 2]))
-    def check(dims, branch):
-        checked.append(check_extremes_against_brute_force(linkage.Linkage(kind, **dims), branch))
-
-    check()
+    checked = [check_extremes_against_brute_force(linkage.Linkage(kind, **dims), branch)
+               for dims, branch in uniform_linkages(CRANK_ROCKER_RANGES[kind], 25, kind)]
     assert sum(checked) >= 10, (kind, sum(checked), len(checked))
 
 
