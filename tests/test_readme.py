@@ -1,0 +1,59 @@
+"""The README as a newcomer uses it: every `python3 linkage.py …` command it shows - in its code
+blocks (continued lines joined) and in its tables - runs from a fresh folder and exits 0, as
+shown. The folder has the repository's data/ and legacy_basic/ beside it (the README's paths
+are relative to the clone); the bare menu program is given the key 6 (Exit)."""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+
+import pytest
+
+from basic_runner import ROOT
+
+README = (ROOT / "README.md").read_text(encoding="utf-8")
+COMMAND = re.compile(r"^python3 linkage\.py(?: |$)")
+TIMING = re.compile(r"^python3 linkage\.py\s+[0-9.]+\s*$")      # a row of a table of times
+
+
+def readme_commands(text: str) -> list[str]:
+    """The commands: indented code lines (with their `\\` continuations) and `inline code` that
+    start with python3 linkage.py."""
+    commands, lines = [], text.splitlines()
+    i = 0
+    while i < len(lines):
+        line = lines[i]
+        if line.startswith("    ") and COMMAND.match(line.strip()):
+            command = line.strip()
+            while command.endswith("\\") and i + 1 < len(lines):
+                i += 1
+                command = command[:-1].rstrip() + " " + lines[i].strip()
+            if not TIMING.match(command):
+                commands.append(command)
+        commands += [c for c in re.findall(r"`(python3 linkage\.py[^`]*)`", line)
+                     if not line.startswith("    ")]
+        i += 1
+    return list(dict.fromkeys(commands))
+
+
+COMMANDS = readme_commands(README)
+
+
+def test_the_readme_shows_the_commands_of_every_sub_command():
+    shown = {c.split()[2] if len(c.split()) > 2 else "" for c in COMMANDS}
+    assert {"", "run", "analyse", "scene", "plot", "design", "listing", "bench"} <= shown, shown
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_a_readme_command_runs_as_shown(command, tmp_path):
+    for name in ("data", "legacy_basic"):
+        os.symlink(ROOT / name, tmp_path / name)
+    line = command.replace("python3 linkage.py", f'"{sys.executable}" "{ROOT / "linkage.py"}"', 1)
+    keys = "6" if command == "python3 linkage.py" else None
+    got = subprocess.run(["bash", "-c", line], cwd=tmp_path, capture_output=True, text=True,
+                         input=keys, timeout=600)
+    assert got.returncode == 0, (command, got.stderr[-2000:])
+    assert "Traceback" not in got.stderr
