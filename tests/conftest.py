@@ -15,3 +15,33 @@ settings.register_profile("explore", deadline=None,
 settings.register_profile("seeded", parent=settings.get_profile("explore"), derandomize=True,
                           database=None)
 settings.load_profile("explore" if os.environ.get("LINKAGE_EXPLORE") else "seeded")
+
+
+# The quick subset for contributors, `python3 -m pytest -n auto --quick` (the README's "Tests"):
+# every module but these, which run PC-BASIC, build and install the wheel, fuzz, fill disks or
+# sweep thousands of random linkages; and at most QUICK_EXAMPLES examples a property.
+SLOW = {"test_errata.py", "test_physics.py", "test_mbf.py", "test_input.py",
+        "test_differential.py", "test_golden.py", "test_port.py", "test_install.py",
+        "test_readme.py", "test_fuzz.py", "test_hardening.py", "test_mechanism_labels.py",
+        "test_bench.py", "test_analyse.py", "test_follow.py", "test_mechanism_geometry.py",
+        "test_fast.py", "test_pylinkage.py"}
+QUICK_EXAMPLES = 10
+
+
+def pytest_addoption(parser):
+    parser.addoption("--quick", action="store_true",
+                     help="the quick subset: no slow module, at most 10 examples a property")
+
+
+def pytest_collection_modifyitems(config, items):
+    if not config.getoption("quick"):
+        return
+    kept = [item for item in items if item.path.name not in SLOW]
+    config.hook.pytest_deselected(items=[item for item in items if item.path.name in SLOW])
+    items[:] = kept
+    for item in kept:              # hypothesis keeps a test's settings on the test function
+        test = getattr(item, "obj", None)
+        chosen = getattr(test, "_hypothesis_internal_use_settings", None)
+        if chosen is not None and chosen.max_examples > QUICK_EXAMPLES:
+            test._hypothesis_internal_use_settings = settings(chosen,
+                                                              max_examples=QUICK_EXAMPLES)
