@@ -3,9 +3,9 @@ mutated scenes and mutated DAT files. The property: no traceback (no exception o
 "Traceback" on standard error), exit 0 only with complete files, never a temporary (.partial) or
 half-written file left behind.
 
-In the default run (and CI) each fuzzer runs a fixed, seeded set of examples (1,900 in all, about
-12 s here). LINKAGE_FUZZ=N runs N new examples per fuzzer instead (the closing note of the
-reliability issue reports 10,000 key streams and 10,000 command lines, no failure):
+In the default run (and CI) each fuzzer runs a fixed, seeded set of examples. LINKAGE_FUZZ=N runs
+N new examples per fuzzer instead (one fuzzer a sub-command; the closing notes report the long
+runs' counts):
 
     LINKAGE_FUZZ=10000 python3 -m pytest -q tests/test_fuzz.py
 """
@@ -157,22 +157,45 @@ def design_argv(draw):
 
 
 @st.composite
+def scene_argv(draw):
+    argv = ["scene", draw(st.sampled_from([str(p) for p in SCENES[:4]] + [
+        "nosuch.toml", ".", "/dev/null", "", "fig", "fig3", "fig1", "coupler-s", "-", "--list"]))]
+    argv += draw(st.lists(st.sampled_from([["--text"], ["--frames", "2"], ["--frames", "0"],
+                                           ["--frames", "x"], ["--svg", "s.svg"], ["--list"],
+                                           ["--dir", "sub"], ["--svg", "/proc/s.svg"],
+                                           ["--csv", "-"], ["--dir", "sub/new"]]),
+                          max_size=2).map(lambda options: sum(options, [])))
+    return argv
+
+
+@st.composite
+def plot_argv(draw):
+    return (["plot", draw(st.sampled_from([str(GOLDEN / "plane-b1"), ".", "nosuch", "/dev/null",
+                                           "sub", ""]))]
+            + draw(st.sampled_from([[], ["--mechanism", "plane"], ["--mechanism", "x"],
+                                    ["--text"], ["--mechanism", "5"]])))
+
+
+@st.composite
+def analyse_argv(draw):
+    argv = ["analyse", draw(st.sampled_from(MECHANISMS))]
+    for name in draw(st.lists(st.sampled_from(["a", "b", "c", "d", "e", "f", "ksi"]), max_size=7)):
+        argv += [f"--{name}", draw(st.sampled_from(VALUES))]
+    argv += draw(st.lists(st.sampled_from([["--branch", "1"], ["--branch", "2"],
+                                           ["--branch", "follow"], ["--branch", "x"],
+                                           ["--start-branch", "2"], ["--help"]]), max_size=2)
+                 .map(lambda options: sum(options, [])))
+    return argv
+
+
+@st.composite
 def other_argv(draw):
-    command = draw(st.sampled_from(["scene", "plot", "bench", "x", "--help", "--version", "-v"]))
+    command = draw(st.sampled_from(["bench", "listing", "x", "--help", "--version", "-v", ""]))
     argv = [command]
-    if command == "scene":
-        argv.append(draw(st.sampled_from([str(p) for p in SCENES[:4]] + ["nosuch.toml", ".",
-                                                                          "/dev/null", ""])))
-        argv += draw(st.lists(st.sampled_from([["--text"], ["--frames", "2"], ["--frames", "0"],
-                                               ["--frames", "x"], ["--svg", "s.svg"],
-                                               ["--dir", "sub"], ["--svg", "/proc/s.svg"]]),
-                              max_size=2).map(lambda options: sum(options, [])))
-    elif command == "plot":
-        argv.append(draw(st.sampled_from([str(GOLDEN / "plane-b1"), ".", "nosuch", "/dev/null"])))
-        argv += draw(st.sampled_from([[], ["--mechanism", "plane"], ["--mechanism", "x"],
-                                      ["--text"]]))
-    elif command == "bench":
+    if command == "bench":
         argv.append(draw(st.sampled_from(["nosuch", "--help", "-x"])))
+    elif command == "listing":
+        argv += draw(st.sampled_from([[], ["--ocr"], ["--x"], ["x"]]))
     return argv
 
 
@@ -196,15 +219,50 @@ def run_main(argv, folder: Path, capsys) -> int:
     return status
 
 
-@fuzz(1000)
-@given(argv=st.one_of(run_argv(), design_argv(), other_argv()))
-def test_any_command_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
+def _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang):
     no_hang()
     folder = tmp_path_factory.mktemp("argv")
     (folder / "sub").mkdir()
     monkeypatch.chdir(folder)
     status = run_main(argv, folder, capsys)
     assert_whole(folder, status, {"sub": None})
+
+
+# One fuzzer a sub-command (LINKAGE_FUZZ=N: N command lines of each).
+@fuzz(400)
+@given(argv=run_argv())
+def test_any_run_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
+    _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
+
+
+@fuzz(250)
+@given(argv=design_argv())
+def test_any_design_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
+    _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
+
+
+@fuzz(150)
+@given(argv=scene_argv())
+def test_any_scene_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
+    _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
+
+
+@fuzz(100)
+@given(argv=plot_argv())
+def test_any_plot_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
+    _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
+
+
+@fuzz(150)
+@given(argv=analyse_argv())
+def test_any_analyse_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
+    _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
+
+
+@fuzz(50)
+@given(argv=other_argv())
+def test_any_other_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
+    _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
 
 
 # ---- mutated scenes and DAT files ----------------------------------------------------------------
