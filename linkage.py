@@ -41,7 +41,7 @@ import shutil
 import sys
 from decimal import Decimal
 from fractions import Fraction
-from typing import NamedTuple
+from typing import Callable, NamedTuple
 
 __version__ = "0.2.0"
 PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linkage.py"
@@ -8673,29 +8673,19 @@ def design_scene(result, path="design") -> Scene:
                  marked=tuple(phi for phi, _ in design.positions))
 
 
-def design_command(argv):
+def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py design METHOD --name value ... [--analyze] [--dat DIR] [--svg OUT]
-    [--png OUT] [--text] [--scene OUT]` (argv: the words after `design`): print the design,
-    `name = value` a line, and draw it; exit 0, 1 bad data, 2 usage, 3 a miss."""
-    argv = list(argv)
-    if argv[:1] == ["design"]:
-        argv = argv[1:]
+    [--png OUT] [--text] [--scene OUT]`: print the design, `name = value` a line, and draw it;
+    exit 0, 1 bad data, 2 usage, 3 a miss."""
+    _check_outputs(parser, {"--scene": args.scene, "--svg": args.svg, "--png": args.png},
+                   args.dat, DatFiles.NAMES)
+    function, method = METHODS[args.method]
     try:
-        parser = _design_parser()
-        args = parser.parse_args(argv)
-        _check_outputs(parser, {"--scene": args.scene, "--svg": args.svg, "--png": args.png},
-                       args.dat, DatFiles.NAMES)
-        function, method = METHODS[args.method]
         result = function(**{datum.name: getattr(args, datum.name) for datum in DATA[method]
                              if getattr(args, datum.name) is not None})
     except DesignError as error:
         say(f"error: {error}", f"{PROG} design")
         return 1
-    except _UsageError as error:
-        say(f"error: {error}", f"{PROG} design")
-        return 2
-    except SystemExit as exit_:                     # argparse's --help
-        return int(exit_.code or 0)
     print(f"method = {result.method}")
     for key, value in result.design.data.items():
         print(f"data.{key} = {value_text(value)}")
@@ -8728,12 +8718,12 @@ def design_command(argv):
             print(line)
     if args.dat is not None or args.scene or args.svg or args.png or args.text:
         sys.stdout.flush()
-        status = _reported(lambda: _design_outputs(result, args, argv))
+        status = _reported(lambda: _design_outputs(result, args))
         return status or code
     return code
 
 
-def _design_outputs(result, args: argparse.Namespace, argv: list[str]) -> int:
+def _design_outputs(result, args: argparse.Namespace) -> int:
     """design's files - the DAT files (--dat), the scene (--scene), the drawings (--svg, --png) -
     put in place as one set (WrittenSet: all or none), then --text's terminal drawing. The status
     (1: a DAT file that cannot be written)."""
@@ -8759,7 +8749,7 @@ def _design_outputs(result, args: argparse.Namespace, argv: list[str]) -> int:
             if args.scene:
                 with outputs.opened(args.scene) as fh:
                     fh.write(scene_text(design_scene(result, args.scene),
-                                        f"python3 linkage.py design {' '.join(argv)}")
+                                        f"python3 linkage.py {' '.join(args.words)}")
                              .encode("utf-8"))
             if args.svg:
                 with outputs.opened(args.svg) as fh:
@@ -8877,14 +8867,12 @@ def option(*names: str, **settings) -> Option:
 
 class Command(NamedTuple):
     """A sub-command: handler(args, parser) gives the exit status; help is its line in the
-    program's --help, description its own --help. own_words: it parses the words after its name
-    itself (design: one parser a method, built from DATA)."""
+    program's --help, description its own --help."""
 
-    handler: object
+    handler: Callable[[argparse.Namespace, argparse.ArgumentParser], int]
     help: str
     description: str
     options: tuple[Option, ...]
-    own_words: bool = False
 
 
 DIMENSION_HELP = {
@@ -9024,8 +9012,7 @@ COMMANDS = {
                      "positions as still frames)"),
          option("--scene", metavar="OUT",
                 help="write that motion as a scene file (TOML) to edit and draw with python3 "
-                     "linkage.py scene OUT")),
-        own_words=True),
+                     "linkage.py scene OUT"))),
     "listing": Command(
         listing_command, "the original BASIC listing as corrected, with its errata",
         "The program of the paper's appendix as it must have run (legacy_basic/LINKAGE.BAS): "
@@ -9046,10 +9033,6 @@ COMMANDS = {
 }
 
 
-class _UsageError(Exception):
-    """A command line argparse refuses."""
-
-
 class CommandParser(argparse.ArgumentParser):
     """argparse, taking a negative number in any form (-1e3, -.5, -1D3) as an option's value
     (argparse before Python 3.13 takes -1e3 for an option and says "expected one argument")."""
@@ -9063,46 +9046,34 @@ class CommandParser(argparse.ArgumentParser):
             self.add_argument(*o.names, **o.settings)
 
 
-class _Parser(CommandParser):
-    """argparse that raises instead of exiting, so that design_command returns its code."""
-
-    def error(self, message):
-        raise _UsageError(f"{message} (see {self.prog} --help)")
-
-
 def build_parser() -> argparse.ArgumentParser:
-    """The program's parser, from COMMANDS (a command that parses its own words is only named)."""
+    """The program's parser, from COMMANDS; design has one sub-parser a method, its data from
+    DATA (each an ordinary decimal, required unless optional), then design's own options."""
     parser = CommandParser(prog=PROG, description=__doc__.split("\n\n")[0],
                            epilog="With no command: the original menu program.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     commands = parser.add_subparsers(dest="command", parser_class=CommandParser)
     for name, command in COMMANDS.items():
-        if command.own_words:
-            commands.add_parser(name, help=command.help, add_help=False)
+        if name != "design":
+            sub = commands.add_parser(name, help=command.help, description=command.description)
+            sub.add_options(command.options)
+            sub.set_defaults(handler=command.handler, parser=sub)
             continue
-        sub = commands.add_parser(name, help=command.help, description=command.description)
-        sub.add_options(command.options)
-        sub.set_defaults(handler=command.handler, parser=sub)
-    return parser
-
-
-def _design_parser() -> argparse.ArgumentParser:
-    """The parser of `design METHOD --name value ...`: one sub-parser a method, its data from
-    DATA (each an ordinary decimal, required unless optional), then design's own options."""
-    design = COMMANDS["design"]
-    parser = _Parser(prog=f"{PROG} design", description=design.description)
-    methods = parser.add_subparsers(dest="method", metavar="METHOD", parser_class=_Parser)
-    methods.required = True
-    for name, (function, method) in METHODS.items():
-        summary = f"{method}: {METHOD_HELP[method]} {ANGLES_HELP}."
-        sub = methods.add_parser(name, help=METHOD_HELP[method], description=summary,
-                                 epilog=DESIGN_OUTPUT_HELP)
-        for datum in DATA[method]:
-            flag = "--lambda" if datum.name == "lam" else "--" + datum.name.replace("_", "-")
-            sub.add_argument(flag, dest=datum.name, type=_design_number(flag),
-                             required=not datum.optional, help=datum_help(datum),
-                             **({"nargs": 3} if datum.count == 3 else {}))
-        sub.add_options(design.options)
+        design = commands.add_parser(name, help=command.help, description=command.description)
+        methods = design.add_subparsers(dest="method", metavar="METHOD",
+                                        parser_class=CommandParser)
+        methods.required = True
+        for method_name, (_, method) in METHODS.items():
+            sub = methods.add_parser(method_name, help=METHOD_HELP[method],
+                                     description=f"{method}: {METHOD_HELP[method]} "
+                                                 f"{ANGLES_HELP}.", epilog=DESIGN_OUTPUT_HELP)
+            for datum in DATA[method]:
+                flag = "--lambda" if datum.name == "lam" else "--" + datum.name.replace("_", "-")
+                sub.add_argument(flag, dest=datum.name, type=_design_number(flag),
+                                 required=not datum.optional, help=datum_help(datum),
+                                 **({"nargs": 3} if datum.count == 3 else {}))
+            sub.add_options(command.options)
+            sub.set_defaults(handler=command.handler, parser=sub)
     return parser
 
 
@@ -9120,12 +9091,11 @@ def _command(argv: list[str]) -> int:
     try:
         if not argv:
             return menu_program()
-        if argv[0] in COMMANDS and COMMANDS[argv[0]].own_words:
-            return COMMANDS[argv[0]].handler(argv[1:])
         parser = build_parser()
         args = parser.parse_args(argv)
         if args.command is None:
             parser.error("give a command, or none for the menu program")
+        args.words = argv                       # the command line, for what quotes it
         return args.handler(args, args.parser)
     except KeyboardInterrupt as e:
         return said("interrupted", interrupted_status(e))
