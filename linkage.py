@@ -225,6 +225,15 @@ def mbf_mul(x, y, err=_ignore):
     return v if p > 0 else -v
 
 
+def mbf_scaled(k, x, err=_ignore):
+    """K*X for K a power of two (the listing's .5, 2 and 4): mbf_mul's product, which is exact,
+    so K*X itself inside the single's range (mbf_mul for the rest: 0, or "Overflow")."""
+    v = k * x
+    if _BOTTOM <= v < _TOP or -_TOP < v <= -_BOTTOM:
+        return v
+    return mbf_mul(k, x, err)
+
+
 def mbf_div(x, y, err=_ignore):
     """X/Y as PC-BASIC computes it (observed; data/PCBASIC_NOTES.md): restoring long
     division of the mantissas held with a guard byte (m << 8), where the
@@ -359,10 +368,11 @@ def _digits(x):
             e += 3
             k -= 1
     q = (m >> 8) + ((m & 0xFF) >= 0x80)
-    y = _ldexp(q, e + 8)
-    if y != math.floor(y):
-        y = mbf_add(y, 0.5)
-    s = str(int(y))
+    # y = q * 2**(e+8) is below 2**24, so whole from 2**23 up; below, y + .5 is exact in
+    # double, and rounding it to 24 bits (mbf_add) moves it by less than the distance to the
+    # next whole number above it (at most half its last place, which is under 1): so the
+    # truncated single sum is floor(y + .5), for a whole y too.
+    s = str(int(_ldexp(q, e + 8) + 0.5))
     return s, len(s) + k
 
 
@@ -731,25 +741,12 @@ PI = Single(mbf_parse("3.141592654#"))                                  # 110
 _PI = PI.v
 
 
-@dataclasses.dataclass
 class Variables:
     """The listing's variables that matter between passes through the menu: "Illegal linkage"
-    goes back with GOTO 130, not RUN, so every one keeps its value (ERRATA K1-K3)."""
+    goes back with GOTO 130, not RUN, so every one keeps its value (ERRATA K1-K3). Each starts
+    at 0, as after RUN (a class attribute until assigned: a Single is never changed in place)."""
 
-    A: Single = ZERO
-    B: Single = ZERO
-    C: Single = ZERO
-    D: Single = ZERO
-    E: Single = ZERO
-    F: Single = ZERO
-    G: Single = ZERO
-    KSI: Single = ZERO
-    S: Single = ZERO
-    CIM: Single = ZERO
-    BT: Single = ZERO
-    CT: Single = ZERO
-    DT: Single = ZERO
-    DIAG: Single = ZERO
+    A = B = C = D = E = F = G = KSI = S = CIM = BT = CT = DT = DIAG = ZERO
 
 
 PROMPTS = {
@@ -938,23 +935,23 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
                      derivatives: int = 2) -> tuple[str, str | None, str | None]:
     """sweep_point with each repeated subexpression computed once, in the listing's order of
     operations (a+b+c is (a+b)+c, a*b*c is (a*b)*c), on the singles' floats with the mbf_
-    functions (no Single made: a third of the time); the first soft error raises _Redo. X-Y is
-    X+(-Y) (mbf_sub); the sums and products commute, so U(LOP)^2+1 is 1+U(LOP)^2. Lines
-    1130-1140 are computed for PSI(SOL) only: ATN is within +-PI/2, so the other PSI can raise
-    no soft error."""
+    functions (no Single made: half the time; the literals .5, 2 and 4 by mbf_scaled); the first
+    soft error raises _Redo. X-Y is X+(-Y) (mbf_sub); the sums and products commute, so
+    U(LOP)^2+1 is 1+U(LOP)^2. Lines 1130-1140 are computed for PSI(SOL) only: ATN is within
+    +-PI/2, so the other PSI can raise no soft error."""
     A1, B1, C1, D1, E1, F1, G1, H1, I1, J1 = [c.v for c in co]
-    add, mul, div, e = mbf_add, mbf_mul, mbf_div, _redo
+    add, mul, scaled, div, e = mbf_add, mbf_mul, mbf_scaled, mbf_div, _redo
     PHI = PHI.v
-    T = mbf_tan(mul(.5, PHI, e), e)                                                      # 1060
+    T = mbf_tan(scaled(.5, PHI, e), e)                                                   # 1060
     T2 = mul(T, T, e)
     D1T, F1T, GJ, GH = mul(D1, T, e), mul(F1, T, e), add(G1, J1, e), add(G1, H1, e)
     GJT2 = mul(GJ, T2, e)
     NUM = add(add(D1T, GJT2, e), GH, e)                           # D1*T + (G1+J1)*T^2 + (G1+H1)
     DEN = add(add(B1, mul(C1, T2, e), e), F1T, e)                 # B1 + C1*T^2 + F1*T
-    DEN2 = mul(2.0, DEN, e)
+    DEN2 = scaled(2.0, DEN, e)
     U11 = div(-NUM, DEN2, e)                                                             # 1070
     NUM2 = mul(NUM, NUM, e)
-    DISC = mul(mul(4.0, DEN, e),                                  # 4*DEN*(A1*T^2+E1+F1*T+I1*T)
+    DISC = mul(scaled(4.0, DEN, e),                               # 4*DEN*(A1*T^2+E1+F1*T+I1*T)
                add(add(add(mul(A1, T2, e), E1, e), F1T, e), mul(I1, T, e), e), e)
     if NUM2 < DISC:                                                                      # 1080
         U11 = U12 = 0.0
@@ -965,21 +962,21 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
     U = (add(U11, U12, e), add(U11, -U12, e))                                            # 1100-1110
     PSI = U[SOL - 1]                                                                     # 1120
     if S.v == 0:                                                                         # 1130-1140
-        PSI = mul(div(mul(2.0, mbf_atn(PSI, e), e), _PI, e), 180.0, e)
+        PSI = mul(div(scaled(2.0, mbf_atn(PSI, e), e), _PI, e), 180.0, e)
     angle = mbf_write_text(mul(div(PHI, _PI, e), 180.0, e))
     ang = f"{angle},{mbf_write_text(PSI)}\r\n"                                          # 1150
     if derivatives == 0:
         return ang, None, None
     OT = add(1.0, T2, e)
     NEG_OT = -OT
-    HD, HF, HI = mul(.5, D1, e), mul(.5, F1, e), mul(.5, I1, e)
+    HD, HF, HI = scaled(.5, D1, e), scaled(.5, F1, e), scaled(.5, I1, e)
     A1T, C1T, GJT = mul(A1, T, e), mul(C1, T, e), mul(GJ, T, e)
     TAIL = mul(HD, T, e)                                          # .5*D1*T, then + F1*u*T ...
-    GJT2H, GHH = mul(mul(.5, GJ, e), T2, e), mul(.5, GH, e)
+    GJT2H, GHH = mul(scaled(.5, GJ, e), T2, e), scaled(.5, GH, e)
     if derivatives == 2:
         P1B = add(add(add(GJT2, D1T, e), G1, e), H1, e)           # (G1+J1)*T^2 + D1*T + G1 + H1
-        Q1A = mul(2.0, OT, e)
-        C2T = mul(mul(2.0, C1, e), T, e)
+        Q1A = scaled(2.0, OT, e)
+        C2T = mul(scaled(2.0, C1, e), T, e)
         T3 = add(mul(3.0, T2, e), 1.0, e)
     for k, u in enumerate(U):                                                            # 1160
         U2 = mul(u, u, e)
@@ -1007,7 +1004,7 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
             R1 = mul(div(OT, OU, e),
                      add(mul(T3, add(add(A1, mul(C1, U2, e), e), mul(GJ, u, e), e), e),
                          mul(T, add(add(mul(F1, OU, e), mul(D1, u, e), e), I1, e), e), e), e)
-            S1 = mul(2.0, S0, e)                                                         # 1250
+            S1 = scaled(2.0, S0, e)                                                      # 1250
             M1S = mul(M1, M1, e)
             M2 = div(-add(add(mul(P1, M1S, e), mul(Q1, M1, e), e), R1, e), S1, e)       # 1260
             M22 = M2                                                                     # 1262
@@ -7395,39 +7392,51 @@ def bench_port(out, quick: bool = False, basic_command=None) -> None:
 
 
 def bench_startup(out, quick: bool = False) -> None:
-    """Start-up: a one-point session run as a script (compiled every time) and as a module
-    (python3 -m linkage, from cached bytecode), beside Python starting alone."""
+    """Start-up: a one-point session by the installed `linkage` command, the module and the script.
+    Each (python3 -m linkage and the `linkage` command from cached bytecode, python3 linkage.py
+    compiled every run) beside Python starting alone, runs alternated: the CPU time of the child
+    process (getrusage RUSAGE_CHILDREN) and the wall time, medians; and what compiling the
+    module costs in this process."""
+    import resource
     import statistics
     import subprocess
+    import sysconfig
     import tempfile
     import time
     here = os.path.dirname(os.path.abspath(__file__))
     runs, repeats = (2, 1) if quick else (21, 5)
     env = dict(os.environ, PYTHONPATH=here)
     env.pop("PYTHONDONTWRITEBYTECODE", None)         # as where bytecode is kept, the default
-    commands = {"python3 -c pass": [sys.executable, "-c", "pass"],
-                "python3 linkage.py": [sys.executable, os.path.join(here, "linkage.py")],
-                "python3 -m linkage": [sys.executable, "-m", "linkage"]}
+    commands = {"python3 -c pass": [sys.executable, "-c", "pass"]}
+    installed = os.path.join(sysconfig.get_path("scripts"), "linkage")
+    if os.path.isfile(installed):                    # pip install . made it (it imports linkage)
+        commands["linkage (the command)"] = [sys.executable, installed]
+    commands |= {"python3 -m linkage": [sys.executable, "-m", "linkage"],
+                 "python3 linkage.py": [sys.executable, os.path.join(here, "linkage.py")]}
     times = {name: [] for name in commands}
     with tempfile.TemporaryDirectory() as folder:
         subprocess.run([sys.executable, "-c", "import linkage"], env=env, cwd=folder, check=True)
         for _ in range(runs):                      # alternated, so that drift hits all alike
             for name, command in commands.items():
+                before = resource.getrusage(resource.RUSAGE_CHILDREN)
                 start = time.perf_counter()
                 subprocess.run(command, input=ONE_POINT_KEYS, cwd=folder,
                                env=env, capture_output=True, check=True)
-                times[name].append(time.perf_counter() - start)
+                wall = time.perf_counter() - start
+                after = resource.getrusage(resource.RUSAGE_CHILDREN)
+                times[name].append((after.ru_utime - before.ru_utime
+                                    + after.ru_stime - before.ru_stime, wall))
     with open(os.path.join(here, "linkage.py"), encoding="utf-8") as f:
         source = f.read()
     compiling = _best_of(repeats, lambda: compile(source, "linkage.py", "exec"))
-    medians = {name: statistics.median(t) for name, t in times.items()}
+    cpu = {name: statistics.median(c for c, _ in t) for name, t in times.items()}
     print(f"a one-point session (plane four-bar, 0 to 0 degrees); milliseconds, median of {runs} "
-          f"runs each, alternated", file=out)
-    print(f"the script takes {medians['python3 linkage.py'] / medians['python3 -m linkage']:.1f} "
-          f"times as long as the module", file=out)
-    for name, median in medians.items():
-        print(f"{name:20} {median * 1e3:8.1f}", file=out)
-    print(f"{'compiling linkage.py':20} {compiling * 1e3:8.1f}   ({len(source.encode()):,} bytes, "
+          f"runs each, alternated; CPU: user and system of the child process", file=out)
+    print(f"{'':22} {'CPU':>7} {'wall':>7} {'CPU / python3 -c pass':>22}", file=out)
+    for name, t in times.items():
+        print(f"{name:22} {cpu[name] * 1e3:7.1f} {statistics.median(w for _, w in t) * 1e3:7.1f} "
+              f"{cpu[name] / cpu['python3 -c pass']:22.2f}", file=out)
+    print(f"{'compiling linkage.py':22} {compiling * 1e3:7.1f}   ({len(source.encode()):,} bytes, "
           f"in this process, best of {repeats}; the script pays it every run)", file=out)
 
 

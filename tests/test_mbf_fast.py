@@ -1,7 +1,8 @@
 """linkage.py's single-precision operations against tests/mbf_reference.py, the step-by-step
 versions they were made fast from: X+Y and X-Y (IEEE single rounding where it is the same),
-X/Y (the register's last 16 quotient bits found by one division where they are certain), and
-the digits of PRINT and WRITE # (the times-ten loop inline). Every result is compared with its
+X/Y (the register's last 16 quotient bits found by one division where they are certain), the
+digits of PRINT and WRITE # (the times-ten loop inline, WRITE's rounding of the register as
+floor(y + .5)), and mbf_scaled, the listing's .5*X, 2*X and 4*X, against mbf_mul. Every result is compared with its
 sign bit and its soft errors, on hypothesis's operands, on a seeded sweep of random ones, and on
 the edges each fast path decides by: the ends of IEEE's normal range, overflow, underflow,
 cancellation, ties, divisors full of low 1-bits, remainders beside the certain margins."""
@@ -144,3 +145,12 @@ def test_sums_at_the_ends_of_the_ranges(eb):
             x, y = single(m1, eb, n1), single(m2, e2, n2)
             for name in BINARY:
                 assert_same(name, x, y)
+
+
+@settings(max_examples=5000, deadline=None, suppress_health_check=list(HealthCheck))
+@given(singles, st.sampled_from([0.5, 2.0, 4.0]))
+@example(single(0x800000, 1), 0.5)                                       # underflows to 0
+@example(single(0xFFFFFF, 255), 2.0)                                     # overflows
+@example(single(0x800000, 254, True), 4.0)
+def test_scaling_by_a_power_of_two_is_the_product(x, k):
+    assert outcome(L.mbf_scaled, k, x) == outcome(R.mbf_mul, k, x), (k, x.hex())
