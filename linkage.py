@@ -368,10 +368,10 @@ def _digits(x):
             e += 3
             k -= 1
     q = (m >> 8) + ((m & 0xFF) >= 0x80)
-    # y = q * 2**(e+8) is below 2**24, so whole from 2**23 up; below, y + .5 is exact in
-    # double, and rounding it to 24 bits (mbf_add) moves it by less than the distance to the
-    # next whole number above it (at most half its last place, which is under 1): so the
-    # truncated single sum is floor(y + .5), for a whole y too.
+    # WRITE's mbf_add(y, .5), truncated, for y = q * 2**(e+8) < 2**24: y is whole from 2**23
+    # up; below, y + .5 fits 24 bits unless it passes a power of two, and then it is less than
+    # .5 over that whole number, which its rounding (to a last place of at most 1) cannot
+    # carry it past: so the digits are floor(y + .5), for a whole y too.
     s = str(int(_ldexp(q, e + 8) + 0.5))
     return s, len(s) + k
 
