@@ -38,6 +38,7 @@ import math
 import os
 import re
 import shutil
+import struct
 import sys
 from decimal import Decimal
 from fractions import Fraction
@@ -68,6 +69,9 @@ DIV_ZERO = "Division by zero"
 _T24 = 16777216.0                        # 2**24
 _TOP = 2.0 ** 127                        # the first magnitude beyond the single range
 _BOTTOM = 2.0 ** -128                    # the smallest magnitude in it
+_F32_LOW = 2.0 ** -126                   # the smallest normal IEEE single
+_frexp, _ldexp = math.frexp, math.ldexp
+_pack32, _unpack32 = struct.Struct("f").pack, struct.Struct("f").unpack   # IEEE singles
 
 
 def _ignore(message):
@@ -145,24 +149,28 @@ def mbf_add(x, y, err=_ignore):
         return y if y != 0 else 0.0          # a sum of zeros is +0, whatever their signs
     if y == 0:
         return x
-    if (x > 0) is (y > 0):
-        # The double sum is exact while the exponents are at most 28 apart; further apart,
-        # it rounds to within an eighth of X's last place, and the single sum is X anyway.
-        f, e = math.frexp(x + y)
-        v = math.ldexp(round(f * _T24), e - 24)
-        if -_TOP < v < _TOP:
+    s = x + y
+    if (x > 0) is (y > 0) or 0.125 < -x / y < 8.0:
+        # Equal signs: the double sum is exact while the exponents are at most 28 apart;
+        # further apart, it rounds to within an eighth of X's last place, and the single sum
+        # is X anyway. Opposite signs, |X| and |Y| less than 8 times apart (the rounded
+        # quotient is so only if the exact one is): the exponents are at most 3 apart, no bit
+        # reaches the guard byte's low 5, and the guard arithmetic below rounds the exact
+        # difference half to even. Either way the sum is rounded to 24 bits, half to even:
+        # as IEEE single precision rounds it, where that is normal (from 2**-126).
+        if _F32_LOW <= s < _TOP or -_TOP < s <= -_F32_LOW:
+            v = _unpack32(_pack32(s))[0]
+        elif s == 0:
+            return 0.0
+        else:
+            f, e = _frexp(s)
+            v = _ldexp(round(f * _T24), e - 24)
+        if _BOTTOM <= v < _TOP or -_TOP < v <= -_BOTTOM:
             return v
+        if -_BOTTOM < v < _BOTTOM:
+            return 0.0
         err(OVERFLOW)
         return math.copysign(MBF_MAX, x)
-    if -3 <= math.frexp(x)[1] - math.frexp(y)[1] <= 3:
-        # Exponents at most 3 apart: no bit reaches the guard byte's low 5, so the guard
-        # arithmetic below rounds the exact difference half to even.
-        d = x + y
-        if d == 0:
-            return 0.0
-        f, e = math.frexp(d)
-        v = math.ldexp(round(f * _T24), e - 24)
-        return v if not -_BOTTOM < v < _BOTTOM else 0.0
     nx, mx, ex = _split(x)
     ny, my, ey = _split(y)
     if ex < ey or (ex == ey and mx < my):
@@ -219,6 +227,15 @@ def mbf_mul(x, y, err=_ignore):
     return v if p > 0 else -v
 
 
+def mbf_scaled(k, x, err=_ignore):
+    """K*X for K a power of two (the listing's .5, 2 and 4): mbf_mul's product, which is exact,
+    so K*X itself inside the single's range (mbf_mul for the rest: 0, or "Overflow")."""
+    v = k * x
+    if _BOTTOM <= v < _TOP or -_TOP < v <= -_BOTTOM:
+        return v
+    return mbf_mul(k, x, err)
+
+
 def mbf_div(x, y, err=_ignore):
     """X/Y as PC-BASIC computes it (observed; data/PCBASIC_NOTES.md): restoring long
     division of the mantissas held with a guard byte (m << 8), where the
@@ -234,28 +251,45 @@ def mbf_div(x, y, err=_ignore):
         return math.copysign(MBF_MAX, x)
     if x == 0:
         return 0.0
-    nx, mx, ex = _split(x)
-    ny, my, ey = _split(y)
-    rem = mx << 8
-    dv = my << 8
+    fx, ex = _frexp(x)
+    fy, ey = _frexp(y)
+    mx = int((fx if fx > 0 else -fx) * _T24)
+    my = int((fy if fy > 0 else -fy) * _T24)
     eb = ex - ey + 129
+    dv = my << 8
     if mx < my:
         dv >>= 1
         eb -= 1
     # The first 8 quotient bits in one division: dv >> i is exact for i < 8 (dv has at least
     # 7 low zero bits), so they are the exact quotient's; the other 16 follow the register.
-    q, rem = divmod(rem << 7, dv)
-    rem >>= 7
+    q, rem = divmod(mx << 15, dv)
     dv >>= 8
-    for _ in range(16):
-        q <<= 1
-        if rem >= dv:
-            rem -= dv
-            q |= 1
-        dv >>= 1
-    if rem > dv + 1 or (rem == dv + 1 and q & 1):
-        q += 1
-    return _make(nx != ny, q, eb, err)
+    # Those 16 bits take the divisor M = dv >> i at step i (M >= 2**22): each M >> i exceeds
+    # the sum of all after it, so they are the largest t with S(t) <= rem, S(t) the sum of
+    # M >> i over t's bits; and S(t) = t*M/2**15 - F(t), 0 <= F(t) < 16 (the fractions cut
+    # off). With t0, r = divmod(rem * 2**15, M), t is t0 or t0 + 1. If t0 + 1: r > M - 2**19,
+    # above H = ((M >> 16) + 1) * 2**15, and what remains, F(t0 + 1) - (M - r)/2**15, is under
+    # 16, below H/2**15 (no rounding). If t0: what remains is r/2**15 + F(t0), above
+    # H/2**15 (rounded up) when r > H, not when r + 16 * 2**15 <= H. Either way t0 + (r > H),
+    # unless r is in (H - 2**19, H]: then the register's own loop.
+    t, r = divmod(rem << 8, dv)                 # rem, a multiple of 2**7, is rem * 2**7 here
+    h = ((dv >> 16) + 1) << 15
+    if (r > h or r + 524288 <= h) and t < 65536:
+        q = (q << 16) + t + (r > h)
+    else:
+        rem >>= 7
+        for _ in range(16):
+            q <<= 1
+            if rem >= dv:
+                rem -= dv
+                q |= 1
+            dv >>= 1
+        if rem > dv + 1 or (rem == dv + 1 and q & 1):
+            q += 1
+    v = _ldexp(q, eb - 152)                     # q may be 2**24 (a carry): the same value
+    if _BOTTOM <= v < _TOP:
+        return v if (x > 0) is (y > 0) else -v
+    return _make((x > 0) is not (y > 0), q, eb, err)
 
 
 def mbf_neg(x):
@@ -316,23 +350,31 @@ def _digits(x):
     .99999994, can print as that power: "1").  The register is rounded half
     up to 24 bits and the single is rounded like WRITE does it: mbf_add .5 in
     single if not whole, truncate."""
-    _, m, eb = _split(abs(x))
-    m <<= 8
-    e = eb - 160                       # |x| = m * 2**e; ldexp(m, e) is exact (m < 2**32)
+    f, e = _frexp(x if x > 0 else -x)
+    m = int(f * 4294967296.0)          # |x| = m * 2**e, m the register's 32 bits
+    e -= 32
     k = 0
-    if math.ldexp(m, e) > 9999999:
+    if not -9999999 <= x <= 9999999:
         while math.ldexp(m, e) > 9999999:
             m, e = _tenth(m, e, 32)
             k += 1
     else:
-        while math.ldexp(m, e) < 999999.9375:
-            m, e = _times_ten(m, e, 32)
+        # _times_ten inline while m * 2**e < 999999.9375 (with m in [2**31, 2**32): always
+        # for e < -12, never for e > -12)
+        while e < -12 or (e == -12 and m < 4095999744):
+            s = m + (m >> 2)
+            if s >> 32:
+                s >>= 1
+                e += 1
+            m = s | (m & 3 != 0)
+            e += 3
             k -= 1
     q = (m >> 8) + ((m & 0xFF) >= 0x80)
-    y = math.ldexp(q, e + 8)
-    if y != math.floor(y):
-        y = mbf_add(y, 0.5)
-    s = str(int(y))
+    # WRITE's mbf_add(y, .5), truncated, for y = q * 2**(e+8) < 2**24: y is whole from 2**23
+    # up; below, y + .5 fits 24 bits unless it passes a power of two, and then it is less than
+    # .5 over that whole number, which its rounding (to a last place of at most 1) cannot
+    # carry it past: so the digits are floor(y + .5), for a whole y too.
+    s = str(int(_ldexp(q, e + 8) + 0.5))
     return s, len(s) + k
 
 
@@ -698,27 +740,15 @@ def INT(x: Single) -> Single: return Single(mbf_int(x.v))
 
 ZERO = Single(0.0)
 PI = Single(mbf_parse("3.141592654#"))                                  # 110
+_PI = PI.v
 
 
-@dataclasses.dataclass
 class Variables:
     """The listing's variables that matter between passes through the menu: "Illegal linkage"
-    goes back with GOTO 130, not RUN, so every one keeps its value (ERRATA K1-K3)."""
+    goes back with GOTO 130, not RUN, so every one keeps its value (ERRATA K1-K3). Each starts
+    at 0, as after RUN (a class attribute until assigned: a Single is never changed in place)."""
 
-    A: Single = ZERO
-    B: Single = ZERO
-    C: Single = ZERO
-    D: Single = ZERO
-    E: Single = ZERO
-    F: Single = ZERO
-    G: Single = ZERO
-    KSI: Single = ZERO
-    S: Single = ZERO
-    CIM: Single = ZERO
-    BT: Single = ZERO
-    CT: Single = ZERO
-    DT: Single = ZERO
-    DIAG: Single = ZERO
+    A = B = C = D = E = F = G = KSI = S = CIM = BT = CT = DT = DIAG = ZERO
 
 
 PROMPTS = {
@@ -884,23 +914,19 @@ def _roots_and_angle_line(U11: Single, U12: Single, PHI: Single, SOL: int,
     return U, angle, f"{angle},{mbf_write_text(PSI[SOL - 1].v)}\r\n"                   # 1150
 
 
-def _clip3(m: Single) -> Single:
+def _clip3(m: float) -> float:
     """Lines 1200-1210 and 1290-1300: VEL and ACC are clipped to +-3."""
-    if m > 3:
-        return Single(3.0)
-    if m < -3:
-        return Single(-3.0)
-    return m
+    return 3.0 if m > 3 else -3.0 if m < -3 else m
 
 
-def _write_lines(angle: str, ang: str, m1: Single, m2: Single,
+def _write_lines(angle: str, ang: str, m1: float, m2: float,
                  derivatives: int) -> tuple[str, str, str | None]:
-    """Lines 1320-1330: the VEL.DAT and ACC.DAT lines beside the ANG.DAT line (ACC's only if
-    `derivatives` is 2)."""
-    vel = f"{angle},{mbf_write_text(m1.v)}\r\n"
+    """Lines 1200-1210, 1290-1300 and 1320-1330: the VEL.DAT and ACC.DAT lines beside the
+    ANG.DAT line (ACC's only if `derivatives` is 2), VEL and ACC clipped to +-3."""
+    vel = f"{angle},{mbf_write_text(_clip3(m1))}\r\n"
     if derivatives == 1:
         return ang, vel, None
-    return ang, vel, f"{angle},{mbf_write_text(m2.v)}\r\n"
+    return ang, vel, f"{angle},{mbf_write_text(_clip3(m2))}\r\n"
 
 
 def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
@@ -916,77 +942,104 @@ def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
     is the screen: a subexpression that overflows says "Overflow" each time it is evaluated. So a
     point that raises any soft error is computed again as the listing writes it
     (sweep_point_as_listed), and its messages are those."""
-    before = len(Single.errors)
-    lines = sweep_point_fast(co, PHI, SOL, S, derivatives)
-    if len(Single.errors) == before:
-        return lines
-    del Single.errors[before:]
-    return sweep_point_as_listed(co, PHI, SOL, S, derivatives)
+    try:
+        return sweep_point_fast(co, PHI, SOL, S, derivatives)
+    except _Redo:
+        return sweep_point_as_listed(co, PHI, SOL, S, derivatives)
+
+
+class _Redo(Exception):
+    """A soft error in sweep_point_fast: the point is to be computed as listed."""
+
+
+def _redo(message: str) -> None:
+    raise _Redo(message)
 
 
 def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
                      derivatives: int = 2) -> tuple[str, str | None, str | None]:
     """sweep_point with each repeated subexpression computed once, in the listing's order of
-    operations (a+b+c is (a+b)+c, a*b*c is (a*b)*c); exact unless a soft error occurs."""
-    A1, B1, C1, D1, E1, F1, G1, H1, I1, J1 = co
-    T = TAN(.5*PHI)                                                                      # 1060
-    T2 = T**2
-    D1T, F1T, GJ = D1*T, F1*T, G1 + J1
-    GJT2 = GJ*T2
-    NUM = D1T + GJT2 + (G1+H1)                                    # D1*T + (G1+J1)*T^2 + (G1+H1)
-    DEN = B1 + C1*T2 + F1T                                        # B1 + C1*T^2 + F1*T
-    U11 = -NUM / (2*DEN)                                                                 # 1070
-    NUM2 = NUM**2
-    DISC = 4*DEN*(A1*T2 + E1 + F1T + I1*T)
+    operations (a+b+c is (a+b)+c, a*b*c is (a*b)*c), on the singles' floats with the mbf_
+    functions (no Single made: half the time; the literals .5, 2 and 4 by mbf_scaled); the first
+    soft error raises _Redo. X-Y is X+(-Y) (mbf_sub); the sums and products commute, so
+    U(LOP)^2+1 is 1+U(LOP)^2. Lines 1130-1140 are computed for PSI(SOL) only: ATN is within
+    +-PI/2, so the other PSI can raise no soft error."""
+    A1, B1, C1, D1, E1, F1, G1, H1, I1, J1 = [c.v for c in co]
+    add, mul, scaled, div, e = mbf_add, mbf_mul, mbf_scaled, mbf_div, _redo
+    PHI = PHI.v
+    T = mbf_tan(scaled(.5, PHI, e), e)                                                   # 1060
+    T2 = mul(T, T, e)
+    D1T, F1T, GJ, GH = mul(D1, T, e), mul(F1, T, e), add(G1, J1, e), add(G1, H1, e)
+    GJT2 = mul(GJ, T2, e)
+    NUM = add(add(D1T, GJT2, e), GH, e)                           # D1*T + (G1+J1)*T^2 + (G1+H1)
+    DEN = add(add(B1, mul(C1, T2, e), e), F1T, e)                 # B1 + C1*T^2 + F1*T
+    DEN2 = scaled(2.0, DEN, e)
+    U11 = div(-NUM, DEN2, e)                                                             # 1070
+    NUM2 = mul(NUM, NUM, e)
+    DISC = mul(scaled(4.0, DEN, e),                               # 4*DEN*(A1*T^2+E1+F1*T+I1*T)
+               add(add(add(mul(A1, T2, e), E1, e), F1T, e), mul(I1, T, e), e), e)
     if NUM2 < DISC:                                                                      # 1080
-        U11 = U12 = ZERO
+        U11 = U12 = 0.0
         UIM = True
     else:
         UIM = False
-        U12 = ((NUM2 - DISC)**.5) / (2*DEN)                                              # 1090
-    U, angle, ang = _roots_and_angle_line(U11, U12, PHI, SOL, S)                         # 1100-1150
+        U12 = div(mbf_power(add(NUM2, -DISC, e), .5, e), DEN2, e)                        # 1090
+    U = (add(U11, U12, e), add(U11, -U12, e))                                            # 1100-1110
+    PSI = U[SOL - 1]                                                                     # 1120
+    if S.v == 0:                                                                         # 1130-1140
+        PSI = mul(div(scaled(2.0, mbf_atn(PSI, e), e), _PI, e), 180.0, e)
+    angle = mbf_write_text(mul(div(PHI, _PI, e), 180.0, e))
+    ang = f"{angle},{mbf_write_text(PSI)}\r\n"                                          # 1150
     if derivatives == 0:
         return ang, None, None
-    OT = 1 + T2
+    OT = add(1.0, T2, e)
     NEG_OT = -OT
-    HD, HF, HI = .5*D1, .5*F1, .5*I1
-    A1T, C1T, GJT = A1*T, C1*T, GJ*T
-    TAIL = HD*T                                                   # .5*D1*T, then + F1*u*T ...
-    GJT2H, GHH = .5*GJ*T2, .5*(G1+H1)
+    HD, HF, HI = scaled(.5, D1, e), scaled(.5, F1, e), scaled(.5, I1, e)
+    A1T, C1T, GJT = mul(A1, T, e), mul(C1, T, e), mul(GJ, T, e)
+    TAIL = mul(HD, T, e)                                          # .5*D1*T, then + F1*u*T ...
+    GJT2H, GHH = mul(scaled(.5, GJ, e), T2, e), scaled(.5, GH, e)
     if derivatives == 2:
-        P1B = GJT2 + D1T + G1 + H1                                # (G1+J1)*T^2 + D1*T + G1 + H1
-        Q1A = 2*OT
-        C2T = 2*C1*T
-        T3 = 3*T2 + 1
-    M11, M22 = [ZERO, ZERO], [ZERO, ZERO]
+        P1B = add(add(add(GJT2, D1T, e), G1, e), H1, e)           # (G1+J1)*T^2 + D1*T + G1 + H1
+        Q1A = scaled(2.0, OT, e)
+        C2T = mul(scaled(2.0, C1, e), T, e)
+        T3 = add(mul(3.0, T2, e), 1.0, e)
     for k, u in enumerate(U):                                                            # 1160
-        U2 = u**2
-        OU = 1 + U2
-        U21 = U2 + 1
-        C1u, F1u = C1*u, F1*u
-        S0 = B1*u + C1u*T2 + TAIL + F1u*T + GJT2H + GHH           # the sum of lines 1170, 1250
-        M1 = NEG_OT*(A1T + C1T*U2 + HD*u + HF*U21 + GJT*u + HI) / (OU*S0)                # 1170
-        M11[k] = M1                                                                      # 1172
-        if S == 1:                                                                       # 1175
-            M11[k] = OU*M1/2
+        U2 = mul(u, u, e)
+        OU = add(1.0, U2, e)
+        C1u, F1u = mul(C1, u, e), mul(F1, u, e)
+        # the sum of lines 1170 and 1250: B1*u + C1*u*T^2 + .5*D1*T + F1*u*T + .5*(G1+J1)*T^2
+        # + .5*(G1+H1)
+        S0 = add(add(add(add(add(mul(B1, u, e), mul(C1u, T2, e), e), TAIL, e), mul(F1u, T, e), e),
+                     GJT2H, e), GHH, e)
+        # 1170: -(1+T^2)*(A1*T + C1*T*u^2 + .5*D1*u + .5*F1*(u^2+1) + (G1+J1)*T*u + .5*I1)
+        #       / ((1+u^2)*S0)
+        M1 = div(mul(NEG_OT, add(add(add(add(add(A1T, mul(C1T, U2, e), e), mul(HD, u, e), e),
+                                             mul(HF, OU, e), e), mul(GJT, u, e), e), HI, e), e),
+                 mul(OU, S0, e), e)
+        M11 = M1                                                                         # 1172
+        if S.v == 1:                                                                     # 1175
+            M11 = div(mul(OU, M1, e), 2.0, e)
         if UIM:                                                                          # 1180
-            M11[k] = M1 = ZERO
-        M11[k] = _clip3(M11[k])                                                          # 1200-1210
-        if derivatives == 1:
-            continue
-        P1 = (3*U2 + 1)*DEN + u*P1B                                                      # 1220
-        Q1 = Q1A*(C2T*u + HD + F1u + GJT)                                                # 1230
-        R1 = (OT/OU)*(T3*(A1 + C1*U2 + GJ*u) + T*(F1*U21 + D1*u + I1))                   # 1240
-        S1 = 2*S0                                                                        # 1250
-        M1S = M1**2
-        M2 = -(P1*M1S + Q1*M1 + R1)/S1                                                   # 1260
-        M22[k] = M2                                                                      # 1262
-        if S == 1:                                                                       # 1265
-            M22[k] = (M1S*u + M2)*OU/2
-        if UIM:                                                                          # 1270
-            M2 = M22[k] = ZERO
-        M22[k] = _clip3(M22[k])                                                          # 1290-1300
-    return _write_lines(angle, ang, M11[SOL - 1], M22[SOL - 1], derivatives)            # 1320-1330
+            M11 = M1 = 0.0
+        if derivatives == 2:
+            P1 = add(mul(add(mul(3.0, U2, e), 1.0, e), DEN, e), mul(u, P1B, e), e)       # 1220
+            Q1 = mul(Q1A, add(add(add(mul(C2T, u, e), HD, e), F1u, e), GJT, e), e)       # 1230
+            # 1240: ((1+T^2)/(1+u^2))*((3*T^2+1)*(A1 + C1*u^2 + (G1+J1)*u)
+            #       + T*(F1*(u^2+1) + D1*u + I1))
+            R1 = mul(div(OT, OU, e),
+                     add(mul(T3, add(add(A1, mul(C1, U2, e), e), mul(GJ, u, e), e), e),
+                         mul(T, add(add(mul(F1, OU, e), mul(D1, u, e), e), I1, e), e), e), e)
+            S1 = scaled(2.0, S0, e)                                                      # 1250
+            M1S = mul(M1, M1, e)
+            M2 = div(-add(add(mul(P1, M1S, e), mul(Q1, M1, e), e), R1, e), S1, e)       # 1260
+            M22 = M2                                                                     # 1262
+            if S.v == 1:                                                                 # 1265
+                M22 = div(mul(add(mul(M1S, u, e), M2, e), OU, e), 2.0, e)
+            if UIM:                                                                      # 1270
+                M22 = 0.0
+        if k == SOL - 1:
+            vel, acc = M11, (M22 if derivatives == 2 else None)
+    return _write_lines(angle, ang, vel, acc, derivatives)                              # 1200-1330
 
 
 def sweep_point_as_listed(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
@@ -1014,7 +1067,6 @@ def sweep_point_as_listed(co: tuple[Single, ...], PHI: Single, SOL: int, S: Sing
             M11[k] = (1 + u**2)*M1/2
         if UIM:                                                                          # 1180
             M11[k] = M1 = ZERO
-        M11[k] = _clip3(M11[k])                                                          # 1200-1210
         if derivatives == 1:
             continue
         P1 = (3*u**2 + 1)*(B1 + C1*T**2 + F1*T) + u*((G1+J1)*T**2 + D1*T + G1 + H1)      # 1220
@@ -1027,8 +1079,7 @@ def sweep_point_as_listed(co: tuple[Single, ...], PHI: Single, SOL: int, S: Sing
             M22[k] = ((M1**2)*u + M2)*(1 + u**2)/2
         if UIM:                                                                          # 1270
             M2 = M22[k] = ZERO
-        M22[k] = _clip3(M22[k])                                                          # 1290-1300
-    return _write_lines(angle, ang, M11[SOL - 1], M22[SOL - 1], derivatives)            # 1320-1330
+    return _write_lines(angle, ang, M11[SOL - 1].v, M22[SOL - 1].v, derivatives)        # 1200-1330
 
 
 MECHANISM_TYPES = {  # name: (menu key, the dimensions in the order the listing asks for them)
@@ -7927,86 +7978,134 @@ def _bench_mechanism_view(out, repeats: int) -> None:
               + f" {len(svg_drawing(drawing).encode()):10,}", file=out)
 
 
-def bench_port(out, quick: bool = False) -> None:
-    """The 3601-point session (0 to 360 degrees by 0.1) in the port and in PC-BASIC: wall and CPU
-    time (PC-BASIC's CPU time is its process's, user and system, from getrusage)."""
+def bench_port(out, quick: bool = False, basic_command=None) -> None:
+    """The port against PC-BASIC, both started as programs on the same keys, same bytes.
+    The keys are the 3601-point session's (0 to 360 degrees by 0.1), PC-BASIC runs
+    legacy_basic/LINKAGE.BAS; measured: CPU time (user and system of the child process:
+    getrusage RUSAGE_CHILDREN), wall time, and whether they wrote the same bytes (the three DAT
+    files and the screen). The port runs as `python3 -m linkage` from cached bytecode, as the
+    installed `linkage` command does, and as `python3 linkage.py`, compiled every run; beside
+    them, its session alone in this process. basic_command: how PC-BASIC is started (python3 -m
+    pcbasic)."""
     import io
     import resource
+    import statistics
     import subprocess
     import tempfile
     import time
     keys, points, repeats = (QUICK_KEYS, 37, 1) if quick else (BENCH_KEYS, 3601, 3)
+    here = os.path.dirname(os.path.abspath(__file__))
+    env = dict(os.environ, PYTHONPATH=here)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)         # as where bytecode is kept, the default
+    ports = {"python3 -m linkage": [sys.executable, "-m", "linkage"],
+             "python3 linkage.py": [sys.executable, os.path.join(here, "linkage.py")]}
 
-    def port_run():
+    def child(command, folder, **options):
+        """Run a program to its end: wall and CPU seconds, and its standard output."""
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        start = time.perf_counter()
+        run = subprocess.run(command, cwd=folder, capture_output=True, check=True, **options)
+        wall = time.perf_counter() - start
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        return wall, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime, run.stdout
+
+    def in_process(folder):
         cpu = time.process_time()
-        redirected_program(io.BytesIO(keys), io.BytesIO(), port_dir)
+        redirected_program(io.BytesIO(keys), io.BytesIO(), folder)
         return time.process_time() - cpu
 
-    def show(who, wall, cpu):
-        print(f"{who:9} {wall:8.2f} s wall, {cpu:8.2f} s CPU for {points} points "
-              f"({wall / points * 1e3:.3f} and {cpu / points * 1e3:.3f} ms a point)", file=out)
-    with tempfile.TemporaryDirectory() as port_dir:
-        runs = [_timed(1, port_run) for _ in range(repeats)]
-        port, port_cpu = min(runs)
-        listing = os.path.join(os.path.dirname(os.path.abspath(__file__)), "legacy_basic",
-                               "LINKAGE.BAS")
-        with tempfile.TemporaryDirectory() as basic_dir:
-            with open(os.path.join(basic_dir, "keys.txt"), "wb") as f:
-                f.write(keys)
-            command = [sys.executable, "-m", "pcbasic", listing, "--interface=none", "-q",
-                       "--input=keys.txt", "--output=STDOUT", "--sound=False"]
-            before = resource.getrusage(resource.RUSAGE_CHILDREN)
-            try:
-                basic = _best_of(1, lambda: subprocess.run(command, cwd=basic_dir, check=True,
-                                                           capture_output=True))
-            except (OSError, subprocess.CalledProcessError):
-                show("port:", port, port_cpu)
-                print("PC-BASIC: not installed (pip install pcbasic==2.0.8)", file=out)
-                return
-            after = resource.getrusage(resource.RUSAGE_CHILDREN)
-            basic_cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-            same = all(open(os.path.join(port_dir, n), "rb").read()
-                       == open(os.path.join(basic_dir, n), "rb").read() for n in DatFiles.NAMES)
-    print(f"the port is {basic / port:.0f} times faster by wall time, {basic_cpu / port_cpu:.0f} "
-          f"by CPU time; the DAT files are {'identical' if same else 'DIFFERENT'}", file=out)
-    show("port:", port, port_cpu)
-    show("PC-BASIC:", basic, basic_cpu)
+    def written(folder, screen):
+        return {n: open(os.path.join(folder, n), "rb").read() for n in DatFiles.NAMES} | {
+            "the screen": screen}
+
+    rows = {name: [] for name in ports}
+    with tempfile.TemporaryDirectory() as folder:
+        subprocess.run([sys.executable, "-c", "import linkage"], env=env, cwd=folder, check=True)
+        for _ in range(repeats):                       # alternated, so that drift hits all alike
+            for name, command in ports.items():
+                rows[name].append(child(command, folder, input=keys, env=env))
+        port = written(folder, rows["python3 -m linkage"][-1][2])
+        inside = statistics.median(in_process(folder) for _ in range(repeats))
+    times = {name: (statistics.median(r[0] for r in runs), statistics.median(r[1] for r in runs))
+             for name, runs in rows.items()}
+    basic = None
+    with tempfile.TemporaryDirectory() as folder:
+        with open(os.path.join(folder, "keys.txt"), "wb") as f:
+            f.write(keys)
+        command = (basic_command or [sys.executable, "-m", "pcbasic"]) + [
+            os.path.join(here, "legacy_basic", "LINKAGE.BAS"), "--interface=none", "-q",
+            "--input=keys.txt", "--output=STDOUT", "--sound=False"]
+        with contextlib.suppress(OSError, subprocess.CalledProcessError):
+            wall, cpu, screen = child(command, folder, stdin=subprocess.DEVNULL)
+            basic = written(folder, screen) if all(
+                os.path.exists(os.path.join(folder, n)) for n in DatFiles.NAMES) else {}
+            times["PC-BASIC"] = (wall, cpu)
+    print(f"{points} points (0 to 360 degrees by {360 / (points - 1):g}), the same keys; CPU "
+          f"time: user and system of the child process; the port: median of {repeats} "
+          f"alternated runs each, PC-BASIC: one run", file=out)
+    if basic is not None:
+        wall, cpu = times["PC-BASIC"]
+        port_wall, port_cpu = times["python3 -m linkage"]
+        differ = [n for n in port if basic.get(n) != port[n]]
+        print(f"the port (python3 -m linkage) is {cpu / port_cpu:.0f} times faster than PC-BASIC "
+              f"by CPU time ({wall / port_wall:.0f} by wall time; in this process, "
+              f"{cpu / inside:.0f}); the DAT files and the screen are "
+              + ("identical" if not differ else f"DIFFERENT: {', '.join(differ)}"), file=out)
+    print(f"{'':24} {'CPU s':>8} {'wall s':>8} {'CPU ms a point':>15}", file=out)
+    for name, (wall, cpu) in times.items():
+        print(f"{name:24} {cpu:8.3f} {wall:8.3f} {cpu / points * 1e3:15.4f}", file=out)
+    print(f"{'in this process':24} {inside:8.3f} {'':8} {inside / points * 1e3:15.4f}   (the "
+          "session alone: redirected_program, no start-up)", file=out)
+    if basic is None:
+        print("PC-BASIC: not installed (pip install pcbasic==2.0.8)", file=out)
 
 
 def bench_startup(out, quick: bool = False) -> None:
-    """Start-up: a one-point session run as a script (compiled every time) and as a module
-    (python3 -m linkage, from cached bytecode), beside Python starting alone."""
+    """Start-up: a one-point session by the installed `linkage` command, the module and the script.
+    Each (python3 -m linkage and the `linkage` command from cached bytecode, python3 linkage.py
+    compiled every run) beside Python starting alone, runs alternated: the CPU time of the child
+    process (getrusage RUSAGE_CHILDREN) and the wall time, medians; and what compiling the
+    module costs in this process."""
+    import resource
     import statistics
     import subprocess
+    import sysconfig
     import tempfile
     import time
     here = os.path.dirname(os.path.abspath(__file__))
     runs, repeats = (2, 1) if quick else (21, 5)
     env = dict(os.environ, PYTHONPATH=here)
     env.pop("PYTHONDONTWRITEBYTECODE", None)         # as where bytecode is kept, the default
-    commands = {"python3 -c pass": [sys.executable, "-c", "pass"],
-                "python3 linkage.py": [sys.executable, os.path.join(here, "linkage.py")],
-                "python3 -m linkage": [sys.executable, "-m", "linkage"]}
+    commands = {"python3 -c pass": [sys.executable, "-c", "pass"]}
+    installed = os.path.join(sysconfig.get_path("scripts"), "linkage")
+    if os.path.isfile(installed):                    # pip install . made it (it imports linkage)
+        commands["linkage (the command)"] = [sys.executable, installed]
+    commands |= {"python3 -m linkage": [sys.executable, "-m", "linkage"],
+                 "python3 linkage.py": [sys.executable, os.path.join(here, "linkage.py")]}
     times = {name: [] for name in commands}
     with tempfile.TemporaryDirectory() as folder:
         subprocess.run([sys.executable, "-c", "import linkage"], env=env, cwd=folder, check=True)
         for _ in range(runs):                      # alternated, so that drift hits all alike
             for name, command in commands.items():
+                before = resource.getrusage(resource.RUSAGE_CHILDREN)
                 start = time.perf_counter()
                 subprocess.run(command, input=ONE_POINT_KEYS, cwd=folder,
                                env=env, capture_output=True, check=True)
-                times[name].append(time.perf_counter() - start)
+                wall = time.perf_counter() - start
+                after = resource.getrusage(resource.RUSAGE_CHILDREN)
+                times[name].append((after.ru_utime - before.ru_utime
+                                    + after.ru_stime - before.ru_stime, wall))
     with open(os.path.join(here, "linkage.py"), encoding="utf-8") as f:
         source = f.read()
     compiling = _best_of(repeats, lambda: compile(source, "linkage.py", "exec"))
-    medians = {name: statistics.median(t) for name, t in times.items()}
+    cpu = {name: statistics.median(c for c, _ in t) for name, t in times.items()}
     print(f"a one-point session (plane four-bar, 0 to 0 degrees); milliseconds, median of {runs} "
-          f"runs each, alternated", file=out)
-    print(f"the script takes {medians['python3 linkage.py'] / medians['python3 -m linkage']:.1f} "
-          f"times as long as the module", file=out)
-    for name, median in medians.items():
-        print(f"{name:20} {median * 1e3:8.1f}", file=out)
-    print(f"{'compiling linkage.py':20} {compiling * 1e3:8.1f}   ({len(source.encode()):,} bytes, "
+          f"runs each, alternated; CPU: user and system of the child process", file=out)
+    print(f"{'':22} {'CPU':>7} {'wall':>7} {'CPU / python3 -c pass':>22}", file=out)
+    for name, t in times.items():
+        print(f"{name:22} {cpu[name] * 1e3:7.1f} {statistics.median(w for _, w in t) * 1e3:7.1f} "
+              f"{cpu[name] / cpu['python3 -c pass']:22.2f}", file=out)
+    print(f"{'compiling linkage.py':22} {compiling * 1e3:7.1f}   ({len(source.encode()):,} bytes, "
           f"in this process, best of {repeats}; the script pays it every run)", file=out)
 
 

@@ -7,6 +7,7 @@ No time is asserted: the benchmarks print times."""
 
 from __future__ import annotations
 
+import io
 import shutil
 import subprocess
 import sys
@@ -157,7 +158,7 @@ def test_the_programs_benchmarks_run_without_tests(tmp_path):
     assert run.returncode == 0 and "Traceback" not in run.stderr, run.stderr
     for name in linkage.BENCHMARKS:
         assert f"\n== {name}: " in run.stdout, name
-    assert "the DAT files are identical" in run.stdout
+    assert "the DAT files and the screen are identical" in run.stdout
     elsewhere = subprocess.run([sys.executable, "-I", "-c", code, "bench", "accuracy"],
                                capture_output=True, text=True, cwd=tmp_path, timeout=60)
     assert elsewhere.returncode == 2 and "Traceback" not in elsewhere.stderr
@@ -174,3 +175,39 @@ def test_the_accuracy_script_runs_as_a_script():
                          cwd="/", timeout=60)
     assert run.returncode == 0, run.stderr
     assert run.stdout.split()[:2] == ["the", "engine"]
+
+
+PORT_ROWS = ("python3 -m linkage", "python3 linkage.py", "in this process")
+
+
+def test_bench_port_runs_both_as_programs_and_compares_their_bytes():
+    """bench port starts the port (as the module from cached bytecode and as the script) and
+    PC-BASIC as programs on the same keys, reports the CPU ratio of the programs with the
+    in-process one beside it, and finds their DAT files and screens the same bytes."""
+    out = io.StringIO()
+    linkage.bench_port(out, quick=True)
+    text = out.getvalue()
+    assert "the DAT files and the screen are identical" in text, text
+    assert "times faster than PC-BASIC by CPU time" in text and "in this process, " in text
+    assert "user and system of the child process" in text
+    rows = {line.split("  ")[0] for line in text.splitlines()}
+    assert set(PORT_ROWS) | {"PC-BASIC"} <= rows, text
+
+
+def test_bench_port_says_which_bytes_differ(tmp_path):
+    """A "PC-BASIC" that writes other bytes is caught, file by file; one that is missing is
+    said, and the port's rows are still shown."""
+    fake = tmp_path / "fake_pcbasic.py"
+    fake.write_text("import sys\n"
+                    "for name in ('ANG.DAT', 'VEL.DAT'):\n"
+                    "    open(name, 'wb').write(b'0,0\\r\\n\\x1a')\n"
+                    "open('ACC.DAT', 'wb').write(open('ANG.DAT', 'rb').read())\n"
+                    "sys.stdout.write('Enter Option: _')\n")
+    out = io.StringIO()
+    linkage.bench_port(out, quick=True, basic_command=[sys.executable, str(fake)])
+    assert "are DIFFERENT: ANG.DAT, VEL.DAT, ACC.DAT, the screen" in out.getvalue()
+    out = io.StringIO()
+    linkage.bench_port(out, quick=True, basic_command=[str(tmp_path / "no-such-program")])
+    text = out.getvalue()
+    assert "PC-BASIC: not installed" in text and "times faster" not in text
+    assert all(f"\n{row} " in text for row in PORT_ROWS), text

@@ -258,7 +258,8 @@ coefficient = st.one_of(
     st.just(0.0),
     st.floats(-100, 100).map(lambda x: linkage.mbf_parse(f"{x:.5g}")),
     st.floats(-1e30, 1e30).map(lambda x: linkage.mbf_parse(f"{x:.3g}")),
-    st.sampled_from([1.0, -1.0, 0.5, 2.0, 1e-30, 1.7e38]),
+    # singles, as every coefficient the program makes (1e-30 and 1.7e38 as doubles are not)
+    st.sampled_from(["1", "-1", ".5", "2", "1e-30", "1.7e38"]).map(linkage.mbf_parse),
 )
 
 
