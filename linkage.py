@@ -1506,8 +1506,9 @@ class DatFiles:  # ERRATA P3
         else:
             self.discard()
 
-    def write(self, lines) -> None:
-        """One point: a line (or None) for each file."""
+    def write(self, lines, points: int = 1) -> None:
+        """One point's line (or None) for each file; or the lines of `points` points, a text
+        for each file."""
         try:
             for f, line in zip(self._open, lines):
                 if line is not None:
@@ -1516,7 +1517,7 @@ class DatFiles:  # ERRATA P3
             written = next(t for t in self._files if t.file is f)
             self.discard()
             raise WriteError(self._why(OSError(e.errno, e.strerror, written.path))) from None
-        self.points += 1
+        self.points += points
 
     def close(self, before_rename=None) -> None:
         """CLOSE (line 1350): the end-of-file byte, then the files get their names;
@@ -3647,12 +3648,12 @@ def evenly_spaced_angles(start, stop, step):
 
 
 def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files=3,
-                    transmission=None, before_rename=None) -> int:
+                    transmission=None, before_rename=None, csv=None) -> int:
     """Write ANG.DAT, VEL.DAT and ACC.DAT (the first `files` of them) in the listing's format
     ("phi,value" lines, CRLF, a 0x1A end byte) at full precision: each number as the shortest
-    text that reads back exactly (repr). `motions` may be any iterable (a generator keeps a long
-    sweep out of memory); the files are written whole or not at all (DatFiles). Returns the
-    number of motions.
+    text that reads back exactly (repr). `motions` may be any iterable of rows (a generator keeps
+    a long sweep out of memory) or of SweepColumns (a block of rows as numpy arrays); the files
+    are written whole or not at all (DatFiles). Returns the number of rows.
 
     Unclipped unless clip=True (then VEL and ACC are clipped to +-3 as lines 1200-1300 do). A value
     that is None (see Motion.status) is left out of its file (missing="skip"), or written as 0 as
@@ -3660,32 +3661,277 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files
 
     transmission=True: each row's sixth field (after a Motion's five), the transmission angle,
     goes to MU.DAT too; False: an old MU.DAT there is removed with the old set (DatFiles).
-    before_rename: see DatFiles.close.
+    before_rename: see DatFiles.close. csv: an open binary file to which every row goes too, as
+    csv_line writes it (all its fields, unclipped), its numbers formatted once for both.
     """
     if missing not in ("skip", "zero"):
         raise ValueError('missing is "skip" or "zero"')
-    zero = 0.0 if missing == "zero" else None
-
-    def line(phi, value, clipped):
-        if value is None:
-            value = zero
-            if value is None:
-                return None
-        elif clipped:
-            value = min(3.0, max(-3.0, value))
-        return "%r,%r\r\n" % (phi, float(value) + 0.0)    # -0.0 written as 0.0
-
+    fields = (1, 2, 3)[:files] + ((5,) if transmission else ())
     out = DatFiles(directory, files, transmission)
     try:
-        for row in motions:
-            phi = float(row[0])
-            lines = (line(phi, row[1], False), line(phi, row[2], clip), line(phi, row[3], clip))
-            out.write(lines[:files] + ((line(phi, row[5], False),) if transmission else ()))
+        for block in _blocks(motions):
+            texts = _block_texts(block, fields, clip, missing == "zero", csv is not None)
+            if csv is not None:
+                csv.write(texts.pop())
+            out.write(texts, len(block))
     except BaseException:
         out.discard()
         raise
     out.close(before_rename)
     return out.points
+
+
+def _block_texts(block, fields, clip, zero, csv) -> list:
+    """One block's lines (rows, or SweepColumns): a text for each DAT file of `fields` (row
+    indices; "phi,value" CR LF, VEL and ACC (fields 2 and 3) clipped to +-3 if `clip`, a missing
+    value left out, or written as 0.0 if `zero`), then if `csv` the block's CSV rows (bytes)."""
+    clipped = [clip and f in (2, 3) for f in fields]
+    if not isinstance(block, SweepColumns):
+        return _row_texts(block, fields, clipped, zero, csv)
+    np = numpy_module()
+    phi = block.phi
+    with np.errstate(all="ignore"):
+        values = [c + 0.0 for c in block[1:4] + block.extra]  # -0.0 written as 0.0
+    outputs = []
+    for f, clipped_column in zip(fields, clipped):
+        column = values[f - 1 if f < 4 else f - 2]
+        if clipped_column:
+            column = np.clip(column, -3.0, 3.0)
+        if zero:
+            outputs.append(((phi, np.where(np.isnan(column), 0.0, column)), None))
+        else:
+            outputs.append(((phi, column), ~np.isnan(column)))
+    if csv:
+        status = np.array(STATUS_CODES, dtype="S").take(block.status)
+        unsigned = phi + 0.0 if ((phi == 0.0) & np.signbit(phi)).any() else phi   # the CSV's
+        outputs.append(((unsigned, *values[:3], status.view(np.uint8).reshape(len(block), -1),
+                         *values[3:]), None))
+    with np.errstate(all="ignore"):
+        texts = _lines(np, outputs)
+    return [t.decode("ascii") for t in texts[:len(fields)]] + texts[len(fields):]
+
+
+def _row_texts(rows, fields, clipped, zero, csv) -> list:
+    """_block_texts of a list of rows, a number at a time (without numpy)."""
+    phis = [repr(float(row[0])) for row in rows]
+    zero_value = 0.0 if zero else None
+
+    def line(phi, value, clip):
+        if value is None:
+            value = zero_value
+            if value is None:
+                return ""
+        elif clip:
+            value = min(3.0, max(-3.0, value))
+        return f"{phi},{float(value) + 0.0!r}\r\n"           # -0.0 written as 0.0
+    texts = ["".join(line(phi, row[f], clip) for phi, row in zip(phis, rows))
+             for f, clip in zip(fields, clipped)]
+    return texts + ["".join(map(csv_line, rows)).encode("ascii")] * csv
+
+
+class SweepColumns(NamedTuple):
+    """A block of a sweep's rows as numpy arrays, for the files: phi, output, velocity,
+    acceleration (float64, NaN where there is no value), status (int8 codes, STATUS_CODES),
+    extra (the rows' further fields, float64 arrays: the transmission angle, a coupler
+    point's nine coordinates)."""
+    phi: object
+    output: object
+    velocity: object
+    acceleration: object
+    status: object
+    extra: tuple = ()
+
+    def __len__(self) -> int:
+        return len(self.phi)
+
+
+TEXT_ROWS = 4096         # rows formatted at once: numpy's temporaries stay in the cache
+
+
+def _blocks(rows):
+    """rows in blocks of TEXT_ROWS (SweepColumns are passed on as they are): a full block becomes
+    SweepColumns where numpy is installed (formatted at once: many times faster than a number at
+    a time, the same bytes), a shorter one where numpy is imported already."""
+    block = []
+    for row in rows:
+        if isinstance(row, SweepColumns):
+            yield row
+            continue
+        block.append(row)
+        if len(block) == TEXT_ROWS:
+            yield _as_columns(block, True)
+            block = []
+    if block:
+        yield _as_columns(block, "numpy" in sys.modules)
+
+
+def _as_columns(rows, vectorised):
+    """SweepColumns of a list of rows (phi, output, velocity, acceleration, status, extra ...),
+    or the list itself where not `vectorised` or numpy is not installed."""
+    if not vectorised:
+        return rows
+    try:
+        np = numpy_module()
+    except FastUnavailable:
+        return rows
+    codes = {s: i for i, s in enumerate(STATUS_CODES)}
+    columns = [np.array([row[i] for row in rows], dtype=np.float64)      # None becomes NaN
+               for i in range(len(rows[0])) if i != 4]
+    status = np.array([codes[row[4]] for row in rows], dtype=np.int8)
+    return SweepColumns(*columns[:4], status, tuple(columns[4:]))
+
+
+def _lines(np, outputs) -> list[bytes]:
+    """Each output's lines: (fields, keep), a field a float64 array (its numbers as repr writes
+    them, _float_texts) or a uint8 matrix (a text a row, NUL-padded); the fields of a row joined
+    by commas and ended by CR LF, only the rows where `keep` (a bool array, or None: every row).
+    A column that several outputs share is formatted once a block of TEXT_ROWS."""
+    count = len(outputs[0][0][0])
+    texts = [[] for _ in outputs]
+    comma, end = np.full((TEXT_ROWS, 1), 44, np.uint8), np.tile(np.uint8([13, 10]),
+                                                               (TEXT_ROWS, 1))
+    for start in range(0, count, TEXT_ROWS):
+        part = slice(start, min(start + TEXT_ROWS, count))
+        n = part.stop - start
+        done = {}
+        for (fields, keep), text in zip(outputs, texts):
+            pieces = []
+            for field in fields:
+                if id(field) not in done:
+                    done[id(field)] = ([field[part]] if field.dtype == np.uint8
+                                      else _float_texts(np, field[part]))
+                pieces += done[id(field)] + [comma[:n]]
+            pieces[-1] = end[:n]
+            matrix = np.concatenate(pieces, axis=1)
+            if keep is not None and not keep[part].all():
+                matrix = matrix[keep[part]]
+            text.append(matrix.tobytes().translate(None, b"\0"))
+    return [b"".join(t) for t in texts]
+
+
+# -- numbers as text, a block at once ------------------------------------------------------------
+#
+# repr writes a double as the shortest decimal that reads back as it (David Gay's dtoa, mode 0),
+# the nearest to it where two are as short; positional from 1e-4 to 1e16. _float_texts does the
+# same for a numpy block at once, exactly, where 1e-3 <= |x| < 1e13 (the other numbers, and the
+# few cases it cannot decide, are repr's own). The argument, with ulp the spacing of doubles at x
+# and m = 16 - floor(log10 |x|):
+# - x 10^m = hi + lo exactly (Dekker's product: 10^m is a double for m <= 22), so d17, the
+#   nearest integer to it (17 digits), and the residual f17 are exact; the nearest 16- and
+#   15-digit decimals and their residuals follow from d17 and f17 (to 1e-14, so a comparison
+#   within 1e-12 of its bound is left to repr).
+# - a decimal reads back as x when it lies within ulp/2 of x (to even at exactly ulp/2: left to
+#   repr, as is a power of two, whose interval is lopsided).
+# - 15 digits are 4.5 ulp apart or more: at most one is within ulp/2, so if the nearest reads
+#   back it is the only one of 15 digits or fewer (repr's, its trailing zeros dropped); else the
+#   nearest of 16 digits if it reads back; else the nearest of 17 (17 always do).
+# tests/test_fast.py holds it against repr (hypothesis and the hard cases of each step).
+
+_POW10 = tuple(10.0 ** k for k in range(23))      # exact doubles
+_DIGITS = {}                                      # numpy's tables, made once
+
+
+def _digit_tables(np):
+    """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as uint64;
+    the 10,000 four-digit texts as uint32; masks of the first k of 20 bytes, as uint32."""
+    if not _DIGITS:
+        pow10 = np.array(_POW10)
+        big = pow10 * 134217729.0                 # 2^27 + 1
+        high = big - (big - pow10)
+        _DIGITS.update(
+            pow10=pow10, high=high, low=pow10 - high,
+            upow=np.array([10 ** k for k in range(20)], dtype=np.uint64),
+            quads=np.frombuffer(b"".join(b"%04d" % i for i in range(10_000)), dtype=np.uint32),
+            first=np.array([[255 * (c < k) for c in range(20)] for k in range(21)],
+                           dtype=np.uint8).view(np.uint32))
+    return _DIGITS
+
+
+def _float_texts(np, x) -> list:
+    """repr(float(v)) of each element of the float64 array x: uint8 matrices whose rows, joined
+    across them and their NUL bytes dropped, are the texts."""
+    t = _digit_tables(np)
+    n = len(x)
+    a = np.abs(x)
+    fast = (a >= 1e-3) & (a < 1e13)                        # NaN is not
+    a[~fast] = 1.0
+    m = 16 - np.floor(np.log10(a)).astype(np.intp)
+    scale = t["pow10"].take(m)
+    hi = a * scale
+    s = a * 134217729.0
+    ah = s - (s - a)
+    al = a - ah
+    sh, sl = t["high"].take(m), t["low"].take(m)
+    lo = ((ah * sh - hi) + ah * sl + al * sh) + al * sl    # hi + lo = x 10^m exactly
+    r = np.rint(lo)
+    f17 = lo - r
+    d17 = hi.astype(np.int64) + r.astype(np.int64)
+    half = np.spacing(a) * 0.5
+    q1 = d17 // 10
+    t16 = (d17 - q1 * 10) + f17
+    up16 = t16 > 5.0
+    f16 = np.abs(t16 * 0.1 - up16)                         # residuals, in the last digit's units
+    q2 = d17 // 100
+    t15 = (d17 - q2 * 100) + f17
+    up15 = t15 > 50.0
+    f15 = np.abs(t15 * 0.01 - up15)
+    h16 = half * t["pow10"].take(m - 1)                    # ulp/2 in the same units
+    h15 = h16 * 0.1
+    margin = 1e-12
+    ok15 = f15 < h15 - margin
+    ok16 = f16 < h16 - margin
+    good = (fast & (d17 >= 10 ** 16) & (d17 < 10 ** 17) & (np.abs(f17) < half * scale - margin)
+            & (t16 != 5.0) & (t15 != 50.0) & (np.frexp(a)[0] != 0.5)
+            & (ok15 | (f15 > h15 + margin)) & (ok15 | ok16 | (f16 > h16 + margin)))
+    digits = np.where(ok15, q2 + up15, np.where(ok16, q1 + up16, d17))
+    places = m - 2 * ok15 - (ok16 & ~ok15)                 # digits after the point
+    zero = x == 0.0                                        # 0.0, -0.0
+    good |= zero
+    blank = ~good | zero
+    digits[blank] = 0
+    places[blank] = 1
+    kept, rest = places.copy(), np.where(ok15 & good, digits, 1)
+    for k in (8, 4, 2, 1):                                 # less 15 digits' trailing zeros
+        q = rest // 10 ** k
+        zero = rest == q * 10 ** k
+        np.copyto(rest, q, where=zero)
+        kept -= zero * k
+    np.maximum(kept, 1, out=kept)
+    digits = digits.astype(np.uint64)
+    unit = t["upow"].take(places)
+    whole = digits // unit
+    width = int(places.max()) if n else 1
+    fraction = (digits - whole * unit) * t["upow"].take(width - places)
+    wide = len(str(int(whole.max()))) if n else 1
+    head = np.empty((n, wide + 2), dtype=np.uint8)
+    np.multiply(np.signbit(x), 45, out=head[:, 0], casting="unsafe")  # "-"
+    for j in range(wide, 0, -1):
+        q = whole // np.uint64(10)
+        digit = (whole - q * np.uint64(10)).astype(np.uint8) + np.uint8(48)
+        if j < wide:
+            digit *= whole != 0                            # no leading zero
+        head[:, j] = digit
+        whole = q
+    head[:, -1] = 46                                       # "."
+    groups = -(-width // 4)
+    body = np.empty((n, groups), dtype=np.uint32)
+    for j in range(groups - 1, -1, -1):
+        q = fraction // np.uint64(10_000)
+        body[:, j] = t["quads"].take((fraction - q * np.uint64(10_000)).astype(np.intp))
+        fraction = q
+    skip = 4 * groups - width
+    body &= t["first"].take(kept + skip, axis=0)[:, :groups]
+    texts = [head, body.view(np.uint8)[:, skip:]]
+    others = np.flatnonzero(~good)
+    if len(others):
+        words = [repr(v).encode("ascii") for v in x[others].tolist()]
+        extra = np.zeros((n, max(map(len, words))), dtype=np.uint8)
+        head[others] = 0
+        texts[1][others] = 0
+        for i, word in zip(others.tolist(), words):
+            extra[i, :len(word)] = np.frombuffer(word, dtype=np.uint8)
+        texts.append(extra)
+    return texts
 
 
 CSV_HEADER = ("phi", "output", "velocity", "acceleration", "status")
@@ -7755,21 +8001,23 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
     assembled, points = 0, None
     coupler = args.coupler
 
-    def columns(swept, arrays):
-        """The CSV's columns after the Motion's: mu, and the coupler point's if asked."""
+    def extra_columns(swept, arrays):
+        """The CSV's columns after the Motion's: mu, and the coupler point's if asked; for the
+        vectorised path as arrays, else a tuple a row."""
         if arrays is not None:
-            mus = transmission_of_arrays(linkage, arrays).tolist()
-            point = coupler_of_arrays(linkage, arrays, *coupler) if coupler else None
-            rows = (zip(*(a.tolist() for a in point[1:4])) if point else None)
-        else:
-            mus = transmission_of(linkage, swept)
-            rows = ((c.position, c.velocity, c.acceleration)
-                    for c in coupler_of(linkage, swept, *coupler)) if coupler else None
-        if rows is None:
-            return ((mu,) for mu in mus)
-        return ((mu, *(v for w in row for v in (w or (None,) * 3))) for mu, row in zip(mus, rows))
+            point = coupler_of_arrays(linkage, arrays, *coupler)[1:4] if coupler else ()
+            return (transmission_of_arrays(linkage, arrays),) + tuple(
+                a[:, axis] for a in point for axis in range(3))
+        mus = transmission_of(linkage, swept)
+        if not coupler:
+            return [(mu,) for mu in mus]
+        return [(mu, *(v for w in (c.position, c.velocity, c.acceleration)
+                       for v in (w or (None,) * 3)))
+                for mu, c in zip(mus, coupler_of(linkage, swept, *coupler))]
 
     def motions(table):
+        """The sweep in blocks: SweepColumns by the vectorised path, else rows (a Motion, and
+        with a CSV its further columns)."""
         nonlocal assembled
         if table:
             table.write(csv_line(CSV_HEADER + TRANSMISSION_COLUMN
@@ -7777,20 +8025,16 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
         with Progress(count) as progress:
             for first in range(0, count, block):
                 angles = [start + i * step for i in range(first, min(first + block, count))]
-                arrays = None
-                if args.branch == FOLLOW:
-                    swept = linkage.sweep(angles, FOLLOW, start=int(args.start_branch or 1))
-                elif args.fast:
+                if args.fast:
                     arrays = linkage.sweep_arrays(angles, int(args.branch))
-                    swept = arrays.motions()
+                    assembled += len(angles) - int(numpy_module().isnan(arrays.output).sum())
+                    yield SweepColumns(*arrays, extra_columns(None, arrays) if table else ())
                 else:
-                    swept = linkage.sweep(angles, int(args.branch))
-                extra = columns(swept, arrays) if table else None
-                for m in swept:
-                    assembled += m.output is not None
-                    if table:
-                        table.write(csv_line(m + next(extra)).encode("ascii"))
-                    yield m
+                    swept = (linkage.sweep(angles, FOLLOW, start=int(args.start_branch or 1))
+                             if args.branch == FOLLOW else linkage.sweep(angles, int(args.branch)))
+                    assembled += sum(m.output is not None for m in swept)
+                    yield from (map(tuple.__add__, swept, extra_columns(swept, None)) if table
+                                else swept)
                 progress(len(angles))
         if not assembled:
             raise ProgramStop(f"Illegal linkage (impossible to assemble): it assembles at none "
@@ -7799,7 +8043,7 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
         #                             renamed into place, and renamed after them
         with written_whole(args.csv) if args.csv else contextlib.nullcontext() as table:
             points = write_dat_files(motions(table), args.dir, clip=args.clip,
-                                     before_rename=getattr(table, "finish", None))
+                                     before_rename=getattr(table, "finish", None), csv=table)
     except ProgramStop as stop:
         return said(stop, 1)
     except OSError as e:
