@@ -1507,11 +1507,14 @@ class DatFiles:  # ERRATA P3
             self.discard()
 
     def write(self, lines, points: int = 1) -> None:
-        """One point's line (or None) for each file; or the lines of `points` points, a text
+        """One point's line (or None) for each file; or the lines of `points` points, bytes
         for each file."""
         try:
             for f, line in zip(self._open, lines):
-                if line is not None:
+                if isinstance(line, bytes):
+                    f.flush()
+                    f.buffer.write(line)
+                elif line is not None:
                     f.write(line)
         except OSError as e:
             written = next(t for t in self._files if t.file is f)
@@ -3670,10 +3673,11 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files
     out = DatFiles(directory, files, transmission)
     try:
         for block in _blocks(motions):
-            texts = _block_texts(block, fields, clip, missing == "zero", csv is not None)
-            if csv is not None:
-                csv.write(texts.pop())
-            out.write(texts, len(block))
+            for texts, points in _block_texts(block, fields, clip, missing == "zero",
+                                              csv is not None):
+                if csv is not None:
+                    csv.write(texts.pop())
+                out.write(texts, points)
     except BaseException:
         out.discard()
         raise
@@ -3681,13 +3685,15 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files
     return out.points
 
 
-def _block_texts(block, fields, clip, zero, csv) -> list:
-    """One block's lines (rows, or SweepColumns): a text for each DAT file of `fields` (row
-    indices; "phi,value" CR LF, VEL and ACC (fields 2 and 3) clipped to +-3 if `clip`, a missing
-    value left out, or written as 0.0 if `zero`), then if `csv` the block's CSV rows (bytes)."""
+def _block_texts(block, fields, clip, zero, csv):
+    """One block's lines (rows, or SweepColumns), in parts: each part's texts (bytes), one for
+    each DAT file of `fields` (row indices; "phi,value" CR LF, VEL and ACC (fields 2 and 3)
+    clipped to +-3 if `clip`, a missing value left out, or written as 0.0 if `zero`), then if
+    `csv` its CSV rows; and its number of rows."""
     clipped = [clip and f in (2, 3) for f in fields]
     if not isinstance(block, SweepColumns):
-        return _row_texts(block, fields, clipped, zero, csv)
+        yield _row_texts(block, fields, clipped, zero, csv), len(block)
+        return
     np = numpy_module()
     phi = block.phi
     with np.errstate(all="ignore"):
@@ -3707,8 +3713,7 @@ def _block_texts(block, fields, clip, zero, csv) -> list:
         outputs.append(((unsigned, *values[:3], status.view(np.uint8).reshape(len(block), -1),
                          *values[3:]), None))
     with np.errstate(all="ignore"):
-        texts = _lines(np, outputs)
-    return [t.decode("ascii") for t in texts[:len(fields)]] + texts[len(fields):]
+        yield from _lines(np, outputs)
 
 
 def _row_texts(rows, fields, clipped, zero, csv) -> list:
@@ -3724,9 +3729,9 @@ def _row_texts(rows, fields, clipped, zero, csv) -> list:
         elif clip:
             value = min(3.0, max(-3.0, value))
         return f"{phi},{float(value) + 0.0!r}\r\n"           # -0.0 written as 0.0
-    texts = ["".join(line(phi, row[f], clip) for phi, row in zip(phis, rows))
-             for f, clip in zip(fields, clipped)]
-    return texts + ["".join(map(csv_line, rows)).encode("ascii")] * csv
+    return ["".join(line(phi, row[f], clip) for phi, row in zip(phis, rows)).encode("ascii")
+            for f, clip in zip(fields, clipped)] + [
+        "".join(map(csv_line, rows)).encode("ascii")] * csv
 
 
 class SweepColumns(NamedTuple):
@@ -3781,20 +3786,20 @@ def _as_columns(rows, vectorised):
     return SweepColumns(*columns[:4], status, tuple(columns[4:]))
 
 
-def _lines(np, outputs) -> list[bytes]:
-    """Each output's lines: (fields, keep), a field a float64 array (its numbers as repr writes
-    them, _float_texts) or a uint8 matrix (a text a row, NUL-padded); the fields of a row joined
-    by commas and ended by CR LF, only the rows where `keep` (a bool array, or None: every row).
-    A column that several outputs share is formatted once a block of TEXT_ROWS."""
+def _lines(np, outputs):
+    """The lines of each output, (fields, keep), TEXT_ROWS rows at a time: a list of bytes (one
+    an output) and the number of rows. A field is a float64 array (its numbers as repr writes
+    them, _float_texts; a column that several outputs share is formatted once) or a uint8 matrix
+    (a text a row, NUL-padded); the fields of a row are joined by commas and ended by CR LF, and
+    only the rows where `keep` (a bool array, or None: every row) are written."""
     count = len(outputs[0][0][0])
-    texts = [[] for _ in outputs]
     comma, end = np.full((TEXT_ROWS, 1), 44, np.uint8), np.tile(np.uint8([13, 10]),
                                                                (TEXT_ROWS, 1))
     for start in range(0, count, TEXT_ROWS):
         part = slice(start, min(start + TEXT_ROWS, count))
         n = part.stop - start
-        done = {}
-        for (fields, keep), text in zip(outputs, texts):
+        done, texts = {}, []
+        for fields, keep in outputs:
             pieces = []
             for field in fields:
                 if id(field) not in done:
@@ -3805,8 +3810,8 @@ def _lines(np, outputs) -> list[bytes]:
             matrix = np.concatenate(pieces, axis=1)
             if keep is not None and not keep[part].all():
                 matrix = matrix[keep[part]]
-            text.append(matrix.tobytes().translate(None, b"\0"))
-    return [b"".join(t) for t in texts]
+            texts.append(matrix.tobytes().translate(None, b"\0"))
+        yield texts, n
 
 
 # -- numbers as text, a block at once ------------------------------------------------------------
@@ -3833,7 +3838,8 @@ _DIGITS = {}                                      # numpy's tables, made once
 
 def _digit_tables(np):
     """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as uint64;
-    the 10,000 four-digit texts as uint32; masks of the first k of 20 bytes, as uint32."""
+    the 10,000 four-digit texts as uint32; masks of the first k of 20 bytes and of the last k of
+    16, as uint32; "." and three NULs as uint32."""
     if not _DIGITS:
         pow10 = np.array(_POW10)
         big = pow10 * 134217729.0                 # 2^27 + 1
@@ -3843,7 +3849,10 @@ def _digit_tables(np):
             upow=np.array([10 ** k for k in range(20)], dtype=np.uint64),
             quads=np.frombuffer(b"".join(b"%04d" % i for i in range(10_000)), dtype=np.uint32),
             first=np.array([[255 * (c < k) for c in range(20)] for k in range(21)],
-                           dtype=np.uint8).view(np.uint32))
+                           dtype=np.uint8).view(np.uint32),
+            last=np.array([[255 * (c >= 16 - k) for c in range(16)] for k in range(17)],
+                          dtype=np.uint8).view(np.uint32),
+            point=np.frombuffer(b".\0\0\0", dtype=np.uint32)[0])
     return _DIGITS
 
 
@@ -3890,29 +3899,33 @@ def _float_texts(np, x) -> list:
     blank = ~good | zero
     digits[blank] = 0
     places[blank] = 1
-    kept, rest = places.copy(), np.where(ok15 & good, digits, 1)
-    for k in (8, 4, 2, 1):                                 # less 15 digits' trailing zeros
-        q = rest // 10 ** k
-        zero = rest == q * 10 ** k
-        np.copyto(rest, q, where=zero)
-        kept -= zero * k
-    np.maximum(kept, 1, out=kept)
+    kept = places.copy()
+    short = np.flatnonzero(ok15 & ~blank)                  # less their trailing zeros
+    if len(short):
+        rest, cut = digits[short], np.zeros(len(short), dtype=np.intp)
+        for k in (8, 4, 2, 1):
+            q = rest // 10 ** k
+            ends = rest == q * 10 ** k
+            np.copyto(rest, q, where=ends)
+            cut += ends * k
+        kept[short] = np.maximum(places[short] - cut, 1)
     digits = digits.astype(np.uint64)
     unit = t["upow"].take(places)
     whole = digits // unit
     width = int(places.max()) if n else 1
     fraction = (digits - whole * unit) * t["upow"].take(width - places)
-    wide = len(str(int(whole.max()))) if n else 1
-    head = np.empty((n, wide + 2), dtype=np.uint8)
-    np.multiply(np.signbit(x), 45, out=head[:, 0], casting="unsafe")  # "-"
-    for j in range(wide, 0, -1):
-        q = whole // np.uint64(10)
-        digit = (whole - q * np.uint64(10)).astype(np.uint8) + np.uint8(48)
-        if j < wide:
-            digit *= whole != 0                            # no leading zero
-        head[:, j] = digit
+    sign = np.multiply(np.signbit(x), 45, dtype=np.uint8)[:, None]      # "-"
+    groups = -(-len(str(int(whole.max()) if n else 0)) // 4)
+    head = np.empty((n, groups + 1), dtype=np.uint32)
+    head[:, groups] = t["point"]                           # "." and NULs
+    count = np.ones(n, dtype=np.intp)                      # the whole part's digits
+    for k in range(1, 4 * groups):
+        count += whole >= 10 ** k
+    for j in range(groups - 1, -1, -1):
+        q = whole // np.uint64(10_000)
+        head[:, j] = t["quads"].take((whole - q * np.uint64(10_000)).astype(np.intp))
         whole = q
-    head[:, -1] = 46                                       # "."
+    head[:, :groups] &= t["last"].take(count, axis=0)[:, 4 - groups:]
     groups = -(-width // 4)
     body = np.empty((n, groups), dtype=np.uint32)
     for j in range(groups - 1, -1, -1):
@@ -3921,13 +3934,13 @@ def _float_texts(np, x) -> list:
         fraction = q
     skip = 4 * groups - width
     body &= t["first"].take(kept + skip, axis=0)[:, :groups]
-    texts = [head, body.view(np.uint8)[:, skip:]]
+    texts = [sign, head.view(np.uint8), body.view(np.uint8)[:, skip:]]
     others = np.flatnonzero(~good)
     if len(others):
         words = [repr(v).encode("ascii") for v in x[others].tolist()]
         extra = np.zeros((n, max(map(len, words))), dtype=np.uint8)
-        head[others] = 0
-        texts[1][others] = 0
+        for text in texts:
+            text[others] = 0
         for i, word in zip(others.tolist(), words):
             extra[i, :len(word)] = np.frombuffer(word, dtype=np.uint8)
         texts.append(extra)
@@ -8024,12 +8037,15 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
                                  + (COUPLER_COLUMNS if coupler else ())).encode("ascii"))
         with Progress(count) as progress:
             for first in range(0, count, block):
-                angles = [start + i * step for i in range(first, min(first + block, count))]
-                if args.fast:
+                last = min(first + block, count)
+                if args.fast:                  # start + i * step, as below, in numpy
+                    np = numpy_module()
+                    angles = np.arange(first, last, dtype=np.float64) * step + start
                     arrays = linkage.sweep_arrays(angles, int(args.branch))
-                    assembled += len(angles) - int(numpy_module().isnan(arrays.output).sum())
+                    assembled += len(angles) - int(np.isnan(arrays.output).sum())
                     yield SweepColumns(*arrays, extra_columns(None, arrays) if table else ())
                 else:
+                    angles = [start + i * step for i in range(first, last)]
                     swept = (linkage.sweep(angles, FOLLOW, start=int(args.start_branch or 1))
                              if args.branch == FOLLOW else linkage.sweep(angles, int(args.branch)))
                     assembled += sum(m.output is not None for m in swept)
