@@ -3829,7 +3829,10 @@ def _lines(np, outputs):
 #   repr, as is a power of two, whose interval is lopsided).
 # - 15 digits are 4.5 ulp apart or more: at most one is within ulp/2, so if the nearest reads
 #   back it is the only one of 15 digits or fewer (repr's, its trailing zeros dropped); else the
-#   nearest of 16 digits if it reads back; else the nearest of 17 (17 always do).
+#   nearest of 16 digits if it reads back; else the nearest of 17, which always does (17 digits
+#   are 0.9 ulp apart or less). Two nearest, equally near (16 or 17 digits, both may read back)
+#   are left to repr, whose dtoa breaks such ties by rules of its own; at 15 digits, half a unit
+#   is more than ulp/2 (0.11 units or less): neither reads back.
 # tests/test_fast.py holds it against repr (hypothesis and the hard cases of each step).
 
 _POW10 = tuple(10.0 ** k for k in range(23))      # exact doubles
@@ -3863,7 +3866,7 @@ def _float_texts(np, x) -> list:
     n = len(x)
     a = np.abs(x)
     fast = (a >= 1e-3) & (a < 1e13)                        # NaN is not
-    a[~fast] = 1.0
+    np.copyto(a, 1.0, where=~fast)
     m = 16 - np.floor(np.log10(a)).astype(np.intp)
     scale = t["pow10"].take(m)
     hi = a * scale
@@ -3889,16 +3892,17 @@ def _float_texts(np, x) -> list:
     margin = 1e-12
     ok15 = f15 < h15 - margin
     ok16 = f16 < h16 - margin
-    good = (fast & (d17 >= 10 ** 16) & (d17 < 10 ** 17) & (np.abs(f17) < half * scale - margin)
-            & (t16 != 5.0) & (t15 != 50.0) & (np.frexp(a)[0] != 0.5)
+    good = (fast & (d17 >= 10 ** 16) & (d17 < 10 ** 17) & (np.frexp(a)[0] != 0.5)
+            & (t16 != 5.0) & (np.abs(f17) != 0.5)
             & (ok15 | (f15 > h15 + margin)) & (ok15 | ok16 | (f16 > h16 + margin)))
     digits = np.where(ok15, q2 + up15, np.where(ok16, q1 + up16, d17))
     places = m - 2 * ok15 - (ok16 & ~ok15)                 # digits after the point
     zero = x == 0.0                                        # 0.0, -0.0
     good |= zero
     blank = ~good | zero
-    digits[blank] = 0
-    places[blank] = 1
+    if blank.any():
+        np.copyto(digits, 0, where=blank)
+        np.copyto(places, 1, where=blank)
     kept = places.copy()
     short = np.flatnonzero(ok15 & ~blank)                  # less their trailing zeros
     if len(short):
