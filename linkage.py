@@ -2841,7 +2841,7 @@ def _fast_affine(np, k0, kc, c, ks, s, out, spare):
 _FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "xq", "xs", "p",
               "q", "sv", "rr", "root", "sn", "cn", "r2", "dp", "dq", "ds", "e", "fp", "xm", "xk",
               "m", "u", "v", "dist", "big", "dm", "dk", "ax", "ay", "hi", "lo", "t", "t2", "csum",
-              "f1", "f2")
+              "f1", "f2", "disc")
 
 
 def _sweep_arrays(linkage, phis, branch, derivatives):
@@ -2860,38 +2860,41 @@ def _sweep_arrays(linkage, phis, branch, derivatives):
     if not np.isfinite(phi).all():
         raise ValueError("input angles must be finite")
     count, sign, level = len(phi), 1.0 if branch == 1 else -1.0, derivatives
-    res = {"output": np.empty(count), "disc": np.empty(count),
-           "velocity": np.empty(count) if level >= 1 else None,
+    res = {"output": np.empty(count), "velocity": np.empty(count) if level >= 1 else None,
            "acceleration": np.empty(count) if level >= 2 else None}
+    status = np.zeros(count, dtype=np.int8)
     block = min(FAST_BLOCK, max(count, 1))
     w = {name: np.empty(block) for name in _FAST_WORK}
-    w["flag"] = np.empty(block, dtype=bool)
+    w["flag"], w["missing"], w["redo"] = (np.empty(block, dtype=bool) for _ in range(3))
     w["quarter"] = np.empty(block, dtype=np.intp)
     w["exponent"] = np.empty(block, dtype=np.intc)
     reduce = count > 0 and not np.abs(phi).max() < 360.0
     step = _fast_slider if linkage.is_slider else _fast_four_bar
     k = linkage._constants
-    with np.errstate(all="ignore"):
+    line = FAST_MARGIN * linkage._precise_below
+    last = ("output", "velocity", "acceleration")[level]
+    redo = []
+    with np.errstate(all="ignore"):        # a block at a time: memory bounded, in the cache
         for start in range(0, count, block):
             stop = min(start + block, count)
             n = stop - start
             part = {key: None if a is None else a[start:stop] for key, a in res.items()}
             work = w if n == block else {key: a[:n] for key, a in w.items()}
+            part["disc"] = work["disc"]
             c, s = _fast_cos_sin(np, phi[start:stop], reduce, work)
             step(np, k, c, s, sign, level, part, work)
-        last = res[("output", "velocity", "acceleration")[level]]
-        line = FAST_MARGIN * linkage._precise_below
-        disc = res["disc"]
-        missing = np.less(disc, -line)
-        redo = np.less_equal(np.abs(disc), line)
-        redo |= ~np.isfinite(last) & ~missing
-        if linkage.is_slider:
-            for key in ("output", "velocity", "acceleration"):
-                if res[key] is not None:
-                    np.multiply(res[key], linkage._unit, out=res[key])
-    status = np.zeros(count, dtype=np.int8)
-    status[missing] = STATUS_CODES.index(NOT_ASSEMBLED)
-    where = np.flatnonzero(redo)
+            disc, missing, again = part["disc"], work["missing"], work["redo"]
+            np.less(disc, -line, out=missing)
+            np.less_equal(np.abs(disc, out=disc), line, out=again)
+            again |= ~(np.isfinite(part[last], out=work["flag"]) | missing)
+            status[start:stop][missing] = STATUS_CODES.index(NOT_ASSEMBLED)
+            if again.any():
+                redo.append(np.flatnonzero(again) + start)
+            if linkage.is_slider:
+                for key in ("output", "velocity", "acceleration"):
+                    if part[key] is not None:
+                        np.multiply(part[key], linkage._unit, out=part[key])
+    where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
     if len(where):
         columns = [res[key] for key in ("output", "velocity", "acceleration")]
         for i, m in zip(where.tolist(), linkage.sweep(phi[where].tolist(), branch, level)):

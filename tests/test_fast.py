@@ -420,13 +420,13 @@ def around(values):
                                                         math.nextafter(s, math.inf))]
 
 
-HARD = around(ties() + [2.0 ** k for k in range(-15, 55)] + [10.0 ** k for k in range(-6, 18)]
+HARD_NUMBERS = around(ties() + [2.0 ** k for k in range(-15, 55)] + [10.0 ** k for k in range(-6, 18)]
               + [1e-3, 1e13, 1e-4, 1e16, 0.1, 0.2, 0.3, 1 / 3, 2 / 3, 360.0, 180.0, 90.0])
 SPECIAL = [0.0, -0.0, math.nan, -math.nan, math.inf, -math.inf, 5e-324, 1.7976931348623157e308]
 
 
 def test_float_texts_are_repr_at_the_hard_cases():
-    values = HARD + SPECIAL
+    values = HARD_NUMBERS + SPECIAL
     wrong = [(v, got) for v, got in zip(values, texts(values)) if got != repr(v)]
     assert not wrong, wrong[:10]
 
