@@ -329,11 +329,12 @@ def test_without_numpy_sweep_arrays_raises_fast_unavailable():
 # -- bench engine ---------------------------------------------------------------------------------
 
 def test_bench_engine_prints_the_three_side_by_side():
-    """One row a linkage with the scalar and the numpy path's rates and their ratio, pylinkage's
-    rates beside ours, the targets; on a short sweep (the bench's times are not asserted)."""
+    """One row a linkage with the scalar and the numpy path's rates and their ratio, the C loop
+    beside the numpy path at each size, pylinkage's rates beside ours (with numba or without, as
+    it says), the targets; on a short sweep (the bench's times are not asserted)."""
     import io
     out = io.StringIO()
-    engine.bench_engine(out, points=2001, pylinkage_points=101)
+    engine.bench_engine(out, points=2001, pylinkage_points=101, c_sizes=(1000, 3000))
     text = out.getvalue()
     rows = [line.split() for line in text.splitlines()
             if line.split() and line.split()[0] in engine.LINKAGE_DIMENSIONS]
@@ -342,8 +343,50 @@ def test_bench_engine_prints_the_three_side_by_side():
     for kind, ratio, *rates in rows[:5]:
         assert ratio.endswith("x") and len(rates) == 4
         assert all(float(r.replace(",", "")) > 0 for r in rates)
-    assert "pylinkage 1.3.0" in text and "ours/pylinkage: numpy path" in text
+    assert "pylinkage 1.3.0, with" in text and "ours/pylinkage: numpy path" in text
     assert "target: numpy path >= 10,000,000 (plane)" in text
+    c_rows = [line.split() for line in text.splitlines() if line[:11].strip() in ("1,000",
+                                                                                "3,000")]
+    assert [(row[0], row[1]) for row in c_rows] == [("1,000", "plane"), ("3,000", "plane"),
+                                                    ("1,000", "slider"), ("3,000", "slider")]
+    for row in c_rows:       # numpy, C, their ratio, and how near their outputs are
+        assert float(row[2].replace(",", "")) / float(row[3].replace(",", "")) == \
+            pytest.approx(float(row[4]), rel=0.02, abs=0.006)
+        assert float(row[5]) < 1e-13
+    assert "fixed cost of a sweep_arrays call: plane" in text
+    assert "target: numpy >= 0.7 of the C loop" not in text      # no size from 10,000 up
+
+
+def test_the_c_loop_gives_the_numpy_paths_numbers():
+    """C_SWEEP, built and called as bench engine does, computes what sweep_arrays computes (the
+    same formulas): every kind, both branches, angles across several turns."""
+    sweep = engine._c_loop()
+    if isinstance(sweep, str):
+        pytest.skip(sweep)
+    angles = np.array(DENSE)
+    for kind, dims in engine.BENCH_LINKAGES + ((engine.PLANE_FOUR_BAR, dict(a=4, b=1, c=1.5,
+                                                                            d=3)),):
+        link = engine.Linkage(kind, **dims)
+        for branch in (1, 2):
+            fast = link.sweep_arrays(angles, branch)
+            phi, *columns, status = sweep(link, angles, branch)
+            assert (phi == angles).all()
+            handed = status == 5                   # to the scalar engine: not redone in C
+            assert ((status == 2) == (fast.status == 2))[~handed].all(), (kind, branch)
+            usual = (status == 0) & (fast.status == 0)
+            assert usual.sum() > len(angles) // 4, (kind, branch)
+            for got, want in zip(columns, fast[1:4]):
+                assert np.allclose(got[usual], want[usual], rtol=1e-13, atol=1e-13), (kind,
+                                                                                    branch)
+
+
+def test_bench_engine_says_where_there_is_no_c_compiler(monkeypatch):
+    import io
+    monkeypatch.delenv("CC", raising=False)
+    monkeypatch.setenv("PATH", "")
+    out = io.StringIO()
+    engine._bench_c_loop(out, (1000,))
+    assert out.getvalue() == "C loop: skipped (no C compiler (cc) found)\n"
 
 
 def test_bench_engine_without_numpy_or_pylinkage(tmp_path):
