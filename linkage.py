@@ -2866,8 +2866,9 @@ def _sweep_arrays(linkage, phis, branch, derivatives):
            "acceleration": np.empty(count) if level >= 2 else None}
     status = np.zeros(count, dtype=np.int8)
     block = min(FAST_BLOCK, max(count, 1))
-    w = {name: np.empty(block) for name in _FAST_WORK}
-    w["flag"], w["missing"], w["redo"] = (np.empty(block, dtype=bool) for _ in range(3))
+    w = dict(zip(_FAST_WORK, np.empty((len(_FAST_WORK), block))))   # one allocation: the
+    #                                     allocator keeps it for the next call, not new pages
+    w["flag"], w["missing"], w["redo"] = np.empty((3, block), dtype=bool)
     w["quarter"] = np.empty(block, dtype=np.intp)
     w["exponent"] = np.empty(block, dtype=np.intc)
     reduce = not max(-low, high) < 360.0
@@ -7956,8 +7957,50 @@ def bench_coupler(out, quick: bool = False, points: int = 100_001) -> None:
         print(text, file=out)
 
 
+FILES_TARGET = 1_000_000   # points a second of CPU: run --precision double --fast, DAT and CSV
+
+
+def bench_files(out, quick: bool = False) -> None:
+    """run --precision double to the DAT files and a CSV, as a process: its CPU time, --fast and
+    without, alternated (the CPU time is the process's, user and system, from getrusage)."""
+    import resource
+    import subprocess
+    import tempfile
+    import time
+    points, repeats = (10_001, 1) if quick else (1_000_001, 3)
+    step = 360.0 / (points - 1)
+    command = [sys.executable, os.path.abspath(__file__), "run", "plane", "--a", "6", "--b", "2",
+               "--c", "7", "--d", "9", "--from", "0", "--to", "360", "--step", repr(step),
+               "--branch", "1", "--precision", "double"]
+    best = {}
+    with tempfile.TemporaryDirectory() as folder:
+        for _ in range(repeats):
+            for fast in ("--fast", ""):
+                before = resource.getrusage(resource.RUSAGE_CHILDREN)
+                start = time.perf_counter()
+                subprocess.run(command + ["--dir", folder, "--csv", os.path.join(folder, "o.csv")]
+                               + [fast] * bool(fast), check=True, capture_output=True)
+                wall = time.perf_counter() - start
+                after = resource.getrusage(resource.RUSAGE_CHILDREN)
+                cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+                best[fast] = min(best.get(fast, (math.inf,)), (cpu, wall))
+        size = sum(os.path.getsize(os.path.join(folder, n)) for n in DatFiles.NAMES + ("o.csv",))
+    print(f"python3 linkage.py run plane --a 6 --b 2 --c 7 --d 9 --from 0 --to 360 --step "
+          f"{step!r} --branch 1 --precision double --dir D --csv D/o.csv [--fast]: {points:,} "
+          f"points, {size / 1e6:,.1f} MB of files; CPU time of the process (its start-up, "
+          f"numpy's import and the files' flushing to the disk included), best of {repeats}",
+          file=out)
+    for fast, (cpu, wall) in best.items():
+        print(f"{fast or 'scalar':8} {cpu:7.2f} s CPU {wall:7.2f} s wall {points / cpu:12,.0f} "
+              f"points/s of CPU {size / cpu / 1e6:8.1f} MB/s", file=out)
+    if not quick:
+        rate = points / best["--fast"][0]
+        print(f"target: --fast >= {FILES_TARGET:,} points/s of CPU: "
+              f"{'met' if rate >= FILES_TARGET else 'NOT MET'}, {rate:,.0f}", file=out)
+
+
 BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
-              "startup": bench_startup, "coupler": bench_coupler}
+              "startup": bench_startup, "coupler": bench_coupler, "files": bench_files}
 ELSEWHERE = {"accuracy": "python3 tests/bench_accuracy.py (it measures with the tests' "
                          "instruments: the 50-digit mpmath reference, the listing in double, "
                          "PC-BASIC; README, Benchmarks)"}
