@@ -3824,7 +3824,7 @@ def _lines(np, outputs):
 #
 # repr writes a double as the shortest decimal that reads back as it (David Gay's dtoa, mode 0),
 # the nearest to it where two are as short; positional from 1e-4 to 1e16. _float_texts does the
-# same for a numpy block at once, exactly, where 1e-3 <= |x| < 1e13 (the other numbers, and the
+# same for a numpy block at once, exactly, where 1e-2 <= |x| < 1e13 (the other numbers, and the
 # few cases it cannot decide, are repr's own). The argument, with ulp the spacing of doubles at x
 # and m = 16 - floor(log10 |x|):
 # - x 10^m = hi + lo exactly (Dekker's product: 10^m is a double for m <= 22), so d17, the
@@ -3846,17 +3846,19 @@ _DIGITS = {}                                      # numpy's tables, made once
 
 
 def _digit_tables(np):
-    """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as uint64;
-    the 10,000 four-digit texts as uint32; masks of the first k of 20 bytes and of the last k of
-    16, as uint32; "." and three NULs as uint32."""
+    """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as int64;
+    the 10,000 four-digit texts as uint32, with leading zeros and without (NULs for them); masks
+    of the first k of 20 bytes and of the last k of 16, as uint32; "." and three NULs."""
     if not _DIGITS:
         pow10 = np.array(_POW10)
         big = pow10 * 134217729.0                 # 2^27 + 1
         high = big - (big - pow10)
         _DIGITS.update(
             pow10=pow10, high=high, low=pow10 - high,
-            upow=np.array([10 ** k for k in range(20)], dtype=np.uint64),
+            pow10i=np.array([10 ** k for k in range(19)], dtype=np.int64),
             quads=np.frombuffer(b"".join(b"%04d" % i for i in range(10_000)), dtype=np.uint32),
+            leading=np.frombuffer(b"".join(b"%4d" % i for i in range(10_000)).replace(b" ", b"\0"),
+                                  dtype=np.uint32),
             first=np.array([[255 * (c < k) for c in range(20)] for k in range(21)],
                            dtype=np.uint8).view(np.uint32),
             last=np.array([[255 * (c >= 16 - k) for c in range(16)] for k in range(17)],
@@ -3871,7 +3873,7 @@ def _float_texts(np, x) -> list:
     t = _digit_tables(np)
     n = len(x)
     a = np.abs(x)
-    fast = (a >= 1e-3) & (a < 1e13)                        # NaN is not
+    fast = (a >= 1e-2) & (a < 1e13)                        # NaN is not
     np.copyto(a, 1.0, where=~fast)
     m = 16 - np.floor(np.log10(a)).astype(np.intp)
     scale = t["pow10"].take(m)
@@ -3919,28 +3921,31 @@ def _float_texts(np, x) -> list:
             np.copyto(rest, q, where=ends)
             cut += ends * k
         kept[short] = np.maximum(places[short] - cut, 1)
-    digits = digits.astype(np.uint64)
-    unit = t["upow"].take(places)
-    whole = digits // unit
+    np.copyto(a, 0.0, where=blank)
+    whole = np.floor(a).astype(np.int64)                   # the decimal's whole part: no whole
+    #                                                        number lies within ulp/2 of x
     width = int(places.max()) if n else 1
-    fraction = (digits - whole * unit) * t["upow"].take(width - places)
+    fraction = (digits - whole * t["pow10i"].take(places)) * t["pow10i"].take(width - places)
     sign = np.multiply(np.signbit(x), 45, dtype=np.uint8)[:, None]      # "-"
     groups = -(-len(str(int(whole.max()) if n else 0)) // 4)
     head = np.empty((n, groups + 1), dtype=np.uint32)
     head[:, groups] = t["point"]                           # "." and NULs
-    count = np.ones(n, dtype=np.intp)                      # the whole part's digits
-    for k in range(1, 4 * groups):
-        count += whole >= 10 ** k
-    for j in range(groups - 1, -1, -1):
-        q = whole // np.uint64(10_000)
-        head[:, j] = t["quads"].take((whole - q * np.uint64(10_000)).astype(np.intp))
-        whole = q
-    head[:, :groups] &= t["last"].take(count, axis=0)[:, 4 - groups:]
+    if groups == 1:
+        head[:, 0] = t["leading"].take(whole)              # "   7" with NULs for the spaces
+    else:
+        count = np.ones(n, dtype=np.intp)                  # the whole part's digits
+        for k in range(1, 4 * groups):
+            count += whole >= 10 ** k
+        for j in range(groups - 1, -1, -1):
+            q = whole // 10_000
+            head[:, j] = t["quads"].take(whole - q * 10_000)
+            whole = q
+        head[:, :groups] &= t["last"].take(count, axis=0)[:, 4 - groups:]
     groups = -(-width // 4)
     body = np.empty((n, groups), dtype=np.uint32)
     for j in range(groups - 1, -1, -1):
-        q = fraction // np.uint64(10_000)
-        body[:, j] = t["quads"].take((fraction - q * np.uint64(10_000)).astype(np.intp))
+        q = fraction // 10_000
+        body[:, j] = t["quads"].take(fraction - q * 10_000)
         fraction = q
     skip = 4 * groups - width
     body &= t["first"].take(kept + skip, axis=0)[:, :groups]
