@@ -3756,11 +3756,12 @@ class SweepColumns(NamedTuple):
         return len(self.phi)
 
 
-TEXT_ROWS = 4096         # rows formatted at once: numpy's temporaries stay in the cache
+NUMBER_ROWS = 16384      # numbers formatted at once (numpy's fixed cost a call shared)
+LINE_ROWS = 4096         # lines joined at once (their matrices stay in the cache)
 
 
 def _blocks(rows):
-    """rows in blocks of TEXT_ROWS (SweepColumns are passed on as they are): a full block becomes
+    """rows in blocks of NUMBER_ROWS (SweepColumns are passed on as they are): a full block becomes
     SweepColumns where numpy is installed (formatted at once: many times faster than a number at
     a time, the same bytes), a shorter one where numpy is imported already."""
     block = []
@@ -3769,7 +3770,7 @@ def _blocks(rows):
             yield row
             continue
         block.append(row)
-        if len(block) == TEXT_ROWS:
+        if len(block) == NUMBER_ROWS:
             yield _as_columns(block, True)
             block = []
     if block:
@@ -3793,31 +3794,33 @@ def _as_columns(rows, vectorised):
 
 
 def _lines(np, outputs):
-    """The lines of each output, (fields, keep), TEXT_ROWS rows at a time: a list of bytes (one
+    """The lines of each output, (fields, keep), LINE_ROWS rows at a time: a list of bytes (one
     an output) and the number of rows. A field is a float64 array (its numbers as repr writes
-    them, _float_texts; a column that several outputs share is formatted once) or a uint8 matrix
-    (a text a row, NUL-padded); the fields of a row are joined by commas and ended by CR LF, and
-    only the rows where `keep` (a bool array, or None: every row) are written."""
+    them, _float_texts, NUMBER_ROWS at a time; a column that several outputs share is formatted
+    once) or a uint8 matrix (a text a row, NUL-padded); the fields of a row are joined by commas
+    and ended by CR LF, and only the rows where `keep` (a bool array, or None: every row) are
+    written."""
     count = len(outputs[0][0][0])
-    comma, end = np.full((TEXT_ROWS, 1), 44, np.uint8), np.tile(np.uint8([13, 10]),
-                                                               (TEXT_ROWS, 1))
-    for start in range(0, count, TEXT_ROWS):
-        part = slice(start, min(start + TEXT_ROWS, count))
-        n = part.stop - start
-        done, texts = {}, []
-        for fields, keep in outputs:
-            pieces = []
-            for field in fields:
-                if id(field) not in done:
-                    done[id(field)] = ([field[part]] if field.dtype == np.uint8
-                                      else _float_texts(np, field[part]))
-                pieces += done[id(field)] + [comma[:n]]
-            pieces[-1] = end[:n]
-            matrix = np.concatenate(pieces, axis=1)
-            if keep is not None and not keep[part].all():
-                matrix = matrix[keep[part]]
-            texts.append(matrix.tobytes().translate(None, b"\0"))
-        yield texts, n
+    comma, end = np.full((LINE_ROWS, 1), 44, np.uint8), np.tile(np.uint8([13, 10]),
+                                                                (LINE_ROWS, 1))
+    for start in range(0, count, NUMBER_ROWS):
+        stop = min(start + NUMBER_ROWS, count)
+        fields = {id(field): field for fields, _ in outputs for field in fields}
+        texts = {key: field[start:stop] if field.dtype == np.uint8
+                 else _float_texts(np, field[start:stop]) for key, field in fields.items()}
+        for first in range(start, stop, LINE_ROWS):
+            last = min(first + LINE_ROWS, stop)
+            rows, n = slice(first - start, last - start), last - first
+            lines = []
+            for fields, keep in outputs:
+                pieces = [piece for field in fields for piece in (texts[id(field)][rows],
+                                                                   comma[:n])]
+                pieces[-1] = end[:n]
+                matrix = np.concatenate(pieces, axis=1)
+                if keep is not None and not keep[first:last].all():
+                    matrix = matrix[keep[first:last]]
+                lines.append(matrix.tobytes().translate(None, b"\0"))
+            yield lines, n
 
 
 # -- numbers as text, a block at once ------------------------------------------------------------
@@ -3848,7 +3851,8 @@ _DIGITS = {}                                      # numpy's tables, made once
 def _digit_tables(np):
     """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as int64;
     the 10,000 four-digit texts as uint32, with leading zeros and without (NULs for them); masks
-    of the first k of 20 bytes and of the last k of 16, as uint32; "." and three NULs."""
+    of the first k of 20 bytes and of the last k of 16, as uint32; "." and three NULs; three
+    NULs and "-"."""
     if not _DIGITS:
         pow10 = np.array(_POW10)
         big = pow10 * 134217729.0                 # 2^27 + 1
@@ -3863,13 +3867,14 @@ def _digit_tables(np):
                            dtype=np.uint8).view(np.uint32),
             last=np.array([[255 * (c >= 16 - k) for c in range(16)] for k in range(17)],
                           dtype=np.uint8).view(np.uint32),
-            point=np.frombuffer(b".\0\0\0", dtype=np.uint32)[0])
+            point=np.frombuffer(b".\0\0\0", dtype=np.uint32)[0],
+            minus=np.frombuffer(b"\0\0\0-", dtype=np.uint32)[0])
     return _DIGITS
 
 
-def _float_texts(np, x) -> list:
-    """repr(float(v)) of each element of the float64 array x: uint8 matrices whose rows, joined
-    across them and their NUL bytes dropped, are the texts."""
+def _float_texts(np, x):
+    """repr(float(v)) of each element of the float64 array x: a uint8 matrix whose rows, their
+    NUL bytes dropped, are the texts."""
     t = _digit_tables(np)
     n = len(x)
     a = np.abs(x)
@@ -3926,40 +3931,41 @@ def _float_texts(np, x) -> list:
     #                                                        number lies within ulp/2 of x
     width = int(places.max()) if n else 1
     fraction = (digits - whole * t["pow10i"].take(places)) * t["pow10i"].take(width - places)
-    sign = np.multiply(np.signbit(x), 45, dtype=np.uint8)[:, None]      # "-"
-    groups = -(-len(str(int(whole.max()) if n else 0)) // 4)
-    head = np.empty((n, groups + 1), dtype=np.uint32)
-    head[:, groups] = t["point"]                           # "." and NULs
-    if groups == 1:
-        head[:, 0] = t["leading"].take(whole)              # "   7" with NULs for the spaces
+    lead = -(-len(str(int(whole.max()) if n else 0)) // 4)
+    groups = -(-width // 4)
+    text = np.empty((n, 2 + lead + groups), dtype=np.uint32)   # words of 4 bytes: NULs, "-";
+    #                                           the whole part; "." and NULs; the fraction
+    np.multiply(np.signbit(x), t["minus"], out=text[:, 0], casting="unsafe")
+    text[:, lead + 1] = t["point"]
+    if lead == 1:
+        text[:, 1] = t["leading"].take(whole)              # "   7" with NULs for the spaces
     else:
         count = np.ones(n, dtype=np.intp)                  # the whole part's digits
-        for k in range(1, 4 * groups):
+        for k in range(1, 4 * lead):
             count += whole >= 10 ** k
-        for j in range(groups - 1, -1, -1):
+        for j in range(lead, 0, -1):
             q = whole // 10_000
-            head[:, j] = t["quads"].take(whole - q * 10_000)
+            text[:, j] = t["quads"].take(whole - q * 10_000)
             whole = q
-        head[:, :groups] &= t["last"].take(count, axis=0)[:, 4 - groups:]
-    groups = -(-width // 4)
-    body = np.empty((n, groups), dtype=np.uint32)
-    for j in range(groups - 1, -1, -1):
+        text[:, 1:lead + 1] &= t["last"].take(count, axis=0)[:, 4 - lead:]
+    for j in range(1 + lead + groups, 1 + lead, -1):
         q = fraction // 10_000
-        body[:, j] = t["quads"].take(fraction - q * 10_000)
+        text[:, j] = t["quads"].take(fraction - q * 10_000)
         fraction = q
-    skip = 4 * groups - width
-    body &= t["first"].take(kept + skip, axis=0)[:, :groups]
-    texts = [sign, head.view(np.uint8), body.view(np.uint8)[:, skip:]]
+    skip = 4 * groups - width                              # the first group's leading zeros
+    text[:, lead + 2:] &= (t["first"].take(kept + skip, axis=0)[:, :groups]
+                           & ~t["first"][skip, :groups])
+    text = text.view(np.uint8)
     others = np.flatnonzero(~good)
     if len(others):
         words = [repr(v).encode("ascii") for v in x[others].tolist()]
-        extra = np.zeros((n, max(map(len, words))), dtype=np.uint8)
-        for text in texts:
-            text[others] = 0
+        longest = max(map(len, words))
+        if longest > text.shape[1]:
+            text = np.concatenate([text, np.zeros((n, longest - text.shape[1]), np.uint8)], 1)
+        text[others] = 0
         for i, word in zip(others.tolist(), words):
-            extra[i, :len(word)] = np.frombuffer(word, dtype=np.uint8)
-        texts.append(extra)
-    return texts
+            text[i, :len(word)] = np.frombuffer(word, dtype=np.uint8)
+    return text
 
 
 CSV_HEADER = ("phi", "output", "velocity", "acceleration", "status")
