@@ -3806,15 +3806,15 @@ def _lines(np, outputs):
     for start in range(0, count, NUMBER_ROWS):
         stop = min(start + NUMBER_ROWS, count)
         fields = {id(field): field for fields, _ in outputs for field in fields}
-        texts = {key: field[start:stop] if field.dtype == np.uint8
+        texts = {key: [field[start:stop]] if field.dtype == np.uint8
                  else _float_texts(np, field[start:stop]) for key, field in fields.items()}
         for first in range(start, stop, LINE_ROWS):
             last = min(first + LINE_ROWS, stop)
             rows, n = slice(first - start, last - start), last - first
             lines = []
             for fields, keep in outputs:
-                pieces = [piece for field in fields for piece in (texts[id(field)][rows],
-                                                                   comma[:n])]
+                pieces = [piece for field in fields for piece in [
+                    text[rows] for text in texts[id(field)]] + [comma[:n]]]
                 pieces[-1] = end[:n]
                 matrix = np.concatenate(pieces, axis=1)
                 if keep is not None and not keep[first:last].all():
@@ -3872,9 +3872,9 @@ def _digit_tables(np):
     return _DIGITS
 
 
-def _float_texts(np, x):
-    """repr(float(v)) of each element of the float64 array x: a uint8 matrix whose rows, their
-    NUL bytes dropped, are the texts."""
+def _float_texts(np, x) -> list:
+    """repr(float(v)) of each element of the float64 array x: uint8 matrices whose rows, joined
+    across them and their NUL bytes dropped, are the texts."""
     t = _digit_tables(np)
     n = len(x)
     a = np.abs(x)
@@ -3957,15 +3957,16 @@ def _float_texts(np, x):
                            & ~t["first"][skip, :groups])
     text = text.view(np.uint8)
     others = np.flatnonzero(~good)
-    if len(others):
-        words = [repr(v).encode("ascii") for v in x[others].tolist()]
-        longest = max(map(len, words))
-        if longest > text.shape[1]:
-            text = np.concatenate([text, np.zeros((n, longest - text.shape[1]), np.uint8)], 1)
-        text[others] = 0
-        for i, word in zip(others.tolist(), words):
-            text[i, :len(word)] = np.frombuffer(word, dtype=np.uint8)
-    return text
+    if not len(others):                  # the columns that can hold a byte, to be joined
+        return [text[:, 3:4 * lead + 5], text[:, 4 * lead + 8 + skip:]]
+    words = [repr(v).encode("ascii") for v in x[others].tolist()]     # repr's own, whole rows
+    longest = max(map(len, words))
+    if longest > text.shape[1]:
+        text = np.concatenate([text, np.zeros((n, longest - text.shape[1]), np.uint8)], 1)
+    text[others] = 0
+    for i, word in zip(others.tolist(), words):
+        text[i, :len(word)] = np.frombuffer(word, dtype=np.uint8)
+    return [text]
 
 
 CSV_HEADER = ("phi", "output", "velocity", "acceleration", "status")
@@ -7878,20 +7879,25 @@ def bench_engine(out, quick: bool = False, points: int = 100_001,
         points, pylinkage_points = 1001, 101
     pylinkage_points = pylinkage_points or points
     angles, np, array = _bench_angles(points)
-    print(f"{points:,} input angles, 0 to 360 degrees, branch 1; points per second, best of 3 "
-          "(numpy: of 15; this machine's speed drifts 2x within an hour: compare within one run, "
-          "the ratios first)", file=out)
+    print(f"{points:,} input angles, 0 to 360 degrees, branch 1; points per second, best of 5, "
+          "the scalar engine and the numpy path alternated (this machine's speed drifts 2x "
+          "within an hour: compare within one run, the ratios first)", file=out)
     print(f"{'linkage':12} {'numpy/scalar':>12} {'scalar disp':>12} {'scalar +v,a':>12} "
           f"{'numpy disp':>12} {'numpy +v,a':>12}", file=out)
     scalar, fast = {}, {}
     for kind, dims in BENCH_LINKAGES:
         linkage = Linkage(kind, **dims)
-        rates = [len(angles) / _best_of(3, lambda: linkage.sweep(angles, 1, level))
-                 for level in (0, 2)]
+        runs = {(way, level): math.inf for way in ("scalar", "numpy")[:1 + (np is not None)]
+                for level in (0, 2)}
+        for _ in range(5):
+            for way, level in runs:
+                runs[way, level] = min(runs[way, level], _best_of(1, (
+                    lambda: linkage.sweep(angles, 1, level)) if way == "scalar" else (
+                    lambda: linkage.sweep_arrays(array, 1, level))))
+        rates = [len(angles) / runs["scalar", level] for level in (0, 2)]
         scalar[kind] = {0: rates[0], 2: rates[1]}
         if np is not None:
-            fast_rates = [len(angles) / _best_of(15, lambda: linkage.sweep_arrays(array, 1, level))
-                          for level in (0, 2)]
+            fast_rates = [len(angles) / runs["numpy", level] for level in (0, 2)]
             fast[kind] = {0: fast_rates[0], 2: fast_rates[1]}
             print(f"{kind:12} {fast_rates[1] / rates[1]:11,.0f}x {rates[0]:12,.0f} "
                   f"{rates[1]:12,.0f} {fast_rates[0]:12,.0f} {fast_rates[1]:12,.0f}", file=out)

@@ -440,7 +440,7 @@ def test_fast_writes_the_same_files_where_a_zero_differs_in_sign(tmp_path):
 
 def texts(values):
     """_float_texts' texts of `values`, as str."""
-    matrix = engine._float_texts(np, np.array(values, dtype=np.float64))
+    matrix = np.concatenate(engine._float_texts(np, np.array(values, dtype=np.float64)), axis=1)
     return [row.tobytes().replace(b"\0", b"").decode("ascii") for row in matrix]
 
 
