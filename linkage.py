@@ -1706,17 +1706,21 @@ class DatFiles:  # ERRATA P3
         else:
             self.discard()
 
-    def write(self, lines) -> None:
-        """One point: a line (or None) for each file."""
+    def write(self, lines, points: int = 1) -> None:
+        """One point's line (or None) for each file; or the lines of `points` points, bytes
+        for each file."""
         try:
             for f, line in zip(self._open, lines):
-                if line is not None:
+                if isinstance(line, bytes):
+                    f.flush()
+                    f.buffer.write(line)
+                elif line is not None:
                     f.write(line)
         except OSError as e:
             written = next(t for t in self._files if t.file is f)
             self.discard()
             raise WriteError(self._why(OSError(e.errno, e.strerror, written.path))) from None
-        self.points += 1
+        self.points += points
 
     def close(self, before_rename=None) -> None:
         """CLOSE (line 1350): the end-of-file byte, then the files get their names;
@@ -2766,7 +2770,8 @@ def _slider_point(k, zero, fine, phi, c, s, sign, level, unit):
 
 STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE,  # MotionArrays.status
                 CHANGE_POINT)
-FAST_BLOCK = 8192        # angles a block (the fastest of 1024 to 16384 here, 2026-11-25)
+FAST_BLOCK = 16384       # angles a block (of 4096 to 32768 the fastest at 1e4 and 1e5 points here,
+#                          2026-11-26; memory: 50 arrays of it, 6.5 MB)
 FAST_MARGIN = 2.0        # handed to the scalar engine: |D| <= FAST_MARGIN * its decimal line
 
 
@@ -3045,7 +3050,7 @@ def _fast_affine(np, k0, kc, c, ks, s, out, spare):
 _FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "xq", "xs", "p",
               "q", "sv", "rr", "root", "sn", "cn", "r2", "dp", "dq", "ds", "e", "fp", "xm", "xk",
               "m", "u", "v", "dist", "big", "dm", "dk", "ax", "ay", "hi", "lo", "t", "t2", "csum",
-              "f1", "f2")
+              "f1", "f2", "disc")
 
 
 def _sweep_arrays(linkage, phis, branch, derivatives):
@@ -3061,41 +3066,46 @@ def _sweep_arrays(linkage, phis, branch, derivatives):
         raise ValueError("input angles must be numbers") from None
     if phi.ndim != 1:
         raise ValueError("input angles must be a sequence of numbers (one dimension)")
-    if not np.isfinite(phi).all():
+    low, high = (phi.min(), phi.max()) if len(phi) else (0.0, 0.0)   # NaN if any is NaN
+    if not (math.isfinite(low) and math.isfinite(high)):
         raise ValueError("input angles must be finite")
     count, sign, level = len(phi), 1.0 if branch == 1 else -1.0, derivatives
-    res = {"output": np.empty(count), "disc": np.empty(count),
-           "velocity": np.empty(count) if level >= 1 else None,
+    res = {"output": np.empty(count), "velocity": np.empty(count) if level >= 1 else None,
            "acceleration": np.empty(count) if level >= 2 else None}
+    status = np.zeros(count, dtype=np.int8)
     block = min(FAST_BLOCK, max(count, 1))
-    w = {name: np.empty(block) for name in _FAST_WORK}
-    w["flag"] = np.empty(block, dtype=bool)
+    w = dict(zip(_FAST_WORK, np.empty((len(_FAST_WORK), block))))   # one allocation: the
+    #                                     allocator keeps it for the next call, not new pages
+    w["flag"], w["missing"], w["redo"] = np.empty((3, block), dtype=bool)
     w["quarter"] = np.empty(block, dtype=np.intp)
     w["exponent"] = np.empty(block, dtype=np.intc)
-    reduce = count > 0 and not np.abs(phi).max() < 360.0
+    reduce = not max(-low, high) < 360.0
     step = _fast_slider if linkage.is_slider else _fast_four_bar
     k = linkage._constants
-    with np.errstate(all="ignore"):
+    line = FAST_MARGIN * linkage._precise_below
+    last = ("output", "velocity", "acceleration")[level]
+    redo = []
+    with np.errstate(all="ignore"):        # a block at a time: memory bounded, in the cache
         for start in range(0, count, block):
             stop = min(start + block, count)
             n = stop - start
             part = {key: None if a is None else a[start:stop] for key, a in res.items()}
             work = w if n == block else {key: a[:n] for key, a in w.items()}
+            part["disc"] = work["disc"]
             c, s = _fast_cos_sin(np, phi[start:stop], reduce, work)
             step(np, k, c, s, sign, level, part, work)
-        last = res[("output", "velocity", "acceleration")[level]]
-        line = FAST_MARGIN * linkage._precise_below
-        disc = res["disc"]
-        missing = np.less(disc, -line)
-        redo = np.less_equal(np.abs(disc), line)
-        redo |= ~np.isfinite(last) & ~missing
-        if linkage.is_slider:
-            for key in ("output", "velocity", "acceleration"):
-                if res[key] is not None:
-                    np.multiply(res[key], linkage._unit, out=res[key])
-    status = np.zeros(count, dtype=np.int8)
-    status[missing] = STATUS_CODES.index(NOT_ASSEMBLED)
-    where = np.flatnonzero(redo)
+            disc, missing, again = part["disc"], work["missing"], work["redo"]
+            np.less(disc, -line, out=missing)
+            np.less_equal(np.abs(disc, out=disc), line, out=again)
+            again |= ~(np.isfinite(part[last], out=work["flag"]) | missing)
+            status[start:stop][missing] = STATUS_CODES.index(NOT_ASSEMBLED)
+            if again.any():
+                redo.append(np.flatnonzero(again) + start)
+            if linkage.is_slider:
+                for key in ("output", "velocity", "acceleration"):
+                    if part[key] is not None:
+                        np.multiply(part[key], linkage._unit, out=part[key])
+    where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
     if len(where):
         columns = [res[key] for key in ("output", "velocity", "acceleration")]
         for i, m in zip(where.tolist(), linkage.sweep(phi[where].tolist(), branch, level)):
@@ -3855,12 +3865,12 @@ def evenly_spaced_angles(start, stop, step):
 
 
 def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files=3,
-                    transmission=None, before_rename=None) -> int:
+                    transmission=None, before_rename=None, csv=None) -> int:
     """Write ANG.DAT, VEL.DAT and ACC.DAT (the first `files` of them) in the listing's format
     ("phi,value" lines, CRLF, a 0x1A end byte) at full precision: each number as the shortest
-    text that reads back exactly (repr). `motions` may be any iterable (a generator keeps a long
-    sweep out of memory); the files are written whole or not at all (DatFiles). Returns the
-    number of motions.
+    text that reads back exactly (repr). `motions` may be any iterable of rows (a generator keeps
+    a long sweep out of memory) or of SweepColumns (a block of rows as numpy arrays); the files
+    are written whole or not at all (DatFiles). Returns the number of rows.
 
     Unclipped unless clip=True (then VEL and ACC are clipped to +-3 as lines 1200-1300 do). A value
     that is None (see Motion.status) is left out of its file (missing="skip"), or written as 0 as
@@ -3868,32 +3878,303 @@ def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files
 
     transmission=True: each row's sixth field (after a Motion's five), the transmission angle,
     goes to MU.DAT too; False: an old MU.DAT there is removed with the old set (DatFiles).
-    before_rename: see DatFiles.close.
+    before_rename: see DatFiles.close. csv: an open binary file to which every row goes too, as
+    csv_line writes it (all its fields, unclipped), its numbers formatted once for both.
     """
     if missing not in ("skip", "zero"):
         raise ValueError('missing is "skip" or "zero"')
-    zero = 0.0 if missing == "zero" else None
-
-    def line(phi, value, clipped):
-        if value is None:
-            value = zero
-            if value is None:
-                return None
-        elif clipped:
-            value = min(3.0, max(-3.0, value))
-        return "%r,%r\r\n" % (phi, float(value) + 0.0)    # -0.0 written as 0.0
-
+    fields = (1, 2, 3)[:files] + ((5,) if transmission else ())
     out = DatFiles(directory, files, transmission)
     try:
-        for row in motions:
-            phi = float(row[0])
-            lines = (line(phi, row[1], False), line(phi, row[2], clip), line(phi, row[3], clip))
-            out.write(lines[:files] + ((line(phi, row[5], False),) if transmission else ()))
+        for block in _blocks(motions):
+            for texts, points in _block_texts(block, fields, clip, missing == "zero",
+                                              csv is not None):
+                if csv is not None:
+                    csv.write(texts.pop())
+                out.write(texts, points)
     except BaseException:
         out.discard()
         raise
     out.close(before_rename)
     return out.points
+
+
+def _block_texts(block, fields, clip, zero, csv):
+    """One block's lines (rows, or SweepColumns), in parts: each part's texts (bytes), one for
+    each DAT file of `fields` (row indices; "phi,value" CR LF, VEL and ACC (fields 2 and 3)
+    clipped to +-3 if `clip`, a missing value left out, or written as 0.0 if `zero`), then if
+    `csv` its CSV rows; and its number of rows."""
+    clipped = [clip and f in (2, 3) for f in fields]
+    if not isinstance(block, SweepColumns):
+        yield _row_texts(block, fields, clipped, zero, csv), len(block)
+        return
+    np = numpy_module()
+    phi = block.phi
+    with np.errstate(all="ignore"):
+        values = [c + 0.0 for c in block[1:4] + block.extra]  # -0.0 written as 0.0
+    outputs = []
+    for f, clipped_column in zip(fields, clipped):
+        column = values[f - 1 if f < 4 else f - 2]
+        if clipped_column:
+            column = np.clip(column, -3.0, 3.0)
+        if zero:
+            outputs.append(((phi, np.where(np.isnan(column), 0.0, column)), None))
+        else:
+            outputs.append(((phi, column), ~np.isnan(column)))
+    if csv:
+        status = np.array(STATUS_CODES, dtype="S").take(block.status)
+        unsigned = phi + 0.0 if ((phi == 0.0) & np.signbit(phi)).any() else phi   # the CSV's
+        outputs.append(((unsigned, *values[:3], status.view(np.uint8).reshape(len(block), -1),
+                         *values[3:]), None))
+    with np.errstate(all="ignore"):
+        yield from _lines(np, outputs)
+
+
+def _row_texts(rows, fields, clipped, zero, csv) -> list:
+    """_block_texts of a list of rows, a number at a time (without numpy)."""
+    phis = [repr(float(row[0])) for row in rows]
+    zero_value = 0.0 if zero else None
+
+    def line(phi, value, clip):
+        if value is None:
+            value = zero_value
+            if value is None:
+                return ""
+        elif clip:
+            value = min(3.0, max(-3.0, value))
+        return f"{phi},{float(value) + 0.0!r}\r\n"           # -0.0 written as 0.0
+    return ["".join(line(phi, row[f], clip) for phi, row in zip(phis, rows)).encode("ascii")
+            for f, clip in zip(fields, clipped)] + [
+        "".join(map(csv_line, rows)).encode("ascii")] * csv
+
+
+class SweepColumns(NamedTuple):
+    """A block of a sweep's rows as numpy arrays, for the files: phi, output, velocity,
+    acceleration (float64, NaN where there is no value), status (int8 codes, STATUS_CODES),
+    extra (the rows' further fields, float64 arrays: the transmission angle, a coupler
+    point's nine coordinates)."""
+    phi: object
+    output: object
+    velocity: object
+    acceleration: object
+    status: object
+    extra: tuple = ()
+
+    def __len__(self) -> int:
+        return len(self.phi)
+
+
+NUMBER_ROWS = 16384      # numbers formatted at once (numpy's fixed cost a call shared)
+LINE_ROWS = 4096         # lines joined at once (their matrices stay in the cache)
+
+
+def _blocks(rows):
+    """rows in blocks of NUMBER_ROWS (SweepColumns are passed on as they are): a full block becomes
+    SweepColumns where numpy is installed (formatted at once: many times faster than a number at
+    a time, the same bytes), a shorter one where numpy is imported already."""
+    block = []
+    for row in rows:
+        if isinstance(row, SweepColumns):
+            yield row
+            continue
+        block.append(row)
+        if len(block) == NUMBER_ROWS:
+            yield _as_columns(block, True)
+            block = []
+    if block:
+        yield _as_columns(block, "numpy" in sys.modules)
+
+
+def _as_columns(rows, vectorised):
+    """SweepColumns of a list of rows (phi, output, velocity, acceleration, status, extra ...),
+    or the list itself where not `vectorised` or numpy is not installed."""
+    if not vectorised:
+        return rows
+    try:
+        np = numpy_module()
+    except FastUnavailable:
+        return rows
+    codes = {s: i for i, s in enumerate(STATUS_CODES)}
+    columns = [np.array([row[i] for row in rows], dtype=np.float64)      # None becomes NaN
+               for i in range(len(rows[0])) if i != 4]
+    status = np.array([codes[row[4]] for row in rows], dtype=np.int8)
+    return SweepColumns(*columns[:4], status, tuple(columns[4:]))
+
+
+def _lines(np, outputs):
+    """The lines of each output, (fields, keep), LINE_ROWS rows at a time: a list of bytes (one
+    an output) and the number of rows. A field is a float64 array (its numbers as repr writes
+    them, _float_texts, NUMBER_ROWS at a time; a column that several outputs share is formatted
+    once) or a uint8 matrix (a text a row, NUL-padded); the fields of a row are joined by commas
+    and ended by CR LF, and only the rows where `keep` (a bool array, or None: every row) are
+    written."""
+    count = len(outputs[0][0][0])
+    comma, end = np.full((LINE_ROWS, 1), 44, np.uint8), np.tile(np.uint8([13, 10]),
+                                                                (LINE_ROWS, 1))
+    for start in range(0, count, NUMBER_ROWS):
+        stop = min(start + NUMBER_ROWS, count)
+        fields = {id(field): field for fields, _ in outputs for field in fields}
+        texts = {key: [field[start:stop]] if field.dtype == np.uint8
+                 else _float_texts(np, field[start:stop]) for key, field in fields.items()}
+        for first in range(start, stop, LINE_ROWS):
+            last = min(first + LINE_ROWS, stop)
+            rows, n = slice(first - start, last - start), last - first
+            lines = []
+            for fields, keep in outputs:
+                pieces = [piece for field in fields for piece in [
+                    text[rows] for text in texts[id(field)]] + [comma[:n]]]
+                pieces[-1] = end[:n]
+                matrix = np.concatenate(pieces, axis=1)
+                if keep is not None and not keep[first:last].all():
+                    matrix = matrix[keep[first:last]]
+                lines.append(matrix.tobytes().translate(None, b"\0"))
+            yield lines, n
+
+
+# -- numbers as text, a block at once ------------------------------------------------------------
+#
+# repr writes a double as the shortest decimal that reads back as it (David Gay's dtoa, mode 0),
+# the nearest to it where two are as short; positional from 1e-4 to 1e16. _float_texts does the
+# same for a numpy block at once, exactly, where 1e-2 <= |x| < 1e13 (the other numbers, and the
+# few cases it cannot decide, are repr's own). The argument, with ulp the spacing of doubles at x
+# and m = 16 - floor(log10 |x|):
+# - x 10^m = hi + lo exactly (Dekker's product: 10^m is a double for m <= 22), so d17, the
+#   nearest integer to it (17 digits), and the residual f17 are exact; the nearest 16- and
+#   15-digit decimals and their residuals follow from d17 and f17 (to 1e-14, so a comparison
+#   within 1e-12 of its bound is left to repr).
+# - a decimal reads back as x when it lies within ulp/2 of x (to even at exactly ulp/2: left to
+#   repr, as is a power of two, whose interval is lopsided).
+# - 15 digits are 4.5 ulp apart or more: at most one is within ulp/2, so if the nearest reads
+#   back it is the only one of 15 digits or fewer (repr's, its trailing zeros dropped); else the
+#   nearest of 16 digits if it reads back; else the nearest of 17, which always does (17 digits
+#   are 0.9 ulp apart or less). Two nearest, equally near (16 or 17 digits, both may read back)
+#   are left to repr, whose dtoa breaks such ties by rules of its own; at 15 digits, half a unit
+#   is more than ulp/2 (0.11 units or less): neither reads back.
+# tests/test_fast.py holds it against repr (hypothesis and the hard cases of each step).
+
+_POW10 = tuple(10.0 ** k for k in range(23))      # exact doubles
+_DIGITS = {}                                      # numpy's tables, made once
+
+
+def _digit_tables(np):
+    """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as int64;
+    the 10,000 four-digit texts as uint32, with leading zeros and without (NULs for them); masks
+    of the first k of 20 bytes and of the last k of 16, as uint32; "." and three NULs; three
+    NULs and "-"."""
+    if not _DIGITS:
+        pow10 = np.array(_POW10)
+        big = pow10 * 134217729.0                 # 2^27 + 1
+        high = big - (big - pow10)
+        _DIGITS.update(
+            pow10=pow10, high=high, low=pow10 - high,
+            pow10i=np.array([10 ** k for k in range(19)], dtype=np.int64),
+            quads=np.frombuffer(b"".join(b"%04d" % i for i in range(10_000)), dtype=np.uint32),
+            leading=np.frombuffer(b"".join(b"%4d" % i for i in range(10_000)).replace(b" ", b"\0"),
+                                  dtype=np.uint32),
+            first=np.array([[255 * (c < k) for c in range(20)] for k in range(21)],
+                           dtype=np.uint8).view(np.uint32),
+            last=np.array([[255 * (c >= 16 - k) for c in range(16)] for k in range(17)],
+                          dtype=np.uint8).view(np.uint32),
+            point=np.frombuffer(b".\0\0\0", dtype=np.uint32)[0],
+            minus=np.frombuffer(b"\0\0\0-", dtype=np.uint32)[0])
+    return _DIGITS
+
+
+def _float_texts(np, x) -> list:
+    """repr(float(v)) of each element of the float64 array x: uint8 matrices whose rows, joined
+    across them and their NUL bytes dropped, are the texts."""
+    t = _digit_tables(np)
+    n = len(x)
+    a = np.abs(x)
+    fast = (a >= 1e-2) & (a < 1e13)                        # NaN is not
+    np.copyto(a, 1.0, where=~fast)
+    m = 16 - np.floor(np.log10(a)).astype(np.intp)
+    scale = t["pow10"].take(m)
+    hi = a * scale
+    s = a * 134217729.0
+    ah = s - (s - a)
+    al = a - ah
+    sh, sl = t["high"].take(m), t["low"].take(m)
+    lo = ((ah * sh - hi) + ah * sl + al * sh) + al * sl    # hi + lo = x 10^m exactly
+    r = np.rint(lo)
+    f17 = lo - r
+    d17 = hi.astype(np.int64) + r.astype(np.int64)
+    half = np.spacing(a) * 0.5
+    q1 = d17 // 10
+    t16 = (d17 - q1 * 10) + f17
+    up16 = t16 > 5.0
+    f16 = np.abs(t16 * 0.1 - up16)                         # residuals, in the last digit's units
+    q2 = d17 // 100
+    t15 = (d17 - q2 * 100) + f17
+    up15 = t15 > 50.0
+    f15 = np.abs(t15 * 0.01 - up15)
+    h16 = half * t["pow10"].take(m - 1)                    # ulp/2 in the same units
+    h15 = h16 * 0.1
+    margin = 1e-12
+    ok15 = f15 < h15 - margin
+    ok16 = f16 < h16 - margin
+    good = (fast & (d17 >= 10 ** 16) & (d17 < 10 ** 17) & (np.frexp(a)[0] != 0.5)
+            & (t16 != 5.0) & (np.abs(f17) != 0.5)
+            & (ok15 | (f15 > h15 + margin)) & (ok15 | ok16 | (f16 > h16 + margin)))
+    digits = np.where(ok15, q2 + up15, np.where(ok16, q1 + up16, d17))
+    places = m - 2 * ok15 - (ok16 & ~ok15)                 # digits after the point
+    zero = x == 0.0                                        # 0.0, -0.0
+    good |= zero
+    blank = ~good | zero
+    if blank.any():
+        np.copyto(digits, 0, where=blank)
+        np.copyto(places, 1, where=blank)
+    kept = places.copy()
+    short = np.flatnonzero(ok15 & ~blank)                  # less their trailing zeros
+    if len(short):
+        rest, cut = digits[short], np.zeros(len(short), dtype=np.intp)
+        for k in (8, 4, 2, 1):
+            q = rest // 10 ** k
+            ends = rest == q * 10 ** k
+            np.copyto(rest, q, where=ends)
+            cut += ends * k
+        kept[short] = np.maximum(places[short] - cut, 1)
+    np.copyto(a, 0.0, where=blank)
+    whole = np.floor(a).astype(np.int64)                   # the decimal's whole part: no whole
+    #                                                        number lies within ulp/2 of x
+    width = int(places.max()) if n else 1
+    fraction = (digits - whole * t["pow10i"].take(places)) * t["pow10i"].take(width - places)
+    lead = -(-len(str(int(whole.max()) if n else 0)) // 4)
+    groups = -(-width // 4)
+    text = np.empty((n, 2 + lead + groups), dtype=np.uint32)   # words of 4 bytes: NULs, "-";
+    #                                           the whole part; "." and NULs; the fraction
+    np.multiply(np.signbit(x), t["minus"], out=text[:, 0], casting="unsafe")
+    text[:, lead + 1] = t["point"]
+    if lead == 1:
+        text[:, 1] = t["leading"].take(whole)              # "   7" with NULs for the spaces
+    else:
+        count = np.ones(n, dtype=np.intp)                  # the whole part's digits
+        for k in range(1, 4 * lead):
+            count += whole >= 10 ** k
+        for j in range(lead, 0, -1):
+            q = whole // 10_000
+            text[:, j] = t["quads"].take(whole - q * 10_000)
+            whole = q
+        text[:, 1:lead + 1] &= t["last"].take(count, axis=0)[:, 4 - lead:]
+    for j in range(1 + lead + groups, 1 + lead, -1):
+        q = fraction // 10_000
+        text[:, j] = t["quads"].take(fraction - q * 10_000)
+        fraction = q
+    skip = 4 * groups - width                              # the first group's leading zeros
+    text[:, lead + 2:] &= (t["first"].take(kept + skip, axis=0)[:, :groups]
+                           & ~t["first"][skip, :groups])
+    text = text.view(np.uint8)
+    others = np.flatnonzero(~good)
+    if not len(others):                  # the columns that can hold a byte, to be joined
+        return [text[:, 3:4 * lead + 5], text[:, 4 * lead + 8 + skip:]]
+    words = [repr(v).encode("ascii") for v in x[others].tolist()]     # repr's own, whole rows
+    longest = max(map(len, words))
+    if longest > text.shape[1]:
+        text = np.concatenate([text, np.zeros((n, longest - text.shape[1]), np.uint8)], 1)
+    text[others] = 0
+    for i, word in zip(others.tolist(), words):
+        text[i, :len(word)] = np.frombuffer(word, dtype=np.uint8)
+    return [text]
 
 
 CSV_HEADER = ("phi", "output", "velocity", "acceleration", "status")
@@ -8120,7 +8401,8 @@ BENCH_LINKAGES = ((PLANE_FOUR_BAR, dict(a=6, b=2, c=7, d=9)),
 
 def _pylinkage_rates(points: int) -> dict | str:
     """pylinkage's points per second on the plane four-bar and slider-crank of BENCH_LINKAGES,
-    or why it cannot be measured. The four-bar with velocity and acceleration (its fastest way,
+    with numba where it is installed (NUMBA_DISABLE_JIT=1: without), or why it cannot be
+    measured. The four-bar with velocity and acceleration (its fastest way,
     Mechanism.step_fast_with_kinematics, the input at 1 rad/s); the slider-crank positions only
     (Mechanism.step): pylinkage 1.3.0 gives no slider velocity (step_with_derivatives leaves it
     None, and step_fast_with_kinematics does not move the slider; tests/test_pylinkage.py)."""
@@ -8134,9 +8416,12 @@ def _pylinkage_rates(points: int) -> dict | str:
     four_bar = fourbar(crank=2.0, coupler=7.0, rocker=9.0, ground=6.0, omega=step)
     four_bar.set_input_velocity(four_bar._driver_links[0], 1.0, 0.0)
     slider = slider_crank(crank=2.0, rod=7.0, omega=step, slide_through=(0.0, 1.5))
-    return {"version": f"pylinkage {pylinkage.__version__}, numba "
-                       + ("installed" if _numba_compat.HAS_NUMBA else "not installed: its "
-                          "compiled solver runs as plain Python"),
+    jit = _numba_compat.HAS_NUMBA and os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
+    if jit:
+        four_bar.step_fast_with_kinematics(3)          # compiled here, not in the timing
+    return {"version": f"pylinkage {pylinkage.__version__}, "
+                       + ("with numba (its solver compiled)" if jit else "without numba (not "
+                          "installed, or NUMBA_DISABLE_JIT=1: its solver runs as plain Python)"),
             PLANE_FOUR_BAR: points / _best_of(3, lambda: four_bar.step_fast_with_kinematics(
                 points)),
             PLANE_SLIDER_CRANK: points / _best_of(3, lambda: list(slider.step(points)))}
@@ -8153,32 +8438,242 @@ def _bench_angles(points: int):
     return angles, np, np.array(angles)
 
 
+C_SWEEP = r"""
+/* The numpy path's formulas (linkage.py, _fast_cos_sin, _fast_hypot, _fast_four_bar,
+   _fast_slider and _sweep_arrays' classification) as one C loop a point: bench engine times it
+   beside sweep_arrays. Status 2 where not assembled, 5 where sweep_arrays would hand the point to
+   the scalar engine (not redone here). */
+#include <math.h>
+
+static void cos_sin(double phi, int reduce, double *c, double *s)
+{
+    double r = reduce ? fmod(phi, 360.0) : phi, n = rint(r / 90.0);
+    double y = (r - n * 90.0) * (M_PI / 180.0), cy = cos(y), sy = sin(y);
+    switch ((long)n & 3) {
+    case 0: *c = cy; *s = sy; break;
+    case 1: *c = -sy; *s = cy; break;
+    case 2: *c = -cy; *s = -sy; break;
+    default: *c = sy; *s = -cy;
+    }
+}
+
+static void square(double x, double *hi, double *lo)   /* x^2 = hi + lo exactly (Dekker) */
+{
+    double t = x * 134217729.0, xh = t - (t - x), xl = x - xh;
+    *hi = x * x;
+    *lo = ((xh * xh - *hi) + 2.0 * xh * xl) + xl * xl;
+}
+
+static double hypot_exact(double x, double y)           /* CPython 3.11's, as _fast_hypot */
+{
+    int e;
+    double ax = fabs(x), ay = fabs(y), hi, lo, f1, f2, csum, t, h, r;
+    frexp(ax > ay ? ax : ay, &e);
+    ax = ldexp(ax, -e);
+    ay = ldexp(ay, -e);
+    square(ax, &hi, &f1);
+    csum = hi + 1.0;
+    f2 = (1.0 - csum) + hi;
+    square(ay, &hi, &lo);
+    f1 += lo;
+    t = csum + hi;
+    f2 += (csum - t) + hi;
+    csum = t;
+    h = sqrt((csum - 1.0) + (f1 + f2));
+    square(h, &hi, &lo);
+    r = csum - hi;
+    f2 += (csum - r) - hi;
+    f1 -= lo;
+    r = (r - 1.0) + (f1 + f2);
+    return ldexp(h + r / (h * 2.0), e);
+}
+
+static signed char status_of(double disc, double last, double line)
+{
+    return disc < -line ? 2 : (fabs(disc) <= line || !isfinite(last)) ? 5 : 0;
+}
+
+void four_bar(long n, const double *phi, const double *k, double sign, int reduce, double line,
+              double *out, double *vel, double *acc, signed char *status)
+{
+    double p0 = k[0], pc = k[1], ps = k[2], q0 = k[3], qc = k[4], qs = k[5];
+    double s0 = k[6], sc = k[7], ss = k[8];
+    for (long i = 0; i < n; i++) {
+        double c, s;
+        cos_sin(phi[i], reduce, &c, &s);
+        double xp = pc * c + ps * s, xq = qc * c + qs * s, xs = sc * c + ss * s;
+        double p = p0 + xp, q = q0 + xq, sv = s0 + xs, rr = hypot_exact(p, q);
+        double disc = (rr - sv) * (rr + sv), root = sqrt(disc);
+        double sn = -(q * sv + sign * (p * root)), cn = -(p * sv - sign * (q * root));
+        double psi = atan2(sn, cn) * (180.0 / M_PI);
+        out[i] = psi == -180.0 ? 180.0 : psi;
+        double r2 = rr * rr, cp = cn / r2, sp = sn / r2;
+        double dp = ps * c - pc * s, dq = qs * c - qc * s, ds = ss * c - sc * s;
+        double v = -sign * (((dp * cp + dq * sp) + ds) / root);
+        double e = (xp * cp + xq * sp) + xs, fp = (dq * cp - dp * sp) * 2.0 * v;
+        vel[i] = v;
+        acc[i] = -sign * (((fp - e) + sv * v * v) / root);
+        status[i] = status_of(disc, acc[i], line);
+    }
+}
+
+void slider(long n, const double *phi, const double *k, double sign, int reduce, double line,
+            double unit, double *out, double *vel, double *acc, signed char *status)
+{
+    double m0 = k[0], mc = k[1], ms = k[2], k0 = k[3], kc = k[4], ks = k[5], u0 = k[6];
+    double uc = k[7], us = k[8], v0 = k[9], vc = k[10], vs = k[11], rod = k[12];
+    int offset = v0 != 0.0 || vc != 0.0 || vs != 0.0;
+    for (long i = 0; i < n; i++) {
+        double c, s;
+        cos_sin(phi[i], reduce, &c, &s);
+        double xm = mc * c + ms * s, xk = kc * c + ks * s, m = m0 + xm, q = k0 + xk;
+        double u = (u0 + uc * c) + us * s;
+        double dist = offset ? hypot_exact(u, (v0 + vc * c) + vs * s) : fabs(u);
+        double disc = (rod - dist) * (dist + rod), root = sqrt(disc);
+        double big = m + (m < 0.0 ? -root : root), x = q / big;
+        if ((sign < 0.0) == (m < 0.0))
+            x = big;
+        double dm = ms * c - mc * s, dk = ks * c - kc * s;
+        double v = sign * ((dm * x - dk * 0.5) / root);
+        double a = sign * ((((xk * 0.5 - xm * x) + dm * 2.0 * v) - v * v) / root);
+        status[i] = status_of(disc, a, line);
+        out[i] = x * unit;
+        vel[i] = v * unit;
+        acc[i] = a * unit;
+    }
+}
+"""
+
+
+def _c_loop():
+    """C_SWEEP built with the C compiler (cc, or $CC) -O2 in a temporary folder and loaded with
+    ctypes: a function (linkage, angles, branch) -> (phi, output, velocity, acceleration,
+    status) arrays; or why it cannot be built (a str)."""
+    import ctypes
+    import subprocess
+    import tempfile
+    compiler = os.environ.get("CC") or shutil.which("cc")
+    if not compiler:
+        return "no C compiler (cc) found"
+    with tempfile.TemporaryDirectory() as folder:
+        source, built = os.path.join(folder, "sweep.c"), os.path.join(folder, "sweep.so")
+        with open(source, "w", encoding="ascii") as f:
+            f.write(C_SWEEP)
+        try:
+            subprocess.run([compiler, "-O2", "-shared", "-fPIC", "-o", built, source, "-lm"],
+                           check=True, capture_output=True, timeout=120)
+            library = ctypes.CDLL(built)          # mapped: the file may go with its folder
+        except (OSError, subprocess.SubprocessError) as e:
+            return f"{compiler} -O2 failed: {getattr(e, 'stderr', b'').decode(errors='replace')[:200] or e}"
+    np = numpy_module()
+    double_p, status_p = (np.ctypeslib.ndpointer(dtype=t, flags="C_CONTIGUOUS")
+                          for t in (np.float64, np.int8))
+    common = [ctypes.c_long, double_p, double_p, ctypes.c_double, ctypes.c_int, ctypes.c_double]
+    library.four_bar.argtypes = common + [double_p, double_p, double_p, status_p]
+    library.slider.argtypes = common + [ctypes.c_double, double_p, double_p, double_p, status_p]
+
+    def sweep(linkage, angles, branch=1):
+        """sweep_arrays' answer (its five arrays, new, as it makes them) by C_SWEEP."""
+        n = len(angles)
+        answer = [np.empty(n) for _ in range(3)] + [np.empty(n, dtype=np.int8)]
+        args = [n, angles, np.array(linkage._constants), 1.0 if branch == 1 else -1.0,
+                int(not max(-angles.min(), angles.max()) < 360.0),
+                FAST_MARGIN * linkage._precise_below]
+        if linkage.is_slider:
+            library.slider(*args, linkage._unit, *answer)
+        else:
+            library.four_bar(*args, *answer)
+        return [np.array(angles)] + answer
+    return sweep
+
+
+C_SIZES = (1_000, 10_000, 100_000, 1_000_000, 10_000_000)
+C_TARGET = 0.7           # sweep_arrays' rate over the C loop's, at 1e4 points and more
+
+
+def _bench_c_loop(out, sizes) -> None:
+    """sweep_arrays against C_SWEEP at each of `sizes` points, plane four-bar and slider-crank,
+    velocity and acceleration: rates and their ratio, the two alternated."""
+    sweep = _c_loop()
+    if isinstance(sweep, str):
+        print(f"C loop: skipped ({sweep})", file=out)
+        return
+    print("\nsweep_arrays against a C loop of the same formulas (C_SWEEP, cc -O2, called with "
+          "ctypes; its points for the scalar engine not redone), branch 1, velocity and "
+          "acceleration; points per second, best of 3 to 300 (more for fewer points), the two "
+          "alternated; agree to: the largest difference of their outputs", file=out)
+    print(f"{'points':>11} {'linkage':12} {'numpy':>12} {'C':>12} {'numpy/C':>8} {'agree to':>9}",
+          file=out)
+    np = numpy_module()
+    ratios, fixed = {}, {}
+    for kind, dims in (BENCH_LINKAGES[0], BENCH_LINKAGES[3]):
+        linkage = Linkage(kind, **dims)
+        rates = {}
+        for n in sizes:
+            angles = np.linspace(0.0, 360.0, n)
+            repeats = max(3, min(300, 3_000_000 // n))
+            best = [math.inf, math.inf]
+            for _ in range(repeats):
+                for i, run in enumerate((lambda: linkage.sweep_arrays(angles, 1),
+                                         lambda: sweep(linkage, angles))):
+                    best[i] = min(best[i], _best_of(1, run))
+            fast, c = linkage.sweep_arrays(angles, 1), sweep(linkage, angles)
+            usual = (fast.status == 0) & (c[4] == 0)
+            agree = float(np.max(np.abs(fast.output - c[1])[usual], initial=0.0))
+            rates[n] = (n / best[0], n / best[1])
+            ratios[kind, n] = best[1] / best[0]
+            print(f"{n:11,} {kind:12} {n / best[0]:12,.0f} {n / best[1]:12,.0f} "
+                  f"{best[1] / best[0]:8.2f} {agree:9.1e}", file=out)
+        (n1, (r1, _)), (n2, (r2, _)) = list(rates.items())[:2]
+        fixed[kind] = (n1 / r1 - n1 * (n2 / r2 - n1 / r1) / (n2 - n1)) * 1e6
+    print("fixed cost of a sweep_arrays call: " + ", ".join(
+        f"{kind} {us:,.0f} us" for kind, us in fixed.items())
+        + f" (its time at {sizes[0]:,} points less {sizes[0]:,} points at the cost of a point "
+        f"from {sizes[0]:,} to {sizes[1]:,})", file=out)
+    if max(sizes) >= 10_000:
+        short = [f"{k} at {n:,}" for (k, n), r in ratios.items() if n >= 10_000 and r < C_TARGET]
+        print(f"target: numpy >= {C_TARGET} of the C loop from 10,000 points to {max(sizes):,}: "
+              + (f"NOT MET ({', '.join(short)})" if short else "met")
+              + f", lowest {min(r for (k, n), r in ratios.items() if n >= 10_000):.2f}",
+              file=out)
+
+
 def bench_engine(out, quick: bool = False, points: int = 100_001,
-                 pylinkage_points: int = 10_001) -> None:
-    """The accurate engine's speed, scalar and vectorised (numpy), beside pylinkage's."""
+                 pylinkage_points: int | None = None, c_sizes=C_SIZES) -> None:
+    """The accurate engine's speed, scalar and vectorised (numpy), beside a C loop of the numpy
+    path's formulas (at each of c_sizes points) and pylinkage's (on as many angles as ours,
+    unless pylinkage_points)."""
     if quick:
         points, pylinkage_points = 1001, 101
+    pylinkage_points = pylinkage_points or points
     angles, np, array = _bench_angles(points)
-    print(f"{points:,} input angles, 0 to 360 degrees, branch 1; points per second, best of 3 "
-          "(numpy: of 15; this machine's speed drifts 2x within an hour: compare within one run, "
-          "the ratios first)", file=out)
+    print(f"{points:,} input angles, 0 to 360 degrees, branch 1; points per second, best of 5, "
+          "the scalar engine and the numpy path alternated (this machine's speed drifts 2x "
+          "within an hour: compare within one run, the ratios first)", file=out)
     print(f"{'linkage':12} {'numpy/scalar':>12} {'scalar disp':>12} {'scalar +v,a':>12} "
           f"{'numpy disp':>12} {'numpy +v,a':>12}", file=out)
     scalar, fast = {}, {}
     for kind, dims in BENCH_LINKAGES:
         linkage = Linkage(kind, **dims)
-        rates = [len(angles) / _best_of(3, lambda: linkage.sweep(angles, 1, level))
-                 for level in (0, 2)]
+        runs = {(way, level): math.inf for way in ("scalar", "numpy")[:1 + (np is not None)]
+                for level in (0, 2)}
+        for _ in range(5):
+            for way, level in runs:
+                runs[way, level] = min(runs[way, level], _best_of(1, (
+                    lambda: linkage.sweep(angles, 1, level)) if way == "scalar" else (
+                    lambda: linkage.sweep_arrays(array, 1, level))))
+        rates = [len(angles) / runs["scalar", level] for level in (0, 2)]
         scalar[kind] = {0: rates[0], 2: rates[1]}
         if np is not None:
-            fast_rates = [len(angles) / _best_of(15, lambda: linkage.sweep_arrays(array, 1, level))
-                          for level in (0, 2)]
+            fast_rates = [len(angles) / runs["numpy", level] for level in (0, 2)]
             fast[kind] = {0: fast_rates[0], 2: fast_rates[1]}
             print(f"{kind:12} {fast_rates[1] / rates[1]:11,.0f}x {rates[0]:12,.0f} "
                   f"{rates[1]:12,.0f} {fast_rates[0]:12,.0f} {fast_rates[1]:12,.0f}", file=out)
         else:
             print(f"{kind:12} {'':>12} {rates[0]:12,.0f} {rates[1]:12,.0f} "
                   f"{'numpy not installed':>25}", file=out)
+    if np is not None:
+        _bench_c_loop(out, C_SIZES[:2] if quick else c_sizes)
     pylinkage = _pylinkage_rates(pylinkage_points)
     if isinstance(pylinkage, str):
         print(f"pylinkage: {pylinkage}", file=out)
@@ -8247,8 +8742,50 @@ def bench_coupler(out, quick: bool = False, points: int = 100_001) -> None:
         print(text, file=out)
 
 
+FILES_TARGET = 1_000_000   # points a second of CPU: run --precision double --fast, DAT and CSV
+
+
+def bench_files(out, quick: bool = False) -> None:
+    """run --precision double to the DAT files and a CSV, as a process: its CPU time, --fast and
+    without, alternated (the CPU time is the process's, user and system, from getrusage)."""
+    import resource
+    import subprocess
+    import tempfile
+    import time
+    points, repeats = (10_001, 1) if quick else (1_000_001, 3)
+    step = 360.0 / (points - 1)
+    command = [sys.executable, os.path.abspath(__file__), "run", "plane", "--a", "6", "--b", "2",
+               "--c", "7", "--d", "9", "--from", "0", "--to", "360", "--step", repr(step),
+               "--branch", "1", "--precision", "double"]
+    best = {}
+    with tempfile.TemporaryDirectory() as folder:
+        for _ in range(repeats):
+            for fast in ("--fast", ""):
+                before = resource.getrusage(resource.RUSAGE_CHILDREN)
+                start = time.perf_counter()
+                subprocess.run(command + ["--dir", folder, "--csv", os.path.join(folder, "o.csv")]
+                               + [fast] * bool(fast), check=True, capture_output=True)
+                wall = time.perf_counter() - start
+                after = resource.getrusage(resource.RUSAGE_CHILDREN)
+                cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+                best[fast] = min(best.get(fast, (math.inf,)), (cpu, wall))
+        size = sum(os.path.getsize(os.path.join(folder, n)) for n in DatFiles.NAMES + ("o.csv",))
+    print(f"python3 linkage.py run plane --a 6 --b 2 --c 7 --d 9 --from 0 --to 360 --step "
+          f"{step!r} --branch 1 --precision double --dir D --csv D/o.csv [--fast]: {points:,} "
+          f"points, {size / 1e6:,.1f} MB of files; CPU time of the process (its start-up, "
+          f"numpy's import and the files' flushing to the disk included), best of {repeats}",
+          file=out)
+    for fast, (cpu, wall) in best.items():
+        print(f"{fast or 'scalar':8} {cpu:7.2f} s CPU {wall:7.2f} s wall {points / cpu:12,.0f} "
+              f"points/s of CPU {size / cpu / 1e6:8.1f} MB/s", file=out)
+    if not quick:
+        rate = points / best["--fast"][0]
+        print(f"target: --fast >= {FILES_TARGET:,} points/s of CPU: "
+              f"{'met' if rate >= FILES_TARGET else 'NOT MET'}, {rate:,.0f}", file=out)
+
+
 BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
-              "startup": bench_startup, "coupler": bench_coupler}
+              "startup": bench_startup, "coupler": bench_coupler, "files": bench_files}
 ELSEWHERE = {"accuracy": "python3 tests/bench_accuracy.py (it measures with the tests' "
                          "instruments: the 50-digit mpmath reference, the listing in double, "
                          "PC-BASIC; README, Benchmarks)"}
@@ -8546,42 +9083,43 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
     assembled, points = 0, None
     coupler = args.coupler
 
-    def columns(swept, arrays):
-        """The CSV's columns after the Motion's: mu, and the coupler point's if asked."""
+    def extra_columns(swept, arrays):
+        """The CSV's columns after the Motion's: mu, and the coupler point's if asked; for the
+        vectorised path as arrays, else a tuple a row."""
         if arrays is not None:
-            mus = transmission_of_arrays(linkage, arrays).tolist()
-            point = coupler_of_arrays(linkage, arrays, *coupler) if coupler else None
-            rows = (zip(*(a.tolist() for a in point[1:4])) if point else None)
-        else:
-            mus = transmission_of(linkage, swept)
-            rows = ((c.position, c.velocity, c.acceleration)
-                    for c in coupler_of(linkage, swept, *coupler)) if coupler else None
-        if rows is None:
-            return ((mu,) for mu in mus)
-        return ((mu, *(v for w in row for v in (w or (None,) * 3))) for mu, row in zip(mus, rows))
+            point = coupler_of_arrays(linkage, arrays, *coupler)[1:4] if coupler else ()
+            return (transmission_of_arrays(linkage, arrays),) + tuple(
+                a[:, axis] for a in point for axis in range(3))
+        mus = transmission_of(linkage, swept)
+        if not coupler:
+            return [(mu,) for mu in mus]
+        return [(mu, *(v for w in (c.position, c.velocity, c.acceleration)
+                       for v in (w or (None,) * 3)))
+                for mu, c in zip(mus, coupler_of(linkage, swept, *coupler))]
 
     def motions(table):
+        """The sweep in blocks: SweepColumns by the vectorised path, else rows (a Motion, and
+        with a CSV its further columns)."""
         nonlocal assembled
         if table:
             table.write(csv_line(CSV_HEADER + TRANSMISSION_COLUMN
                                  + (COUPLER_COLUMNS if coupler else ())).encode("ascii"))
         with Progress(count) as progress:
             for first in range(0, count, block):
-                angles = [start + i * step for i in range(first, min(first + block, count))]
-                arrays = None
-                if args.branch == FOLLOW:
-                    swept = linkage.sweep(angles, FOLLOW, start=int(args.start_branch or 1))
-                elif args.fast:
+                last = min(first + block, count)
+                if args.fast:                  # start + i * step, as below, in numpy
+                    np = numpy_module()
+                    angles = np.arange(first, last, dtype=np.float64) * step + start
                     arrays = linkage.sweep_arrays(angles, int(args.branch))
-                    swept = arrays.motions()
+                    assembled += len(angles) - int(np.isnan(arrays.output).sum())
+                    yield SweepColumns(*arrays, extra_columns(None, arrays) if table else ())
                 else:
-                    swept = linkage.sweep(angles, int(args.branch))
-                extra = columns(swept, arrays) if table else None
-                for m in swept:
-                    assembled += m.output is not None
-                    if table:
-                        table.write(csv_line(m + next(extra)).encode("ascii"))
-                    yield m
+                    angles = [start + i * step for i in range(first, last)]
+                    swept = (linkage.sweep(angles, FOLLOW, start=int(args.start_branch or 1))
+                             if args.branch == FOLLOW else linkage.sweep(angles, int(args.branch)))
+                    assembled += sum(m.output is not None for m in swept)
+                    yield from (map(tuple.__add__, swept, extra_columns(swept, None)) if table
+                                else swept)
                 progress(len(angles))
         if not assembled:
             raise ProgramStop(f"Illegal linkage (impossible to assemble): it assembles at none "
@@ -8590,7 +9128,7 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
         #                             renamed into place, and renamed after them
         with written_whole(args.csv) if args.csv else contextlib.nullcontext() as table:
             points = write_dat_files(motions(table), args.dir, clip=args.clip,
-                                     before_rename=getattr(table, "finish", None))
+                                     before_rename=getattr(table, "finish", None), csv=table)
     except ProgramStop as stop:
         return said(stop, 1)
     except BrokenPipeError:                     # --csv -: the reader stopped (main's to say)

@@ -2,6 +2,7 @@
 against the 50-digit reference.
 
     python3 tests/bench_accuracy.py      (minutes: mpmath, and PC-BASIC a session a point)
+    python3 tests/bench_accuracy.py --random [POINTS [SEED]]   (the engine at random points)
 
 The methods: GW-BASIC single precision (the port's own lines 250-930 and 1060-1330), the listing's
 formulas in double (listing_model.py), the accurate engine, mpmath at 30 and 50 digits, and PC-BASIC
@@ -456,7 +457,60 @@ def bench_accuracy(out) -> None:
         print_accuracy_table(measure_accuracy(cases, pcbasic_cases), out)
 
 
+RANDOM_POINTS = 400              # --random: points a kind (the 50-digit reference: ~25 ms each)
+
+
+def random_point(rng, kind):
+    """A linkage of `kind` drawn as test_engine's hypothesis strategy draws it (lengths 0.2 to 10,
+    offsets -5 to 5, spherical arcs 2 to 178 degrees, skew angles within 75, 89 for the skew
+    slider-crank), an input angle in [0, 360) and a branch."""
+    length, signed = (lambda: rng.uniform(0.2, 10.0)), (lambda: rng.uniform(-5.0, 5.0))
+    dims = {"plane": lambda: dict(a=length(), b=length(), c=length(), d=length()),
+            "spherical": lambda: {k: rng.uniform(2.0, 178.0) for k in "abcd"},
+            "skew": lambda: dict(a=length(), b=length(), c=length(), d=length(), f=signed(),
+                                 ksi=rng.uniform(-75.0, 75.0)),
+            "slider": lambda: dict(b=length(), c=length(), e=signed()),
+            "skew-slider": lambda: dict(a=signed(), b=length(), c=length(), f=signed(),
+                                        ksi=rng.uniform(-89.0, 89.0))}[kind]()
+    return dims, rng.uniform(0.0, 360.0), rng.choice((1, 2))
+
+
+def random_accuracy(out, points=RANDOM_POINTS, seed=1) -> None:
+    """The engine's worst errors against the 50-digit reference at `points` random points a
+    kind (random_point; those without a position are drawn again), each worst point printed as
+    the call that reproduces it."""
+    import random
+    harness = engine_harness
+    rng = random.Random(seed)
+    print(f"random points: {points} a kind (seed {seed}), each with a position on its branch; "
+          "the engine's worst error against 50 digits, scored as tests/test_engine.py scores",
+          file=out)
+    for kind in harness.KINDS:
+        worst, wrong, done = {}, 0, 0
+        while done < points:
+            dims, phi, branch = random_point(rng, kind)
+            m = Linkage(kind, **dims).motion(phi, branch)
+            if m.status == NOT_ASSEMBLED:
+                continue
+            done += 1
+            verdict, errors = harness.score(kind, dims, phi, branch, m.status, m.output,
+                                            m.velocity, m.acceleration, harness.ref(kind, dims,
+                                                                                    phi)[branch])
+            wrong += verdict != "ok"
+            for quantity, error in errors.items():
+                if error > worst.get(quantity, (-1.0,))[0]:
+                    worst[quantity] = (error, f"Linkage({kind!r}, **{dims!r}).motion({phi!r}, "
+                                              f"{branch})")
+        print(f"{kind}: " + ", ".join(f"{q} {e:.1e}" for q, (e, _) in worst.items())
+              + (f"; {wrong} wrong status" if wrong else ""), file=out)
+        for quantity, (error, call) in worst.items():
+            print(f"    {quantity} {error:.2e}: {call}", file=out)
+
+
 if __name__ == "__main__":
-    print("$ python3 tests/bench_accuracy.py")
+    print(f"$ python3 tests/bench_accuracy.py {' '.join(sys.argv[1:])}".rstrip())
     print(f"linkage.py {linkage.__version__} on {linkage.machine()}")
-    bench_accuracy(sys.stdout)
+    if sys.argv[1:2] == ["--random"]:
+        random_accuracy(sys.stdout, *map(int, sys.argv[2:4]))
+    else:
+        bench_accuracy(sys.stdout)

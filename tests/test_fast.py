@@ -329,11 +329,12 @@ def test_without_numpy_sweep_arrays_raises_fast_unavailable():
 # -- bench engine ---------------------------------------------------------------------------------
 
 def test_bench_engine_prints_the_three_side_by_side():
-    """One row a linkage with the scalar and the numpy path's rates and their ratio, pylinkage's
-    rates beside ours, the targets; on a short sweep (the bench's times are not asserted)."""
+    """One row a linkage with the scalar and the numpy path's rates and their ratio, the C loop
+    beside the numpy path at each size, pylinkage's rates beside ours (with numba or without, as
+    it says), the targets; on a short sweep (the bench's times are not asserted)."""
     import io
     out = io.StringIO()
-    engine.bench_engine(out, points=2001, pylinkage_points=101)
+    engine.bench_engine(out, points=2001, pylinkage_points=101, c_sizes=(1000, 3000))
     text = out.getvalue()
     rows = [line.split() for line in text.splitlines()
             if line.split() and line.split()[0] in engine.LINKAGE_DIMENSIONS]
@@ -342,8 +343,50 @@ def test_bench_engine_prints_the_three_side_by_side():
     for kind, ratio, *rates in rows[:5]:
         assert ratio.endswith("x") and len(rates) == 4
         assert all(float(r.replace(",", "")) > 0 for r in rates)
-    assert "pylinkage 1.3.0" in text and "ours/pylinkage: numpy path" in text
+    assert "pylinkage 1.3.0, with" in text and "ours/pylinkage: numpy path" in text
     assert "target: numpy path >= 10,000,000 (plane)" in text
+    c_rows = [line.split() for line in text.splitlines() if line[:11].strip() in ("1,000",
+                                                                                "3,000")]
+    assert [(row[0], row[1]) for row in c_rows] == [("1,000", "plane"), ("3,000", "plane"),
+                                                    ("1,000", "slider"), ("3,000", "slider")]
+    for row in c_rows:       # numpy, C, their ratio, and how near their outputs are
+        assert float(row[2].replace(",", "")) / float(row[3].replace(",", "")) == \
+            pytest.approx(float(row[4]), rel=0.02, abs=0.006)
+        assert float(row[5]) < 1e-13
+    assert "fixed cost of a sweep_arrays call: plane" in text
+    assert "target: numpy >= 0.7 of the C loop" not in text      # no size from 10,000 up
+
+
+def test_the_c_loop_gives_the_numpy_paths_numbers():
+    """C_SWEEP, built and called as bench engine does, computes what sweep_arrays computes (the
+    same formulas): every kind, both branches, angles across several turns."""
+    sweep = engine._c_loop()
+    if isinstance(sweep, str):
+        pytest.skip(sweep)
+    angles = np.array(DENSE)
+    for kind, dims in engine.BENCH_LINKAGES + ((engine.PLANE_FOUR_BAR, dict(a=4, b=1, c=1.5,
+                                                                            d=3)),):
+        link = engine.Linkage(kind, **dims)
+        for branch in (1, 2):
+            fast = link.sweep_arrays(angles, branch)
+            phi, *columns, status = sweep(link, angles, branch)
+            assert (phi == angles).all()
+            handed = status == 5                   # to the scalar engine: not redone in C
+            assert ((status == 2) == (fast.status == 2))[~handed].all(), (kind, branch)
+            usual = (status == 0) & (fast.status == 0)
+            assert usual.sum() > len(angles) // 4, (kind, branch)
+            for got, want in zip(columns, fast[1:4]):
+                assert np.allclose(got[usual], want[usual], rtol=1e-13, atol=1e-13), (kind,
+                                                                                    branch)
+
+
+def test_bench_engine_says_where_there_is_no_c_compiler(monkeypatch):
+    import io
+    monkeypatch.delenv("CC", raising=False)
+    monkeypatch.setenv("PATH", "")
+    out = io.StringIO()
+    engine._bench_c_loop(out, (1000,))
+    assert out.getvalue() == "C loop: skipped (no C compiler (cc) found)\n"
 
 
 def test_bench_engine_without_numpy_or_pylinkage(tmp_path):
@@ -384,3 +427,90 @@ def test_fast_writes_the_same_files_where_a_zero_differs_in_sign(tmp_path):
                 assert math.isclose(float(x), float(y), rel_tol=4e-16, abs_tol=1e-300), (a, b)
             else:
                 assert x == y, (a, b)
+
+
+# -- the files' numbers, a block at once (issue 24) ------------------------------------------------
+#
+# run --precision double, the scenes and design --dat write each number as repr does; a block of
+# rows is formatted by numpy at once (linkage._float_texts), and must give repr's text exactly.
+# The hard cases of its argument: ties between the two nearest decimals of 17, 16 and 15 digits
+# (x = odd / 2^j has exactly j decimals: the nearest of 18 - d digits are then equally near),
+# powers of two (a lopsided interval) and their neighbours, powers of ten and their neighbours, the
+# ends of the range it decides itself (1e-3, 1e13) and of repr's positional form (1e-4, 1e16).
+
+def texts(values):
+    """_float_texts' texts of `values`, as str."""
+    matrix = np.concatenate(engine._float_texts(np, np.array(values, dtype=np.float64)), axis=1)
+    return [row.tobytes().replace(b"\0", b"").decode("ascii") for row in matrix]
+
+
+def ties(seed=1, each=40):
+    """Doubles exactly halfway between two decimals of 17, 16, 15 and 14 significant digits."""
+    import random
+    rng, found = random.Random(seed), []
+    for exponent in range(-4, 14):
+        for short in range(4):
+            j = 17 - exponent - short
+            low, high = int(10.0 ** exponent * 2 ** j) + 1, int(10.0 ** (exponent + 1) * 2 ** j)
+            found += [odd / 2 ** j for odd in (rng.randrange(low, high) | 1 for _ in range(each))
+                      if odd < 2 ** 53]
+    return found
+
+
+def around(values):
+    """Each value, its negation and both neighbours of each."""
+    return [w for v in values for s in (v, -v) for w in (s, math.nextafter(s, -math.inf),
+                                                        math.nextafter(s, math.inf))]
+
+
+HARD_NUMBERS = around(ties() + [2.0 ** k for k in range(-15, 55)] + [10.0 ** k for k in range(-6, 18)]
+              + [1e-3, 1e13, 1e-4, 1e16, 0.1, 0.2, 0.3, 1 / 3, 2 / 3, 360.0, 180.0, 90.0])
+SPECIAL = [0.0, -0.0, math.nan, -math.nan, math.inf, -math.inf, 5e-324, 1.7976931348623157e308]
+
+
+def test_float_texts_are_repr_at_the_hard_cases():
+    values = HARD_NUMBERS + SPECIAL
+    wrong = [(v, got) for v, got in zip(values, texts(values)) if got != repr(v)]
+    assert not wrong, wrong[:10]
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.one_of(st.floats(), st.floats(-1e13, 1e13), st.floats(-400.0, 400.0),
+                          st.builds(lambda d, k: float(f"{d}e{k}"),
+                                    st.integers(1, 10 ** 17), st.integers(-22, 0))),
+                min_size=1, max_size=300))
+def test_float_texts_are_repr(values):
+    assert texts(values) == [repr(v) for v in values]
+
+
+ROW = st.tuples(st.sampled_from([0.0, -0.0, 12.5, -180.0, 359.99999999999994, 1e-7]),
+                *[st.one_of(st.none(), st.floats(allow_nan=False), st.sampled_from([-0.0, 3.0,
+                                                                                  -3.5]))] * 3,
+                st.sampled_from(engine.STATUS_CODES),
+                st.one_of(st.none(), st.floats(0.0, 180.0)))
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(ROW, min_size=1, max_size=60), st.booleans(), st.booleans(), st.booleans())
+def test_a_block_writes_the_bytes_of_its_rows(rows, clip, zero, transmission):
+    """The DAT files' and the CSV's lines of a block formatted at once are those of its rows
+    formatted one at a time (the path without numpy): a missing value left out or 0.0, VEL and
+    ACC clipped, -0.0 as 0.0 (but the DAT files' phi, as repr writes it), None as nan."""
+    fields = (1, 2, 3) + ((5,) if transmission else ())
+    one = list(engine._block_texts(rows, fields, clip, zero, True))
+    block = list(engine._block_texts(engine._as_columns(rows, True), fields, clip, zero, True))
+    assert [b"".join(t[i] for t, _ in block) for i in range(len(fields) + 1)] == one[0][0]
+
+
+def test_the_dat_files_keep_phis_sign_of_zero(tmp_path):
+    """A sweep from -0 downwards starts at -0.0: the DAT files write it as repr does, "-0.0", as
+    they did a row at a time; the CSV as 0.0 (every number there goes through float(v) + 0.0)."""
+    argv = ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "-0",
+            "--to", "-10", "--step", "-1", "--branch", "1", "--precision", "double"]
+    for folder, extra in (("scalar", []), ("fast", ["--fast"])):
+        (tmp_path / folder).mkdir()
+        assert engine.main(argv + ["--dir", str(tmp_path / folder), "--csv",
+                                   str(tmp_path / folder / "out.csv")] + extra) == 0
+        for name in ("ANG.DAT", "VEL.DAT", "ACC.DAT"):
+            assert (tmp_path / folder / name).read_bytes().startswith(b"-0.0,"), (folder, name)
+        assert (tmp_path / folder / "out.csv").read_bytes().split(b"\r\n")[1].startswith(b"0.0,")
