@@ -7,7 +7,7 @@ against the 50-digit reference.
 The methods: GW-BASIC single precision (the port's own lines 250-930 and 1060-1330), the listing's
 formulas in double (listing_model.py), the accurate engine, mpmath at 30 and 50 digits, and PC-BASIC
 running legacy_basic/LINKAGE.BAS. The measuring instruments are the tests' own, which is why this
-is a script here and not a `bench` of linkage.py (README, "Benchmarks"): engine_harness.py (the two
+is a script here and not a `bench` of linkage.py (data/BENCHMARKS.md, "What accuracy costs in time"): engine_harness.py (the two
 sweeps, the scoring rules), engine_reference.py (the mpmath solver written from the geometry, which
 is the reference), listing_model.py (the listing's formulas in double precision) and
 basic_runner.py (PC-BASIC). A point is one input angle on one branch. tests/test_bench.py runs it
