@@ -18,16 +18,19 @@ tests/test_differential.py to random sessions). Deviations from the original are
 `# ERRATA Pn` here and listed in legacy_basic/ERRATA.md, Part 3: only where the original would
 hang or lose data (P1-P6).
 
-Sections, each used only by those after it (its header says which it uses): 1. GW-BASIC
-single precision; 2. the listing's computation; 3. the original program (screen, keys, INPUT,
-the menu session, the one writer of files); 4. the accurate engine; 5. the mechanism view;
-6. synthesis; 7. scenes and plots; 8. benchmarks; 9. the command line, last.
+Sections, each used only by those after it (its header says which it uses): 1. files,
+messages and the terminal (the one writer of files, say, signals, single keys); 2. GW-BASIC
+single precision; 3. the listing's computation; 4. the original program (screen, keys, INPUT,
+the menu session); 5. the accurate engine; 6. the mechanism view; 7. synthesis; 8. scenes and
+plots; 9. benchmarks; 10. the command line, last. The engine, the view and synthesis never use
+the original program.
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import contextvars
 import dataclasses
 import decimal
 import fractions
@@ -48,7 +51,549 @@ __version__ = "0.2.0"
 PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linkage.py"
 
 
-# ---- 1. GW-BASIC single precision ----------------------------------------------------------------
+# ---- 1. Files, messages and the terminal --------------------------------------------------------
+#
+# Holds: what every later section writes and says with: the one writer of files (written
+# whole or not at all: written_whole, WrittenSet, DatFiles), the messages on standard error
+# (say, said, printable), the signals that end a run cleanly, the progress of a long sweep, a
+# terminal's single keys, and the files that come with the program.
+# Uses: nothing.
+
+
+class ProgramStop(Exception):
+    """The port stops where the original would hang or lose data; the message says why."""
+
+
+class WriteError(ProgramStop):
+    """A file could not be written (the message names it and says why); nothing half-written
+    is left and the old files stand."""
+
+
+def printable(text: str) -> str:
+    """text with every character that is not printable (a control character, an escape
+    sequence's ESC) written as its Python escape, \\x1b: what a scene's title or a user's word
+    may show on a terminal or in an SVG."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+def say(message, who: str = PROG) -> None:
+    """A line on standard error, where there is one (it may be closed)."""
+    if sys.stderr is not None:                  # None: closed (print would use stdout)
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            print(f"{who}: {message}", file=sys.stderr, flush=True)
+
+
+def said(message, status: int) -> int:
+    say(message)
+    return status
+
+
+class Interrupted(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, raised wherever the program is, as Ctrl-C raises KeyboardInterrupt:
+    on the way out every file being written is removed (exit status 128 + the signal)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _interrupted(signum, frame):
+    raise Interrupted(signum)
+
+
+@contextlib.contextmanager
+def signals_caught():
+    """While it lasts, SIGTERM and SIGHUP become Interrupted (main() runs in it; in the main
+    thread only, elsewhere nothing changes); the handlers they had are given back after."""
+    import signal
+    saved = {}
+    with contextlib.suppress(ValueError):       # not the main thread
+        for name in ("SIGTERM", "SIGHUP"):
+            if hasattr(signal, name):
+                number = getattr(signal, name)
+                saved[number] = signal.signal(number, _interrupted)
+    try:
+        yield
+    finally:
+        for number, handler in saved.items():
+            signal.signal(number, handler)
+
+
+def interrupted_status(e: KeyboardInterrupt) -> int:
+    """The exit status of an interrupted run: 130 for Ctrl-C, 128 + n for signal n."""
+    return 128 + getattr(e, "signum", 2)
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+class _Temporary:
+    """A file being written under a unique temporary name beside `path` (binary, or text in
+    `encoding` with no newline translation). finish() flushes it to the disk and closes it,
+    rename() then gives it its name; discard() removes it. OSError from here names `path`, never
+    the temporary."""
+
+    def __init__(self, path: str, encoding: str | None = None):
+        import tempfile
+        self.path, self.file, self.temporary = path, None, None
+        folder = os.path.dirname(os.path.abspath(path))
+        if os.path.isdir(path):
+            raise IsADirectoryError(21, "it is a folder", path)
+        try:
+            fd, self.temporary = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.",
+                                                  suffix=".partial", dir=folder)
+        except OSError as e:
+            raise OSError(e.errno, e.strerror, path) from None
+        try:
+            os.fchmod(fd, 0o666 & ~_umask())
+            self.file = (os.fdopen(fd, "wb") if encoding is None
+                         else os.fdopen(fd, "w", encoding=encoding, newline=""))
+        except BaseException:
+            os.close(fd)
+            self.discard()
+            raise
+
+    def write(self, data) -> None:
+        try:
+            self.file.write(data)
+        except OSError as e:
+            raise OSError(e.errno, e.strerror, self.path) from None
+
+    def finish(self) -> None:
+        """Flush and close, ready to be renamed (again: nothing more to do)."""
+        if self.file.closed:
+            return
+        try:
+            self.file.flush()
+            os.fsync(self.file.fileno())
+            self.file.close()
+        except OSError as e:
+            raise OSError(e.errno, e.strerror, self.path) from None
+
+    def rename(self) -> None:
+        try:
+            os.replace(self.temporary, self.path)
+        except OSError as e:
+            raise OSError(e.errno, e.strerror, self.path) from None
+        self.temporary = None
+
+    def discard(self) -> None:
+        """Remove the temporary file, whatever state it is in; never fails."""
+        if self.file is not None:
+            with contextlib.suppress(OSError, ValueError):
+                self.file.close()               # may fail to flush (a full disk): no matter
+        if self.temporary is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(self.temporary)
+            self.temporary = None
+
+
+@contextlib.contextmanager
+def _renaming(*folders: str):
+    """While the block runs: SIGINT, SIGTERM and SIGHUP held back, and the folders locked (in
+    one order) against another of our sessions renaming its set into them; a signal that came
+    meanwhile is dropped, as the work it would have stopped is done."""
+    import signal
+    held = {getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n)}
+    masks = hasattr(signal, "pthread_sigmask")              # not on Windows
+    locks = []
+    for folder in sorted({os.path.realpath(f) for f in folders}):
+        with contextlib.suppress(ImportError, OSError):
+            import fcntl
+            lock = os.open(folder, os.O_RDONLY)
+            locks.append(lock)
+            fcntl.flock(lock, fcntl.LOCK_EX)
+    try:
+        if masks:
+            signal.pthread_sigmask(signal.SIG_BLOCK, held)
+        try:
+            yield
+        finally:
+            if masks:
+                pending = signal.sigpending() & held
+                if pending:
+                    signal.sigtimedwait(pending, 0)
+                signal.pthread_sigmask(signal.SIG_UNBLOCK, held)
+    finally:
+        for lock in locks:
+            os.close(lock)                      # and with it the lock
+
+
+class WrittenSet:
+    """The files one command writes, put in place all together or not at all: each is written
+    under a temporary name (file()) or staged elsewhere in its folder's file system (adopt(),
+    e.g. a scene's DAT files written in a hidden folder), and only when the block ends without
+    an error are they renamed into place, together, signals held (with the names removed() of an
+    old set that the new one does not write). On any failure every one is removed and the old
+    files stand. Outputs that are no regular file (-, a FIFO, a device) are not held back:
+    stream() writes them after the set is in place."""
+
+    def __init__(self):
+        self._files: list[_Temporary] = []
+        self._moves: list[tuple[str, str]] = []
+        self._removed: list[str] = []
+        self._streams: list[tuple[str, object]] = []
+
+    def __enter__(self) -> "WrittenSet":
+        return self
+
+    def __exit__(self, kind, error, trace) -> None:
+        try:
+            if kind is None:
+                self._commit()
+        finally:
+            for f in self._files:
+                f.discard()
+
+    def file(self, path: str) -> "_Temporary":
+        """A file of the set, to write (bytes) now and to be put in place with the rest."""
+        self._files.append(_Temporary(path))
+        return self._files[-1]
+
+    def adopt(self, staged: str, path: str) -> None:
+        """`staged`, a finished file on the same file system, becomes `path` with the rest."""
+        self._moves.append((staged, path))
+
+    def removed(self, path: str) -> None:
+        """`path`, a file of the old set that the new one does not write, goes with the old set."""
+        self._removed.append(path)
+
+    @contextlib.contextmanager
+    def opened(self, path: str):
+        """As written_whole(path), but put in place with the set; an output that is no regular
+        file gets what was written once the set is in place."""
+        if path == "-" or _is_stream(path):
+            import io
+            buffer = io.BytesIO()
+            yield buffer
+            self._streams.append((path, buffer.getvalue()))
+        else:
+            yield self.file(path)
+
+    def _commit(self) -> None:
+        for f in self._files:
+            f.finish()
+        targets = [f.path for f in self._files] + [p for _, p in self._moves] + self._removed
+        folders = {os.path.dirname(os.path.abspath(p)) for p in targets}
+        for folder in folders:
+            try:
+                os.makedirs(folder, exist_ok=True)
+            except OSError as e:
+                raise OSError(e.errno, e.strerror, folder) from None
+        with _renaming(*folders):
+            for path in targets:
+                if os.path.isdir(path):
+                    raise IsADirectoryError(21, "it is a folder", path)
+            for f in self._files:
+                f.rename()
+            for staged, path in self._moves:
+                try:
+                    os.replace(staged, path)
+                except OSError as e:
+                    raise OSError(e.errno, e.strerror, path) from None
+            for path in self._removed:
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(path)
+        for path, data in self._streams:
+            with written_whole(path) as out:
+                out.write(data)
+
+
+def staging_folder(folder: str | None):
+    """A hidden temporary folder in `folder` (the system's temporary folder for None), to write
+    a set in before WrittenSet.adopt puts it in place: on the same file system, so that the
+    renames are atomic; removed with what is left in it. OSError names `folder`."""
+    import tempfile
+    try:
+        return tempfile.TemporaryDirectory(prefix=".linkage-", dir=folder)
+    except OSError as e:
+        raise OSError(e.errno, e.strerror, folder) from None
+
+
+def written(path: str, outputs: WrittenSet | None = None):
+    """written_whole(path), or the file of the set `outputs` if one is given."""
+    return written_whole(path) if outputs is None else outputs.opened(path)
+
+
+# The files that come with the program: beside linkage.py in the repository (data/scenes,
+# legacy_basic), or where `pip install` put them (pyproject.toml's data-files, under
+# share/fmb-linkage/ of the installation's prefix).
+SHIPPED = {"scenes": os.path.join("data", "scenes"), "legacy_basic": "legacy_basic"}
+
+
+def shipped_folders(kind: str) -> list[str]:
+    """The folders that hold the files of `kind` (a key of SHIPPED) that come with the program,
+    the repository's first; those that exist."""
+    import site
+    here = os.path.dirname(os.path.abspath(__file__))
+    places = [os.path.join(here, SHIPPED[kind])]
+    places += [os.path.join(base, "share", "fmb-linkage", kind)
+               for base in (sys.prefix, getattr(site, "USER_BASE", None) or "") if base]
+    return [p for p in dict.fromkeys(places) if os.path.isdir(p)]
+
+
+def shipped_file(kind: str, name: str) -> str:
+    """The path of the file `name` of `kind` that comes with the program (FileNotFoundError,
+    naming where it looked, if none does)."""
+    for folder in shipped_folders(kind):
+        if os.path.isfile(os.path.join(folder, name)):
+            return os.path.join(folder, name)
+    raise FileNotFoundError(2, "not installed with the program", os.path.join(SHIPPED[kind], name))
+
+
+@contextlib.contextmanager
+def written_whole(path):
+    """Open `path` for writing (bytes) so that it is written whole or not at all: into a
+    temporary file of a unique name in the same folder, flushed to the disk and renamed over
+    `path` when the block ends; removed on any failure or interrupt, leaving `path` as it was.
+    An output that is no regular file - "-" (standard output), a FIFO, a character device such
+    as /dev/null - is written straight through, never replaced by one."""
+    if path == "-" or _is_stream(path):
+        with _streamed(path) as out:
+            yield out
+        return
+    temporary = _Temporary(path)
+    try:
+        yield temporary
+        temporary.finish()
+        with _renaming(os.path.dirname(os.path.abspath(path))):
+            temporary.rename()
+    finally:
+        temporary.discard()
+
+
+def _is_stream(path: str) -> bool:
+    """Whether `path` names an existing FIFO or character device (through a link too)."""
+    import stat
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        return False
+    return stat.S_ISFIFO(mode) or stat.S_ISCHR(mode)
+
+
+@contextlib.contextmanager
+def _streamed(path: str):
+    """The output written straight to standard output ("-") or to the FIFO or device."""
+    if path == "-":
+        stdout = sys.stdout
+        if stdout is None:
+            raise OSError(9, "standard output is closed", "-")
+        stdout.flush()
+        yield stdout.buffer
+        stdout.buffer.flush()
+        return
+    with open(path, "wb") as out:
+        yield out
+
+
+class DatFiles:  # ERRATA P3
+    """ANG.DAT, VEL.DAT and ACC.DAT written as GW-BASIC's sequential files (CR LF lines, the
+    end-of-file byte 1A on CLOSE), by the menu, `run` in both precisions, design --dat and the
+    scenes. They are written as the points come under temporary names of their own (two
+    sessions in one folder never share one), and on CLOSE flushed to the disk and renamed into
+    place together, signals held and the folder locked: the folder holds the old set or the new
+    one, never a mixture (a name of the three that this set does not write is removed with the
+    old set). Any failure or interrupt removes them. Write errors are a ProgramStop that names
+    the file and the reason."""
+
+    NAMES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
+    MU = "MU.DAT"        # the accurate engine's transmission angle, beside them (a scene's)
+
+    def __init__(self, directory: str, count: int = 3, transmission: bool | None = None):
+        """The first `count` of the three files (a scene may ask for fewer), and MU.DAT where
+        `transmission` is True (False: an old one is removed with the old set, as the three's
+        are; None, the original program's sets: MU.DAT is not theirs to touch)."""
+        self.directory = directory
+        self.points = 0
+        self._files: list[_Temporary] = []
+        self._names = self.NAMES[:count] + ((self.MU,) if transmission else ())
+        self._family = self.NAMES + (() if transmission is None else (self.MU,))
+        try:
+            for name in self._names:
+                self._files.append(_Temporary(os.path.join(directory, name), "ascii"))
+            self._open = [t.file for t in self._files]      # written to directly: the sweep's
+            #                                                 inner loop
+        except BaseException as e:
+            self.discard()
+            if isinstance(e, IsADirectoryError):
+                raise WriteError(self._why(e)) from None
+            if isinstance(e, OSError):
+                raise WriteError(self._why(e, f"cannot write the DAT files in {directory!r}")) \
+                    from None
+            raise
+
+    def __enter__(self) -> "DatFiles":
+        return self
+
+    def __exit__(self, kind, error, trace) -> None:
+        if kind is None:
+            self.close()
+        else:
+            self.discard()
+
+    def write(self, lines, points: int = 1) -> None:
+        """One point's line (or None) for each file; or the lines of `points` points, bytes
+        for each file."""
+        try:
+            for f, line in zip(self._open, lines):
+                if isinstance(line, bytes):
+                    f.flush()
+                    f.buffer.write(line)
+                elif line is not None:
+                    f.write(line)
+        except OSError as e:
+            written = next(t for t in self._files if t.file is f)
+            self.discard()
+            raise WriteError(self._why(OSError(e.errno, e.strerror, written.path))) from None
+        self.points += points
+
+    def close(self, before_rename=None) -> None:
+        """CLOSE (line 1350): the end-of-file byte, then the files get their names;
+        before_rename(), if given, runs once they are on the disk and before any is renamed
+        (another file of the same command finishing: if it fails, this set is not put in place)."""
+        try:
+            for f in self._files:
+                f.write("\x1a")
+                f.finish()
+            if before_rename is not None:
+                before_rename()
+            with _renaming(self.directory):
+                for f in self._files:
+                    if os.path.isdir(f.path):
+                        raise IsADirectoryError(21, "it is a folder", f.path)
+                for f in self._files:
+                    f.rename()
+                for name in self._family:
+                    if name not in self._names:
+                        with contextlib.suppress(FileNotFoundError):
+                            os.unlink(os.path.join(self.directory, name))
+        except OSError as e:
+            raise WriteError(self._why(e)) from None
+        finally:
+            self.discard()
+
+    def discard(self) -> None:
+        for f in self._files:
+            f.discard()
+
+    @staticmethod
+    def _why(e: OSError, what: str | None = None) -> str:
+        return (f"{what or f'cannot write {e.filename}'}: {e.strerror}; the DAT files there "
+                "are as they were")
+
+
+class Progress:
+    """A long sweep's progress on a terminal's standard error: points done, rate, time left,
+    redrawn at most twice a second once the sweep has run a second, and wiped at the end.
+    Nothing where standard error is not a terminal (never in the files or a piped transcript),
+    nor for `total` 0 (unknown)."""
+
+    def __init__(self, total: float, out=None):
+        import time
+        out = sys.stderr if out is None else out
+        self.total, self.done, self.out, self.shown = total, 0, out, False
+        self.live = bool(total) and out is not None and is_terminal(out)
+        self.clock = time.monotonic
+        self.start = self.clock()
+        self.next = self.start + 1.0            # first shown once the sweep has run a second
+
+    def __call__(self, points: int = 1) -> None:
+        self.done += points
+        if self.live and (self.done & 255 == 0 or points > 1) and self.clock() >= self.next:
+            self._show()
+
+    def _show(self) -> None:
+        now = self.clock()
+        self.next = now + 0.5
+        rate = self.done / max(now - self.start, 1e-9)
+        left = max(self.total - self.done, 0) / rate
+        text = (f"\r{self.done:,} of {self.total:,.0f} points, {rate:,.0f} a second, "
+                f"{_time_left(left)} left")
+        with contextlib.suppress(OSError, ValueError):
+            self.out.write(text + "\x1b[K")
+            self.out.flush()
+            self.shown = True
+
+    def __enter__(self) -> "Progress":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.shown:
+            with contextlib.suppress(OSError, ValueError):
+                self.out.write("\r\x1b[K")
+                self.out.flush()
+
+
+def _time_left(seconds: float) -> str:
+    if seconds < 60:
+        return f"{seconds:.0f} s"
+    if seconds < 3600:
+        return f"{seconds // 60:.0f} min {seconds % 60:02.0f} s"
+    return f"{seconds // 3600:.0f} h {seconds % 3600 // 60:02.0f} min"
+
+
+def is_terminal(stream) -> bool:
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        return stream.isatty()
+    return False
+
+
+@contextlib.contextmanager
+def single_keys(fd, enter=None, leave=None, carriage_return=False):
+    """The terminal on file descriptor fd takes single keys with no echo (Ctrl-C still
+    interrupts) inside the block, and is put back as it was on leaving it, however it is left.
+    Ctrl-Z (SIGTSTP) puts it back before the program stops; `fg` takes single keys again.
+    enter() and leave() draw what else the screen needs; carriage_return keeps Enter a CR.
+    fd None (no terminal to read): only enter() and leave()."""
+    import signal
+    saved = mode = None
+    if fd is not None:
+        import termios
+        saved, mode = termios.tcgetattr(fd), termios.tcgetattr(fd)
+        if carriage_return:
+            mode[0] &= ~termios.ICRNL
+        mode[3] &= ~(termios.ICANON | termios.ECHO)
+        mode[6][termios.VMIN], mode[6][termios.VTIME] = 1, 0
+
+    def begin():
+        if fd is not None:
+            termios.tcsetattr(fd, termios.TCSAFLUSH, mode)
+        if enter:
+            enter()
+
+    def end():                      # the terminal may be gone (SIGHUP): restore what can be
+        if leave:
+            with contextlib.suppress(OSError, ValueError):
+                leave()
+        if fd is not None:
+            with contextlib.suppress(OSError, termios.error):
+                termios.tcsetattr(fd, termios.TCSAFLUSH, saved)
+
+    def stop(signum, frame):
+        end()
+        signal.signal(signal.SIGTSTP, signal.SIG_DFL)
+        os.kill(os.getpid(), signal.SIGTSTP)         # stopped here until `fg`
+        signal.signal(signal.SIGTSTP, stop)
+        begin()
+
+    try:
+        before = signal.signal(signal.SIGTSTP, stop)
+    except ValueError:                               # not the main thread: no signals
+        before = None
+    try:
+        begin()
+        yield
+    finally:
+        end()
+        if before is not None:
+            signal.signal(signal.SIGTSTP, before)
+
+
+# ---- 2. GW-BASIC single precision ----------------------------------------------------------------
 # GW-BASIC single precision (Microsoft Binary Format) as PC-BASIC 2.0.8 computes it.
 #
 # A single is held as a plain Python float whose value is exactly representable
@@ -61,7 +606,7 @@ PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linka
 # the function returns +-MAX and calls the `err` callable it was given with the
 # message, in the order the interpreter prints them.
 #
-# Uses: none (the sections after it compute GW-BASIC's numbers with it).
+# Uses: nothing (the sections after it compute GW-BASIC's numbers with it).
 
 MBF_MAX = math.ldexp(0xFFFFFF, 127 - 24)      # 1.701412E+38, the overflow value
 OVERFLOW = "Overflow"
@@ -614,7 +1159,7 @@ def mbf_for_final(start, stop, step, err=_ignore):
     return mbf_add(last, step, err)
 
 
-# ---- 2. The listing's computation: lines 110, 250-930 and 1050-1340 ------------------------------
+# ---- 3. The listing's computation: lines 110, 250-930 and 1050-1340 ------------------------------
 #
 # The listing's variables keep their BASIC names here, so that this section can be read beside
 # legacy_basic/LINKAGE.BAS line by line. In the paper's symbols (eqs. (1)-(3), Table 1):
@@ -632,9 +1177,11 @@ def mbf_for_final(start, stop, step, err=_ignore):
 # operator precedence is BASIC's (^ first, then unary minus, then * /, then + -, each left to
 # right), so an expression below evaluates in the listing's order when written as the listing
 # writes it. Literals (2, .5, 180 for 180!) are exact singles. Soft errors ("Overflow",
-# "Division by zero") collect in Single.errors, in order, for the screen to show.
+# "Division by zero") go, in order, to the list of the soft_errors() block they happen in - a
+# session's own (Screen.errors), for its screen to show: a context variable, so that two
+# sessions in one process, in two threads or contexts, never see each other's.
 #
-# Uses: section 1 (the single-precision operations).
+# Uses: section 2 (the single-precision operations).
 
 
 class Single:
@@ -646,7 +1193,6 @@ class Single:
     with object.__new__ (together about 5 % of the time of a sweep point)."""
 
     __slots__ = ("v", "_square")
-    errors: list[str] = []
 
     def __init__(self, v: float = 0.0):
         self.v = v
@@ -697,9 +1243,13 @@ class Single:
         try:
             return self._square
         except AttributeError:
-            before = len(Single.errors)
-            square = _single(mbf_mul(self.v, self.v, soft_error))
-            if len(Single.errors) == before:
+            overflowed = []
+
+            def err(message: str) -> None:
+                overflowed.append(message)
+                soft_error(message)
+            square = _single(mbf_mul(self.v, self.v, err))
+            if not overflowed:
                 self._square = square
             return square
 
@@ -727,8 +1277,27 @@ def _value(x) -> float:
     return x.v if x.__class__ is Single else float(x)
 
 
+_SOFT_ERRORS: contextvars.ContextVar[list[str]] = contextvars.ContextVar("soft_errors")
+
+
+@contextlib.contextmanager
+def soft_errors(sink: list[str] | None = None):
+    """The soft errors of the GW-BASIC operations in the block go to `sink` (a new list if none
+    is given), which the block yields; the previous one is back after it."""
+    sink = [] if sink is None else sink
+    token = _SOFT_ERRORS.set(sink)
+    try:
+        yield sink
+    finally:
+        _SOFT_ERRORS.reset(token)
+
+
 def soft_error(message: str) -> None:
-    Single.errors.append(message)
+    """The `err` of the operators: the message to the current soft_errors() block's list
+    (outside one, where no screen would show it, it is dropped)."""
+    sink = _SOFT_ERRORS.get(None)
+    if sink is not None:
+        sink.append(message)
 
 
 def SIN(x: Single) -> Single: return Single(mbf_sin(x.v, soft_error))
@@ -1091,26 +1660,18 @@ MECHANISM_TYPES = {  # name: (menu key, the dimensions in the order the listing 
 }
 
 
-# ---- 3. The original program: keys, screen, INPUT, the session, the files ------------------------
+# ---- 4. The original program: keys, screen, INPUT, the session ----------------------------------
 #
 # Holds: the menu program as the original runs it: the screen and its transcript, keys one
 # at a time, INPUT's reading of an answer, the session of menus and prompts, and the one
 # writer every file of the program goes through (whole or not at all); the menu program on
 # a terminal or driven by keys (menu_program, redirected_program).
-# Uses: sections 1 and 2 (GW-BASIC's numbers, the listing's computation).
+# Uses: sections 1, 2 and 3 (the writer of the DAT files and the messages; GW-BASIC's
+# numbers; the listing's computation).
 
 
 class EndOfKeys(Exception):  # ERRATA P4
     """The keystrokes ran out while the program waited for one."""
-
-
-class ProgramStop(Exception):
-    """The port stops where the original would hang or lose data; the message says why."""
-
-
-class WriteError(ProgramStop):
-    """A file could not be written (the message names it and says why); nothing half-written
-    is left and the old files stand."""
 
 
 class Keys:
@@ -1164,6 +1725,7 @@ class Screen:  # ERRATA P6
         self._write = write
         self._write_soft_error = write if soft_errors is None else soft_errors
         self.terminal = terminal
+        self.errors: list[str] = []        # the session's soft errors not shown yet
 
     def text(self, s: str) -> None:
         self.show_soft_errors()
@@ -1186,8 +1748,8 @@ class Screen:  # ERRATA P6
             self._write("\a")
 
     def show_soft_errors(self) -> None:
-        while Single.errors:
-            self._write_soft_error(Single.errors.pop(0) + "\r\n")
+        while self.errors:
+            self._write_soft_error(self.errors.pop(0) + "\r\n")
 
 
 def input_number(screen: Screen, keys: Keys, prompt: str) -> Single:
@@ -1199,7 +1761,8 @@ def input_number(screen: Screen, keys: Keys, prompt: str) -> Single:
         if not screen.terminal:
             screen.text(echo)
         screen.line()
-        value = input_value(typed)
+        with soft_errors(screen.errors):            # "Overflow": the screen's to show
+            value = input_value(typed)
         if value is not None:
             return value
         screen.line("?Redo from start")
@@ -1340,422 +1903,6 @@ def key_value(key: str) -> int:
 # comes under a unique name in the target folder, flushed to the disk and renamed over its own
 # name only when complete; on any failure or signal it is removed and the old file stands.
 
-def printable(text: str) -> str:
-    """text with every character that is not printable (a control character, an escape
-    sequence's ESC) written as its Python escape, \\x1b: what a scene's title or a user's word
-    may show on a terminal or in an SVG."""
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
-
-
-def say(message, who: str = PROG) -> None:
-    """A line on standard error, where there is one (it may be closed)."""
-    if sys.stderr is not None:                  # None: closed (print would use stdout)
-        with contextlib.suppress(OSError, ValueError, AttributeError):
-            print(f"{who}: {message}", file=sys.stderr, flush=True)
-
-
-def said(message, status: int) -> int:
-    say(message)
-    return status
-
-
-class Interrupted(KeyboardInterrupt):
-    """SIGTERM or SIGHUP, raised wherever the program is, as Ctrl-C raises KeyboardInterrupt:
-    on the way out every file being written is removed (exit status 128 + the signal)."""
-
-    def __init__(self, signum: int):
-        super().__init__(signum)
-        self.signum = signum
-
-
-def _interrupted(signum, frame):
-    raise Interrupted(signum)
-
-
-@contextlib.contextmanager
-def signals_caught():
-    """While it lasts, SIGTERM and SIGHUP become Interrupted (main() runs in it; in the main
-    thread only, elsewhere nothing changes); the handlers they had are given back after."""
-    import signal
-    saved = {}
-    with contextlib.suppress(ValueError):       # not the main thread
-        for name in ("SIGTERM", "SIGHUP"):
-            if hasattr(signal, name):
-                number = getattr(signal, name)
-                saved[number] = signal.signal(number, _interrupted)
-    try:
-        yield
-    finally:
-        for number, handler in saved.items():
-            signal.signal(number, handler)
-
-
-def interrupted_status(e: KeyboardInterrupt) -> int:
-    """The exit status of an interrupted run: 130 for Ctrl-C, 128 + n for signal n."""
-    return 128 + getattr(e, "signum", 2)
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-class _Temporary:
-    """A file being written under a unique temporary name beside `path` (binary, or text in
-    `encoding` with no newline translation). finish() flushes it to the disk and closes it,
-    rename() then gives it its name; discard() removes it. OSError from here names `path`, never
-    the temporary."""
-
-    def __init__(self, path: str, encoding: str | None = None):
-        import tempfile
-        self.path, self.file, self.temporary = path, None, None
-        folder = os.path.dirname(os.path.abspath(path))
-        if os.path.isdir(path):
-            raise IsADirectoryError(21, "it is a folder", path)
-        try:
-            fd, self.temporary = tempfile.mkstemp(prefix=f".{os.path.basename(path)}.",
-                                                  suffix=".partial", dir=folder)
-        except OSError as e:
-            raise OSError(e.errno, e.strerror, path) from None
-        try:
-            os.fchmod(fd, 0o666 & ~_umask())
-            self.file = (os.fdopen(fd, "wb") if encoding is None
-                         else os.fdopen(fd, "w", encoding=encoding, newline=""))
-        except BaseException:
-            os.close(fd)
-            self.discard()
-            raise
-
-    def write(self, data) -> None:
-        try:
-            self.file.write(data)
-        except OSError as e:
-            raise OSError(e.errno, e.strerror, self.path) from None
-
-    def finish(self) -> None:
-        """Flush and close, ready to be renamed (again: nothing more to do)."""
-        if self.file.closed:
-            return
-        try:
-            self.file.flush()
-            os.fsync(self.file.fileno())
-            self.file.close()
-        except OSError as e:
-            raise OSError(e.errno, e.strerror, self.path) from None
-
-    def rename(self) -> None:
-        try:
-            os.replace(self.temporary, self.path)
-        except OSError as e:
-            raise OSError(e.errno, e.strerror, self.path) from None
-        self.temporary = None
-
-    def discard(self) -> None:
-        """Remove the temporary file, whatever state it is in; never fails."""
-        if self.file is not None:
-            with contextlib.suppress(OSError, ValueError):
-                self.file.close()               # may fail to flush (a full disk): no matter
-        if self.temporary is not None:
-            with contextlib.suppress(OSError):
-                os.unlink(self.temporary)
-            self.temporary = None
-
-
-@contextlib.contextmanager
-def _renaming(*folders: str):
-    """While the block runs: SIGINT, SIGTERM and SIGHUP held back, and the folders locked (in
-    one order) against another of our sessions renaming its set into them; a signal that came
-    meanwhile is dropped, as the work it would have stopped is done."""
-    import signal
-    held = {getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n)}
-    masks = hasattr(signal, "pthread_sigmask")              # not on Windows
-    locks = []
-    for folder in sorted({os.path.realpath(f) for f in folders}):
-        with contextlib.suppress(ImportError, OSError):
-            import fcntl
-            lock = os.open(folder, os.O_RDONLY)
-            locks.append(lock)
-            fcntl.flock(lock, fcntl.LOCK_EX)
-    try:
-        if masks:
-            signal.pthread_sigmask(signal.SIG_BLOCK, held)
-        try:
-            yield
-        finally:
-            if masks:
-                pending = signal.sigpending() & held
-                if pending:
-                    signal.sigtimedwait(pending, 0)
-                signal.pthread_sigmask(signal.SIG_UNBLOCK, held)
-    finally:
-        for lock in locks:
-            os.close(lock)                      # and with it the lock
-
-
-class WrittenSet:
-    """The files one command writes, put in place all together or not at all: each is written
-    under a temporary name (file()) or staged elsewhere in its folder's file system (adopt(),
-    e.g. a scene's DAT files written in a hidden folder), and only when the block ends without
-    an error are they renamed into place, together, signals held (with the names removed() of an
-    old set that the new one does not write). On any failure every one is removed and the old
-    files stand. Outputs that are no regular file (-, a FIFO, a device) are not held back:
-    stream() writes them after the set is in place."""
-
-    def __init__(self):
-        self._files: list[_Temporary] = []
-        self._moves: list[tuple[str, str]] = []
-        self._removed: list[str] = []
-        self._streams: list[tuple[str, object]] = []
-
-    def __enter__(self) -> "WrittenSet":
-        return self
-
-    def __exit__(self, kind, error, trace) -> None:
-        try:
-            if kind is None:
-                self._commit()
-        finally:
-            for f in self._files:
-                f.discard()
-
-    def file(self, path: str) -> "_Temporary":
-        """A file of the set, to write (bytes) now and to be put in place with the rest."""
-        self._files.append(_Temporary(path))
-        return self._files[-1]
-
-    def adopt(self, staged: str, path: str) -> None:
-        """`staged`, a finished file on the same file system, becomes `path` with the rest."""
-        self._moves.append((staged, path))
-
-    def removed(self, path: str) -> None:
-        """`path`, a file of the old set that the new one does not write, goes with the old set."""
-        self._removed.append(path)
-
-    @contextlib.contextmanager
-    def opened(self, path: str):
-        """As written_whole(path), but put in place with the set; an output that is no regular
-        file gets what was written once the set is in place."""
-        if path == "-" or _is_stream(path):
-            import io
-            buffer = io.BytesIO()
-            yield buffer
-            self._streams.append((path, buffer.getvalue()))
-        else:
-            yield self.file(path)
-
-    def _commit(self) -> None:
-        for f in self._files:
-            f.finish()
-        targets = [f.path for f in self._files] + [p for _, p in self._moves] + self._removed
-        folders = {os.path.dirname(os.path.abspath(p)) for p in targets}
-        for folder in folders:
-            try:
-                os.makedirs(folder, exist_ok=True)
-            except OSError as e:
-                raise OSError(e.errno, e.strerror, folder) from None
-        with _renaming(*folders):
-            for path in targets:
-                if os.path.isdir(path):
-                    raise IsADirectoryError(21, "it is a folder", path)
-            for f in self._files:
-                f.rename()
-            for staged, path in self._moves:
-                try:
-                    os.replace(staged, path)
-                except OSError as e:
-                    raise OSError(e.errno, e.strerror, path) from None
-            for path in self._removed:
-                with contextlib.suppress(FileNotFoundError):
-                    os.unlink(path)
-        for path, data in self._streams:
-            with written_whole(path) as out:
-                out.write(data)
-
-
-def staging_folder(folder: str | None):
-    """A hidden temporary folder in `folder` (the system's temporary folder for None), to write
-    a set in before WrittenSet.adopt puts it in place: on the same file system, so that the
-    renames are atomic; removed with what is left in it. OSError names `folder`."""
-    import tempfile
-    try:
-        return tempfile.TemporaryDirectory(prefix=".linkage-", dir=folder)
-    except OSError as e:
-        raise OSError(e.errno, e.strerror, folder) from None
-
-
-def written(path: str, outputs: WrittenSet | None = None):
-    """written_whole(path), or the file of the set `outputs` if one is given."""
-    return written_whole(path) if outputs is None else outputs.opened(path)
-
-
-# The files that come with the program: beside linkage.py in the repository (data/scenes,
-# legacy_basic), or where `pip install` put them (pyproject.toml's data-files, under
-# share/fmb-linkage/ of the installation's prefix).
-SHIPPED = {"scenes": os.path.join("data", "scenes"), "legacy_basic": "legacy_basic"}
-
-
-def shipped_folders(kind: str) -> list[str]:
-    """The folders that hold the files of `kind` (a key of SHIPPED) that come with the program,
-    the repository's first; those that exist."""
-    import site
-    here = os.path.dirname(os.path.abspath(__file__))
-    places = [os.path.join(here, SHIPPED[kind])]
-    places += [os.path.join(base, "share", "fmb-linkage", kind)
-               for base in (sys.prefix, getattr(site, "USER_BASE", None) or "") if base]
-    return [p for p in dict.fromkeys(places) if os.path.isdir(p)]
-
-
-def shipped_file(kind: str, name: str) -> str:
-    """The path of the file `name` of `kind` that comes with the program (FileNotFoundError,
-    naming where it looked, if none does)."""
-    for folder in shipped_folders(kind):
-        if os.path.isfile(os.path.join(folder, name)):
-            return os.path.join(folder, name)
-    raise FileNotFoundError(2, "not installed with the program", os.path.join(SHIPPED[kind], name))
-
-
-@contextlib.contextmanager
-def written_whole(path):
-    """Open `path` for writing (bytes) so that it is written whole or not at all: into a
-    temporary file of a unique name in the same folder, flushed to the disk and renamed over
-    `path` when the block ends; removed on any failure or interrupt, leaving `path` as it was.
-    An output that is no regular file - "-" (standard output), a FIFO, a character device such
-    as /dev/null - is written straight through, never replaced by one."""
-    if path == "-" or _is_stream(path):
-        with _streamed(path) as out:
-            yield out
-        return
-    temporary = _Temporary(path)
-    try:
-        yield temporary
-        temporary.finish()
-        with _renaming(os.path.dirname(os.path.abspath(path))):
-            temporary.rename()
-    finally:
-        temporary.discard()
-
-
-def _is_stream(path: str) -> bool:
-    """Whether `path` names an existing FIFO or character device (through a link too)."""
-    import stat
-    try:
-        mode = os.stat(path).st_mode
-    except (OSError, ValueError):
-        return False
-    return stat.S_ISFIFO(mode) or stat.S_ISCHR(mode)
-
-
-@contextlib.contextmanager
-def _streamed(path: str):
-    """The output written straight to standard output ("-") or to the FIFO or device."""
-    if path == "-":
-        stdout = sys.stdout
-        if stdout is None:
-            raise OSError(9, "standard output is closed", "-")
-        stdout.flush()
-        yield stdout.buffer
-        stdout.buffer.flush()
-        return
-    with open(path, "wb") as out:
-        yield out
-
-
-class DatFiles:  # ERRATA P3
-    """ANG.DAT, VEL.DAT and ACC.DAT written as GW-BASIC's sequential files (CR LF lines, the
-    end-of-file byte 1A on CLOSE), by the menu, `run` in both precisions, design --dat and the
-    scenes. They are written as the points come under temporary names of their own (two
-    sessions in one folder never share one), and on CLOSE flushed to the disk and renamed into
-    place together, signals held and the folder locked: the folder holds the old set or the new
-    one, never a mixture (a name of the three that this set does not write is removed with the
-    old set). Any failure or interrupt removes them. Write errors are a ProgramStop that names
-    the file and the reason."""
-
-    NAMES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
-    MU = "MU.DAT"        # the accurate engine's transmission angle, beside them (a scene's)
-
-    def __init__(self, directory: str, count: int = 3, transmission: bool | None = None):
-        """The first `count` of the three files (a scene may ask for fewer), and MU.DAT where
-        `transmission` is True (False: an old one is removed with the old set, as the three's
-        are; None, the original program's sets: MU.DAT is not theirs to touch)."""
-        self.directory = directory
-        self.points = 0
-        self._files: list[_Temporary] = []
-        self._names = self.NAMES[:count] + ((self.MU,) if transmission else ())
-        self._family = self.NAMES + (() if transmission is None else (self.MU,))
-        try:
-            for name in self._names:
-                self._files.append(_Temporary(os.path.join(directory, name), "ascii"))
-            self._open = [t.file for t in self._files]      # written to directly: the sweep's
-            #                                                 inner loop
-        except BaseException as e:
-            self.discard()
-            if isinstance(e, IsADirectoryError):
-                raise WriteError(self._why(e)) from None
-            if isinstance(e, OSError):
-                raise WriteError(self._why(e, f"cannot write the DAT files in {directory!r}")) \
-                    from None
-            raise
-
-    def __enter__(self) -> "DatFiles":
-        return self
-
-    def __exit__(self, kind, error, trace) -> None:
-        if kind is None:
-            self.close()
-        else:
-            self.discard()
-
-    def write(self, lines, points: int = 1) -> None:
-        """One point's line (or None) for each file; or the lines of `points` points, bytes
-        for each file."""
-        try:
-            for f, line in zip(self._open, lines):
-                if isinstance(line, bytes):
-                    f.flush()
-                    f.buffer.write(line)
-                elif line is not None:
-                    f.write(line)
-        except OSError as e:
-            written = next(t for t in self._files if t.file is f)
-            self.discard()
-            raise WriteError(self._why(OSError(e.errno, e.strerror, written.path))) from None
-        self.points += points
-
-    def close(self, before_rename=None) -> None:
-        """CLOSE (line 1350): the end-of-file byte, then the files get their names;
-        before_rename(), if given, runs once they are on the disk and before any is renamed
-        (another file of the same command finishing: if it fails, this set is not put in place)."""
-        try:
-            for f in self._files:
-                f.write("\x1a")
-                f.finish()
-            if before_rename is not None:
-                before_rename()
-            with _renaming(self.directory):
-                for f in self._files:
-                    if os.path.isdir(f.path):
-                        raise IsADirectoryError(21, "it is a folder", f.path)
-                for f in self._files:
-                    f.rename()
-                for name in self._family:
-                    if name not in self._names:
-                        with contextlib.suppress(FileNotFoundError):
-                            os.unlink(os.path.join(self.directory, name))
-        except OSError as e:
-            raise WriteError(self._why(e)) from None
-        finally:
-            self.discard()
-
-    def discard(self) -> None:
-        for f in self._files:
-            f.discard()
-
-    @staticmethod
-    def _why(e: OSError, what: str | None = None) -> str:
-        return (f"{what or f'cannot write {e.filename}'}: {e.strerror}; the DAT files there "
-                "are as they were")
-
 
 MENU = ((6, "1. Plane Four Bar"), (8, "2. Spherical Four Bar"), (10, "3. Skew Four Bar"),
         (12, "4. Plane Slider Crank"), (14, "5. Skew Slider Crank"), (16, "6. Exit"))
@@ -1768,7 +1915,14 @@ def run_session(screen: Screen, keys: Keys, directory: str = ".",
     (or 6), its sweep, the three files; returns the points written. `answered` (the run command
     and the scenes, see answered_session) turns "Illegal linkage" into a ProgramStop instead of a
     return to the menu; `derivatives` below 2 leaves out ACC.DAT (and VEL.DAT), for a scene that
-    does not show them."""
+    does not show them. The session's soft errors go to its screen (Screen.errors)."""
+    with soft_errors(screen.errors):
+        return _program(screen, keys, directory, answered, derivatives)
+
+
+def _program(screen: Screen, keys: Keys, directory: str, answered: bool,
+             derivatives: int) -> int:
+    """run_session's lines 100-1360."""
     v = Variables()
     while True:
         screen.cls()                                                        # 130-190
@@ -1807,8 +1961,8 @@ def run_session(screen: Screen, keys: Keys, directory: str = ".",
         if 1 <= SOL <= 2:
             break
         screen.beep()
-    return sweep(screen, co, degrees_to_radians(PHI1), degrees_to_radians(PHI2), INC, SOL,
-                 v.S, directory, derivatives, answered)                     # 1000-1350
+    return session_sweep(screen, co, degrees_to_radians(PHI1), degrees_to_radians(PHI2), INC,
+                         SOL, v.S, directory, derivatives, answered)        # 1000-1350
 
 
 def answered_session(screen: Screen, key: str, answers: list[str], branch: str,
@@ -1823,8 +1977,8 @@ def answered_session(screen: Screen, key: str, answers: list[str], branch: str,
                        answered=True, derivatives=derivatives)
 
 
-def sweep(screen: Screen, co, PHI1: Single, PHI2: Single, INC: Single, SOL: int, S: Single,
-          directory: str, derivatives: int = 2, answered: bool = False) -> int:
+def session_sweep(screen: Screen, co, PHI1: Single, PHI2: Single, INC: Single, SOL: int,
+                  S: Single, directory: str, derivatives: int = 2, answered: bool = False) -> int:
     """Lines 1020-1350: open the files, sweep PHI, close. Returns the points written."""
     with DatFiles(directory, 1 + derivatives) as files:                     # 1020-1040
         expected = check_sweep(PHI1, PHI2, INC, directory)
@@ -1859,120 +2013,13 @@ def check_sweep(PHI1: Single, PHI2: Single, INC: Single, directory: str) -> floa
     return points
 
 
-class Progress:
-    """A long sweep's progress on a terminal's standard error: points done, rate, time left,
-    redrawn at most twice a second once the sweep has run a second, and wiped at the end.
-    Nothing where standard error is not a terminal (never in the files or a piped transcript),
-    nor for `total` 0 (unknown)."""
-
-    def __init__(self, total: float, out=None):
-        import time
-        out = sys.stderr if out is None else out
-        self.total, self.done, self.out, self.shown = total, 0, out, False
-        self.live = bool(total) and out is not None and _isatty(out)
-        self.clock = time.monotonic
-        self.start = self.clock()
-        self.next = self.start + 1.0            # first shown once the sweep has run a second
-
-    def __call__(self, points: int = 1) -> None:
-        self.done += points
-        if self.live and (self.done & 255 == 0 or points > 1) and self.clock() >= self.next:
-            self._show()
-
-    def _show(self) -> None:
-        now = self.clock()
-        self.next = now + 0.5
-        rate = self.done / max(now - self.start, 1e-9)
-        left = max(self.total - self.done, 0) / rate
-        text = (f"\r{self.done:,} of {self.total:,.0f} points, {rate:,.0f} a second, "
-                f"{_time_left(left)} left")
-        with contextlib.suppress(OSError, ValueError):
-            self.out.write(text + "\x1b[K")
-            self.out.flush()
-            self.shown = True
-
-    def __enter__(self) -> "Progress":
-        return self
-
-    def __exit__(self, *exc) -> None:
-        if self.shown:
-            with contextlib.suppress(OSError, ValueError):
-                self.out.write("\r\x1b[K")
-                self.out.flush()
-
-
-def _time_left(seconds: float) -> str:
-    if seconds < 60:
-        return f"{seconds:.0f} s"
-    if seconds < 3600:
-        return f"{seconds // 60:.0f} min {seconds % 60:02.0f} s"
-    return f"{seconds // 3600:.0f} h {seconds % 3600 // 60:02.0f} min"
-
-
-def _isatty(stream) -> bool:
-    with contextlib.suppress(OSError, ValueError, AttributeError):
-        return stream.isatty()
-    return False
-
-
-@contextlib.contextmanager
-def single_keys(fd, enter=None, leave=None, carriage_return=False):
-    """The terminal on file descriptor fd takes single keys with no echo (Ctrl-C still
-    interrupts) inside the block, and is put back as it was on leaving it, however it is left.
-    Ctrl-Z (SIGTSTP) puts it back before the program stops; `fg` takes single keys again.
-    enter() and leave() draw what else the screen needs; carriage_return keeps Enter a CR.
-    fd None (no terminal to read): only enter() and leave()."""
-    import signal
-    saved = mode = None
-    if fd is not None:
-        import termios
-        saved, mode = termios.tcgetattr(fd), termios.tcgetattr(fd)
-        if carriage_return:
-            mode[0] &= ~termios.ICRNL
-        mode[3] &= ~(termios.ICANON | termios.ECHO)
-        mode[6][termios.VMIN], mode[6][termios.VTIME] = 1, 0
-
-    def begin():
-        if fd is not None:
-            termios.tcsetattr(fd, termios.TCSAFLUSH, mode)
-        if enter:
-            enter()
-
-    def end():                      # the terminal may be gone (SIGHUP): restore what can be
-        if leave:
-            with contextlib.suppress(OSError, ValueError):
-                leave()
-        if fd is not None:
-            with contextlib.suppress(OSError, termios.error):
-                termios.tcsetattr(fd, termios.TCSAFLUSH, saved)
-
-    def stop(signum, frame):
-        end()
-        signal.signal(signal.SIGTSTP, signal.SIG_DFL)
-        os.kill(os.getpid(), signal.SIGTSTP)         # stopped here until `fg`
-        signal.signal(signal.SIGTSTP, stop)
-        begin()
-
-    try:
-        before = signal.signal(signal.SIGTSTP, stop)
-    except ValueError:                               # not the main thread: no signals
-        before = None
-    try:
-        begin()
-        yield
-    finally:
-        end()
-        if before is not None:
-            signal.signal(signal.SIGTSTP, before)
-
-
 def menu_program(stdin=None, stdout=None, directory: str = ".") -> int:
     """`python3 linkage.py`: the original program on this terminal, or driven by the keys on
     standard input (`python3 linkage.py < keys.txt`) with PC-BASIC's screen transcript. A closed
     standard input is no keys; a closed standard output, no transcript."""
     stdin = sys.stdin if stdin is None else stdin
     stdout = sys.stdout if stdout is None else stdout
-    if not (_isatty(stdin) and _isatty(stdout)):
+    if not (is_terminal(stdin) and is_terminal(stdout)):
         return redirected_program(getattr(stdin, "buffer", None),
                                   getattr(stdout, "buffer", None), directory)
     import select
@@ -2058,7 +2105,7 @@ def _run_guarded(screen: Screen, keys: Keys, directory: str) -> int:
     return status
 
 
-# ---- 4. The accurate engine ----------------------------------------------------------------------
+# ---- 5. The accurate engine ----------------------------------------------------------------------
 #
 # The five linkages in IEEE double precision, stable where the
 # listing is not.
@@ -2098,7 +2145,7 @@ def _run_guarded(screen: Screen, keys: Keys, directory: str) -> int:
 # i.e. branch 1 the root with E_phipsi + E_psipsi v = +sqrt(E_phipsi^2 - E_psipsi E_phiphi) > 0,
 # the sign dE/dpsi takes on it just past phi0 (sliders: G_x = 2(x - m), v = m' +- sqrt(...)).
 #
-# Uses: section 3 (the one writer, for the DAT and CSV files).
+# Uses: section 1 (the one writer, for the DAT and CSV files); never the original program.
 
 
 # The mechanisms, named as tests/test_physics.py names them, with their dimensions: lengths as
@@ -4204,7 +4251,7 @@ def write_csv(path: str, rows, header=CSV_HEADER, outputs: WrittenSet | None = N
     return count
 
 
-# ---- 5. The mechanism view: joint positions, drawings, and their renderers -----------------------
+# ---- 6. The mechanism view: joint positions, drawings, and their renderers -----------------------
 #
 # What the engine computes, made visible. joint_positions() places every joint of a linkage in
 # 3-D, in the frame the listing's coefficients imply (tests/test_physics.py derives it): the input
@@ -4218,7 +4265,8 @@ def write_csv(path: str, rows, header=CSV_HEADER, outputs: WrittenSet | None = N
 # letter covers them (place_labels): placed for the SVG's letters in the Drawing, placed again
 # by the terminal and the PNG for the sizes they draw letters at.
 #
-# Uses: sections 3 and 4 (single keys for the animation; the engine's positions).
+# Uses: sections 1 and 5 (single keys for the animation, printable titles; the engine's
+# positions).
 
 class Pose(NamedTuple):
     """Where every joint of a linkage is at one input angle (see joint_positions).
@@ -5567,7 +5615,7 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
     return out.getvalue()
 
 
-# ---- 6. Synthesis: four-bar and slider-crank function generators ---------------------------------
+# ---- 7. Synthesis: four-bar and slider-crank function generators ---------------------------------
 # The classical analytical synthesis methods collected by E. Pennestrì and P. P. Valentini, "A
 # review of simple analytical methods for the kinematic synthesis of four-bar and slider-crank
 # function generators for two and three prescribed finite positions" (2009): the transmission
@@ -5604,7 +5652,7 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
 # transmission-angle extremes. Corrections to the review are marked `# ERRATUM Sn` and justified
 # in SYNTHESIS_ERRATA.md.
 #
-# Uses: section 4 (the engine checks every design; scenes draw a design, section 9).
+# Uses: section 5 (the engine checks every design; the command line draws a design).
 
 
 _R = math.pi / 180.0                    # radians per degree
@@ -7158,7 +7206,7 @@ def whole_motion(design, step=5.0):
     return below + step / 2, above - step / 2, step
 
 
-# ---- 7. Scenes and plots: the paper's Figures 3-6 ------------------------------------------------
+# ---- 8. Scenes and plots: the paper's Figures 3-6 ------------------------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a mechanism and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -7180,8 +7228,8 @@ def whole_motion(design, step=5.0):
 # angles are drawn unwrapped: whole turns are added so that a curve is continuous across +-180
 # degrees, and so that the curves of a panel lie within half a turn of the first one.
 #
-# Uses: sections 2, 3, 4 and 5 (the menu's dimensions; the menu session and the writer; the
-# engine; the mechanism drawn).
+# Uses: sections 1, 3, 4, 5 and 6 (the writer; the menu's dimensions; the menu session, for
+# precision basic; the engine; the mechanism drawn).
 
 SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "title": "a string (the figure's title)",
@@ -8146,11 +8194,11 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ---- 8. Benchmarks -------------------------------------------------------------------------------
+# ---- 9. Benchmarks -------------------------------------------------------------------------------
 #
 # Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS; what
 # accuracy costs is measured by tests/bench_accuracy.py, with the tests' instruments.
-# Uses: sections 1, 2, 3, 4, 5 and 7 (what each bench times).
+# Uses: sections 1, 2, 3, 4, 5, 6 and 8 (what each bench times).
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
 QUICK_KEYS = b"12\r7\r9\r6\r0\r360\r10\r1"     # bench --quick: 37 points
@@ -8204,10 +8252,10 @@ def bench_mbf(out, quick: bool = False) -> None:
     co = coefficients(v, 1)
     angles = list(sweep_angles(ZERO, degrees_to_radians(Single(360.0)),
                                degrees_to_radians(Single(90.0 if quick else 1.0))))
-    seconds = _best_of(repeats, lambda: [sweep_point(co, phi, 1, v.S) for phi in angles])
+    with soft_errors():
+        seconds = _best_of(repeats, lambda: [sweep_point(co, phi, 1, v.S) for phi in angles])
     print(f"{'sweep point':16} {seconds / len(angles) * 1e6:12.2f}   (lines 1060-1330 with "
           f"the three WRITE #, plane four-bar a=6 b=2 c=7 d=9)", file=out)
-    Single.errors.clear()
 
 
 def bench_scene(out, quick: bool = False) -> None:
@@ -8572,7 +8620,7 @@ def _c_loop():
     library.four_bar.argtypes = common + [double_p, double_p, double_p, status_p]
     library.slider.argtypes = common + [ctypes.c_double, double_p, double_p, double_p, status_p]
 
-    def sweep(linkage, angles, branch=1):
+    def c_sweep(linkage, angles, branch=1):
         """sweep_arrays' answer (its five arrays, new, as it makes them) by C_SWEEP."""
         n = len(angles)
         answer = [np.empty(n) for _ in range(3)] + [np.empty(n, dtype=np.int8)]
@@ -8584,7 +8632,7 @@ def _c_loop():
         else:
             library.four_bar(*args, *answer)
         return [np.array(angles)] + answer
-    return sweep
+    return c_sweep
 
 
 C_SIZES = (1_000, 10_000, 100_000, 1_000_000, 10_000_000)
@@ -8594,9 +8642,9 @@ C_TARGET = 0.7           # sweep_arrays' rate over the C loop's, at 1e4 points a
 def _bench_c_loop(out, sizes) -> None:
     """sweep_arrays against C_SWEEP at each of `sizes` points, plane four-bar and slider-crank,
     velocity and acceleration: rates and their ratio, the two alternated."""
-    sweep = _c_loop()
-    if isinstance(sweep, str):
-        print(f"C loop: skipped ({sweep})", file=out)
+    c_sweep = _c_loop()
+    if isinstance(c_sweep, str):
+        print(f"C loop: skipped ({c_sweep})", file=out)
         return
     print("\nsweep_arrays against a C loop of the same formulas (C_SWEEP, cc -O2, called with "
           "ctypes; its points for the scalar engine not redone), branch 1, velocity and "
@@ -8615,9 +8663,9 @@ def _bench_c_loop(out, sizes) -> None:
             best = [math.inf, math.inf]
             for _ in range(repeats):
                 for i, run in enumerate((lambda: linkage.sweep_arrays(angles, 1),
-                                         lambda: sweep(linkage, angles))):
+                                         lambda: c_sweep(linkage, angles))):
                     best[i] = min(best[i], _best_of(1, run))
-            fast, c = linkage.sweep_arrays(angles, 1), sweep(linkage, angles)
+            fast, c = linkage.sweep_arrays(angles, 1), c_sweep(linkage, angles)
             usual = (fast.status == 0) & (c[4] == 0)
             agree = float(np.max(np.abs(fast.output - c[1])[usual], initial=0.0))
             rates[n] = (n / best[0], n / best[1])
@@ -8808,13 +8856,13 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 9. The command line -------------------------------------------------------------------------
+# ---- 10. The command line ------------------------------------------------------------------------
 #
 # Holds: the shared parsers of what is typed on the command line (numbers in each precision,
 # mechanism types, PNG sizes), one handler a sub-command, and COMMANDS, the table of every
 # sub-command's help and options that build_parser turns into argparse; main() last.
 #
-# Uses: sections 2, 3, 4, 5, 6, 7 and 8 (every command runs a part of the program).
+# Uses: sections 1, 3, 4, 5, 6, 7, 8 and 9 (every command runs a part of the program).
 
 # -- what is typed: one parser a kind of value, shared by every command -------------------------
 
@@ -8847,15 +8895,14 @@ def basic_answer(text: str, what: str) -> str:
     .5, &H10, an empty answer is 0), or ValueError naming `what`."""
     if not isinstance(text, str):                             # argparse gives [] for --b=--
         raise ValueError(f"{what}: no number given")
-    Single.errors.clear()
     if len(text) > INPUT_LINE:
         raise ValueError(f"{what}: an answer of {len(text):,} characters is longer than the "
                          f"{INPUT_LINE} of GW-BASIC's line")
     if any(c in text for c in "\r\n\x1a") or not text.isprintable():
         raise ValueError(f"{what}: {text!r} holds a control character")
-    if input_value(text) is None:
-        raise ValueError(f"{what}: {text!r} is not a number the original's INPUT takes")
-    Single.errors.clear()                       # "Overflow": the session says it again
+    with soft_errors():                         # "Overflow": the session says it again
+        if input_value(text) is None:
+            raise ValueError(f"{what}: {text!r} is not a number the original's INPUT takes")
     return text
 
 

@@ -32,8 +32,8 @@ import basic_runner       # noqa: E402
 import engine_harness     # noqa: E402
 import linkage            # noqa: E402
 from linkage import (ASSEMBLED, DIV_ZERO, INDETERMINATE, NOT_ASSEMBLED, OVERFLOW,  # noqa: E402
-                     Linkage, Single, Variables, coefficients, degrees_to_radians, dimensions,
-                     input_value, sweep_point)
+                     Linkage, Variables, coefficients, degrees_to_radians, dimensions,
+                     input_value, soft_errors, sweep_point)
 import listing_model      # noqa: E402
 
 DIVISION = "division by zero"   # GW-BASIC's soft error (or overflow) at the point, K7; Python's
@@ -97,7 +97,7 @@ def _reference():
 def _typed_linkage(kind: str, dims: dict):
     """Lines 250-480 given the dimensions typed at the prompts: the menu key, the answers typed
     (in the order the listing asks), and the listing's variables, or None where line 480 refuses
-    the linkage. Soft errors are left in Single.errors."""
+    the linkage. Soft errors go to the caller's soft_errors() block."""
     key, typed = linkage._typed_dimensions(kind, dims)
     v, answers = Variables(), iter(typed)
     legal = dimensions(v, int(key), lambda prompt: input_value(next(answers)))
@@ -123,12 +123,13 @@ def _faithful_method(cases, repeats):
     (--from PHI --to PHI), so without the FOR loop's drift (K10)."""
     jobs = []
     for label, kind, dims, phis in cases:
-        Single.errors.clear()
-        key, _, v = _typed_linkage(kind, dims)
+        with soft_errors() as errors:
+            key, _, v = _typed_linkage(kind, dims)
+            if v is not None:
+                co = coefficients(v, int(key))
+                angles = [degrees_to_radians(input_value(linkage._typed(phi))) for phi in phis]
         if v is not None:
-            co = coefficients(v, int(key))
-            angles = [degrees_to_radians(input_value(linkage._typed(phi))) for phi in phis]
-            jobs.append((label, phis, (co, v.S, angles), len(Single.errors)))
+            jobs.append((label, phis, (co, v.S, angles), len(errors)))
         else:
             jobs.append((label, phis, None, 0))
 
@@ -140,12 +141,11 @@ def _faithful_method(cases, repeats):
                 co, S, angles = job
                 for PHI in angles:
                     for SOL in (1, 2):
-                        del Single.errors[:]
-                        rows.append((sweep_point(co, PHI, SOL, S), len(Single.errors)))
+                        with soft_errors() as errors:
+                            rows.append((sweep_point(co, PHI, SOL, S), len(errors)))
             out.append(rows)
         return out
     seconds, raw = linkage._timed(repeats, compute)
-    Single.errors.clear()
     answers, computed = {}, 0
     for (label, phis, job, setup_errors), rows in zip(jobs, raw):
         for i, phi in enumerate(phis):
@@ -248,8 +248,8 @@ def _pcbasic_method(cases, runner):
     keys."""
     sessions, where, answers = [], [], {}
     for label, kind, dims, phis in cases:
-        key, typed, v = _typed_linkage(kind, dims)
-        Single.errors.clear()
+        with soft_errors():
+            key, typed, v = _typed_linkage(kind, dims)
         for phi in phis:
             for branch in (1, 2):
                 if v is None:

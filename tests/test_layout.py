@@ -146,3 +146,62 @@ def test_the_readmes_layout_matches_the_file():
             (title, row[2], end - first)
     for path in (Path(linkage.__file__).parent / "tests").glob("*.py"):
         assert path.name in layout, path.name
+
+
+def _section_numbers(*titles: str) -> list[int]:
+    return [n for n, _, title in sections() if title.startswith(titles)]
+
+
+def test_the_files_and_messages_use_nothing_and_the_modern_program_never_the_original():
+    """Section 1 (files, messages, the terminal) is at the bottom; the engine, the mechanism view
+    and synthesis never use the 1980s program's section (they use section 1 for their I/O)."""
+    used = uses()
+    (files,) = _section_numbers("Files, messages")
+    (original,) = _section_numbers("The original program")
+    assert files == 1 and used.get(files, {}) == {}
+    for modern in _section_numbers("The accurate engine", "The mechanism view", "Synthesis"):
+        assert original not in used.get(modern, {}), (modern, used[modern].get(original))
+
+
+PARSER_CALLS = {"ArgumentParser", "CommandParser", "add_parser", "add_subparsers",
+                "add_argument", "add_options", "parse_args"}
+
+
+def test_only_the_command_line_builds_parsers():
+    last = len(sections())
+    banners = sections()
+    found = []
+    for node in ast.walk(TREE):
+        if isinstance(node, ast.Call):
+            name = getattr(node.func, "attr", None) or getattr(node.func, "id", None)
+            if name in PARSER_CALLS and section_of(node.lineno, banners) != last:
+                found.append((node.lineno, name))
+    assert found == []
+
+
+def _mutable(value) -> bool:
+    return isinstance(value, (ast.List, ast.Dict, ast.Set, ast.ListComp, ast.DictComp,
+                              ast.SetComp)) or (isinstance(value, ast.Call) and getattr(
+                                  value.func, "id", None) in ("list", "dict", "set"))
+
+
+def test_no_state_that_a_second_caller_could_see():
+    """No module-level mutable container but the declared tables (UPPER_CASE names, filled once
+    at import), and none in a class body (a class attribute list is shared by every caller, as
+    Single.errors was)."""
+    found = []
+    for node in TREE.body:
+        targets = (node.targets if isinstance(node, ast.Assign) else [node.target]
+                   if isinstance(node, ast.AnnAssign) else [])
+        value = getattr(node, "value", None)
+        for target in targets:
+            if isinstance(target, ast.Name) and value is not None and _mutable(value) \
+                    and not target.id.isupper():
+                found.append((node.lineno, target.id))
+        if isinstance(node, ast.ClassDef):
+            for item in node.body:
+                value = getattr(item, "value", None)
+                if isinstance(item, (ast.Assign, ast.AnnAssign)) and value is not None \
+                        and _mutable(value):
+                    found.append((item.lineno, f"{node.name}.<class attribute>"))
+    assert found == []

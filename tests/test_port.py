@@ -9,6 +9,7 @@ import os
 import re
 import subprocess
 import sys
+import threading
 import typing
 
 import pytest
@@ -193,6 +194,55 @@ def test_a_sweep_larger_than_the_disk(tmp_path, monkeypatch):
 # Ctrl-C, SIGTERM and SIGHUP mid-sweep: tests/test_hardening.py.
 
 
+# ---- two sessions in one process ----------------------------------------------------------------
+
+def test_two_interleaved_blocks_each_get_their_own_soft_errors():
+    """Soft errors go to the soft_errors() block they happen in: two threads taking turns (a
+    barrier between each operation), each dividing by zero or overflowing in its own block,
+    each gets its own messages, in its own order, and none of the other's."""
+    turns = threading.Barrier(2)
+    got = {}
+
+    def work(name, operation, times):
+        with linkage.soft_errors() as errors:
+            for _ in range(times):
+                turns.wait()
+                operation()
+                turns.wait()
+        got[name] = list(errors)
+    big = linkage.Single(linkage.MBF_MAX)
+    threads = [threading.Thread(target=work, args=("divides", lambda: linkage.Single(1.0) / 0, 3)),
+               threading.Thread(target=work, args=("overflows", lambda: big * big, 3))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(timeout=60)
+    assert got == {"divides": ["Division by zero"] * 3, "overflows": ["Overflow"] * 3}
+
+
+@pytest.mark.parametrize("cases", [("plane-double-rocker", "empty-answers")])
+def test_two_sessions_at_once_show_each_its_own_soft_errors(cases, tmp_path):
+    """Two menu sessions whose sweeps divide by zero, run at once in two threads of one process,
+    several times: each screen is its golden screen (its own soft errors, none of the other's)."""
+    screens = {}
+
+    def session(case, round_):
+        folder = tmp_path / f"{case}-{round_}"
+        folder.mkdir()
+        out = io.BytesIO()
+        keys = (make_golden.GOLDEN / case / "keys.txt").read_bytes()
+        linkage.redirected_program(io.BytesIO(keys), out, str(folder))
+        screens[case, round_] = out.getvalue()
+    threads = [threading.Thread(target=session, args=(case, r)) for r in range(4) for case in cases]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(timeout=300)
+    for (case, _), screen in screens.items():
+        assert screen == (make_golden.GOLDEN / case / "SCREEN.TXT").read_bytes(), case
+    assert len(screens) == 8
+
+
 # ---- any keys at all -------------------------------------------------------------------------
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
@@ -271,14 +321,12 @@ def test_the_fast_sweep_point_is_the_listed_one(co, phi, s, sol, derivatives):
     occurs) writes the lines and the messages of lines 1060-1330 evaluated as listed."""
     co = tuple(linkage.Single(c) for c in co)
     PHI, S = linkage.Single(linkage.mbf_parse(f"{phi:.6g}")), linkage.Single(s)
-    linkage.Single.errors.clear()
-    listed = linkage.sweep_point_as_listed(co, PHI, sol, S, derivatives)
-    listed_errors = list(linkage.Single.errors)
-    linkage.Single.errors.clear()
-    fast = linkage.sweep_point(co, PHI, sol, S, derivatives)
-    assert (fast, linkage.Single.errors) == (listed, listed_errors)
-    linkage.Single.errors.clear()
+    with linkage.soft_errors() as listed_errors:
+        listed = linkage.sweep_point_as_listed(co, PHI, sol, S, derivatives)
+    with linkage.soft_errors() as fast_errors:
+        fast = linkage.sweep_point(co, PHI, sol, S, derivatives)
+    assert (fast, fast_errors) == (listed, listed_errors)
     if not listed_errors:                  # no fallback was needed: the fast path alone
-        assert linkage.sweep_point_fast(co, PHI, sol, S, derivatives) == listed
-        assert not linkage.Single.errors
-    linkage.Single.errors.clear()
+        with linkage.soft_errors() as errors:
+            assert linkage.sweep_point_fast(co, PHI, sol, S, derivatives) == listed
+        assert not errors
