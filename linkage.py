@@ -61,7 +61,8 @@ PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linka
 
 
 class ProgramStop(Exception):
-    """The port stops where the original would hang or lose data; the message says why."""
+    """The program stops where going on would hang or lose data (the original's menu session, a
+    sweep of no point, a file that cannot be written); the message says why, in one line."""
 
 
 class WriteError(ProgramStop):
