@@ -39,9 +39,13 @@ import os
 import re
 import shutil
 import sys
+from collections.abc import Callable, Iterable, Sequence
 from decimal import Decimal
 from fractions import Fraction
-from typing import NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+if TYPE_CHECKING:
+    import numpy
 
 __version__ = "0.2.0"
 PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linkage.py"
@@ -2117,9 +2121,12 @@ class Motion(NamedTuple):
     status: str
 
 
+Vector = tuple[float, float, float]     # a point or a direction in space, (x, y, z)
+
+
 # -- cos and sin of degrees, reduced exactly ------------------------------------------------------
 
-def cos_sin_degrees(x):
+def cos_sin_degrees(x: float) -> tuple[float, float]:
     """cos and sin of x degrees (a float), reduced exactly in degrees: exact at multiples of 90."""
     r = math.fmod(x, 360.0)                 # exact
     n = round(r / 90.0)
@@ -2128,15 +2135,17 @@ def cos_sin_degrees(x):
     return ((c, s), (-s, c), (-c, -s), (s, -c))[n & 3]
 
 
-def _trig_double(q):
+def _trig_double(q: Fraction) -> tuple[Fraction, Fraction]:
     """cos and sin of q degrees (a Fraction, reduced exactly) as exact Fractions of the doubles."""
     r = q % 360
     n = round(r / 90)
     c, s = cos_sin_degrees(float(r - 90 * n))  # the reduced angle, rounded once
-    return tuple(Fraction(v) for v in ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4])
+    cq, sq = ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4]
+    return Fraction(cq), Fraction(sq)
 
 
-def _decimal_cos_sin_deg(q, context=_DECIMAL):
+def _decimal_cos_sin_deg(q: Fraction, context: decimal.Context = _DECIMAL
+                         ) -> tuple[Decimal, Decimal]:
     """cos and sin of q degrees (a Fraction) as Decimals of the context's digits (50, or 110 near
     a change point): exact reduction, Taylor."""
     r = q % 360
@@ -2155,14 +2164,15 @@ def _decimal_cos_sin_deg(q, context=_DECIMAL):
         return ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4]
 
 
-def _trig_decimal(q, context=_DECIMAL):
+def _trig_decimal(q: Fraction, context: decimal.Context = _DECIMAL) -> tuple[Fraction, Fraction]:
     """cos and sin of q degrees (a Fraction) as exact Fractions of 50-digit (or 110) values."""
-    return tuple(Fraction(v) for v in _decimal_cos_sin_deg(q, context))
+    c, s = _decimal_cos_sin_deg(q, context)
+    return Fraction(c), Fraction(s)
 
 
 # -- the closure's constants ---------------------------------------------------------------------
 
-def _dims_of(kind, dims):
+def _dims_of(kind: str, dims: dict[str, float]) -> dict[str, float]:
     """The dimensions of `kind` from `dims`, as finite floats; a ValueError names what is wrong."""
     if kind not in LINKAGE_DIMENSIONS:
         raise ValueError(f"unknown linkage kind {kind!r}; one of {', '.join(LINKAGE_DIMENSIONS)}")
@@ -2180,7 +2190,9 @@ def _dims_of(kind, dims):
     return out
 
 
-def _closure_constants(kind, dims, trig):
+def _closure_constants(kind: str, dims: dict[str, float],
+                       trig: Callable[[Fraction], tuple[Fraction, Fraction]]
+                       ) -> tuple[Fraction | int, ...]:
     """The closure's constants as exact Fractions, from the typed dimensions and trig(q), the
     (cos, sin) of q degrees. Four-bars: P, Q, S as (k0, kc, ks) of E = P cos psi + Q sin psi + S.
     Slider-cranks: m, q of G = x^2 - 2 m x + q = |B - D|^2 - c^2, the vector (u, v) from the crank
@@ -2211,7 +2223,7 @@ def _closure_constants(kind, dims, trig):
         cb, sb = trig(b)
         cd, sd = trig(d)
 
-        def sin_p(sign_b, sign_c, sign_d):
+        def sin_p(sign_b: int, sign_c: int, sign_d: int) -> Fraction:
             return trig((a + sign_b * b + sign_c * c + sign_d * d) / 2)[1]
         s0 = (sin_p(1, 1, 1) * sin_p(1, -1, 1) + sin_p(-1, 1, -1) * sin_p(-1, -1, -1)
               + sin_p(1, 1, -1) * sin_p(1, -1, -1) + sin_p(-1, 1, 1) * sin_p(-1, -1, 1)) / 2
@@ -2227,8 +2239,9 @@ def _closure_constants(kind, dims, trig):
             -a, b, 0, -f * sx, 0, b * cx, c)
 
 
-def _size_squared(kind, k):
-    """A bound on the discriminant's terms (its scale), from the closure's constants."""
+def _size_squared(kind: str, k: Sequence[Any]) -> Any:
+    """A bound on the discriminant's terms (its scale), from the closure's constants: exact
+    (Fractions) or in the Decimals' context, as they come."""
     if kind in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK):
         reach = abs(k[12]) + sum(abs(v) for v in k[6:12])
         return reach * reach
@@ -2250,7 +2263,7 @@ class Linkage:
     __slots__ = ("kind", "dims", "is_slider", "_unit", "_scaled", "_constants", "_precise_below",
                  "_decimal")
 
-    def __init__(self, kind, **dims):
+    def __init__(self, kind: str, **dims: float) -> None:
         self.dims = _dims_of(kind, dims)
         self.kind = kind
         self.is_slider = kind in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK)
@@ -2262,16 +2275,19 @@ class Linkage:
         exact = _closure_constants(kind, self._scaled, _trig_double)
         self._constants = tuple(float(v) for v in exact)
         self._precise_below = _PRECISE_BELOW * float(_size_squared(kind, exact))
-        self._decimal = None             # the 50-digit constants, made at the first use
+        # the 50-digit (and 110-digit) constants by precision, made at the first use: the
+        # closure's constants, the discriminant's zero and the line under which 110 digits serve
+        self._decimal: dict[int, tuple[tuple[Decimal, ...], Decimal, Decimal]] | None = None
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "Linkage(%r, %s)" % (self.kind, ", ".join("%s=%r" % kv for kv in self.dims.items()))
 
-    def motion(self, phi, branch=1, derivatives=2):
+    def motion(self, phi: float, branch: int | str = 1, derivatives: int = 2) -> Motion:
         """The output (and its first `derivatives` derivatives) at input angle phi (degrees)."""
         return self.sweep((phi,), branch, derivatives)[0]
 
-    def sweep(self, phis, branch=1, derivatives=2, *, start=None):
+    def sweep(self, phis: Iterable[float], branch: int | str = 1, derivatives: int = 2, *,
+              start: int | None = None) -> list[Motion]:
         """Motion for each input angle of `phis` (degrees), on the listing's branch 1 (A+B) or 2
         (A-B); derivatives 0 computes the output only, 1 adds the velocity, 2 the acceleration.
 
@@ -2310,7 +2326,8 @@ class Linkage:
         FastUnavailable where numpy is not installed."""
         return _sweep_arrays(self, phis, branch, derivatives)
 
-    def coupler(self, phis, u, v=0.0, branch=1, derivatives=2, *, start=None):
+    def coupler(self, phis: Iterable[float], u: float, v: float = 0.0, branch: int | str = 1,
+                derivatives: int = 2, *, start: int | None = None) -> list[CouplerMotion]:
         """The coupler point (u, v) at each input angle of `phis`: a CouplerMotion each, its
         position, velocity and acceleration (x, y, z) on the branch (or motion) that sweep takes.
         The point is fixed to the coupler, in its own frame: plane kinds P = A + u e + v n (u, v
@@ -2321,7 +2338,8 @@ class Linkage:
         u, v = check_coupler_point(self, u, v)
         return coupler_of(self, self.sweep(phis, branch, derivatives, start=start), u, v)
 
-    def transmission(self, phis, branch=1, *, start=None):
+    def transmission(self, phis: Iterable[float], branch: int | str = 1, *,
+                     start: int | None = None) -> list[float | None]:
         """The transmission angle mu (degrees, [0, 180]) at each input angle, None where there
         is no position: the angle between the output pin's velocity and its velocity relative
         to the crank pin A (the review's section 2; see the section's notes)."""
@@ -2336,7 +2354,7 @@ class Linkage:
         """transmission on numpy arrays: a float64 array, NaN where there is no position."""
         return transmission_of_arrays(self, self.sweep_arrays(phis, branch, 0))
 
-    def _precise(self, phi, sign, level):
+    def _precise(self, phi: float, sign: float, level: int) -> Motion:
         """One point in 50-digit decimal arithmetic (near a dead-centre), as a Motion; in 110
         digits where the discriminant is within 1e-12 of its scale (near a change point)."""
         if self._decimal is None:
@@ -2351,31 +2369,27 @@ class Linkage:
                     self._decimal[context.prec] = (k, scale * _DECIMAL_ZERO_BELOW,
                                                    scale * _FINE_BELOW)
             k, zero, fine = self._decimal[context.prec]
-            if context is _DECIMAL_FINE:
-                fine = None
             c, s = _decimal_cos_sin_deg(Fraction(phi), context)
             with decimal.localcontext(context):
+                more = None if context is _DECIMAL_FINE else fine
                 if self.is_slider:
-                    m = _slider_point(k, zero, fine, phi, c, s, int(sign), level, self._unit)
+                    m = _slider_point(k, zero, more, phi, c, s, int(sign), level, self._unit)
                 else:
-                    m = _four_bar_point(k, zero, fine, phi, c, s, int(sign), level)
+                    m = _four_bar_point(k, zero, more, phi, c, s, int(sign), level)
             if m is not None:
-                return m
+                break
+        assert m is not None         # in 110 digits (more None) every point is decided
+        return m
 
 
 # -- the double-precision sweeps ------------------------------------------------------------------
 
-def _sweep_four_bar(linkage, phis, sign, level):
-    """The four-bar loop: psi on branch `sign` (+1: dE/dpsi > 0) from P cos psi + Q sin psi = -S,
-    psi' = -E_phi / E_psi and psi'' = -(E_phiphi + 2 E_phipsi psi' + E_psipsi psi'^2) / E_psi,
-    with E_psi = sign sqrt(D), D = P^2 + Q^2 - S^2, and E_psipsi = S on the root."""
-    p0, pc, ps, q0, qc, qs, s0, sc, ss = linkage._constants
-    precise_below = linkage._precise_below
-    fmod, cos, sin, hypot, sqrt, atan2 = (math.fmod, math.cos, math.sin, math.hypot, math.sqrt,
-                                          math.atan2)
-    rad, deg, new = _RAD, _DEG, tuple.__new__
-    out = []
-    append = out.append
+def _cos_sin_all(phis: list[float]) -> tuple[list[float], list[float]]:
+    """cos_sin_degrees of each angle, as a list of cosines and one of sines (one loop: the
+    sweeps' speed)."""
+    fmod, cos, sin, rad = math.fmod, math.cos, math.sin, _RAD
+    cs: list[float] = []
+    ss: list[float] = []
     for phi in phis:
         r = fmod(phi, 360.0)
         n = round(r / 90.0)
@@ -2390,6 +2404,22 @@ def _sweep_four_bar(linkage, phis, sign, level):
             c, s = -cy, -sy
         else:
             c, s = sy, -cy
+        cs.append(c)
+        ss.append(s)
+    return cs, ss
+
+
+def _sweep_four_bar(linkage: Linkage, phis: list[float], sign: float, level: int) -> list[Motion]:
+    """The four-bar loop: psi on branch `sign` (+1: dE/dpsi > 0) from P cos psi + Q sin psi = -S,
+    psi' = -E_phi / E_psi and psi'' = -(E_phiphi + 2 E_phipsi psi' + E_psipsi psi'^2) / E_psi,
+    with E_psi = sign sqrt(D), D = P^2 + Q^2 - S^2, and E_psipsi = S on the root."""
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = linkage._constants
+    precise_below = linkage._precise_below
+    hypot, sqrt, atan2 = math.hypot, math.sqrt, math.atan2
+    deg, new = _DEG, tuple.__new__
+    out: list[Motion] = []
+    append = out.append
+    for phi, c, s in zip(phis, *_cos_sin_all(phis)):
         xp, xq, xs = pc * c + ps * s, qc * c + qs * s, sc * c + ss * s
         p, q, sv = p0 + xp, q0 + xq, s0 + xs
         rr = hypot(p, q)
@@ -2423,30 +2453,17 @@ def _sweep_four_bar(linkage, phis, sign, level):
     return out
 
 
-def _sweep_slider(linkage, phis, sign, level):
+def _sweep_slider(linkage: Linkage, phis: list[float], sign: float, level: int) -> list[Motion]:
     """The slider-crank loop: x = m + sign sqrt(D), D = c^2 - u^2 - v^2, by the stable quadratic
     formula (the root away from zero first, the other as q over it); x' = -G_phi / G_x and x''
     likewise, with G_x = 2 sign sqrt(D)."""
     m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = linkage._constants
     precise_below, unit = linkage._precise_below, linkage._unit
-    fmod, cos, sin, hypot, sqrt = math.fmod, math.cos, math.sin, math.hypot, math.sqrt
-    rad, new = _RAD, tuple.__new__
-    out = []
+    hypot, sqrt = math.hypot, math.sqrt
+    new = tuple.__new__
+    out: list[Motion] = []
     append = out.append
-    for phi in phis:
-        r = fmod(phi, 360.0)
-        n = round(r / 90.0)
-        y = (r - 90.0 * n) * rad
-        cy, sy = cos(y), sin(y)
-        n &= 3
-        if n == 0:
-            c, s = cy, sy
-        elif n == 1:
-            c, s = -sy, cy
-        elif n == 2:
-            c, s = -cy, -sy
-        else:
-            c, s = sy, -cy
+    for phi, c, s in zip(phis, *_cos_sin_all(phis)):
         xm, xk = mc * c + ms * s, kc * c + ks * s
         m, q = m0 + xm, k0 + xk
         dist = hypot(u0 + uc * c + us * s, v0 + vc * c + vs * s)
@@ -2507,13 +2524,15 @@ _FOLLOW_CROSS = 1e-6         # if their distance times their velocity is below t
 #                              centre's roots meet with infinite velocity, keeping it finite)
 
 
-def _follow(linkage, phis, start, level):
+def _follow(linkage: Linkage, phis: list[float], start: int, level: int) -> list[Motion]:
     """Linkage.sweep(phis, FOLLOW, level, start=start): see there and the notes above."""
     both = {b: (_sweep_slider if linkage.is_slider else _sweep_four_bar)(
         linkage, phis, 1.0 if b == 1 else -1.0, 2) for b in (1, 2)}
     length = max([abs(v) for k, v in linkage.dims.items() if k != "ksi"] + [0.0]) \
         if linkage.is_slider else 1.0
-    out, state, ended = [], None, False
+    out: list[Motion] = []
+    state: _Followed | None = None
+    ended = False
     for i, phi in enumerate(phis):
         here = (both[1][i], both[2][i])
         if ended:
@@ -2535,20 +2554,34 @@ def _follow(linkage, phis, start, level):
     return out
 
 
-def _follow_state(linkage, m, label):
-    """(phi, output in radians or length unwrapped, velocity, acceleration, the listing's label,
-    whether it is a change point) of a Motion on branch `label`."""
-    y = m.output if linkage.is_slider else m.output * _RAD
-    return (m.phi, y, m.velocity, m.acceleration, label, m.status == CHANGE_POINT)
+# The followed position: (phi, output in radians or length unwrapped, velocity, acceleration, the
+# listing's label, whether it is a change point).
+_Followed = tuple[float, float, float, float, int, bool]
 
 
-def _with_level(m, level):
+def _follow_state(linkage: Linkage, m: Motion, label: int) -> _Followed:
+    """The followed position of a Motion on branch `label`."""
+    output, velocity, acceleration = _known(m)
+    y = output if linkage.is_slider else output * _RAD
+    return (m.phi, y, velocity, acceleration, label, m.status == CHANGE_POINT)
+
+
+def _known(m: Motion) -> tuple[float, float, float]:
+    """Output, velocity and acceleration of a position computed with both derivatives that is
+    ASSEMBLED or a CHANGE_POINT (all three given)."""
+    assert m.output is not None and m.velocity is not None and m.acceleration is not None
+    return m.output, m.velocity, m.acceleration
+
+
+def _with_level(m: Motion, level: int) -> Motion:
     if level == 2 or m.velocity is None:
         return m
     return Motion(m.phi, m.output, m.velocity if level == 1 else None, None, m.status)
 
 
-def _follow_step(linkage, state, phi, here, length, depth, splits):
+def _follow_step(linkage: Linkage, state: _Followed, phi: float,
+                 here: tuple[Motion, Motion] | None, length: float, depth: int, splits: list[int]
+                 ) -> tuple[_Followed | None, Motion]:
     """From the followed position `state` to angle phi, whose two roots are `here` (Motions of
     labels 1, 2, or None to compute them). Returns (state, Motion) of the root that continues the
     motion, or (None, Motion) where it ends (that Motion: the dead centre or the position that
@@ -2558,7 +2591,7 @@ def _follow_step(linkage, state, phi, here, length, depth, splits):
     between them) looks like a crossing from afar. `splits` ([n]) counts down the halvings
     this step may still make; at 0 a step is taken as at the deepest halving."""
     if here is None:
-        here = tuple(linkage.sweep((phi,), b, 2)[0] for b in (1, 2))
+        here = (linkage.motion(phi, 1), linkage.motion(phi, 2))
     status = here[0].status
     if status not in (ASSEMBLED, CHANGE_POINT):
         return None, here[0]
@@ -2566,33 +2599,33 @@ def _follow_step(linkage, state, phi, here, length, depth, splits):
     h = (phi - phi0) * _RAD
     misfits = []
     for label, m in enumerate(here, 1):
+        y1, v1, a1 = _known(m)
         if linkage.is_slider:
-            step = m.output - y0
+            step = y1 - y0
         else:
-            step = math.remainder(m.output * _RAD - y0, 2.0 * math.pi)
-        v1, a1 = m.velocity, m.acceleration
+            step = math.remainder(y1 * _RAD - y0, 2.0 * math.pi)
         misfit = (abs(step - 0.5 * h * (v0 + v1) + h * h * (a1 - a0) / 12.0)
                   + abs(h) * abs(v1 - v0 - 0.5 * h * (a0 + a1)))
-        misfits.append((misfit, label, step, m))
+        misfits.append((misfit, label, step, v1, a1, m))
     misfits.sort(key=lambda t: t[0])
-    (best, label, step, m), (other, _, other_step, other_m) = misfits
+    (best, label, step, v1, a1, m), (other, _, other_step, other_v, _, _) = misfits
     may_switch = crossing0 or status == CHANGE_POINT
-    smooth = (best <= _FOLLOW_AGREE * abs(h) * (length + abs(v0) + abs(m.velocity))
+    smooth = (best <= _FOLLOW_AGREE * abs(h) * (length + abs(v0) + abs(v1))
               and best <= _FOLLOW_CLEAR * other and (label == label0 or may_switch))
     apart = abs(step - other_step)
     if (not smooth and apart <= _FOLLOW_MEET * length
-            and apart * max(abs(m.velocity), abs(other_m.velocity)) <= _FOLLOW_CROSS * length * length):
+            and apart * max(abs(v1), abs(other_v)) <= _FOLLOW_CROSS * length * length):
         # the branches cross here, with finite velocities: the outputs cannot tell them apart,
         # the velocities can (at a dead centre, where the roots meet too, apart * velocity
         # stays finite as they meet)
-        _, label, step, m = min(misfits, key=lambda t: abs(
-            t[3].velocity - v0 - 0.5 * h * (a0 + t[3].acceleration)))
+        _, label, step, v1, a1, m = min(misfits, key=lambda t: abs(
+            t[3] - v0 - 0.5 * h * (a0 + t[4])))
         smooth = True
     deepest = depth >= _FOLLOW_DEPTH or splits[0] <= 0
     if not smooth and deepest and label != label0 and not may_switch:
-        _, label, step, m = next(t for t in misfits if t[1] == label0)
+        _, label, step, v1, a1, m = next(t for t in misfits if t[1] == label0)
     if smooth or deepest or h == 0.0:
-        return (phi, y0 + step, m.velocity, m.acceleration, label, status == CHANGE_POINT), m
+        return (phi, y0 + step, v1, a1, label, status == CHANGE_POINT), m
     splits[0] -= 1
     middle = phi0 + 0.5 * (phi - phi0)
     state, last = _follow_step(linkage, state, middle, None, length, depth + 1, splits)
@@ -2603,7 +2636,8 @@ def _follow_step(linkage, state, phi, here, length, depth, splits):
 
 # -- the same formulas, one point at a time in 50-digit decimal (near dead-centres) -------------
 
-def _four_bar_point(k, zero, fine, phi, c, s, sign, level):
+def _four_bar_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, phi: float,
+                    c: Decimal, s: Decimal, sign: int, level: int) -> Motion | None:
     """_sweep_four_bar's formulas for one point in Decimal; decides DEAD_CENTRE, CHANGE_POINT and
     INDETERMINATE. None where the discriminant is under `fine` (more digits are needed)."""
     p0, pc, ps, q0, qc, qs, s0, sc, ss = k
@@ -2652,7 +2686,8 @@ def _four_bar_point(k, zero, fine, phi, c, s, sign, level):
     return Motion(phi, psi, float(vel), float(acc), ASSEMBLED)
 
 
-def _slider_point(k, zero, fine, phi, c, s, sign, level, unit):
+def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, phi: float,
+                  c: Decimal, s: Decimal, sign: int, level: int, unit: float) -> Motion | None:
     """_sweep_slider's formulas for one point in Decimal; decides DEAD_CENTRE and CHANGE_POINT.
     None where the discriminant is under `fine` (more digits are needed)."""
     m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = k
