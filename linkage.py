@@ -42,10 +42,7 @@ import sys
 from collections.abc import Callable, Iterable, Sequence
 from decimal import Decimal
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any, NamedTuple
-
-if TYPE_CHECKING:
-    import numpy
+from typing import Any, NamedTuple, TypeAlias, cast
 
 __version__ = "0.2.0"
 PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linkage.py"
@@ -2628,10 +2625,10 @@ def _follow_step(linkage: Linkage, state: _Followed, phi: float,
         return (phi, y0 + step, v1, a1, label, status == CHANGE_POINT), m
     splits[0] -= 1
     middle = phi0 + 0.5 * (phi - phi0)
-    state, last = _follow_step(linkage, state, middle, None, length, depth + 1, splits)
-    if state is None:
+    halfway, last = _follow_step(linkage, state, middle, None, length, depth + 1, splits)
+    if halfway is None:
         return None, last
-    return _follow_step(linkage, state, phi, here, length, depth + 1, splits)
+    return _follow_step(linkage, halfway, phi, here, length, depth + 1, splits)
 
 
 # -- the same formulas, one point at a time in 50-digit decimal (near dead-centres) -------------
@@ -3115,39 +3112,47 @@ def _sweep_arrays(linkage, phis, branch, derivatives):
 # eq. (1) for the plane four-bar (the inner angle between coupler and output crank), its eq. (3)
 # for the slider-crank (data/SYNTHESIS_ERRATA.md, S9), the spherical inner angle at B.
 
-def _plane_crank_pin(dims, c, s):
+# The pins' and the coupler's formulas serve the scalar engine and the numpy path alike: their
+# numbers are floats, or numpy arrays of floats (Any: mypy cannot follow one formula over both,
+# and "float | numpy.ndarray" would make every scalar caller's float a union).
+Real: TypeAlias = Any
+Vec3: TypeAlias = "tuple[Real, Real, Real]"
+Kinematics: TypeAlias = "tuple[Vec3, Vec3, Vec3]"    # a pin's position, d/d and d2/d2
+
+
+def _plane_crank_pin(dims: dict[str, float], c: Real, s: Real) -> Kinematics:
     b = dims["b"]
     return (b * c, b * s, 0.0), (-b * s, b * c, 0.0), (-b * c, -b * s, 0.0)
 
 
-def _spherical_crank_pin(dims, c, s):
+def _spherical_crank_pin(dims: dict[str, float], c: Real, s: Real) -> Kinematics:
     cb, sb = dims["cos b"], dims["sin b"]
     return (sb * c, sb * s, cb), (-sb * s, sb * c, 0.0), (-sb * c, -sb * s, 0.0)
 
 
-def _plane_output_pin(dims, cq, sq, x):
+def _plane_output_pin(dims: dict[str, float], cq: Real, sq: Real, x: None) -> Kinematics:
     a, d = dims["a"], dims["d"]
     return (a + d * cq, d * sq, 0.0), (-d * sq, d * cq, 0.0), (-d * cq, -d * sq, 0.0)
 
 
-def _skew_output_pin(dims, cq, sq, x):
+def _skew_output_pin(dims: dict[str, float], cq: Real, sq: Real, x: None) -> Kinematics:
     a, d, f = dims["a"], dims["d"], dims["f"]
     cx, sx = dims["cos ksi"], dims["sin ksi"]
     return ((a + d * cq, f * sx / cx + d * sq * cx, d * sq * sx),
             (-d * sq, d * cq * cx, d * cq * sx), (-d * cq, -d * sq * cx, -d * sq * sx))
 
 
-def _spherical_output_pin(dims, cq, sq, x):
+def _spherical_output_pin(dims: dict[str, float], cq: Real, sq: Real, x: None) -> Kinematics:
     ca, sa, cd, sd = dims["cos a"], dims["sin a"], dims["cos d"], dims["sin d"]
-    return tuple(rotated_y(ca, sa, v) for v in ((sd * cq, sd * sq, cd), (-sd * sq, sd * cq, 0.0),
-                                             (-sd * cq, -sd * sq, 0.0)))
+    return (rotated_y(ca, sa, (sd * cq, sd * sq, cd)), rotated_y(ca, sa, (-sd * sq, sd * cq, 0.0)),
+            rotated_y(ca, sa, (-sd * cq, -sd * sq, 0.0)))
 
 
-def _slider_output_pin(dims, cq, sq, x):
+def _slider_output_pin(dims: dict[str, float], cq: None, sq: None, x: Real) -> Kinematics:
     return (x, dims["e"], 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 0.0)
 
 
-def _skew_slider_output_pin(dims, cq, sq, x):
+def _skew_slider_output_pin(dims: dict[str, float], cq: None, sq: None, x: Real) -> Kinematics:
     a, f, cx, sx = dims["a"], dims["f"], dims["cos ksi"], dims["sin ksi"]
     return (a, x * sx, f - x * cx), (0.0, sx, -cx), (0.0, 0.0, 0.0)
 
@@ -3158,8 +3163,9 @@ class Pins(NamedTuple):
     pin_dimensions); coupler the form
     of its coupler's frame ("plane", "sphere" or "line"); joint_at_a the axis the coupler turns
     about relative to the crank ("z", or "OA" through the sphere's centre)."""
-    crank_pin: object
-    output_pin: object
+    crank_pin: Callable[[dict[str, float], Real, Real], Kinematics]
+    output_pin: Callable[[dict[str, float], Any, Any, Any], Kinematics]   # (cq, sq, None)
+    #                                                      or (None, None, x): by the kind
     coupler: str
     joint_at_a: str
 
@@ -3174,7 +3180,7 @@ PINS = {
 COUPLER_REACH = 1e9      # a coupler point at most this many times the linkage's size from A
 
 
-def pin_dimensions(dims):
+def pin_dimensions(dims: dict[str, float]) -> dict[str, float]:
     """dims with the cosines and sines of its angles ("cos a", "sin ksi", ...), computed once for
     the pins of PINS."""
     out = dict(dims)
@@ -3184,7 +3190,7 @@ def pin_dimensions(dims):
     return out
 
 
-def _add(*terms):
+def _add(*terms: tuple[Real, Vec3]) -> Vec3:
     """The sum of (coefficient, 3-vector) terms, componentwise."""
     (k, v), x, y, z = terms[0], 0.0, 0.0, 0.0
     for k, v in terms:
@@ -3192,31 +3198,31 @@ def _add(*terms):
     return x, y, z
 
 
-def _sub(p, q):
+def _sub(p: Vec3, q: Vec3) -> Vec3:
     return (p[0] - q[0], p[1] - q[1], p[2] - q[2])
 
 
-def cross(u, v):
+def cross(u: Vec3, v: Vec3) -> Vec3:
     """The cross product of two 3-vectors (floats or numpy arrays alike)."""
     return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
 
 
-def dot(u, v):
+def dot(u: Vec3, v: Vec3) -> Real:
     """The dot product of two 3-vectors."""
     return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 
 
-def rotated_y(c, s, v):
+def rotated_y(c: float, s: float, v: Vec3) -> Vec3:
     """v rotated about the y axis by the angle of cosine c, sine s (z turns toward +x)."""
     return (c * v[0] + s * v[2], v[1], -s * v[0] + c * v[2])
 
 
-def _quarter_turned(w):
+def _quarter_turned(w: Vec3) -> Vec3:
     """w turned +90 degrees about z (its z component dropped): n of the plane coupler frame."""
     return (-w[1], w[0], 0.0)
 
 
-def check_coupler_point(linkage, u, v=0.0):
+def check_coupler_point(linkage: Linkage, u: float, v: float = 0.0) -> tuple[float, float]:
     """(u, v) as floats if they name a point of `linkage`'s coupler (see Linkage.coupler), or a
     ValueError that says why not."""
     try:
@@ -3245,7 +3251,10 @@ def check_coupler_point(linkage, u, v=0.0):
     return u, v
 
 
-def _joint_kinematics(linkage, dims, c, s, out, level, q1, q2, cos_sin):
+def _joint_kinematics(linkage: Linkage, dims: dict[str, float], c: Real, s: Real, out: Real,
+                      level: int, q1: Real | None, q2: Real | None,
+                      cos_sin: Callable[[Any], tuple[Any, Any]]
+                      ) -> tuple[tuple[Vec3, ...], tuple[Vec3, ...], Vec3]:
     """A, P (positions and total derivatives by phi, as many as `level` asks) and P_q, in the
     linkage's scaled lengths (divided by its unit, as the engine computes), from cos and sin of
     phi, the output (degrees, or length) and its derivatives q1, q2; dims is
@@ -3254,13 +3263,15 @@ def _joint_kinematics(linkage, dims, c, s, out, level, q1, q2, cos_sin):
     a = pins.crank_pin(dims, c, s)
     if linkage.is_slider:
         unit = linkage._unit
-        out, q1, q2 = (None if q is None else q / unit for q in (out, q1, q2))
+        out = out / unit
+        q1, q2 = (None if q is None else q / unit for q in (q1, q2))
         p = pins.output_pin(dims, None, None, out)
     else:
         cq, sq = cos_sin(out)
         p = pins.output_pin(dims, cq, sq, None)
     if level == 0:
         return a[:1], p[:1], p[1]
+    assert q1 is not None                   # the derivatives `level` asks for are given
     p1 = _add((q1, p[1]))
     if level == 1:
         return a[:2], (p[0], p1), p[1]
@@ -3268,7 +3279,8 @@ def _joint_kinematics(linkage, dims, c, s, out, level, q1, q2, cos_sin):
     return a, (p[0], p1, p2), p[1]
 
 
-def _coupler_form(linkage, a, p, u, v, sqrt):
+def _coupler_form(linkage: Linkage, a: Sequence[Vec3], p: Sequence[Vec3], u: float, v: float,
+                  sqrt: Callable[[Any], Any]) -> list[Vec3]:
     """The coupler point and its derivatives (as many as a and p carry) from the pins' (scaled
     lengths: see _joint_kinematics), in the linkage's lengths."""
     form = PINS[linkage.kind].coupler
@@ -3299,7 +3311,8 @@ def _coupler_form(linkage, a, p, u, v, sqrt):
     return out
 
 
-def _transmission_form(kind, a, p, p_q, atan2):
+def _transmission_form(kind: str, a: Vec3, p: Vec3, p_q: Vec3, atan2: Callable[[Any, Any], Any]
+                       ) -> Real:
     """mu in degrees from the pins' positions and the output pin's P_q (see the notes above)."""
     t_r = cross(a if PINS[kind].joint_at_a == "OA" else (0.0, 0.0, 1.0), _sub(p, a))
     normal = cross(p_q, t_r)
@@ -3311,13 +3324,14 @@ class CouplerMotion(NamedTuple):
     frame of joint_positions, the derivatives by the input angle in radians (as Motion's); None
     where not asked for or where there is no position (status, as the Motion's)."""
     phi: float
-    position: tuple | None
-    velocity: tuple | None
-    acceleration: tuple | None
+    position: Vector | None
+    velocity: Vector | None
+    acceleration: Vector | None
     status: str
 
 
-def coupler_of(linkage, motions, u, v=0.0):
+def coupler_of(linkage: Linkage, motions: Iterable[Motion], u: float, v: float = 0.0
+               ) -> list[CouplerMotion]:
     """The coupler point (u, v) (see Linkage.coupler) at each of `motions` (Linkage.sweep's): as
     many derivatives as each Motion carries."""
     u, v = check_coupler_point(linkage, u, v)
@@ -3330,15 +3344,16 @@ def coupler_of(linkage, motions, u, v=0.0):
         c, s = cos_sin_degrees(m.phi)
         a, p, _ = _joint_kinematics(linkage, dims, c, s, m.output, level, m.velocity,
                                     m.acceleration, cos_sin_degrees)
-        point = _coupler_form(linkage, a, p, u, v, math.sqrt) + [None, None]
-        out.append(CouplerMotion(m.phi, *point[:3], m.status))
+        point: list[Vector | None] = [*_coupler_form(linkage, a, p, u, v, math.sqrt), None, None]
+        out.append(CouplerMotion(m.phi, point[0], point[1], point[2], m.status))
     return out
 
 
-def transmission_of(linkage, motions):
+def transmission_of(linkage: Linkage, motions: Iterable[Motion]) -> list[float | None]:
     """The transmission angle mu (degrees, [0, 180]) at each of `motions`, None where there is no
     position."""
-    out, dims = [], pin_dimensions(linkage._scaled)
+    out: list[float | None] = []
+    dims = pin_dimensions(linkage._scaled)
     for m in motions:
         if m.output is None:
             out.append(None)
@@ -3424,7 +3439,8 @@ ANALYSIS_SAMPLES = 720              # D and the motion sampled every half degree
 _TOUCHING = 1e-12                   # |D| over its scale under which a minimum touches zero
 
 
-def _golden(f, lo, hi, maximum):
+def _golden(f: Callable[[float], float], lo: float, hi: float, maximum: bool
+            ) -> tuple[float, float]:
     """The extreme of f on [lo, hi] by golden-section search: (x, f(x))."""
     g = (math.sqrt(5) - 1) / 2
     sign = -1.0 if maximum else 1.0
@@ -3445,13 +3461,16 @@ def _golden(f, lo, hi, maximum):
     return x, f(x)
 
 
-def extreme_of(f, lo, hi, maximum, h=1e-3):
+def extreme_of(f: Callable[[float], float], lo: float, hi: float, maximum: bool, h: float = 1e-3
+               ) -> tuple[float, float]:
     """The extreme of f on [lo, hi]: golden-section search, then the zero of the central
     difference of f (step h) by bisection, which places a smooth extreme to ~1e-10 rather than
     ~1e-8; that one is kept unless its value is worse beyond rounding (a kink, |.|, is better
     left to the first)."""
     x, fx = _golden(f, lo, hi, maximum)
-    slope = lambda z: f(z + h) - f(z - h)                      # noqa: E731
+
+    def slope(z: float) -> float:
+        return f(z + h) - f(z - h)
     left, right = x - 1e-4, x + 1e-4
     if left - h < lo or right + h > hi:                        # f is known on [lo, hi] only
         return x, fx
@@ -3475,7 +3494,7 @@ def extreme_of(f, lo, hi, maximum, h=1e-3):
     return x, fx
 
 
-def _bisect(f, lo, hi, f_lo):
+def _bisect(f: Callable[[float], float], lo: float, hi: float, f_lo: float) -> float:
     """The point of [lo, hi] where f changes sign (f(lo) = f_lo, f(hi) of the other sign), to the
     last bit."""
     for _ in range(200):
@@ -3492,7 +3511,8 @@ def _bisect(f, lo, hi, f_lo):
     return lo + (hi - lo) / 2
 
 
-def _discriminant(linkage):
+def _discriminant(linkage: Linkage
+                  ) -> tuple[Callable[[float], float], Callable[[float], float]]:
     """D(phi) and D'(phi) (phi in degrees, D' by radians) over the scale of D, in double: each
     term divided by the scale's root before it is squared (no overflow, no underflow)."""
     k = linkage._constants
@@ -3502,7 +3522,7 @@ def _discriminant(linkage):
         root = sum(abs(v) for v in k[:9]) or 1.0
     k = tuple(v / root for v in k)
 
-    def terms(phi):
+    def terms(phi: float) -> tuple[float, float]:
         c, s = cos_sin_degrees(phi)
         if linkage.is_slider:
             u, v = (k[i] + k[i + 1] * c + k[i + 2] * s for i in (6, 9))
@@ -3516,7 +3536,7 @@ def _discriminant(linkage):
     return (lambda phi: terms(phi)[0]), (lambda phi: terms(phi)[1])
 
 
-def crank_limits(linkage):
+def crank_limits(linkage: Linkage) -> tuple[list[float], list[float]]:
     """(dead centres, change points): the input angles in [0, 360) where D changes sign, and
     where a minimum of D touches zero. A minimum within the touching line where the engine (in
     50 or 110 digits) finds no position is a gap too narrow for double: its two dead centres
@@ -3544,10 +3564,11 @@ def crank_limits(linkage):
         if low and x not in minima:
             minima.append(x)
 
-    def assembles(phi):
+    def assembles(phi: float) -> float:
         return -1.0 if linkage.motion(phi, 1, 0).status == NOT_ASSEMBLED else 1.0
 
-    changes, gaps = [], set()
+    changes: list[float] = []
+    gaps: set[float] = set()
     for x in minima:
         if abs(d(x)) > _TOUCHING:
             continue
@@ -3590,28 +3611,28 @@ class Analysis(NamedTuple):
     output turns fully; time_ratio and the strokes None where the crank rocks or the output
     turns fully."""
     linkage: Linkage
-    branch: object
+    branch: int | str
     type: str
     criterion: str
-    crank_range: tuple | None
+    crank_range: tuple[tuple[float, float], ...] | None
     output_min: Extreme | None
     output_max: Extreme | None
     forward_stroke: float | None
     return_stroke: float | None
     mu_min: Extreme
     mu_max: Extreme
-    dead_centres: tuple
-    change_points: tuple
+    dead_centres: tuple[float, ...]
+    change_points: tuple[float, ...]
 
     @property
-    def time_ratio(self):
+    def time_ratio(self) -> float | None:
         """The review's eq. (5): the crank's turn while the output rises over its turn back."""
-        if self.forward_stroke is None:
+        if self.forward_stroke is None or self.return_stroke is None:    # given both or neither
             return None
         return self.forward_stroke / self.return_stroke
 
 
-def _assembled_near(linkage, phi, branch, inward):
+def _assembled_near(linkage: Linkage, phi: float, branch: int, inward: int) -> Motion:
     """The Motion at phi on `branch`, or where the crank first assembles stepping `inward`
     (+1 or -1) from it by a few ulps (phi, a dead centre found in double, may miss by one)."""
     for k in range(60):
@@ -3622,7 +3643,12 @@ def _assembled_near(linkage, phi, branch, inward):
     return linkage.motion(phi, branch)
 
 
-def _circuits(linkage, branch, start, dead):
+# A run of the motion: (Motion, the listing's branch or FOLLOW) in order.
+_Run = list[tuple[Motion, int | str]]
+
+
+def _circuits(linkage: Linkage, branch: int | str, start: int | None, dead: list[float]
+              ) -> tuple[tuple[tuple[float, float], ...] | None, list[_Run]]:
     """The motion in order, as runs [(Motion, the listing's branch or FOLLOW)]: one run over a
     full turn where the crank turns fully, else one a crank interval, out on the branch and back
     on the other."""
@@ -3632,18 +3658,18 @@ def _circuits(linkage, branch, start, dead):
         return None, [[(m, branch) for m in linkage.sweep(phis, branch, 2, start=start)
                        if m.output is not None]]
     ends = dead + [dead[0] + 360.0]
-    intervals = []
+    intervals: list[tuple[float, float]] = []
     for lo, hi in zip(ends, ends[1:]):
         # assembled between them: at two of three points inside (one may fall on a change point
         # that the engine's digits see as a gap)
         inside = [x for x in (lo + (hi - lo) * t for t in (0.25, 0.5, 0.75)) if lo < x < hi]
         if sum(linkage.motion(x, 1, 0).output is not None for x in inside) >= 2:
             intervals.append((lo, hi))
-    runs = []
-    out = 1 if branch == FOLLOW else branch
+    runs: list[_Run] = []
+    out = 1 if branch == FOLLOW else int(branch)
     for lo, hi in intervals:
         inner = [lo + i * step for i in range(1, math.ceil((hi - lo) / step)) if lo + i * step < hi]
-        run = [(_assembled_near(linkage, lo, out, 1), out)]
+        run: _Run = [(_assembled_near(linkage, lo, out, 1), out)]
         run += [(m, out) for m in linkage.sweep(inner, out)]
         run.append((_assembled_near(linkage, hi, out, -1), out))
         back = 3 - out
@@ -3653,7 +3679,7 @@ def _circuits(linkage, branch, start, dead):
     return tuple((lo % 360.0, hi % 360.0 if hi % 360.0 else 360.0) for lo, hi in intervals), runs
 
 
-def unwrapped(values, angular):
+def unwrapped(values: Sequence[float], angular: bool) -> list[float]:
     """Values along a path with 360-degree jumps of angles (angular) removed."""
     out = [values[0]]
     for v in values[1:]:
@@ -3661,11 +3687,12 @@ def unwrapped(values, angular):
     return out
 
 
-def _motion_extremes(linkage, run, outputs):
+def _motion_extremes(linkage: Linkage, run: _Run, outputs: list[float]
+                     ) -> list[tuple[float, float]]:
     """Where the output's velocity changes sign along a run (or is zero on a sample), refined by
     bisection on the branch of the sample before, and the ends of each piece on one branch:
     [(phi, output continuous with the run)]."""
-    found = []
+    found: list[tuple[float, float]] = []
     angular = not linkage.is_slider
     for i in range(len(run) - 1):
         (m0, b0), (m1, b1) = run[i], run[i + 1]
@@ -3685,10 +3712,11 @@ def _motion_extremes(linkage, run, outputs):
     return found
 
 
-def _mu_extremes(linkage, run, maximum):
+def _mu_extremes(linkage: Linkage, run: _Run, maximum: bool) -> Extreme:
     """The transmission angle's greatest (least) value along a run: each sampled local extreme
     refined on its branch within its neighbours."""
-    mus = transmission_of(linkage, [m for m, _ in run])
+    # a run holds positions only: mu is never None on it
+    mus = cast("list[float]", transmission_of(linkage, [m for m, _ in run]))
     pick = max if maximum else min
     best = pick(zip(mus, range(len(run))))
     candidates = [Extreme(run[best[1]][0].phi % 360.0, best[0])]
@@ -3700,7 +3728,7 @@ def _mu_extremes(linkage, run, maximum):
             continue
         lo, hi = sorted((m0.phi, m1.phi))
 
-        def mu(phi, b=b):
+        def mu(phi: float, b: int | str = b) -> float:
             value = transmission_of(linkage, [linkage.motion(phi, b, 0)])[0]
             return value if value is not None else (-1.0 if maximum else 361.0)
         x, value = extreme_of(mu, lo, hi, maximum)
@@ -3708,13 +3736,14 @@ def _mu_extremes(linkage, run, maximum):
     return pick(candidates, key=lambda e: e.value)
 
 
-def _linkage_type(linkage, crank_turns, output_turns, changes):
+def _linkage_type(linkage: Linkage, crank_turns: bool, output_turns: bool, changes: list[float]
+                  ) -> tuple[str, str]:
     """(type, criterion): Grashof's rule for the plane four-bar, b + |e| against c for the plane
     slider-crank, else the motion's class."""
     dims = linkage.dims
     if linkage.kind == PLANE_FOUR_BAR:
         lengths = {n: Fraction(abs(dims[n])) for n in "abcd"}
-        ordered = sorted(lengths, key=lengths.get)
+        ordered = sorted(lengths, key=lengths.__getitem__)
         s, p, q, l = (lengths[n] for n in ordered)
         shortest = ordered[0]
         text = (f"Grashof: s + l = {dims[shortest]:g} + {dims[ordered[3]]:g} "
@@ -3742,7 +3771,7 @@ def _linkage_type(linkage, crank_turns, output_turns, changes):
         (crank_turns, output_turns)], text
 
 
-def analyse(linkage, branch=1, start=None):
+def analyse(linkage: Linkage, branch: int | str = 1, start: int | None = None) -> Analysis:
     """The linkage's type and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
     Analysis (see the notes above). ValueError if it assembles at no input angle."""
     if branch not in (1, 2, FOLLOW):
@@ -3750,23 +3779,26 @@ def analyse(linkage, branch=1, start=None):
     dead, changes = crank_limits(linkage)
     crank_range, runs = _circuits(linkage, branch, start, dead)
     angular = not linkage.is_slider
-    extremes, turns = [], False
+    extremes: list[tuple[float, float]] = []
+    turns = False
     for run in runs:
         if len(run) < 2:
             continue
-        outputs = unwrapped([m.output for m, _ in run], angular)
+        outputs = unwrapped([_output_of(m) for m, _ in run], angular)
         turns |= angular and abs(outputs[-1] - outputs[0]) > 180.0
         extremes += _motion_extremes(linkage, run, outputs) + [(run[-1][0].phi, outputs[-1])]
     runs = [run for run in runs if run]
     if not runs:
         raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle on "
                          f"branch {branch}")
-    low = high = forward = back = None
+    low = high = None
+    forward = back = None
     if not turns and extremes:
-        low = min(extremes, key=lambda e: e[1])
-        high = max(extremes, key=lambda e: e[1])
-        shift = 360.0 * math.floor(low[1] / 360.0 + 0.5) if angular and len(runs) == 1 else 0.0
-        low, high = (Extreme(p % 360.0, v - shift) for p, v in (low, high))
+        lowest = min(extremes, key=lambda e: e[1])
+        highest = max(extremes, key=lambda e: e[1])
+        shift = (360.0 * math.floor(lowest[1] / 360.0 + 0.5) if angular and len(runs) == 1
+                 else 0.0)
+        low, high = (Extreme(p % 360.0, v - shift) for p, v in (lowest, highest))
         if crank_range is None:
             forward = (high.phi - low.phi) % 360.0
             back = 360.0 - forward
@@ -3782,7 +3814,13 @@ def analyse(linkage, branch=1, start=None):
                     mu_min, mu_max, tuple(dead), tuple(changes))
 
 
-def value_text(x):
+def _output_of(m: Motion) -> float:
+    """The output of a Motion that has one (a run's)."""
+    assert m.output is not None
+    return m.output
+
+
+def value_text(x: float) -> str:
     """A number for `name = value` output: up to 10 significant digits."""
     if isinstance(x, bool):
         return str(x).lower()
@@ -3791,7 +3829,7 @@ def value_text(x):
     return f"{x:.10g}"
 
 
-def analysis_lines(analysis, prefix=""):
+def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
     """The `name = value` lines of an Analysis, each name after `prefix`."""
     a, linkage = analysis, analysis.linkage
     unit = "" if linkage.is_slider else " deg"
@@ -3800,7 +3838,7 @@ def analysis_lines(analysis, prefix=""):
     rows += [("branch", str(a.branch)), ("type", a.type), ("criterion", a.criterion),
              ("crank_range", "full" if a.crank_range is None else ", ".join(
                  f"{value_text(lo)} to {value_text(hi)}" for lo, hi in a.crank_range))]
-    if a.output_min is None:
+    if a.output_min is None or a.output_max is None:         # given both or neither
         rows.append(("output_range", "full"))
     else:
         rows += [("output_range", f"{value_text(a.output_min.value)} to "
@@ -3808,10 +3846,10 @@ def analysis_lines(analysis, prefix=""):
                  ("swing", value_text(a.output_max.value - a.output_min.value) + unit),
                  ("output_min_phi", value_text(a.output_min.phi)),
                  ("output_max_phi", value_text(a.output_max.phi))]
-    if a.forward_stroke is not None:
+    if a.time_ratio is not None:                    # forward and return strokes given
         rows += [("time_ratio", value_text(a.time_ratio)),
-                 ("forward_stroke", value_text(a.forward_stroke)),
-                 ("return_stroke", value_text(a.return_stroke))]
+                 ("forward_stroke", value_text(cast(float, a.forward_stroke))),
+                 ("return_stroke", value_text(cast(float, a.return_stroke)))]
     rows += [("mu_min", value_text(a.mu_min.value)), ("mu_min_phi", value_text(a.mu_min.phi)),
              ("mu_max", value_text(a.mu_max.value)), ("mu_max_phi", value_text(a.mu_max.phi)),
              ("dead_centres", ", ".join(map(value_text, a.dead_centres)) or "none"),
@@ -3821,7 +3859,7 @@ def analysis_lines(analysis, prefix=""):
 
 # -- angles and files ----------------------------------------------------------------------------
 
-def angle_count(start, stop, step) -> int:
+def angle_count(start: float, stop: float, step: float) -> int:
     """How many input angles start, start + step, ... reach stop (within step / 1e9)."""
     if step == 0 or not all(math.isfinite(v) for v in (start, stop, step)):
         raise ValueError("start, stop and step must be finite and step non-zero")
@@ -3831,7 +3869,7 @@ def angle_count(start, stop, step) -> int:
     return max(math.floor(steps + 1e-9) + 1, 0)
 
 
-def evenly_spaced_angles(start, stop, step):
+def evenly_spaced_angles(start: float, stop: float, step: float) -> list[float]:
     """The input angles start, start + step, ... up to stop (within step / 1e9), each computed
     as start + i * step: no accumulated rounding (the listing's single-precision FOR drifts,
     quirk K10)."""
