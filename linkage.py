@@ -39,10 +39,16 @@ import os
 import re
 import shutil
 import sys
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from decimal import Decimal
 from fractions import Fraction
-from typing import Any, NamedTuple, TypeAlias, cast
+from typing import TYPE_CHECKING, Any, NamedTuple, TextIO, TypeAlias, cast
+
+if TYPE_CHECKING:                       # for annotations only: matplotlib is imported where used
+    import matplotlib.axes
+    import matplotlib.backends.backend_agg
+    import matplotlib.figure
+    from types import ModuleType
 
 __version__ = "0.2.0"
 PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linkage.py"
@@ -2756,7 +2762,7 @@ class FastUnavailable(RuntimeError):
     cannot be imported."""
 
 
-def numpy_module():
+def numpy_module() -> ModuleType:
     """numpy, imported at the first use; FastUnavailable, saying what to install, without it."""
     try:
         import numpy
@@ -3164,18 +3170,18 @@ class Pins(NamedTuple):
     of its coupler's frame ("plane", "sphere" or "line"); joint_at_a the axis the coupler turns
     about relative to the crank ("z", or "OA" through the sphere's centre)."""
     crank_pin: Callable[[dict[str, float], Real, Real], Kinematics]
-    output_pin: Callable[[dict[str, float], Any, Any, Any], Kinematics]   # (cq, sq, None)
-    #                                                      or (None, None, x): by the kind
+    output_pin: Callable[[dict[str, float], Any, Any, Any], Kinematics]   # see output_pin_at
     coupler: str
     joint_at_a: str
+    output_joint: str           # the output pin's name in joint_positions: B, or the slider C
 
 
 PINS = {
-    PLANE_FOUR_BAR: Pins(_plane_crank_pin, _plane_output_pin, "plane", "z"),
-    SPHERICAL_FOUR_BAR: Pins(_spherical_crank_pin, _spherical_output_pin, "sphere", "OA"),
-    SKEW_FOUR_BAR: Pins(_plane_crank_pin, _skew_output_pin, "line", "z"),
-    PLANE_SLIDER_CRANK: Pins(_plane_crank_pin, _slider_output_pin, "plane", "z"),
-    SKEW_SLIDER_CRANK: Pins(_plane_crank_pin, _skew_slider_output_pin, "line", "z"),
+    PLANE_FOUR_BAR: Pins(_plane_crank_pin, _plane_output_pin, "plane", "z", "B"),
+    SPHERICAL_FOUR_BAR: Pins(_spherical_crank_pin, _spherical_output_pin, "sphere", "OA", "B"),
+    SKEW_FOUR_BAR: Pins(_plane_crank_pin, _skew_output_pin, "line", "z", "B"),
+    PLANE_SLIDER_CRANK: Pins(_plane_crank_pin, _slider_output_pin, "plane", "z", "C"),
+    SKEW_SLIDER_CRANK: Pins(_plane_crank_pin, _skew_slider_output_pin, "line", "z", "C"),
 }
 COUPLER_REACH = 1e9      # a coupler point at most this many times the linkage's size from A
 
@@ -3259,16 +3265,12 @@ def _joint_kinematics(linkage: Linkage, dims: dict[str, float], c: Real, s: Real
     linkage's scaled lengths (divided by its unit, as the engine computes), from cos and sin of
     phi, the output (degrees, or length) and its derivatives q1, q2; dims is
     pin_dimensions(linkage._scaled); cos_sin is cos_sin_degrees or its array form."""
-    pins = PINS[linkage.kind]
-    a = pins.crank_pin(dims, c, s)
+    a = PINS[linkage.kind].crank_pin(dims, c, s)
     if linkage.is_slider:
         unit = linkage._unit
         out = out / unit
         q1, q2 = (None if q is None else q / unit for q in (q1, q2))
-        p = pins.output_pin(dims, None, None, out)
-    else:
-        cq, sq = cos_sin(out)
-        p = pins.output_pin(dims, cq, sq, None)
+    p = output_pin_at(linkage, dims, out, cos_sin)
     if level == 0:
         return a[:1], p[:1], p[1]
     assert q1 is not None                   # the derivatives `level` asks for are given
@@ -3277,6 +3279,17 @@ def _joint_kinematics(linkage: Linkage, dims: dict[str, float], c: Real, s: Real
         return a[:2], (p[0], p1), p[1]
     p2 = _add((q1 * q1, p[2]), (q2, p[1]))
     return a, (p[0], p1, p2), p[1]
+
+
+def output_pin_at(linkage: Linkage, dims: dict[str, float], out: Real,
+                  cos_sin: Callable[[Any], tuple[Any, Any]]) -> Kinematics:
+    """The output pin at output `out`: the output angle (degrees; cos_sin gives its cosine and
+    sine), or the slider's position (in the lengths of `dims`)."""
+    pins = PINS[linkage.kind]
+    if linkage.is_slider:
+        return pins.output_pin(dims, None, None, out)
+    cq, sq = cos_sin(out)
+    return pins.output_pin(dims, cq, sq, None)
 
 
 def _coupler_form(linkage: Linkage, a: Sequence[Vec3], p: Sequence[Vec3], u: float, v: float,
@@ -3974,11 +3987,11 @@ class Pose(NamedTuple):
     phi: float
     status: str
     output: float | None
-    joints: dict
-    axes: dict
+    joints: dict[str, Vector]
+    axes: dict[str, tuple[Vector, Vector]]
 
 
-def joint_positions(linkage: Linkage, phi: float, branch: int = 1) -> Pose:
+def joint_positions(linkage: Linkage, phi: float, branch: int | str = 1) -> Pose:
     """The 3-D position of every joint of `linkage` at input angle phi (degrees) on `branch`.
 
     plane:        A0 = (0, 0, 0) the input pivot, A the crank pin, B the output crank pin,
@@ -3999,28 +4012,29 @@ def joint_positions(linkage: Linkage, phi: float, branch: int = 1) -> Pose:
     joints["A"] = pins.crank_pin(dims, *cos_sin_degrees(motion.phi))[0]
     out = motion.output
     if out is not None:
-        cq, sq = (None, None) if linkage.is_slider else cos_sin_degrees(out)
-        joints["C" if linkage.is_slider else "B"] = pins.output_pin(dims, cq, sq, out)[0]
+        joints[pins.output_joint] = output_pin_at(linkage, dims, out, cos_sin_degrees)[0]
     return Pose(motion.phi, motion.status, out, joints, axes)
 
 
 _Z_AXIS = (0.0, 0.0, 1.0)
 _ORIGIN = (0.0, 0.0, 0.0)
+# A kind's ground: its fixed joints and its axes, as Pose has them.
+_Ground = tuple[dict[str, Vector], dict[str, tuple[Vector, Vector]]]
 
 
-def _plane_ground_joints(dims):
+def _plane_ground_joints(dims: dict[str, float]) -> _Ground:
     b0 = (dims["a"], 0.0, 0.0)
     return {"A0": _ORIGIN, "B0": b0}, {"input": (_ORIGIN, _Z_AXIS), "output": (b0, _Z_AXIS)}
 
 
-def _spherical_ground_joints(dims):
+def _spherical_ground_joints(dims: dict[str, float]) -> _Ground:
     ca, sa = cos_sin_degrees(dims["a"])
     b0 = (sa, 0.0, ca)
     return ({"O": _ORIGIN, "A0": _Z_AXIS, "B0": b0},
             {"input": (_ORIGIN, _Z_AXIS), "output": (_ORIGIN, b0)})
 
 
-def _skew_ground_joints(dims):
+def _skew_ground_joints(dims: dict[str, float]) -> _Ground:
     a, f = dims["a"], dims["f"]
     cx, sx = cos_sin_degrees(dims["ksi"])
     f1 = (a, 0.0, f)
@@ -4028,12 +4042,12 @@ def _skew_ground_joints(dims):
             {"input": (_ORIGIN, _Z_AXIS), "output": (f1, (0.0, -sx, cx))})
 
 
-def _slider_ground_joints(dims):
+def _slider_ground_joints(dims: dict[str, float]) -> _Ground:
     return {"A0": _ORIGIN}, {"input": (_ORIGIN, _Z_AXIS),
                              "guide": ((0.0, dims["e"], 0.0), (1.0, 0.0, 0.0))}
 
 
-def _skew_slider_ground_joints(dims):
+def _skew_slider_ground_joints(dims: dict[str, float]) -> _Ground:
     a, f = dims["a"], dims["f"]
     cx, sx = cos_sin_degrees(dims["ksi"])
     f1 = (a, 0.0, f)
@@ -4048,16 +4062,20 @@ _GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _sph
 
 # -- the drawing: what every renderer draws ------------------------------------------------------
 
+Point = tuple[float, float]             # a point on the page, (x, y)
+Box = tuple[float, float, float, float]     # a box on the page, (x0, y0, x1, y1)
+
+
 class Stroke(NamedTuple):
     """A polyline on the page; style is one of STROKE_STYLES."""
-    points: tuple
+    points: tuple[Point, ...]
     style: str
 
 
 class Mark(NamedTuple):
     """A joint on the page: kind "pivot" (on a fixed axis) or "joint" (a moving pin); name is
     joint_positions()'s."""
-    at: tuple
+    at: Point
     kind: str
     name: str
 
@@ -4066,9 +4084,9 @@ class Label(NamedTuple):
     """A letter of the paper (a, b, c, d, e, f, g, ξ, c*) centred at `at`, naming the page
     polyline `names` (its link or dimension line; one point for an angle): place_labels() moves
     it beside what it names, where nothing drawn covers it."""
-    at: tuple
+    at: Point
     text: str
-    names: tuple = ()
+    names: tuple[Point, ...] = ()
 
 
 class Letters(NamedTuple):
@@ -4081,9 +4099,9 @@ class Letters(NamedTuple):
 
 
 class Layer(NamedTuple):
-    strokes: tuple
-    marks: tuple
-    labels: tuple
+    strokes: tuple[Stroke, ...]
+    marks: tuple[Mark, ...]
+    labels: tuple[Label, ...]
 
 
 class Frame(NamedTuple):
@@ -4105,11 +4123,12 @@ class Drawing(NamedTuple):
     subtitle: str
     kind: str
     ground: Layer
-    frames: tuple
-    bounds: tuple
+    frames: tuple[Frame, ...]
+    bounds: Box
     size: float
     letters: Letters
-    chart: tuple | None = None     # the transmission angle along the sweep: ((phi, mu), ...)
+    chart: tuple[tuple[float, float | None], ...] | None = None   # the transmission angle
+    #                                                    along the sweep: ((phi, mu), ...)
 
 
 # One linkage of each kind that turns fully, as Figs. 1 and 2 draw them (data/scenes/fig1*, fig2*).
@@ -4135,7 +4154,7 @@ VIEWS = {SPHERICAL_FOUR_BAR: (-90.0, 20.0), SKEW_FOUR_BAR: (-60.0, 20.0),
 
 
 @functools.cache
-def _view(kind):
+def _view(kind: str) -> tuple[Vector, Vector, Vector] | None:
     """(right, up, toward the viewer) unit vectors of the kind's view; None for plane ones."""
     if kind not in VIEWS:
         return None
@@ -4144,7 +4163,7 @@ def _view(kind):
     return (-sa, ca, 0.0), (-se * ca, -se * sa, ce), (ce * ca, ce * sa, se)
 
 
-def project(kind: str, point) -> tuple:
+def project(kind: str, point: Vector) -> Point:
     """The page position (x, y) of a 3-D point in the kind's view: plane linkages as they lie,
     the others by orthographic projection (VIEWS)."""
     view = _view(kind)
@@ -4153,22 +4172,22 @@ def project(kind: str, point) -> tuple:
     return (dot(point, view[0]), dot(point, view[1]))
 
 
-def _along(p, q, t):
-    return tuple(a + (b - a) * t for a, b in zip(p, q))
+def _along(p: Point, q: Point, t: float) -> Point:
+    return (p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t)
 
 
-def _page_normal(p, q):
+def _page_normal(p: Point, q: Point) -> Point:
     """The unit normal to the left of the page segment p -> q ((0, 1) if it is a point)."""
     dx, dy = q[0] - p[0], q[1] - p[1]
     n = math.hypot(dx, dy)
     return (-dy / n, dx / n) if n else (0.0, 1.0)
 
 
-def _shifted(p, direction, by):
+def _shifted(p: Point, direction: Point, by: float) -> Point:
     return (p[0] + direction[0] * by, p[1] + direction[1] * by)
 
 
-def _hatched(p, q, side, size):
+def _hatched(p: Point, q: Point, side: int, size: float) -> list[Stroke]:
     """The ground line p -> q (page points) hatched on its `side` (+1 left, -1 right)."""
     normal = _page_normal(p, q)
     length = math.dist(p, q)
@@ -4183,7 +4202,7 @@ def _hatched(p, q, side, size):
     return [Stroke((p, q), "ground")] + hatch
 
 
-def _ground_symbol(at, away, size):
+def _ground_symbol(at: Point, away: Point, size: float) -> list[Stroke]:
     """A fixed pivot as textbooks draw it: a triangle from the pivot `at` (page point) to a base
     `size` away in the unit direction `away`, the base hatched on its far side."""
     normal = (-away[1], away[0])
@@ -4193,33 +4212,33 @@ def _ground_symbol(at, away, size):
     return [Stroke((left, at, right), "ground")] + _hatched(wide_left, wide_right, 1, size)
 
 
-def _label_beside(p, q, text, size, side=1.0):
+def _label_beside(p: Point, q: Point, text: str, size: float, side: float = 1.0) -> Label:
     """The letter of the link p -> q (page points), beside its middle on `side`."""
     return Label(_shifted(_along(p, q, 0.5), _page_normal(p, q), side * 0.7 * size), text, (p, q))
 
 
-def _segments_cross(p, q, r, s) -> bool:
+def _segments_cross(p: Point, q: Point, r: Point, s: Point) -> bool:
     """Whether the page segments p q and r s meet (touching counts)."""
-    def turn(a, b, c):
+    def turn(a: Point, b: Point, c: Point) -> float:
         return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
     d1, d2, d3, d4 = turn(r, s, p), turn(r, s, q), turn(p, q, r), turn(p, q, s)
     if ((d1 > 0 and d2 < 0) or (d1 < 0 and d2 > 0)) and ((d3 > 0 and d4 < 0)
                                                          or (d3 < 0 and d4 > 0)):
         return True
 
-    def on(a, b, c):                       # c on the segment a b, given a, b, c in a line
+    def on(a: Point, b: Point, c: Point) -> bool:    # c on the segment a b, given a, b, c in a line
         return min(a[0], b[0]) <= c[0] <= max(a[0], b[0]) and \
             min(a[1], b[1]) <= c[1] <= max(a[1], b[1])
     return (d1 == 0 and on(r, s, p)) or (d2 == 0 and on(r, s, q)) or \
         (d3 == 0 and on(p, q, r)) or (d4 == 0 and on(p, q, s))
 
 
-def _clearest(choices, links, skip=0):
+def _clearest(choices: list[list[Stroke]], links: list[Stroke], skip: int = 0) -> list[Stroke]:
     """Of `choices` (each a list of ground strokes: a symbol or a guide drawn one way), the
     first that no more than one more of `links` (the moving links' strokes over the sweep)
     cross than cross the clearest (a link that turns fully crosses equal choices one step more
     or less, as the sweep's steps fall); the first `skip` strokes of a choice not counted."""
-    def crossings(strokes):
+    def crossings(strokes: list[Stroke]) -> int:
         counted = [(a, b) for s in strokes[skip:] for a, b in zip(s.points, s.points[1:])]
         x0, y0, x1, y1 = _extent([p for ab in counted for p in ab])
         return sum(any(_segments_cross(a, b, p, q) for p, q in zip(s.points, s.points[1:])
@@ -4230,14 +4249,15 @@ def _clearest(choices, links, skip=0):
     return next(c for c, n in zip(choices, counts) if n <= min(counts) + 1)
 
 
-def _pivot_symbol(at, aways, links, size):
+def _pivot_symbol(at: Point, aways: Sequence[Point], links: list[Stroke], size: float
+                  ) -> list[Stroke]:
     """The ground symbol at the fixed pivot `at` pointing the first of the unit directions
     `aways` whose base and hatching the links cross least: off the links' way where there is
     such a side."""
     return _clearest([_ground_symbol(at, away, size) for away in aways], links, skip=1)
 
 
-def _guide(p, q, links, size):
+def _guide(p: Point, q: Point, links: list[Stroke], size: float) -> list[Stroke]:
     """The slider's guide under the travel p -> q of the slider's centre (page points): a
     ground line along the block's side, hatched away from it, on the side (left, then right)
     that the links cross least."""
@@ -4247,7 +4267,7 @@ def _guide(p, q, links, size):
                       for side in (1, -1)], links)
 
 
-def _great_arc(p, q, steps=24):
+def _great_arc(p: Vector, q: Vector, steps: int = 24) -> list[Vector]:
     """Points along the shorter great-circle arc from p to q (unit vectors)."""
     angle = math.atan2(math.sqrt(sum(c * c for c in cross(p, q))), dot(p, q))
     if angle < 1e-12:
@@ -4257,24 +4277,35 @@ def _great_arc(p, q, steps=24):
     for i in range(steps + 1):
         t = i / steps
         wp, wq = math.sin((1 - t) * angle) / s, math.sin(t * angle) / s
-        out.append(tuple(wp * a + wq * b for a, b in zip(p, q)))
+        out.append(_vector(wp * a + wq * b for a, b in zip(p, q)))
     return out
 
 
-def _circle_3d(centre, u, v, radius, steps=72):
+def _circle_3d(centre: Vector, u: Vector, v: Vector, radius: float, steps: int = 72
+               ) -> list[Vector]:
     """Points of the circle about `centre` in the plane of the unit vectors u, v."""
     out = []
     for i in range(steps + 1):
         c, s = cos_sin_degrees(360.0 * i / steps)
-        out.append(tuple(m + radius * (c * a + s * b) for m, a, b in zip(centre, u, v)))
+        out.append(_vector(m + radius * (c * a + s * b) for m, a, b in zip(centre, u, v)))
     return out
 
 
-def _sphere_strokes(kind, points, style):
+def _vector(components: Iterable[float]) -> Vector:
+    """Three numbers as a Vector."""
+    x, y, z = components
+    return x, y, z
+
+
+def _sphere_strokes(kind: str, points: list[Vector], style: str) -> list[Stroke]:
     """3-D points on the unit sphere as page strokes: `style` where they face the viewer, hidden
     (dashed) behind the sphere."""
-    toward = _view(kind)[2]
-    strokes, run, front = [], [], None
+    view = _view(kind)
+    assert view is not None                 # drawn in the spherical four-bar's view
+    toward = view[2]
+    strokes: list[Stroke] = []
+    run: list[Point] = []
+    front = None
     for p in points:
         facing = dot(p, toward) >= 0.0
         if run and facing != front:
@@ -4288,11 +4319,11 @@ def _sphere_strokes(kind, points, style):
     return strokes
 
 
-def _page_strokes(kind, points, style):
+def _page_strokes(kind: str, points: list[Vector], style: str) -> list[Stroke]:
     return [Stroke(tuple(project(kind, p) for p in points), style)]
 
 
-def _slider_block(centre, direction, size):
+def _slider_block(centre: Point, direction: Point, size: float) -> Stroke:
     """The slider: a rectangle about `centre` (page) with its long side along `direction`."""
     n = math.hypot(*direction)
     t = (direction[0] / n, direction[1] / n) if n else (1.0, 0.0)
@@ -4305,7 +4336,8 @@ def _slider_block(centre, direction, size):
 
 # -- the five linkages on the page ----------------------------------------------------------------
 
-def _dimension(p, q, text, size, side=1.0):
+def _dimension(p: Point, q: Point, text: str, size: float, side: float = 1.0
+               ) -> tuple[list[Stroke], Label]:
     """A dimension line beside the page segment p -> q: the line, its end ticks, its letter."""
     normal = _page_normal(p, q)
     p1, q1 = _shifted(p, normal, side * 0.9 * size), _shifted(q, normal, side * 0.9 * size)
@@ -4314,15 +4346,15 @@ def _dimension(p, q, text, size, side=1.0):
     return [Stroke((p1, q1), "dimension")] + ticks, _label_beside(p1, q1, text, size, side)
 
 
-def _unit(v):
+def _unit(v: Vector) -> Vector:
     n = math.sqrt(dot(v, v))
-    return tuple(c / n for c in v)
+    return _vector(c / n for c in v)
 
 
 _DOWN, _UP, _LEFT, _RIGHT = (0.0, -1.0), (0.0, 1.0), (-1.0, 0.0), (1.0, 0.0)
 
 
-def _plane_ground(linkage, poses, size, links):
+def _plane_ground(linkage: Linkage, poses: list[Pose], size: float, links: list[Stroke]) -> Layer:
     a0, b0 = (0.0, 0.0), (linkage.dims["a"], 0.0)
     strokes = _pivot_symbol(a0, (_DOWN, _UP, _LEFT), links, size)         # not across a
     strokes += _pivot_symbol(b0, (_DOWN, _UP, _RIGHT), links, size)
@@ -4333,14 +4365,15 @@ def _plane_ground(linkage, poses, size, links):
     return Layer(tuple(strokes), marks, (_label_beside(a0, b0, "a", size, 0.6),))
 
 
-def _slider_range(poses, linkage, size):
+def _slider_range(poses: list[Pose], linkage: Linkage, size: float) -> tuple[float, float]:
     """The page extent (along the guide) of the slider's travel, and a margin."""
     xs = [p.output for p in poses if p.output is not None] or [-linkage.dims["b"],
                                                                  linkage.dims["b"]]
     return min(xs) - 2.5 * size, max(xs) + 2.5 * size
 
 
-def _slider_ground(linkage, poses, size, links):
+def _slider_ground(linkage: Linkage, poses: list[Pose], size: float, links: list[Stroke]
+                   ) -> Layer:
     e, b = linkage.dims["e"], linkage.dims["b"]
     lo, hi = _slider_range(poses, linkage, size)      # the guide along the slider's travel only:
     strokes = _pivot_symbol((0.0, 0.0), (_DOWN, _UP), links, size)  # not across the axis
@@ -4348,7 +4381,7 @@ def _slider_ground(linkage, poses, size, links):
     strokes.append(Stroke(((-b - 2.5 * size, 0.0), (hi, 0.0)), "axis"))
     strokes.append(Stroke(tuple((b * c, b * s) for c, s in (
         cos_sin_degrees(5.0 * i) for i in range(73))), "path"))
-    labels = []
+    labels: list[Label] = []
     if e:
         left = -b - 0.6 * size                         # beside the crank's circle, lettered
         lines, label = _dimension((left, e), (left, 0.0), "e", size, -1.0)   # outside it
@@ -4357,14 +4390,15 @@ def _slider_ground(linkage, poses, size, links):
     return Layer(tuple(strokes), (Mark((0.0, 0.0), "pivot", "A0"),), tuple(labels))
 
 
-def _spherical_ground(linkage, poses, size, links):
+def _spherical_ground(linkage: Linkage, poses: list[Pose], size: float, links: list[Stroke]
+                      ) -> Layer:
     kind = SPHERICAL_FOUR_BAR
     joints = poses[0].joints
     strokes = [Stroke(tuple(cos_sin_degrees(5.0 * i) for i in range(73)), "outline")]
     for name in ("A0", "B0"):
         axis = joints[name]
-        strokes.append(Stroke((project(kind, tuple(-1.35 * c for c in axis)),
-                               project(kind, tuple(1.35 * c for c in axis))), "axis"))
+        strokes.append(Stroke((project(kind, _vector(-1.35 * c for c in axis)),
+                               project(kind, _vector(1.35 * c for c in axis))), "axis"))
         at = project(kind, axis)
         out = math.degrees(math.atan2(at[1], at[0])) if math.hypot(*at) > 1e-9 else 90.0
         strokes += _pivot_symbol(at, [cos_sin_degrees(out + turn) for turn in (
@@ -4379,14 +4413,14 @@ def _spherical_ground(linkage, poses, size, links):
     return Layer(tuple(strokes), marks, labels)
 
 
-def _arc_label(kind, p, q, text):
+def _arc_label(kind: str, p: Vector, q: Vector, text: str) -> Label:
     """The letter of the arc p q on the sphere: outside the sphere beside its middle."""
     middle = _great_arc(p, q, 2)[1]
-    return Label(project(kind, tuple(1.15 * c for c in middle)), text,
+    return Label(project(kind, _vector(1.15 * c for c in middle)), text,
                  tuple(project(kind, r) for r in _great_arc(p, q)))
 
 
-def _skew_ground(linkage, poses, size, links):
+def _skew_ground(linkage: Linkage, poses: list[Pose], size: float, links: list[Stroke]) -> Layer:
     """Both skew linkages: the input axis, the fixed link a (the common perpendicular, hatched),
     f along the input axis, the output axis or the slider's guide, and the angle ksi."""
     kind, dims = linkage.kind, linkage.dims
@@ -4407,7 +4441,7 @@ def _skew_ground(linkage, poses, size, links):
     if kind == SKEW_FOUR_BAR:
         g = -f / cos_sin_degrees(dims["ksi"])[0]      # B0 = F1 + g w
         ts = (min(0.0, g) - reach, max(0.0, g) + reach)
-        strokes += _page_strokes(kind, [tuple(p + t * w for p, w in zip(point, direction))
+        strokes += _page_strokes(kind, [_vector(p + t * w for p, w in zip(point, direction))
                                         for t in ts], "axis")
         b0 = project(kind, joints["B0"])
         lines, g_label = _dimension(f1, b0, "g", size, 1.0)
@@ -4420,32 +4454,33 @@ def _skew_ground(linkage, poses, size, links):
         upright = (0.0, 0.0, 1.0)
     else:
         lo, hi = _slider_range(poses, linkage, size)          # from F1 past the travel
-        ends = [project(kind, tuple(p + t * w for p, w in zip(point, direction)))
+        ends = [project(kind, _vector(p + t * w for p, w in zip(point, direction)))
                 for t in (min(lo, -size), max(hi, size))]
         strokes.append(Stroke(tuple(ends), "axis"))
         strokes += _guide(ends[0], ends[1], links, size)
         upright = (0.0, 0.0, -1.0)
     # ksi: between the shaft (the guide) and a parallel to the input axis through F1
-    strokes += _page_strokes(kind, [joints["F1"], tuple(p + 3.0 * size * u for p, u in zip(
+    strokes += _page_strokes(kind, [joints["F1"], _vector(p + 3.0 * size * u for p, u in zip(
         joints["F1"], upright))], "dimension")
-    between = _unit(tuple(u + w for u, w in zip(upright, direction)))
-    at = project(kind, tuple(p + 2.2 * size * u for p, u in zip(joints["F1"], between)))
+    between = _unit(_vector(u + w for u, w in zip(upright, direction)))
+    at = project(kind, _vector(p + 2.2 * size * u for p, u in zip(joints["F1"], between)))
     labels.append(Label(at, "ξ", (at,)))
     return Layer(tuple(strokes), tuple(marks), tuple(labels))
 
 
-def _links(linkage, pose, size):
+def _links(linkage: Linkage, pose: Pose, size: float) -> Layer:
     """The moving links of one pose: the crank b, the coupler c (c* for the plane slider's rod),
     the output crank d or the slider block, their pins and letters."""
     kind, joints = linkage.kind, pose.joints
     at = {name: project(kind, p) for name, p in joints.items()}
-    output = "C" if linkage.is_slider else "B"
+    output = PINS[kind].output_joint
     pairs = [("A0", "A", "b")]
     if output in joints:
         pairs.append(("A", output, "c*" if kind == PLANE_SLIDER_CRANK else "c"))
         if output == "B":
             pairs.append(("B0", "B", "d"))
-    strokes, labels = [], []
+    strokes: list[Stroke] = []
+    labels: list[Label] = []
     for p, q, text in pairs:
         if kind == SPHERICAL_FOUR_BAR:
             strokes += _sphere_strokes(kind, _great_arc(joints[p], joints[q]), "link")
@@ -4465,7 +4500,8 @@ _GROUNDS = {PLANE_FOUR_BAR: _plane_ground, PLANE_SLIDER_CRANK: _slider_ground,
             SKEW_SLIDER_CRANK: _skew_ground}
 
 
-def _frame(linkage, pose, size, point=None, mu=None):
+def _frame(linkage: Linkage, pose: Pose, size: float, point: Vector | None = None,
+           mu: float | None = None) -> Frame:
     """One pose's Frame; `point` the coupler point there (3-D) and mu the transmission angle, to
     be drawn and told when given."""
     where = f"φ = {pose.phi:g}°"
@@ -4484,12 +4520,12 @@ def _frame(linkage, pose, size, point=None, mu=None):
     return Frame(pose, layer, caption, message)
 
 
-def _with_coupler_point(linkage, pose, layer, point):
+def _with_coupler_point(linkage: Linkage, pose: Pose, layer: Layer, point: Vector) -> Layer:
     """The layer with the coupler point drawn on the coupler: a mark, joined to both pins (the
     coupler as the plate that carries it)."""
     kind = linkage.kind
-    output = pose.joints["C" if linkage.is_slider else "B"]
-    strokes = []
+    output = pose.joints[PINS[kind].output_joint]
+    strokes: list[Stroke] = []
     for pin in (pose.joints["A"], output):
         if kind == SPHERICAL_FOUR_BAR:
             strokes += _sphere_strokes(kind, _great_arc(pin, point), "link")
@@ -4499,7 +4535,8 @@ def _with_coupler_point(linkage, pose, layer, point):
                  layer.marks + (Mark(project(kind, point), "point", "P"),), layer.labels)
 
 
-def _with_marked(linkage, ground, phis, branch, size):
+def _with_marked(linkage: Linkage, ground: Layer, phis: Sequence[float], branch: int,
+                 size: float) -> Layer:
     """The ground with the linkage's moving links at each input angle of `phis` drawn faint
     ("marked") and numbered 1, 2, ... beyond the output pin (or the slider's pin)."""
     strokes, labels = list(ground.strokes), list(ground.labels)
@@ -4508,7 +4545,7 @@ def _with_marked(linkage, ground, phis, branch, size):
         pose = joint_positions(linkage, phi, branch)
         links = _links(linkage, pose, size)
         strokes += [s._replace(style="marked") for s in links.strokes]
-        output = "C" if linkage.is_slider else "B"
+        output = PINS[kind].output_joint
         if output in pose.joints:
             pin = project(kind, pose.joints[output])
             away = project(kind, pose.joints["A"]) if linkage.is_slider else \
@@ -4519,21 +4556,24 @@ def _with_marked(linkage, ground, phis, branch, size):
     return Layer(tuple(strokes), ground.marks, tuple(labels))
 
 
-def _coupler_curves(linkage, phis, coupler, motions, branch, traced):
+def _coupler_curves(linkage: Linkage, phis: Sequence[float], coupler: tuple[float, float],
+                    motions: list[Motion], branch: int, traced: Sequence[int | str]
+                    ) -> tuple[list[Stroke], list[Vector | None]]:
     """The coupler point's curve as page strokes, broken where the linkage does not assemble:
     "coupler" on the frames' `motions` (of `branch`), then "coupler-other" on each branch of
     `traced`, "coupler-follow" for the motion followed from `branch`; and the frames' points
     (3-D, None where there is none)."""
-    strokes, first = [], None
-    for other in (None,) + tuple(traced):
+    strokes: list[Stroke] = []
+    first: list[Vector | None] | None = None
+    for other in (None, *traced):
         swept = motions if other is None else linkage.sweep(
             phis, other, 0, start=branch if other == FOLLOW else None)
         points = [c.position for c in coupler_of(linkage, swept, *coupler)]
         first = points if first is None else first
         style = ("coupler" if other is None else "coupler-follow" if other == FOLLOW
                  else "coupler-other")
-        run = []
-        for p in points + [None]:
+        run: list[Vector] = []
+        for p in [*points, None]:
             if p is not None:
                 run.append(p)
                 continue
@@ -4542,10 +4582,11 @@ def _coupler_curves(linkage, phis, coupler, motions, branch, traced):
                             if linkage.kind == SPHERICAL_FOUR_BAR
                             else _page_strokes(linkage.kind, run, style))
             run = []
+    assert first is not None                # the frames' own motions come first
     return strokes, first
 
 
-def _extent(points):
+def _extent(points: Sequence[Point]) -> Box:
     xs, ys = [p[0] for p in points], [p[1] for p in points]
     return min(xs), min(ys), max(xs), max(ys)
 
@@ -4562,7 +4603,12 @@ _BESIDE = sorted((step + 0.4 * other + 3.0 * abs(along - 0.5), along, step, othe
 _AROUND = tuple((math.cos(math.pi * k / 8), math.sin(math.pi * k / 8)) for k in range(16))
 
 
-def stroke_segments(strokes) -> list:
+# A stroke's segment for place_labels: its box (left, bottom, right, top), its ends x0, y0, x1,
+# y1, and whether it is solid.
+Segment = tuple[float, float, float, float, float, float, float, float, bool]
+
+
+def stroke_segments(strokes: Iterable[Stroke]) -> list[Segment]:
     """The strokes as segments for place_labels: (left, bottom, right, top) of each, its ends
     x0, y0, x1, y1, and whether it is solid."""
     return [(min(p[0], q[0]), min(p[1], q[1]), max(p[0], q[0]), max(p[1], q[1]),
@@ -4570,7 +4616,7 @@ def stroke_segments(strokes) -> list:
             for s in strokes for p, q in zip(s.points, s.points[1:])]
 
 
-def _box_meets_segment(box, x0, y0, x1, y1) -> bool:
+def _box_meets_segment(box: Box, x0: float, y0: float, x1: float, y1: float) -> bool:
     """Whether the segment (x0, y0) (x1, y1) enters the box (left, bottom, right, top):
     Liang-Barsky clipping."""
     dx, dy, t0, t1 = x1 - x0, y1 - y0, 0.0, 1.0
@@ -4587,23 +4633,25 @@ def _box_meets_segment(box, x0, y0, x1, y1) -> bool:
     return True
 
 
-def _spots(label, letters, n):
+def _spots(label: Label, letters: Letters, n: int
+           ) -> tuple[Iterator[tuple[float, Point]], tuple[float, float]]:
     """Where the label may go, as (cost, centre) nearest first - beside what it names, on both
     sides of it at points along it, then on rings about its middle - and how far from it the
     nearest (the first rows out) and all of them reach."""
     names = label.names or (label.at,)
     hw, hh = n * letters.width / 2, letters.height / 2
     gap = 0.35 * letters.height + letters.line
+    ends: list[tuple[Point, Point]] = []
     if len(names) > 1:
         ends = list(zip(names, names[1:]))
         lengths = [math.dist(p, q) for p, q in ends]
         total = sum(lengths) or 1.0
         middle, first = _along(*ends[len(ends) // 2], 0.5 if len(ends) % 2 else 0.0), 2.0
     else:
-        ends, middle, first = [], names[0], 0.0
+        middle, first = names[0], 0.0
 
     @functools.cache
-    def place(along):
+    def place(along: float) -> tuple[Point, Point, float, float]:
         """The point `along` the way, its normal, the box's reach along it, the first side."""
         left, i = along * total, 0
         while i < len(ends) - 1 and left > lengths[i]:
@@ -4615,13 +4663,13 @@ def _spots(label, letters, n):
             >= 0 else -1.0                                     # the side it was put on first
         return at, normal, hw * abs(normal[0]) + hh * abs(normal[1]), side
 
-    def beside():
+    def beside() -> Iterator[tuple[float, Point]]:
         for cost, along, step, other in _BESIDE if ends else ():
             at, normal, reach, side = place(along)
             yield cost, _shifted(at, normal, (-side if other else side) * (
                 reach + gap * (1 + 1.3 * step)))
 
-    def rings():
+    def rings() -> Iterator[tuple[float, Point]]:
         for step in range(8):
             rx, ry = hw + gap * (1 + 1.3 * step), hh + gap * (1 + 1.3 * step)
             yield from ((first + step, (middle[0] + c * rx, middle[1] + s * ry))
@@ -4630,21 +4678,24 @@ def _spots(label, letters, n):
                                                                         hw + hh + gap * 10.2)
 
 
-def _within(box, region, margin) -> bool:
+def _within(box: Box, region: Box, margin: float) -> bool:
     return (region[0] < box[0] - margin and region[1] < box[1] - margin
             and box[2] + margin < region[2] and box[3] + margin < region[3])
 
 
-def place_labels(labels, segments, marks, letters: Letters, bounds, snap=None) -> tuple:
+def place_labels(labels: Iterable[Label], segments: list[Segment], marks: Iterable[Mark],
+                 letters: Letters, bounds: Box,
+                 snap: Callable[[Point, int], Point] | None = None) -> tuple[Label, ...]:
     """The labels placed in turn, each where it touches the fewest things drawn: first no mark,
     solid stroke (link, ground, hatching, a hidden link) or letter placed before it, nor the
     bounds' edge; then the fewest other strokes; then the nearest to what it names (_spots).
     segments from stroke_segments(); snap(centre, n) moves the centre of a box n characters
     wide onto the renderer's grid (the terminal's cells), marks included."""
-    snap = snap or (lambda p, n: p)
+    snap = snap or _unmoved
     reach = max(letters.mark, letters.line)
     discs = [snap(m.at, 1) for m in marks]
-    placed, boxes = [], []
+    placed: list[Label] = []
+    boxes: list[Box] = []
     for label in labels:
         n = len(label.text)
         hw, hh = n * letters.width / 2, letters.height / 2
@@ -4652,8 +4703,9 @@ def place_labels(labels, segments, marks, letters: Letters, bounds, snap=None) -
         x0, y0, x1, y1 = _extent(label.names or (label.at,))
         regions = [(x0 - out, y0 - out, x1 + out, y1 + out) for out in (
             r + hw + hh + 2 * reach + letters.width + letters.height for r in reaches)]
-        region, near = (math.inf,) * 4, []          # the segments near the spots tried so far
-        best, best_at = None, label.at
+        region: Box = (math.inf, math.inf, math.inf, math.inf)
+        near: list[Segment] = []                # the segments near the spots tried so far
+        best, best_at, best_box = None, label.at, None
         for cost, at in spots:
             if best is not None and cost >= best:
                 break
@@ -4688,14 +4740,21 @@ def place_labels(labels, segments, marks, letters: Letters, bounds, snap=None) -
             score = 1000.0 * solid + other + cost
             if best is None or score < best:
                 best, best_at, best_box = score, (cx, cy), box
+        assert best_box is not None             # the rings' spots never run out
         boxes.append(best_box)
         placed.append(label._replace(at=best_at))
     return tuple(placed)
 
 
-def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None = None,
-                      subtitle: str | None = None, coupler: tuple | None = None,
-                      traced: tuple = (), marked: tuple = ()) -> Drawing:
+def _unmoved(p: Point, n: int) -> Point:
+    """place_labels' snap where there is no grid."""
+    return p
+
+
+def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
+                      title: str | None = None, subtitle: str | None = None,
+                      coupler: tuple[float, float] | None = None,
+                      traced: Sequence[int | str] = (), marked: Sequence[float] = ()) -> Drawing:
     """The linkage drawn at each input angle of `phis` (degrees) on `branch`: one Frame a pose
     over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS).
 
@@ -4709,11 +4768,13 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
         coupler = check_coupler_point(linkage, *coupler)
     for key in ("a", "b", "c", "d"):
         value = linkage.dims.get(key)
+        if value is None:
+            continue
         if kind == SPHERICAL_FOUR_BAR and not 0 < value < 180:
             raise ValueError(f"the arc {key} = {value:g} degrees cannot be drawn: arcs are "
                              "drawn between 0 and 180 degrees")
         skew_offset = key == "a" and kind in (SKEW_FOUR_BAR, SKEW_SLIDER_CRANK)
-        if value is not None and kind != SPHERICAL_FOUR_BAR and not (
+        if kind != SPHERICAL_FOUR_BAR and not (
                 value != 0 if skew_offset else value > 0):   # a skew linkage's a is signed
             raise ValueError(f"{DIMENSION_NAMES[key]} {key} = {value:g} cannot be drawn: "
                              + ("the fixed link is drawn along the common perpendicular, which "
@@ -4724,32 +4785,35 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
         raise ValueError("a drawing needs at least one input angle")
     x0, y0, x1, y1 = _extent([project(kind, p) for pose in poses for p in pose.joints.values()])
     span = max(x1 - x0, y1 - y0, 2.0 if kind == SPHERICAL_FOUR_BAR else 1e-300)
-    links = [abs(v) for k, v in linkage.dims.items() if k in "abcd" and v]
+    lengths = [abs(v) for k, v in linkage.dims.items() if k in "abcd" and v]
     size = 0.07 * span if kind == SPHERICAL_FOUR_BAR else max(          # symbols not hiding a
-        0.035 * span, min(0.07 * span, 0.6 * min(links)))               # short crank
-    points, mus, chart, curves = [None] * len(poses), [None] * len(poses), None, ()
+        0.035 * span, min(0.07 * span, 0.6 * min(lengths)))             # short crank
+    points: list[Vector | None] = [None] * len(poses)
+    mus: list[float | None] = [None] * len(poses)
+    chart = None
+    curves: list[Stroke] = []
     if coupler is not None:
         motions = [Motion(pose.phi, pose.output, None, None, pose.status) for pose in poses]
         curves, points = _coupler_curves(linkage, phis, coupler, motions, branch, traced)
         mus = transmission_of(linkage, motions)
         chart = tuple((pose.phi, mu) for pose, mu in zip(poses, mus))
-    frames = [_frame(linkage, pose, size, point, mu)
-              for pose, point, mu in zip(poses, points, mus)]
-    links = [s for i in _spread(len(frames), 120) for s in frames[i].layer.strokes]
+    unplaced = [_frame(linkage, pose, size, point, mu)
+                for pose, point, mu in zip(poses, points, mus)]
+    links = [s for i in _spread(len(unplaced), 120) for s in unplaced[i].layer.strokes]
     ground = _GROUNDS[kind](linkage, poses, size, links)
     if marked:
         ground = _with_marked(linkage, ground, marked, branch, size)
     ground = Layer(ground.strokes + tuple(curves), ground.marks, ground.labels)
-    points = [p for layer in [ground] + [f.layer for f in frames]
-              for p in [q for s in layer.strokes for q in s.points]
-              + [m.at for m in layer.marks] + [label.at for label in layer.labels]]
-    x0, y0, x1, y1 = _extent(points)
+    drawn = [p for layer in [ground] + [f.layer for f in unplaced]
+             for p in [q for s in layer.strokes for q in s.points]
+             + [m.at for m in layer.marks] + [label.at for label in layer.labels]]
+    x0, y0, x1, y1 = _extent(drawn)
     bounds = (x0 - size, y0 - size, x1 + size, y1 + size)
     letters = svg_letters(bounds, size)
     ground_segments = stroke_segments(ground.strokes)
     frames = tuple(f._replace(layer=f.layer._replace(labels=place_labels(
         f.layer.labels + ground.labels, ground_segments + stroke_segments(f.layer.strokes),
-        ground.marks + f.layer.marks, letters, bounds))) for f in frames)
+        ground.marks + f.layer.marks, letters, bounds))) for f in unplaced)
     ground = ground._replace(labels=())
     if title is None:
         title = (MECHANISM_NAMES[kind] + ": "
@@ -4788,7 +4852,7 @@ def _plain(text: str, unicode: bool) -> str:
     return text.translate(_ASCII_TEXT).encode("ascii", "replace").decode("ascii")
 
 
-def _dash_on(dashes, distance) -> bool:
+def _dash_on(dashes: tuple[int, ...], distance: float) -> bool:
     """Whether a dash pattern (on, off, on, ...) is on at `distance` dots along its stroke."""
     at = distance % sum(dashes)
     for i, run in enumerate(dashes):
@@ -4798,7 +4862,7 @@ def _dash_on(dashes, distance) -> bool:
     return False
 
 
-def _ascii_line(dx, dy) -> str:
+def _ascii_line(dx: float, dy: float) -> str:
     """The ASCII character of a line going dx right and dy down (in square units)."""
     angle = math.degrees(math.atan2(-dy, dx)) % 180.0
     return "-" if angle < 22.5 or angle > 157.5 else "|" if 67.5 < angle < 112.5 else \
@@ -4808,7 +4872,7 @@ def _ascii_line(dx, dy) -> str:
 class _DotGrid:
     """cols x rows characters of dots, the page's bounds fitted in with their aspect kept."""
 
-    def __init__(self, cols, rows, bounds, unicode):
+    def __init__(self, cols: int, rows: int, bounds: Box, unicode: bool) -> None:
         self.cols, self.rows, self.unicode = cols, rows, unicode
         self.per_col, self.per_row = (2, 4) if unicode else (1, 1)
         self.aspect = 1.0 if unicode else 2.0            # a dot's height over its width
@@ -4819,10 +4883,10 @@ class _DotGrid:
         self.left = (width - (x1 - x0) * self.scale) / 2 - x0 * self.scale
         down = self.scale / self.aspect                  # page units to dots, vertically
         self.top = (height - (y1 - y0) * down) / 2 + y1 * down
-        self.dots = {}                 # (x, y) -> the ASCII character there
-        self.chars = {}                # (col, row) -> a character over the dots
+        self.dots: dict[tuple[int, int], str] = {}     # (x, y) -> the ASCII character there
+        self.chars: dict[tuple[int, int], str] = {}    # (col, row) -> a character over the dots
 
-    def dot(self, p):
+    def dot(self, p: Point) -> Point:
         """The dot (x right, y down, not rounded) of page point p."""
         return p[0] * self.scale + self.left, self.top - p[1] * self.scale / self.aspect
 
@@ -4843,13 +4907,13 @@ class _DotGrid:
                               round(y0 + i / steps * (y1 - y0))] = char
             travelled += length
 
-    def cell(self, p, n: int = 1) -> tuple[int, int]:
+    def cell(self, p: Point, n: int = 1) -> tuple[int, int]:
         """The first (col, row) of the n character cells nearest to centred on page point p."""
         x, y = self.dot(p)
         return (math.floor((x + 0.5) / self.per_col - n / 2 + 0.5),
                 math.floor((y + 0.5) / self.per_row))
 
-    def snap(self, p, n: int = 1) -> tuple:
+    def snap(self, p: Point, n: int = 1) -> Point:
         """The page point at the middle of the n cells that cell(p, n) begins."""
         col, row = self.cell(p, n)
         x, y = (col + n / 2) * self.per_col - 0.5, (row + 0.5) * self.per_row - 0.5
@@ -4861,7 +4925,7 @@ class _DotGrid:
         return Letters(self.per_col / self.scale, self.per_row * self.aspect / self.scale,
                        0.45 * self.per_col / self.scale, 0.5 / self.scale)
 
-    def put(self, p, text: str) -> None:
+    def put(self, p: Point, text: str) -> None:
         """text centred on the character cells of page point p (what falls outside is cut)."""
         col, row = self.cell(p, len(text))
         for i, ch in enumerate(text):
@@ -4869,7 +4933,7 @@ class _DotGrid:
                 self.chars[col + i, row] = ch
 
     def lines(self) -> list[str]:
-        cells = {}
+        cells: dict[tuple[int, int], int] = {}
         for (x, y), char in self.dots.items():
             cell = (x // self.per_col, y // self.per_row)
             if self.unicode:
@@ -4925,7 +4989,7 @@ def frame_seconds(count: int) -> float:
     return max(1.0 / 12.0, min(0.6, 3.0 / count))
 
 
-def show_drawing(drawing: Drawing, out=None, frames: int | None = None,
+def show_drawing(drawing: Drawing, out: TextIO | None = None, frames: int | None = None,
                  fps: float | None = None, unicode: bool | None = None) -> int:
     """The drawing on `out` (standard output): animated in place on a terminal, at `fps` frames
     a second (1 / frame_seconds()), until q (exit status 0) or Ctrl-C (KeyboardInterrupt);
@@ -4952,25 +5016,25 @@ def _text_size() -> tuple[int, int]:
     return sizes[0], sizes[1]
 
 
-def _animate(drawing: Drawing, out, fps: float, unicode: bool) -> int:
+def _animate(drawing: Drawing, out: TextIO, fps: float, unicode: bool) -> int:
     """The frames redrawn in place on the terminal's alternate screen until q (or Ctrl-C), the
     last one shown left on the screen afterwards; the space bar pauses."""
     import time
     keys = sys.stdin.fileno() if sys.stdin.isatty() else None
     shown, paused = _still_frames(drawing, None)[0], False
 
-    def draw():
+    def draw() -> None:
         width, height = shutil.get_terminal_size()
         footer = "   (q quits, space pauses)" if keys is not None else "   (Ctrl-C stops)"
         text = text_drawing(drawing, shown, width, height, unicode, footer)
         out.write("\x1b[H" + text.replace("\n", "\x1b[K\n") + "\x1b[K\x1b[J")
         out.flush()
 
-    def enter():
+    def enter() -> None:
         out.write("\x1b[?1049h\x1b[?25l")
         draw()
 
-    def leave():
+    def leave() -> None:
         out.write("\x1b[?25h\x1b[?1049l")
         out.flush()
 
@@ -4992,12 +5056,13 @@ def _animate(drawing: Drawing, out, fps: float, unicode: bool) -> int:
     return 0
 
 
-def _key_within(fd, seconds):
+def _key_within(fd: int | None, seconds: float | None) -> bytes | None:
     """The next key (one byte; b"" once the terminal is gone) typed on fd within `seconds`
     (None: however long it takes), or None; with no terminal to read, None after `seconds`."""
     import select
     if fd is None:
         import time
+        assert seconds is not None          # no terminal, no key: never paused
         time.sleep(seconds)
         return None
     if select.select([fd], [], [], seconds)[0]:
@@ -5045,19 +5110,19 @@ dominant-baseline:central}
 """ % SVG_LETTER
 
 
-def _svg_scale(bounds) -> float:
+def _svg_scale(bounds: Box) -> float:
     """SVG pixels a page unit: the bounds fitted in SVG_WIDTH less the margins by SVG_HEIGHT."""
     x0, y0, x1, y1 = bounds
     return min((SVG_WIDTH - 2 * SVG_MARGIN) / max(x1 - x0, 1e-300),
                SVG_HEIGHT / max(y1 - y0, 1e-300))
 
 
-def _svg_radius(size, scale) -> float:
+def _svg_radius(size: float, scale: float) -> float:
     """A joint's circle, in pixels, for ground symbols of `size` page units."""
     return max(3.0, min(7.0, 0.16 * size * scale))
 
 
-def svg_letters(bounds, size) -> Letters:
+def svg_letters(bounds: Box, size: float) -> Letters:
     """How big the SVG of a drawing within `bounds` draws letters, marks and lines, in page
     units: a letter's box 0.6 by 0.8 of its font size, a mark's circle with its edge, the
     links' half width."""
@@ -5072,10 +5137,10 @@ class _SvgPage(NamedTuple):
     left: float
     top: float
 
-    def xy(self, p) -> str:
+    def xy(self, p: Point) -> str:
         return f"{self.left + self.scale * p[0]:.1f},{self.top - self.scale * p[1]:.1f}"
 
-    def attrs(self, p, x="x", y="y") -> str:
+    def attrs(self, p: Point, x: str = "x", y: str = "y") -> str:
         return (f'{x}="{self.left + self.scale * p[0]:.1f}" '
                 f'{y}="{self.top - self.scale * p[1]:.1f}"')
 
@@ -5097,21 +5162,22 @@ _SVG_CHART_HEIGHT = 170         # pixels under the drawing for the transmission 
 class _SvgChart(NamedTuple):
     """The transmission angle's chart under an SVG drawing: its static lines, and where a
     (phi, mu) point is in pixels."""
-    lines: list
-    x: object
-    y: object
+    lines: list[str]
+    x: Callable[[float], float]
+    y: Callable[[float], float]
 
 
-def _svg_chart(chart, top, width, margin) -> _SvgChart:
+def _svg_chart(chart: Sequence[tuple[float, float | None]], top: float, width: float,
+               margin: float) -> _SvgChart:
     """mu from 0 to 180 degrees against the sweep's input angles, 130 pixels tall from `top`."""
     phis = [phi for phi, _ in chart]
     lo, hi = min(phis), max(phis)
     left, right, bottom = margin + 70, width - margin - 10, top + 130
 
-    def x(phi):
+    def x(phi: float) -> float:
         return left + (right - left) * ((phi - lo) / (hi - lo) if hi > lo else 0.5)
 
-    def y(mu):
+    def y(mu: float) -> float:
         return bottom - (bottom - top) * mu / 180.0
 
     lines = [f'<polyline class="grid" points="{left},{y(v):.1f} {right},{y(v):.1f}"/>'
@@ -5122,15 +5188,22 @@ def _svg_chart(chart, top, width, margin) -> _SvgChart:
     lines.append(f'<text class="tick" x="{left}" y="{bottom + 16}">φ = {lo:g}°</text>')
     lines.append(f'<text class="tick" x="{right}" y="{bottom + 16}" text-anchor="end">'
                  f'{hi:g}°</text>')
-    run = []
-    for phi, mu in list(chart) + [(None, None)]:
-        if mu is not None:
-            run.append(f"{x(phi):.1f},{y(mu):.1f}")
-            continue
+    for run in _chart_runs(chart):
         if len(run) > 1:
-            lines.append(f'<polyline class="chart" points="{" ".join(run)}"/>')
-        run = []
+            points = " ".join(f"{x(phi):.1f},{y(mu):.1f}" for phi, mu in run)
+            lines.append(f'<polyline class="chart" points="{points}"/>')
     return _SvgChart(lines, x, y)
+
+
+def _chart_runs(chart: Iterable[tuple[float, float | None]]) -> list[list[tuple[float, float]]]:
+    """The runs of a chart's points (phi, mu) between those where mu is None."""
+    runs: list[list[tuple[float, float]]] = [[]]
+    for phi, mu in chart:
+        if mu is None:
+            runs.append([])
+        else:
+            runs[-1].append((phi, mu))
+    return [run for run in runs if run]
 
 
 def _xml(text: str) -> str:
@@ -5148,6 +5221,7 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
     height = round(head + foot + (y1 - y0) * scale)
     page = _SvgPage(scale, (width - (x1 - x0) * scale) / 2 - x0 * scale, head + y1 * scale)
     chart = _svg_chart(drawing.chart, height - foot + 10, width, margin) if drawing.chart else None
+    mus = [mu for _, mu in drawing.chart or ()]
     if chart:
         height += _SVG_CHART_HEIGHT
     count = len(drawing.frames)
@@ -5172,9 +5246,10 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
                        + ";".join(f"{t / count:.6g}" for t in times)
                        + f'" dur="{period:.6g}s" calcMode="discrete" repeatCount="indefinite"/>')
         out += _svg_layer(page, frame.layer, drawing.size)
-        if chart and drawing.chart[i][1] is not None:
+        mu = mus[i] if chart else None
+        if chart and mu is not None:
             out.append(f'<circle class="point" cx="{chart.x(frame.pose.phi):.1f}" '
-                       f'cy="{chart.y(drawing.chart[i][1]):.1f}" r="4"/>')
+                       f'cy="{chart.y(mu):.1f}" r="4"/>')
         out.append(f'<text class="caption" x="{margin}" y="{height - 14}">'
                    f"{_xml(frame.caption)}</text>")
         if frame.message:
@@ -5189,7 +5264,7 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
 # The positions overlaid as a textbook draws a linkage's motion: the ground once, the earlier
 # positions faint, the last solid with its joints and letters (matplotlib, the `plot` extra).
 
-_PNG_STYLES = {"link": dict(color="#1b1b1b", linewidth=2.4),
+_PNG_STYLES: dict[str, dict[str, Any]] = {"link": dict(color="#1b1b1b", linewidth=2.4),
                "ground": dict(color="#1b1b1b", linewidth=1.4),
                "hatch": dict(color="#555555", linewidth=0.7),
                "axis": dict(color="#2f6db3", linewidth=0.9, linestyle="-."),
@@ -5206,7 +5281,7 @@ _PNG_STYLES = {"link": dict(color="#1b1b1b", linewidth=2.4),
 _PNG_LETTER, _PNG_MARK = 13, 6          # points: the letters' font size, the marks' size
 
 
-def _png_layer(ax, layer: Layer, alpha: float, marks: bool) -> None:
+def _png_layer(ax: matplotlib.axes.Axes, layer: Layer, alpha: float, marks: bool) -> None:
     for stroke in layer.strokes:
         xs, ys = zip(*stroke.points)
         ax.plot(xs, ys, alpha=alpha, solid_capstyle="round", **_PNG_STYLES[stroke.style])
@@ -5217,7 +5292,8 @@ def _png_layer(ax, layer: Layer, alpha: float, marks: bool) -> None:
                     markerfacecolor={"pivot": "#d8d8d8", "point": "#c0392b"}.get(mark.kind, "w"))
 
 
-def _png_letters(mpl, ax, drawing: Drawing, frame: Frame) -> None:
+def _png_letters(mpl: matplotlib.figure.Figure, ax: matplotlib.axes.Axes, drawing: Drawing,
+                 frame: Frame) -> None:
     """The frame's letters, placed for the size the PNG draws them at (the axes laid out)."""
     mpl.draw_without_rendering()
     (x0, _), (x1, _) = ax.transData.transform([(0.0, 0.0), (1.0, 0.0)])
@@ -5231,20 +5307,14 @@ def _png_letters(mpl, ax, drawing: Drawing, frame: Frame) -> None:
                 fontstyle="italic", family="serif")
 
 
-def _png_chart(ax, chart, marked) -> None:
+def _png_chart(ax: matplotlib.axes.Axes, chart: Sequence[tuple[float, float | None]],
+               marked: Sequence[float]) -> None:
     """The transmission angle along the sweep, the drawn positions marked."""
-    runs, run = [], []
-    for phi, mu in list(chart) + [(None, None)]:
-        if mu is None:
-            runs, run = runs + [run] * (len(run) > 0), []
-        else:
-            run.append((phi, mu))
-    for run in runs:
+    for run in _chart_runs(chart):
         ax.plot(*zip(*run), color="#2f6db3", linewidth=1.4)
     shown = dict(chart)
-    ax.plot([p for p in marked if shown.get(p) is not None],
-            [shown[p] for p in marked if shown.get(p) is not None], "o", color="#2f6db3",
-            markersize=3)
+    dots = [(p, mu) for p in marked if (mu := shown.get(p)) is not None]
+    ax.plot([p for p, _ in dots], [mu for _, mu in dots], "o", color="#2f6db3", markersize=3)
     ax.axhline(90.0, color="#999999", linewidth=0.8, linestyle="--")
     ax.set_ylim(0.0, 180.0)
     ax.set_yticks([0, 30, 60, 90, 120, 150, 180])
@@ -5258,7 +5328,8 @@ class PlotUnavailable(RuntimeError):
     """--png without matplotlib."""
 
 
-def matplotlib_canvas():
+def matplotlib_canvas() -> tuple[type[matplotlib.figure.Figure],
+                                 type[matplotlib.backends.backend_agg.FigureCanvasAgg]]:
     """matplotlib's Figure and Agg canvas (no pyplot: no global state), or PlotUnavailable."""
     try:
         from matplotlib.figure import Figure as MplFigure
