@@ -42,7 +42,7 @@ import sys
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from decimal import Decimal
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any, NamedTuple, TextIO, TypeAlias, cast
+from typing import TYPE_CHECKING, Any, NamedTuple, ParamSpec, TextIO, TypeAlias, cast
 
 if TYPE_CHECKING:                       # for annotations only: matplotlib is imported where used
     import matplotlib.axes
@@ -5428,22 +5428,25 @@ class DesignError(ValueError):
     """Data that no design of the method can meet; the message names the condition that failed.
     `design`, when set, is what the formulas give although it does not meet the data."""
 
-    def __init__(self, message, design=None):
+    def __init__(self, message: str, design: Design | None = None) -> None:
         super().__init__(message)
         self.design = design
 
 
-def _require(condition, message, design=None):
+def _require(condition: object, message: str, design: Design | None = None) -> None:
     """Raise DesignError(message) unless condition holds."""
     if not condition:
         raise DesignError(message, design)
 
 
-def _method(name):
+_P = ParamSpec("_P")                    # a method's parameters, kept by _method
+
+
+def _method(name: str) -> Callable[[Callable[_P, Synthesis]], Callable[_P, Synthesis]]:
     """Decorator: every DesignError of the method's function starts with the method's name."""
-    def decorate(function):
+    def decorate(function: Callable[_P, Synthesis]) -> Callable[_P, Synthesis]:
         @functools.wraps(function)
-        def method(*args, **kwargs):
+        def method(*args: _P.args, **kwargs: _P.kwargs) -> Synthesis:
             try:
                 return function(*args, **kwargs)
             except DesignError as error:
@@ -5454,7 +5457,7 @@ def _method(name):
     return decorate
 
 
-def _require_lengths(**lengths):
+def _require_lengths(**lengths: float) -> None:
     """Every link length positive: above 1e-6 of the longest (less is a degenerate linkage)."""
     longest = max(abs(v) for v in lengths.values())
     for name, value in lengths.items():
@@ -5464,19 +5467,19 @@ def _require_lengths(**lengths):
                                                                 if value > 0 else ""))
 
 
-def _require_margin(mu_min, mu_max, design=None):
+def _require_margin(mu_min: float, mu_max: float, design: Design | None = None) -> None:
     """Refuse a design whose transmission angle comes within MU_MARGIN of 0 or 180 degrees."""
     _require(min(mu_min, 180.0 - mu_max) >= MU_MARGIN - 1e-9,       # mu_min = 0.1 + 1e-16: met
              f"dead centre: the transmission angle comes within {MU_MARGIN:g} degree of 0 or 180 "
              f"(mu from {mu_min:.6g} to {mu_max:.6g})", design)
 
 
-def _deg(x):
+def _deg(x: float) -> float:
     """Radians to degrees."""
     return x / _R
 
 
-def _wrap(angle):
+def _wrap(angle: float) -> float:
     """An angle in degrees brought into (-180, 180]."""
     w = math.fmod(angle, 360.0)
     if w > 180.0:
@@ -5486,7 +5489,7 @@ def _wrap(angle):
     return w
 
 
-def _acos_deg(x, what):
+def _acos_deg(x: float, what: str) -> float:
     """arccos in degrees; a DesignError names `what` when |x| > 1 (the configuration is not
     reached) beyond round-off."""
     _require(abs(x) <= 1.0 + 1e-12, f"{what}: cos = {x:.6g} is outside [-1, 1]")
@@ -5501,6 +5504,13 @@ LENGTH_MIN, LENGTH_MAX = 1e-6, 1e6     # a length datum, relative to the method'
 ANGLE_EPSILON = 1e-6                   # degrees: an excluded single angle is refused this close
 
 
+# A method's data: each datum's value by its name, a number (or, with count 3, a list of three).
+Data = dict[str, Any]
+# An end of a datum's range: a number, or (text, its value from the data) for one that depends on
+# a datum listed before.
+Bound = float | tuple[str, Callable[[Data], float]]
+
+
 class Datum(NamedTuple):
     """One datum of a method and its valid range lo < value < hi. An end is a number, or
     (text, function of the data) when it depends on a datum listed before; `closed` names the ends
@@ -5508,15 +5518,16 @@ class Datum(NamedTuple):
     refused) for single values the formulas cannot take; `count` 3: a list of three values."""
     name: str
     meaning: str
-    lo: object = -math.inf
-    hi: object = math.inf
-    closed: tuple = ()
-    excluded: tuple = ()
-    count: int = 1
+    lo: Bound = -math.inf
+    hi: Bound = math.inf
+    closed: tuple[str, ...] = ()
+    excluded: tuple[tuple[str, Callable[[Data], bool]], ...] = ()
+    count: int = 1          # type: ignore[assignment]  # the field shadows tuple.count, as a
+    #                         NamedTuple's field may (Datum.count is the number of values)
     optional: bool = False
 
 
-def _near(angle, target, period=360.0):
+def _near(angle: float, target: float, period: float = 360.0) -> bool:
     """Whether an angle (degrees) lies within ANGLE_EPSILON of target, modulo period."""
     w = math.fmod(angle - target, period)
     return min(abs(w), period - abs(w)) < ANGLE_EPSILON
@@ -5528,8 +5539,8 @@ _TIME_RATIO = Datum("theta", "crank rotation is 180 + theta", -180.0, 180.0)
 _CENTRIC = (_SWING._replace(hi=180.0 - 2 * MU_MARGIN),
             Datum("mu_min", "least transmission angle", MU_MARGIN,
                   ("90 - psi/2", lambda d: 90.0 - d["psi"] / 2)))
-_LENGTH = dict(lo=LENGTH_MIN, hi=LENGTH_MAX, closed=("lo", "hi"))
-_ANGLE = dict(lo=-360.0, hi=360.0, closed=("lo", "hi"))        # a position (not a rotation)
+_LENGTH: dict[str, Any] = dict(lo=LENGTH_MIN, hi=LENGTH_MAX, closed=("lo", "hi"))
+_ANGLE: dict[str, Any] = dict(lo=-360.0, hi=360.0, closed=("lo", "hi"))   # a position, not a turn
 DATA = {
     "FOURB-CR-1": (
         _TIME_RATIO, _SWING,
@@ -5599,36 +5610,40 @@ DATA = {
 }
 
 
-def _g(x):
+def _g(x: float) -> str:
     """A number as short as it is exact: 65, not 65.000000000000014 unless it is that."""
     short = f"{x:g}"
     return short if float(short) == x else repr(float(x))
 
 
-def _bound(end, data):
-    """An end of a range: (value, text), the text with its value when it depends on the data
-    (data None: the text alone)."""
+def _bound_value(end: Bound, data: Data) -> float:
+    """An end of a range, for the data."""
+    return end[1](data) if isinstance(end, tuple) else end
+
+
+def _bound_text(end: Bound, data: Data | None) -> str:
+    """An end of a range as text, with its value when it depends on the data (data None: the
+    text alone)."""
     if not isinstance(end, tuple):
-        return end, _g(end)
+        return _g(end)
     if data is None:
-        return None, end[0]
-    value = end[1](data)
-    return value, f"{end[0]} = {_g(value)}"
+        return end[0]
+    return f"{end[0]} = {_g(end[1](data))}"
 
 
-def range_text(datum, data=None):
+def range_text(datum: Datum, data: Data | None = None) -> str:
     """The valid range of a datum as text: '[0.001, 180)', '[0.1, 90 - psi/2 = 65)'; the dependent
     ends evaluated when the data are given."""
-    lo, hi = _bound(datum.lo, data)[1], _bound(datum.hi, data)[1]
+    lo, hi = _bound_text(datum.lo, data), _bound_text(datum.hi, data)
     return (("[" if "lo" in datum.closed else "(") + lo + ", " + hi
             + ("]" if "hi" in datum.closed else ")"))
 
 
-def check_data(method, data):
+def check_data(method: str, data: Data) -> None:
     """Refuse data outside the method's valid range (DATA): a DesignError naming the datum, its
     value and the range or the reason it is excluded."""
     for datum in DATA[method]:
-        value = data.get(datum.name)
+        value: Any = data.get(datum.name)       # a number, or a list of `count` numbers
         if value is None and datum.optional:
             continue
         values = value if datum.count > 1 else [value]
@@ -5636,8 +5651,8 @@ def check_data(method, data):
         for v in values:
             _require(isinstance(v, (int, float)) and math.isfinite(v),
                      f"{method}: {datum.name} = {v} is not a finite number")
-            lo = _bound(datum.lo, data)[0]
-            hi = _bound(datum.hi, data)[0]
+            lo = _bound_value(datum.lo, data)
+            hi = _bound_value(datum.hi, data)
             inside = ((lo <= v if "lo" in datum.closed else lo < v)
                       and (v <= hi if "hi" in datum.closed else v < hi))
             _require(inside, f"{method}: {datum.meaning.split(' (')[0]}: {datum.name} = {_g(v)} "
@@ -5669,25 +5684,28 @@ class SliderCrank(NamedTuple):
     branch: int = 1
 
 
-def four_bar_from_review(a, b, c, d, branch=1):
+Designed = FourBar | SliderCrank        # a linkage a method designs
+
+
+def four_bar_from_review(a: float, b: float, c: float, d: float, branch: int = 1) -> FourBar:
     """The review's crank a, coupler b, output c, frame d as the paper's FourBar(a=d, b=a, c=b,
     d=c)."""
     return FourBar(a=d, b=a, c=b, d=c, branch=branch)
 
 
-def four_bar_to_review(link):
+def four_bar_to_review(link: FourBar) -> dict[str, float]:
     """The paper's FourBar as the review's letters: {'a': crank, 'b': coupler, 'c': output,
     'd': frame}."""
     return {"a": link.b, "b": link.c, "c": link.d, "d": link.a}
 
 
-def slider_crank_from_review(r, l, epsilon, branch=1):
+def slider_crank_from_review(r: float, l: float, epsilon: float, branch: int = 1) -> SliderCrank:
     """The review's crank r, rod l, offset epsilon (slider on y = -epsilon) as the paper's
     SliderCrank(b=r, c=l, e=-epsilon)."""
     return SliderCrank(b=r, c=l, e=-epsilon, branch=branch)
 
 
-def _branch_at(link, phi, psi):
+def _branch_at(link: FourBar, phi: float, psi: float) -> int:
     """The engine's branch of a four-bar position (phi, psi in degrees): 1 when the coupler B->D
     turns counter-clockwise from the output link, 2 when clockwise."""
     bx, by = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
@@ -5696,7 +5714,7 @@ def _branch_at(link, phi, psi):
     return 1 if ux * (dy - by) - uy * (dx - bx) > 0 else 2
 
 
-def grashof_type(link):
+def grashof_type(link: FourBar) -> str:
     """'crank-rocker', 'drag-link', 'double-rocker' (Grashof, coupler shortest), 'rocker-crank',
     'change-point' (s + l = p + q) or 'triple-rocker' (non-Grashof), with the crank as input."""
     lengths = sorted((link.a, link.b, link.c, link.d))
@@ -5712,19 +5730,19 @@ def grashof_type(link):
 
 # -- the transmission angle: eqs. (1)-(4) ---------------------------------------------------------
 
-def _cos_transmission(link, phi):
+def _cos_transmission(link: FourBar, phi: float) -> float:
     """cos mu by eq. (1), in the review's letters
     cos mu = (b^2 + c^2 - (a^2 + d^2) + 2ad cos phi) / 2bc."""
     a, b, c, d = link.b, link.c, link.d, link.a            # the review's letters
     return (b * b + c * c - (a * a + d * d) + 2 * a * d * math.cos(phi * _R)) / (2 * b * c)
 
 
-def four_bar_transmission_angle(link, phi):
+def four_bar_transmission_angle(link: FourBar, phi: float) -> float:
     """Eq. (1): the angle (degrees) between coupler and output at input angle phi (degrees)."""
     return _acos_deg(_cos_transmission(link, phi), f"transmission angle at phi = {phi:g}")
 
 
-def four_bar_transmission_extremes(link):
+def four_bar_transmission_extremes(link: FourBar) -> tuple[float, float]:
     """Eqs. (2a), (2b): the least and greatest transmission angles (degrees), at the crank on the
     frame line, for linkages that reach both (crank-rockers, drag-links)."""
     a, b, c, d = link.b, link.c, link.d, link.a            # the review's letters (eq. 2: d = 1)
@@ -5735,7 +5753,7 @@ def four_bar_transmission_extremes(link):
     return min(mu_min, mu_max), max(mu_min, mu_max)
 
 
-def slider_transmission_angle(link, phi):
+def slider_transmission_angle(link: SliderCrank, phi: float) -> float:
     """Eq. (3), crank driving: the angle (degrees) between the rod and the normal to the slider's
     line at crank angle phi (degrees). ERRATUM S9: 90 - arctan(...), not arctan(...) - 90."""
     r, l, epsilon = link.b, link.c, -link.e                # the review's letters
@@ -5744,7 +5762,7 @@ def slider_transmission_angle(link, phi):
     return 90.0 - _deg(math.atan2(h, math.sqrt(l * l - h * h)))
 
 
-def slider_transmission_extremes(link):
+def slider_transmission_extremes(link: SliderCrank) -> tuple[float, float]:
     """Eq. (4) and its counterpart: least and greatest transmission angles (degrees) over a full
     crank turn; eq. (4), printed for epsilon >= 0, takes |epsilon| here."""
     r, l, epsilon = link.b, link.c, abs(link.e)
@@ -5762,11 +5780,13 @@ class Design:
     """One linkage a method designs: in the paper's conventions (linkage, positions, travel) and
     in the review's own names and numbers (review), with the data it was designed for."""
     method: str                     # e.g. "FOURB-CR-1"
-    data: dict                      # the prescribed data, the review's names (angles in degrees)
-    linkage: object                 # FourBar or SliderCrank: what the analysis takes
-    review: dict                    # the unknowns as the review prints them (ratios, angles)
-    positions: tuple                # design positions (phi, output) in the paper's convention
-    travel: object                  # (phi from, phi to) the method designs for; None: full turn
+    data: Data                      # the prescribed data, the review's names (angles in degrees)
+    linkage: Designed               # FourBar or SliderCrank: what the analysis takes
+    review: dict[str, float]        # the unknowns as the review prints them (ratios, angles)
+    positions: tuple[tuple[float, float], ...]   # design positions (phi, output) in the
+    #                                              paper's convention
+    travel: tuple[float, float] | None    # (phi from, phi to) the method designs for; None: a
+    #                                       full turn
     mu_min: float                   # transmission-angle extremes over the travel (degrees),
     mu_max: float                   # from the review's formulas
 
@@ -5776,29 +5796,30 @@ class Synthesis:
     """A method's answer: every solution it accepts, the one it prefers, and the roots it rejects
     (each with the reason)."""
     method: str
-    solutions: tuple
+    solutions: tuple[Design, ...]
     preferred: int = 0
-    rejected: tuple = ()
+    rejected: tuple[str, ...] = ()     # each: the root, and why it is rejected
 
     @property
-    def design(self):
+    def design(self) -> Design:
         """The preferred solution."""
         return self.solutions[self.preferred]
 
 
-def _one(design):
+def _one(design: Design) -> Synthesis:
     """A Synthesis with a single solution."""
     return Synthesis(design.method, (design,))
 
 
-def _deviation(design):
+def _deviation(design: Design) -> float:
     """The greatest deviation |90 - mu| (degrees) of the design's transmission angle."""
     return max(90.0 - design.mu_min, design.mu_max - 90.0)
 
 
 # -- crank-rockers: FOURB-CR-1 .. FOURB-CR-4 ------------------------------------------------------
 
-def _crank_rocker(method, data, a, b, c, d, theta0, psi0, theta, psi, review):
+def _crank_rocker(method: str, data: Data, a: float, b: float, c: float, d: float, theta0: float,
+                  psi0: float, theta: float, psi: float, review: dict[str, float]) -> Design:
     """Normalise a crank-rocker (review letters, d = frame) to d = 1, convert it, check that it is
     a crank-rocker, and give its dead-centre positions: extended (theta0, psi0), folded (theta0 +
     180 + theta, psi0 + psi), as the data state them (not brought into one turn)."""
@@ -5823,7 +5844,8 @@ def _crank_rocker(method, data, a, b, c, d, theta0, psi0, theta, psi, review):
     return Design(method, data, link, review, positions, None, mu_min, mu_max)
 
 
-def _chen_links(method, theta, psi, theta0, psi0, alpha):
+def _chen_links(method: str, theta: float, psi: float, theta0: float, psi0: float, alpha: float
+                ) -> tuple[float, float, float]:
     """Steps 4-5 of FOURB-CR-1/-2: crank a, coupler b, rocker c for frame d = 1 from the two
     dead-centre triangles (alpha = psi0 - theta0, the angle at the rocker pin, degrees).
     ERRATUM S14: the review's a = c (p1 - p2)/2, p1 = sin psi0 / sin theta0,
@@ -5849,7 +5871,7 @@ def _chen_links(method, theta, psi, theta0, psi0, alpha):
 
 
 @_method("FOURB-CR-1")
-def fourb_cr_1(theta, psi, theta0):
+def fourb_cr_1(theta: float, psi: float, theta0: float) -> Synthesis:
     """FOURB-CR-1 (Chen; Pamidi): crank-rocker with rocker swing psi while the crank turns
     180 + theta, the extended dead centre at crank angle theta0 (degrees)."""
     method = "FOURB-CR-1"
@@ -5877,7 +5899,7 @@ def fourb_cr_1(theta, psi, theta0):
 
 
 @_method("FOURB-CR-2")
-def fourb_cr_2(theta, psi, psi0):
+def fourb_cr_2(theta: float, psi: float, psi0: float) -> Synthesis:
     """FOURB-CR-2 (Chen; Pamidi): crank-rocker with rocker swing psi while the crank turns
     180 + theta, the rocker at angle psi0 at the extended dead centre (degrees)."""
     method = "FOURB-CR-2"
@@ -5916,7 +5938,7 @@ def fourb_cr_2(theta, psi, psi0):
     return Synthesis(method, tuple(solutions), 0, tuple(rejected))
 
 
-def _cubic_real_roots(a2, a1, a0):
+def _cubic_real_roots(a2: float, a1: float, a0: float) -> list[float]:
     """The real roots of x^3 + a2 x^2 + a1 x + a0 = 0, each polished by Newton's method."""
     p = a1 - a2 * a2 / 3.0
     q = 2.0 * a2 ** 3 / 27.0 - a2 * a1 / 3.0 + a0
@@ -5942,7 +5964,7 @@ def _cubic_real_roots(a2, a1, a0):
     return sorted(out)
 
 
-def _transmission_cubic(t, u):
+def _transmission_cubic(t: float, u: float) -> list[float]:
     """Step 2 of FOURB-CR-3 and DRAGLINK-2: the positive real roots x of
     x^3 + 2x^2 - t^2 x - t^2 (1 + t^2) / u^2 = 0, as lambda = t / sqrt(x)."""
     roots = _cubic_real_roots(2.0, -t * t, -t * t * (1.0 + t * t) / (u * u))
@@ -5950,7 +5972,7 @@ def _transmission_cubic(t, u):
 
 
 @_method("FOURB-CR-3")
-def fourb_cr_3(theta, psi):
+def fourb_cr_3(theta: float, psi: float) -> Synthesis:
     """FOURB-CR-3 (Freudenstein & Primrose): crank-rocker with rocker swing psi while the crank
     turns 180 + theta (degrees), with the least greatest deviation of mu from 90 degrees."""
     method = "FOURB-CR-3"
@@ -5994,7 +6016,7 @@ def fourb_cr_3(theta, psi):
     return Synthesis(method, tuple(solutions), best, tuple(rejected))
 
 
-def _triangle_angle(x, y, z):
+def _triangle_angle(x: float, y: float, z: float) -> float:
     """The angle (degrees) between sides x and y of the triangle x, y, z, opposite z, by Kahan's
     formula ("Miscalculating area and angles of a needle-like triangle"), accurate to a few
     roundings of the sides where the law of cosines cancels; DesignError if there is none."""
@@ -6005,7 +6027,7 @@ def _triangle_angle(x, y, z):
                                         / ((x + (y + z)) * ((x - z) + y)))))
 
 
-def _extended_dead_centre(a, b, c):
+def _extended_dead_centre(a: float, b: float, c: float) -> tuple[float, float]:
     """Crank angle theta0 and rocker angle psi0 (degrees) at the extended dead centre of the
     crank-rocker (review letters, d = 1), the rocker tip above the frame line: the angles of the
     triangle frame 1, crank and coupler in line a + b, rocker c (ERRATUM S14: the law of cosines
@@ -6016,7 +6038,7 @@ def _extended_dead_centre(a, b, c):
     return theta0, 180.0 - _triangle_angle(1.0, c, reach)
 
 
-def _centric(psi, mu_min):
+def _centric(psi: float, mu_min: float) -> tuple[float, float, float, float, float, float]:
     """What FOURB-CR-4 and Volmer's eqs. need of psi and mu_min, without cancellation
     (ERRATUM S14): sin h, cos h (h = psi/2), cos m (m = mu_min),
     D = cos(m - h) cos(m + h) = cos^2 m - sin^2 h, which the review computes as that difference
@@ -6036,7 +6058,7 @@ def _centric(psi, mu_min):
 
 
 @_method("FOURB-CR-4")
-def fourb_cr_4(psi, mu_min):
+def fourb_cr_4(psi: float, mu_min: float) -> Synthesis:
     """FOURB-CR-4 (Brodell & Soni): centric crank-rocker (theta = 0, unit time ratio) with rocker
     swing psi and least transmission angle mu_min (degrees)."""
     method = "FOURB-CR-4"
@@ -6054,7 +6076,7 @@ def fourb_cr_4(psi, mu_min):
 
 
 @_method("FOURB-CR-4 (Volmer)")
-def volmer_crank_rocker(psi, mu_min):
+def volmer_crank_rocker(psi: float, mu_min: float) -> Synthesis:
     """FOURB-CR-4 by Volmer's eqs. (6a)-(6c): the same centric crank-rocker from the ratios
     d/a, b/a, c/a (crank a = 1), normalised to d = 1."""
     method = "FOURB-CR-4 (Volmer)"
@@ -6072,7 +6094,8 @@ def volmer_crank_rocker(psi, mu_min):
 
 # -- drag-links: DRAGLINK-1, DRAGLINK-2 -----------------------------------------------------------
 
-def _drag_link(method, data, a, b, c, d, review):
+def _drag_link(method: str, data: Data, a: float, b: float, c: float, d: float,
+               review: dict[str, float]) -> tuple[FourBar, dict[str, float]]:
     """Normalise a drag-link (review letters: crank a, coupler b, output c, frame d) to d = 1 and
     check that it is one; the branch is settled by the caller."""
     _require_lengths(a_crank=a, b_coupler=b, c_output=c, d_frame=d)
@@ -6087,7 +6110,7 @@ def _drag_link(method, data, a, b, c, d, review):
 
 
 @_method("DRAGLINK-1")
-def draglink_1(dpsi0, mu_min):
+def draglink_1(dpsi0: float, mu_min: float) -> Synthesis:
     """DRAGLINK-1 (Bagci): drag-link whose output turns dpsi0 while the crank turns 180 degrees
     between the crank-on-frame-line positions, with transmission angles mu_min, 180 - mu_min
     there."""
@@ -6130,7 +6153,7 @@ def draglink_1(dpsi0, mu_min):
                        review["mu_min"], review["mu_max"]))
 
 
-def _draglink_2_links(dphi, dpsi, lam):
+def _draglink_2_links(dphi: float, dpsi: float, lam: float) -> tuple[float, float, float]:
     """DRAGLINK-2's link ratios a/d, b/d, c/d for lambda = b/d, coupler / frame (ERRATUM S4), by
     step 5 with epsilon = lambda / ut (the same as the procedure without optimisation)."""
     dl = (dphi - dpsi) * _R
@@ -6143,7 +6166,7 @@ def _draglink_2_links(dphi, dpsi, lam):
 
 
 @_method("DRAGLINK-2")
-def draglink_2(dphi, dpsi, lam=None):
+def draglink_2(dphi: float, dpsi: float, lam: float | None = None) -> Synthesis:
     """DRAGLINK-2 (Tsai): drag-link with unit velocity ratio at two positions dphi apart on the
     crank and dpsi on the output (degrees); lambda = b/d given, or chosen for the least greatest
     deviation of mu from 90 degrees (lam=None)."""
@@ -6173,7 +6196,7 @@ def draglink_2(dphi, dpsi, lam=None):
     return Synthesis(method, tuple(solutions), best, tuple(rejected))
 
 
-def _draglink_2_design(method, data, dphi, dpsi, lam):
+def _draglink_2_design(method: str, data: Data, dphi: float, dpsi: float, lam: float) -> Design:
     """One DRAGLINK-2 design for lambda: link ratios, greatest deviation of mu, crank angle phi1
     at the first design position (step 8), the positions and branch."""
     a, b, c = _draglink_2_links(dphi, dpsi, lam)
@@ -6212,7 +6235,7 @@ def _draglink_2_design(method, data, dphi, dpsi, lam):
 
 # -- function generators: FOURB-FG2-1, FOURB-FG3-1 -------------------------------------------------
 
-def _limit_angles(link):
+def _limit_angles(link: FourBar) -> list[float]:
     """Input angles (degrees, in [0, 360)) at which the four-bar meets a dead centre of its input
     (coupler and output in line, mu = 0 or 180): the ends of its assembly ranges."""
     out = []
@@ -6225,7 +6248,7 @@ def _limit_angles(link):
     return out
 
 
-def _travel_problem(link, positions):
+def _travel_problem(link: FourBar, positions: Sequence[tuple[float, float]]) -> str | None:
     """Why the four-bar cannot drive through the positions (phi, psi) in turn on one branch
     without a dead centre, or None: a branch change, a limit angle inside the travel, or a
     transmission angle within MU_MARGIN of one."""
@@ -6245,14 +6268,15 @@ def _travel_problem(link, positions):
     return None
 
 
-def _output_turn(link, phi_from, phi_to, psi_from, psi_to):
+def _output_turn(link: FourBar, phi_from: float, phi_to: float, psi_from: float, psi_to: float
+                 ) -> float:
     """The output's turn (degrees, signed) while the crank turns from phi_from to phi_to on one
     branch with no dead centre of the input between, the output at psi_from and psi_to: the turn
     of the diagonal from the output pivot to the crank pin (exact: for b >= a it turns with the
     crank, arg(b - a e^-i phi) staying within 90 degrees; for b < a, arg(a - b e^i phi) does),
     plus the change of the angle between diagonal and output, which keeps its sign (it is 0 or
     180 only where coupler and output are in line) and so changes by less than 180."""
-    def diagonal(phi):
+    def diagonal(phi: float) -> float:
         """arg(B - O4) less the part that turns with the crank (b >= a) or less 180 (b < a)."""
         x, y = math.cos(phi * _R), math.sin(phi * _R)
         if link.b >= link.a:
@@ -6266,7 +6290,7 @@ def _output_turn(link, phi_from, phi_to, psi_from, psi_to):
     return turns + diagonal(phi_to) - diagonal(phi_from) + gamma[1] - gamma[0]
 
 
-def _travel_transmission(link, lo, hi):
+def _travel_transmission(link: FourBar, lo: float, hi: float) -> tuple[float, float]:
     """Transmission-angle extremes (degrees) over input angles lo..hi by eq. (1): at the ends, and
     at phi = 0 or 180 (mod 360) where the travel passes them."""
     phis = [lo, hi] + [lo + (x - lo) % 360.0 for x in (0.0, 180.0)]
@@ -6276,7 +6300,7 @@ def _travel_transmission(link, lo, hi):
 
 
 @_method("FOURB-FG2-1")
-def fourb_fg2_1(phij, psij, phi0, a, c):
+def fourb_fg2_1(phij: float, psij: float, phi0: float, a: float, c: float) -> Synthesis:
     """FOURB-FG2-1 (Chiang): four-bar whose output turns psij while the crank turns phij from
     phi0 (degrees), for given crank a/d and output c/d; finds b/d and the output's psi0."""
     method = "FOURB-FG2-1"
@@ -6338,9 +6362,9 @@ def fourb_fg2_1(phij, psij, phi0, a, c):
     return Synthesis(method, tuple(solutions), best, tuple(rejected))
 
 
-def _solve3(matrix, rhs):
+def _solve3(matrix: list[list[float]], rhs: list[float]) -> list[float]:
     """The solution of a 3x3 linear system by Cramer's rule; DesignError when singular."""
-    def det(m):
+    def det(m: list[list[float]]) -> float:
         return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
                 - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
                 + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
@@ -6358,7 +6382,7 @@ def _solve3(matrix, rhs):
 
 
 @_method("FOURB-FG3-1")
-def fourb_fg3_1(phi, psi):
+def fourb_fg3_1(phi: Sequence[float], psi: Sequence[float]) -> Synthesis:
     """FOURB-FG3-1 (Freudenstein's equation): four-bar whose output is at psi[i] when the crank
     is at phi[i], three positions (degrees; the review's output angles, see the names above)."""
     method = "FOURB-FG3-1"
@@ -6404,7 +6428,8 @@ def fourb_fg3_1(phi, psi):
 
 # -- slider-cranks: SLID-FG2-1, SLID-FG2-2 -------------------------------------------------------
 
-def _slider_design(method, data, s1, s2, theta1, theta2, review):
+def _slider_design(method: str, data: Data, s1: float, s2: float, theta1: float, theta2: float,
+                   review: dict[str, float]) -> Design:
     """Chen's slider-crank from its dead-centre positions (step 4 of SLID-FG2-1, step 1 of
     SLID-FG2-2): crank r, rod l, checks, conversion to the paper's letters."""
     c1, c2 = math.cos(theta1 * _R), math.cos(theta2 * _R)
@@ -6428,7 +6453,7 @@ def _slider_design(method, data, s1, s2, theta1, theta2, review):
 
 
 @_method("SLID-FG2-1")
-def slid_fg2_1(dtheta, ds, epsilon):
+def slid_fg2_1(dtheta: float, ds: float, epsilon: float) -> Synthesis:
     """SLID-FG2-1 (Chen): slider-crank whose slider moves ds between the dead centres while the
     crank turns dtheta (degrees), for the assumed offset epsilon."""
     method = "SLID-FG2-1"
@@ -6445,7 +6470,8 @@ def slid_fg2_1(dtheta, ds, epsilon):
 
 
 @_method("SLID-FG2-2")
-def slid_fg2_2(theta1, theta2, s1, s2, tolerance=1e-9):
+def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: float = 1e-9
+               ) -> Synthesis:
     """SLID-FG2-2 (Chen): slider-crank with dead centres at crank theta1, slider s1 and (the
     review's theta2: the pin's direction, crank at theta2 - 180) slider s2 (degrees); theta2 may
     differ by `tolerance` degrees from the direction the offset of the first gives."""
@@ -6474,45 +6500,47 @@ def slid_fg2_2(theta1, theta2, s1, s2, tolerance=1e-9):
 
 # -- the analysis adapter ------------------------------------------------------------------------
 
-def analyze(kind, dims, phis, branch=1):
+def analyze(kind: str, dims: dict[str, float], phis: Iterable[float], branch: int = 1
+            ) -> list[float | None]:
     """The adapter to the analysis: output angle psi (degrees, (-180, 180]) of the plane
-    four-bar ("plane", dims a b c d) or slider position x ("slider", dims b c e) at each input
-    angle phi (degrees) on branch 1 or 2, computed by the accurate engine; None where the
-    linkage cannot be assembled."""
-    if kind not in ("plane", "slider"):
-        raise ValueError(f"analyze: kind {kind!r} is neither 'plane' nor 'slider'")
+    four-bar (PLANE_FOUR_BAR, dims a b c d) or slider position x (PLANE_SLIDER_CRANK, dims b c
+    e) at each input angle phi (degrees) on branch 1 or 2, computed by the accurate engine; None
+    where the linkage cannot be assembled."""
+    if kind not in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
+        raise ValueError(f"analyze: kind {kind!r} is neither {PLANE_FOUR_BAR!r} nor "
+                         f"{PLANE_SLIDER_CRANK!r}")
     linkage = _engine_linkage(kind, tuple(dims[name] for name in LINKAGE_DIMENSIONS[kind]))
     return [m.output if m.status in (ASSEMBLED, DEAD_CENTRE, CHANGE_POINT) else None
             for m in linkage.sweep(phis, branch, derivatives=0)]
 
 
 @functools.lru_cache(maxsize=256)
-def _engine_linkage(kind, values):
+def _engine_linkage(kind: str, values: tuple[float, ...]) -> Linkage:
     """The engine's Linkage, built once per design (its constants take exact arithmetic)."""
     return Linkage(kind, **dict(zip(LINKAGE_DIMENSIONS[kind], values)))
 
 
 # -- measuring the analysed linkage ---------------------------------------------------------------
 
-def kind_and_dimensions(link):
+def kind_and_dimensions(link: Designed) -> tuple[str, dict[str, float]]:
     """The adapter's kind and dims of a FourBar or SliderCrank."""
     if isinstance(link, FourBar):
-        return "plane", {"a": link.a, "b": link.b, "c": link.c, "d": link.d}
-    return "slider", {"b": link.b, "c": link.c, "e": link.e}
+        return PLANE_FOUR_BAR, {"a": link.a, "b": link.b, "c": link.c, "d": link.d}
+    return PLANE_SLIDER_CRANK, {"b": link.b, "c": link.c, "e": link.e}
 
 
-def _outputs(link, phis):
+def _outputs(link: Designed, phis: Iterable[float]) -> list[float | None]:
     """The analysed output at each input angle (degrees), None where not assembled."""
     kind, dims = kind_and_dimensions(link)
     return analyze(kind, dims, list(phis), link.branch)
 
 
-def _output(link, phi):
+def _output(link: Designed, phi: float) -> float | None:
     """The analysed output at one input angle."""
     return _outputs(link, (phi,))[0]
 
 
-def measured_transmission_angle(link, phi, output):
+def measured_transmission_angle(link: Designed, phi: float, output: float) -> float:
     """The transmission angle (degrees) measured on the positions of the analysed linkage: at the
     coupler-output joint (four-bar); between the rod and the normal to the slider's line."""
     bx, by = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
@@ -6535,7 +6563,7 @@ class Measured(NamedTuple):
     mu_max: Extreme
 
 
-def _in_line(link, phi):
+def _in_line(link: Designed, phi: float) -> float | None:
     """cross(B, P - B) for the analysed linkage at phi: zero where crank and coupler are in line
     (a dead centre of the output), B the crank pin, P the output pin or slider; None if not
     assembled."""
@@ -6550,7 +6578,7 @@ def _in_line(link, phi):
     return bx * (py - by) - by * (px - bx)
 
 
-def _dead_centre(link, lo, hi):
+def _dead_centre(link: Designed, lo: float, hi: float) -> float | None:
     """The crank angle in [lo, hi] at which crank and coupler come in line (bisection on the
     analysed positions), or None when they do not change sides there."""
     g_lo, g_hi = _in_line(link, lo), _in_line(link, hi)
@@ -6573,7 +6601,7 @@ def _dead_centre(link, lo, hi):
 _FULL_TURN_OFFSET = 0.1234567890123     # degrees: where measure starts a full turn
 
 
-def measure(link, lo=0.0, hi=360.0, samples=720):
+def measure(link: Designed, lo: float = 0.0, hi: float = 360.0, samples: int = 720) -> Measured:
     """Measure the analysed linkage over input angles lo..hi (default: a full turn) by dense
     sampling: the output's extremes at the dead centres (crank and coupler in line, located by
     bisection) or the travel's ends, the transmission angle's refined on the analysis."""
@@ -6587,24 +6615,31 @@ def measure(link, lo=0.0, hi=360.0, samples=720):
         lo, hi = lo + _FULL_TURN_OFFSET, hi + _FULL_TURN_OFFSET
     step = (hi - lo) / samples
     phis = [lo + step * i for i in range(samples)] + [hi]
-    outputs = _outputs(link, phis)
-    if any(o is None for o in outputs):
+    assembled = [o for o in _outputs(link, phis) if o is not None]
+    if len(assembled) < len(phis):
         nan = Extreme(math.nan, math.nan)
         return Measured(False, nan, nan, math.nan, nan, nan)
-    outputs = unwrapped(outputs, angular)
+    outputs = unwrapped(assembled, angular)
 
-    def output_near(phi, reference):
-        """The output at phi, continuous with `reference`."""
+    def output_at(phi: float) -> float:
+        """The output at phi, which assembles: between two samples that do."""
         value = _output(link, phi)
+        assert value is not None, f"a gap between the samples at phi = {phi!r}"
+        return value
+
+    def output_near(phi: float, reference: float) -> float:
+        """The output at phi, continuous with `reference`."""
+        value = output_at(phi)
         return value + 360.0 * round((reference - value) / 360.0) if angular else value
 
     if full_turn and angular and abs(outputs[-1] - outputs[0]) > 180.0:
         out_min = out_max = Extreme(math.nan, math.nan)      # the output turns fully
     else:
-        in_line = [_in_line(link, phi) for phi in phis]
+        in_line = cast("list[float]", [_in_line(link, phi) for phi in phis])   # they assemble
         candidates = [] if full_turn else [Extreme(phis[0], outputs[0]),
                                            Extreme(phis[-1], outputs[-1])]
         for i in range(samples + 1):
+            x: float | None
             if in_line[i] == 0:                                # a sample on a dead centre
                 x = phis[i]
             elif i < samples and in_line[i] * in_line[i + 1] < 0:
@@ -6619,10 +6654,10 @@ def measure(link, lo=0.0, hi=360.0, samples=720):
         out_min = min(candidates, key=lambda e: e.value)
         out_max = max(candidates, key=lambda e: e.value)
 
-    def mu_at(phi):
-        return measured_transmission_angle(link, phi, _output(link, phi))
+    def mu_at(phi: float) -> float:
+        return measured_transmission_angle(link, phi, output_at(phi))
 
-    def mu_extreme(values, maximum):
+    def mu_extreme(values: list[float], maximum: bool) -> Extreme:
         """The greatest (least) transmission angle: every sampled local extreme (the ends
         included) refined within its neighbouring samples."""
         candidates = []
@@ -6647,18 +6682,19 @@ def measure(link, lo=0.0, hi=360.0, samples=720):
                     mu_extreme(mus, False), mu_extreme(mus, True))
 
 
-def output_change(link, phi_from, phi_to, samples=720):
+def output_change(link: Designed, phi_from: float, phi_to: float, samples: int = 720
+                  ) -> float | None:
     """The change of the analysed output while the input turns from phi_from to phi_to (degrees),
     followed continuously; None if the linkage does not assemble throughout."""
     phis = [phi_from + (phi_to - phi_from) * i / samples for i in range(samples + 1)]
-    values = _outputs(link, phis)
-    if any(v is None for v in values):
+    assembled = [v for v in _outputs(link, phis) if v is not None]
+    if len(assembled) < len(phis):
         return None
-    values = unwrapped(values, isinstance(link, FourBar))
+    values = unwrapped(assembled, isinstance(link, FourBar))
     return values[-1] - values[0]
 
 
-def velocity_ratio(link, phi):
+def velocity_ratio(link: Designed, phi: float) -> float | None:
     """d(output)/d(input) of the analysed linkage at phi (degrees per degree, or length per
     degree) from its positions: the velocities of crank and output pins along the coupler agree,
     b sin(phi - theta3) = d sin(psi - theta3) dpsi/dphi (slider: x' cos theta3)."""
@@ -6678,12 +6714,12 @@ class Check(NamedTuple):
     """One thing the analysed linkage should do: measured against expected; miss is the absolute
     difference (angles: modulo 360), None when it could not be measured."""
     name: str
-    measured: object
+    measured: float | None
     expected: float
-    unit: str                     # "deg" (modulo 360), "rotation" (degrees), "length", "ratio"
+    unit: str = "deg"             # "deg" (modulo 360), "rotation" (degrees), "length", "ratio"
 
     @property
-    def miss(self):
+    def miss(self) -> float:
         if self.measured is None or (isinstance(self.measured, float)
                                      and math.isnan(self.measured)):
             return math.inf
@@ -6691,97 +6727,135 @@ class Check(NamedTuple):
         return abs(_wrap(difference)) if self.unit == "deg" else abs(difference)
 
 
-def analyze_design(design):
+def analyze_design(design: Design) -> list[Check]:
     """Run the design through the analysis and measure what it really does against what its
     method prescribes and what the design claims: a list of Check."""
-    link, data, checks = design.linkage, design.data, []
-    method = design.method
-    add = lambda name, measured, expected, unit="deg": checks.append(        # noqa: E731
-        Check(name, measured, expected, unit))
-    if method.startswith("FOURB-CR"):
-        # Full turn: the rocker's extremes are the dead centres; from the extended one (least
-        # rocker angle) the crank turns 180 + theta, counter-clockwise, to the folded one while
-        # the rocker turns with it (the sense in which the review's theta is signed).
-        m = measure(link)
-        add("assembled", float(m.assembled), 1.0, "ratio")
-        add("rocker_swing", m.output_max.value - m.output_min.value, data["psi"])
-        add("crank_rotation", (m.output_max.phi - m.output_min.phi) % 360.0,
-            180.0 + data.get("theta", 0.0))
-        for (phi, psi), extreme, where in ((design.positions[0], m.output_min, "extended"),
-                                           (design.positions[1], m.output_max, "folded")):
-            add(f"{where}_dead_centre_phi", extreme.phi, phi)
-            add(f"{where}_dead_centre_psi", extreme.value, psi)
-        add("mu_min", m.mu_min.value, design.mu_min)
-        add("mu_max", m.mu_max.value, design.mu_max)
-        if "mu_min" in data:
-            add("mu_min_prescribed", m.mu_min.value, data["mu_min"])
-    elif method.startswith("DRAGLINK"):
-        m = measure(link)
-        add("assembled", float(m.assembled), 1.0, "ratio")
-        add("output_turn", m.output_change, 360.0, "rotation")
-        (phi1, psi1), (phi2, psi2) = design.positions
-        add("position1_psi", _output(link, phi1), psi1)
-        add("position2_psi", _output(link, phi2), psi2)
-        add("output_rotation", output_change(link, phi1, phi2),
-            data["dpsi0"] if method == "DRAGLINK-1" else data["dpsi"], "rotation")
-        add("mu_min", m.mu_min.value, design.mu_min)
-        add("mu_max", m.mu_max.value, design.mu_max)
-        if method == "DRAGLINK-1":
-            # cos(mu_min) = -cos(mu_max) at the design positions: mu_min at one, 180 - mu_min at
-            # the other.
-            mus = [measured_transmission_angle(link, phi, _output(link, phi))
-                   for phi in (phi1, phi2)]
-            add("position1_mu", mus[0], data["mu_min"])
-            add("position2_mu", mus[1], 180.0 - data["mu_min"])
-        else:
-            add("crank_rotation", phi2 - phi1, data["dphi"], "rotation")
-            add("position1_velocity_ratio", velocity_ratio(link, phi1), 1.0, "ratio")
-            add("position2_velocity_ratio", velocity_ratio(link, phi2), 1.0, "ratio")
-            add("dmu_max", max(90.0 - m.mu_min.value, m.mu_max.value - 90.0),
+    return list(_DESIGN_CHECKS[design.method](design))
+
+
+def _measured_mu(link: Designed, phi: float) -> float | None:
+    """The transmission angle measured at phi, None where the analysed linkage does not
+    assemble."""
+    out = _output(link, phi)
+    return None if out is None else measured_transmission_angle(link, phi, out)
+
+
+def _crank_rocker_checks(design: Design) -> Iterator[Check]:
+    """FOURB-CR-1..4 and Volmer's: over a full turn the rocker's extremes are the dead centres;
+    from the extended one (least rocker angle) the crank turns 180 + theta, counter-clockwise, to
+    the folded one while the rocker turns with it (the sense in which the review's theta is
+    signed)."""
+    data = design.data
+    m = measure(design.linkage)
+    yield Check("assembled", float(m.assembled), 1.0, "ratio")
+    yield Check("rocker_swing", m.output_max.value - m.output_min.value, data["psi"])
+    yield Check("crank_rotation", (m.output_max.phi - m.output_min.phi) % 360.0,
+                180.0 + data.get("theta", 0.0))
+    for (phi, psi), extreme, where in ((design.positions[0], m.output_min, "extended"),
+                                       (design.positions[1], m.output_max, "folded")):
+        yield Check(f"{where}_dead_centre_phi", extreme.phi, phi)
+        yield Check(f"{where}_dead_centre_psi", extreme.value, psi)
+    yield Check("mu_min", m.mu_min.value, design.mu_min)
+    yield Check("mu_max", m.mu_max.value, design.mu_max)
+    if "mu_min" in data:
+        yield Check("mu_min_prescribed", m.mu_min.value, data["mu_min"])
+
+
+def _drag_link_checks(design: Design, m: Measured, output_rotation: float) -> Iterator[Check]:
+    """What DRAGLINK-1 and -2 check alike: both links turn fully, the design positions are met,
+    the output turns `output_rotation` between them."""
+    link = design.linkage
+    (phi1, psi1), (phi2, psi2) = design.positions
+    yield Check("assembled", float(m.assembled), 1.0, "ratio")
+    yield Check("output_turn", m.output_change, 360.0, "rotation")
+    yield Check("position1_psi", _output(link, phi1), psi1)
+    yield Check("position2_psi", _output(link, phi2), psi2)
+    yield Check("output_rotation", output_change(link, phi1, phi2), output_rotation, "rotation")
+    yield Check("mu_min", m.mu_min.value, design.mu_min)
+    yield Check("mu_max", m.mu_max.value, design.mu_max)
+
+
+def _draglink_1_checks(design: Design) -> Iterator[Check]:
+    """DRAGLINK-1: cos(mu_min) = -cos(mu_max) at the design positions: mu_min at one, 180 -
+    mu_min at the other."""
+    link, data = design.linkage, design.data
+    yield from _drag_link_checks(design, measure(link), data["dpsi0"])
+    (phi1, _), (phi2, _) = design.positions
+    yield Check("position1_mu", _measured_mu(link, phi1), data["mu_min"])
+    yield Check("position2_mu", _measured_mu(link, phi2), 180.0 - data["mu_min"])
+
+
+def _draglink_2_checks(design: Design) -> Iterator[Check]:
+    """DRAGLINK-2: the unit velocity ratio at both design positions, dphi apart."""
+    link, data = design.linkage, design.data
+    m = measure(link)
+    yield from _drag_link_checks(design, m, data["dpsi"])
+    (phi1, _), (phi2, _) = design.positions
+    yield Check("crank_rotation", phi2 - phi1, data["dphi"], "rotation")
+    yield Check("position1_velocity_ratio", velocity_ratio(link, phi1), 1.0, "ratio")
+    yield Check("position2_velocity_ratio", velocity_ratio(link, phi2), 1.0, "ratio")
+    yield Check("dmu_max", max(90.0 - m.mu_min.value, m.mu_max.value - 90.0),
                 design.review["dmu_max"])
-    elif method.startswith("FOURB-FG"):
-        # Over the travel only: one branch, no dead centre (the input's dead centre is mu = 0 or
-        # 180), every prescribed position met.
-        lo, hi = design.travel
-        m = measure(link, lo, hi, samples=max(60, int(4 * (hi - lo))))
-        add("assembled", float(m.assembled), 1.0, "ratio")
-        add("no_dead_centre", float(min(m.mu_min.value, 180.0 - m.mu_max.value) > 1e-6), 1.0,
-            "ratio")
-        first_phi = design.positions[0][0]
-        rotations = ([data["psij"]] if "psij" in data
-                     else [data["psi2"] - data["psi1"], data["psi3"] - data["psi1"]])
-        for i, (phi, psi) in enumerate(design.positions, 1):
-            add(f"position{i}_psi", _output(link, phi), psi)
-            if i > 1:
-                # FOURB-FG2-1 prescribes a motion, psij: the turn itself (its equations cannot
-                # tell psij from psij -+ 360, the method checks the turn); FOURB-FG3-1
-                # prescribes positions: their differences, modulo 360
-                add(f"rotation_1_to_{i}", output_change(link, first_phi, phi), rotations[i - 2],
-                    "rotation" if "psij" in data else "deg")
-            if f"mu{i}" in design.review:
-                add(f"position{i}_mu", measured_transmission_angle(link, phi, _output(link, phi)),
-                    design.review[f"mu{i}"])
-        add("mu_min", m.mu_min.value, design.mu_min)
-        add("mu_max", m.mu_max.value, design.mu_max)
+
+
+def _function_generator_checks(design: Design) -> Iterator[Check]:
+    """FOURB-FG2-1, FOURB-FG3-1: over the travel only, one branch, no dead centre (the input's
+    dead centre is mu = 0 or 180), every prescribed position met."""
+    link, data = design.linkage, design.data
+    assert design.travel is not None             # a function generator designs for a travel
+    lo, hi = design.travel
+    m = measure(link, lo, hi, samples=max(60, int(4 * (hi - lo))))
+    yield Check("assembled", float(m.assembled), 1.0, "ratio")
+    yield Check("no_dead_centre", float(min(m.mu_min.value, 180.0 - m.mu_max.value) > 1e-6), 1.0,
+                "ratio")
+    first_phi = design.positions[0][0]
+    rotations = ([data["psij"]] if "psij" in data
+                 else [data["psi2"] - data["psi1"], data["psi3"] - data["psi1"]])
+    for i, (phi, psi) in enumerate(design.positions, 1):
+        yield Check(f"position{i}_psi", _output(link, phi), psi)
+        if i > 1:
+            # FOURB-FG2-1 prescribes a motion, psij: the turn itself (its equations cannot
+            # tell psij from psij -+ 360, the method checks the turn); FOURB-FG3-1
+            # prescribes positions: their differences, modulo 360
+            yield Check(f"rotation_1_to_{i}", output_change(link, first_phi, phi),
+                        rotations[i - 2], "rotation" if "psij" in data else "deg")
+        if f"mu{i}" in design.review:
+            yield Check(f"position{i}_mu", _measured_mu(link, phi), design.review[f"mu{i}"])
+    yield Check("mu_min", m.mu_min.value, design.mu_min)
+    yield Check("mu_max", m.mu_max.value, design.mu_max)
+
+
+def _slider_crank_checks(design: Design) -> Iterator[Check]:
+    """SLID-FG2-1, SLID-FG2-2: the slider's extremes are the dead centres; from the outer one
+    the crank turns dtheta counter-clockwise to the inner one."""
+    data = design.data
+    m = measure(design.linkage)
+    yield Check("assembled", float(m.assembled), 1.0, "ratio")
+    stroke = m.output_max.value - m.output_min.value
+    if "ds" in data:
+        yield Check("stroke", stroke, data["ds"], "length")
+        yield Check("crank_rotation", (m.output_min.phi - m.output_max.phi) % 360.0,
+                    data["dtheta"])
     else:
-        # SLID-FG2-1, SLID-FG2-2: the slider's extremes are the dead centres; from the outer one
-        # the crank turns dtheta counter-clockwise to the inner one.
-        m = measure(link)
-        add("assembled", float(m.assembled), 1.0, "ratio")
-        stroke = m.output_max.value - m.output_min.value
-        if "ds" in data:
-            add("stroke", stroke, data["ds"], "length")
-            add("crank_rotation", (m.output_min.phi - m.output_max.phi) % 360.0, data["dtheta"])
-        else:
-            add("stroke", stroke, data["s1"] - data["s2"], "length")
-        (phi1, s1), (phi2, s2) = design.positions
-        add("outer_dead_centre_phi", m.output_max.phi, phi1)
-        add("outer_dead_centre_x", m.output_max.value, s1, "length")
-        add("inner_dead_centre_phi", m.output_min.phi, phi2)
-        add("inner_dead_centre_x", m.output_min.value, s2, "length")
-        add("mu_min", m.mu_min.value, design.mu_min)
-        add("mu_max", m.mu_max.value, design.mu_max)
-    return checks
+        yield Check("stroke", stroke, data["s1"] - data["s2"], "length")
+    (phi1, s1), (phi2, s2) = design.positions
+    yield Check("outer_dead_centre_phi", m.output_max.phi, phi1)
+    yield Check("outer_dead_centre_x", m.output_max.value, s1, "length")
+    yield Check("inner_dead_centre_phi", m.output_min.phi, phi2)
+    yield Check("inner_dead_centre_x", m.output_min.value, s2, "length")
+    yield Check("mu_min", m.mu_min.value, design.mu_min)
+    yield Check("mu_max", m.mu_max.value, design.mu_max)
+
+
+# What analyze_design checks, a row a method (DATA's names).
+_DESIGN_CHECKS: dict[str, Callable[[Design], Iterator[Check]]] = {
+    "FOURB-CR-1": _crank_rocker_checks, "FOURB-CR-2": _crank_rocker_checks,
+    "FOURB-CR-3": _crank_rocker_checks, "FOURB-CR-4": _crank_rocker_checks,
+    "FOURB-CR-4 (Volmer)": _crank_rocker_checks,
+    "DRAGLINK-1": _draglink_1_checks, "DRAGLINK-2": _draglink_2_checks,
+    "FOURB-FG2-1": _function_generator_checks, "FOURB-FG3-1": _function_generator_checks,
+    "SLID-FG2-1": _slider_crank_checks, "SLID-FG2-2": _slider_crank_checks,
+}
 
 
 ANGLE_TOLERANCE = 1e-7            # degrees
@@ -6789,14 +6863,14 @@ LENGTH_TOLERANCE = 1e-9           # times the largest link
 RATIO_TOLERANCE = 1e-6            # velocity ratios
 
 
-def conditioning(design):
+def conditioning(design: Design) -> float:
     """How much the tolerances grow for a near-locking design, whose transmission angle comes
     within 1 degree of 0 or 180: its positions are ill-conditioned, as 1 / sin(mu)."""
     worst = min(design.mu_min, 180.0 - design.mu_max)
     return max(1.0, math.sin(_R) / max(math.sin(worst * _R), 1e-300))
 
 
-def rounding_floor(design, checks=None):
+def rounding_floor(design: Design, checks: list[Check] | None = None) -> dict[str, float]:
     """Per check name, the miss that rounding the design's lengths to doubles alone can cause:
     the change of the measured value when each length moves by 2^-40 of itself, scaled to one
     rounding (2^-53) and summed over the lengths. Some designs are that ill-conditioned
@@ -6818,7 +6892,7 @@ def rounding_floor(design, checks=None):
     return floor
 
 
-def misses(design, checks=None):
+def misses(design: Design, checks: list[Check] | None = None) -> list[Check]:
     """The checks of the design that miss beyond tolerance (an empty list: it does what it
     should): the tolerance, widened for a near-locking design (conditioning), or four times what
     rounding its lengths alone causes (rounding_floor), whichever is larger."""
@@ -6899,7 +6973,7 @@ DESIGN_OUTPUT_HELP = (
     "1 for data no design meets, 2 for a usage error, 3 when --analyze finds a miss.")
 
 
-def datum_help(datum):
+def datum_help(datum: Datum) -> str:
     """The help of a datum: what it is, its valid range, the values refused in it (DATA)."""
     refused = "".join(f"; refused: {reason}" for reason, _ in datum.excluded)
     return f"{datum.meaning}; in {range_text(datum)}{refused}"
@@ -6916,13 +6990,13 @@ REVIEW_LETTERS = {FourBar: "a crank, b coupler, c output, d frame",
                   SliderCrank: "r crank, l rod, epsilon offset (the slider on y = -epsilon)"}
 
 
-def letters(link):
+def letters(link: Designed) -> str:
     """The program's letters of a designed linkage and their meanings, as `run` takes them."""
     names = ("a", "b", "c", "d") if isinstance(link, FourBar) else ("b", "c", "e")
     return ", ".join(f"{n} {DIMENSION_NAMES[n].removeprefix('the ')}" for n in names)
 
 
-def design_lines(design):
+def design_lines(design: Design) -> list[str]:
     """The `name = value` lines of one design, in the program's letters and angles: the lengths,
     the branch, the design positions (angles as the data give them: ASKED_ANGLES) and the
     transmission angle's extremes."""
@@ -6944,14 +7018,14 @@ def design_lines(design):
     return lines
 
 
-def review_lines(design):
+def review_lines(design: Design) -> list[str]:
     """The review's own unknowns of one design, under its names and letters: a second block,
     labelled, apart from design_lines."""
     return ([f"review = its own numbers, in its letters: {REVIEW_LETTERS[type(design.linkage)]}"]
             + [f"review.{k} = {value_text(v)}" for k, v in design.review.items()])
 
 
-def whole_motion(design, step=5.0):
+def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float]:
     """The input angles (from, to, step in degrees) over which the designed linkage moves: a
     full turn from the first design position when its crank turns fully, else from one limit
     of the input to the next across the design's travel (half a step inside each, where the
