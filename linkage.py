@@ -2193,53 +2193,77 @@ def _dims_of(kind: str, dims: dict[str, float]) -> dict[str, float]:
     return out
 
 
-def _closure_constants(kind: str, dims: dict[str, float],
-                       trig: Callable[[Fraction], tuple[Fraction, Fraction]]
-                       ) -> tuple[Fraction | int, ...]:
+# The (cos, sin) of q degrees, exact Fractions of the doubles (_trig_double) or of the decimals.
+_Trig = Callable[[Fraction], tuple[Fraction, Fraction]]
+_Constants = tuple[Fraction | int, ...]     # the closure's constants (0 an int where it is 0)
+
+
+def _closure_constants(kind: str, dims: dict[str, float], trig: _Trig) -> _Constants:
     """The closure's constants as exact Fractions, from the typed dimensions and trig(q), the
     (cos, sin) of q degrees. Four-bars: P, Q, S as (k0, kc, ks) of E = P cos psi + Q sin psi + S.
     Slider-cranks: m, q of G = x^2 - 2 m x + q = |B - D|^2 - c^2, the vector (u, v) from the crank
     tip to the slider's line (G = (x - m)^2 - (c^2 - u^2 - v^2)), and the rod c."""
-    a, b, c, d, e, f = (Fraction(dims.get(k, 0.0)) for k in "abcdef")
-    if kind == PLANE_FOUR_BAR:
-        # E = (|B - D|^2 - c^2) / 2 = lines 880-930 over (1 + t^2)(1 + u^2) / 2
-        # (test_physics.plane_four_bar).
-        return (d * a, -d * b, 0, 0, 0, -b * d, (a * a + b * b + d * d - c * c) / 2, -a * b, 0)
-    if kind == SKEW_FOUR_BAR:
-        # E = (|B - D|^2 - c^2) / 2, lines 650-710 (test_physics.skew_four_bar). Line 430's
-        # effective coupler c^2 - f^2 - g^2 + 2fg cos ksi is c^2 - h^2 with h = f tan ksi
-        # (g = f / cos ksi): it enters as such, never square-rooted.
-        cx, sx = trig(Fraction(dims["ksi"]))
-        if cx == 0:
-            raise ValueError("skew linkage: ksi = 90 degrees (mod 180) makes g = f / cos ksi "
-                             "infinite")
-        h = f * sx / cx
-        return (d * a, -d * b, 0, f * d * sx, 0, -b * d * cx,
-                (a * a + b * b + d * d + h * h - c * c) / 2, -a * b, -b * h)
-    if kind == SPHERICAL_FOUR_BAR:
-        # E = cos c - B.D, lines 810-860 over -(1 + t^2)(1 + u^2) / 2
-        # (test_physics.spherical_four_bar). The constant of S, cos c - cos a cos b cos d, is
-        # (A1 + B1 + C1 + E1) / 2 with A1 = sin p7 sin p8 etc. of exact half-sums p: products of
-        # sines keep their relative accuracy for arcs near 0 and 180 degrees, where the cosines
-        # would cancel.
-        ca, sa = trig(a)
-        cb, sb = trig(b)
-        cd, sd = trig(d)
+    return _CLOSURES[kind]({k: Fraction(v) for k, v in dims.items()}, trig)
 
-        def sin_p(sign_b: int, sign_c: int, sign_d: int) -> Fraction:
-            return trig((a + sign_b * b + sign_c * c + sign_d * d) / 2)[1]
-        s0 = (sin_p(1, 1, 1) * sin_p(1, -1, 1) + sin_p(-1, 1, -1) * sin_p(-1, -1, -1)
-              + sin_p(1, 1, -1) * sin_p(1, -1, -1) + sin_p(-1, 1, 1) * sin_p(-1, -1, 1)) / 2
-        return (sd * sa * cb, -sd * ca * sb, 0, 0, 0, -sb * sd, s0, -cd * sa * sb, 0)
-    if kind == PLANE_SLIDER_CRANK:
-        # Lines 740-790 with a = d = 0: the slider on y = e, I1 = -4eb
-        # (test_physics.plane_slider_crank); c is the rod c* as typed.
-        return (0, b, 0, b * b + e * e - c * c, 0, -2 * e * b, e, 0, -b, 0, 0, 0, c)
-    # Skew slider-crank, lines 740-790: the slider's line through (a, 0, f) along
-    # (0, sin ksi, -cos ksi) (test_physics.skew_slider_crank); line 430 makes c^2 - f^2.
-    cx, sx = trig(Fraction(dims["ksi"]))
+
+def _plane_closure(n: dict[str, Fraction], trig: _Trig) -> _Constants:
+    # E = (|B - D|^2 - c^2) / 2 = lines 880-930 over (1 + t^2)(1 + u^2) / 2
+    # (test_physics.plane_four_bar).
+    a, b, c, d = n["a"], n["b"], n["c"], n["d"]
+    return (d * a, -d * b, 0, 0, 0, -b * d, (a * a + b * b + d * d - c * c) / 2, -a * b, 0)
+
+
+def _skew_closure(n: dict[str, Fraction], trig: _Trig) -> _Constants:
+    # E = (|B - D|^2 - c^2) / 2, lines 650-710 (test_physics.skew_four_bar). Line 430's
+    # effective coupler c^2 - f^2 - g^2 + 2fg cos ksi is c^2 - h^2 with h = f tan ksi
+    # (g = f / cos ksi): it enters as such, never square-rooted.
+    a, b, c, d, f, ksi = n["a"], n["b"], n["c"], n["d"], n["f"], n["ksi"]
+    cx, sx = trig(ksi)
+    if cx == 0:
+        raise ValueError("skew linkage: ksi = 90 degrees (mod 180) makes g = f / cos ksi "
+                         "infinite")
+    h = f * sx / cx
+    return (d * a, -d * b, 0, f * d * sx, 0, -b * d * cx,
+            (a * a + b * b + d * d + h * h - c * c) / 2, -a * b, -b * h)
+
+
+def _spherical_closure(n: dict[str, Fraction], trig: _Trig) -> _Constants:
+    # E = cos c - B.D, lines 810-860 over -(1 + t^2)(1 + u^2) / 2
+    # (test_physics.spherical_four_bar). The constant of S, cos c - cos a cos b cos d, is
+    # (A1 + B1 + C1 + E1) / 2 with A1 = sin p7 sin p8 etc. of exact half-sums p: products of
+    # sines keep their relative accuracy for arcs near 0 and 180 degrees, where the cosines
+    # would cancel.
+    a, b, c, d = n["a"], n["b"], n["c"], n["d"]
+    ca, sa = trig(a)
+    cb, sb = trig(b)
+    cd, sd = trig(d)
+
+    def sin_p(sign_b: int, sign_c: int, sign_d: int) -> Fraction:
+        return trig((a + sign_b * b + sign_c * c + sign_d * d) / 2)[1]
+    s0 = (sin_p(1, 1, 1) * sin_p(1, -1, 1) + sin_p(-1, 1, -1) * sin_p(-1, -1, -1)
+          + sin_p(1, 1, -1) * sin_p(1, -1, -1) + sin_p(-1, 1, 1) * sin_p(-1, -1, 1)) / 2
+    return (sd * sa * cb, -sd * ca * sb, 0, 0, 0, -sb * sd, s0, -cd * sa * sb, 0)
+
+
+def _slider_closure(n: dict[str, Fraction], trig: _Trig) -> _Constants:
+    # Lines 740-790 with a = d = 0: the slider on y = e, I1 = -4eb
+    # (test_physics.plane_slider_crank); c is the rod c* as typed.
+    b, c, e = n["b"], n["c"], n["e"]
+    return (0, b, 0, b * b + e * e - c * c, 0, -2 * e * b, e, 0, -b, 0, 0, 0, c)
+
+
+def _skew_slider_closure(n: dict[str, Fraction], trig: _Trig) -> _Constants:
+    # Lines 740-790: the slider's line through (a, 0, f) along (0, sin ksi, -cos ksi)
+    # (test_physics.skew_slider_crank); line 430 makes c^2 - f^2.
+    a, b, c, f, ksi = n["a"], n["b"], n["c"], n["f"], n["ksi"]
+    cx, sx = trig(ksi)
     return (f * cx, 0, b * sx, a * a + b * b + f * f - c * c, -2 * a * b, 0,
             -a, b, 0, -f * sx, 0, b * cx, c)
+
+
+_CLOSURES = {PLANE_FOUR_BAR: _plane_closure, SKEW_FOUR_BAR: _skew_closure,
+             SPHERICAL_FOUR_BAR: _spherical_closure, PLANE_SLIDER_CRANK: _slider_closure,
+             SKEW_SLIDER_CRANK: _skew_slider_closure}
 
 
 def _size_squared(kind: str, k: Sequence[Any]) -> Any:
@@ -6910,7 +6934,8 @@ def misses(design: Design, checks: list[Check] | None = None) -> list[Check]:
 
 # -- the command line: python3 linkage.py design METHOD --name value ... -------------------------
 
-METHODS = {  # the command's name: (function, the method's name in DATA)
+# the command's name: (function, the method's name in DATA)
+METHODS: dict[str, tuple[Callable[..., Synthesis], str]] = {
     "fourb-cr-1": (fourb_cr_1, "FOURB-CR-1"), "fourb-cr-2": (fourb_cr_2, "FOURB-CR-2"),
     "fourb-cr-3": (fourb_cr_3, "FOURB-CR-3"), "fourb-cr-4": (fourb_cr_4, "FOURB-CR-4"),
     "volmer": (volmer_crank_rocker, "FOURB-CR-4 (Volmer)"),
@@ -7127,11 +7152,11 @@ class Scene:
     path: str
     title: str
     mechanism: str
-    dimensions: dict
+    dimensions: dict[str, float]
     start: float
     stop: float
     step: float
-    branches: tuple[int, ...]
+    branches: tuple[int | str, ...]        # 1, 2, FOLLOW
     precisions: tuple[str, ...]
     panels: tuple[PanelSpec, ...]
     fast: bool = False               # the double series by Linkage.sweep_arrays
@@ -7163,23 +7188,24 @@ class Scene:
 
 # -- reading a scene ---------------------------------------------------------------------------
 
-def _is_number(x) -> bool:
+def _is_number(x: object) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
 
 
-def _kind_of(x) -> str:
+def _kind_of(x: object) -> str:
     names = {bool: "a boolean", int: "an integer", float: "a number", str: "the string",
              list: "a list", dict: "a table"}
     what = next((n for t, n in names.items() if isinstance(x, t)), type(x).__name__)
     return f"{what} {x!r}" if isinstance(x, (str, int, float)) else what
 
 
-def _scene_error(path, key, expected, got=None) -> SceneError:
+def _scene_error(path: str, key: str, expected: str, got: object = None) -> SceneError:
     return SceneError(f"{path}: key '{key}': expected {expected}"
                       + ("" if got is None else f", got {_kind_of(got)}"))
 
 
-def _unknown_keys(path, table, allowed, prefix=""):
+def _unknown_keys(path: str, table: Iterable[str], allowed: Iterable[str], prefix: str = ""
+                  ) -> None:
     for key in table:
         if key not in allowed:
             raise SceneError(f"{path}: unknown key '{prefix}{key}'; expected one of "
@@ -7260,7 +7286,7 @@ def load_scene(path: str) -> Scene:
 
 def known_scenes() -> dict[str, str]:
     """{name: path} of the scenes that come with the program (a name once: the first folder's)."""
-    scenes = {}
+    scenes: dict[str, str] = {}
     for folder in shipped_folders("scenes"):
         for entry in sorted(os.listdir(folder)):
             if entry.endswith(".toml"):
@@ -7298,7 +7324,7 @@ def scene_list() -> list[tuple[str, str]]:
     return listed
 
 
-def _scene_dimensions(path, mechanism: str, given) -> dict:
+def _scene_dimensions(path: str, mechanism: str, given: object) -> dict[str, float]:
     """The scene's `dimensions` table, checked against what the mechanism takes."""
     names = LINKAGE_DIMENSIONS[mechanism]
     if not isinstance(given, dict):
@@ -7317,7 +7343,7 @@ def _scene_dimensions(path, mechanism: str, given) -> dict:
     return {k: float(given[k]) for k in names}
 
 
-def _scene_sweep(path, sweep) -> tuple[float, float, float]:
+def _scene_sweep(path: str, sweep: object) -> tuple[float, float, float]:
     """The scene's `input` table: from, to, step in degrees, a sweep of at most MAX_SCENE_POINTS."""
     if not isinstance(sweep, dict):
         raise _scene_error(path, "input", SCENE_KEYS["input"], sweep)
@@ -7337,7 +7363,7 @@ def _scene_sweep(path, sweep) -> tuple[float, float, float]:
     return start, stop, step
 
 
-def _scene_panels(path, panels) -> tuple[PanelSpec, ...]:
+def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, ...]:
     """The panels of a scene of curves: each its quantities and optional y limits."""
     specs = []
     for i, panel in enumerate(panels, 1):
@@ -7360,14 +7386,15 @@ def _scene_panels(path, panels) -> tuple[PanelSpec, ...]:
     return tuple(specs)
 
 
-def _scene_title(path, data) -> str:
+def _scene_title(path: str, data: dict[str, Any]) -> str:
     title = data.get("title", MECHANISM_NAMES[data["mechanism"]].capitalize())
     if not isinstance(title, str):
         raise _scene_error(path, "title", SCENE_KEYS["title"], title)
     return printable(title)
 
 
-def _mechanism_scene(path, data, dims, start, stop, step, branches) -> Scene:
+def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], start: float,
+                     stop: float, step: float, branches: tuple[int | str, ...]) -> Scene:
     """The rest of a mechanism scene: one panel, quantities = ["mechanism"], optional angles; the
     positions are the accurate engine's (precision double, or no precision key)."""
     if len(data["panels"]) != 1:
@@ -7414,13 +7441,13 @@ def _typed(x: float) -> str:
     return repr(float(x))
 
 
-def _typed_dimensions(mechanism: str, dims: dict) -> tuple[str, list[str]]:
+def _typed_dimensions(mechanism: str, dims: dict[str, float]) -> tuple[str, list[str]]:
     """The menu key and the dimensions as typed, in the order the listing asks for them."""
     key, asked = MECHANISM_TYPES[mechanism]
     return key, [_typed(dims[n]) for n in asked]
 
 
-def _faithful_files(scene: Scene, branch: int, directory: str) -> list[str]:
+def _faithful_files(scene: Scene, branch: int | str, directory: str) -> list[str]:
     """The menu program's session with the scene's answers (as `run` gives them): it writes the
     DAT files the panels need in `directory`. Returns the soft errors it printed."""
     key, answers = _typed_dimensions(scene.mechanism, scene.dimensions)
@@ -7439,7 +7466,7 @@ def _faithful_files(scene: Scene, branch: int, directory: str) -> list[str]:
     return [e.strip() for e in soft_errors]
 
 
-def _accurate_motions(scene: Scene, branch: int, derivatives: int) -> list[Motion]:
+def _accurate_motions(scene: Scene, branch: int | str, derivatives: int) -> list[Motion]:
     try:
         linkage = Linkage(scene.mechanism, **scene.dimensions)
         angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
@@ -7453,13 +7480,15 @@ def _accurate_motions(scene: Scene, branch: int, derivatives: int) -> list[Motio
         raise SceneError(f"{scene.path}: key 'fast': {e}") from None
 
 
-def _check_assembles(scene: Scene, motions: list[Motion]) -> None:
-    if not any(m.output is not None for m in motions):
+def _check_assembles(scene: Scene, positions: Sequence[Motion | Pose]) -> None:
+    """A SceneError unless the linkage assembles at one of `positions` (the engine's Motions,
+    or a drawing's Poses) at least."""
+    if not any(m.output is not None for m in positions):
         dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
         raise _scene_error(scene.path, "dimensions",
                            "a linkage that can be assembled somewhere from "
                            f"{scene.start:g} to {scene.stop:g} degrees; the {scene.mechanism} "
-                           f"linkage {dims} assembles at none of those {len(motions)} input "
+                           f"linkage {dims} assembles at none of those {len(positions)} input "
                            "angles")
 
 
@@ -7472,12 +7501,13 @@ class Series(NamedTuple):
     directory: str
 
 
-def _branch_text(branch) -> str:
+def _branch_text(branch: int | str) -> str:
     return ("follow (the motion followed from branch 1)" if branch == FOLLOW
             else f"{branch} ({'A+B' if branch == 1 else 'A-B'})")
 
 
-def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
+def compute_scene(scene: Scene, directory: str, report: Callable[[str], None] | None = None
+                  ) -> list[Series]:
     """Write the scene's DAT files under `directory` (in it for one series, else one folder a
     series); `report(message)` hears the original's soft errors. Returns the series. Nothing is
     written for a linkage that assembles nowhere in the range."""
@@ -7495,12 +7525,13 @@ def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
         except OSError as e:
             raise SceneError(f"cannot make the folder {where!r}: {e.strerror}") from None
         if precision == "double":
-            motions = accurate[branch]
+            rows: Sequence[tuple] = accurate[branch]
             if scene.transmission:
                 linkage = Linkage(scene.mechanism, **scene.dimensions)
-                motions = [m + (mu,) for m, mu in zip(motions, transmission_of(linkage, motions))]
+                rows = [m + (mu,) for m, mu in zip(accurate[branch],
+                                                   transmission_of(linkage, accurate[branch]))]
             try:
-                write_dat_files(motions, where, files=1 + scene.derivatives,
+                write_dat_files(rows, where, files=1 + scene.derivatives,
                                 transmission=scene.transmission)
             except WriteError as e:
                 raise SceneError(str(e)) from None
@@ -7521,8 +7552,9 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
     CSV_HEADER): the engine's motions for a double series, every point with its status; the
     original's numbers for a basic one, with the engine's status of each position. Returns the
     rows written."""
-    def rows():
+    def rows() -> Iterator[tuple]:
         for s in series:
+            assert s.branch is not None         # compute_scene's series know their branch
             if s.precision == "double":
                 for m in _accurate_motions(scene, s.branch, scene.derivatives):
                     yield (s.name,) + tuple(m)
@@ -7542,7 +7574,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 
 # -- reading DAT files -------------------------------------------------------------------------
 
-def read_dat(path: str, warn=None) -> list[tuple[float, float]]:
+def read_dat(path: str, warn: Callable[[str], None] | None = None) -> list[tuple[float, float]]:
     """The (input angle, value) pairs of a DAT file as WRITE # writes them (CRLF lines "x,y", the
     end-of-file byte 1A; numbers like .5, -1.713751E-02) or as the engine writes them (repr).
     warn(message), if given, hears of a file that may have been cut short: empty, without its
@@ -7595,7 +7627,7 @@ def _dat_precision(directory: str) -> str:
 def dat_series(directory: str) -> list[Series]:
     """The DAT files of `directory`: one series, or (if it holds none) one for each folder in it
     that does, named after the folder ("basic-branch1" tells its precision and branch)."""
-    def has_dat(d):
+    def has_dat(d: str) -> bool:
         return any(os.path.exists(os.path.join(d, n)) for n in QUANTITY_FILES.values())
     if has_dat(directory):
         return [Series(os.path.basename(os.path.abspath(directory)), _dat_precision(directory),
@@ -7625,7 +7657,7 @@ class Curve(NamedTuple):
     label: str
     quantity: str
     precision: str
-    branch: int | None
+    branch: int | str | None
     runs: tuple[tuple[tuple[float, float], ...], ...]   # unbroken pieces of (x, y)
 
 
@@ -7644,13 +7676,15 @@ class Figure(NamedTuple):
     panels: tuple[Panel, ...]
 
 
-def _runs(points, angles: bool):
+def _runs(points: Sequence[tuple[float, float]], angles: bool
+          ) -> tuple[tuple[tuple[float, float], ...], ...]:
     """Split (x, y) points where x skips more than 1.5 typical steps. Angles (angles=True) are
     unwrapped: whole turns added so that each point, and each run's first, is within 180 degrees
     of the point before it."""
     steps = sorted(abs(b[0] - a[0]) for a, b in zip(points, points[1:]))
     typical = steps[len(steps) // 2] if steps else 0.0
-    runs, run = [], []
+    runs: list[tuple[tuple[float, float], ...]] = []
+    run: list[tuple[float, float]] = []
     for x, y in points:
         if run and abs(x - run[-1][0]) > 1.5 * typical:
             runs.append(tuple(run))
@@ -7667,7 +7701,7 @@ def _runs(points, angles: bool):
 def _turned(curve: Curve, reference: Curve) -> Curve:
     """The angle curve moved by whole turns to lie nearest `reference` (so that two branches
     that meet at psi = 180 are drawn meeting, not one at +180 and the other at -180)."""
-    def mean(c):
+    def mean(c: Curve) -> float:
         ys = [y for r in c.runs for _, y in r]
         return sum(ys) / len(ys) if ys else 0.0
     turn = 360.0 * round((mean(reference) - mean(curve)) / 360.0)
@@ -7689,14 +7723,15 @@ DRAWN_UP_TO = 1e100      # the largest value a figure draws (GW-BASIC's numbers 
 CLIPPED = " (clipped at +-3)"       # a basic VEL or ACC curve that touches 3, as the original clips
 
 
-def build_figure(title: str, subtitle: str, group: str, specs, series: list[Series]) -> Figure:
+def build_figure(title: str, subtitle: str, group: str, specs: Sequence[PanelSpec],
+                 series: list[Series]) -> Figure:
     """The figure of `specs` (PanelSpecs) from the DAT files of `series`; group is "four-bar",
     "slider" or "unknown" (the axis labels, and whether outputs are angles)."""
     several_precisions = len({s.precision for s in series}) > 1
     several_branches = len({s.branch for s in series}) > 1
     panels = []
     for letter, spec in zip("abc", specs):
-        curves = []
+        curves: list[Curve] = []
         for quantity in spec.quantities:
             name = QUANTITY_FILES[quantity]
             for s in series:
@@ -7782,7 +7817,7 @@ class _Axis(NamedTuple):
         """The fractional cell of value v (cell 0 is `low`)."""
         return (v - self.low) / self.step * self.per
 
-    def tick_values(self):
+    def tick_values(self) -> list[float]:
         return [self.low + i * self.step for i in range(self.ticks + 1)]
 
 
@@ -7939,7 +7974,8 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
     from matplotlib.ticker import MultipleLocator
     xs_all = [x for p in figure.panels for c in p.curves for r in c.runs for x, _ in r]
     x_step = _nice_axis(min(xs_all), max(xs_all), 73, 8, angles=True).step if xs_all else 1.0
-    colours = {("displacement", 1): "black", ("displacement", 2): "tab:gray",
+    colours: dict[tuple[str, int | str], str] = {
+               ("displacement", 1): "black", ("displacement", 2): "tab:gray",
                ("velocity", 1): "tab:blue", ("velocity", 2): "tab:cyan",
                ("acceleration", 1): "tab:red", ("acceleration", 2): "tab:orange"}
     n = len(figure.panels)
@@ -7987,6 +8023,7 @@ def scene_drawing(scene: Scene) -> Drawing:
     """A mechanism scene's drawing: the linkage at each of its angles on its first branch."""
     dims = " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in scene.dimensions.items())
     branch = scene.branches[0]
+    assert isinstance(branch, int)      # load_scene: a mechanism scene draws branch 1 or 2
     try:
         drawing = mechanism_drawing(
             Linkage(scene.mechanism, **scene.dimensions), scene.angles(), branch,
@@ -8014,7 +8051,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     if not scene.draws_mechanism:
         raise ValueError("scene_text writes mechanism scenes")
 
-    def numbers(values):
+    def numbers(values: Iterable[float]) -> str:
         return ", ".join(repr(float(v)) for v in values)
     dims = ", ".join(f"{k} = {float(v)!r}" for k, v in scene.dimensions.items())
     lines = [f"# {printable(comment)}"] if comment else []
