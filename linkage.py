@@ -43,9 +43,16 @@ import re
 import shutil
 import struct
 import sys
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from decimal import Decimal
 from fractions import Fraction
-from typing import Callable, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple, ParamSpec, TextIO, TypeAlias, cast
+
+if TYPE_CHECKING:                       # for annotations only: matplotlib is imported where used
+    import matplotlib.axes
+    import matplotlib.backends.backend_agg
+    import matplotlib.figure
+    from types import ModuleType
 
 __version__ = "0.2.0"
 PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linkage.py"
@@ -2220,9 +2227,12 @@ class Motion(NamedTuple):
     status: str
 
 
+Vector = tuple[float, float, float]     # a point or a direction in space, (x, y, z)
+
+
 # -- cos and sin of degrees, reduced exactly ------------------------------------------------------
 
-def cos_sin_degrees(x):
+def cos_sin_degrees(x: float) -> tuple[float, float]:
     """cos and sin of x degrees (a float), reduced exactly in degrees: exact at multiples of 90."""
     r = math.fmod(x, 360.0)                 # exact
     n = round(r / 90.0)
@@ -2231,15 +2241,17 @@ def cos_sin_degrees(x):
     return ((c, s), (-s, c), (-c, -s), (s, -c))[n & 3]
 
 
-def _trig_double(q):
+def _trig_double(q: Fraction) -> tuple[Fraction, Fraction]:
     """cos and sin of q degrees (a Fraction, reduced exactly) as exact Fractions of the doubles."""
     r = q % 360
     n = round(r / 90)
     c, s = cos_sin_degrees(float(r - 90 * n))  # the reduced angle, rounded once
-    return tuple(Fraction(v) for v in ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4])
+    cq, sq = ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4]
+    return Fraction(cq), Fraction(sq)
 
 
-def _decimal_cos_sin_deg(q, context=_DECIMAL):
+def _decimal_cos_sin_deg(q: Fraction, context: decimal.Context = _DECIMAL
+                         ) -> tuple[Decimal, Decimal]:
     """cos and sin of q degrees (a Fraction) as Decimals of the context's digits (50, or 110 near
     a change point): exact reduction, Taylor."""
     r = q % 360
@@ -2258,14 +2270,15 @@ def _decimal_cos_sin_deg(q, context=_DECIMAL):
         return ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4]
 
 
-def _trig_decimal(q, context=_DECIMAL):
+def _trig_decimal(q: Fraction, context: decimal.Context = _DECIMAL) -> tuple[Fraction, Fraction]:
     """cos and sin of q degrees (a Fraction) as exact Fractions of 50-digit (or 110) values."""
-    return tuple(Fraction(v) for v in _decimal_cos_sin_deg(q, context))
+    c, s = _decimal_cos_sin_deg(q, context)
+    return Fraction(c), Fraction(s)
 
 
 # -- the closure's constants ---------------------------------------------------------------------
 
-def _dims_of(kind, dims):
+def _dims_of(kind: str, dims: dict[str, float]) -> dict[str, float]:
     """The dimensions of `kind` from `dims`, as finite floats; a ValueError names what is wrong."""
     if kind not in LINKAGE_DIMENSIONS:
         raise ValueError(f"unknown linkage kind {kind!r}; one of {', '.join(LINKAGE_DIMENSIONS)}")
@@ -2283,55 +2296,82 @@ def _dims_of(kind, dims):
     return out
 
 
-def _closure_constants(kind, dims, trig):
+# The (cos, sin) of q degrees, exact Fractions of the doubles (_trig_double) or of the decimals.
+_Trig = Callable[[Fraction], tuple[Fraction, Fraction]]
+_Constants = tuple[Fraction | int, ...]     # the closure's constants (0 an int where it is 0)
+
+
+def _closure_constants(kind: str, dims: dict[str, float], trig: _Trig) -> _Constants:
     """The closure's constants as exact Fractions, from the typed dimensions and trig(q), the
     (cos, sin) of q degrees. Four-bars: P, Q, S as (k0, kc, ks) of E = P cos psi + Q sin psi + S.
     Slider-cranks: m, q of G = x^2 - 2 m x + q = |B - D|^2 - c^2, the vector (u, v) from the crank
     tip to the slider's line (G = (x - m)^2 - (c^2 - u^2 - v^2)), and the rod c."""
-    a, b, c, d, e, f = (Fraction(dims.get(k, 0.0)) for k in "abcdef")
-    if kind == PLANE_FOUR_BAR:
-        # E = (|B - D|^2 - c^2) / 2 = lines 880-930 over (1 + t^2)(1 + u^2) / 2
-        # (test_physics.plane_four_bar).
-        return (d * a, -d * b, 0, 0, 0, -b * d, (a * a + b * b + d * d - c * c) / 2, -a * b, 0)
-    if kind == SKEW_FOUR_BAR:
-        # E = (|B - D|^2 - c^2) / 2, lines 650-710 (test_physics.skew_four_bar). Line 430's
-        # effective coupler c^2 - f^2 - g^2 + 2fg cos ksi is c^2 - h^2 with h = f tan ksi
-        # (g = f / cos ksi): it enters as such, never square-rooted.
-        cx, sx = trig(Fraction(dims["ksi"]))
-        if cx == 0:
-            raise ValueError("skew linkage: ksi = 90 degrees (mod 180) makes g = f / cos ksi "
-                             "infinite")
-        h = f * sx / cx
-        return (d * a, -d * b, 0, f * d * sx, 0, -b * d * cx,
-                (a * a + b * b + d * d + h * h - c * c) / 2, -a * b, -b * h)
-    if kind == SPHERICAL_FOUR_BAR:
-        # E = cos c - B.D, lines 810-860 over -(1 + t^2)(1 + u^2) / 2
-        # (test_physics.spherical_four_bar). The constant of S, cos c - cos a cos b cos d, is
-        # (A1 + B1 + C1 + E1) / 2 with A1 = sin p7 sin p8 etc. of exact half-sums p: products of
-        # sines keep their relative accuracy for arcs near 0 and 180 degrees, where the cosines
-        # would cancel.
-        ca, sa = trig(a)
-        cb, sb = trig(b)
-        cd, sd = trig(d)
+    return _CLOSURES[kind]({k: Fraction(v) for k, v in dims.items()}, trig)
 
-        def sin_p(sign_b, sign_c, sign_d):
-            return trig((a + sign_b * b + sign_c * c + sign_d * d) / 2)[1]
-        s0 = (sin_p(1, 1, 1) * sin_p(1, -1, 1) + sin_p(-1, 1, -1) * sin_p(-1, -1, -1)
-              + sin_p(1, 1, -1) * sin_p(1, -1, -1) + sin_p(-1, 1, 1) * sin_p(-1, -1, 1)) / 2
-        return (sd * sa * cb, -sd * ca * sb, 0, 0, 0, -sb * sd, s0, -cd * sa * sb, 0)
-    if kind == PLANE_SLIDER_CRANK:
-        # Lines 740-790 with a = d = 0: the slider on y = e, I1 = -4eb
-        # (test_physics.plane_slider_crank); c is the rod c* as typed.
-        return (0, b, 0, b * b + e * e - c * c, 0, -2 * e * b, e, 0, -b, 0, 0, 0, c)
-    # Skew slider-crank, lines 740-790: the slider's line through (a, 0, f) along
-    # (0, sin ksi, -cos ksi) (test_physics.skew_slider_crank); line 430 makes c^2 - f^2.
-    cx, sx = trig(Fraction(dims["ksi"]))
+
+def _plane_closure(n: dict[str, Fraction], trig: _Trig) -> _Constants:
+    # E = (|B - D|^2 - c^2) / 2 = lines 880-930 over (1 + t^2)(1 + u^2) / 2
+    # (test_physics.plane_four_bar).
+    a, b, c, d = n["a"], n["b"], n["c"], n["d"]
+    return (d * a, -d * b, 0, 0, 0, -b * d, (a * a + b * b + d * d - c * c) / 2, -a * b, 0)
+
+
+def _skew_closure(n: dict[str, Fraction], trig: _Trig) -> _Constants:
+    # E = (|B - D|^2 - c^2) / 2, lines 650-710 (test_physics.skew_four_bar). Line 430's
+    # effective coupler c^2 - f^2 - g^2 + 2fg cos ksi is c^2 - h^2 with h = f tan ksi
+    # (g = f / cos ksi): it enters as such, never square-rooted.
+    a, b, c, d, f, ksi = n["a"], n["b"], n["c"], n["d"], n["f"], n["ksi"]
+    cx, sx = trig(ksi)
+    if cx == 0:
+        raise ValueError("skew linkage: ksi = 90 degrees (mod 180) makes g = f / cos ksi "
+                         "infinite")
+    h = f * sx / cx
+    return (d * a, -d * b, 0, f * d * sx, 0, -b * d * cx,
+            (a * a + b * b + d * d + h * h - c * c) / 2, -a * b, -b * h)
+
+
+def _spherical_closure(n: dict[str, Fraction], trig: _Trig) -> _Constants:
+    # E = cos c - B.D, lines 810-860 over -(1 + t^2)(1 + u^2) / 2
+    # (test_physics.spherical_four_bar). The constant of S, cos c - cos a cos b cos d, is
+    # (A1 + B1 + C1 + E1) / 2 with A1 = sin p7 sin p8 etc. of exact half-sums p: products of
+    # sines keep their relative accuracy for arcs near 0 and 180 degrees, where the cosines
+    # would cancel.
+    a, b, c, d = n["a"], n["b"], n["c"], n["d"]
+    ca, sa = trig(a)
+    cb, sb = trig(b)
+    cd, sd = trig(d)
+
+    def sin_p(sign_b: int, sign_c: int, sign_d: int) -> Fraction:
+        return trig((a + sign_b * b + sign_c * c + sign_d * d) / 2)[1]
+    s0 = (sin_p(1, 1, 1) * sin_p(1, -1, 1) + sin_p(-1, 1, -1) * sin_p(-1, -1, -1)
+          + sin_p(1, 1, -1) * sin_p(1, -1, -1) + sin_p(-1, 1, 1) * sin_p(-1, -1, 1)) / 2
+    return (sd * sa * cb, -sd * ca * sb, 0, 0, 0, -sb * sd, s0, -cd * sa * sb, 0)
+
+
+def _slider_closure(n: dict[str, Fraction], trig: _Trig) -> _Constants:
+    # Lines 740-790 with a = d = 0: the slider on y = e, I1 = -4eb
+    # (test_physics.plane_slider_crank); c is the rod c* as typed.
+    b, c, e = n["b"], n["c"], n["e"]
+    return (0, b, 0, b * b + e * e - c * c, 0, -2 * e * b, e, 0, -b, 0, 0, 0, c)
+
+
+def _skew_slider_closure(n: dict[str, Fraction], trig: _Trig) -> _Constants:
+    # Lines 740-790: the slider's line through (a, 0, f) along (0, sin ksi, -cos ksi)
+    # (test_physics.skew_slider_crank); line 430 makes c^2 - f^2.
+    a, b, c, f, ksi = n["a"], n["b"], n["c"], n["f"], n["ksi"]
+    cx, sx = trig(ksi)
     return (f * cx, 0, b * sx, a * a + b * b + f * f - c * c, -2 * a * b, 0,
             -a, b, 0, -f * sx, 0, b * cx, c)
 
 
-def _size_squared(kind, k):
-    """A bound on the discriminant's terms (its scale), from the closure's constants."""
+_CLOSURES = {PLANE_FOUR_BAR: _plane_closure, SKEW_FOUR_BAR: _skew_closure,
+             SPHERICAL_FOUR_BAR: _spherical_closure, PLANE_SLIDER_CRANK: _slider_closure,
+             SKEW_SLIDER_CRANK: _skew_slider_closure}
+
+
+def _size_squared(kind: str, k: Sequence[Any]) -> Any:
+    """A bound on the discriminant's terms (its scale), from the closure's constants: exact
+    (Fractions) or in the Decimals' context, as they come."""
     if kind in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK):
         reach = abs(k[12]) + sum(abs(v) for v in k[6:12])
         return reach * reach
@@ -2353,7 +2393,7 @@ class Linkage:
     __slots__ = ("kind", "dims", "is_slider", "_unit", "_scaled", "_constants", "_precise_below",
                  "_decimal")
 
-    def __init__(self, kind, **dims):
+    def __init__(self, kind: str, **dims: float) -> None:
         self.dims = _dims_of(kind, dims)
         self.kind = kind
         self.is_slider = kind in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK)
@@ -2365,16 +2405,19 @@ class Linkage:
         exact = _closure_constants(kind, self._scaled, _trig_double)
         self._constants = tuple(float(v) for v in exact)
         self._precise_below = _PRECISE_BELOW * float(_size_squared(kind, exact))
-        self._decimal = None             # the 50-digit constants, made at the first use
+        # the 50-digit (and 110-digit) constants by precision, made at the first use: the
+        # closure's constants, the discriminant's zero and the line under which 110 digits serve
+        self._decimal: dict[int, tuple[tuple[Decimal, ...], Decimal, Decimal]] | None = None
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "Linkage(%r, %s)" % (self.kind, ", ".join("%s=%r" % kv for kv in self.dims.items()))
 
-    def motion(self, phi, branch=1, derivatives=2):
+    def motion(self, phi: float, branch: int | str = 1, derivatives: int = 2) -> Motion:
         """The output (and its first `derivatives` derivatives) at input angle phi (degrees)."""
         return self.sweep((phi,), branch, derivatives)[0]
 
-    def sweep(self, phis, branch=1, derivatives=2, *, start=None):
+    def sweep(self, phis: Iterable[float], branch: int | str = 1, derivatives: int = 2, *,
+              start: int | None = None) -> list[Motion]:
         """Motion for each input angle of `phis` (degrees), on the listing's branch 1 (A+B) or 2
         (A-B); derivatives 0 computes the output only, 1 adds the velocity, 2 the acceleration.
 
@@ -2413,7 +2456,8 @@ class Linkage:
         FastUnavailable where numpy is not installed."""
         return _sweep_arrays(self, phis, branch, derivatives)
 
-    def coupler(self, phis, u, v=0.0, branch=1, derivatives=2, *, start=None):
+    def coupler(self, phis: Iterable[float], u: float, v: float = 0.0, branch: int | str = 1,
+                derivatives: int = 2, *, start: int | None = None) -> list[CouplerMotion]:
         """The coupler point (u, v) at each input angle of `phis`: a CouplerMotion each, its
         position, velocity and acceleration (x, y, z) on the branch (or motion) that sweep takes.
         The point is fixed to the coupler, in its own frame: plane kinds P = A + u e + v n (u, v
@@ -2424,7 +2468,8 @@ class Linkage:
         u, v = check_coupler_point(self, u, v)
         return coupler_of(self, self.sweep(phis, branch, derivatives, start=start), u, v)
 
-    def transmission(self, phis, branch=1, *, start=None):
+    def transmission(self, phis: Iterable[float], branch: int | str = 1, *,
+                     start: int | None = None) -> list[float | None]:
         """The transmission angle mu (degrees, [0, 180]) at each input angle, None where there
         is no position: the angle between the output pin's velocity and its velocity relative
         to the crank pin A (the review's section 2; see the section's notes)."""
@@ -2439,7 +2484,7 @@ class Linkage:
         """transmission on numpy arrays: a float64 array, NaN where there is no position."""
         return transmission_of_arrays(self, self.sweep_arrays(phis, branch, 0))
 
-    def _precise(self, phi, sign, level):
+    def _precise(self, phi: float, sign: float, level: int) -> Motion:
         """One point in 50-digit decimal arithmetic (near a dead-centre), as a Motion; in 110
         digits where the discriminant is within 1e-12 of its scale (near a change point)."""
         if self._decimal is None:
@@ -2454,31 +2499,27 @@ class Linkage:
                     self._decimal[context.prec] = (k, scale * _DECIMAL_ZERO_BELOW,
                                                    scale * _FINE_BELOW)
             k, zero, fine = self._decimal[context.prec]
-            if context is _DECIMAL_FINE:
-                fine = None
             c, s = _decimal_cos_sin_deg(Fraction(phi), context)
             with decimal.localcontext(context):
+                more = None if context is _DECIMAL_FINE else fine
                 if self.is_slider:
-                    m = _slider_point(k, zero, fine, phi, c, s, int(sign), level, self._unit)
+                    m = _slider_point(k, zero, more, phi, c, s, int(sign), level, self._unit)
                 else:
-                    m = _four_bar_point(k, zero, fine, phi, c, s, int(sign), level)
+                    m = _four_bar_point(k, zero, more, phi, c, s, int(sign), level)
             if m is not None:
-                return m
+                break
+        assert m is not None         # in 110 digits (more None) every point is decided
+        return m
 
 
 # -- the double-precision sweeps ------------------------------------------------------------------
 
-def _sweep_four_bar(linkage, phis, sign, level):
-    """The four-bar loop: psi on branch `sign` (+1: dE/dpsi > 0) from P cos psi + Q sin psi = -S,
-    psi' = -E_phi / E_psi and psi'' = -(E_phiphi + 2 E_phipsi psi' + E_psipsi psi'^2) / E_psi,
-    with E_psi = sign sqrt(D), D = P^2 + Q^2 - S^2, and E_psipsi = S on the root."""
-    p0, pc, ps, q0, qc, qs, s0, sc, ss = linkage._constants
-    precise_below = linkage._precise_below
-    fmod, cos, sin, hypot, sqrt, atan2 = (math.fmod, math.cos, math.sin, math.hypot, math.sqrt,
-                                          math.atan2)
-    rad, deg, new = _RAD, _DEG, tuple.__new__
-    out = []
-    append = out.append
+def _cos_sin_all(phis: list[float]) -> tuple[list[float], list[float]]:
+    """cos_sin_degrees of each angle, as a list of cosines and one of sines (one loop: the
+    sweeps' speed)."""
+    fmod, cos, sin, rad = math.fmod, math.cos, math.sin, _RAD
+    cs: list[float] = []
+    ss: list[float] = []
     for phi in phis:
         r = fmod(phi, 360.0)
         n = round(r / 90.0)
@@ -2493,6 +2534,22 @@ def _sweep_four_bar(linkage, phis, sign, level):
             c, s = -cy, -sy
         else:
             c, s = sy, -cy
+        cs.append(c)
+        ss.append(s)
+    return cs, ss
+
+
+def _sweep_four_bar(linkage: Linkage, phis: list[float], sign: float, level: int) -> list[Motion]:
+    """The four-bar loop: psi on branch `sign` (+1: dE/dpsi > 0) from P cos psi + Q sin psi = -S,
+    psi' = -E_phi / E_psi and psi'' = -(E_phiphi + 2 E_phipsi psi' + E_psipsi psi'^2) / E_psi,
+    with E_psi = sign sqrt(D), D = P^2 + Q^2 - S^2, and E_psipsi = S on the root."""
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = linkage._constants
+    precise_below = linkage._precise_below
+    hypot, sqrt, atan2 = math.hypot, math.sqrt, math.atan2
+    deg, new = _DEG, tuple.__new__
+    out: list[Motion] = []
+    append = out.append
+    for phi, c, s in zip(phis, *_cos_sin_all(phis)):
         xp, xq, xs = pc * c + ps * s, qc * c + qs * s, sc * c + ss * s
         p, q, sv = p0 + xp, q0 + xq, s0 + xs
         rr = hypot(p, q)
@@ -2526,30 +2583,17 @@ def _sweep_four_bar(linkage, phis, sign, level):
     return out
 
 
-def _sweep_slider(linkage, phis, sign, level):
+def _sweep_slider(linkage: Linkage, phis: list[float], sign: float, level: int) -> list[Motion]:
     """The slider-crank loop: x = m + sign sqrt(D), D = c^2 - u^2 - v^2, by the stable quadratic
     formula (the root away from zero first, the other as q over it); x' = -G_phi / G_x and x''
     likewise, with G_x = 2 sign sqrt(D)."""
     m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = linkage._constants
     precise_below, unit = linkage._precise_below, linkage._unit
-    fmod, cos, sin, hypot, sqrt = math.fmod, math.cos, math.sin, math.hypot, math.sqrt
-    rad, new = _RAD, tuple.__new__
-    out = []
+    hypot, sqrt = math.hypot, math.sqrt
+    new = tuple.__new__
+    out: list[Motion] = []
     append = out.append
-    for phi in phis:
-        r = fmod(phi, 360.0)
-        n = round(r / 90.0)
-        y = (r - 90.0 * n) * rad
-        cy, sy = cos(y), sin(y)
-        n &= 3
-        if n == 0:
-            c, s = cy, sy
-        elif n == 1:
-            c, s = -sy, cy
-        elif n == 2:
-            c, s = -cy, -sy
-        else:
-            c, s = sy, -cy
+    for phi, c, s in zip(phis, *_cos_sin_all(phis)):
         xm, xk = mc * c + ms * s, kc * c + ks * s
         m, q = m0 + xm, k0 + xk
         dist = hypot(u0 + uc * c + us * s, v0 + vc * c + vs * s)
@@ -2610,13 +2654,15 @@ _FOLLOW_CROSS = 1e-6         # if their distance times their velocity is below t
 #                              centre's roots meet with infinite velocity, keeping it finite)
 
 
-def _follow(linkage, phis, start, level):
+def _follow(linkage: Linkage, phis: list[float], start: int, level: int) -> list[Motion]:
     """Linkage.sweep(phis, FOLLOW, level, start=start): see there and the notes above."""
     both = {b: (_sweep_slider if linkage.is_slider else _sweep_four_bar)(
         linkage, phis, 1.0 if b == 1 else -1.0, 2) for b in (1, 2)}
     length = max([abs(v) for k, v in linkage.dims.items() if k != "ksi"] + [0.0]) \
         if linkage.is_slider else 1.0
-    out, state, ended = [], None, False
+    out: list[Motion] = []
+    state: _Followed | None = None
+    ended = False
     for i, phi in enumerate(phis):
         here = (both[1][i], both[2][i])
         if ended:
@@ -2638,20 +2684,34 @@ def _follow(linkage, phis, start, level):
     return out
 
 
-def _follow_state(linkage, m, label):
-    """(phi, output in radians or length unwrapped, velocity, acceleration, the listing's label,
-    whether it is a change point) of a Motion on branch `label`."""
-    y = m.output if linkage.is_slider else m.output * _RAD
-    return (m.phi, y, m.velocity, m.acceleration, label, m.status == CHANGE_POINT)
+# The followed position: (phi, output in radians or length unwrapped, velocity, acceleration, the
+# listing's label, whether it is a change point).
+_Followed = tuple[float, float, float, float, int, bool]
 
 
-def _with_level(m, level):
+def _follow_state(linkage: Linkage, m: Motion, label: int) -> _Followed:
+    """The followed position of a Motion on branch `label`."""
+    output, velocity, acceleration = _known(m)
+    y = output if linkage.is_slider else output * _RAD
+    return (m.phi, y, velocity, acceleration, label, m.status == CHANGE_POINT)
+
+
+def _known(m: Motion) -> tuple[float, float, float]:
+    """Output, velocity and acceleration of a position computed with both derivatives that is
+    ASSEMBLED or a CHANGE_POINT (all three given)."""
+    assert m.output is not None and m.velocity is not None and m.acceleration is not None
+    return m.output, m.velocity, m.acceleration
+
+
+def _with_level(m: Motion, level: int) -> Motion:
     if level == 2 or m.velocity is None:
         return m
     return Motion(m.phi, m.output, m.velocity if level == 1 else None, None, m.status)
 
 
-def _follow_step(linkage, state, phi, here, length, depth, splits):
+def _follow_step(linkage: Linkage, state: _Followed, phi: float,
+                 here: tuple[Motion, Motion] | None, length: float, depth: int, splits: list[int]
+                 ) -> tuple[_Followed | None, Motion]:
     """From the followed position `state` to angle phi, whose two roots are `here` (Motions of
     labels 1, 2, or None to compute them). Returns (state, Motion) of the root that continues the
     motion, or (None, Motion) where it ends (that Motion: the dead centre or the position that
@@ -2661,7 +2721,7 @@ def _follow_step(linkage, state, phi, here, length, depth, splits):
     between them) looks like a crossing from afar. `splits` ([n]) counts down the halvings
     this step may still make; at 0 a step is taken as at the deepest halving."""
     if here is None:
-        here = tuple(linkage.sweep((phi,), b, 2)[0] for b in (1, 2))
+        here = (linkage.motion(phi, 1), linkage.motion(phi, 2))
     status = here[0].status
     if status not in (ASSEMBLED, CHANGE_POINT):
         return None, here[0]
@@ -2669,44 +2729,45 @@ def _follow_step(linkage, state, phi, here, length, depth, splits):
     h = (phi - phi0) * _RAD
     misfits = []
     for label, m in enumerate(here, 1):
+        y1, v1, a1 = _known(m)
         if linkage.is_slider:
-            step = m.output - y0
+            step = y1 - y0
         else:
-            step = math.remainder(m.output * _RAD - y0, 2.0 * math.pi)
-        v1, a1 = m.velocity, m.acceleration
+            step = math.remainder(y1 * _RAD - y0, 2.0 * math.pi)
         misfit = (abs(step - 0.5 * h * (v0 + v1) + h * h * (a1 - a0) / 12.0)
                   + abs(h) * abs(v1 - v0 - 0.5 * h * (a0 + a1)))
-        misfits.append((misfit, label, step, m))
+        misfits.append((misfit, label, step, v1, a1, m))
     misfits.sort(key=lambda t: t[0])
-    (best, label, step, m), (other, _, other_step, other_m) = misfits
+    (best, label, step, v1, a1, m), (other, _, other_step, other_v, _, _) = misfits
     may_switch = crossing0 or status == CHANGE_POINT
-    smooth = (best <= _FOLLOW_AGREE * abs(h) * (length + abs(v0) + abs(m.velocity))
+    smooth = (best <= _FOLLOW_AGREE * abs(h) * (length + abs(v0) + abs(v1))
               and best <= _FOLLOW_CLEAR * other and (label == label0 or may_switch))
     apart = abs(step - other_step)
     if (not smooth and apart <= _FOLLOW_MEET * length
-            and apart * max(abs(m.velocity), abs(other_m.velocity)) <= _FOLLOW_CROSS * length * length):
+            and apart * max(abs(v1), abs(other_v)) <= _FOLLOW_CROSS * length * length):
         # the branches cross here, with finite velocities: the outputs cannot tell them apart,
         # the velocities can (at a dead centre, where the roots meet too, apart * velocity
         # stays finite as they meet)
-        _, label, step, m = min(misfits, key=lambda t: abs(
-            t[3].velocity - v0 - 0.5 * h * (a0 + t[3].acceleration)))
+        _, label, step, v1, a1, m = min(misfits, key=lambda t: abs(
+            t[3] - v0 - 0.5 * h * (a0 + t[4])))
         smooth = True
     deepest = depth >= _FOLLOW_DEPTH or splits[0] <= 0
     if not smooth and deepest and label != label0 and not may_switch:
-        _, label, step, m = next(t for t in misfits if t[1] == label0)
+        _, label, step, v1, a1, m = next(t for t in misfits if t[1] == label0)
     if smooth or deepest or h == 0.0:
-        return (phi, y0 + step, m.velocity, m.acceleration, label, status == CHANGE_POINT), m
+        return (phi, y0 + step, v1, a1, label, status == CHANGE_POINT), m
     splits[0] -= 1
     middle = phi0 + 0.5 * (phi - phi0)
-    state, last = _follow_step(linkage, state, middle, None, length, depth + 1, splits)
-    if state is None:
+    halfway, last = _follow_step(linkage, state, middle, None, length, depth + 1, splits)
+    if halfway is None:
         return None, last
-    return _follow_step(linkage, state, phi, here, length, depth + 1, splits)
+    return _follow_step(linkage, halfway, phi, here, length, depth + 1, splits)
 
 
 # -- the same formulas, one point at a time in 50-digit decimal (near dead-centres) -------------
 
-def _four_bar_point(k, zero, fine, phi, c, s, sign, level):
+def _four_bar_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, phi: float,
+                    c: Decimal, s: Decimal, sign: int, level: int) -> Motion | None:
     """_sweep_four_bar's formulas for one point in Decimal; decides DEAD_CENTRE, CHANGE_POINT and
     INDETERMINATE. None where the discriminant is under `fine` (more digits are needed)."""
     p0, pc, ps, q0, qc, qs, s0, sc, ss = k
@@ -2755,7 +2816,8 @@ def _four_bar_point(k, zero, fine, phi, c, s, sign, level):
     return Motion(phi, psi, float(vel), float(acc), ASSEMBLED)
 
 
-def _slider_point(k, zero, fine, phi, c, s, sign, level, unit):
+def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, phi: float,
+                  c: Decimal, s: Decimal, sign: int, level: int, unit: float) -> Motion | None:
     """_sweep_slider's formulas for one point in Decimal; decides DEAD_CENTRE and CHANGE_POINT.
     None where the discriminant is under `fine` (more digits are needed)."""
     m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = k
@@ -2828,7 +2890,7 @@ class FastUnavailable(RuntimeError):
     cannot be imported."""
 
 
-def numpy_module():
+def numpy_module() -> ModuleType:
     """numpy, imported at the first use; FastUnavailable, saying what to install, without it."""
     try:
         import numpy
@@ -3189,39 +3251,47 @@ def _sweep_arrays(linkage, phis, branch, derivatives):
 # eq. (1) for the plane four-bar (the inner angle between coupler and output crank), its eq. (3)
 # for the slider-crank (data/SYNTHESIS_ERRATA.md, S9), the spherical inner angle at B.
 
-def _plane_crank_pin(dims, c, s):
+# The pins' and the coupler's formulas serve the scalar engine and the numpy path alike: their
+# numbers are floats, or numpy arrays of floats (Any: mypy cannot follow one formula over both,
+# and "float | numpy.ndarray" would make every scalar caller's float a union).
+Real: TypeAlias = Any
+Vec3: TypeAlias = "tuple[Real, Real, Real]"
+Kinematics: TypeAlias = "tuple[Vec3, Vec3, Vec3]"    # a pin's position, d/d and d2/d2
+
+
+def _plane_crank_pin(dims: dict[str, float], c: Real, s: Real) -> Kinematics:
     b = dims["b"]
     return (b * c, b * s, 0.0), (-b * s, b * c, 0.0), (-b * c, -b * s, 0.0)
 
 
-def _spherical_crank_pin(dims, c, s):
+def _spherical_crank_pin(dims: dict[str, float], c: Real, s: Real) -> Kinematics:
     cb, sb = dims["cos b"], dims["sin b"]
     return (sb * c, sb * s, cb), (-sb * s, sb * c, 0.0), (-sb * c, -sb * s, 0.0)
 
 
-def _plane_output_pin(dims, cq, sq, x):
+def _plane_output_pin(dims: dict[str, float], cq: Real, sq: Real, x: None) -> Kinematics:
     a, d = dims["a"], dims["d"]
     return (a + d * cq, d * sq, 0.0), (-d * sq, d * cq, 0.0), (-d * cq, -d * sq, 0.0)
 
 
-def _skew_output_pin(dims, cq, sq, x):
+def _skew_output_pin(dims: dict[str, float], cq: Real, sq: Real, x: None) -> Kinematics:
     a, d, f = dims["a"], dims["d"], dims["f"]
     cx, sx = dims["cos ksi"], dims["sin ksi"]
     return ((a + d * cq, f * sx / cx + d * sq * cx, d * sq * sx),
             (-d * sq, d * cq * cx, d * cq * sx), (-d * cq, -d * sq * cx, -d * sq * sx))
 
 
-def _spherical_output_pin(dims, cq, sq, x):
+def _spherical_output_pin(dims: dict[str, float], cq: Real, sq: Real, x: None) -> Kinematics:
     ca, sa, cd, sd = dims["cos a"], dims["sin a"], dims["cos d"], dims["sin d"]
-    return tuple(rotated_y(ca, sa, v) for v in ((sd * cq, sd * sq, cd), (-sd * sq, sd * cq, 0.0),
-                                             (-sd * cq, -sd * sq, 0.0)))
+    return (rotated_y(ca, sa, (sd * cq, sd * sq, cd)), rotated_y(ca, sa, (-sd * sq, sd * cq, 0.0)),
+            rotated_y(ca, sa, (-sd * cq, -sd * sq, 0.0)))
 
 
-def _slider_output_pin(dims, cq, sq, x):
+def _slider_output_pin(dims: dict[str, float], cq: None, sq: None, x: Real) -> Kinematics:
     return (x, dims["e"], 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 0.0)
 
 
-def _skew_slider_output_pin(dims, cq, sq, x):
+def _skew_slider_output_pin(dims: dict[str, float], cq: None, sq: None, x: Real) -> Kinematics:
     a, f, cx, sx = dims["a"], dims["f"], dims["cos ksi"], dims["sin ksi"]
     return (a, x * sx, f - x * cx), (0.0, sx, -cx), (0.0, 0.0, 0.0)
 
@@ -3232,23 +3302,24 @@ class Pins(NamedTuple):
     pin_dimensions); coupler the form
     of its coupler's frame ("plane", "sphere" or "line"); joint_at_a the axis the coupler turns
     about relative to the crank ("z", or "OA" through the sphere's centre)."""
-    crank_pin: object
-    output_pin: object
+    crank_pin: Callable[[dict[str, float], Real, Real], Kinematics]
+    output_pin: Callable[[dict[str, float], Any, Any, Any], Kinematics]   # see output_pin_at
     coupler: str
     joint_at_a: str
+    output_joint: str           # the output pin's name in joint_positions: B, or the slider C
 
 
 PINS = {
-    PLANE_FOUR_BAR: Pins(_plane_crank_pin, _plane_output_pin, "plane", "z"),
-    SPHERICAL_FOUR_BAR: Pins(_spherical_crank_pin, _spherical_output_pin, "sphere", "OA"),
-    SKEW_FOUR_BAR: Pins(_plane_crank_pin, _skew_output_pin, "line", "z"),
-    PLANE_SLIDER_CRANK: Pins(_plane_crank_pin, _slider_output_pin, "plane", "z"),
-    SKEW_SLIDER_CRANK: Pins(_plane_crank_pin, _skew_slider_output_pin, "line", "z"),
+    PLANE_FOUR_BAR: Pins(_plane_crank_pin, _plane_output_pin, "plane", "z", "B"),
+    SPHERICAL_FOUR_BAR: Pins(_spherical_crank_pin, _spherical_output_pin, "sphere", "OA", "B"),
+    SKEW_FOUR_BAR: Pins(_plane_crank_pin, _skew_output_pin, "line", "z", "B"),
+    PLANE_SLIDER_CRANK: Pins(_plane_crank_pin, _slider_output_pin, "plane", "z", "C"),
+    SKEW_SLIDER_CRANK: Pins(_plane_crank_pin, _skew_slider_output_pin, "line", "z", "C"),
 }
 COUPLER_REACH = 1e9      # a coupler point at most this many times the linkage's size from A
 
 
-def pin_dimensions(dims):
+def pin_dimensions(dims: dict[str, float]) -> dict[str, float]:
     """dims with the cosines and sines of its angles ("cos a", "sin ksi", ...), computed once for
     the pins of PINS."""
     out = dict(dims)
@@ -3258,7 +3329,7 @@ def pin_dimensions(dims):
     return out
 
 
-def _add(*terms):
+def _add(*terms: tuple[Real, Vec3]) -> Vec3:
     """The sum of (coefficient, 3-vector) terms, componentwise."""
     (k, v), x, y, z = terms[0], 0.0, 0.0, 0.0
     for k, v in terms:
@@ -3266,31 +3337,31 @@ def _add(*terms):
     return x, y, z
 
 
-def _sub(p, q):
+def _sub(p: Vec3, q: Vec3) -> Vec3:
     return (p[0] - q[0], p[1] - q[1], p[2] - q[2])
 
 
-def cross(u, v):
+def cross(u: Vec3, v: Vec3) -> Vec3:
     """The cross product of two 3-vectors (floats or numpy arrays alike)."""
     return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
 
 
-def dot(u, v):
+def dot(u: Vec3, v: Vec3) -> Real:
     """The dot product of two 3-vectors."""
     return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
 
 
-def rotated_y(c, s, v):
+def rotated_y(c: float, s: float, v: Vec3) -> Vec3:
     """v rotated about the y axis by the angle of cosine c, sine s (z turns toward +x)."""
     return (c * v[0] + s * v[2], v[1], -s * v[0] + c * v[2])
 
 
-def _quarter_turned(w):
+def _quarter_turned(w: Vec3) -> Vec3:
     """w turned +90 degrees about z (its z component dropped): n of the plane coupler frame."""
     return (-w[1], w[0], 0.0)
 
 
-def check_coupler_point(linkage, u, v=0.0):
+def check_coupler_point(linkage: Linkage, u: float, v: float = 0.0) -> tuple[float, float]:
     """(u, v) as floats if they name a point of `linkage`'s coupler (see Linkage.coupler), or a
     ValueError that says why not."""
     try:
@@ -3319,22 +3390,23 @@ def check_coupler_point(linkage, u, v=0.0):
     return u, v
 
 
-def _joint_kinematics(linkage, dims, c, s, out, level, q1, q2, cos_sin):
+def _joint_kinematics(linkage: Linkage, dims: dict[str, float], c: Real, s: Real, out: Real,
+                      level: int, q1: Real | None, q2: Real | None,
+                      cos_sin: Callable[[Any], tuple[Any, Any]]
+                      ) -> tuple[tuple[Vec3, ...], tuple[Vec3, ...], Vec3]:
     """A, P (positions and total derivatives by phi, as many as `level` asks) and P_q, in the
     linkage's scaled lengths (divided by its unit, as the engine computes), from cos and sin of
     phi, the output (degrees, or length) and its derivatives q1, q2; dims is
     pin_dimensions(linkage._scaled); cos_sin is cos_sin_degrees or its array form."""
-    pins = PINS[linkage.kind]
-    a = pins.crank_pin(dims, c, s)
+    a = PINS[linkage.kind].crank_pin(dims, c, s)
     if linkage.is_slider:
         unit = linkage._unit
-        out, q1, q2 = (None if q is None else q / unit for q in (out, q1, q2))
-        p = pins.output_pin(dims, None, None, out)
-    else:
-        cq, sq = cos_sin(out)
-        p = pins.output_pin(dims, cq, sq, None)
+        out = out / unit
+        q1, q2 = (None if q is None else q / unit for q in (q1, q2))
+    p = output_pin_at(linkage, dims, out, cos_sin)
     if level == 0:
         return a[:1], p[:1], p[1]
+    assert q1 is not None                   # the derivatives `level` asks for are given
     p1 = _add((q1, p[1]))
     if level == 1:
         return a[:2], (p[0], p1), p[1]
@@ -3342,7 +3414,19 @@ def _joint_kinematics(linkage, dims, c, s, out, level, q1, q2, cos_sin):
     return a, (p[0], p1, p2), p[1]
 
 
-def _coupler_form(linkage, a, p, u, v, sqrt):
+def output_pin_at(linkage: Linkage, dims: dict[str, float], out: Real,
+                  cos_sin: Callable[[Any], tuple[Any, Any]]) -> Kinematics:
+    """The output pin at output `out`: the output angle (degrees; cos_sin gives its cosine and
+    sine), or the slider's position (in the lengths of `dims`)."""
+    pins = PINS[linkage.kind]
+    if linkage.is_slider:
+        return pins.output_pin(dims, None, None, out)
+    cq, sq = cos_sin(out)
+    return pins.output_pin(dims, cq, sq, None)
+
+
+def _coupler_form(linkage: Linkage, a: Sequence[Vec3], p: Sequence[Vec3], u: float, v: float,
+                  sqrt: Callable[[Any], Any]) -> list[Vec3]:
     """The coupler point and its derivatives (as many as a and p carry) from the pins' (scaled
     lengths: see _joint_kinematics), in the linkage's lengths."""
     form = PINS[linkage.kind].coupler
@@ -3373,7 +3457,8 @@ def _coupler_form(linkage, a, p, u, v, sqrt):
     return out
 
 
-def _transmission_form(kind, a, p, p_q, atan2):
+def _transmission_form(kind: str, a: Vec3, p: Vec3, p_q: Vec3, atan2: Callable[[Any, Any], Any]
+                       ) -> Real:
     """mu in degrees from the pins' positions and the output pin's P_q (see the notes above)."""
     t_r = cross(a if PINS[kind].joint_at_a == "OA" else (0.0, 0.0, 1.0), _sub(p, a))
     normal = cross(p_q, t_r)
@@ -3385,13 +3470,14 @@ class CouplerMotion(NamedTuple):
     frame of joint_positions, the derivatives by the input angle in radians (as Motion's); None
     where not asked for or where there is no position (status, as the Motion's)."""
     phi: float
-    position: tuple | None
-    velocity: tuple | None
-    acceleration: tuple | None
+    position: Vector | None
+    velocity: Vector | None
+    acceleration: Vector | None
     status: str
 
 
-def coupler_of(linkage, motions, u, v=0.0):
+def coupler_of(linkage: Linkage, motions: Iterable[Motion], u: float, v: float = 0.0
+               ) -> list[CouplerMotion]:
     """The coupler point (u, v) (see Linkage.coupler) at each of `motions` (Linkage.sweep's): as
     many derivatives as each Motion carries."""
     u, v = check_coupler_point(linkage, u, v)
@@ -3404,15 +3490,16 @@ def coupler_of(linkage, motions, u, v=0.0):
         c, s = cos_sin_degrees(m.phi)
         a, p, _ = _joint_kinematics(linkage, dims, c, s, m.output, level, m.velocity,
                                     m.acceleration, cos_sin_degrees)
-        point = _coupler_form(linkage, a, p, u, v, math.sqrt) + [None, None]
-        out.append(CouplerMotion(m.phi, *point[:3], m.status))
+        point: list[Vector | None] = [*_coupler_form(linkage, a, p, u, v, math.sqrt), None, None]
+        out.append(CouplerMotion(m.phi, point[0], point[1], point[2], m.status))
     return out
 
 
-def transmission_of(linkage, motions):
+def transmission_of(linkage: Linkage, motions: Iterable[Motion]) -> list[float | None]:
     """The transmission angle mu (degrees, [0, 180]) at each of `motions`, None where there is no
     position."""
-    out, dims = [], pin_dimensions(linkage._scaled)
+    out: list[float | None] = []
+    dims = pin_dimensions(linkage._scaled)
     for m in motions:
         if m.output is None:
             out.append(None)
@@ -3498,7 +3585,8 @@ ANALYSIS_SAMPLES = 720              # D and the motion sampled every half degree
 _TOUCHING = 1e-12                   # |D| over its scale under which a minimum touches zero
 
 
-def _golden(f, lo, hi, maximum):
+def _golden(f: Callable[[float], float], lo: float, hi: float, maximum: bool
+            ) -> tuple[float, float]:
     """The extreme of f on [lo, hi] by golden-section search: (x, f(x))."""
     g = (math.sqrt(5) - 1) / 2
     sign = -1.0 if maximum else 1.0
@@ -3519,13 +3607,16 @@ def _golden(f, lo, hi, maximum):
     return x, f(x)
 
 
-def extreme_of(f, lo, hi, maximum, h=1e-3):
+def extreme_of(f: Callable[[float], float], lo: float, hi: float, maximum: bool, h: float = 1e-3
+               ) -> tuple[float, float]:
     """The extreme of f on [lo, hi]: golden-section search, then the zero of the central
     difference of f (step h) by bisection, which places a smooth extreme to ~1e-10 rather than
     ~1e-8; that one is kept unless its value is worse beyond rounding (a kink, |.|, is better
     left to the first)."""
     x, fx = _golden(f, lo, hi, maximum)
-    slope = lambda z: f(z + h) - f(z - h)                      # noqa: E731
+
+    def slope(z: float) -> float:
+        return f(z + h) - f(z - h)
     left, right = x - 1e-4, x + 1e-4
     if left - h < lo or right + h > hi:                        # f is known on [lo, hi] only
         return x, fx
@@ -3549,7 +3640,7 @@ def extreme_of(f, lo, hi, maximum, h=1e-3):
     return x, fx
 
 
-def _bisect(f, lo, hi, f_lo):
+def _bisect(f: Callable[[float], float], lo: float, hi: float, f_lo: float) -> float:
     """The point of [lo, hi] where f changes sign (f(lo) = f_lo, f(hi) of the other sign), to the
     last bit."""
     for _ in range(200):
@@ -3566,7 +3657,8 @@ def _bisect(f, lo, hi, f_lo):
     return lo + (hi - lo) / 2
 
 
-def _discriminant(linkage):
+def _discriminant(linkage: Linkage
+                  ) -> tuple[Callable[[float], float], Callable[[float], float]]:
     """D(phi) and D'(phi) (phi in degrees, D' by radians) over the scale of D, in double: each
     term divided by the scale's root before it is squared (no overflow, no underflow)."""
     k = linkage._constants
@@ -3576,7 +3668,7 @@ def _discriminant(linkage):
         root = sum(abs(v) for v in k[:9]) or 1.0
     k = tuple(v / root for v in k)
 
-    def terms(phi):
+    def terms(phi: float) -> tuple[float, float]:
         c, s = cos_sin_degrees(phi)
         if linkage.is_slider:
             u, v = (k[i] + k[i + 1] * c + k[i + 2] * s for i in (6, 9))
@@ -3590,7 +3682,7 @@ def _discriminant(linkage):
     return (lambda phi: terms(phi)[0]), (lambda phi: terms(phi)[1])
 
 
-def crank_limits(linkage):
+def crank_limits(linkage: Linkage) -> tuple[list[float], list[float]]:
     """(dead centres, change points): the input angles in [0, 360) where D changes sign, and
     where a minimum of D touches zero. A minimum within the touching line where the engine (in
     50 or 110 digits) finds no position is a gap too narrow for double: its two dead centres
@@ -3618,10 +3710,11 @@ def crank_limits(linkage):
         if low and x not in minima:
             minima.append(x)
 
-    def assembles(phi):
+    def assembles(phi: float) -> float:
         return -1.0 if linkage.motion(phi, 1, 0).status == NOT_ASSEMBLED else 1.0
 
-    changes, gaps = [], set()
+    changes: list[float] = []
+    gaps: set[float] = set()
     for x in minima:
         if abs(d(x)) > _TOUCHING:
             continue
@@ -3664,28 +3757,28 @@ class Analysis(NamedTuple):
     output turns fully; time_ratio and the strokes None where the crank rocks or the output
     turns fully."""
     linkage: Linkage
-    branch: object
+    branch: int | str
     type: str
     criterion: str
-    crank_range: tuple | None
+    crank_range: tuple[tuple[float, float], ...] | None
     output_min: Extreme | None
     output_max: Extreme | None
     forward_stroke: float | None
     return_stroke: float | None
     mu_min: Extreme
     mu_max: Extreme
-    dead_centres: tuple
-    change_points: tuple
+    dead_centres: tuple[float, ...]
+    change_points: tuple[float, ...]
 
     @property
-    def time_ratio(self):
+    def time_ratio(self) -> float | None:
         """The review's eq. (5): the crank's turn while the output rises over its turn back."""
-        if self.forward_stroke is None:
+        if self.forward_stroke is None or self.return_stroke is None:    # given both or neither
             return None
         return self.forward_stroke / self.return_stroke
 
 
-def _assembled_near(linkage, phi, branch, inward):
+def _assembled_near(linkage: Linkage, phi: float, branch: int, inward: int) -> Motion:
     """The Motion at phi on `branch`, or where the crank first assembles stepping `inward`
     (+1 or -1) from it by a few ulps (phi, a dead centre found in double, may miss by one)."""
     for k in range(60):
@@ -3696,7 +3789,12 @@ def _assembled_near(linkage, phi, branch, inward):
     return linkage.motion(phi, branch)
 
 
-def _circuits(linkage, branch, start, dead):
+# A run of the motion: (Motion, the listing's branch or FOLLOW) in order.
+_Run = list[tuple[Motion, int | str]]
+
+
+def _circuits(linkage: Linkage, branch: int | str, start: int | None, dead: list[float]
+              ) -> tuple[tuple[tuple[float, float], ...] | None, list[_Run]]:
     """The motion in order, as runs [(Motion, the listing's branch or FOLLOW)]: one run over a
     full turn where the crank turns fully, else one a crank interval, out on the branch and back
     on the other."""
@@ -3706,18 +3804,18 @@ def _circuits(linkage, branch, start, dead):
         return None, [[(m, branch) for m in linkage.sweep(phis, branch, 2, start=start)
                        if m.output is not None]]
     ends = dead + [dead[0] + 360.0]
-    intervals = []
+    intervals: list[tuple[float, float]] = []
     for lo, hi in zip(ends, ends[1:]):
         # assembled between them: at two of three points inside (one may fall on a change point
         # that the engine's digits see as a gap)
         inside = [x for x in (lo + (hi - lo) * t for t in (0.25, 0.5, 0.75)) if lo < x < hi]
         if sum(linkage.motion(x, 1, 0).output is not None for x in inside) >= 2:
             intervals.append((lo, hi))
-    runs = []
-    out = 1 if branch == FOLLOW else branch
+    runs: list[_Run] = []
+    out = 1 if branch == FOLLOW else int(branch)
     for lo, hi in intervals:
         inner = [lo + i * step for i in range(1, math.ceil((hi - lo) / step)) if lo + i * step < hi]
-        run = [(_assembled_near(linkage, lo, out, 1), out)]
+        run: _Run = [(_assembled_near(linkage, lo, out, 1), out)]
         run += [(m, out) for m in linkage.sweep(inner, out)]
         run.append((_assembled_near(linkage, hi, out, -1), out))
         back = 3 - out
@@ -3727,7 +3825,7 @@ def _circuits(linkage, branch, start, dead):
     return tuple((lo % 360.0, hi % 360.0 if hi % 360.0 else 360.0) for lo, hi in intervals), runs
 
 
-def unwrapped(values, angular):
+def unwrapped(values: Sequence[float], angular: bool) -> list[float]:
     """Values along a path with 360-degree jumps of angles (angular) removed."""
     out = [values[0]]
     for v in values[1:]:
@@ -3735,11 +3833,12 @@ def unwrapped(values, angular):
     return out
 
 
-def _motion_extremes(linkage, run, outputs):
+def _motion_extremes(linkage: Linkage, run: _Run, outputs: list[float]
+                     ) -> list[tuple[float, float]]:
     """Where the output's velocity changes sign along a run (or is zero on a sample), refined by
     bisection on the branch of the sample before, and the ends of each piece on one branch:
     [(phi, output continuous with the run)]."""
-    found = []
+    found: list[tuple[float, float]] = []
     angular = not linkage.is_slider
     for i in range(len(run) - 1):
         (m0, b0), (m1, b1) = run[i], run[i + 1]
@@ -3759,10 +3858,11 @@ def _motion_extremes(linkage, run, outputs):
     return found
 
 
-def _mu_extremes(linkage, run, maximum):
+def _mu_extremes(linkage: Linkage, run: _Run, maximum: bool) -> Extreme:
     """The transmission angle's greatest (least) value along a run: each sampled local extreme
     refined on its branch within its neighbours."""
-    mus = transmission_of(linkage, [m for m, _ in run])
+    # a run holds positions only: mu is never None on it
+    mus = cast("list[float]", transmission_of(linkage, [m for m, _ in run]))
     pick = max if maximum else min
     best = pick(zip(mus, range(len(run))))
     candidates = [Extreme(run[best[1]][0].phi % 360.0, best[0])]
@@ -3774,7 +3874,7 @@ def _mu_extremes(linkage, run, maximum):
             continue
         lo, hi = sorted((m0.phi, m1.phi))
 
-        def mu(phi, b=b):
+        def mu(phi: float, b: int | str = b) -> float:
             value = transmission_of(linkage, [linkage.motion(phi, b, 0)])[0]
             return value if value is not None else (-1.0 if maximum else 361.0)
         x, value = extreme_of(mu, lo, hi, maximum)
@@ -3782,13 +3882,14 @@ def _mu_extremes(linkage, run, maximum):
     return pick(candidates, key=lambda e: e.value)
 
 
-def _linkage_type(linkage, crank_turns, output_turns, changes):
+def _linkage_type(linkage: Linkage, crank_turns: bool, output_turns: bool, changes: list[float]
+                  ) -> tuple[str, str]:
     """(type, criterion): Grashof's rule for the plane four-bar, b + |e| against c for the plane
     slider-crank, else the motion's class."""
     dims = linkage.dims
     if linkage.kind == PLANE_FOUR_BAR:
         lengths = {n: Fraction(abs(dims[n])) for n in "abcd"}
-        ordered = sorted(lengths, key=lengths.get)
+        ordered = sorted(lengths, key=lengths.__getitem__)
         s, p, q, l = (lengths[n] for n in ordered)
         shortest = ordered[0]
         text = (f"Grashof: s + l = {dims[shortest]:g} + {dims[ordered[3]]:g} "
@@ -3816,7 +3917,7 @@ def _linkage_type(linkage, crank_turns, output_turns, changes):
         (crank_turns, output_turns)], text
 
 
-def analyse(linkage, branch=1, start=None):
+def analyse(linkage: Linkage, branch: int | str = 1, start: int | None = None) -> Analysis:
     """The linkage's type and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
     Analysis (see the notes above). ValueError if it assembles at no input angle."""
     if branch not in (1, 2, FOLLOW):
@@ -3824,23 +3925,26 @@ def analyse(linkage, branch=1, start=None):
     dead, changes = crank_limits(linkage)
     crank_range, runs = _circuits(linkage, branch, start, dead)
     angular = not linkage.is_slider
-    extremes, turns = [], False
+    extremes: list[tuple[float, float]] = []
+    turns = False
     for run in runs:
         if len(run) < 2:
             continue
-        outputs = unwrapped([m.output for m, _ in run], angular)
+        outputs = unwrapped([_output_of(m) for m, _ in run], angular)
         turns |= angular and abs(outputs[-1] - outputs[0]) > 180.0
         extremes += _motion_extremes(linkage, run, outputs) + [(run[-1][0].phi, outputs[-1])]
     runs = [run for run in runs if run]
     if not runs:
         raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle on "
                          f"branch {branch}")
-    low = high = forward = back = None
+    low = high = None
+    forward = back = None
     if not turns and extremes:
-        low = min(extremes, key=lambda e: e[1])
-        high = max(extremes, key=lambda e: e[1])
-        shift = 360.0 * math.floor(low[1] / 360.0 + 0.5) if angular and len(runs) == 1 else 0.0
-        low, high = (Extreme(p % 360.0, v - shift) for p, v in (low, high))
+        lowest = min(extremes, key=lambda e: e[1])
+        highest = max(extremes, key=lambda e: e[1])
+        shift = (360.0 * math.floor(lowest[1] / 360.0 + 0.5) if angular and len(runs) == 1
+                 else 0.0)
+        low, high = (Extreme(p % 360.0, v - shift) for p, v in (lowest, highest))
         if crank_range is None:
             forward = (high.phi - low.phi) % 360.0
             back = 360.0 - forward
@@ -3856,7 +3960,13 @@ def analyse(linkage, branch=1, start=None):
                     mu_min, mu_max, tuple(dead), tuple(changes))
 
 
-def value_text(x):
+def _output_of(m: Motion) -> float:
+    """The output of a Motion that has one (a run's)."""
+    assert m.output is not None
+    return m.output
+
+
+def value_text(x: float) -> str:
     """A number for `name = value` output: up to 10 significant digits."""
     if isinstance(x, bool):
         return str(x).lower()
@@ -3865,7 +3975,7 @@ def value_text(x):
     return f"{x:.10g}"
 
 
-def analysis_lines(analysis, prefix=""):
+def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
     """The `name = value` lines of an Analysis, each name after `prefix`."""
     a, linkage = analysis, analysis.linkage
     unit = "" if linkage.is_slider else " deg"
@@ -3874,7 +3984,7 @@ def analysis_lines(analysis, prefix=""):
     rows += [("branch", str(a.branch)), ("type", a.type), ("criterion", a.criterion),
              ("crank_range", "full" if a.crank_range is None else ", ".join(
                  f"{value_text(lo)} to {value_text(hi)}" for lo, hi in a.crank_range))]
-    if a.output_min is None:
+    if a.output_min is None or a.output_max is None:         # given both or neither
         rows.append(("output_range", "full"))
     else:
         rows += [("output_range", f"{value_text(a.output_min.value)} to "
@@ -3882,10 +3992,10 @@ def analysis_lines(analysis, prefix=""):
                  ("swing", value_text(a.output_max.value - a.output_min.value) + unit),
                  ("output_min_phi", value_text(a.output_min.phi)),
                  ("output_max_phi", value_text(a.output_max.phi))]
-    if a.forward_stroke is not None:
+    if a.time_ratio is not None:                    # forward and return strokes given
         rows += [("time_ratio", value_text(a.time_ratio)),
-                 ("forward_stroke", value_text(a.forward_stroke)),
-                 ("return_stroke", value_text(a.return_stroke))]
+                 ("forward_stroke", value_text(cast(float, a.forward_stroke))),
+                 ("return_stroke", value_text(cast(float, a.return_stroke)))]
     rows += [("mu_min", value_text(a.mu_min.value)), ("mu_min_phi", value_text(a.mu_min.phi)),
              ("mu_max", value_text(a.mu_max.value)), ("mu_max_phi", value_text(a.mu_max.phi)),
              ("dead_centres", ", ".join(map(value_text, a.dead_centres)) or "none"),
@@ -3895,7 +4005,7 @@ def analysis_lines(analysis, prefix=""):
 
 # -- angles and files ----------------------------------------------------------------------------
 
-def angle_count(start, stop, step) -> int:
+def angle_count(start: float, stop: float, step: float) -> int:
     """How many input angles start, start + step, ... reach stop (within step / 1e9)."""
     if step == 0 or not all(math.isfinite(v) for v in (start, stop, step)):
         raise ValueError("start, stop and step must be finite and step non-zero")
@@ -3905,7 +4015,7 @@ def angle_count(start, stop, step) -> int:
     return max(math.floor(steps + 1e-9) + 1, 0)
 
 
-def evenly_spaced_angles(start, stop, step):
+def evenly_spaced_angles(start: float, stop: float, step: float) -> list[float]:
     """The input angles start, start + step, ... up to stop (within step / 1e9), each computed
     as start + i * step: no accumulated rounding (the listing's single-precision FOR drifts,
     quirk K10)."""
@@ -4282,11 +4392,11 @@ class Pose(NamedTuple):
     phi: float
     status: str
     output: float | None
-    joints: dict
-    axes: dict
+    joints: dict[str, Vector]
+    axes: dict[str, tuple[Vector, Vector]]
 
 
-def joint_positions(linkage: Linkage, phi: float, branch: int = 1) -> Pose:
+def joint_positions(linkage: Linkage, phi: float, branch: int | str = 1) -> Pose:
     """The 3-D position of every joint of `linkage` at input angle phi (degrees) on `branch`.
 
     plane:        A0 = (0, 0, 0) the input pivot, A the crank pin, B the output crank pin,
@@ -4307,28 +4417,29 @@ def joint_positions(linkage: Linkage, phi: float, branch: int = 1) -> Pose:
     joints["A"] = pins.crank_pin(dims, *cos_sin_degrees(motion.phi))[0]
     out = motion.output
     if out is not None:
-        cq, sq = (None, None) if linkage.is_slider else cos_sin_degrees(out)
-        joints["C" if linkage.is_slider else "B"] = pins.output_pin(dims, cq, sq, out)[0]
+        joints[pins.output_joint] = output_pin_at(linkage, dims, out, cos_sin_degrees)[0]
     return Pose(motion.phi, motion.status, out, joints, axes)
 
 
 _Z_AXIS = (0.0, 0.0, 1.0)
 _ORIGIN = (0.0, 0.0, 0.0)
+# A kind's ground: its fixed joints and its axes, as Pose has them.
+_Ground = tuple[dict[str, Vector], dict[str, tuple[Vector, Vector]]]
 
 
-def _plane_ground_joints(dims):
+def _plane_ground_joints(dims: dict[str, float]) -> _Ground:
     b0 = (dims["a"], 0.0, 0.0)
     return {"A0": _ORIGIN, "B0": b0}, {"input": (_ORIGIN, _Z_AXIS), "output": (b0, _Z_AXIS)}
 
 
-def _spherical_ground_joints(dims):
+def _spherical_ground_joints(dims: dict[str, float]) -> _Ground:
     ca, sa = cos_sin_degrees(dims["a"])
     b0 = (sa, 0.0, ca)
     return ({"O": _ORIGIN, "A0": _Z_AXIS, "B0": b0},
             {"input": (_ORIGIN, _Z_AXIS), "output": (_ORIGIN, b0)})
 
 
-def _skew_ground_joints(dims):
+def _skew_ground_joints(dims: dict[str, float]) -> _Ground:
     a, f = dims["a"], dims["f"]
     cx, sx = cos_sin_degrees(dims["ksi"])
     f1 = (a, 0.0, f)
@@ -4336,12 +4447,12 @@ def _skew_ground_joints(dims):
             {"input": (_ORIGIN, _Z_AXIS), "output": (f1, (0.0, -sx, cx))})
 
 
-def _slider_ground_joints(dims):
+def _slider_ground_joints(dims: dict[str, float]) -> _Ground:
     return {"A0": _ORIGIN}, {"input": (_ORIGIN, _Z_AXIS),
                              "guide": ((0.0, dims["e"], 0.0), (1.0, 0.0, 0.0))}
 
 
-def _skew_slider_ground_joints(dims):
+def _skew_slider_ground_joints(dims: dict[str, float]) -> _Ground:
     a, f = dims["a"], dims["f"]
     cx, sx = cos_sin_degrees(dims["ksi"])
     f1 = (a, 0.0, f)
@@ -4356,16 +4467,20 @@ _GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _sph
 
 # -- the drawing: what every renderer draws ------------------------------------------------------
 
+Point = tuple[float, float]             # a point on the page, (x, y)
+Box = tuple[float, float, float, float]     # a box on the page, (x0, y0, x1, y1)
+
+
 class Stroke(NamedTuple):
     """A polyline on the page; style is one of STROKE_STYLES."""
-    points: tuple
+    points: tuple[Point, ...]
     style: str
 
 
 class Mark(NamedTuple):
     """A joint on the page: kind "pivot" (on a fixed axis) or "joint" (a moving pin); name is
     joint_positions()'s."""
-    at: tuple
+    at: Point
     kind: str
     name: str
 
@@ -4374,9 +4489,9 @@ class Label(NamedTuple):
     """A letter of the paper (a, b, c, d, e, f, g, ξ, c*) centred at `at`, naming the page
     polyline `names` (its link or dimension line; one point for an angle): place_labels() moves
     it beside what it names, where nothing drawn covers it."""
-    at: tuple
+    at: Point
     text: str
-    names: tuple = ()
+    names: tuple[Point, ...] = ()
 
 
 class Letters(NamedTuple):
@@ -4389,9 +4504,9 @@ class Letters(NamedTuple):
 
 
 class Layer(NamedTuple):
-    strokes: tuple
-    marks: tuple
-    labels: tuple
+    strokes: tuple[Stroke, ...]
+    marks: tuple[Mark, ...]
+    labels: tuple[Label, ...]
 
 
 class Frame(NamedTuple):
@@ -4413,11 +4528,12 @@ class Drawing(NamedTuple):
     subtitle: str
     kind: str
     ground: Layer
-    frames: tuple
-    bounds: tuple
+    frames: tuple[Frame, ...]
+    bounds: Box
     size: float
     letters: Letters
-    chart: tuple | None = None     # the transmission angle along the sweep: ((phi, mu), ...)
+    chart: tuple[tuple[float, float | None], ...] | None = None   # the transmission angle
+    #                                                    along the sweep: ((phi, mu), ...)
 
 
 # One linkage of each kind that turns fully, as Figs. 1 and 2 draw them (data/scenes/fig1*, fig2*).
@@ -4443,7 +4559,7 @@ VIEWS = {SPHERICAL_FOUR_BAR: (-90.0, 20.0), SKEW_FOUR_BAR: (-60.0, 20.0),
 
 
 @functools.cache
-def _view(kind):
+def _view(kind: str) -> tuple[Vector, Vector, Vector] | None:
     """(right, up, toward the viewer) unit vectors of the kind's view; None for plane ones."""
     if kind not in VIEWS:
         return None
@@ -4452,7 +4568,7 @@ def _view(kind):
     return (-sa, ca, 0.0), (-se * ca, -se * sa, ce), (ce * ca, ce * sa, se)
 
 
-def project(kind: str, point) -> tuple:
+def project(kind: str, point: Vector) -> Point:
     """The page position (x, y) of a 3-D point in the kind's view: plane linkages as they lie,
     the others by orthographic projection (VIEWS)."""
     view = _view(kind)
@@ -4461,22 +4577,22 @@ def project(kind: str, point) -> tuple:
     return (dot(point, view[0]), dot(point, view[1]))
 
 
-def _along(p, q, t):
-    return tuple(a + (b - a) * t for a, b in zip(p, q))
+def _along(p: Point, q: Point, t: float) -> Point:
+    return (p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t)
 
 
-def _page_normal(p, q):
+def _page_normal(p: Point, q: Point) -> Point:
     """The unit normal to the left of the page segment p -> q ((0, 1) if it is a point)."""
     dx, dy = q[0] - p[0], q[1] - p[1]
     n = math.hypot(dx, dy)
     return (-dy / n, dx / n) if n else (0.0, 1.0)
 
 
-def _shifted(p, direction, by):
+def _shifted(p: Point, direction: Point, by: float) -> Point:
     return (p[0] + direction[0] * by, p[1] + direction[1] * by)
 
 
-def _hatched(p, q, side, size):
+def _hatched(p: Point, q: Point, side: int, size: float) -> list[Stroke]:
     """The ground line p -> q (page points) hatched on its `side` (+1 left, -1 right)."""
     normal = _page_normal(p, q)
     length = math.dist(p, q)
@@ -4491,7 +4607,7 @@ def _hatched(p, q, side, size):
     return [Stroke((p, q), "ground")] + hatch
 
 
-def _ground_symbol(at, away, size):
+def _ground_symbol(at: Point, away: Point, size: float) -> list[Stroke]:
     """A fixed pivot as textbooks draw it: a triangle from the pivot `at` (page point) to a base
     `size` away in the unit direction `away`, the base hatched on its far side."""
     normal = (-away[1], away[0])
@@ -4501,33 +4617,33 @@ def _ground_symbol(at, away, size):
     return [Stroke((left, at, right), "ground")] + _hatched(wide_left, wide_right, 1, size)
 
 
-def _label_beside(p, q, text, size, side=1.0):
+def _label_beside(p: Point, q: Point, text: str, size: float, side: float = 1.0) -> Label:
     """The letter of the link p -> q (page points), beside its middle on `side`."""
     return Label(_shifted(_along(p, q, 0.5), _page_normal(p, q), side * 0.7 * size), text, (p, q))
 
 
-def _segments_cross(p, q, r, s) -> bool:
+def _segments_cross(p: Point, q: Point, r: Point, s: Point) -> bool:
     """Whether the page segments p q and r s meet (touching counts)."""
-    def turn(a, b, c):
+    def turn(a: Point, b: Point, c: Point) -> float:
         return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
     d1, d2, d3, d4 = turn(r, s, p), turn(r, s, q), turn(p, q, r), turn(p, q, s)
     if ((d1 > 0 and d2 < 0) or (d1 < 0 and d2 > 0)) and ((d3 > 0 and d4 < 0)
                                                          or (d3 < 0 and d4 > 0)):
         return True
 
-    def on(a, b, c):                       # c on the segment a b, given a, b, c in a line
+    def on(a: Point, b: Point, c: Point) -> bool:    # c on the segment a b, given a, b, c in a line
         return min(a[0], b[0]) <= c[0] <= max(a[0], b[0]) and \
             min(a[1], b[1]) <= c[1] <= max(a[1], b[1])
     return (d1 == 0 and on(r, s, p)) or (d2 == 0 and on(r, s, q)) or \
         (d3 == 0 and on(p, q, r)) or (d4 == 0 and on(p, q, s))
 
 
-def _clearest(choices, links, skip=0):
+def _clearest(choices: list[list[Stroke]], links: list[Stroke], skip: int = 0) -> list[Stroke]:
     """Of `choices` (each a list of ground strokes: a symbol or a guide drawn one way), the
     first that no more than one more of `links` (the moving links' strokes over the sweep)
     cross than cross the clearest (a link that turns fully crosses equal choices one step more
     or less, as the sweep's steps fall); the first `skip` strokes of a choice not counted."""
-    def crossings(strokes):
+    def crossings(strokes: list[Stroke]) -> int:
         counted = [(a, b) for s in strokes[skip:] for a, b in zip(s.points, s.points[1:])]
         x0, y0, x1, y1 = _extent([p for ab in counted for p in ab])
         return sum(any(_segments_cross(a, b, p, q) for p, q in zip(s.points, s.points[1:])
@@ -4538,14 +4654,15 @@ def _clearest(choices, links, skip=0):
     return next(c for c, n in zip(choices, counts) if n <= min(counts) + 1)
 
 
-def _pivot_symbol(at, aways, links, size):
+def _pivot_symbol(at: Point, aways: Sequence[Point], links: list[Stroke], size: float
+                  ) -> list[Stroke]:
     """The ground symbol at the fixed pivot `at` pointing the first of the unit directions
     `aways` whose base and hatching the links cross least: off the links' way where there is
     such a side."""
     return _clearest([_ground_symbol(at, away, size) for away in aways], links, skip=1)
 
 
-def _guide(p, q, links, size):
+def _guide(p: Point, q: Point, links: list[Stroke], size: float) -> list[Stroke]:
     """The slider's guide under the travel p -> q of the slider's centre (page points): a
     ground line along the block's side, hatched away from it, on the side (left, then right)
     that the links cross least."""
@@ -4555,7 +4672,7 @@ def _guide(p, q, links, size):
                       for side in (1, -1)], links)
 
 
-def _great_arc(p, q, steps=24):
+def _great_arc(p: Vector, q: Vector, steps: int = 24) -> list[Vector]:
     """Points along the shorter great-circle arc from p to q (unit vectors)."""
     angle = math.atan2(math.sqrt(sum(c * c for c in cross(p, q))), dot(p, q))
     if angle < 1e-12:
@@ -4565,24 +4682,35 @@ def _great_arc(p, q, steps=24):
     for i in range(steps + 1):
         t = i / steps
         wp, wq = math.sin((1 - t) * angle) / s, math.sin(t * angle) / s
-        out.append(tuple(wp * a + wq * b for a, b in zip(p, q)))
+        out.append(_vector(wp * a + wq * b for a, b in zip(p, q)))
     return out
 
 
-def _circle_3d(centre, u, v, radius, steps=72):
+def _circle_3d(centre: Vector, u: Vector, v: Vector, radius: float, steps: int = 72
+               ) -> list[Vector]:
     """Points of the circle about `centre` in the plane of the unit vectors u, v."""
     out = []
     for i in range(steps + 1):
         c, s = cos_sin_degrees(360.0 * i / steps)
-        out.append(tuple(m + radius * (c * a + s * b) for m, a, b in zip(centre, u, v)))
+        out.append(_vector(m + radius * (c * a + s * b) for m, a, b in zip(centre, u, v)))
     return out
 
 
-def _sphere_strokes(kind, points, style):
+def _vector(components: Iterable[float]) -> Vector:
+    """Three numbers as a Vector."""
+    x, y, z = components
+    return x, y, z
+
+
+def _sphere_strokes(kind: str, points: list[Vector], style: str) -> list[Stroke]:
     """3-D points on the unit sphere as page strokes: `style` where they face the viewer, hidden
     (dashed) behind the sphere."""
-    toward = _view(kind)[2]
-    strokes, run, front = [], [], None
+    view = _view(kind)
+    assert view is not None                 # drawn in the spherical four-bar's view
+    toward = view[2]
+    strokes: list[Stroke] = []
+    run: list[Point] = []
+    front = None
     for p in points:
         facing = dot(p, toward) >= 0.0
         if run and facing != front:
@@ -4596,11 +4724,11 @@ def _sphere_strokes(kind, points, style):
     return strokes
 
 
-def _page_strokes(kind, points, style):
+def _page_strokes(kind: str, points: list[Vector], style: str) -> list[Stroke]:
     return [Stroke(tuple(project(kind, p) for p in points), style)]
 
 
-def _slider_block(centre, direction, size):
+def _slider_block(centre: Point, direction: Point, size: float) -> Stroke:
     """The slider: a rectangle about `centre` (page) with its long side along `direction`."""
     n = math.hypot(*direction)
     t = (direction[0] / n, direction[1] / n) if n else (1.0, 0.0)
@@ -4613,7 +4741,8 @@ def _slider_block(centre, direction, size):
 
 # -- the five linkages on the page ----------------------------------------------------------------
 
-def _dimension(p, q, text, size, side=1.0):
+def _dimension(p: Point, q: Point, text: str, size: float, side: float = 1.0
+               ) -> tuple[list[Stroke], Label]:
     """A dimension line beside the page segment p -> q: the line, its end ticks, its letter."""
     normal = _page_normal(p, q)
     p1, q1 = _shifted(p, normal, side * 0.9 * size), _shifted(q, normal, side * 0.9 * size)
@@ -4622,15 +4751,15 @@ def _dimension(p, q, text, size, side=1.0):
     return [Stroke((p1, q1), "dimension")] + ticks, _label_beside(p1, q1, text, size, side)
 
 
-def _unit(v):
+def _unit(v: Vector) -> Vector:
     n = math.sqrt(dot(v, v))
-    return tuple(c / n for c in v)
+    return _vector(c / n for c in v)
 
 
 _DOWN, _UP, _LEFT, _RIGHT = (0.0, -1.0), (0.0, 1.0), (-1.0, 0.0), (1.0, 0.0)
 
 
-def _plane_ground(linkage, poses, size, links):
+def _plane_ground(linkage: Linkage, poses: list[Pose], size: float, links: list[Stroke]) -> Layer:
     a0, b0 = (0.0, 0.0), (linkage.dims["a"], 0.0)
     strokes = _pivot_symbol(a0, (_DOWN, _UP, _LEFT), links, size)         # not across a
     strokes += _pivot_symbol(b0, (_DOWN, _UP, _RIGHT), links, size)
@@ -4641,14 +4770,15 @@ def _plane_ground(linkage, poses, size, links):
     return Layer(tuple(strokes), marks, (_label_beside(a0, b0, "a", size, 0.6),))
 
 
-def _slider_range(poses, linkage, size):
+def _slider_range(poses: list[Pose], linkage: Linkage, size: float) -> tuple[float, float]:
     """The page extent (along the guide) of the slider's travel, and a margin."""
     xs = [p.output for p in poses if p.output is not None] or [-linkage.dims["b"],
                                                                  linkage.dims["b"]]
     return min(xs) - 2.5 * size, max(xs) + 2.5 * size
 
 
-def _slider_ground(linkage, poses, size, links):
+def _slider_ground(linkage: Linkage, poses: list[Pose], size: float, links: list[Stroke]
+                   ) -> Layer:
     e, b = linkage.dims["e"], linkage.dims["b"]
     lo, hi = _slider_range(poses, linkage, size)      # the guide along the slider's travel only:
     strokes = _pivot_symbol((0.0, 0.0), (_DOWN, _UP), links, size)  # not across the axis
@@ -4656,7 +4786,7 @@ def _slider_ground(linkage, poses, size, links):
     strokes.append(Stroke(((-b - 2.5 * size, 0.0), (hi, 0.0)), "axis"))
     strokes.append(Stroke(tuple((b * c, b * s) for c, s in (
         cos_sin_degrees(5.0 * i) for i in range(73))), "path"))
-    labels = []
+    labels: list[Label] = []
     if e:
         left = -b - 0.6 * size                         # beside the crank's circle, lettered
         lines, label = _dimension((left, e), (left, 0.0), "e", size, -1.0)   # outside it
@@ -4665,14 +4795,15 @@ def _slider_ground(linkage, poses, size, links):
     return Layer(tuple(strokes), (Mark((0.0, 0.0), "pivot", "A0"),), tuple(labels))
 
 
-def _spherical_ground(linkage, poses, size, links):
+def _spherical_ground(linkage: Linkage, poses: list[Pose], size: float, links: list[Stroke]
+                      ) -> Layer:
     kind = SPHERICAL_FOUR_BAR
     joints = poses[0].joints
     strokes = [Stroke(tuple(cos_sin_degrees(5.0 * i) for i in range(73)), "outline")]
     for name in ("A0", "B0"):
         axis = joints[name]
-        strokes.append(Stroke((project(kind, tuple(-1.35 * c for c in axis)),
-                               project(kind, tuple(1.35 * c for c in axis))), "axis"))
+        strokes.append(Stroke((project(kind, _vector(-1.35 * c for c in axis)),
+                               project(kind, _vector(1.35 * c for c in axis))), "axis"))
         at = project(kind, axis)
         out = math.degrees(math.atan2(at[1], at[0])) if math.hypot(*at) > 1e-9 else 90.0
         strokes += _pivot_symbol(at, [cos_sin_degrees(out + turn) for turn in (
@@ -4687,14 +4818,14 @@ def _spherical_ground(linkage, poses, size, links):
     return Layer(tuple(strokes), marks, labels)
 
 
-def _arc_label(kind, p, q, text):
+def _arc_label(kind: str, p: Vector, q: Vector, text: str) -> Label:
     """The letter of the arc p q on the sphere: outside the sphere beside its middle."""
     middle = _great_arc(p, q, 2)[1]
-    return Label(project(kind, tuple(1.15 * c for c in middle)), text,
+    return Label(project(kind, _vector(1.15 * c for c in middle)), text,
                  tuple(project(kind, r) for r in _great_arc(p, q)))
 
 
-def _skew_ground(linkage, poses, size, links):
+def _skew_ground(linkage: Linkage, poses: list[Pose], size: float, links: list[Stroke]) -> Layer:
     """Both skew linkages: the input axis, the fixed link a (the common perpendicular, hatched),
     f along the input axis, the output axis or the slider's guide, and the angle ksi."""
     kind, dims = linkage.kind, linkage.dims
@@ -4715,7 +4846,7 @@ def _skew_ground(linkage, poses, size, links):
     if kind == SKEW_FOUR_BAR:
         g = -f / cos_sin_degrees(dims["ksi"])[0]      # B0 = F1 + g w
         ts = (min(0.0, g) - reach, max(0.0, g) + reach)
-        strokes += _page_strokes(kind, [tuple(p + t * w for p, w in zip(point, direction))
+        strokes += _page_strokes(kind, [_vector(p + t * w for p, w in zip(point, direction))
                                         for t in ts], "axis")
         b0 = project(kind, joints["B0"])
         lines, g_label = _dimension(f1, b0, "g", size, 1.0)
@@ -4728,32 +4859,33 @@ def _skew_ground(linkage, poses, size, links):
         upright = (0.0, 0.0, 1.0)
     else:
         lo, hi = _slider_range(poses, linkage, size)          # from F1 past the travel
-        ends = [project(kind, tuple(p + t * w for p, w in zip(point, direction)))
+        ends = [project(kind, _vector(p + t * w for p, w in zip(point, direction)))
                 for t in (min(lo, -size), max(hi, size))]
         strokes.append(Stroke(tuple(ends), "axis"))
         strokes += _guide(ends[0], ends[1], links, size)
         upright = (0.0, 0.0, -1.0)
     # ksi: between the shaft (the guide) and a parallel to the input axis through F1
-    strokes += _page_strokes(kind, [joints["F1"], tuple(p + 3.0 * size * u for p, u in zip(
+    strokes += _page_strokes(kind, [joints["F1"], _vector(p + 3.0 * size * u for p, u in zip(
         joints["F1"], upright))], "dimension")
-    between = _unit(tuple(u + w for u, w in zip(upright, direction)))
-    at = project(kind, tuple(p + 2.2 * size * u for p, u in zip(joints["F1"], between)))
+    between = _unit(_vector(u + w for u, w in zip(upright, direction)))
+    at = project(kind, _vector(p + 2.2 * size * u for p, u in zip(joints["F1"], between)))
     labels.append(Label(at, "ξ", (at,)))
     return Layer(tuple(strokes), tuple(marks), tuple(labels))
 
 
-def _links(linkage, pose, size):
+def _links(linkage: Linkage, pose: Pose, size: float) -> Layer:
     """The moving links of one pose: the crank b, the coupler c (c* for the plane slider's rod),
     the output crank d or the slider block, their pins and letters."""
     kind, joints = linkage.kind, pose.joints
     at = {name: project(kind, p) for name, p in joints.items()}
-    output = "C" if linkage.is_slider else "B"
+    output = PINS[kind].output_joint
     pairs = [("A0", "A", "b")]
     if output in joints:
         pairs.append(("A", output, "c*" if kind == PLANE_SLIDER_CRANK else "c"))
         if output == "B":
             pairs.append(("B0", "B", "d"))
-    strokes, labels = [], []
+    strokes: list[Stroke] = []
+    labels: list[Label] = []
     for p, q, text in pairs:
         if kind == SPHERICAL_FOUR_BAR:
             strokes += _sphere_strokes(kind, _great_arc(joints[p], joints[q]), "link")
@@ -4773,7 +4905,8 @@ _GROUNDS = {PLANE_FOUR_BAR: _plane_ground, PLANE_SLIDER_CRANK: _slider_ground,
             SKEW_SLIDER_CRANK: _skew_ground}
 
 
-def _frame(linkage, pose, size, point=None, mu=None):
+def _frame(linkage: Linkage, pose: Pose, size: float, point: Vector | None = None,
+           mu: float | None = None) -> Frame:
     """One pose's Frame; `point` the coupler point there (3-D) and mu the transmission angle, to
     be drawn and told when given."""
     where = f"φ = {pose.phi:g}°"
@@ -4792,12 +4925,12 @@ def _frame(linkage, pose, size, point=None, mu=None):
     return Frame(pose, layer, caption, message)
 
 
-def _with_coupler_point(linkage, pose, layer, point):
+def _with_coupler_point(linkage: Linkage, pose: Pose, layer: Layer, point: Vector) -> Layer:
     """The layer with the coupler point drawn on the coupler: a mark, joined to both pins (the
     coupler as the plate that carries it)."""
     kind = linkage.kind
-    output = pose.joints["C" if linkage.is_slider else "B"]
-    strokes = []
+    output = pose.joints[PINS[kind].output_joint]
+    strokes: list[Stroke] = []
     for pin in (pose.joints["A"], output):
         if kind == SPHERICAL_FOUR_BAR:
             strokes += _sphere_strokes(kind, _great_arc(pin, point), "link")
@@ -4807,7 +4940,8 @@ def _with_coupler_point(linkage, pose, layer, point):
                  layer.marks + (Mark(project(kind, point), "point", "P"),), layer.labels)
 
 
-def _with_marked(linkage, ground, phis, branch, size):
+def _with_marked(linkage: Linkage, ground: Layer, phis: Sequence[float], branch: int,
+                 size: float) -> Layer:
     """The ground with the linkage's moving links at each input angle of `phis` drawn faint
     ("marked") and numbered 1, 2, ... beyond the output pin (or the slider's pin)."""
     strokes, labels = list(ground.strokes), list(ground.labels)
@@ -4816,7 +4950,7 @@ def _with_marked(linkage, ground, phis, branch, size):
         pose = joint_positions(linkage, phi, branch)
         links = _links(linkage, pose, size)
         strokes += [s._replace(style="marked") for s in links.strokes]
-        output = "C" if linkage.is_slider else "B"
+        output = PINS[kind].output_joint
         if output in pose.joints:
             pin = project(kind, pose.joints[output])
             away = project(kind, pose.joints["A"]) if linkage.is_slider else \
@@ -4827,21 +4961,24 @@ def _with_marked(linkage, ground, phis, branch, size):
     return Layer(tuple(strokes), ground.marks, tuple(labels))
 
 
-def _coupler_curves(linkage, phis, coupler, motions, branch, traced):
+def _coupler_curves(linkage: Linkage, phis: Sequence[float], coupler: tuple[float, float],
+                    motions: list[Motion], branch: int, traced: Sequence[int | str]
+                    ) -> tuple[list[Stroke], list[Vector | None]]:
     """The coupler point's curve as page strokes, broken where the linkage does not assemble:
     "coupler" on the frames' `motions` (of `branch`), then "coupler-other" on each branch of
     `traced`, "coupler-follow" for the motion followed from `branch`; and the frames' points
     (3-D, None where there is none)."""
-    strokes, first = [], None
-    for other in (None,) + tuple(traced):
+    strokes: list[Stroke] = []
+    first: list[Vector | None] | None = None
+    for other in (None, *traced):
         swept = motions if other is None else linkage.sweep(
             phis, other, 0, start=branch if other == FOLLOW else None)
         points = [c.position for c in coupler_of(linkage, swept, *coupler)]
         first = points if first is None else first
         style = ("coupler" if other is None else "coupler-follow" if other == FOLLOW
                  else "coupler-other")
-        run = []
-        for p in points + [None]:
+        run: list[Vector] = []
+        for p in [*points, None]:
             if p is not None:
                 run.append(p)
                 continue
@@ -4850,10 +4987,11 @@ def _coupler_curves(linkage, phis, coupler, motions, branch, traced):
                             if linkage.kind == SPHERICAL_FOUR_BAR
                             else _page_strokes(linkage.kind, run, style))
             run = []
+    assert first is not None                # the frames' own motions come first
     return strokes, first
 
 
-def _extent(points):
+def _extent(points: Sequence[Point]) -> Box:
     xs, ys = [p[0] for p in points], [p[1] for p in points]
     return min(xs), min(ys), max(xs), max(ys)
 
@@ -4870,7 +5008,12 @@ _BESIDE = sorted((step + 0.4 * other + 3.0 * abs(along - 0.5), along, step, othe
 _AROUND = tuple((math.cos(math.pi * k / 8), math.sin(math.pi * k / 8)) for k in range(16))
 
 
-def stroke_segments(strokes) -> list:
+# A stroke's segment for place_labels: its box (left, bottom, right, top), its ends x0, y0, x1,
+# y1, and whether it is solid.
+Segment = tuple[float, float, float, float, float, float, float, float, bool]
+
+
+def stroke_segments(strokes: Iterable[Stroke]) -> list[Segment]:
     """The strokes as segments for place_labels: (left, bottom, right, top) of each, its ends
     x0, y0, x1, y1, and whether it is solid."""
     return [(min(p[0], q[0]), min(p[1], q[1]), max(p[0], q[0]), max(p[1], q[1]),
@@ -4878,7 +5021,7 @@ def stroke_segments(strokes) -> list:
             for s in strokes for p, q in zip(s.points, s.points[1:])]
 
 
-def _box_meets_segment(box, x0, y0, x1, y1) -> bool:
+def _box_meets_segment(box: Box, x0: float, y0: float, x1: float, y1: float) -> bool:
     """Whether the segment (x0, y0) (x1, y1) enters the box (left, bottom, right, top):
     Liang-Barsky clipping."""
     dx, dy, t0, t1 = x1 - x0, y1 - y0, 0.0, 1.0
@@ -4895,23 +5038,25 @@ def _box_meets_segment(box, x0, y0, x1, y1) -> bool:
     return True
 
 
-def _spots(label, letters, n):
+def _spots(label: Label, letters: Letters, n: int
+           ) -> tuple[Iterator[tuple[float, Point]], tuple[float, float]]:
     """Where the label may go, as (cost, centre) nearest first - beside what it names, on both
     sides of it at points along it, then on rings about its middle - and how far from it the
     nearest (the first rows out) and all of them reach."""
     names = label.names or (label.at,)
     hw, hh = n * letters.width / 2, letters.height / 2
     gap = 0.35 * letters.height + letters.line
+    ends: list[tuple[Point, Point]] = []
     if len(names) > 1:
         ends = list(zip(names, names[1:]))
         lengths = [math.dist(p, q) for p, q in ends]
         total = sum(lengths) or 1.0
         middle, first = _along(*ends[len(ends) // 2], 0.5 if len(ends) % 2 else 0.0), 2.0
     else:
-        ends, middle, first = [], names[0], 0.0
+        middle, first = names[0], 0.0
 
     @functools.cache
-    def place(along):
+    def place(along: float) -> tuple[Point, Point, float, float]:
         """The point `along` the way, its normal, the box's reach along it, the first side."""
         left, i = along * total, 0
         while i < len(ends) - 1 and left > lengths[i]:
@@ -4923,13 +5068,13 @@ def _spots(label, letters, n):
             >= 0 else -1.0                                     # the side it was put on first
         return at, normal, hw * abs(normal[0]) + hh * abs(normal[1]), side
 
-    def beside():
+    def beside() -> Iterator[tuple[float, Point]]:
         for cost, along, step, other in _BESIDE if ends else ():
             at, normal, reach, side = place(along)
             yield cost, _shifted(at, normal, (-side if other else side) * (
                 reach + gap * (1 + 1.3 * step)))
 
-    def rings():
+    def rings() -> Iterator[tuple[float, Point]]:
         for step in range(8):
             rx, ry = hw + gap * (1 + 1.3 * step), hh + gap * (1 + 1.3 * step)
             yield from ((first + step, (middle[0] + c * rx, middle[1] + s * ry))
@@ -4938,21 +5083,24 @@ def _spots(label, letters, n):
                                                                         hw + hh + gap * 10.2)
 
 
-def _within(box, region, margin) -> bool:
+def _within(box: Box, region: Box, margin: float) -> bool:
     return (region[0] < box[0] - margin and region[1] < box[1] - margin
             and box[2] + margin < region[2] and box[3] + margin < region[3])
 
 
-def place_labels(labels, segments, marks, letters: Letters, bounds, snap=None) -> tuple:
+def place_labels(labels: Iterable[Label], segments: list[Segment], marks: Iterable[Mark],
+                 letters: Letters, bounds: Box,
+                 snap: Callable[[Point, int], Point] | None = None) -> tuple[Label, ...]:
     """The labels placed in turn, each where it touches the fewest things drawn: first no mark,
     solid stroke (link, ground, hatching, a hidden link) or letter placed before it, nor the
     bounds' edge; then the fewest other strokes; then the nearest to what it names (_spots).
     segments from stroke_segments(); snap(centre, n) moves the centre of a box n characters
     wide onto the renderer's grid (the terminal's cells), marks included."""
-    snap = snap or (lambda p, n: p)
+    snap = snap or _unmoved
     reach = max(letters.mark, letters.line)
     discs = [snap(m.at, 1) for m in marks]
-    placed, boxes = [], []
+    placed: list[Label] = []
+    boxes: list[Box] = []
     for label in labels:
         n = len(label.text)
         hw, hh = n * letters.width / 2, letters.height / 2
@@ -4960,8 +5108,9 @@ def place_labels(labels, segments, marks, letters: Letters, bounds, snap=None) -
         x0, y0, x1, y1 = _extent(label.names or (label.at,))
         regions = [(x0 - out, y0 - out, x1 + out, y1 + out) for out in (
             r + hw + hh + 2 * reach + letters.width + letters.height for r in reaches)]
-        region, near = (math.inf,) * 4, []          # the segments near the spots tried so far
-        best, best_at = None, label.at
+        region: Box = (math.inf, math.inf, math.inf, math.inf)
+        near: list[Segment] = []                # the segments near the spots tried so far
+        best, best_at, best_box = None, label.at, None
         for cost, at in spots:
             if best is not None and cost >= best:
                 break
@@ -4996,14 +5145,21 @@ def place_labels(labels, segments, marks, letters: Letters, bounds, snap=None) -
             score = 1000.0 * solid + other + cost
             if best is None or score < best:
                 best, best_at, best_box = score, (cx, cy), box
+        assert best_box is not None             # the rings' spots never run out
         boxes.append(best_box)
         placed.append(label._replace(at=best_at))
     return tuple(placed)
 
 
-def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None = None,
-                      subtitle: str | None = None, coupler: tuple | None = None,
-                      traced: tuple = (), marked: tuple = ()) -> Drawing:
+def _unmoved(p: Point, n: int) -> Point:
+    """place_labels' snap where there is no grid."""
+    return p
+
+
+def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
+                      title: str | None = None, subtitle: str | None = None,
+                      coupler: tuple[float, float] | None = None,
+                      traced: Sequence[int | str] = (), marked: Sequence[float] = ()) -> Drawing:
     """The linkage drawn at each input angle of `phis` (degrees) on `branch`: one Frame a pose
     over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS).
 
@@ -5017,11 +5173,13 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
         coupler = check_coupler_point(linkage, *coupler)
     for key in ("a", "b", "c", "d"):
         value = linkage.dims.get(key)
+        if value is None:
+            continue
         if kind == SPHERICAL_FOUR_BAR and not 0 < value < 180:
             raise ValueError(f"the arc {key} = {value:g} degrees cannot be drawn: arcs are "
                              "drawn between 0 and 180 degrees")
         skew_offset = key == "a" and kind in (SKEW_FOUR_BAR, SKEW_SLIDER_CRANK)
-        if value is not None and kind != SPHERICAL_FOUR_BAR and not (
+        if kind != SPHERICAL_FOUR_BAR and not (
                 value != 0 if skew_offset else value > 0):   # a skew linkage's a is signed
             raise ValueError(f"{DIMENSION_NAMES[key]} {key} = {value:g} cannot be drawn: "
                              + ("the fixed link is drawn along the common perpendicular, which "
@@ -5032,32 +5190,35 @@ def mechanism_drawing(linkage: Linkage, phis, branch: int = 1, title: str | None
         raise ValueError("a drawing needs at least one input angle")
     x0, y0, x1, y1 = _extent([project(kind, p) for pose in poses for p in pose.joints.values()])
     span = max(x1 - x0, y1 - y0, 2.0 if kind == SPHERICAL_FOUR_BAR else 1e-300)
-    links = [abs(v) for k, v in linkage.dims.items() if k in "abcd" and v]
+    lengths = [abs(v) for k, v in linkage.dims.items() if k in "abcd" and v]
     size = 0.07 * span if kind == SPHERICAL_FOUR_BAR else max(          # symbols not hiding a
-        0.035 * span, min(0.07 * span, 0.6 * min(links)))               # short crank
-    points, mus, chart, curves = [None] * len(poses), [None] * len(poses), None, ()
+        0.035 * span, min(0.07 * span, 0.6 * min(lengths)))             # short crank
+    points: list[Vector | None] = [None] * len(poses)
+    mus: list[float | None] = [None] * len(poses)
+    chart = None
+    curves: list[Stroke] = []
     if coupler is not None:
         motions = [Motion(pose.phi, pose.output, None, None, pose.status) for pose in poses]
         curves, points = _coupler_curves(linkage, phis, coupler, motions, branch, traced)
         mus = transmission_of(linkage, motions)
         chart = tuple((pose.phi, mu) for pose, mu in zip(poses, mus))
-    frames = [_frame(linkage, pose, size, point, mu)
-              for pose, point, mu in zip(poses, points, mus)]
-    links = [s for i in _spread(len(frames), 120) for s in frames[i].layer.strokes]
+    unplaced = [_frame(linkage, pose, size, point, mu)
+                for pose, point, mu in zip(poses, points, mus)]
+    links = [s for i in _spread(len(unplaced), 120) for s in unplaced[i].layer.strokes]
     ground = _GROUNDS[kind](linkage, poses, size, links)
     if marked:
         ground = _with_marked(linkage, ground, marked, branch, size)
     ground = Layer(ground.strokes + tuple(curves), ground.marks, ground.labels)
-    points = [p for layer in [ground] + [f.layer for f in frames]
-              for p in [q for s in layer.strokes for q in s.points]
-              + [m.at for m in layer.marks] + [label.at for label in layer.labels]]
-    x0, y0, x1, y1 = _extent(points)
+    drawn = [p for layer in [ground] + [f.layer for f in unplaced]
+             for p in [q for s in layer.strokes for q in s.points]
+             + [m.at for m in layer.marks] + [label.at for label in layer.labels]]
+    x0, y0, x1, y1 = _extent(drawn)
     bounds = (x0 - size, y0 - size, x1 + size, y1 + size)
     letters = svg_letters(bounds, size)
     ground_segments = stroke_segments(ground.strokes)
     frames = tuple(f._replace(layer=f.layer._replace(labels=place_labels(
         f.layer.labels + ground.labels, ground_segments + stroke_segments(f.layer.strokes),
-        ground.marks + f.layer.marks, letters, bounds))) for f in frames)
+        ground.marks + f.layer.marks, letters, bounds))) for f in unplaced)
     ground = ground._replace(labels=())
     if title is None:
         title = (MECHANISM_NAMES[kind] + ": "
@@ -5096,7 +5257,7 @@ def _plain(text: str, unicode: bool) -> str:
     return text.translate(_ASCII_TEXT).encode("ascii", "replace").decode("ascii")
 
 
-def _dash_on(dashes, distance) -> bool:
+def _dash_on(dashes: tuple[int, ...], distance: float) -> bool:
     """Whether a dash pattern (on, off, on, ...) is on at `distance` dots along its stroke."""
     at = distance % sum(dashes)
     for i, run in enumerate(dashes):
@@ -5106,7 +5267,7 @@ def _dash_on(dashes, distance) -> bool:
     return False
 
 
-def _ascii_line(dx, dy) -> str:
+def _ascii_line(dx: float, dy: float) -> str:
     """The ASCII character of a line going dx right and dy down (in square units)."""
     angle = math.degrees(math.atan2(-dy, dx)) % 180.0
     return "-" if angle < 22.5 or angle > 157.5 else "|" if 67.5 < angle < 112.5 else \
@@ -5116,7 +5277,7 @@ def _ascii_line(dx, dy) -> str:
 class _DotGrid:
     """cols x rows characters of dots, the page's bounds fitted in with their aspect kept."""
 
-    def __init__(self, cols, rows, bounds, unicode):
+    def __init__(self, cols: int, rows: int, bounds: Box, unicode: bool) -> None:
         self.cols, self.rows, self.unicode = cols, rows, unicode
         self.per_col, self.per_row = (2, 4) if unicode else (1, 1)
         self.aspect = 1.0 if unicode else 2.0            # a dot's height over its width
@@ -5127,10 +5288,10 @@ class _DotGrid:
         self.left = (width - (x1 - x0) * self.scale) / 2 - x0 * self.scale
         down = self.scale / self.aspect                  # page units to dots, vertically
         self.top = (height - (y1 - y0) * down) / 2 + y1 * down
-        self.dots = {}                 # (x, y) -> the ASCII character there
-        self.chars = {}                # (col, row) -> a character over the dots
+        self.dots: dict[tuple[int, int], str] = {}     # (x, y) -> the ASCII character there
+        self.chars: dict[tuple[int, int], str] = {}    # (col, row) -> a character over the dots
 
-    def dot(self, p):
+    def dot(self, p: Point) -> Point:
         """The dot (x right, y down, not rounded) of page point p."""
         return p[0] * self.scale + self.left, self.top - p[1] * self.scale / self.aspect
 
@@ -5151,13 +5312,13 @@ class _DotGrid:
                               round(y0 + i / steps * (y1 - y0))] = char
             travelled += length
 
-    def cell(self, p, n: int = 1) -> tuple[int, int]:
+    def cell(self, p: Point, n: int = 1) -> tuple[int, int]:
         """The first (col, row) of the n character cells nearest to centred on page point p."""
         x, y = self.dot(p)
         return (math.floor((x + 0.5) / self.per_col - n / 2 + 0.5),
                 math.floor((y + 0.5) / self.per_row))
 
-    def snap(self, p, n: int = 1) -> tuple:
+    def snap(self, p: Point, n: int = 1) -> Point:
         """The page point at the middle of the n cells that cell(p, n) begins."""
         col, row = self.cell(p, n)
         x, y = (col + n / 2) * self.per_col - 0.5, (row + 0.5) * self.per_row - 0.5
@@ -5169,7 +5330,7 @@ class _DotGrid:
         return Letters(self.per_col / self.scale, self.per_row * self.aspect / self.scale,
                        0.45 * self.per_col / self.scale, 0.5 / self.scale)
 
-    def put(self, p, text: str) -> None:
+    def put(self, p: Point, text: str) -> None:
         """text centred on the character cells of page point p (what falls outside is cut)."""
         col, row = self.cell(p, len(text))
         for i, ch in enumerate(text):
@@ -5177,7 +5338,7 @@ class _DotGrid:
                 self.chars[col + i, row] = ch
 
     def lines(self) -> list[str]:
-        cells = {}
+        cells: dict[tuple[int, int], int] = {}
         for (x, y), char in self.dots.items():
             cell = (x // self.per_col, y // self.per_row)
             if self.unicode:
@@ -5233,7 +5394,7 @@ def frame_seconds(count: int) -> float:
     return max(1.0 / 12.0, min(0.6, 3.0 / count))
 
 
-def show_drawing(drawing: Drawing, out=None, frames: int | None = None,
+def show_drawing(drawing: Drawing, out: TextIO | None = None, frames: int | None = None,
                  fps: float | None = None, unicode: bool | None = None) -> int:
     """The drawing on `out` (standard output): animated in place on a terminal, at `fps` frames
     a second (1 / frame_seconds()), until q (exit status 0) or Ctrl-C (KeyboardInterrupt);
@@ -5260,25 +5421,25 @@ def _text_size() -> tuple[int, int]:
     return sizes[0], sizes[1]
 
 
-def _animate(drawing: Drawing, out, fps: float, unicode: bool) -> int:
+def _animate(drawing: Drawing, out: TextIO, fps: float, unicode: bool) -> int:
     """The frames redrawn in place on the terminal's alternate screen until q (or Ctrl-C), the
     last one shown left on the screen afterwards; the space bar pauses."""
     import time
     keys = sys.stdin.fileno() if sys.stdin.isatty() else None
     shown, paused = _still_frames(drawing, None)[0], False
 
-    def draw():
+    def draw() -> None:
         width, height = shutil.get_terminal_size()
         footer = "   (q quits, space pauses)" if keys is not None else "   (Ctrl-C stops)"
         text = text_drawing(drawing, shown, width, height, unicode, footer)
         out.write("\x1b[H" + text.replace("\n", "\x1b[K\n") + "\x1b[K\x1b[J")
         out.flush()
 
-    def enter():
+    def enter() -> None:
         out.write("\x1b[?1049h\x1b[?25l")
         draw()
 
-    def leave():
+    def leave() -> None:
         out.write("\x1b[?25h\x1b[?1049l")
         out.flush()
 
@@ -5300,12 +5461,13 @@ def _animate(drawing: Drawing, out, fps: float, unicode: bool) -> int:
     return 0
 
 
-def _key_within(fd, seconds):
+def _key_within(fd: int | None, seconds: float | None) -> bytes | None:
     """The next key (one byte; b"" once the terminal is gone) typed on fd within `seconds`
     (None: however long it takes), or None; with no terminal to read, None after `seconds`."""
     import select
     if fd is None:
         import time
+        assert seconds is not None          # no terminal, no key: never paused
         time.sleep(seconds)
         return None
     if select.select([fd], [], [], seconds)[0]:
@@ -5353,19 +5515,19 @@ dominant-baseline:central}
 """ % SVG_LETTER
 
 
-def _svg_scale(bounds) -> float:
+def _svg_scale(bounds: Box) -> float:
     """SVG pixels a page unit: the bounds fitted in SVG_WIDTH less the margins by SVG_HEIGHT."""
     x0, y0, x1, y1 = bounds
     return min((SVG_WIDTH - 2 * SVG_MARGIN) / max(x1 - x0, 1e-300),
                SVG_HEIGHT / max(y1 - y0, 1e-300))
 
 
-def _svg_radius(size, scale) -> float:
+def _svg_radius(size: float, scale: float) -> float:
     """A joint's circle, in pixels, for ground symbols of `size` page units."""
     return max(3.0, min(7.0, 0.16 * size * scale))
 
 
-def svg_letters(bounds, size) -> Letters:
+def svg_letters(bounds: Box, size: float) -> Letters:
     """How big the SVG of a drawing within `bounds` draws letters, marks and lines, in page
     units: a letter's box 0.6 by 0.8 of its font size, a mark's circle with its edge, the
     links' half width."""
@@ -5380,10 +5542,10 @@ class _SvgPage(NamedTuple):
     left: float
     top: float
 
-    def xy(self, p) -> str:
+    def xy(self, p: Point) -> str:
         return f"{self.left + self.scale * p[0]:.1f},{self.top - self.scale * p[1]:.1f}"
 
-    def attrs(self, p, x="x", y="y") -> str:
+    def attrs(self, p: Point, x: str = "x", y: str = "y") -> str:
         return (f'{x}="{self.left + self.scale * p[0]:.1f}" '
                 f'{y}="{self.top - self.scale * p[1]:.1f}"')
 
@@ -5405,21 +5567,22 @@ _SVG_CHART_HEIGHT = 170         # pixels under the drawing for the transmission 
 class _SvgChart(NamedTuple):
     """The transmission angle's chart under an SVG drawing: its static lines, and where a
     (phi, mu) point is in pixels."""
-    lines: list
-    x: object
-    y: object
+    lines: list[str]
+    x: Callable[[float], float]
+    y: Callable[[float], float]
 
 
-def _svg_chart(chart, top, width, margin) -> _SvgChart:
+def _svg_chart(chart: Sequence[tuple[float, float | None]], top: float, width: float,
+               margin: float) -> _SvgChart:
     """mu from 0 to 180 degrees against the sweep's input angles, 130 pixels tall from `top`."""
     phis = [phi for phi, _ in chart]
     lo, hi = min(phis), max(phis)
     left, right, bottom = margin + 70, width - margin - 10, top + 130
 
-    def x(phi):
+    def x(phi: float) -> float:
         return left + (right - left) * ((phi - lo) / (hi - lo) if hi > lo else 0.5)
 
-    def y(mu):
+    def y(mu: float) -> float:
         return bottom - (bottom - top) * mu / 180.0
 
     lines = [f'<polyline class="grid" points="{left},{y(v):.1f} {right},{y(v):.1f}"/>'
@@ -5430,15 +5593,22 @@ def _svg_chart(chart, top, width, margin) -> _SvgChart:
     lines.append(f'<text class="tick" x="{left}" y="{bottom + 16}">φ = {lo:g}°</text>')
     lines.append(f'<text class="tick" x="{right}" y="{bottom + 16}" text-anchor="end">'
                  f'{hi:g}°</text>')
-    run = []
-    for phi, mu in list(chart) + [(None, None)]:
-        if mu is not None:
-            run.append(f"{x(phi):.1f},{y(mu):.1f}")
-            continue
+    for run in _chart_runs(chart):
         if len(run) > 1:
-            lines.append(f'<polyline class="chart" points="{" ".join(run)}"/>')
-        run = []
+            points = " ".join(f"{x(phi):.1f},{y(mu):.1f}" for phi, mu in run)
+            lines.append(f'<polyline class="chart" points="{points}"/>')
     return _SvgChart(lines, x, y)
+
+
+def _chart_runs(chart: Iterable[tuple[float, float | None]]) -> list[list[tuple[float, float]]]:
+    """The runs of a chart's points (phi, mu) between those where mu is None."""
+    runs: list[list[tuple[float, float]]] = [[]]
+    for phi, mu in chart:
+        if mu is None:
+            runs.append([])
+        else:
+            runs[-1].append((phi, mu))
+    return [run for run in runs if run]
 
 
 def _xml(text: str) -> str:
@@ -5456,6 +5626,7 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
     height = round(head + foot + (y1 - y0) * scale)
     page = _SvgPage(scale, (width - (x1 - x0) * scale) / 2 - x0 * scale, head + y1 * scale)
     chart = _svg_chart(drawing.chart, height - foot + 10, width, margin) if drawing.chart else None
+    mus = [mu for _, mu in drawing.chart or ()]
     if chart:
         height += _SVG_CHART_HEIGHT
     count = len(drawing.frames)
@@ -5480,9 +5651,10 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
                        + ";".join(f"{t / count:.6g}" for t in times)
                        + f'" dur="{period:.6g}s" calcMode="discrete" repeatCount="indefinite"/>')
         out += _svg_layer(page, frame.layer, drawing.size)
-        if chart and drawing.chart[i][1] is not None:
+        mu = mus[i] if chart else None
+        if chart and mu is not None:
             out.append(f'<circle class="point" cx="{chart.x(frame.pose.phi):.1f}" '
-                       f'cy="{chart.y(drawing.chart[i][1]):.1f}" r="4"/>')
+                       f'cy="{chart.y(mu):.1f}" r="4"/>')
         out.append(f'<text class="caption" x="{margin}" y="{height - 14}">'
                    f"{_xml(frame.caption)}</text>")
         if frame.message:
@@ -5497,7 +5669,7 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
 # The positions overlaid as a textbook draws a linkage's motion: the ground once, the earlier
 # positions faint, the last solid with its joints and letters (matplotlib, the `plot` extra).
 
-_PNG_STYLES = {"link": dict(color="#1b1b1b", linewidth=2.4),
+_PNG_STYLES: dict[str, dict[str, Any]] = {"link": dict(color="#1b1b1b", linewidth=2.4),
                "ground": dict(color="#1b1b1b", linewidth=1.4),
                "hatch": dict(color="#555555", linewidth=0.7),
                "axis": dict(color="#2f6db3", linewidth=0.9, linestyle="-."),
@@ -5514,7 +5686,7 @@ _PNG_STYLES = {"link": dict(color="#1b1b1b", linewidth=2.4),
 _PNG_LETTER, _PNG_MARK = 13, 6          # points: the letters' font size, the marks' size
 
 
-def _png_layer(ax, layer: Layer, alpha: float, marks: bool) -> None:
+def _png_layer(ax: matplotlib.axes.Axes, layer: Layer, alpha: float, marks: bool) -> None:
     for stroke in layer.strokes:
         xs, ys = zip(*stroke.points)
         ax.plot(xs, ys, alpha=alpha, solid_capstyle="round", **_PNG_STYLES[stroke.style])
@@ -5525,7 +5697,8 @@ def _png_layer(ax, layer: Layer, alpha: float, marks: bool) -> None:
                     markerfacecolor={"pivot": "#d8d8d8", "point": "#c0392b"}.get(mark.kind, "w"))
 
 
-def _png_letters(mpl, ax, drawing: Drawing, frame: Frame) -> None:
+def _png_letters(mpl: matplotlib.figure.Figure, ax: matplotlib.axes.Axes, drawing: Drawing,
+                 frame: Frame) -> None:
     """The frame's letters, placed for the size the PNG draws them at (the axes laid out)."""
     mpl.draw_without_rendering()
     (x0, _), (x1, _) = ax.transData.transform([(0.0, 0.0), (1.0, 0.0)])
@@ -5539,20 +5712,14 @@ def _png_letters(mpl, ax, drawing: Drawing, frame: Frame) -> None:
                 fontstyle="italic", family="serif")
 
 
-def _png_chart(ax, chart, marked) -> None:
+def _png_chart(ax: matplotlib.axes.Axes, chart: Sequence[tuple[float, float | None]],
+               marked: Sequence[float]) -> None:
     """The transmission angle along the sweep, the drawn positions marked."""
-    runs, run = [], []
-    for phi, mu in list(chart) + [(None, None)]:
-        if mu is None:
-            runs, run = runs + [run] * (len(run) > 0), []
-        else:
-            run.append((phi, mu))
-    for run in runs:
+    for run in _chart_runs(chart):
         ax.plot(*zip(*run), color="#2f6db3", linewidth=1.4)
     shown = dict(chart)
-    ax.plot([p for p in marked if shown.get(p) is not None],
-            [shown[p] for p in marked if shown.get(p) is not None], "o", color="#2f6db3",
-            markersize=3)
+    dots = [(p, mu) for p in marked if (mu := shown.get(p)) is not None]
+    ax.plot([p for p, _ in dots], [mu for _, mu in dots], "o", color="#2f6db3", markersize=3)
     ax.axhline(90.0, color="#999999", linewidth=0.8, linestyle="--")
     ax.set_ylim(0.0, 180.0)
     ax.set_yticks([0, 30, 60, 90, 120, 150, 180])
@@ -5566,7 +5733,8 @@ class PlotUnavailable(RuntimeError):
     """--png without matplotlib."""
 
 
-def matplotlib_canvas():
+def matplotlib_canvas() -> tuple[type[matplotlib.figure.Figure],
+                                 type[matplotlib.backends.backend_agg.FigureCanvasAgg]]:
     """matplotlib's Figure and Agg canvas (no pyplot: no global state), or PlotUnavailable."""
     try:
         from matplotlib.figure import Figure as MplFigure
@@ -5665,22 +5833,25 @@ class DesignError(ValueError):
     """Data that no design of the method can meet; the message names the condition that failed.
     `design`, when set, is what the formulas give although it does not meet the data."""
 
-    def __init__(self, message, design=None):
+    def __init__(self, message: str, design: Design | None = None) -> None:
         super().__init__(message)
         self.design = design
 
 
-def _require(condition, message, design=None):
+def _require(condition: object, message: str, design: Design | None = None) -> None:
     """Raise DesignError(message) unless condition holds."""
     if not condition:
         raise DesignError(message, design)
 
 
-def _method(name):
+_P = ParamSpec("_P")                    # a method's parameters, kept by _method
+
+
+def _method(name: str) -> Callable[[Callable[_P, Synthesis]], Callable[_P, Synthesis]]:
     """Decorator: every DesignError of the method's function starts with the method's name."""
-    def decorate(function):
+    def decorate(function: Callable[_P, Synthesis]) -> Callable[_P, Synthesis]:
         @functools.wraps(function)
-        def method(*args, **kwargs):
+        def method(*args: _P.args, **kwargs: _P.kwargs) -> Synthesis:
             try:
                 return function(*args, **kwargs)
             except DesignError as error:
@@ -5691,7 +5862,7 @@ def _method(name):
     return decorate
 
 
-def _require_lengths(**lengths):
+def _require_lengths(**lengths: float) -> None:
     """Every link length positive: above 1e-6 of the longest (less is a degenerate linkage)."""
     longest = max(abs(v) for v in lengths.values())
     for name, value in lengths.items():
@@ -5701,19 +5872,19 @@ def _require_lengths(**lengths):
                                                                 if value > 0 else ""))
 
 
-def _require_margin(mu_min, mu_max, design=None):
+def _require_margin(mu_min: float, mu_max: float, design: Design | None = None) -> None:
     """Refuse a design whose transmission angle comes within MU_MARGIN of 0 or 180 degrees."""
     _require(min(mu_min, 180.0 - mu_max) >= MU_MARGIN - 1e-9,       # mu_min = 0.1 + 1e-16: met
              f"dead centre: the transmission angle comes within {MU_MARGIN:g} degree of 0 or 180 "
              f"(mu from {mu_min:.6g} to {mu_max:.6g})", design)
 
 
-def _deg(x):
+def _deg(x: float) -> float:
     """Radians to degrees."""
     return x / _R
 
 
-def _wrap(angle):
+def _wrap(angle: float) -> float:
     """An angle in degrees brought into (-180, 180]."""
     w = math.fmod(angle, 360.0)
     if w > 180.0:
@@ -5723,7 +5894,7 @@ def _wrap(angle):
     return w
 
 
-def _acos_deg(x, what):
+def _acos_deg(x: float, what: str) -> float:
     """arccos in degrees; a DesignError names `what` when |x| > 1 (the configuration is not
     reached) beyond round-off."""
     _require(abs(x) <= 1.0 + 1e-12, f"{what}: cos = {x:.6g} is outside [-1, 1]")
@@ -5738,6 +5909,13 @@ LENGTH_MIN, LENGTH_MAX = 1e-6, 1e6     # a length datum, relative to the method'
 ANGLE_EPSILON = 1e-6                   # degrees: an excluded single angle is refused this close
 
 
+# A method's data: each datum's value by its name, a number (or, with count 3, a list of three).
+Data = dict[str, Any]
+# An end of a datum's range: a number, or (text, its value from the data) for one that depends on
+# a datum listed before.
+Bound = float | tuple[str, Callable[[Data], float]]
+
+
 class Datum(NamedTuple):
     """One datum of a method and its valid range lo < value < hi. An end is a number, or
     (text, function of the data) when it depends on a datum listed before; `closed` names the ends
@@ -5745,15 +5923,16 @@ class Datum(NamedTuple):
     refused) for single values the formulas cannot take; `count` 3: a list of three values."""
     name: str
     meaning: str
-    lo: object = -math.inf
-    hi: object = math.inf
-    closed: tuple = ()
-    excluded: tuple = ()
-    count: int = 1
+    lo: Bound = -math.inf
+    hi: Bound = math.inf
+    closed: tuple[str, ...] = ()
+    excluded: tuple[tuple[str, Callable[[Data], bool]], ...] = ()
+    count: int = 1          # type: ignore[assignment]  # the field shadows tuple.count, as a
+    #                         NamedTuple's field may (Datum.count is the number of values)
     optional: bool = False
 
 
-def _near(angle, target, period=360.0):
+def _near(angle: float, target: float, period: float = 360.0) -> bool:
     """Whether an angle (degrees) lies within ANGLE_EPSILON of target, modulo period."""
     w = math.fmod(angle - target, period)
     return min(abs(w), period - abs(w)) < ANGLE_EPSILON
@@ -5765,8 +5944,8 @@ _TIME_RATIO = Datum("theta", "crank rotation is 180 + theta", -180.0, 180.0)
 _CENTRIC = (_SWING._replace(hi=180.0 - 2 * MU_MARGIN),
             Datum("mu_min", "least transmission angle", MU_MARGIN,
                   ("90 - psi/2", lambda d: 90.0 - d["psi"] / 2)))
-_LENGTH = dict(lo=LENGTH_MIN, hi=LENGTH_MAX, closed=("lo", "hi"))
-_ANGLE = dict(lo=-360.0, hi=360.0, closed=("lo", "hi"))        # a position (not a rotation)
+_LENGTH: dict[str, Any] = dict(lo=LENGTH_MIN, hi=LENGTH_MAX, closed=("lo", "hi"))
+_ANGLE: dict[str, Any] = dict(lo=-360.0, hi=360.0, closed=("lo", "hi"))   # a position, not a turn
 DATA = {
     "FOURB-CR-1": (
         _TIME_RATIO, _SWING,
@@ -5836,36 +6015,40 @@ DATA = {
 }
 
 
-def _g(x):
+def _g(x: float) -> str:
     """A number as short as it is exact: 65, not 65.000000000000014 unless it is that."""
     short = f"{x:g}"
     return short if float(short) == x else repr(float(x))
 
 
-def _bound(end, data):
-    """An end of a range: (value, text), the text with its value when it depends on the data
-    (data None: the text alone)."""
+def _bound_value(end: Bound, data: Data) -> float:
+    """An end of a range, for the data."""
+    return end[1](data) if isinstance(end, tuple) else end
+
+
+def _bound_text(end: Bound, data: Data | None) -> str:
+    """An end of a range as text, with its value when it depends on the data (data None: the
+    text alone)."""
     if not isinstance(end, tuple):
-        return end, _g(end)
+        return _g(end)
     if data is None:
-        return None, end[0]
-    value = end[1](data)
-    return value, f"{end[0]} = {_g(value)}"
+        return end[0]
+    return f"{end[0]} = {_g(end[1](data))}"
 
 
-def range_text(datum, data=None):
+def range_text(datum: Datum, data: Data | None = None) -> str:
     """The valid range of a datum as text: '[0.001, 180)', '[0.1, 90 - psi/2 = 65)'; the dependent
     ends evaluated when the data are given."""
-    lo, hi = _bound(datum.lo, data)[1], _bound(datum.hi, data)[1]
+    lo, hi = _bound_text(datum.lo, data), _bound_text(datum.hi, data)
     return (("[" if "lo" in datum.closed else "(") + lo + ", " + hi
             + ("]" if "hi" in datum.closed else ")"))
 
 
-def check_data(method, data):
+def check_data(method: str, data: Data) -> None:
     """Refuse data outside the method's valid range (DATA): a DesignError naming the datum, its
     value and the range or the reason it is excluded."""
     for datum in DATA[method]:
-        value = data.get(datum.name)
+        value: Any = data.get(datum.name)       # a number, or a list of `count` numbers
         if value is None and datum.optional:
             continue
         values = value if datum.count > 1 else [value]
@@ -5873,8 +6056,8 @@ def check_data(method, data):
         for v in values:
             _require(isinstance(v, (int, float)) and math.isfinite(v),
                      f"{method}: {datum.name} = {v} is not a finite number")
-            lo = _bound(datum.lo, data)[0]
-            hi = _bound(datum.hi, data)[0]
+            lo = _bound_value(datum.lo, data)
+            hi = _bound_value(datum.hi, data)
             inside = ((lo <= v if "lo" in datum.closed else lo < v)
                       and (v <= hi if "hi" in datum.closed else v < hi))
             _require(inside, f"{method}: {datum.meaning.split(' (')[0]}: {datum.name} = {_g(v)} "
@@ -5906,25 +6089,28 @@ class SliderCrank(NamedTuple):
     branch: int = 1
 
 
-def four_bar_from_review(a, b, c, d, branch=1):
+Designed = FourBar | SliderCrank        # a linkage a method designs
+
+
+def four_bar_from_review(a: float, b: float, c: float, d: float, branch: int = 1) -> FourBar:
     """The review's crank a, coupler b, output c, frame d as the paper's FourBar(a=d, b=a, c=b,
     d=c)."""
     return FourBar(a=d, b=a, c=b, d=c, branch=branch)
 
 
-def four_bar_to_review(link):
+def four_bar_to_review(link: FourBar) -> dict[str, float]:
     """The paper's FourBar as the review's letters: {'a': crank, 'b': coupler, 'c': output,
     'd': frame}."""
     return {"a": link.b, "b": link.c, "c": link.d, "d": link.a}
 
 
-def slider_crank_from_review(r, l, epsilon, branch=1):
+def slider_crank_from_review(r: float, l: float, epsilon: float, branch: int = 1) -> SliderCrank:
     """The review's crank r, rod l, offset epsilon (slider on y = -epsilon) as the paper's
     SliderCrank(b=r, c=l, e=-epsilon)."""
     return SliderCrank(b=r, c=l, e=-epsilon, branch=branch)
 
 
-def _branch_at(link, phi, psi):
+def _branch_at(link: FourBar, phi: float, psi: float) -> int:
     """The engine's branch of a four-bar position (phi, psi in degrees): 1 when the coupler B->D
     turns counter-clockwise from the output link, 2 when clockwise."""
     bx, by = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
@@ -5933,7 +6119,7 @@ def _branch_at(link, phi, psi):
     return 1 if ux * (dy - by) - uy * (dx - bx) > 0 else 2
 
 
-def grashof_type(link):
+def grashof_type(link: FourBar) -> str:
     """'crank-rocker', 'drag-link', 'double-rocker' (Grashof, coupler shortest), 'rocker-crank',
     'change-point' (s + l = p + q) or 'triple-rocker' (non-Grashof), with the crank as input."""
     lengths = sorted((link.a, link.b, link.c, link.d))
@@ -5949,19 +6135,19 @@ def grashof_type(link):
 
 # -- the transmission angle: eqs. (1)-(4) ---------------------------------------------------------
 
-def _cos_transmission(link, phi):
+def _cos_transmission(link: FourBar, phi: float) -> float:
     """cos mu by eq. (1), in the review's letters
     cos mu = (b^2 + c^2 - (a^2 + d^2) + 2ad cos phi) / 2bc."""
     a, b, c, d = link.b, link.c, link.d, link.a            # the review's letters
     return (b * b + c * c - (a * a + d * d) + 2 * a * d * math.cos(phi * _R)) / (2 * b * c)
 
 
-def four_bar_transmission_angle(link, phi):
+def four_bar_transmission_angle(link: FourBar, phi: float) -> float:
     """Eq. (1): the angle (degrees) between coupler and output at input angle phi (degrees)."""
     return _acos_deg(_cos_transmission(link, phi), f"transmission angle at phi = {phi:g}")
 
 
-def four_bar_transmission_extremes(link):
+def four_bar_transmission_extremes(link: FourBar) -> tuple[float, float]:
     """Eqs. (2a), (2b): the least and greatest transmission angles (degrees), at the crank on the
     frame line, for linkages that reach both (crank-rockers, drag-links)."""
     a, b, c, d = link.b, link.c, link.d, link.a            # the review's letters (eq. 2: d = 1)
@@ -5972,7 +6158,7 @@ def four_bar_transmission_extremes(link):
     return min(mu_min, mu_max), max(mu_min, mu_max)
 
 
-def slider_transmission_angle(link, phi):
+def slider_transmission_angle(link: SliderCrank, phi: float) -> float:
     """Eq. (3), crank driving: the angle (degrees) between the rod and the normal to the slider's
     line at crank angle phi (degrees). ERRATUM S9: 90 - arctan(...), not arctan(...) - 90."""
     r, l, epsilon = link.b, link.c, -link.e                # the review's letters
@@ -5981,7 +6167,7 @@ def slider_transmission_angle(link, phi):
     return 90.0 - _deg(math.atan2(h, math.sqrt(l * l - h * h)))
 
 
-def slider_transmission_extremes(link):
+def slider_transmission_extremes(link: SliderCrank) -> tuple[float, float]:
     """Eq. (4) and its counterpart: least and greatest transmission angles (degrees) over a full
     crank turn; eq. (4), printed for epsilon >= 0, takes |epsilon| here."""
     r, l, epsilon = link.b, link.c, abs(link.e)
@@ -5999,11 +6185,13 @@ class Design:
     """One linkage a method designs: in the paper's conventions (linkage, positions, travel) and
     in the review's own names and numbers (review), with the data it was designed for."""
     method: str                     # e.g. "FOURB-CR-1"
-    data: dict                      # the prescribed data, the review's names (angles in degrees)
-    linkage: object                 # FourBar or SliderCrank: what the analysis takes
-    review: dict                    # the unknowns as the review prints them (ratios, angles)
-    positions: tuple                # design positions (phi, output) in the paper's convention
-    travel: object                  # (phi from, phi to) the method designs for; None: full turn
+    data: Data                      # the prescribed data, the review's names (angles in degrees)
+    linkage: Designed               # FourBar or SliderCrank: what the analysis takes
+    review: dict[str, float]        # the unknowns as the review prints them (ratios, angles)
+    positions: tuple[tuple[float, float], ...]   # design positions (phi, output) in the
+    #                                              paper's convention
+    travel: tuple[float, float] | None    # (phi from, phi to) the method designs for; None: a
+    #                                       full turn
     mu_min: float                   # transmission-angle extremes over the travel (degrees),
     mu_max: float                   # from the review's formulas
 
@@ -6013,29 +6201,30 @@ class Synthesis:
     """A method's answer: every solution it accepts, the one it prefers, and the roots it rejects
     (each with the reason)."""
     method: str
-    solutions: tuple
+    solutions: tuple[Design, ...]
     preferred: int = 0
-    rejected: tuple = ()
+    rejected: tuple[str, ...] = ()     # each: the root, and why it is rejected
 
     @property
-    def design(self):
+    def design(self) -> Design:
         """The preferred solution."""
         return self.solutions[self.preferred]
 
 
-def _one(design):
+def _one(design: Design) -> Synthesis:
     """A Synthesis with a single solution."""
     return Synthesis(design.method, (design,))
 
 
-def _deviation(design):
+def _deviation(design: Design) -> float:
     """The greatest deviation |90 - mu| (degrees) of the design's transmission angle."""
     return max(90.0 - design.mu_min, design.mu_max - 90.0)
 
 
 # -- crank-rockers: FOURB-CR-1 .. FOURB-CR-4 ------------------------------------------------------
 
-def _crank_rocker(method, data, a, b, c, d, theta0, psi0, theta, psi, review):
+def _crank_rocker(method: str, data: Data, a: float, b: float, c: float, d: float, theta0: float,
+                  psi0: float, theta: float, psi: float, review: dict[str, float]) -> Design:
     """Normalise a crank-rocker (review letters, d = frame) to d = 1, convert it, check that it is
     a crank-rocker, and give its dead-centre positions: extended (theta0, psi0), folded (theta0 +
     180 + theta, psi0 + psi), as the data state them (not brought into one turn)."""
@@ -6060,7 +6249,8 @@ def _crank_rocker(method, data, a, b, c, d, theta0, psi0, theta, psi, review):
     return Design(method, data, link, review, positions, None, mu_min, mu_max)
 
 
-def _chen_links(method, theta, psi, theta0, psi0, alpha):
+def _chen_links(method: str, theta: float, psi: float, theta0: float, psi0: float, alpha: float
+                ) -> tuple[float, float, float]:
     """Steps 4-5 of FOURB-CR-1/-2: crank a, coupler b, rocker c for frame d = 1 from the two
     dead-centre triangles (alpha = psi0 - theta0, the angle at the rocker pin, degrees).
     ERRATUM S14: the review's a = c (p1 - p2)/2, p1 = sin psi0 / sin theta0,
@@ -6086,7 +6276,7 @@ def _chen_links(method, theta, psi, theta0, psi0, alpha):
 
 
 @_method("FOURB-CR-1")
-def fourb_cr_1(theta, psi, theta0):
+def fourb_cr_1(theta: float, psi: float, theta0: float) -> Synthesis:
     """FOURB-CR-1 (Chen; Pamidi): crank-rocker with rocker swing psi while the crank turns
     180 + theta, the extended dead centre at crank angle theta0 (degrees)."""
     method = "FOURB-CR-1"
@@ -6114,7 +6304,7 @@ def fourb_cr_1(theta, psi, theta0):
 
 
 @_method("FOURB-CR-2")
-def fourb_cr_2(theta, psi, psi0):
+def fourb_cr_2(theta: float, psi: float, psi0: float) -> Synthesis:
     """FOURB-CR-2 (Chen; Pamidi): crank-rocker with rocker swing psi while the crank turns
     180 + theta, the rocker at angle psi0 at the extended dead centre (degrees)."""
     method = "FOURB-CR-2"
@@ -6153,7 +6343,7 @@ def fourb_cr_2(theta, psi, psi0):
     return Synthesis(method, tuple(solutions), 0, tuple(rejected))
 
 
-def _cubic_real_roots(a2, a1, a0):
+def _cubic_real_roots(a2: float, a1: float, a0: float) -> list[float]:
     """The real roots of x^3 + a2 x^2 + a1 x + a0 = 0, each polished by Newton's method."""
     p = a1 - a2 * a2 / 3.0
     q = 2.0 * a2 ** 3 / 27.0 - a2 * a1 / 3.0 + a0
@@ -6179,7 +6369,7 @@ def _cubic_real_roots(a2, a1, a0):
     return sorted(out)
 
 
-def _transmission_cubic(t, u):
+def _transmission_cubic(t: float, u: float) -> list[float]:
     """Step 2 of FOURB-CR-3 and DRAGLINK-2: the positive real roots x of
     x^3 + 2x^2 - t^2 x - t^2 (1 + t^2) / u^2 = 0, as lambda = t / sqrt(x)."""
     roots = _cubic_real_roots(2.0, -t * t, -t * t * (1.0 + t * t) / (u * u))
@@ -6187,7 +6377,7 @@ def _transmission_cubic(t, u):
 
 
 @_method("FOURB-CR-3")
-def fourb_cr_3(theta, psi):
+def fourb_cr_3(theta: float, psi: float) -> Synthesis:
     """FOURB-CR-3 (Freudenstein & Primrose): crank-rocker with rocker swing psi while the crank
     turns 180 + theta (degrees), with the least greatest deviation of mu from 90 degrees."""
     method = "FOURB-CR-3"
@@ -6231,7 +6421,7 @@ def fourb_cr_3(theta, psi):
     return Synthesis(method, tuple(solutions), best, tuple(rejected))
 
 
-def _triangle_angle(x, y, z):
+def _triangle_angle(x: float, y: float, z: float) -> float:
     """The angle (degrees) between sides x and y of the triangle x, y, z, opposite z, by Kahan's
     formula ("Miscalculating area and angles of a needle-like triangle"), accurate to a few
     roundings of the sides where the law of cosines cancels; DesignError if there is none."""
@@ -6242,7 +6432,7 @@ def _triangle_angle(x, y, z):
                                         / ((x + (y + z)) * ((x - z) + y)))))
 
 
-def _extended_dead_centre(a, b, c):
+def _extended_dead_centre(a: float, b: float, c: float) -> tuple[float, float]:
     """Crank angle theta0 and rocker angle psi0 (degrees) at the extended dead centre of the
     crank-rocker (review letters, d = 1), the rocker tip above the frame line: the angles of the
     triangle frame 1, crank and coupler in line a + b, rocker c (ERRATUM S14: the law of cosines
@@ -6253,7 +6443,7 @@ def _extended_dead_centre(a, b, c):
     return theta0, 180.0 - _triangle_angle(1.0, c, reach)
 
 
-def _centric(psi, mu_min):
+def _centric(psi: float, mu_min: float) -> tuple[float, float, float, float, float, float]:
     """What FOURB-CR-4 and Volmer's eqs. need of psi and mu_min, without cancellation
     (ERRATUM S14): sin h, cos h (h = psi/2), cos m (m = mu_min),
     D = cos(m - h) cos(m + h) = cos^2 m - sin^2 h, which the review computes as that difference
@@ -6273,7 +6463,7 @@ def _centric(psi, mu_min):
 
 
 @_method("FOURB-CR-4")
-def fourb_cr_4(psi, mu_min):
+def fourb_cr_4(psi: float, mu_min: float) -> Synthesis:
     """FOURB-CR-4 (Brodell & Soni): centric crank-rocker (theta = 0, unit time ratio) with rocker
     swing psi and least transmission angle mu_min (degrees)."""
     method = "FOURB-CR-4"
@@ -6291,7 +6481,7 @@ def fourb_cr_4(psi, mu_min):
 
 
 @_method("FOURB-CR-4 (Volmer)")
-def volmer_crank_rocker(psi, mu_min):
+def volmer_crank_rocker(psi: float, mu_min: float) -> Synthesis:
     """FOURB-CR-4 by Volmer's eqs. (6a)-(6c): the same centric crank-rocker from the ratios
     d/a, b/a, c/a (crank a = 1), normalised to d = 1."""
     method = "FOURB-CR-4 (Volmer)"
@@ -6309,7 +6499,8 @@ def volmer_crank_rocker(psi, mu_min):
 
 # -- drag-links: DRAGLINK-1, DRAGLINK-2 -----------------------------------------------------------
 
-def _drag_link(method, data, a, b, c, d, review):
+def _drag_link(method: str, data: Data, a: float, b: float, c: float, d: float,
+               review: dict[str, float]) -> tuple[FourBar, dict[str, float]]:
     """Normalise a drag-link (review letters: crank a, coupler b, output c, frame d) to d = 1 and
     check that it is one; the branch is settled by the caller."""
     _require_lengths(a_crank=a, b_coupler=b, c_output=c, d_frame=d)
@@ -6324,7 +6515,7 @@ def _drag_link(method, data, a, b, c, d, review):
 
 
 @_method("DRAGLINK-1")
-def draglink_1(dpsi0, mu_min):
+def draglink_1(dpsi0: float, mu_min: float) -> Synthesis:
     """DRAGLINK-1 (Bagci): drag-link whose output turns dpsi0 while the crank turns 180 degrees
     between the crank-on-frame-line positions, with transmission angles mu_min, 180 - mu_min
     there."""
@@ -6367,7 +6558,7 @@ def draglink_1(dpsi0, mu_min):
                        review["mu_min"], review["mu_max"]))
 
 
-def _draglink_2_links(dphi, dpsi, lam):
+def _draglink_2_links(dphi: float, dpsi: float, lam: float) -> tuple[float, float, float]:
     """DRAGLINK-2's link ratios a/d, b/d, c/d for lambda = b/d, coupler / frame (ERRATUM S4), by
     step 5 with epsilon = lambda / ut (the same as the procedure without optimisation)."""
     dl = (dphi - dpsi) * _R
@@ -6380,7 +6571,7 @@ def _draglink_2_links(dphi, dpsi, lam):
 
 
 @_method("DRAGLINK-2")
-def draglink_2(dphi, dpsi, lam=None):
+def draglink_2(dphi: float, dpsi: float, lam: float | None = None) -> Synthesis:
     """DRAGLINK-2 (Tsai): drag-link with unit velocity ratio at two positions dphi apart on the
     crank and dpsi on the output (degrees); lambda = b/d given, or chosen for the least greatest
     deviation of mu from 90 degrees (lam=None)."""
@@ -6410,7 +6601,7 @@ def draglink_2(dphi, dpsi, lam=None):
     return Synthesis(method, tuple(solutions), best, tuple(rejected))
 
 
-def _draglink_2_design(method, data, dphi, dpsi, lam):
+def _draglink_2_design(method: str, data: Data, dphi: float, dpsi: float, lam: float) -> Design:
     """One DRAGLINK-2 design for lambda: link ratios, greatest deviation of mu, crank angle phi1
     at the first design position (step 8), the positions and branch."""
     a, b, c = _draglink_2_links(dphi, dpsi, lam)
@@ -6449,7 +6640,7 @@ def _draglink_2_design(method, data, dphi, dpsi, lam):
 
 # -- function generators: FOURB-FG2-1, FOURB-FG3-1 -------------------------------------------------
 
-def _limit_angles(link):
+def _limit_angles(link: FourBar) -> list[float]:
     """Input angles (degrees, in [0, 360)) at which the four-bar meets a dead centre of its input
     (coupler and output in line, mu = 0 or 180): the ends of its assembly ranges."""
     out = []
@@ -6462,7 +6653,7 @@ def _limit_angles(link):
     return out
 
 
-def _travel_problem(link, positions):
+def _travel_problem(link: FourBar, positions: Sequence[tuple[float, float]]) -> str | None:
     """Why the four-bar cannot drive through the positions (phi, psi) in turn on one branch
     without a dead centre, or None: a branch change, a limit angle inside the travel, or a
     transmission angle within MU_MARGIN of one."""
@@ -6482,14 +6673,15 @@ def _travel_problem(link, positions):
     return None
 
 
-def _output_turn(link, phi_from, phi_to, psi_from, psi_to):
+def _output_turn(link: FourBar, phi_from: float, phi_to: float, psi_from: float, psi_to: float
+                 ) -> float:
     """The output's turn (degrees, signed) while the crank turns from phi_from to phi_to on one
     branch with no dead centre of the input between, the output at psi_from and psi_to: the turn
     of the diagonal from the output pivot to the crank pin (exact: for b >= a it turns with the
     crank, arg(b - a e^-i phi) staying within 90 degrees; for b < a, arg(a - b e^i phi) does),
     plus the change of the angle between diagonal and output, which keeps its sign (it is 0 or
     180 only where coupler and output are in line) and so changes by less than 180."""
-    def diagonal(phi):
+    def diagonal(phi: float) -> float:
         """arg(B - O4) less the part that turns with the crank (b >= a) or less 180 (b < a)."""
         x, y = math.cos(phi * _R), math.sin(phi * _R)
         if link.b >= link.a:
@@ -6503,7 +6695,7 @@ def _output_turn(link, phi_from, phi_to, psi_from, psi_to):
     return turns + diagonal(phi_to) - diagonal(phi_from) + gamma[1] - gamma[0]
 
 
-def _travel_transmission(link, lo, hi):
+def _travel_transmission(link: FourBar, lo: float, hi: float) -> tuple[float, float]:
     """Transmission-angle extremes (degrees) over input angles lo..hi by eq. (1): at the ends, and
     at phi = 0 or 180 (mod 360) where the travel passes them."""
     phis = [lo, hi] + [lo + (x - lo) % 360.0 for x in (0.0, 180.0)]
@@ -6513,7 +6705,7 @@ def _travel_transmission(link, lo, hi):
 
 
 @_method("FOURB-FG2-1")
-def fourb_fg2_1(phij, psij, phi0, a, c):
+def fourb_fg2_1(phij: float, psij: float, phi0: float, a: float, c: float) -> Synthesis:
     """FOURB-FG2-1 (Chiang): four-bar whose output turns psij while the crank turns phij from
     phi0 (degrees), for given crank a/d and output c/d; finds b/d and the output's psi0."""
     method = "FOURB-FG2-1"
@@ -6575,9 +6767,9 @@ def fourb_fg2_1(phij, psij, phi0, a, c):
     return Synthesis(method, tuple(solutions), best, tuple(rejected))
 
 
-def _solve3(matrix, rhs):
+def _solve3(matrix: list[list[float]], rhs: list[float]) -> list[float]:
     """The solution of a 3x3 linear system by Cramer's rule; DesignError when singular."""
-    def det(m):
+    def det(m: list[list[float]]) -> float:
         return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
                 - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
                 + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
@@ -6595,7 +6787,7 @@ def _solve3(matrix, rhs):
 
 
 @_method("FOURB-FG3-1")
-def fourb_fg3_1(phi, psi):
+def fourb_fg3_1(phi: Sequence[float], psi: Sequence[float]) -> Synthesis:
     """FOURB-FG3-1 (Freudenstein's equation): four-bar whose output is at psi[i] when the crank
     is at phi[i], three positions (degrees; the review's output angles, see the names above)."""
     method = "FOURB-FG3-1"
@@ -6641,7 +6833,8 @@ def fourb_fg3_1(phi, psi):
 
 # -- slider-cranks: SLID-FG2-1, SLID-FG2-2 -------------------------------------------------------
 
-def _slider_design(method, data, s1, s2, theta1, theta2, review):
+def _slider_design(method: str, data: Data, s1: float, s2: float, theta1: float, theta2: float,
+                   review: dict[str, float]) -> Design:
     """Chen's slider-crank from its dead-centre positions (step 4 of SLID-FG2-1, step 1 of
     SLID-FG2-2): crank r, rod l, checks, conversion to the paper's letters."""
     c1, c2 = math.cos(theta1 * _R), math.cos(theta2 * _R)
@@ -6665,7 +6858,7 @@ def _slider_design(method, data, s1, s2, theta1, theta2, review):
 
 
 @_method("SLID-FG2-1")
-def slid_fg2_1(dtheta, ds, epsilon):
+def slid_fg2_1(dtheta: float, ds: float, epsilon: float) -> Synthesis:
     """SLID-FG2-1 (Chen): slider-crank whose slider moves ds between the dead centres while the
     crank turns dtheta (degrees), for the assumed offset epsilon."""
     method = "SLID-FG2-1"
@@ -6682,7 +6875,8 @@ def slid_fg2_1(dtheta, ds, epsilon):
 
 
 @_method("SLID-FG2-2")
-def slid_fg2_2(theta1, theta2, s1, s2, tolerance=1e-9):
+def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: float = 1e-9
+               ) -> Synthesis:
     """SLID-FG2-2 (Chen): slider-crank with dead centres at crank theta1, slider s1 and (the
     review's theta2: the pin's direction, crank at theta2 - 180) slider s2 (degrees); theta2 may
     differ by `tolerance` degrees from the direction the offset of the first gives."""
@@ -6711,45 +6905,47 @@ def slid_fg2_2(theta1, theta2, s1, s2, tolerance=1e-9):
 
 # -- the analysis adapter ------------------------------------------------------------------------
 
-def analyze(kind, dims, phis, branch=1):
+def analyze(kind: str, dims: dict[str, float], phis: Iterable[float], branch: int = 1
+            ) -> list[float | None]:
     """The adapter to the analysis: output angle psi (degrees, (-180, 180]) of the plane
-    four-bar ("plane", dims a b c d) or slider position x ("slider", dims b c e) at each input
-    angle phi (degrees) on branch 1 or 2, computed by the accurate engine; None where the
-    linkage cannot be assembled."""
-    if kind not in ("plane", "slider"):
-        raise ValueError(f"analyze: kind {kind!r} is neither 'plane' nor 'slider'")
+    four-bar (PLANE_FOUR_BAR, dims a b c d) or slider position x (PLANE_SLIDER_CRANK, dims b c
+    e) at each input angle phi (degrees) on branch 1 or 2, computed by the accurate engine; None
+    where the linkage cannot be assembled."""
+    if kind not in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
+        raise ValueError(f"analyze: kind {kind!r} is neither {PLANE_FOUR_BAR!r} nor "
+                         f"{PLANE_SLIDER_CRANK!r}")
     linkage = _engine_linkage(kind, tuple(dims[name] for name in LINKAGE_DIMENSIONS[kind]))
     return [m.output if m.status in (ASSEMBLED, DEAD_CENTRE, CHANGE_POINT) else None
             for m in linkage.sweep(phis, branch, derivatives=0)]
 
 
 @functools.lru_cache(maxsize=256)
-def _engine_linkage(kind, values):
+def _engine_linkage(kind: str, values: tuple[float, ...]) -> Linkage:
     """The engine's Linkage, built once per design (its constants take exact arithmetic)."""
     return Linkage(kind, **dict(zip(LINKAGE_DIMENSIONS[kind], values)))
 
 
 # -- measuring the analysed linkage ---------------------------------------------------------------
 
-def kind_and_dimensions(link):
+def kind_and_dimensions(link: Designed) -> tuple[str, dict[str, float]]:
     """The adapter's kind and dims of a FourBar or SliderCrank."""
     if isinstance(link, FourBar):
-        return "plane", {"a": link.a, "b": link.b, "c": link.c, "d": link.d}
-    return "slider", {"b": link.b, "c": link.c, "e": link.e}
+        return PLANE_FOUR_BAR, {"a": link.a, "b": link.b, "c": link.c, "d": link.d}
+    return PLANE_SLIDER_CRANK, {"b": link.b, "c": link.c, "e": link.e}
 
 
-def _outputs(link, phis):
+def _outputs(link: Designed, phis: Iterable[float]) -> list[float | None]:
     """The analysed output at each input angle (degrees), None where not assembled."""
     kind, dims = kind_and_dimensions(link)
     return analyze(kind, dims, list(phis), link.branch)
 
 
-def _output(link, phi):
+def _output(link: Designed, phi: float) -> float | None:
     """The analysed output at one input angle."""
     return _outputs(link, (phi,))[0]
 
 
-def measured_transmission_angle(link, phi, output):
+def measured_transmission_angle(link: Designed, phi: float, output: float) -> float:
     """The transmission angle (degrees) measured on the positions of the analysed linkage: at the
     coupler-output joint (four-bar); between the rod and the normal to the slider's line."""
     bx, by = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
@@ -6772,7 +6968,7 @@ class Measured(NamedTuple):
     mu_max: Extreme
 
 
-def _in_line(link, phi):
+def _in_line(link: Designed, phi: float) -> float | None:
     """cross(B, P - B) for the analysed linkage at phi: zero where crank and coupler are in line
     (a dead centre of the output), B the crank pin, P the output pin or slider; None if not
     assembled."""
@@ -6787,7 +6983,7 @@ def _in_line(link, phi):
     return bx * (py - by) - by * (px - bx)
 
 
-def _dead_centre(link, lo, hi):
+def _dead_centre(link: Designed, lo: float, hi: float) -> float | None:
     """The crank angle in [lo, hi] at which crank and coupler come in line (bisection on the
     analysed positions), or None when they do not change sides there."""
     g_lo, g_hi = _in_line(link, lo), _in_line(link, hi)
@@ -6810,7 +7006,7 @@ def _dead_centre(link, lo, hi):
 _FULL_TURN_OFFSET = 0.1234567890123     # degrees: where measure starts a full turn
 
 
-def measure(link, lo=0.0, hi=360.0, samples=720):
+def measure(link: Designed, lo: float = 0.0, hi: float = 360.0, samples: int = 720) -> Measured:
     """Measure the analysed linkage over input angles lo..hi (default: a full turn) by dense
     sampling: the output's extremes at the dead centres (crank and coupler in line, located by
     bisection) or the travel's ends, the transmission angle's refined on the analysis."""
@@ -6824,24 +7020,31 @@ def measure(link, lo=0.0, hi=360.0, samples=720):
         lo, hi = lo + _FULL_TURN_OFFSET, hi + _FULL_TURN_OFFSET
     step = (hi - lo) / samples
     phis = [lo + step * i for i in range(samples)] + [hi]
-    outputs = _outputs(link, phis)
-    if any(o is None for o in outputs):
+    assembled = [o for o in _outputs(link, phis) if o is not None]
+    if len(assembled) < len(phis):
         nan = Extreme(math.nan, math.nan)
         return Measured(False, nan, nan, math.nan, nan, nan)
-    outputs = unwrapped(outputs, angular)
+    outputs = unwrapped(assembled, angular)
 
-    def output_near(phi, reference):
-        """The output at phi, continuous with `reference`."""
+    def output_at(phi: float) -> float:
+        """The output at phi, which assembles: between two samples that do."""
         value = _output(link, phi)
+        assert value is not None, f"a gap between the samples at phi = {phi!r}"
+        return value
+
+    def output_near(phi: float, reference: float) -> float:
+        """The output at phi, continuous with `reference`."""
+        value = output_at(phi)
         return value + 360.0 * round((reference - value) / 360.0) if angular else value
 
     if full_turn and angular and abs(outputs[-1] - outputs[0]) > 180.0:
         out_min = out_max = Extreme(math.nan, math.nan)      # the output turns fully
     else:
-        in_line = [_in_line(link, phi) for phi in phis]
+        in_line = cast("list[float]", [_in_line(link, phi) for phi in phis])   # they assemble
         candidates = [] if full_turn else [Extreme(phis[0], outputs[0]),
                                            Extreme(phis[-1], outputs[-1])]
         for i in range(samples + 1):
+            x: float | None
             if in_line[i] == 0:                                # a sample on a dead centre
                 x = phis[i]
             elif i < samples and in_line[i] * in_line[i + 1] < 0:
@@ -6856,10 +7059,10 @@ def measure(link, lo=0.0, hi=360.0, samples=720):
         out_min = min(candidates, key=lambda e: e.value)
         out_max = max(candidates, key=lambda e: e.value)
 
-    def mu_at(phi):
-        return measured_transmission_angle(link, phi, _output(link, phi))
+    def mu_at(phi: float) -> float:
+        return measured_transmission_angle(link, phi, output_at(phi))
 
-    def mu_extreme(values, maximum):
+    def mu_extreme(values: list[float], maximum: bool) -> Extreme:
         """The greatest (least) transmission angle: every sampled local extreme (the ends
         included) refined within its neighbouring samples."""
         candidates = []
@@ -6884,18 +7087,19 @@ def measure(link, lo=0.0, hi=360.0, samples=720):
                     mu_extreme(mus, False), mu_extreme(mus, True))
 
 
-def output_change(link, phi_from, phi_to, samples=720):
+def output_change(link: Designed, phi_from: float, phi_to: float, samples: int = 720
+                  ) -> float | None:
     """The change of the analysed output while the input turns from phi_from to phi_to (degrees),
     followed continuously; None if the linkage does not assemble throughout."""
     phis = [phi_from + (phi_to - phi_from) * i / samples for i in range(samples + 1)]
-    values = _outputs(link, phis)
-    if any(v is None for v in values):
+    assembled = [v for v in _outputs(link, phis) if v is not None]
+    if len(assembled) < len(phis):
         return None
-    values = unwrapped(values, isinstance(link, FourBar))
+    values = unwrapped(assembled, isinstance(link, FourBar))
     return values[-1] - values[0]
 
 
-def velocity_ratio(link, phi):
+def velocity_ratio(link: Designed, phi: float) -> float | None:
     """d(output)/d(input) of the analysed linkage at phi (degrees per degree, or length per
     degree) from its positions: the velocities of crank and output pins along the coupler agree,
     b sin(phi - theta3) = d sin(psi - theta3) dpsi/dphi (slider: x' cos theta3)."""
@@ -6915,12 +7119,12 @@ class Check(NamedTuple):
     """One thing the analysed linkage should do: measured against expected; miss is the absolute
     difference (angles: modulo 360), None when it could not be measured."""
     name: str
-    measured: object
+    measured: float | None
     expected: float
-    unit: str                     # "deg" (modulo 360), "rotation" (degrees), "length", "ratio"
+    unit: str = "deg"             # "deg" (modulo 360), "rotation" (degrees), "length", "ratio"
 
     @property
-    def miss(self):
+    def miss(self) -> float:
         if self.measured is None or (isinstance(self.measured, float)
                                      and math.isnan(self.measured)):
             return math.inf
@@ -6928,97 +7132,135 @@ class Check(NamedTuple):
         return abs(_wrap(difference)) if self.unit == "deg" else abs(difference)
 
 
-def analyze_design(design):
+def analyze_design(design: Design) -> list[Check]:
     """Run the design through the analysis and measure what it really does against what its
     method prescribes and what the design claims: a list of Check."""
-    link, data, checks = design.linkage, design.data, []
-    method = design.method
-    add = lambda name, measured, expected, unit="deg": checks.append(        # noqa: E731
-        Check(name, measured, expected, unit))
-    if method.startswith("FOURB-CR"):
-        # Full turn: the rocker's extremes are the dead centres; from the extended one (least
-        # rocker angle) the crank turns 180 + theta, counter-clockwise, to the folded one while
-        # the rocker turns with it (the sense in which the review's theta is signed).
-        m = measure(link)
-        add("assembled", float(m.assembled), 1.0, "ratio")
-        add("rocker_swing", m.output_max.value - m.output_min.value, data["psi"])
-        add("crank_rotation", (m.output_max.phi - m.output_min.phi) % 360.0,
-            180.0 + data.get("theta", 0.0))
-        for (phi, psi), extreme, where in ((design.positions[0], m.output_min, "extended"),
-                                           (design.positions[1], m.output_max, "folded")):
-            add(f"{where}_dead_centre_phi", extreme.phi, phi)
-            add(f"{where}_dead_centre_psi", extreme.value, psi)
-        add("mu_min", m.mu_min.value, design.mu_min)
-        add("mu_max", m.mu_max.value, design.mu_max)
-        if "mu_min" in data:
-            add("mu_min_prescribed", m.mu_min.value, data["mu_min"])
-    elif method.startswith("DRAGLINK"):
-        m = measure(link)
-        add("assembled", float(m.assembled), 1.0, "ratio")
-        add("output_turn", m.output_change, 360.0, "rotation")
-        (phi1, psi1), (phi2, psi2) = design.positions
-        add("position1_psi", _output(link, phi1), psi1)
-        add("position2_psi", _output(link, phi2), psi2)
-        add("output_rotation", output_change(link, phi1, phi2),
-            data["dpsi0"] if method == "DRAGLINK-1" else data["dpsi"], "rotation")
-        add("mu_min", m.mu_min.value, design.mu_min)
-        add("mu_max", m.mu_max.value, design.mu_max)
-        if method == "DRAGLINK-1":
-            # cos(mu_min) = -cos(mu_max) at the design positions: mu_min at one, 180 - mu_min at
-            # the other.
-            mus = [measured_transmission_angle(link, phi, _output(link, phi))
-                   for phi in (phi1, phi2)]
-            add("position1_mu", mus[0], data["mu_min"])
-            add("position2_mu", mus[1], 180.0 - data["mu_min"])
-        else:
-            add("crank_rotation", phi2 - phi1, data["dphi"], "rotation")
-            add("position1_velocity_ratio", velocity_ratio(link, phi1), 1.0, "ratio")
-            add("position2_velocity_ratio", velocity_ratio(link, phi2), 1.0, "ratio")
-            add("dmu_max", max(90.0 - m.mu_min.value, m.mu_max.value - 90.0),
+    return list(_DESIGN_CHECKS[design.method](design))
+
+
+def _measured_mu(link: Designed, phi: float) -> float | None:
+    """The transmission angle measured at phi, None where the analysed linkage does not
+    assemble."""
+    out = _output(link, phi)
+    return None if out is None else measured_transmission_angle(link, phi, out)
+
+
+def _crank_rocker_checks(design: Design) -> Iterator[Check]:
+    """FOURB-CR-1..4 and Volmer's: over a full turn the rocker's extremes are the dead centres;
+    from the extended one (least rocker angle) the crank turns 180 + theta, counter-clockwise, to
+    the folded one while the rocker turns with it (the sense in which the review's theta is
+    signed)."""
+    data = design.data
+    m = measure(design.linkage)
+    yield Check("assembled", float(m.assembled), 1.0, "ratio")
+    yield Check("rocker_swing", m.output_max.value - m.output_min.value, data["psi"])
+    yield Check("crank_rotation", (m.output_max.phi - m.output_min.phi) % 360.0,
+                180.0 + data.get("theta", 0.0))
+    for (phi, psi), extreme, where in ((design.positions[0], m.output_min, "extended"),
+                                       (design.positions[1], m.output_max, "folded")):
+        yield Check(f"{where}_dead_centre_phi", extreme.phi, phi)
+        yield Check(f"{where}_dead_centre_psi", extreme.value, psi)
+    yield Check("mu_min", m.mu_min.value, design.mu_min)
+    yield Check("mu_max", m.mu_max.value, design.mu_max)
+    if "mu_min" in data:
+        yield Check("mu_min_prescribed", m.mu_min.value, data["mu_min"])
+
+
+def _drag_link_checks(design: Design, m: Measured, output_rotation: float) -> Iterator[Check]:
+    """What DRAGLINK-1 and -2 check alike: both links turn fully, the design positions are met,
+    the output turns `output_rotation` between them."""
+    link = design.linkage
+    (phi1, psi1), (phi2, psi2) = design.positions
+    yield Check("assembled", float(m.assembled), 1.0, "ratio")
+    yield Check("output_turn", m.output_change, 360.0, "rotation")
+    yield Check("position1_psi", _output(link, phi1), psi1)
+    yield Check("position2_psi", _output(link, phi2), psi2)
+    yield Check("output_rotation", output_change(link, phi1, phi2), output_rotation, "rotation")
+    yield Check("mu_min", m.mu_min.value, design.mu_min)
+    yield Check("mu_max", m.mu_max.value, design.mu_max)
+
+
+def _draglink_1_checks(design: Design) -> Iterator[Check]:
+    """DRAGLINK-1: cos(mu_min) = -cos(mu_max) at the design positions: mu_min at one, 180 -
+    mu_min at the other."""
+    link, data = design.linkage, design.data
+    yield from _drag_link_checks(design, measure(link), data["dpsi0"])
+    (phi1, _), (phi2, _) = design.positions
+    yield Check("position1_mu", _measured_mu(link, phi1), data["mu_min"])
+    yield Check("position2_mu", _measured_mu(link, phi2), 180.0 - data["mu_min"])
+
+
+def _draglink_2_checks(design: Design) -> Iterator[Check]:
+    """DRAGLINK-2: the unit velocity ratio at both design positions, dphi apart."""
+    link, data = design.linkage, design.data
+    m = measure(link)
+    yield from _drag_link_checks(design, m, data["dpsi"])
+    (phi1, _), (phi2, _) = design.positions
+    yield Check("crank_rotation", phi2 - phi1, data["dphi"], "rotation")
+    yield Check("position1_velocity_ratio", velocity_ratio(link, phi1), 1.0, "ratio")
+    yield Check("position2_velocity_ratio", velocity_ratio(link, phi2), 1.0, "ratio")
+    yield Check("dmu_max", max(90.0 - m.mu_min.value, m.mu_max.value - 90.0),
                 design.review["dmu_max"])
-    elif method.startswith("FOURB-FG"):
-        # Over the travel only: one branch, no dead centre (the input's dead centre is mu = 0 or
-        # 180), every prescribed position met.
-        lo, hi = design.travel
-        m = measure(link, lo, hi, samples=max(60, int(4 * (hi - lo))))
-        add("assembled", float(m.assembled), 1.0, "ratio")
-        add("no_dead_centre", float(min(m.mu_min.value, 180.0 - m.mu_max.value) > 1e-6), 1.0,
-            "ratio")
-        first_phi = design.positions[0][0]
-        rotations = ([data["psij"]] if "psij" in data
-                     else [data["psi2"] - data["psi1"], data["psi3"] - data["psi1"]])
-        for i, (phi, psi) in enumerate(design.positions, 1):
-            add(f"position{i}_psi", _output(link, phi), psi)
-            if i > 1:
-                # FOURB-FG2-1 prescribes a motion, psij: the turn itself (its equations cannot
-                # tell psij from psij -+ 360, the method checks the turn); FOURB-FG3-1
-                # prescribes positions: their differences, modulo 360
-                add(f"rotation_1_to_{i}", output_change(link, first_phi, phi), rotations[i - 2],
-                    "rotation" if "psij" in data else "deg")
-            if f"mu{i}" in design.review:
-                add(f"position{i}_mu", measured_transmission_angle(link, phi, _output(link, phi)),
-                    design.review[f"mu{i}"])
-        add("mu_min", m.mu_min.value, design.mu_min)
-        add("mu_max", m.mu_max.value, design.mu_max)
+
+
+def _function_generator_checks(design: Design) -> Iterator[Check]:
+    """FOURB-FG2-1, FOURB-FG3-1: over the travel only, one branch, no dead centre (the input's
+    dead centre is mu = 0 or 180), every prescribed position met."""
+    link, data = design.linkage, design.data
+    assert design.travel is not None             # a function generator designs for a travel
+    lo, hi = design.travel
+    m = measure(link, lo, hi, samples=max(60, int(4 * (hi - lo))))
+    yield Check("assembled", float(m.assembled), 1.0, "ratio")
+    yield Check("no_dead_centre", float(min(m.mu_min.value, 180.0 - m.mu_max.value) > 1e-6), 1.0,
+                "ratio")
+    first_phi = design.positions[0][0]
+    rotations = ([data["psij"]] if "psij" in data
+                 else [data["psi2"] - data["psi1"], data["psi3"] - data["psi1"]])
+    for i, (phi, psi) in enumerate(design.positions, 1):
+        yield Check(f"position{i}_psi", _output(link, phi), psi)
+        if i > 1:
+            # FOURB-FG2-1 prescribes a motion, psij: the turn itself (its equations cannot
+            # tell psij from psij -+ 360, the method checks the turn); FOURB-FG3-1
+            # prescribes positions: their differences, modulo 360
+            yield Check(f"rotation_1_to_{i}", output_change(link, first_phi, phi),
+                        rotations[i - 2], "rotation" if "psij" in data else "deg")
+        if f"mu{i}" in design.review:
+            yield Check(f"position{i}_mu", _measured_mu(link, phi), design.review[f"mu{i}"])
+    yield Check("mu_min", m.mu_min.value, design.mu_min)
+    yield Check("mu_max", m.mu_max.value, design.mu_max)
+
+
+def _slider_crank_checks(design: Design) -> Iterator[Check]:
+    """SLID-FG2-1, SLID-FG2-2: the slider's extremes are the dead centres; from the outer one
+    the crank turns dtheta counter-clockwise to the inner one."""
+    data = design.data
+    m = measure(design.linkage)
+    yield Check("assembled", float(m.assembled), 1.0, "ratio")
+    stroke = m.output_max.value - m.output_min.value
+    if "ds" in data:
+        yield Check("stroke", stroke, data["ds"], "length")
+        yield Check("crank_rotation", (m.output_min.phi - m.output_max.phi) % 360.0,
+                    data["dtheta"])
     else:
-        # SLID-FG2-1, SLID-FG2-2: the slider's extremes are the dead centres; from the outer one
-        # the crank turns dtheta counter-clockwise to the inner one.
-        m = measure(link)
-        add("assembled", float(m.assembled), 1.0, "ratio")
-        stroke = m.output_max.value - m.output_min.value
-        if "ds" in data:
-            add("stroke", stroke, data["ds"], "length")
-            add("crank_rotation", (m.output_min.phi - m.output_max.phi) % 360.0, data["dtheta"])
-        else:
-            add("stroke", stroke, data["s1"] - data["s2"], "length")
-        (phi1, s1), (phi2, s2) = design.positions
-        add("outer_dead_centre_phi", m.output_max.phi, phi1)
-        add("outer_dead_centre_x", m.output_max.value, s1, "length")
-        add("inner_dead_centre_phi", m.output_min.phi, phi2)
-        add("inner_dead_centre_x", m.output_min.value, s2, "length")
-        add("mu_min", m.mu_min.value, design.mu_min)
-        add("mu_max", m.mu_max.value, design.mu_max)
-    return checks
+        yield Check("stroke", stroke, data["s1"] - data["s2"], "length")
+    (phi1, s1), (phi2, s2) = design.positions
+    yield Check("outer_dead_centre_phi", m.output_max.phi, phi1)
+    yield Check("outer_dead_centre_x", m.output_max.value, s1, "length")
+    yield Check("inner_dead_centre_phi", m.output_min.phi, phi2)
+    yield Check("inner_dead_centre_x", m.output_min.value, s2, "length")
+    yield Check("mu_min", m.mu_min.value, design.mu_min)
+    yield Check("mu_max", m.mu_max.value, design.mu_max)
+
+
+# What analyze_design checks, a row a method (DATA's names).
+_DESIGN_CHECKS: dict[str, Callable[[Design], Iterator[Check]]] = {
+    "FOURB-CR-1": _crank_rocker_checks, "FOURB-CR-2": _crank_rocker_checks,
+    "FOURB-CR-3": _crank_rocker_checks, "FOURB-CR-4": _crank_rocker_checks,
+    "FOURB-CR-4 (Volmer)": _crank_rocker_checks,
+    "DRAGLINK-1": _draglink_1_checks, "DRAGLINK-2": _draglink_2_checks,
+    "FOURB-FG2-1": _function_generator_checks, "FOURB-FG3-1": _function_generator_checks,
+    "SLID-FG2-1": _slider_crank_checks, "SLID-FG2-2": _slider_crank_checks,
+}
 
 
 ANGLE_TOLERANCE = 1e-7            # degrees
@@ -7026,14 +7268,14 @@ LENGTH_TOLERANCE = 1e-9           # times the largest link
 RATIO_TOLERANCE = 1e-6            # velocity ratios
 
 
-def conditioning(design):
+def conditioning(design: Design) -> float:
     """How much the tolerances grow for a near-locking design, whose transmission angle comes
     within 1 degree of 0 or 180: its positions are ill-conditioned, as 1 / sin(mu)."""
     worst = min(design.mu_min, 180.0 - design.mu_max)
     return max(1.0, math.sin(_R) / max(math.sin(worst * _R), 1e-300))
 
 
-def rounding_floor(design, checks=None):
+def rounding_floor(design: Design, checks: list[Check] | None = None) -> dict[str, float]:
     """Per check name, the miss that rounding the design's lengths to doubles alone can cause:
     the change of the measured value when each length moves by 2^-40 of itself, scaled to one
     rounding (2^-53) and summed over the lengths. Some designs are that ill-conditioned
@@ -7055,7 +7297,7 @@ def rounding_floor(design, checks=None):
     return floor
 
 
-def misses(design, checks=None):
+def misses(design: Design, checks: list[Check] | None = None) -> list[Check]:
     """The checks of the design that miss beyond tolerance (an empty list: it does what it
     should): the tolerance, widened for a near-locking design (conditioning), or four times what
     rounding its lengths alone causes (rounding_floor), whichever is larger."""
@@ -7073,7 +7315,8 @@ def misses(design, checks=None):
 
 # -- the command line: python3 linkage.py design METHOD --name value ... -------------------------
 
-METHODS = {  # the command's name: (function, the method's name in DATA)
+# the command's name: (function, the method's name in DATA)
+METHODS: dict[str, tuple[Callable[..., Synthesis], str]] = {
     "fourb-cr-1": (fourb_cr_1, "FOURB-CR-1"), "fourb-cr-2": (fourb_cr_2, "FOURB-CR-2"),
     "fourb-cr-3": (fourb_cr_3, "FOURB-CR-3"), "fourb-cr-4": (fourb_cr_4, "FOURB-CR-4"),
     "volmer": (volmer_crank_rocker, "FOURB-CR-4 (Volmer)"),
@@ -7136,7 +7379,7 @@ DESIGN_OUTPUT_HELP = (
     "1 for data no design meets, 2 for a usage error, 3 when --analyze finds a miss.")
 
 
-def datum_help(datum):
+def datum_help(datum: Datum) -> str:
     """The help of a datum: what it is, its valid range, the values refused in it (DATA)."""
     refused = "".join(f"; refused: {reason}" for reason, _ in datum.excluded)
     return f"{datum.meaning}; in {range_text(datum)}{refused}"
@@ -7153,13 +7396,13 @@ REVIEW_LETTERS = {FourBar: "a crank, b coupler, c output, d frame",
                   SliderCrank: "r crank, l rod, epsilon offset (the slider on y = -epsilon)"}
 
 
-def letters(link):
+def letters(link: Designed) -> str:
     """The program's letters of a designed linkage and their meanings, as `run` takes them."""
     names = ("a", "b", "c", "d") if isinstance(link, FourBar) else ("b", "c", "e")
     return ", ".join(f"{n} {DIMENSION_NAMES[n].removeprefix('the ')}" for n in names)
 
 
-def design_lines(design):
+def design_lines(design: Design) -> list[str]:
     """The `name = value` lines of one design, in the program's letters and angles: the lengths,
     the branch, the design positions (angles as the data give them: ASKED_ANGLES) and the
     transmission angle's extremes."""
@@ -7181,14 +7424,14 @@ def design_lines(design):
     return lines
 
 
-def review_lines(design):
+def review_lines(design: Design) -> list[str]:
     """The review's own unknowns of one design, under its names and letters: a second block,
     labelled, apart from design_lines."""
     return ([f"review = its own numbers, in its letters: {REVIEW_LETTERS[type(design.linkage)]}"]
             + [f"review.{k} = {value_text(v)}" for k, v in design.review.items()])
 
 
-def whole_motion(design, step=5.0):
+def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float]:
     """The input angles (from, to, step in degrees) over which the designed linkage moves: a
     full turn from the first design position when its crank turns fully, else from one limit
     of the input to the next across the design's travel (half a step inside each, where the
@@ -7290,11 +7533,11 @@ class Scene:
     path: str
     title: str
     mechanism: str
-    dimensions: dict
+    dimensions: dict[str, float]
     start: float
     stop: float
     step: float
-    branches: tuple[int, ...]
+    branches: tuple[int | str, ...]        # 1, 2, FOLLOW
     precisions: tuple[str, ...]
     panels: tuple[PanelSpec, ...]
     fast: bool = False               # the double series by Linkage.sweep_arrays
@@ -7326,23 +7569,24 @@ class Scene:
 
 # -- reading a scene ---------------------------------------------------------------------------
 
-def _is_number(x) -> bool:
+def _is_number(x: object) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
 
 
-def _kind_of(x) -> str:
+def _kind_of(x: object) -> str:
     names = {bool: "a boolean", int: "an integer", float: "a number", str: "the string",
              list: "a list", dict: "a table"}
     what = next((n for t, n in names.items() if isinstance(x, t)), type(x).__name__)
     return f"{what} {x!r}" if isinstance(x, (str, int, float)) else what
 
 
-def _scene_error(path, key, expected, got=None) -> SceneError:
+def _scene_error(path: str, key: str, expected: str, got: object = None) -> SceneError:
     return SceneError(f"{path}: key '{key}': expected {expected}"
                       + ("" if got is None else f", got {_kind_of(got)}"))
 
 
-def _unknown_keys(path, table, allowed, prefix=""):
+def _unknown_keys(path: str, table: Iterable[str], allowed: Iterable[str], prefix: str = ""
+                  ) -> None:
     for key in table:
         if key not in allowed:
             raise SceneError(f"{path}: unknown key '{prefix}{key}'; expected one of "
@@ -7423,7 +7667,7 @@ def load_scene(path: str) -> Scene:
 
 def known_scenes() -> dict[str, str]:
     """{name: path} of the scenes that come with the program (a name once: the first folder's)."""
-    scenes = {}
+    scenes: dict[str, str] = {}
     for folder in shipped_folders("scenes"):
         for entry in sorted(os.listdir(folder)):
             if entry.endswith(".toml"):
@@ -7461,7 +7705,7 @@ def scene_list() -> list[tuple[str, str]]:
     return listed
 
 
-def _scene_dimensions(path, mechanism: str, given) -> dict:
+def _scene_dimensions(path: str, mechanism: str, given: object) -> dict[str, float]:
     """The scene's `dimensions` table, checked against what the mechanism takes."""
     names = LINKAGE_DIMENSIONS[mechanism]
     if not isinstance(given, dict):
@@ -7480,7 +7724,7 @@ def _scene_dimensions(path, mechanism: str, given) -> dict:
     return {k: float(given[k]) for k in names}
 
 
-def _scene_sweep(path, sweep) -> tuple[float, float, float]:
+def _scene_sweep(path: str, sweep: object) -> tuple[float, float, float]:
     """The scene's `input` table: from, to, step in degrees, a sweep of at most MAX_SCENE_POINTS."""
     if not isinstance(sweep, dict):
         raise _scene_error(path, "input", SCENE_KEYS["input"], sweep)
@@ -7500,7 +7744,7 @@ def _scene_sweep(path, sweep) -> tuple[float, float, float]:
     return start, stop, step
 
 
-def _scene_panels(path, panels) -> tuple[PanelSpec, ...]:
+def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, ...]:
     """The panels of a scene of curves: each its quantities and optional y limits."""
     specs = []
     for i, panel in enumerate(panels, 1):
@@ -7523,14 +7767,15 @@ def _scene_panels(path, panels) -> tuple[PanelSpec, ...]:
     return tuple(specs)
 
 
-def _scene_title(path, data) -> str:
+def _scene_title(path: str, data: dict[str, Any]) -> str:
     title = data.get("title", MECHANISM_NAMES[data["mechanism"]].capitalize())
     if not isinstance(title, str):
         raise _scene_error(path, "title", SCENE_KEYS["title"], title)
     return printable(title)
 
 
-def _mechanism_scene(path, data, dims, start, stop, step, branches) -> Scene:
+def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], start: float,
+                     stop: float, step: float, branches: tuple[int | str, ...]) -> Scene:
     """The rest of a mechanism scene: one panel, quantities = ["mechanism"], optional angles; the
     positions are the accurate engine's (precision double, or no precision key)."""
     if len(data["panels"]) != 1:
@@ -7577,13 +7822,13 @@ def _typed(x: float) -> str:
     return repr(float(x))
 
 
-def _typed_dimensions(mechanism: str, dims: dict) -> tuple[str, list[str]]:
+def _typed_dimensions(mechanism: str, dims: dict[str, float]) -> tuple[str, list[str]]:
     """The menu key and the dimensions as typed, in the order the listing asks for them."""
     key, asked = MECHANISM_TYPES[mechanism]
     return key, [_typed(dims[n]) for n in asked]
 
 
-def _faithful_files(scene: Scene, branch: int, directory: str) -> list[str]:
+def _faithful_files(scene: Scene, branch: int | str, directory: str) -> list[str]:
     """The menu program's session with the scene's answers (as `run` gives them): it writes the
     DAT files the panels need in `directory`. Returns the soft errors it printed."""
     key, answers = _typed_dimensions(scene.mechanism, scene.dimensions)
@@ -7602,7 +7847,7 @@ def _faithful_files(scene: Scene, branch: int, directory: str) -> list[str]:
     return [e.strip() for e in soft_errors]
 
 
-def _accurate_motions(scene: Scene, branch: int, derivatives: int) -> list[Motion]:
+def _accurate_motions(scene: Scene, branch: int | str, derivatives: int) -> list[Motion]:
     try:
         linkage = Linkage(scene.mechanism, **scene.dimensions)
         angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
@@ -7616,13 +7861,15 @@ def _accurate_motions(scene: Scene, branch: int, derivatives: int) -> list[Motio
         raise SceneError(f"{scene.path}: key 'fast': {e}") from None
 
 
-def _check_assembles(scene: Scene, motions: list[Motion]) -> None:
-    if not any(m.output is not None for m in motions):
+def _check_assembles(scene: Scene, positions: Sequence[Motion | Pose]) -> None:
+    """A SceneError unless the linkage assembles at one of `positions` (the engine's Motions,
+    or a drawing's Poses) at least."""
+    if not any(m.output is not None for m in positions):
         dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
         raise _scene_error(scene.path, "dimensions",
                            "a linkage that can be assembled somewhere from "
                            f"{scene.start:g} to {scene.stop:g} degrees; the {scene.mechanism} "
-                           f"linkage {dims} assembles at none of those {len(motions)} input "
+                           f"linkage {dims} assembles at none of those {len(positions)} input "
                            "angles")
 
 
@@ -7635,12 +7882,13 @@ class Series(NamedTuple):
     directory: str
 
 
-def _branch_text(branch) -> str:
+def _branch_text(branch: int | str) -> str:
     return ("follow (the motion followed from branch 1)" if branch == FOLLOW
             else f"{branch} ({'A+B' if branch == 1 else 'A-B'})")
 
 
-def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
+def compute_scene(scene: Scene, directory: str, report: Callable[[str], None] | None = None
+                  ) -> list[Series]:
     """Write the scene's DAT files under `directory` (in it for one series, else one folder a
     series); `report(message)` hears the original's soft errors. Returns the series. Nothing is
     written for a linkage that assembles nowhere in the range."""
@@ -7658,12 +7906,13 @@ def compute_scene(scene: Scene, directory: str, report=None) -> list[Series]:
         except OSError as e:
             raise SceneError(f"cannot make the folder {where!r}: {e.strerror}") from None
         if precision == "double":
-            motions = accurate[branch]
+            rows: Sequence[tuple] = accurate[branch]
             if scene.transmission:
                 linkage = Linkage(scene.mechanism, **scene.dimensions)
-                motions = [m + (mu,) for m, mu in zip(motions, transmission_of(linkage, motions))]
+                rows = [m + (mu,) for m, mu in zip(accurate[branch],
+                                                   transmission_of(linkage, accurate[branch]))]
             try:
-                write_dat_files(motions, where, files=1 + scene.derivatives,
+                write_dat_files(rows, where, files=1 + scene.derivatives,
                                 transmission=scene.transmission)
             except WriteError as e:
                 raise SceneError(str(e)) from None
@@ -7684,8 +7933,9 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
     CSV_HEADER): the engine's motions for a double series, every point with its status; the
     original's numbers for a basic one, with the engine's status of each position. Returns the
     rows written."""
-    def rows():
+    def rows() -> Iterator[tuple]:
         for s in series:
+            assert s.branch is not None         # compute_scene's series know their branch
             if s.precision == "double":
                 for m in _accurate_motions(scene, s.branch, scene.derivatives):
                     yield (s.name,) + tuple(m)
@@ -7705,7 +7955,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 
 # -- reading DAT files -------------------------------------------------------------------------
 
-def read_dat(path: str, warn=None) -> list[tuple[float, float]]:
+def read_dat(path: str, warn: Callable[[str], None] | None = None) -> list[tuple[float, float]]:
     """The (input angle, value) pairs of a DAT file as WRITE # writes them (CRLF lines "x,y", the
     end-of-file byte 1A; numbers like .5, -1.713751E-02) or as the engine writes them (repr).
     warn(message), if given, hears of a file that may have been cut short: empty, without its
@@ -7758,7 +8008,7 @@ def _dat_precision(directory: str) -> str:
 def dat_series(directory: str) -> list[Series]:
     """The DAT files of `directory`: one series, or (if it holds none) one for each folder in it
     that does, named after the folder ("basic-branch1" tells its precision and branch)."""
-    def has_dat(d):
+    def has_dat(d: str) -> bool:
         return any(os.path.exists(os.path.join(d, n)) for n in QUANTITY_FILES.values())
     if has_dat(directory):
         return [Series(os.path.basename(os.path.abspath(directory)), _dat_precision(directory),
@@ -7788,7 +8038,7 @@ class Curve(NamedTuple):
     label: str
     quantity: str
     precision: str
-    branch: int | None
+    branch: int | str | None
     runs: tuple[tuple[tuple[float, float], ...], ...]   # unbroken pieces of (x, y)
 
 
@@ -7807,13 +8057,15 @@ class Figure(NamedTuple):
     panels: tuple[Panel, ...]
 
 
-def _runs(points, angles: bool):
+def _runs(points: Sequence[tuple[float, float]], angles: bool
+          ) -> tuple[tuple[tuple[float, float], ...], ...]:
     """Split (x, y) points where x skips more than 1.5 typical steps. Angles (angles=True) are
     unwrapped: whole turns added so that each point, and each run's first, is within 180 degrees
     of the point before it."""
     steps = sorted(abs(b[0] - a[0]) for a, b in zip(points, points[1:]))
     typical = steps[len(steps) // 2] if steps else 0.0
-    runs, run = [], []
+    runs: list[tuple[tuple[float, float], ...]] = []
+    run: list[tuple[float, float]] = []
     for x, y in points:
         if run and abs(x - run[-1][0]) > 1.5 * typical:
             runs.append(tuple(run))
@@ -7830,7 +8082,7 @@ def _runs(points, angles: bool):
 def _turned(curve: Curve, reference: Curve) -> Curve:
     """The angle curve moved by whole turns to lie nearest `reference` (so that two branches
     that meet at psi = 180 are drawn meeting, not one at +180 and the other at -180)."""
-    def mean(c):
+    def mean(c: Curve) -> float:
         ys = [y for r in c.runs for _, y in r]
         return sum(ys) / len(ys) if ys else 0.0
     turn = 360.0 * round((mean(reference) - mean(curve)) / 360.0)
@@ -7852,14 +8104,15 @@ DRAWN_UP_TO = 1e100      # the largest value a figure draws (GW-BASIC's numbers 
 CLIPPED = " (clipped at +-3)"       # a basic VEL or ACC curve that touches 3, as the original clips
 
 
-def build_figure(title: str, subtitle: str, group: str, specs, series: list[Series]) -> Figure:
+def build_figure(title: str, subtitle: str, group: str, specs: Sequence[PanelSpec],
+                 series: list[Series]) -> Figure:
     """The figure of `specs` (PanelSpecs) from the DAT files of `series`; group is "four-bar",
     "slider" or "unknown" (the axis labels, and whether outputs are angles)."""
     several_precisions = len({s.precision for s in series}) > 1
     several_branches = len({s.branch for s in series}) > 1
     panels = []
     for letter, spec in zip("abc", specs):
-        curves = []
+        curves: list[Curve] = []
         for quantity in spec.quantities:
             name = QUANTITY_FILES[quantity]
             for s in series:
@@ -7945,7 +8198,7 @@ class _Axis(NamedTuple):
         """The fractional cell of value v (cell 0 is `low`)."""
         return (v - self.low) / self.step * self.per
 
-    def tick_values(self):
+    def tick_values(self) -> list[float]:
         return [self.low + i * self.step for i in range(self.ticks + 1)]
 
 
@@ -8102,7 +8355,8 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
     from matplotlib.ticker import MultipleLocator
     xs_all = [x for p in figure.panels for c in p.curves for r in c.runs for x, _ in r]
     x_step = _nice_axis(min(xs_all), max(xs_all), 73, 8, angles=True).step if xs_all else 1.0
-    colours = {("displacement", 1): "black", ("displacement", 2): "tab:gray",
+    colours: dict[tuple[str, int | str], str] = {
+               ("displacement", 1): "black", ("displacement", 2): "tab:gray",
                ("velocity", 1): "tab:blue", ("velocity", 2): "tab:cyan",
                ("acceleration", 1): "tab:red", ("acceleration", 2): "tab:orange"}
     n = len(figure.panels)
@@ -8150,6 +8404,7 @@ def scene_drawing(scene: Scene) -> Drawing:
     """A mechanism scene's drawing: the linkage at each of its angles on its first branch."""
     dims = " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in scene.dimensions.items())
     branch = scene.branches[0]
+    assert isinstance(branch, int)      # load_scene: a mechanism scene draws branch 1 or 2
     try:
         drawing = mechanism_drawing(
             Linkage(scene.mechanism, **scene.dimensions), scene.angles(), branch,
@@ -8177,7 +8432,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     if not scene.draws_mechanism:
         raise ValueError("scene_text writes mechanism scenes")
 
-    def numbers(values):
+    def numbers(values: Iterable[float]) -> str:
         return ", ".join(repr(float(v)) for v in values)
     dims = ", ".join(f"{k} = {float(v)!r}" for k, v in scene.dimensions.items())
     lines = [f"# {printable(comment)}"] if comment else []

@@ -205,3 +205,53 @@ def test_no_state_that_a_second_caller_could_see():
                         and _mutable(value):
                     found.append((item.lineno, f"{node.name}.<class attribute>"))
     assert found == []
+
+
+def unannotated(lines=LINES, tree=TREE, numbers=(5, 6, 7, 8)) -> list[str]:
+    """The public functions and methods of sections `numbers` with a parameter or a return not
+    annotated (self and cls excepted), as "name (line): what is missing"."""
+    banners, found = sections(lines), []
+
+    def visit(node, prefix):
+        for n in ast.iter_child_nodes(node):
+            if isinstance(n, ast.ClassDef):
+                visit(n, f"{prefix}{n.name}.")
+            elif isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                if section_of(n.lineno, banners) in numbers and not n.name.startswith("_"):
+                    a = n.args
+                    params = a.posonlyargs + a.args + a.kwonlyargs + [
+                        p for p in (a.vararg, a.kwarg) if p is not None]
+                    missing = [p.arg for p in params
+                               if p.annotation is None and p.arg not in ("self", "cls")]
+                    missing += ["return"] * (n.returns is None)
+                    if missing:
+                        found.append(f"{prefix}{n.name} ({n.lineno}): {', '.join(missing)}")
+    visit(tree, "")
+    return found
+
+
+# Issue 25 shares sections 5-8 among helpers: the numpy path and the DAT and CSV writers are
+# annotated on the branch that owns them. Empty this at that merge (the test says when).
+ANNOTATED_ELSEWHERE = {"Linkage.sweep_arrays", "Linkage.coupler_arrays",
+                       "Linkage.transmission_arrays", "coupler_of_arrays", "transmission_of_arrays",
+                       "write_dat_files", "csv_line", "write_csv"}
+
+
+def test_the_public_functions_of_sections_5_to_8_are_annotated():
+    """Every public function and method of the engine, the mechanism view, synthesis and the
+    scenes says the types of its parameters and its return (mypy checks them)."""
+    found = unannotated()
+    assert [f for f in found if f.split(" ")[0] not in ANNOTATED_ELSEWHERE] == []
+    annotated = ANNOTATED_ELSEWHERE - {f.split(" ")[0] for f in found}
+    assert not annotated, f"annotated now: take {sorted(annotated)} out of ANNOTATED_ELSEWHERE"
+
+
+def test_the_annotation_test_can_fail():
+    """In a made-up file, the public functions of sections 5-8 that lack an annotation are found:
+    not the annotated, the private, nor those of section 9."""
+    lines = ["# ---- 5. The engine ---", "def reach(x, *rest) -> int:", "    return 0",
+             "def kept(x: int) -> int:", "    return x", "def _own(x):", "    return x",
+             "class K:", "    def m(self, y):", "        return y",
+             "# ---- 9. Benchmarks ---", "def later(x):", "    return x"]
+    found = unannotated(lines, ast.parse("\n".join(lines)))
+    assert found == ["reach (2): x, rest", "K.m (9): y, return"]

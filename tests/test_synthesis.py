@@ -655,7 +655,7 @@ def in_range(datum, data, u, v):
     log-uniform in the distance from the low end (u < 1/6) or the high end (u < 1/3), or over the
     whole range: log-uniform in the magnitude about 0 when the range holds 0 (the sign from u),
     when it is positive, log-uniform from end to end, else uniform."""
-    lo, hi = s._bound(datum.lo, data)[0], s._bound(datum.hi, data)[0]
+    lo, hi = s._bound_value(datum.lo, data), s._bound_value(datum.hi, data)
     width = hi - lo
     if u < 1 / 6:
         x = lo + width * 10 ** (-16 * v)
@@ -831,7 +831,7 @@ def test_every_method_meets_its_targets_in_range(method, units):
 
 def _beyond(datum, data, u, kind):
     """A value of the datum outside its valid range: below, above, not finite."""
-    lo, hi = s._bound(datum.lo, data)[0], s._bound(datum.hi, data)[0]
+    lo, hi = s._bound_value(datum.lo, data), s._bound_value(datum.hi, data)
     if kind == "below":
         return lo - (hi - lo) * 10 ** (-15 * u) if "lo" in datum.closed else lo - (hi - lo) * u
     if kind == "above":
