@@ -48,7 +48,8 @@ from decimal import Decimal
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any, NamedTuple, ParamSpec, TextIO, TypeAlias, cast
 
-if TYPE_CHECKING:                       # for annotations only: matplotlib is imported where used
+if TYPE_CHECKING:                       # for annotations only: numpy and matplotlib are imported
+    import numpy                        # where they are used
     import matplotlib.axes
     import matplotlib.backends.backend_agg
     import matplotlib.figure
@@ -2448,7 +2449,8 @@ class Linkage:
         loop = _sweep_slider if self.is_slider else _sweep_four_bar
         return loop(self, phis, sign, derivatives)
 
-    def sweep_arrays(self, phis, branch=1, derivatives=2):
+    def sweep_arrays(self, phis: Sequence[float] | numpy.ndarray, branch: int = 1,
+                     derivatives: int = 2) -> MotionArrays:
         """sweep on numpy arrays (the optional extra `fast`): a MotionArrays of the output,
         velocity and acceleration (NaN where there is no position) and status codes. The same
         numbers as sweep to 1e-13 (tests/test_fast.py): a point near a dead centre or change
@@ -2475,12 +2477,14 @@ class Linkage:
         to the crank pin A (the review's section 2; see the section's notes)."""
         return transmission_of(self, self.sweep(phis, branch, 0, start=start))
 
-    def coupler_arrays(self, phis, u, v=0.0, branch=1, derivatives=2):
+    def coupler_arrays(self, phis: Sequence[float] | numpy.ndarray, u: float, v: float = 0.0,
+                       branch: int = 1, derivatives: int = 2) -> CouplerArrays:
         """coupler on numpy arrays (sweep_arrays's numbers): a CouplerArrays."""
         u, v = check_coupler_point(self, u, v)
         return coupler_of_arrays(self, self.sweep_arrays(phis, branch, derivatives), u, v)
 
-    def transmission_arrays(self, phis, branch=1):
+    def transmission_arrays(self, phis: Sequence[float] | numpy.ndarray,
+                            branch: int = 1) -> numpy.ndarray:
         """transmission on numpy arrays: a float64 array, NaN where there is no position."""
         return transmission_of_arrays(self, self.sweep_arrays(phis, branch, 0))
 
@@ -2909,11 +2913,11 @@ class MotionArrays(NamedTuple):
     int8 codes, indices into STATUS_CODES (0 ASSEMBLED, 1 DEAD_CENTRE, 2 NOT_ASSEMBLED,
     3 INDETERMINATE, 4 CHANGE_POINT)."""
 
-    phi: object
-    output: object
-    velocity: object
-    acceleration: object
-    status: object
+    phi: numpy.ndarray
+    output: numpy.ndarray
+    velocity: numpy.ndarray
+    acceleration: numpy.ndarray
+    status: numpy.ndarray
 
     def motions(self) -> list[Motion]:
         """The same answer as Linkage.sweep gives it: a list of Motion, None for NaN."""
@@ -3527,14 +3531,15 @@ class CouplerArrays(NamedTuple):
     """Linkage.coupler_arrays' answer: phi, then position, velocity and acceleration as float64
     arrays of shape (n, 3) (NaN where there is no position; velocity and acceleration None when
     not asked for), and the MotionArrays status codes."""
-    phi: object
-    position: object
-    velocity: object
-    acceleration: object
-    status: object
+    phi: numpy.ndarray
+    position: numpy.ndarray
+    velocity: numpy.ndarray
+    acceleration: numpy.ndarray
+    status: numpy.ndarray
 
 
-def coupler_of_arrays(linkage, arrays, u, v=0.0):
+def coupler_of_arrays(linkage: Linkage, arrays: MotionArrays, u: float,
+                      v: float = 0.0) -> CouplerArrays:
     """coupler_of on a MotionArrays (Linkage.sweep_arrays'): a CouplerArrays."""
     np = numpy_module()
     u, v = check_coupler_point(linkage, u, v)
@@ -3549,10 +3554,11 @@ def coupler_of_arrays(linkage, arrays, u, v=0.0):
     count = len(arrays.phi)
     stacked = [np.stack([np.broadcast_to(np.asarray(x, dtype=np.float64), (count,))
                          for x in w], axis=1) for w in point] + [None, None]
-    return CouplerArrays(arrays.phi, *stacked[:3], arrays.status)
+    position, velocity, acceleration = stacked[:3]
+    return CouplerArrays(arrays.phi, position, velocity, acceleration, arrays.status)
 
 
-def transmission_of_arrays(linkage, arrays):
+def transmission_of_arrays(linkage: Linkage, arrays: MotionArrays) -> numpy.ndarray:
     """transmission_of on a MotionArrays: a float64 array, NaN where there is no position."""
     np = numpy_module()
     c, s = _cos_sin_degrees_array(np, arrays.phi)
@@ -4022,8 +4028,11 @@ def evenly_spaced_angles(start: float, stop: float, step: float) -> list[float]:
     return [start + i * step for i in range(angle_count(start, stop, step))]
 
 
-def write_dat_files(motions, directory=".", *, clip=False, missing="skip", files=3,
-                    transmission=None, before_rename=None, csv=None) -> int:
+def write_dat_files(motions: Iterable[Motion] | Iterable[SweepColumns], directory: str = ".", *,
+                    clip: bool = False, missing: str = "skip", files: int = 3,
+                    transmission: bool | None = None,
+                    before_rename: Callable[[], None] | None = None,
+                    csv: Any = None) -> int:
     """Write ANG.DAT, VEL.DAT and ACC.DAT (the first `files` of them) in the listing's format
     ("phi,value" lines, CRLF, a 0x1A end byte) at full precision: each number as the shortest
     text that reads back exactly (repr). `motions` may be any iterable of rows (a generator keeps
@@ -4111,11 +4120,11 @@ class SweepColumns(NamedTuple):
     acceleration (float64, NaN where there is no value), status (int8 codes, STATUS_CODES),
     extra (the rows' further fields, float64 arrays: the transmission angle, a coupler
     point's nine coordinates)."""
-    phi: object
-    output: object
-    velocity: object
-    acceleration: object
-    status: object
+    phi: numpy.ndarray
+    output: numpy.ndarray
+    velocity: numpy.ndarray
+    acceleration: numpy.ndarray
+    status: numpy.ndarray
     extra: tuple = ()
 
     def __len__(self) -> int:
@@ -4156,7 +4165,8 @@ def _as_columns(rows, vectorised):
     columns = [np.array([row[i] for row in rows], dtype=np.float64)      # None becomes NaN
                for i in range(len(rows[0])) if i != 4]
     status = np.array([codes[row[4]] for row in rows], dtype=np.int8)
-    return SweepColumns(*columns[:4], status, tuple(columns[4:]))
+    phi, output, velocity, acceleration = columns[:4]
+    return SweepColumns(phi, output, velocity, acceleration, status, tuple(columns[4:]))
 
 
 def _lines(np, outputs):
@@ -4211,31 +4221,28 @@ def _lines(np, outputs):
 # tests/test_fast.py holds it against repr (hypothesis and the hard cases of each step).
 
 _POW10 = tuple(10.0 ** k for k in range(23))      # exact doubles
-_DIGITS = {}                                      # numpy's tables, made once
 
-
-def _digit_tables(np):
+@functools.cache
+def _digit_tables(np: ModuleType) -> dict[str, Any]:
     """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as int64;
     the 10,000 four-digit texts as uint32, with leading zeros and without (NULs for them); masks
     of the first k of 20 bytes and of the last k of 16, as uint32; "." and three NULs; three
     NULs and "-"."""
-    if not _DIGITS:
-        pow10 = np.array(_POW10)
-        big = pow10 * 134217729.0                 # 2^27 + 1
-        high = big - (big - pow10)
-        _DIGITS.update(
-            pow10=pow10, high=high, low=pow10 - high,
-            pow10i=np.array([10 ** k for k in range(19)], dtype=np.int64),
-            quads=np.frombuffer(b"".join(b"%04d" % i for i in range(10_000)), dtype=np.uint32),
-            leading=np.frombuffer(b"".join(b"%4d" % i for i in range(10_000)).replace(b" ", b"\0"),
-                                  dtype=np.uint32),
-            first=np.array([[255 * (c < k) for c in range(20)] for k in range(21)],
-                           dtype=np.uint8).view(np.uint32),
-            last=np.array([[255 * (c >= 16 - k) for c in range(16)] for k in range(17)],
-                          dtype=np.uint8).view(np.uint32),
-            point=np.frombuffer(b".\0\0\0", dtype=np.uint32)[0],
-            minus=np.frombuffer(b"\0\0\0-", dtype=np.uint32)[0])
-    return _DIGITS
+    pow10 = np.array(_POW10)
+    big = pow10 * 134217729.0                     # 2^27 + 1
+    high = big - (big - pow10)
+    return dict(
+        pow10=pow10, high=high, low=pow10 - high,
+        pow10i=np.array([10 ** k for k in range(19)], dtype=np.int64),
+        quads=np.frombuffer(b"".join(b"%04d" % i for i in range(10_000)), dtype=np.uint32),
+        leading=np.frombuffer(b"".join(b"%4d" % i for i in range(10_000)).replace(b" ", b"\0"),
+                              dtype=np.uint32),
+        first=np.array([[255 * (c < k) for c in range(20)] for k in range(21)],
+                       dtype=np.uint8).view(np.uint32),
+        last=np.array([[255 * (c >= 16 - k) for c in range(16)] for k in range(17)],
+                      dtype=np.uint8).view(np.uint32),
+        point=np.frombuffer(b".\0\0\0", dtype=np.uint32)[0],
+        minus=np.frombuffer(b"\0\0\0-", dtype=np.uint32)[0])
 
 
 def _float_texts(np, x) -> list:
@@ -4340,7 +4347,7 @@ TRANSMISSION_COLUMN = ("transmission",)          # run --csv in double precision
 COUPLER_COLUMNS = tuple(f"coupler_{q}{axis}" for q in ("", "v", "a") for axis in "xyz")
 
 
-def csv_line(fields) -> str:
+def csv_line(fields: Iterable[Any]) -> str:
     """One CSV row (CR LF, as the DAT files): numbers as the shortest text that reads back
     exactly (a zero as 0.0, whatever its sign, as in the DAT files), None (no value: see the
     status) as nan, which numpy and pandas read as NaN."""
@@ -4348,7 +4355,8 @@ def csv_line(fields) -> str:
                     else str(v) for v in fields) + "\r\n"
 
 
-def write_csv(path: str, rows, header=CSV_HEADER, outputs: WrittenSet | None = None) -> int:
+def write_csv(path: str, rows: Iterable[tuple], header: tuple[str, ...] = CSV_HEADER,
+              outputs: WrittenSet | None = None) -> int:
     """Write `rows` (tuples of `header`'s fields) as one CSV file with a header row, whole or not
     at all (written_whole, or with the set `outputs`); the number of rows. Read it with
     csv.DictReader, numpy.loadtxt(path, delimiter=",", skiprows=1, usecols=...) or

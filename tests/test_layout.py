@@ -230,11 +230,7 @@ def unannotated(lines=LINES, tree=TREE, numbers=(5, 6, 7, 8)) -> list[str]:
     return found
 
 
-# Issue 25 shares sections 5-8 among helpers: the numpy path and the DAT and CSV writers are
-# annotated on the branch that owns them. Empty this at that merge (the test says when).
-ANNOTATED_ELSEWHERE = {"Linkage.sweep_arrays", "Linkage.coupler_arrays",
-                       "Linkage.transmission_arrays", "coupler_of_arrays", "transmission_of_arrays",
-                       "write_dat_files", "csv_line", "write_csv"}
+ANNOTATED_ELSEWHERE: set[str] = set()     # sections shared among branches: none now
 
 
 def test_the_public_functions_of_sections_5_to_8_are_annotated():
