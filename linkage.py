@@ -46,6 +46,12 @@ import sys
 from decimal import Decimal
 from fractions import Fraction
 from typing import Callable, NamedTuple
+from typing import TYPE_CHECKING, cast
+
+if TYPE_CHECKING:                       # names the annotations of sections 1-4, 9 and 10 use
+    import tempfile
+    from collections.abc import Iterable, Iterator
+    from typing import IO, Any, BinaryIO, TextIO
 
 __version__ = "0.2.0"
 PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linkage.py"
@@ -77,14 +83,14 @@ def printable(text: str) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
-def say(message, who: str = PROG) -> None:
+def say(message: object, who: str = PROG) -> None:
     """A line on standard error, where there is one (it may be closed)."""
     if sys.stderr is not None:                  # None: closed (print would use stdout)
         with contextlib.suppress(OSError, ValueError, AttributeError):
             print(f"{who}: {message}", file=sys.stderr, flush=True)
 
 
-def said(message, status: int) -> int:
+def said(message: object, status: int) -> int:
     say(message)
     return status
 
@@ -93,17 +99,17 @@ class Interrupted(KeyboardInterrupt):
     """SIGTERM or SIGHUP, raised wherever the program is, as Ctrl-C raises KeyboardInterrupt:
     on the way out every file being written is removed (exit status 128 + the signal)."""
 
-    def __init__(self, signum: int):
+    def __init__(self, signum: int) -> None:
         super().__init__(signum)
         self.signum = signum
 
 
-def _interrupted(signum, frame):
+def _interrupted(signum: int, frame: object) -> None:
     raise Interrupted(signum)
 
 
 @contextlib.contextmanager
-def signals_caught():
+def signals_caught() -> Iterator[None]:
     """While it lasts, SIGTERM and SIGHUP become Interrupted (main() runs in it; in the main
     thread only, elsewhere nothing changes); the handlers they had are given back after."""
     import signal
@@ -131,15 +137,23 @@ def _umask() -> int:
     return mask
 
 
+# -- writing files: whole or not at all (ERRATA P3) --------------------------------------------
+#
+# Every file the program writes goes through _Temporary: the menu's and run's DAT files in both
+# precisions, design --dat, the scenes' DAT files, the SVG and PNG drawings. It is written as it
+# comes under a unique name in the target folder, flushed to the disk and renamed over its own
+# name only when complete; on any failure or signal it is removed and the old file stands.
+
+
 class _Temporary:
     """A file being written under a unique temporary name beside `path` (binary, or text in
     `encoding` with no newline translation). finish() flushes it to the disk and closes it,
     rename() then gives it its name; discard() removes it. OSError from here names `path`, never
     the temporary."""
 
-    def __init__(self, path: str, encoding: str | None = None):
+    def __init__(self, path: str, encoding: str | None = None) -> None:
         import tempfile
-        self.path, self.file, self.temporary = path, None, None
+        self.path = path
         folder = os.path.dirname(os.path.abspath(path))
         if os.path.isdir(path):
             raise IsADirectoryError(21, "it is a folder", path)
@@ -148,16 +162,17 @@ class _Temporary:
                                                   suffix=".partial", dir=folder)
         except OSError as e:
             raise OSError(e.errno, e.strerror, path) from None
+        self.there = True                       # the temporary file, until renamed or removed
         try:
             os.fchmod(fd, 0o666 & ~_umask())
-            self.file = (os.fdopen(fd, "wb") if encoding is None
-                         else os.fdopen(fd, "w", encoding=encoding, newline=""))
+            self.file: IO[Any] = (os.fdopen(fd, "wb") if encoding is None
+                                  else os.fdopen(fd, "w", encoding=encoding, newline=""))
         except BaseException:
             os.close(fd)
-            self.discard()
+            self._remove()
             raise
 
-    def write(self, data) -> None:
+    def write(self, data: bytes | str) -> None:
         try:
             self.file.write(data)
         except OSError as e:
@@ -179,21 +194,23 @@ class _Temporary:
             os.replace(self.temporary, self.path)
         except OSError as e:
             raise OSError(e.errno, e.strerror, self.path) from None
-        self.temporary = None
+        self.there = False
 
     def discard(self) -> None:
         """Remove the temporary file, whatever state it is in; never fails."""
-        if self.file is not None:
-            with contextlib.suppress(OSError, ValueError):
-                self.file.close()               # may fail to flush (a full disk): no matter
-        if self.temporary is not None:
+        with contextlib.suppress(OSError, ValueError):
+            self.file.close()                   # may fail to flush (a full disk): no matter
+        self._remove()
+
+    def _remove(self) -> None:
+        if self.there:
             with contextlib.suppress(OSError):
                 os.unlink(self.temporary)
-            self.temporary = None
+            self.there = False
 
 
 @contextlib.contextmanager
-def _renaming(*folders: str):
+def _renaming(*folders: str) -> Iterator[None]:
     """While the block runs: SIGINT, SIGTERM and SIGHUP held back, and the folders locked (in
     one order) against another of our sessions renaming its set into them; a signal that came
     meanwhile is dropped, as the work it would have stopped is done."""
@@ -229,19 +246,20 @@ class WrittenSet:
     e.g. a scene's DAT files written in a hidden folder), and only when the block ends without
     an error are they renamed into place, together, signals held (with the names removed() of an
     old set that the new one does not write). On any failure every one is removed and the old
-    files stand. Outputs that are no regular file (-, a FIFO, a device) are not held back:
-    stream() writes them after the set is in place."""
+    files stand. Outputs that are no regular file (-, a FIFO, a device) cannot be: opened()
+    keeps what is written to them and writes it once the set is in place."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self._files: list[_Temporary] = []
         self._moves: list[tuple[str, str]] = []
         self._removed: list[str] = []
-        self._streams: list[tuple[str, object]] = []
+        self._streams: list[tuple[str, bytes]] = []
 
-    def __enter__(self) -> "WrittenSet":
+    def __enter__(self) -> WrittenSet:
         return self
 
-    def __exit__(self, kind, error, trace) -> None:
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 trace: object) -> None:
         try:
             if kind is None:
                 self._commit()
@@ -249,7 +267,7 @@ class WrittenSet:
             for f in self._files:
                 f.discard()
 
-    def file(self, path: str) -> "_Temporary":
+    def file(self, path: str) -> _Temporary:
         """A file of the set, to write (bytes) now and to be put in place with the rest."""
         self._files.append(_Temporary(path))
         return self._files[-1]
@@ -263,7 +281,7 @@ class WrittenSet:
         self._removed.append(path)
 
     @contextlib.contextmanager
-    def opened(self, path: str):
+    def opened(self, path: str) -> Iterator[_Temporary | BinaryIO]:
         """As written_whole(path), but put in place with the set; an output that is no regular
         file gets what was written once the set is in place."""
         if path == "-" or _is_stream(path):
@@ -303,7 +321,7 @@ class WrittenSet:
                 out.write(data)
 
 
-def staging_folder(folder: str | None):
+def staging_folder(folder: str | None) -> tempfile.TemporaryDirectory[str]:
     """A hidden temporary folder in `folder` (the system's temporary folder for None), to write
     a set in before WrittenSet.adopt puts it in place: on the same file system, so that the
     renames are atomic; removed with what is left in it. OSError names `folder`."""
@@ -314,7 +332,8 @@ def staging_folder(folder: str | None):
         raise OSError(e.errno, e.strerror, folder) from None
 
 
-def written(path: str, outputs: WrittenSet | None = None):
+def written(path: str, outputs: WrittenSet | None = None,
+            ) -> contextlib.AbstractContextManager[_Temporary | BinaryIO]:
     """written_whole(path), or the file of the set `outputs` if one is given."""
     return written_whole(path) if outputs is None else outputs.opened(path)
 
@@ -346,7 +365,7 @@ def shipped_file(kind: str, name: str) -> str:
 
 
 @contextlib.contextmanager
-def written_whole(path):
+def written_whole(path: str) -> Iterator[_Temporary | BinaryIO]:
     """Open `path` for writing (bytes) so that it is written whole or not at all: into a
     temporary file of a unique name in the same folder, flushed to the disk and renamed over
     `path` when the block ends; removed on any failure or interrupt, leaving `path` as it was.
@@ -377,7 +396,7 @@ def _is_stream(path: str) -> bool:
 
 
 @contextlib.contextmanager
-def _streamed(path: str):
+def _streamed(path: str) -> Iterator[BinaryIO]:
     """The output written straight to standard output ("-") or to the FIFO or device."""
     if path == "-":
         stdout = sys.stdout
@@ -404,7 +423,8 @@ class DatFiles:  # ERRATA P3
     NAMES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
     MU = "MU.DAT"        # the accurate engine's transmission angle, beside them (a scene's)
 
-    def __init__(self, directory: str, count: int = 3, transmission: bool | None = None):
+    def __init__(self, directory: str, count: int = 3,
+                 transmission: bool | None = None) -> None:
         """The first `count` of the three files (a scene may ask for fewer), and MU.DAT where
         `transmission` is True (False: an old one is removed with the old set, as the three's
         are; None, the original program's sets: MU.DAT is not theirs to touch)."""
@@ -416,8 +436,8 @@ class DatFiles:  # ERRATA P3
         try:
             for name in self._names:
                 self._files.append(_Temporary(os.path.join(directory, name), "ascii"))
-            self._open = [t.file for t in self._files]      # written to directly: the sweep's
-            #                                                 inner loop
+            # written to directly: the sweep's inner loop (text files: opened in "ascii")
+            self._open = [cast("TextIO", t.file) for t in self._files]
         except BaseException as e:
             self.discard()
             if isinstance(e, IsADirectoryError):
@@ -427,16 +447,17 @@ class DatFiles:  # ERRATA P3
                     from None
             raise
 
-    def __enter__(self) -> "DatFiles":
+    def __enter__(self) -> DatFiles:
         return self
 
-    def __exit__(self, kind, error, trace) -> None:
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 trace: object) -> None:
         if kind is None:
             self.close()
         else:
             self.discard()
 
-    def write(self, lines, points: int = 1) -> None:
+    def write(self, lines: Iterable[str | bytes | None], points: int = 1) -> None:
         """One point's line (or None) for each file; or the lines of `points` points, bytes
         for each file."""
         try:
@@ -452,7 +473,7 @@ class DatFiles:  # ERRATA P3
             raise WriteError(self._why(OSError(e.errno, e.strerror, written.path))) from None
         self.points += points
 
-    def close(self, before_rename=None) -> None:
+    def close(self, before_rename: Callable[[], object] | None = None) -> None:
         """CLOSE (line 1350): the end-of-file byte, then the files get their names;
         before_rename(), if given, runs once they are on the disk and before any is renamed
         (another file of the same command finishing: if it fails, this set is not put in place)."""
@@ -493,7 +514,7 @@ class Progress:
     Nothing where standard error is not a terminal (never in the files or a piped transcript),
     nor for `total` 0 (unknown)."""
 
-    def __init__(self, total: float, out=None):
+    def __init__(self, total: float, out: TextIO | None = None) -> None:
         import time
         out = sys.stderr if out is None else out
         self.total, self.done, self.out, self.shown = total, 0, out, False
@@ -519,10 +540,10 @@ class Progress:
             self.out.flush()
             self.shown = True
 
-    def __enter__(self) -> "Progress":
+    def __enter__(self) -> Progress:
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         if self.shown:
             with contextlib.suppress(OSError, ValueError):
                 self.out.write("\r\x1b[K")
@@ -537,21 +558,25 @@ def _time_left(seconds: float) -> str:
     return f"{seconds // 3600:.0f} h {seconds % 3600 // 60:02.0f} min"
 
 
-def is_terminal(stream) -> bool:
+def is_terminal(stream: Any) -> bool:
+    """Whether `stream` is a terminal (False for None, a closed stream, anything else)."""
     with contextlib.suppress(OSError, ValueError, AttributeError):
         return stream.isatty()
     return False
 
 
 @contextlib.contextmanager
-def single_keys(fd, enter=None, leave=None, carriage_return=False):
+def single_keys(fd: int | None, enter: Callable[[], object] | None = None,
+                leave: Callable[[], object] | None = None,
+                carriage_return: bool = False) -> Iterator[None]:
     """The terminal on file descriptor fd takes single keys with no echo (Ctrl-C still
     interrupts) inside the block, and is put back as it was on leaving it, however it is left.
     Ctrl-Z (SIGTSTP) puts it back before the program stops; `fg` takes single keys again.
     enter() and leave() draw what else the screen needs; carriage_return keeps Enter a CR.
     fd None (no terminal to read): only enter() and leave()."""
     import signal
-    saved = mode = None
+    saved: list[Any] = []                       # the terminal's modes (termios.tcgetattr)
+    mode: list[Any] = []
     if fd is not None:
         import termios
         saved, mode = termios.tcgetattr(fd), termios.tcgetattr(fd)
@@ -560,13 +585,13 @@ def single_keys(fd, enter=None, leave=None, carriage_return=False):
         mode[3] &= ~(termios.ICANON | termios.ECHO)
         mode[6][termios.VMIN], mode[6][termios.VTIME] = 1, 0
 
-    def begin():
+    def begin() -> None:
         if fd is not None:
             termios.tcsetattr(fd, termios.TCSAFLUSH, mode)
         if enter:
             enter()
 
-    def end():                      # the terminal may be gone (SIGHUP): restore what can be
+    def end() -> None:              # the terminal may be gone (SIGHUP): restore what can be
         if leave:
             with contextlib.suppress(OSError, ValueError):
                 leave()
@@ -574,7 +599,7 @@ def single_keys(fd, enter=None, leave=None, carriage_return=False):
             with contextlib.suppress(OSError, termios.error):
                 termios.tcsetattr(fd, termios.TCSAFLUSH, saved)
 
-    def stop(signum, frame):
+    def stop(signum: int, frame: object) -> None:
         end()
         signal.signal(signal.SIGTSTP, signal.SIG_DFL)
         os.kill(os.getpid(), signal.SIGTSTP)         # stopped here until `fg`
@@ -612,6 +637,7 @@ def single_keys(fd, enter=None, leave=None, carriage_return=False):
 MBF_MAX = math.ldexp(0xFFFFFF, 127 - 24)      # 1.701412E+38, the overflow value
 OVERFLOW = "Overflow"
 DIV_ZERO = "Division by zero"
+ErrorSink = Callable[[str], object]     # err(message): where a soft error goes
 _T24 = 16777216.0                        # 2**24
 _TOP = 2.0 ** 127                        # the first magnitude beyond the single range
 _BOTTOM = 2.0 ** -128                    # the smallest magnitude in it
@@ -620,14 +646,14 @@ _frexp, _ldexp = math.frexp, math.ldexp
 _pack32, _unpack32 = struct.Struct("f").pack, struct.Struct("f").unpack   # IEEE singles
 
 
-def _ignore(message):
+def _ignore(message: str) -> None:
     """Default soft-error sink: drop the message."""
 
 
 # --------------------------------------------------------------------------
 # representation helpers
 
-def _split(x):
+def _split(x: float) -> tuple[bool, int, int]:
     """Return (negative, mantissa, exponent byte) of a nonzero single."""
     f, e = math.frexp(x)
     if f < 0:
@@ -635,7 +661,7 @@ def _split(x):
     return False, int(f * _T24), e + 128
 
 
-def _make(mbf_neg, m, eb, err):
+def _make(mbf_neg: bool, m: int, eb: int, err: ErrorSink) -> float:
     """Build a single from a 24-bit mantissa (possibly 2**24 after a rounding
     carry) and an exponent byte; handles overflow and underflow to zero."""
     if m >> 24:
@@ -650,7 +676,7 @@ def _make(mbf_neg, m, eb, err):
     return -v if mbf_neg else v
 
 
-def _round3(m, ah):
+def _round3(m: int, ah: int) -> int:
     """GW $ROUNS: keep the top 3 bits of the guard byte `ah`, round half to
     even on them.  Returns the rounded mantissa (may be 2**24)."""
     ah &= 0xE0
@@ -661,7 +687,7 @@ def _round3(m, ah):
     return m
 
 
-def mbf_from_bytes(b):
+def mbf_from_bytes(b: bytes) -> float:
     """CVS: the single stored in 4 MBF bytes (exponent byte 0 means zero)."""
     if b[3] == 0:
         return 0.0
@@ -670,7 +696,7 @@ def mbf_from_bytes(b):
     return -v if b[2] & 0x80 else v
 
 
-def mbf_to_bytes(x):
+def mbf_to_bytes(x: float) -> bytes:
     """MKS$: the 4 MBF bytes of a single (-0.0, made by unary minus of a
     zero, keeps its sign bit as in PC-BASIC)."""
     if x == 0:
@@ -682,7 +708,7 @@ def mbf_to_bytes(x):
 # --------------------------------------------------------------------------
 # the four operations
 
-def mbf_add(x, y, err=_ignore):
+def mbf_add(x: float, y: float, err: ErrorSink = _ignore) -> float:
     """X+Y as PC-BASIC computes it (observed; data/PCBASIC_NOTES.md).
     Equal signs: the exact sum rounded to nearest, ties to even.
     Opposite signs: the smaller operand is aligned keeping one guard byte
@@ -741,19 +767,19 @@ def mbf_add(x, y, err=_ignore):
     return _make(nx, _round3(m, g), ex, err)
 
 
-def _sticky(g):
+def _sticky(g: int) -> int:
     """Guard byte with its sticky bit 5 set when any of bits 0-4 is set."""
     return g | 0x20 if g & 0x1F else g
 
 
-def mbf_sub(x, y, err=_ignore):
+def mbf_sub(x: float, y: float, err: ErrorSink = _ignore) -> float:
     """X-Y: X when Y is zero (+0 for a zero X), else X plus the negated Y."""
     if y == 0:
         return x if x != 0 else 0.0
     return mbf_add(x, -y, err)
 
 
-def mbf_mul(x, y, err=_ignore):
+def mbf_mul(x: float, y: float, err: ErrorSink = _ignore) -> float:
     """X*Y as GW $FMULS: the 48-bit product truncated to 24+3 bits, then
     rounded half to even on those 3 bits."""
     p = x * y                     # exact: 24x24 bits fit a double
@@ -773,7 +799,7 @@ def mbf_mul(x, y, err=_ignore):
     return v if p > 0 else -v
 
 
-def mbf_scaled(k, x, err=_ignore):
+def mbf_scaled(k: float, x: float, err: ErrorSink = _ignore) -> float:
     """K*X for K a power of two (the listing's .5, 2 and 4): mbf_mul's product, which is exact,
     so K*X itself inside the single's range (mbf_mul for the rest: 0, or "Overflow")."""
     v = k * x
@@ -782,7 +808,7 @@ def mbf_scaled(k, x, err=_ignore):
     return mbf_mul(k, x, err)
 
 
-def mbf_div(x, y, err=_ignore):
+def mbf_div(x: float, y: float, err: ErrorSink = _ignore) -> float:
     """X/Y as PC-BASIC computes it (observed; data/PCBASIC_NOTES.md): restoring long
     division of the mantissas held with a guard byte (m << 8), where the
     divisor register is shifted right after each of the 24 quotient bits so
@@ -838,12 +864,12 @@ def mbf_div(x, y, err=_ignore):
     return _make((x > 0) is not (y > 0), q, eb, err)
 
 
-def mbf_neg(x):
+def mbf_neg(x: float) -> float:
     """Unary minus: flips the sign bit, also of a zero (MKS$ shows it)."""
     return -x
 
 
-def mbf_int(x):
+def mbf_int(x: float) -> float:
     """INT: the largest integer not above X (always exact in MBF)."""
     return float(math.floor(x))
 
@@ -856,7 +882,7 @@ def mbf_int(x):
 # bits and a guard byte (32 bits), or a double's 56 bits and a guard byte (64 bits); a value
 # is (m, e) with m * 2**e, m normalised to the register's width.
 
-def _times_ten(m, e, width):
+def _times_ten(m: int, e: int, width: int) -> tuple[int, int]:
     """x*4 + x: the aligned x loses its two low bits, which survive as a sticky low bit; a
     carry out of the register shifts the sum right, dropping its low bit."""
     s = m + (m >> 2)
@@ -867,7 +893,7 @@ def _times_ten(m, e, width):
     return s | (m & 3 != 0), e
 
 
-def _tenth(m, e, width):
+def _tenth(m: int, e: int, width: int) -> tuple[int, int]:
     """x/10: the quotient of m*8 by ten, one unit low when that is exact, cut to the
     register's width; when m is below ten's mantissa (0xA0...) the quotient has one bit
     fewer and the register is filled with a zero bit."""
@@ -876,7 +902,7 @@ def _tenth(m, e, width):
     return (q >> sh if sh > 0 else q << -sh), e - 3 + sh
 
 
-def _round_register(m, e, drop):
+def _round_register(m: int, e: int, drop: int) -> tuple[int, int]:
     """Drop the low `drop` bits of the register, rounding to nearest, ties to even."""
     q = m >> drop
     rest = m & ((1 << drop) - 1)
@@ -886,7 +912,7 @@ def _round_register(m, e, drop):
     return q, e + drop
 
 
-def _digits(x):
+def _digits(x: float) -> tuple[str, int]:
     """Seven decimal digits and the decimal exponent k of |x| (x != 0), so
     that |x| ~ 0.ddddddd * 10**k, as PC-BASIC makes them (observed; see
     data/PCBASIC_NOTES.md, "Numbers to text").  The mantissa goes into the
@@ -920,11 +946,11 @@ def _digits(x):
     # up; below, y + .5 fits 24 bits unless it passes a power of two, and then it is less than
     # .5 over that whole number, which its rounding (to a last place of at most 1) cannot
     # carry it past: so the digits are floor(y + .5), for a whole y too.
-    s = str(int(_ldexp(q, e + 8) + 0.5))
-    return s, len(s) + k
+    digits = str(int(_ldexp(q, e + 8) + 0.5))
+    return digits, len(digits) + k
 
 
-def _text(x):
+def _text(x: float) -> str:
     """The digits of x without sign or padding, as PRINT and WRITE show them."""
     if x == 0:
         return "0"
@@ -941,12 +967,12 @@ def _text(x):
     return "%s%sE%s%02d" % (d[0], "." + d[1:] if nd > 1 else "", "-" if e < 0 else "+", abs(e))
 
 
-def mbf_write_text(x):
+def mbf_write_text(x: float) -> str:
     """Number as WRITE # writes it: '-' for negatives, no padding."""
     return ("-" if x < 0 else "") + _text(x)
 
 
-def mbf_print_text(x):
+def mbf_print_text(x: float) -> str:
     """Number as PRINT shows it: sign or space in front, a space after."""
     return ("-" if x < 0 else " ") + _text(x) + " "
 
@@ -963,7 +989,7 @@ _TRIG_LIMIT = 5e16       # SIN/COS/TAN of |x| >= this give 0, 1, 0
 _TINY = math.ldexp(1.0, -1001)   # double results this small count as overflow
 
 
-def _from_float(v, err):
+def _from_float(v: float, err: ErrorSink) -> float:
     """Single from the IEEE double v: truncate toward zero to 23 significant
     bits (24 bits when |v| >= 2**23).  |v| >= 2**127 and, oddly, also
     0 < |v| <= 2**-1001 report "Overflow" and give +MBF_MAX whatever the sign;
@@ -979,27 +1005,27 @@ def _from_float(v, err):
     return _make(v < 0, m, e + 128, err)
 
 
-def mbf_sin(x, err=_ignore):
+def mbf_sin(x: float, err: ErrorSink = _ignore) -> float:
     """SIN: math.sin, truncated to 23 bits; 0 when |x| >= 5E+16."""
     return 0.0 if abs(x) >= _TRIG_LIMIT else _from_float(math.sin(x), err)
 
 
-def mbf_cos(x, err=_ignore):
+def mbf_cos(x: float, err: ErrorSink = _ignore) -> float:
     """COS: math.cos, truncated to 23 bits; 1 when |x| >= 5E+16."""
     return 1.0 if abs(x) >= _TRIG_LIMIT else _from_float(math.cos(x), err)
 
 
-def mbf_tan(x, err=_ignore):
+def mbf_tan(x: float, err: ErrorSink = _ignore) -> float:
     """TAN: math.tan, truncated to 23 bits; 0 when |x| >= 5E+16."""
     return 0.0 if abs(x) >= _TRIG_LIMIT else _from_float(math.tan(x), err)
 
 
-def mbf_atn(x, err=_ignore):
+def mbf_atn(x: float, err: ErrorSink = _ignore) -> float:
     """ATN: math.atan, truncated to 23 bits."""
     return _from_float(math.atan(x), err)
 
 
-def mbf_exp(x, err=_ignore):
+def mbf_exp(x: float, err: ErrorSink = _ignore) -> float:
     """EXP: math.exp, truncated to 23 bits (24 from 2**23 up); above the
     single range "Overflow" and +MBF_MAX, below it 0."""
     try:
@@ -1010,7 +1036,7 @@ def mbf_exp(x, err=_ignore):
     return _from_float(v, err)
 
 
-def mbf_log(x, err=_ignore):
+def mbf_log(x: float, err: ErrorSink = _ignore) -> float:
     """LOG: math.log, truncated to 23 bits; X <= 0 is an Illegal function
     call (ValueError)."""
     if x <= 0:
@@ -1018,7 +1044,7 @@ def mbf_log(x, err=_ignore):
     return _from_float(math.log(x), err)
 
 
-def mbf_sqr(x, err=_ignore):
+def mbf_sqr(x: float, err: ErrorSink = _ignore) -> float:
     """SQR: math.sqrt, truncated to 23 bits (24 from 2**23 up); X < 0 is an
     Illegal function call (ValueError)."""
     if x < 0:
@@ -1026,7 +1052,7 @@ def mbf_sqr(x, err=_ignore):
     return _from_float(math.sqrt(x), err)
 
 
-def mbf_power(x, y, err=_ignore):
+def mbf_power(x: float, y: float, err: ErrorSink = _ignore) -> float:
     """X^Y with a single (or double) exponent Y, whole or not: math.pow
     truncated to 23 bits.  Y = 0 gives 1; 0^Y is 0 for Y > 0 and "Division
     by zero" with +MBF_MAX for Y < 0; a negative X with a fractional Y is an
@@ -1048,7 +1074,7 @@ def mbf_power(x, y, err=_ignore):
     return _from_float(v, err)
 
 
-def mbf_ipower(x, n, err=_ignore):
+def mbf_ipower(x: float, n: int, err: ErrorSink = _ignore) -> float:
     """X^N with an integer-typed exponent (an integer literal such as the 2
     in T^2, or an N% variable).  N >= 1: left-to-right binary powering with
     single multiplications (square, then times X for each further 1 bit of
@@ -1060,7 +1086,7 @@ def mbf_ipower(x, n, err=_ignore):
         return mbf_power(x, float(n), err)
     if n == 0:
         return 1.0
-    seen = []
+    seen: list[str] = []
     r = x
     for bit in bin(n)[3:]:
         r = mbf_mul(r, r, seen.append)
@@ -1075,7 +1101,7 @@ def mbf_ipower(x, n, err=_ignore):
 # --------------------------------------------------------------------------
 # text to number, FOR loops
 
-def decimal_parts(text):
+def decimal_parts(text: str) -> tuple[bool, int, int, bool]:
     """A decimal number's text as (negative, N, k, double): its value is N * 10**k, and
     `double` tells that it is read in double precision: a # after it, a D exponent, or eight
     digits or more without a ! after it, counted from the first nonzero one and not counting
@@ -1094,7 +1120,7 @@ def decimal_parts(text):
     return negative, int(digits or "0"), k, double
 
 
-def mbf_parse(text, err=_ignore):
+def mbf_parse(text: str, err: ErrorSink = _ignore) -> float:
     """A number typed at INPUT or written as a program literal (`.5`, `180!`,
     `2`, `1e3`, `3.141592654#`, `  -12  `) as the single it becomes (observed;
     data/PCBASIC_NOTES.md, "Text to numbers"): the digits as an integer N in
@@ -1106,7 +1132,8 @@ def mbf_parse(text, err=_ignore):
     return scaled_to_single(negative, n, k, double, err) if n else 0.0
 
 
-def scaled_to_single(negative, n, k, double, err):
+def scaled_to_single(negative: bool, n: int, k: int, double: bool,
+                     err: ErrorSink) -> float:
     """N * 10**k through the decimal register (see mbf_parse); n may be 0 only with the
     zero-mantissa quirk of input_value (n=0 reads as 2**-129)."""
     width = 64 if double else 32
@@ -1135,7 +1162,8 @@ def scaled_to_single(negative, n, k, double, err):
     return _make(negative, m, e + 152, err)
 
 
-def mbf_for_values(start, stop, step, err=_ignore):
+def mbf_for_values(start: float, stop: float, step: float,
+                   err: ErrorSink = _ignore) -> Iterator[float]:
     """The values a single FOR variable takes: FOR V=start TO stop STEP step
     runs the body with V=start unless start is already past stop, then adds
     step in single precision after each pass and goes on while V has not
@@ -1151,7 +1179,8 @@ def mbf_for_values(start, stop, step, err=_ignore):
             return
 
 
-def mbf_for_final(start, stop, step, err=_ignore):
+def mbf_for_final(start: float, stop: float, step: float,
+                  err: ErrorSink = _ignore) -> float:
     """The FOR variable's value after the loop has ended (start+step when
     the body never ran)."""
     last = start
@@ -1194,14 +1223,16 @@ class Single:
     with object.__new__ (together about 5 % of the time of a sweep point)."""
 
     __slots__ = ("v", "_square")
+    v: float
+    _square: Single                     # T^2, remembered (see __pow__)
 
-    def __init__(self, v: float = 0.0):
+    def __init__(self, v: float = 0.0) -> None:
         self.v = v
 
     def __repr__(self) -> str:
         return f"Single({mbf_write_text(self.v)})"
 
-    def __add__(self, other):
+    def __add__(self, other: Single | float) -> Single:
         y = other.v if other.__class__ is Single else float(other)
         if y == 0:                              # a sum of zeros is +0 (mbf_add)
             return self if self.v != 0 else ZERO
@@ -1209,32 +1240,35 @@ class Single:
             return _single(y)
         return _single(mbf_add(self.v, y, soft_error))
 
-    def __radd__(self, other): return _single(mbf_add(float(other), self.v, soft_error))
+    def __radd__(self, other: float) -> Single:
+        return _single(mbf_add(float(other), self.v, soft_error))
 
-    def __sub__(self, other):
+    def __sub__(self, other: Single | float) -> Single:
         return _single(mbf_sub(self.v, other.v if other.__class__ is Single else float(other),
                                soft_error))
 
-    def __rsub__(self, other): return _single(mbf_sub(float(other), self.v, soft_error))
+    def __rsub__(self, other: float) -> Single:
+        return _single(mbf_sub(float(other), self.v, soft_error))
 
-    def __mul__(self, other):
+    def __mul__(self, other: Single | float) -> Single:
         y = other.v if other.__class__ is Single else float(other)
         if y == 0 or self.v == 0:               # a product with a zero is +0 (mbf_mul)
             return ZERO
         return _single(mbf_mul(self.v, y, soft_error))
 
-    def __rmul__(self, other):
+    def __rmul__(self, other: float) -> Single:
         if self.v == 0:
             return ZERO
         return _single(mbf_mul(float(other), self.v, soft_error))
 
-    def __truediv__(self, other):
+    def __truediv__(self, other: Single | float) -> Single:
         return _single(mbf_div(self.v, other.v if other.__class__ is Single else float(other),
                                soft_error))
 
-    def __rtruediv__(self, other): return _single(mbf_div(float(other), self.v, soft_error))
+    def __rtruediv__(self, other: float) -> Single:
+        return _single(mbf_div(float(other), self.v, soft_error))
 
-    def __pow__(self, other):
+    def __pow__(self, other: Single | float) -> Single:
         if other.__class__ is not int:
             return _single(mbf_power(self.v, _value(other), soft_error))
         if other != 2:                 # an integer literal: repeated multiplication
@@ -1254,14 +1288,20 @@ class Single:
                 self._square = square
             return square
 
-    def __rpow__(self, other): return _single(mbf_power(float(other), self.v, soft_error))
-    def __neg__(self): return _single(mbf_neg(self.v))
-    def __lt__(self, other): return self.v < _value(other)
-    def __le__(self, other): return self.v <= _value(other)
-    def __gt__(self, other): return self.v > _value(other)
-    def __ge__(self, other): return self.v >= _value(other)
-    def __eq__(self, other): return self.v == _value(other)
-    def __hash__(self): return hash(self.v)
+    def __rpow__(self, other: float) -> Single:
+        return _single(mbf_power(float(other), self.v, soft_error))
+
+    def __float__(self) -> float: return self.v
+    def __neg__(self) -> Single: return _single(mbf_neg(self.v))
+    def __lt__(self, other: Single | float) -> bool: return self.v < _value(other)
+    def __le__(self, other: Single | float) -> bool: return self.v <= _value(other)
+    def __gt__(self, other: Single | float) -> bool: return self.v > _value(other)
+    def __ge__(self, other: Single | float) -> bool: return self.v >= _value(other)
+    # a Single equals a number only, as BASIC compares them (object's __eq__ takes anything)
+    def __eq__(self, other: Single | float) -> bool:  # type: ignore[override]
+        return self.v == _value(other)
+
+    def __hash__(self) -> int: return hash(self.v)
 
 
 def _single(v: float) -> Single:
@@ -1274,7 +1314,7 @@ def _single(v: float) -> Single:
 _new_object = object.__new__
 
 
-def _value(x) -> float:
+def _value(x: Single | float) -> float:
     return x.v if x.__class__ is Single else float(x)
 
 
@@ -1477,7 +1517,7 @@ def _roots_and_angle_line(U11: Single, U12: Single, PHI: Single, SOL: int,
     """Lines 1100-1150: the two roots U(1), U(2), the input angle's text and the ANG.DAT line
     (the output angle in degrees for the four-bars, S = 0; the root itself for the sliders)."""
     U = (U11 + U12, U11 - U12)                                                           # 1100-1110
-    PSI = U                                                                              # 1120
+    PSI: tuple[Single, ...] = U                                                          # 1120
     if S == 0:                                                                           # 1130-1140
         PSI = tuple((2*ATN(u)/PI)*180 for u in U)
     angle = mbf_write_text(((PHI/PI)*180).v)
@@ -1536,8 +1576,8 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
     +-PI/2, so the other PSI can raise no soft error."""
     A1, B1, C1, D1, E1, F1, G1, H1, I1, J1 = [c.v for c in co]
     add, mul, scaled, div, e = mbf_add, mbf_mul, mbf_scaled, mbf_div, _redo
-    PHI = PHI.v
-    T = mbf_tan(scaled(.5, PHI, e), e)                                                   # 1060
+    phi = PHI.v
+    T = mbf_tan(scaled(.5, phi, e), e)                                                   # 1060
     T2 = mul(T, T, e)
     D1T, F1T, GJ, GH = mul(D1, T, e), mul(F1, T, e), add(G1, J1, e), add(G1, H1, e)
     GJT2 = mul(GJ, T2, e)
@@ -1558,7 +1598,7 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
     PSI = U[SOL - 1]                                                                     # 1120
     if S.v == 0:                                                                         # 1130-1140
         PSI = mul(div(scaled(2.0, mbf_atn(PSI, e), e), _PI, e), 180.0, e)
-    angle = mbf_write_text(mul(div(PHI, _PI, e), 180.0, e))
+    angle = mbf_write_text(mul(div(phi, _PI, e), 180.0, e))
     ang = f"{angle},{mbf_write_text(PSI)}\r\n"                                          # 1150
     if derivatives == 0:
         return ang, None, None
@@ -1608,7 +1648,7 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
             if UIM:                                                                      # 1270
                 M22 = 0.0
         if k == SOL - 1:
-            vel, acc = M11, (M22 if derivatives == 2 else None)
+            vel, acc = M11, (M22 if derivatives == 2 else 0.0)     # 0.0: not written
     return _write_lines(angle, ang, vel, acc, derivatives)                              # 1200-1330
 
 
@@ -1664,9 +1704,8 @@ MECHANISM_TYPES = {  # name: (menu key, the dimensions in the order the listing 
 # ---- 4. The original program: keys, screen, INPUT, the session ----------------------------------
 #
 # Holds: the menu program as the original runs it: the screen and its transcript, keys one
-# at a time, INPUT's reading of an answer, the session of menus and prompts, and the one
-# writer every file of the program goes through (whole or not at all); the menu program on
-# a terminal or driven by keys (menu_program, redirected_program).
+# at a time, INPUT's reading of an answer, the session of menus and prompts; the menu program
+# on a terminal or driven by keys (menu_program, redirected_program).
 # Uses: sections 1, 2 and 3 (the writer of the DAT files and the messages; GW-BASIC's
 # numbers; the listing's computation).
 
@@ -1681,7 +1720,8 @@ class Keys:
     (`pending` tells whether more bytes are already waiting) an ANSI escape sequence, which is
     what the arrow and function keys send, is one extended key too; Esc alone stays Esc."""
 
-    def __init__(self, read_byte, fold_crlf: bool, pending=None):
+    def __init__(self, read_byte: Callable[[], bytes], fold_crlf: bool,
+                 pending: Callable[[], bool] | None = None) -> None:
         self._read = read_byte
         self._fold = fold_crlf
         self._ready = pending
@@ -1722,7 +1762,8 @@ class Screen:  # ERRATA P6
     """PRINT, CLS, LOCATE and SOUND. On a terminal they draw with ANSI codes; redirected, the
     output is PC-BASIC's own transcript (--output=STDOUT): lines ended by CR LF, no positions."""
 
-    def __init__(self, write, terminal: bool, soft_errors=None):
+    def __init__(self, write: Callable[[str], object], terminal: bool,
+                 soft_errors: Callable[[str], object] | None = None) -> None:
         self._write = write
         self._write_soft_error = write if soft_errors is None else soft_errors
         self.terminal = terminal
@@ -1828,7 +1869,8 @@ def input_value(typed: str) -> Single | None:
     s = typed.replace(" ", "").upper()
     if s.startswith("&"):
         return _input_integer(s[1:])
-    number, suffix = re.match(r"([^!#]*)(.?)", s).groups()
+    # the pattern matches any text: never None
+    number, suffix = re.match(r"([^!#]*)(.?)", s).groups()  # type: ignore[union-attr]
     match = re.fullmatch(r"([+-]?)([0-9.]*)(?:([ED])([+-]?)([0-9]*))?", number)
     if match is None or (match[3] and suffix) or "," in s:
         return None
@@ -1895,14 +1937,6 @@ def _input_integer(digits: str) -> Single | None:
 def key_value(key: str) -> int:
     """VAL of a one-key string: its digit, or 0."""
     return "0123456789".find(key) if len(key) == 1 and key in "0123456789" else 0
-
-
-# -- writing files: whole or not at all (ERRATA P3) --------------------------------------------
-#
-# Every file the program writes goes through _Temporary: the menu's and run's DAT files in both
-# precisions, design --dat, the scenes' DAT files, the SVG and PNG drawings. It is written as it
-# comes under a unique name in the target folder, flushed to the disk and renamed over its own
-# name only when complete; on any failure or signal it is removed and the old file stands.
 
 
 MENU = ((6, "1. Plane Four Bar"), (8, "2. Spherical Four Bar"), (10, "3. Skew Four Bar"),
@@ -1978,8 +2012,9 @@ def answered_session(screen: Screen, key: str, answers: list[str], branch: str,
                        answered=True, derivatives=derivatives)
 
 
-def session_sweep(screen: Screen, co, PHI1: Single, PHI2: Single, INC: Single, SOL: int,
-                  S: Single, directory: str, derivatives: int = 2, answered: bool = False) -> int:
+def session_sweep(screen: Screen, co: tuple[Single, ...], PHI1: Single, PHI2: Single,
+                  INC: Single, SOL: int, S: Single, directory: str, derivatives: int = 2,
+                  answered: bool = False) -> int:
     """Lines 1020-1350: open the files, sweep PHI, close. Returns the points written."""
     with DatFiles(directory, 1 + derivatives) as files:                     # 1020-1040
         expected = check_sweep(PHI1, PHI2, INC, directory)
@@ -2014,7 +2049,8 @@ def check_sweep(PHI1: Single, PHI2: Single, INC: Single, directory: str) -> floa
     return points
 
 
-def menu_program(stdin=None, stdout=None, directory: str = ".") -> int:
+def menu_program(stdin: TextIO | None = None, stdout: TextIO | None = None,
+                 directory: str = ".") -> int:
     """`python3 linkage.py`: the original program on this terminal, or driven by the keys on
     standard input (`python3 linkage.py < keys.txt`) with PC-BASIC's screen transcript. A closed
     standard input is no keys; a closed standard output, no transcript."""
@@ -2033,7 +2069,8 @@ def menu_program(stdin=None, stdout=None, directory: str = ".") -> int:
     return screen_out.status(status)
 
 
-def redirected_program(keys_in, screen_out, directory: str = ".") -> int:
+def redirected_program(keys_in: BinaryIO | None, screen_out: BinaryIO | None,
+                       directory: str = ".") -> int:
     """The menu program reading its keys from the byte stream `keys_in` and writing PC-BASIC's
     screen transcript (CR LF lines) to the byte stream `screen_out` (either may be None: closed).
     The transcript's failures (a closed pipe, a full disk) never cost the DAT files."""
@@ -2049,8 +2086,10 @@ class _Transcript:
     full standard output) is remembered, not raised: the session goes on and writes its files,
     and status() says what happened on standard error and gives the exit status."""
 
-    def __init__(self, out, encode: bool = True):
-        self.out, self.encode, self.error = out, encode, None
+    def __init__(self, out: IO[Any] | None, encode: bool = True) -> None:
+        # out: bytes (encode), else text; None: closed, self.error says so and nothing is written
+        self.out, self.encode = cast("IO[Any]", out), encode
+        self.error: str | None = None
         if out is None:
             self.error = "standard output is closed: no screen transcript"
 
