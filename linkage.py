@@ -1322,7 +1322,7 @@ _SOFT_ERRORS: contextvars.ContextVar[list[str]] = contextvars.ContextVar("soft_e
 
 
 @contextlib.contextmanager
-def soft_errors(sink: list[str] | None = None):
+def soft_errors(sink: list[str] | None = None) -> Iterator[list[str]]:
     """The soft errors of the GW-BASIC operations in the block go to `sink` (a new list if none
     is given), which the block yields; the previous one is back after it."""
     sink = [] if sink is None else sink
@@ -1376,7 +1376,7 @@ PROMPTS = {
 }
 
 
-def dimensions(v: Variables, bartype: int, ask) -> bool:
+def dimensions(v: Variables, bartype: int, ask: Callable[[str], Single]) -> bool:
     """Lines 250-480: ask for linkage `bartype`'s dimensions (ask(prompt) is INPUT), convert
     them and run the assembly check. True when the linkage passes it."""
     if bartype >= 4:                                                        # 250
@@ -1506,7 +1506,7 @@ def degrees_to_radians(x: Single) -> Single:
     return (x / 180) * PI
 
 
-def sweep_angles(PHI1: Single, PHI2: Single, INC: Single):
+def sweep_angles(PHI1: Single, PHI2: Single, INC: Single) -> Iterator[Single]:
     """Line 1050, FOR PHI=PHIB(1) TO PHIB(2) STEP INC: the values PHI takes."""
     for phi in mbf_for_values(PHI1.v, PHI2.v, INC.v, soft_error):
         yield Single(phi)
@@ -8245,7 +8245,7 @@ QUICK_KEYS = b"12\r7\r9\r6\r0\r360\r10\r1"     # bench --quick: 37 points
 ONE_POINT_KEYS = b"12\r7\r9\r6\r0\r0\r1\r1"     # bench startup: one point
 
 
-def _timed(repeats: int, function):
+def _timed(repeats: int, function: Callable[[], Any]) -> tuple[float, Any]:
     """The fastest of `repeats` runs of function(), in seconds, and what the last run returned."""
     import time
     best, result = math.inf, None
@@ -8256,12 +8256,12 @@ def _timed(repeats: int, function):
     return best, result
 
 
-def _best_of(repeats: int, function) -> float:
+def _best_of(repeats: int, function: Callable[[], object]) -> float:
     """The fastest of `repeats` runs of function(), in seconds."""
     return _timed(repeats, function)[0]
 
 
-def bench_mbf(out, quick: bool = False) -> None:
+def bench_mbf(out: TextIO, quick: bool = False) -> None:
     """Time each single-precision operation and one sweep point of lines 1060-1330."""
     import random
     rng, count, repeats = random.Random(1), 20 if quick else 1000, 1 if quick else 5
@@ -8288,7 +8288,7 @@ def bench_mbf(out, quick: bool = False) -> None:
         print(f"{name:16} {_best_of(repeats, function) / len(xs) * 1e6:12.2f}", file=out)
     v = Variables()
     answers = iter(["2", "7", "9", "6"])
-    dimensions(v, 1, lambda prompt: input_value(next(answers)))
+    dimensions(v, 1, lambda prompt: Single(mbf_parse(next(answers))))
     co = coefficients(v, 1)
     angles = list(sweep_angles(ZERO, degrees_to_radians(Single(360.0)),
                                degrees_to_radians(Single(90.0 if quick else 1.0))))
@@ -8298,7 +8298,7 @@ def bench_mbf(out, quick: bool = False) -> None:
           f"the three WRITE #, plane four-bar a=6 b=2 c=7 d=9)", file=out)
 
 
-def bench_scene(out, quick: bool = False) -> None:
+def bench_scene(out: TextIO, quick: bool = False) -> None:
     """A displacement-only scene against the same scene drawing velocity and acceleration."""
     import tempfile
     step, many, few = (10.0, 1, 1) if quick else (0.01, 15, 5)
@@ -8328,7 +8328,7 @@ def bench_scene(out, quick: bool = False) -> None:
     _bench_mechanism_view(out, few)
 
 
-def _bench_mechanism_view(out, repeats: int) -> None:
+def _bench_mechanism_view(out: TextIO, repeats: int) -> None:
     """What drawing the mechanism costs: 72 poses of each kind (the Figs. 1-2 scenes' sweep)."""
     angles = evenly_spaced_angles(30.0, 385.0, 5.0)
     print(f"\nthe mechanism view, {len(angles)} positions (30 to 385 by 5 degrees, the Figs. 1-2 "
@@ -8347,7 +8347,7 @@ def _bench_mechanism_view(out, repeats: int) -> None:
               + f" {len(svg_drawing(drawing).encode()):10,}", file=out)
 
 
-def bench_port(out, quick: bool = False, basic_command=None) -> None:
+def bench_port(out: TextIO, quick: bool = False, basic_command: list[str] | None = None) -> None:
     """The port against PC-BASIC, both started as programs on the same keys, same bytes.
     The keys are the 3601-point session's (0 to 360 degrees by 0.1), PC-BASIC runs
     legacy_basic/LINKAGE.BAS; measured: CPU time (user and system of the child process:
@@ -8369,7 +8369,7 @@ def bench_port(out, quick: bool = False, basic_command=None) -> None:
     ports = {"python3 -m linkage": [sys.executable, "-m", "linkage"],
              "python3 linkage.py": [sys.executable, os.path.join(here, "linkage.py")]}
 
-    def child(command, folder, **options):
+    def child(command: list[str], folder: str, **options: Any) -> tuple[float, float, bytes]:
         """Run a program to its end: wall and CPU seconds, and its standard output."""
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
@@ -8378,16 +8378,16 @@ def bench_port(out, quick: bool = False, basic_command=None) -> None:
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
         return wall, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime, run.stdout
 
-    def in_process(folder):
+    def in_process(folder: str) -> float:
         cpu = time.process_time()
         redirected_program(io.BytesIO(keys), io.BytesIO(), folder)
         return time.process_time() - cpu
 
-    def written(folder, screen):
+    def written(folder: str, screen: bytes) -> dict[str, bytes]:
         return {n: open(os.path.join(folder, n), "rb").read() for n in DatFiles.NAMES} | {
             "the screen": screen}
 
-    rows = {name: [] for name in ports}
+    rows: dict[str, list[tuple[float, float, bytes]]] = {name: [] for name in ports}
     with tempfile.TemporaryDirectory() as folder:
         subprocess.run([sys.executable, "-c", "import linkage"], env=env, cwd=folder, check=True)
         for _ in range(repeats):                       # alternated, so that drift hits all alike
@@ -8429,7 +8429,7 @@ def bench_port(out, quick: bool = False, basic_command=None) -> None:
         print("PC-BASIC: not installed (pip install pcbasic==2.0.8)", file=out)
 
 
-def bench_startup(out, quick: bool = False) -> None:
+def bench_startup(out: TextIO, quick: bool = False) -> None:
     """Start-up: a one-point session by the installed `linkage` command, the module and the script.
     Each (python3 -m linkage and the `linkage` command from cached bytecode, python3 linkage.py
     compiled every run) beside Python starting alone, runs alternated: the CPU time of the child
@@ -8451,7 +8451,7 @@ def bench_startup(out, quick: bool = False) -> None:
         commands["linkage (the command)"] = [sys.executable, installed]
     commands |= {"python3 -m linkage": [sys.executable, "-m", "linkage"],
                  "python3 linkage.py": [sys.executable, os.path.join(here, "linkage.py")]}
-    times = {name: [] for name in commands}
+    times: dict[str, list[tuple[float, float]]] = {name: [] for name in commands}
     with tempfile.TemporaryDirectory() as folder:
         subprocess.run([sys.executable, "-c", "import linkage"], env=env, cwd=folder, check=True)
         for _ in range(runs):                      # alternated, so that drift hits all alike
@@ -8487,7 +8487,7 @@ BENCH_LINKAGES = ((PLANE_FOUR_BAR, dict(a=6, b=2, c=7, d=9)),
                   (SKEW_SLIDER_CRANK, dict(a=6, b=1, c=7.5, f=3, ksi=45)))
 
 
-def _pylinkage_rates(points: int) -> dict | str:
+def _pylinkage_rates(points: int) -> dict[str, Any] | str:
     """pylinkage's points per second on the plane four-bar and slider-crank of BENCH_LINKAGES,
     with numba where it is installed (NUMBA_DISABLE_JIT=1: without), or why it cannot be
     measured. The four-bar with velocity and acceleration (its fastest way,
@@ -8515,7 +8515,7 @@ def _pylinkage_rates(points: int) -> dict | str:
             PLANE_SLIDER_CRANK: points / _best_of(3, lambda: list(slider.step(points)))}
 
 
-def _bench_angles(points: int):
+def _bench_angles(points: int) -> tuple[list[float], Any, Any]:
     """`points` input angles from 0 to 360 degrees: as a list, and numpy with them as an array
     (None, None without numpy)."""
     angles = evenly_spaced_angles(0.0, 360.0, 360.0 / (points - 1))
@@ -8633,7 +8633,7 @@ void slider(long n, const double *phi, const double *k, double sign, int reduce,
 """
 
 
-def _c_loop():
+def _c_loop() -> Callable[..., list[Any]] | str:
     """C_SWEEP built with the C compiler (cc, or $CC) -O2 in a temporary folder and loaded with
     ctypes: a function (linkage, angles, branch) -> (phi, output, velocity, acceleration,
     status) arrays; or why it cannot be built (a str)."""
@@ -8660,7 +8660,7 @@ def _c_loop():
     library.four_bar.argtypes = common + [double_p, double_p, double_p, status_p]
     library.slider.argtypes = common + [ctypes.c_double, double_p, double_p, double_p, status_p]
 
-    def c_sweep(linkage, angles, branch=1):
+    def c_sweep(linkage: Linkage, angles: Any, branch: int = 1) -> list[Any]:
         """sweep_arrays' answer (its five arrays, new, as it makes them) by C_SWEEP."""
         n = len(angles)
         answer = [np.empty(n) for _ in range(3)] + [np.empty(n, dtype=np.int8)]
@@ -8679,7 +8679,7 @@ C_SIZES = (1_000, 10_000, 100_000, 1_000_000, 10_000_000)
 C_TARGET = 0.7           # sweep_arrays' rate over the C loop's, at 1e4 points and more
 
 
-def _bench_c_loop(out, sizes) -> None:
+def _bench_c_loop(out: TextIO, sizes: tuple[int, ...]) -> None:
     """sweep_arrays against C_SWEEP at each of `sizes` points, plane four-bar and slider-crank,
     velocity and acceleration: rates and their ratio, the two alternated."""
     c_sweep = _c_loop()
@@ -8726,8 +8726,8 @@ def _bench_c_loop(out, sizes) -> None:
               file=out)
 
 
-def bench_engine(out, quick: bool = False, points: int = 100_001,
-                 pylinkage_points: int | None = None, c_sizes=C_SIZES) -> None:
+def bench_engine(out: TextIO, quick: bool = False, points: int = 100_001,
+                 pylinkage_points: int | None = None, c_sizes: tuple[int, ...] = C_SIZES) -> None:
     """The accurate engine's speed, scalar and vectorised (numpy), beside a C loop of the numpy
     path's formulas (at each of c_sizes points) and pylinkage's (on as many angles as ours,
     unless pylinkage_points)."""
@@ -8740,7 +8740,8 @@ def bench_engine(out, quick: bool = False, points: int = 100_001,
           "within an hour: compare within one run, the ratios first)", file=out)
     print(f"{'linkage':12} {'numpy/scalar':>12} {'scalar disp':>12} {'scalar +v,a':>12} "
           f"{'numpy disp':>12} {'numpy +v,a':>12}", file=out)
-    scalar, fast = {}, {}
+    scalar: dict[str, dict[int, float]] = {}
+    fast: dict[str, dict[int, float]] = {}
     for kind, dims in BENCH_LINKAGES:
         linkage = Linkage(kind, **dims)
         runs = {(way, level): math.inf for way in ("scalar", "numpy")[:1 + (np is not None)]
@@ -8783,17 +8784,17 @@ def bench_engine(out, quick: bool = False, points: int = 100_001,
           f"core (one Python thread): {'met' if slowest >= ENGINE_TARGET else 'NOT MET'}, "
           f"slowest {slowest:,.0f}", file=out)
     if fast:
-        fast = {k: r[2] for k, r in fast.items()}
-        short = [k for k, r in fast.items()
+        full = {k: r[2] for k, r in fast.items()}          # with velocity and acceleration
+        short = [k for k, r in full.items()
                   if r < FAST_TARGETS.get(k, FAST_TARGETS["others"])]
         print(f"target: numpy path >= {FAST_TARGETS[PLANE_FOUR_BAR]:,} (plane), "
               f">= {FAST_TARGETS['others']:,} (the others) with velocity and acceleration: "
               + (f"NOT MET for {', '.join(short)}" if short else "met")
-              + f", plane {fast[PLANE_FOUR_BAR]:,.0f}, slowest other "
-              f"{min(r for k, r in fast.items() if k != PLANE_FOUR_BAR):,.0f}", file=out)
+              + f", plane {full[PLANE_FOUR_BAR]:,.0f}, slowest other "
+              f"{min(r for k, r in full.items() if k != PLANE_FOUR_BAR):,.0f}", file=out)
 
 
-def bench_coupler(out, quick: bool = False, points: int = 100_001) -> None:
+def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> None:
     """What the coupler point (with velocity and acceleration) and the transmission angle add
     to a sweep with velocity and acceleration, scalar and numpy: the time of the sweep with them
     over the sweep alone."""
@@ -8833,7 +8834,7 @@ def bench_coupler(out, quick: bool = False, points: int = 100_001) -> None:
 FILES_TARGET = 1_000_000   # points a second of CPU: run --precision double --fast, DAT and CSV
 
 
-def bench_files(out, quick: bool = False) -> None:
+def bench_files(out: TextIO, quick: bool = False) -> None:
     """run --precision double to the DAT files and a CSV, as a process: its CPU time, --fast and
     without, alternated (the CPU time is the process's, user and system, from getrusage)."""
     import resource
@@ -8845,7 +8846,7 @@ def bench_files(out, quick: bool = False) -> None:
     command = [sys.executable, os.path.abspath(__file__), "run", "plane", "--a", "6", "--b", "2",
                "--c", "7", "--d", "9", "--from", "0", "--to", "360", "--step", repr(step),
                "--branch", "1", "--precision", "double"]
-    best = {}
+    best: dict[str, tuple[float, float]] = {}
     with tempfile.TemporaryDirectory() as folder:
         for _ in range(repeats):
             for fast in ("--fast", ""):
@@ -8856,7 +8857,7 @@ def bench_files(out, quick: bool = False) -> None:
                 wall = time.perf_counter() - start
                 after = resource.getrusage(resource.RUSAGE_CHILDREN)
                 cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-                best[fast] = min(best.get(fast, (math.inf,)), (cpu, wall))
+                best[fast] = min(best.get(fast, (math.inf, math.inf)), (cpu, wall))
         size = sum(os.path.getsize(os.path.join(folder, n)) for n in DatFiles.NAMES + ("o.csv",))
     print(f"python3 linkage.py run plane --a 6 --b 2 --c 7 --d 9 --from 0 --to 360 --step "
           f"{step!r} --branch 1 --precision double --dir D --csv D/o.csv [--fast]: {points:,} "
@@ -8946,7 +8947,7 @@ def basic_answer(text: str, what: str) -> str:
     return text
 
 
-def _design_number(flag: str):
+def _design_number(flag: str) -> Callable[[str], float]:
     """The argparse type of a datum: an ordinary decimal (decimal_number), its refusal naming
     the option."""
     def number(text: str) -> float:
@@ -9001,7 +9002,7 @@ def _unwritten(e: OSError) -> str:
     return f"{e.filename or 'standard output'}: {e.strerror}"
 
 
-def _reported(work) -> int:
+def _reported(work: Callable[[], int | None]) -> int:
     """work()'s exit status (0 for None), or, where it fails, a message on standard error and
     status 1 (130 for Ctrl-C)."""
     try:
@@ -9026,12 +9027,12 @@ def _check_dimensions(args: argparse.Namespace, parser: argparse.ArgumentParser,
         parser.error(f"{args.type} needs {' '.join('--' + n for n in needed)}: {what}")
 
 
-def _check_outputs(parser: argparse.ArgumentParser, files: dict, folder: str | None = None,
-                   names=()) -> None:
+def _check_outputs(parser: argparse.ArgumentParser, files: dict[str, str | None],
+                   folder: str | None = None, names: Iterable[str] = ()) -> None:
     """Refuse (parser.error), before anything is written, a command whose outputs name one file
     twice: `files` {option: path} given, and `names` the files it writes in `folder` (one would
     overwrite the other, exit 0: `--csv cf/ANG.DAT` with `--dir cf`)."""
-    seen = {}
+    seen: dict[str, str] = {}             # a real path: the option (or --dir's file) naming it
     if folder is not None:
         seen.update((os.path.realpath(os.path.join(folder, n)), f"--dir's {os.path.normpath(n)}")
                     for n in names)
@@ -9131,7 +9132,9 @@ def _basic_csv(args: argparse.Namespace, answers: list[str], where: str,
     position, VEL and ACC clipped to +-3), each with the accurate engine's status of that
     position, so that a written zero that is no position can be told apart; an assembled row
     whose VEL or ACC the original wrote as +-3, its clip (ERRATA K9), is `clipped`."""
-    dims = {n: input_value(a).v for n, a in zip(MECHANISM_TYPES[args.type][1], answers)}
+    # every answer passed basic_answer: input_value gives a Single, never None
+    dims = {n: input_value(a).v  # type: ignore[union-attr]
+            for n, a in zip(MECHANISM_TYPES[args.type][1], answers)}
     ang, vel, acc = (read_dat(os.path.join(where, n)) for n in DatFiles.NAMES)
     try:
         statuses = [m.status for m in Linkage(args.type, **dims).sweep(
@@ -9143,7 +9146,7 @@ def _basic_csv(args: argparse.Namespace, answers: list[str], where: str,
     return write_csv(args.csv, rows, outputs=outputs)
 
 
-def _run_double(args: argparse.Namespace, numbers: dict) -> int:
+def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
     """`run ... --precision double`: the accurate engine's numbers in the same three files,
     shortest round-trip text, unclipped unless --clip; positions that do not exist are left out
     (the original writes zeros there, ERRATA K8), and so are those after a followed motion ended
@@ -9184,7 +9187,7 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
                        for v in (w or (None,) * 3)))
                 for mu, c in zip(mus, coupler_of(linkage, swept, *coupler))]
 
-    def motions(table):
+    def motions(table: Any) -> Iterator[Any]:
         """The sweep in blocks: SweepColumns by the vectorised path, else rows (a Motion, and
         with a CSV its further columns)."""
         nonlocal assembled
@@ -9197,7 +9200,7 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
                 if args.fast:                  # start + i * step, as below, in numpy
                     np = numpy_module()
                     angles = np.arange(first, last, dtype=np.float64) * step + start
-                    arrays = linkage.sweep_arrays(angles, int(args.branch))
+                    arrays: MotionArrays = linkage.sweep_arrays(angles, int(args.branch))
                     assembled += len(angles) - int(np.isnan(arrays.output).sum())
                     yield SweepColumns(*arrays, extra_columns(None, arrays) if table else ())
                 else:
@@ -9261,10 +9264,10 @@ def _dat_names(count: int) -> str:
     return ", ".join(DatFiles.NAMES[:count])
 
 
-def _draw_command(args: argparse.Namespace, make_figure) -> int:
+def _draw_command(args: argparse.Namespace, make_figure: Callable[[], Figure]) -> int:
     """Make the figure and draw it: the PNG with --png, the text plot with --text or without
     --png (_reported: every way it can fail is a message and a non-zero status)."""
-    def draw():
+    def draw() -> None:
         if args.png:
             matplotlib_canvas()                       # fail before any work
         figure = make_figure()
@@ -9276,16 +9279,16 @@ def _draw_command(args: argparse.Namespace, make_figure) -> int:
     return _reported(draw)
 
 
-def _check_frames(frames) -> None:
+def _check_frames(frames: int | None) -> None:
     if frames is not None and not 1 <= frames <= MAX_FRAMES:
         raise SceneError(f"--frames {frames}: expected 1 to {MAX_FRAMES:,} frames")
 
 
-def drawing_command(args: argparse.Namespace, make_drawing) -> int:
+def drawing_command(args: argparse.Namespace, make_drawing: Callable[[], Drawing]) -> int:
     """Draw the mechanism: an animated SVG with --svg, a PNG with --png, the terminal view with
     --text or neither (animated on a terminal; piped, --frames N stills). Files are written
     whole or not at all (_reported: every way it can fail is a message and a non-zero status)."""
-    def draw():
+    def draw() -> int | None:
         _check_frames(args.frames)
         if args.png:
             matplotlib_canvas()                       # fail before any work
@@ -9303,6 +9306,7 @@ def drawing_command(args: argparse.Namespace, make_drawing) -> int:
                  f"{'s' * (len(drawing.frames) > 1)})")
         if args.text or not (args.svg or args.png):
             return show_drawing(drawing, frames=args.frames)
+        return None
     return _reported(draw)
 
 
@@ -9385,7 +9389,7 @@ def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
     return _draw_command(args, lambda: dat_figure(args.directory, args.mechanism))
 
 
-def design_scene(result, path="design") -> Scene:
+def design_scene(result: Synthesis, path: str = "design") -> Scene:
     """The preferred design of a Synthesis as a mechanism scene: its whole motion (whole_motion)
     on its branch, its design positions marked; `path` names it in messages."""
     design = result.design
@@ -9447,7 +9451,7 @@ def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
     return code
 
 
-def _design_outputs(result, args: argparse.Namespace) -> int:
+def _design_outputs(result: Synthesis, args: argparse.Namespace) -> int:
     """design's files - the DAT files (--dat), the scene (--scene), the drawings (--svg, --png) -
     put in place as one set (WrittenSet: all or none), then --text's terminal drawing. The status
     (1: a DAT file that cannot be written)."""
@@ -9475,10 +9479,10 @@ def _design_outputs(result, args: argparse.Namespace) -> int:
                     fh.write(scene_text(design_scene(result, args.scene),
                                         f"python3 linkage.py {' '.join(args.words)}")
                              .encode("utf-8"))
-            if args.svg:
+            if drawing is not None and args.svg:
                 with outputs.opened(args.svg) as fh:
                     fh.write(svg_drawing(drawing).encode("utf-8"))
-            if args.png:
+            if drawing is not None and args.png:
                 with outputs.opened(args.png) as fh:
                     fh.write(png_drawing(drawing, dpi=getattr(args, "dpi", None),
                                          size=getattr(args, "size", None)))
@@ -9487,6 +9491,8 @@ def _design_outputs(result, args: argparse.Namespace) -> int:
               f"0 to 360 by 1 degree, branch {link.branch}, double precision")
     if args.scene and args.scene != "-":
         say(f"wrote {args.scene} (a scene: python3 linkage.py scene {args.scene})")
+    if drawing is None:                                   # neither --svg, --png nor --text
+        return 0
     for path in (args.svg, args.png):
         if path:
             say(f"wrote {path} ({len(drawing.frames)} position{'s' * (len(drawing.frames) > 1)})")
@@ -9554,13 +9560,13 @@ def annotated_listing(listing: str, errata: str, scan: str | None = None) -> lis
 
 def listing_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py listing [--ocr]`: the corrected listing with its errata."""
-    def show():
-        texts = [open(shipped_file("legacy_basic", name), encoding="utf-8").read()
-                 for name in ("LINKAGE.BAS", "ERRATA.md")]
+    def show() -> None:
+        listing, errata = (open(shipped_file("legacy_basic", name), encoding="utf-8").read()
+                           for name in ("LINKAGE.BAS", "ERRATA.md"))
         scan = (open(shipped_file("legacy_basic", "LINKAGE.OCR.txt"), encoding="utf-8").read()
                 if args.ocr else None)
         sys.stdout.write("".join(f"{printable(line)}\n"
-                                 for line in annotated_listing(*texts, scan)))
+                                 for line in annotated_listing(listing, errata, scan)))
     return _reported(show)
 
 
@@ -9571,7 +9577,7 @@ def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     if args.quick:
         print("--quick: a check that each runs, on tiny sizes; its numbers mean nothing")
     for name in args.names or list(BENCHMARKS):
-        print(f"\n== {name}: {BENCHMARKS[name].__doc__.splitlines()[0]}")
+        print(f"\n== {name}: {(BENCHMARKS[name].__doc__ or '').splitlines()[0]}")
         BENCHMARKS[name](sys.stdout, quick=args.quick)
     return 0
 
@@ -9582,10 +9588,10 @@ class Option(NamedTuple):
     """One argument of a sub-command: its name or flags, and what argparse's add_argument takes."""
 
     names: tuple[str, ...]
-    settings: dict
+    settings: dict[str, Any]
 
 
-def option(*names: str, **settings) -> Option:
+def option(*names: str, **settings: Any) -> Option:
     return Option(names, settings)
 
 
@@ -9761,11 +9767,11 @@ class CommandParser(argparse.ArgumentParser):
     """argparse, taking a negative number in any form (-1e3, -.5, -1D3) as an option's value
     (argparse before Python 3.13 takes -1e3 for an option and says "expected one argument")."""
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = re.compile(r"-\.?\d")
 
-    def add_options(self, options) -> None:
+    def add_options(self, options: Iterable[Option]) -> None:
         for o in options:
             self.add_argument(*o.names, **o.settings)
 
@@ -9793,15 +9799,15 @@ def build_parser() -> argparse.ArgumentParser:
                                                  f"{ANGLES_HELP}.", epilog=DESIGN_OUTPUT_HELP)
             for datum in DATA[method]:
                 flag = "--lambda" if datum.name == "lam" else "--" + datum.name.replace("_", "-")
+                counted: dict[str, Any] = {"nargs": 3} if datum.count == 3 else {}
                 sub.add_argument(flag, dest=datum.name, type=_design_number(flag),
-                                 required=not datum.optional, help=datum_help(datum),
-                                 **({"nargs": 3} if datum.count == 3 else {}))
+                                 required=not datum.optional, help=datum_help(datum), **counted)
             sub.add_options(command.options)
             sub.set_defaults(handler=command.handler, parser=sub)
     return parser
 
 
-def main(argv=None) -> int:
+def main(argv: Iterable[str] | None = None) -> int:
     """The command line (COMMANDS): the exit status. Every way a run can fail is a line on
     standard error and a non-zero status, never a traceback."""
     argv = sys.argv[1:] if argv is None else list(argv)
