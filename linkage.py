@@ -46,13 +46,14 @@ import sys
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from decimal import Decimal
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any, NamedTuple, ParamSpec, TextIO, TypeAlias, cast
+from typing import IO, TYPE_CHECKING, Any, BinaryIO, NamedTuple, ParamSpec, TextIO, TypeAlias, cast
 
 if TYPE_CHECKING:                       # for annotations only: numpy and matplotlib are imported
     import numpy                        # where they are used
     import matplotlib.axes
     import matplotlib.backends.backend_agg
     import matplotlib.figure
+    import tempfile
     from types import ModuleType
 
 __version__ = "0.2.0"
@@ -85,14 +86,14 @@ def printable(text: str) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
-def say(message, who: str = PROG) -> None:
+def say(message: object, who: str = PROG) -> None:
     """A line on standard error, where there is one (it may be closed)."""
     if sys.stderr is not None:                  # None: closed (print would use stdout)
         with contextlib.suppress(OSError, ValueError, AttributeError):
             print(f"{who}: {message}", file=sys.stderr, flush=True)
 
 
-def said(message, status: int) -> int:
+def said(message: object, status: int) -> int:
     say(message)
     return status
 
@@ -101,17 +102,17 @@ class Interrupted(KeyboardInterrupt):
     """SIGTERM or SIGHUP, raised wherever the program is, as Ctrl-C raises KeyboardInterrupt:
     on the way out every file being written is removed (exit status 128 + the signal)."""
 
-    def __init__(self, signum: int):
+    def __init__(self, signum: int) -> None:
         super().__init__(signum)
         self.signum = signum
 
 
-def _interrupted(signum, frame):
+def _interrupted(signum: int, frame: object) -> None:
     raise Interrupted(signum)
 
 
 @contextlib.contextmanager
-def signals_caught():
+def signals_caught() -> Iterator[None]:
     """While it lasts, SIGTERM and SIGHUP become Interrupted (main() runs in it; in the main
     thread only, elsewhere nothing changes); the handlers they had are given back after."""
     import signal
@@ -139,15 +140,23 @@ def _umask() -> int:
     return mask
 
 
+# -- writing files: whole or not at all (ERRATA P3) --------------------------------------------
+#
+# Every file the program writes goes through _Temporary: the menu's and run's DAT files in both
+# precisions, design --dat, the scenes' DAT files, the SVG and PNG drawings. It is written as it
+# comes under a unique name in the target folder, flushed to the disk and renamed over its own
+# name only when complete; on any failure or signal it is removed and the old file stands.
+
+
 class _Temporary:
     """A file being written under a unique temporary name beside `path` (binary, or text in
     `encoding` with no newline translation). finish() flushes it to the disk and closes it,
     rename() then gives it its name; discard() removes it. OSError from here names `path`, never
     the temporary."""
 
-    def __init__(self, path: str, encoding: str | None = None):
+    def __init__(self, path: str, encoding: str | None = None) -> None:
         import tempfile
-        self.path, self.file, self.temporary = path, None, None
+        self.path = path
         folder = os.path.dirname(os.path.abspath(path))
         if os.path.isdir(path):
             raise IsADirectoryError(21, "it is a folder", path)
@@ -156,16 +165,17 @@ class _Temporary:
                                                   suffix=".partial", dir=folder)
         except OSError as e:
             raise OSError(e.errno, e.strerror, path) from None
+        self.there = True                       # the temporary file, until renamed or removed
         try:
             os.fchmod(fd, 0o666 & ~_umask())
-            self.file = (os.fdopen(fd, "wb") if encoding is None
-                         else os.fdopen(fd, "w", encoding=encoding, newline=""))
+            self.file: IO[Any] = (os.fdopen(fd, "wb") if encoding is None
+                                  else os.fdopen(fd, "w", encoding=encoding, newline=""))
         except BaseException:
             os.close(fd)
-            self.discard()
+            self._remove()
             raise
 
-    def write(self, data) -> None:
+    def write(self, data: bytes | str) -> None:
         try:
             self.file.write(data)
         except OSError as e:
@@ -187,21 +197,23 @@ class _Temporary:
             os.replace(self.temporary, self.path)
         except OSError as e:
             raise OSError(e.errno, e.strerror, self.path) from None
-        self.temporary = None
+        self.there = False
 
     def discard(self) -> None:
         """Remove the temporary file, whatever state it is in; never fails."""
-        if self.file is not None:
-            with contextlib.suppress(OSError, ValueError):
-                self.file.close()               # may fail to flush (a full disk): no matter
-        if self.temporary is not None:
+        with contextlib.suppress(OSError, ValueError):
+            self.file.close()                   # may fail to flush (a full disk): no matter
+        self._remove()
+
+    def _remove(self) -> None:
+        if self.there:
             with contextlib.suppress(OSError):
                 os.unlink(self.temporary)
-            self.temporary = None
+            self.there = False
 
 
 @contextlib.contextmanager
-def _renaming(*folders: str):
+def _renaming(*folders: str) -> Iterator[None]:
     """While the block runs: SIGINT, SIGTERM and SIGHUP held back, and the folders locked (in
     one order) against another of our sessions renaming its set into them; a signal that came
     meanwhile is dropped, as the work it would have stopped is done."""
@@ -237,19 +249,20 @@ class WrittenSet:
     e.g. a scene's DAT files written in a hidden folder), and only when the block ends without
     an error are they renamed into place, together, signals held (with the names removed() of an
     old set that the new one does not write). On any failure every one is removed and the old
-    files stand. Outputs that are no regular file (-, a FIFO, a device) are not held back:
-    stream() writes them after the set is in place."""
+    files stand. Outputs that are no regular file (-, a FIFO, a device) cannot be: opened()
+    keeps what is written to them and writes it once the set is in place."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self._files: list[_Temporary] = []
         self._moves: list[tuple[str, str]] = []
         self._removed: list[str] = []
-        self._streams: list[tuple[str, object]] = []
+        self._streams: list[tuple[str, bytes]] = []
 
-    def __enter__(self) -> "WrittenSet":
+    def __enter__(self) -> WrittenSet:
         return self
 
-    def __exit__(self, kind, error, trace) -> None:
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 trace: object) -> None:
         try:
             if kind is None:
                 self._commit()
@@ -257,7 +270,7 @@ class WrittenSet:
             for f in self._files:
                 f.discard()
 
-    def file(self, path: str) -> "_Temporary":
+    def file(self, path: str) -> _Temporary:
         """A file of the set, to write (bytes) now and to be put in place with the rest."""
         self._files.append(_Temporary(path))
         return self._files[-1]
@@ -271,7 +284,7 @@ class WrittenSet:
         self._removed.append(path)
 
     @contextlib.contextmanager
-    def opened(self, path: str):
+    def opened(self, path: str) -> Iterator[_Temporary | BinaryIO]:
         """As written_whole(path), but put in place with the set; an output that is no regular
         file gets what was written once the set is in place."""
         if path == "-" or _is_stream(path):
@@ -311,7 +324,7 @@ class WrittenSet:
                 out.write(data)
 
 
-def staging_folder(folder: str | None):
+def staging_folder(folder: str | None) -> tempfile.TemporaryDirectory[str]:
     """A hidden temporary folder in `folder` (the system's temporary folder for None), to write
     a set in before WrittenSet.adopt puts it in place: on the same file system, so that the
     renames are atomic; removed with what is left in it. OSError names `folder`."""
@@ -322,7 +335,8 @@ def staging_folder(folder: str | None):
         raise OSError(e.errno, e.strerror, folder) from None
 
 
-def written(path: str, outputs: WrittenSet | None = None):
+def written(path: str, outputs: WrittenSet | None = None,
+            ) -> contextlib.AbstractContextManager[_Temporary | BinaryIO]:
     """written_whole(path), or the file of the set `outputs` if one is given."""
     return written_whole(path) if outputs is None else outputs.opened(path)
 
@@ -354,7 +368,7 @@ def shipped_file(kind: str, name: str) -> str:
 
 
 @contextlib.contextmanager
-def written_whole(path):
+def written_whole(path: str) -> Iterator[_Temporary | BinaryIO]:
     """Open `path` for writing (bytes) so that it is written whole or not at all: into a
     temporary file of a unique name in the same folder, flushed to the disk and renamed over
     `path` when the block ends; removed on any failure or interrupt, leaving `path` as it was.
@@ -385,7 +399,7 @@ def _is_stream(path: str) -> bool:
 
 
 @contextlib.contextmanager
-def _streamed(path: str):
+def _streamed(path: str) -> Iterator[BinaryIO]:
     """The output written straight to standard output ("-") or to the FIFO or device."""
     if path == "-":
         stdout = sys.stdout
@@ -412,7 +426,8 @@ class DatFiles:  # ERRATA P3
     NAMES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
     MU = "MU.DAT"        # the accurate engine's transmission angle, beside them (a scene's)
 
-    def __init__(self, directory: str, count: int = 3, transmission: bool | None = None):
+    def __init__(self, directory: str, count: int = 3,
+                 transmission: bool | None = None) -> None:
         """The first `count` of the three files (a scene may ask for fewer), and MU.DAT where
         `transmission` is True (False: an old one is removed with the old set, as the three's
         are; None, the original program's sets: MU.DAT is not theirs to touch)."""
@@ -424,8 +439,8 @@ class DatFiles:  # ERRATA P3
         try:
             for name in self._names:
                 self._files.append(_Temporary(os.path.join(directory, name), "ascii"))
-            self._open = [t.file for t in self._files]      # written to directly: the sweep's
-            #                                                 inner loop
+            # written to directly: the sweep's inner loop (text files: opened in "ascii")
+            self._open = [cast("TextIO", t.file) for t in self._files]
         except BaseException as e:
             self.discard()
             if isinstance(e, IsADirectoryError):
@@ -435,16 +450,17 @@ class DatFiles:  # ERRATA P3
                     from None
             raise
 
-    def __enter__(self) -> "DatFiles":
+    def __enter__(self) -> DatFiles:
         return self
 
-    def __exit__(self, kind, error, trace) -> None:
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 trace: object) -> None:
         if kind is None:
             self.close()
         else:
             self.discard()
 
-    def write(self, lines, points: int = 1) -> None:
+    def write(self, lines: Iterable[str | bytes | None], points: int = 1) -> None:
         """One point's line (or None) for each file; or the lines of `points` points, bytes
         for each file."""
         try:
@@ -460,7 +476,7 @@ class DatFiles:  # ERRATA P3
             raise WriteError(self._why(OSError(e.errno, e.strerror, written.path))) from None
         self.points += points
 
-    def close(self, before_rename=None) -> None:
+    def close(self, before_rename: Callable[[], object] | None = None) -> None:
         """CLOSE (line 1350): the end-of-file byte, then the files get their names;
         before_rename(), if given, runs once they are on the disk and before any is renamed
         (another file of the same command finishing: if it fails, this set is not put in place)."""
@@ -501,7 +517,7 @@ class Progress:
     Nothing where standard error is not a terminal (never in the files or a piped transcript),
     nor for `total` 0 (unknown)."""
 
-    def __init__(self, total: float, out=None):
+    def __init__(self, total: float, out: TextIO | None = None) -> None:
         import time
         out = sys.stderr if out is None else out
         self.total, self.done, self.out, self.shown = total, 0, out, False
@@ -527,10 +543,10 @@ class Progress:
             self.out.flush()
             self.shown = True
 
-    def __enter__(self) -> "Progress":
+    def __enter__(self) -> Progress:
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         if self.shown:
             with contextlib.suppress(OSError, ValueError):
                 self.out.write("\r\x1b[K")
@@ -545,21 +561,25 @@ def _time_left(seconds: float) -> str:
     return f"{seconds // 3600:.0f} h {seconds % 3600 // 60:02.0f} min"
 
 
-def is_terminal(stream) -> bool:
+def is_terminal(stream: Any) -> bool:
+    """Whether `stream` is a terminal (False for None, a closed stream, anything else)."""
     with contextlib.suppress(OSError, ValueError, AttributeError):
         return stream.isatty()
     return False
 
 
 @contextlib.contextmanager
-def single_keys(fd, enter=None, leave=None, carriage_return=False):
+def single_keys(fd: int | None, enter: Callable[[], object] | None = None,
+                leave: Callable[[], object] | None = None,
+                carriage_return: bool = False) -> Iterator[None]:
     """The terminal on file descriptor fd takes single keys with no echo (Ctrl-C still
     interrupts) inside the block, and is put back as it was on leaving it, however it is left.
     Ctrl-Z (SIGTSTP) puts it back before the program stops; `fg` takes single keys again.
     enter() and leave() draw what else the screen needs; carriage_return keeps Enter a CR.
     fd None (no terminal to read): only enter() and leave()."""
     import signal
-    saved = mode = None
+    saved: list[Any] = []                       # the terminal's modes (termios.tcgetattr)
+    mode: list[Any] = []
     if fd is not None:
         import termios
         saved, mode = termios.tcgetattr(fd), termios.tcgetattr(fd)
@@ -568,13 +588,13 @@ def single_keys(fd, enter=None, leave=None, carriage_return=False):
         mode[3] &= ~(termios.ICANON | termios.ECHO)
         mode[6][termios.VMIN], mode[6][termios.VTIME] = 1, 0
 
-    def begin():
+    def begin() -> None:
         if fd is not None:
             termios.tcsetattr(fd, termios.TCSAFLUSH, mode)
         if enter:
             enter()
 
-    def end():                      # the terminal may be gone (SIGHUP): restore what can be
+    def end() -> None:              # the terminal may be gone (SIGHUP): restore what can be
         if leave:
             with contextlib.suppress(OSError, ValueError):
                 leave()
@@ -582,7 +602,7 @@ def single_keys(fd, enter=None, leave=None, carriage_return=False):
             with contextlib.suppress(OSError, termios.error):
                 termios.tcsetattr(fd, termios.TCSAFLUSH, saved)
 
-    def stop(signum, frame):
+    def stop(signum: int, frame: object) -> None:
         end()
         signal.signal(signal.SIGTSTP, signal.SIG_DFL)
         os.kill(os.getpid(), signal.SIGTSTP)         # stopped here until `fg`
@@ -620,6 +640,7 @@ def single_keys(fd, enter=None, leave=None, carriage_return=False):
 MBF_MAX = math.ldexp(0xFFFFFF, 127 - 24)      # 1.701412E+38, the overflow value
 OVERFLOW = "Overflow"
 DIV_ZERO = "Division by zero"
+ErrorSink = Callable[[str], object]     # err(message): where a soft error goes
 _T24 = 16777216.0                        # 2**24
 _TOP = 2.0 ** 127                        # the first magnitude beyond the single range
 _BOTTOM = 2.0 ** -128                    # the smallest magnitude in it
@@ -628,14 +649,14 @@ _frexp, _ldexp = math.frexp, math.ldexp
 _pack32, _unpack32 = struct.Struct("f").pack, struct.Struct("f").unpack   # IEEE singles
 
 
-def _ignore(message):
+def _ignore(message: str) -> None:
     """Default soft-error sink: drop the message."""
 
 
 # --------------------------------------------------------------------------
 # representation helpers
 
-def _split(x):
+def _split(x: float) -> tuple[bool, int, int]:
     """Return (negative, mantissa, exponent byte) of a nonzero single."""
     f, e = math.frexp(x)
     if f < 0:
@@ -643,7 +664,7 @@ def _split(x):
     return False, int(f * _T24), e + 128
 
 
-def _make(mbf_neg, m, eb, err):
+def _make(mbf_neg: bool, m: int, eb: int, err: ErrorSink) -> float:
     """Build a single from a 24-bit mantissa (possibly 2**24 after a rounding
     carry) and an exponent byte; handles overflow and underflow to zero."""
     if m >> 24:
@@ -658,7 +679,7 @@ def _make(mbf_neg, m, eb, err):
     return -v if mbf_neg else v
 
 
-def _round3(m, ah):
+def _round3(m: int, ah: int) -> int:
     """GW $ROUNS: keep the top 3 bits of the guard byte `ah`, round half to
     even on them.  Returns the rounded mantissa (may be 2**24)."""
     ah &= 0xE0
@@ -669,7 +690,7 @@ def _round3(m, ah):
     return m
 
 
-def mbf_from_bytes(b):
+def mbf_from_bytes(b: bytes) -> float:
     """CVS: the single stored in 4 MBF bytes (exponent byte 0 means zero)."""
     if b[3] == 0:
         return 0.0
@@ -678,7 +699,7 @@ def mbf_from_bytes(b):
     return -v if b[2] & 0x80 else v
 
 
-def mbf_to_bytes(x):
+def mbf_to_bytes(x: float) -> bytes:
     """MKS$: the 4 MBF bytes of a single (-0.0, made by unary minus of a
     zero, keeps its sign bit as in PC-BASIC)."""
     if x == 0:
@@ -690,7 +711,7 @@ def mbf_to_bytes(x):
 # --------------------------------------------------------------------------
 # the four operations
 
-def mbf_add(x, y, err=_ignore):
+def mbf_add(x: float, y: float, err: ErrorSink = _ignore) -> float:
     """X+Y as PC-BASIC computes it (observed; data/PCBASIC_NOTES.md).
     Equal signs: the exact sum rounded to nearest, ties to even.
     Opposite signs: the smaller operand is aligned keeping one guard byte
@@ -749,19 +770,19 @@ def mbf_add(x, y, err=_ignore):
     return _make(nx, _round3(m, g), ex, err)
 
 
-def _sticky(g):
+def _sticky(g: int) -> int:
     """Guard byte with its sticky bit 5 set when any of bits 0-4 is set."""
     return g | 0x20 if g & 0x1F else g
 
 
-def mbf_sub(x, y, err=_ignore):
+def mbf_sub(x: float, y: float, err: ErrorSink = _ignore) -> float:
     """X-Y: X when Y is zero (+0 for a zero X), else X plus the negated Y."""
     if y == 0:
         return x if x != 0 else 0.0
     return mbf_add(x, -y, err)
 
 
-def mbf_mul(x, y, err=_ignore):
+def mbf_mul(x: float, y: float, err: ErrorSink = _ignore) -> float:
     """X*Y as GW $FMULS: the 48-bit product truncated to 24+3 bits, then
     rounded half to even on those 3 bits."""
     p = x * y                     # exact: 24x24 bits fit a double
@@ -781,7 +802,7 @@ def mbf_mul(x, y, err=_ignore):
     return v if p > 0 else -v
 
 
-def mbf_scaled(k, x, err=_ignore):
+def mbf_scaled(k: float, x: float, err: ErrorSink = _ignore) -> float:
     """K*X for K a power of two (the listing's .5, 2 and 4): mbf_mul's product, which is exact,
     so K*X itself inside the single's range (mbf_mul for the rest: 0, or "Overflow")."""
     v = k * x
@@ -790,7 +811,7 @@ def mbf_scaled(k, x, err=_ignore):
     return mbf_mul(k, x, err)
 
 
-def mbf_div(x, y, err=_ignore):
+def mbf_div(x: float, y: float, err: ErrorSink = _ignore) -> float:
     """X/Y as PC-BASIC computes it (observed; data/PCBASIC_NOTES.md): restoring long
     division of the mantissas held with a guard byte (m << 8), where the
     divisor register is shifted right after each of the 24 quotient bits so
@@ -846,12 +867,12 @@ def mbf_div(x, y, err=_ignore):
     return _make((x > 0) is not (y > 0), q, eb, err)
 
 
-def mbf_neg(x):
+def mbf_neg(x: float) -> float:
     """Unary minus: flips the sign bit, also of a zero (MKS$ shows it)."""
     return -x
 
 
-def mbf_int(x):
+def mbf_int(x: float) -> float:
     """INT: the largest integer not above X (always exact in MBF)."""
     return float(math.floor(x))
 
@@ -864,7 +885,7 @@ def mbf_int(x):
 # bits and a guard byte (32 bits), or a double's 56 bits and a guard byte (64 bits); a value
 # is (m, e) with m * 2**e, m normalised to the register's width.
 
-def _times_ten(m, e, width):
+def _times_ten(m: int, e: int, width: int) -> tuple[int, int]:
     """x*4 + x: the aligned x loses its two low bits, which survive as a sticky low bit; a
     carry out of the register shifts the sum right, dropping its low bit."""
     s = m + (m >> 2)
@@ -875,7 +896,7 @@ def _times_ten(m, e, width):
     return s | (m & 3 != 0), e
 
 
-def _tenth(m, e, width):
+def _tenth(m: int, e: int, width: int) -> tuple[int, int]:
     """x/10: the quotient of m*8 by ten, one unit low when that is exact, cut to the
     register's width; when m is below ten's mantissa (0xA0...) the quotient has one bit
     fewer and the register is filled with a zero bit."""
@@ -884,7 +905,7 @@ def _tenth(m, e, width):
     return (q >> sh if sh > 0 else q << -sh), e - 3 + sh
 
 
-def _round_register(m, e, drop):
+def _round_register(m: int, e: int, drop: int) -> tuple[int, int]:
     """Drop the low `drop` bits of the register, rounding to nearest, ties to even."""
     q = m >> drop
     rest = m & ((1 << drop) - 1)
@@ -894,7 +915,7 @@ def _round_register(m, e, drop):
     return q, e + drop
 
 
-def _digits(x):
+def _digits(x: float) -> tuple[str, int]:
     """Seven decimal digits and the decimal exponent k of |x| (x != 0), so
     that |x| ~ 0.ddddddd * 10**k, as PC-BASIC makes them (observed; see
     data/PCBASIC_NOTES.md, "Numbers to text").  The mantissa goes into the
@@ -928,11 +949,11 @@ def _digits(x):
     # up; below, y + .5 fits 24 bits unless it passes a power of two, and then it is less than
     # .5 over that whole number, which its rounding (to a last place of at most 1) cannot
     # carry it past: so the digits are floor(y + .5), for a whole y too.
-    s = str(int(_ldexp(q, e + 8) + 0.5))
-    return s, len(s) + k
+    digits = str(int(_ldexp(q, e + 8) + 0.5))
+    return digits, len(digits) + k
 
 
-def _text(x):
+def _text(x: float) -> str:
     """The digits of x without sign or padding, as PRINT and WRITE show them."""
     if x == 0:
         return "0"
@@ -949,12 +970,12 @@ def _text(x):
     return "%s%sE%s%02d" % (d[0], "." + d[1:] if nd > 1 else "", "-" if e < 0 else "+", abs(e))
 
 
-def mbf_write_text(x):
+def mbf_write_text(x: float) -> str:
     """Number as WRITE # writes it: '-' for negatives, no padding."""
     return ("-" if x < 0 else "") + _text(x)
 
 
-def mbf_print_text(x):
+def mbf_print_text(x: float) -> str:
     """Number as PRINT shows it: sign or space in front, a space after."""
     return ("-" if x < 0 else " ") + _text(x) + " "
 
@@ -971,7 +992,7 @@ _TRIG_LIMIT = 5e16       # SIN/COS/TAN of |x| >= this give 0, 1, 0
 _TINY = math.ldexp(1.0, -1001)   # double results this small count as overflow
 
 
-def _from_float(v, err):
+def _from_float(v: float, err: ErrorSink) -> float:
     """Single from the IEEE double v: truncate toward zero to 23 significant
     bits (24 bits when |v| >= 2**23).  |v| >= 2**127 and, oddly, also
     0 < |v| <= 2**-1001 report "Overflow" and give +MBF_MAX whatever the sign;
@@ -987,27 +1008,27 @@ def _from_float(v, err):
     return _make(v < 0, m, e + 128, err)
 
 
-def mbf_sin(x, err=_ignore):
+def mbf_sin(x: float, err: ErrorSink = _ignore) -> float:
     """SIN: math.sin, truncated to 23 bits; 0 when |x| >= 5E+16."""
     return 0.0 if abs(x) >= _TRIG_LIMIT else _from_float(math.sin(x), err)
 
 
-def mbf_cos(x, err=_ignore):
+def mbf_cos(x: float, err: ErrorSink = _ignore) -> float:
     """COS: math.cos, truncated to 23 bits; 1 when |x| >= 5E+16."""
     return 1.0 if abs(x) >= _TRIG_LIMIT else _from_float(math.cos(x), err)
 
 
-def mbf_tan(x, err=_ignore):
+def mbf_tan(x: float, err: ErrorSink = _ignore) -> float:
     """TAN: math.tan, truncated to 23 bits; 0 when |x| >= 5E+16."""
     return 0.0 if abs(x) >= _TRIG_LIMIT else _from_float(math.tan(x), err)
 
 
-def mbf_atn(x, err=_ignore):
+def mbf_atn(x: float, err: ErrorSink = _ignore) -> float:
     """ATN: math.atan, truncated to 23 bits."""
     return _from_float(math.atan(x), err)
 
 
-def mbf_exp(x, err=_ignore):
+def mbf_exp(x: float, err: ErrorSink = _ignore) -> float:
     """EXP: math.exp, truncated to 23 bits (24 from 2**23 up); above the
     single range "Overflow" and +MBF_MAX, below it 0."""
     try:
@@ -1018,7 +1039,7 @@ def mbf_exp(x, err=_ignore):
     return _from_float(v, err)
 
 
-def mbf_log(x, err=_ignore):
+def mbf_log(x: float, err: ErrorSink = _ignore) -> float:
     """LOG: math.log, truncated to 23 bits; X <= 0 is an Illegal function
     call (ValueError)."""
     if x <= 0:
@@ -1026,7 +1047,7 @@ def mbf_log(x, err=_ignore):
     return _from_float(math.log(x), err)
 
 
-def mbf_sqr(x, err=_ignore):
+def mbf_sqr(x: float, err: ErrorSink = _ignore) -> float:
     """SQR: math.sqrt, truncated to 23 bits (24 from 2**23 up); X < 0 is an
     Illegal function call (ValueError)."""
     if x < 0:
@@ -1034,7 +1055,7 @@ def mbf_sqr(x, err=_ignore):
     return _from_float(math.sqrt(x), err)
 
 
-def mbf_power(x, y, err=_ignore):
+def mbf_power(x: float, y: float, err: ErrorSink = _ignore) -> float:
     """X^Y with a single (or double) exponent Y, whole or not: math.pow
     truncated to 23 bits.  Y = 0 gives 1; 0^Y is 0 for Y > 0 and "Division
     by zero" with +MBF_MAX for Y < 0; a negative X with a fractional Y is an
@@ -1056,7 +1077,7 @@ def mbf_power(x, y, err=_ignore):
     return _from_float(v, err)
 
 
-def mbf_ipower(x, n, err=_ignore):
+def mbf_ipower(x: float, n: int, err: ErrorSink = _ignore) -> float:
     """X^N with an integer-typed exponent (an integer literal such as the 2
     in T^2, or an N% variable).  N >= 1: left-to-right binary powering with
     single multiplications (square, then times X for each further 1 bit of
@@ -1068,7 +1089,7 @@ def mbf_ipower(x, n, err=_ignore):
         return mbf_power(x, float(n), err)
     if n == 0:
         return 1.0
-    seen = []
+    seen: list[str] = []
     r = x
     for bit in bin(n)[3:]:
         r = mbf_mul(r, r, seen.append)
@@ -1083,7 +1104,7 @@ def mbf_ipower(x, n, err=_ignore):
 # --------------------------------------------------------------------------
 # text to number, FOR loops
 
-def decimal_parts(text):
+def decimal_parts(text: str) -> tuple[bool, int, int, bool]:
     """A decimal number's text as (negative, N, k, double): its value is N * 10**k, and
     `double` tells that it is read in double precision: a # after it, a D exponent, or eight
     digits or more without a ! after it, counted from the first nonzero one and not counting
@@ -1102,7 +1123,7 @@ def decimal_parts(text):
     return negative, int(digits or "0"), k, double
 
 
-def mbf_parse(text, err=_ignore):
+def mbf_parse(text: str, err: ErrorSink = _ignore) -> float:
     """A number typed at INPUT or written as a program literal (`.5`, `180!`,
     `2`, `1e3`, `3.141592654#`, `  -12  `) as the single it becomes (observed;
     data/PCBASIC_NOTES.md, "Text to numbers"): the digits as an integer N in
@@ -1114,7 +1135,8 @@ def mbf_parse(text, err=_ignore):
     return scaled_to_single(negative, n, k, double, err) if n else 0.0
 
 
-def scaled_to_single(negative, n, k, double, err):
+def scaled_to_single(negative: bool, n: int, k: int, double: bool,
+                     err: ErrorSink) -> float:
     """N * 10**k through the decimal register (see mbf_parse); n may be 0 only with the
     zero-mantissa quirk of input_value (n=0 reads as 2**-129)."""
     width = 64 if double else 32
@@ -1143,7 +1165,8 @@ def scaled_to_single(negative, n, k, double, err):
     return _make(negative, m, e + 152, err)
 
 
-def mbf_for_values(start, stop, step, err=_ignore):
+def mbf_for_values(start: float, stop: float, step: float,
+                   err: ErrorSink = _ignore) -> Iterator[float]:
     """The values a single FOR variable takes: FOR V=start TO stop STEP step
     runs the body with V=start unless start is already past stop, then adds
     step in single precision after each pass and goes on while V has not
@@ -1159,7 +1182,8 @@ def mbf_for_values(start, stop, step, err=_ignore):
             return
 
 
-def mbf_for_final(start, stop, step, err=_ignore):
+def mbf_for_final(start: float, stop: float, step: float,
+                  err: ErrorSink = _ignore) -> float:
     """The FOR variable's value after the loop has ended (start+step when
     the body never ran)."""
     last = start
@@ -1202,14 +1226,16 @@ class Single:
     with object.__new__ (together about 5 % of the time of a sweep point)."""
 
     __slots__ = ("v", "_square")
+    v: float
+    _square: Single                     # T^2, remembered (see __pow__)
 
-    def __init__(self, v: float = 0.0):
+    def __init__(self, v: float = 0.0) -> None:
         self.v = v
 
     def __repr__(self) -> str:
         return f"Single({mbf_write_text(self.v)})"
 
-    def __add__(self, other):
+    def __add__(self, other: Single | float) -> Single:
         y = other.v if other.__class__ is Single else float(other)
         if y == 0:                              # a sum of zeros is +0 (mbf_add)
             return self if self.v != 0 else ZERO
@@ -1217,32 +1243,35 @@ class Single:
             return _single(y)
         return _single(mbf_add(self.v, y, soft_error))
 
-    def __radd__(self, other): return _single(mbf_add(float(other), self.v, soft_error))
+    def __radd__(self, other: float) -> Single:
+        return _single(mbf_add(float(other), self.v, soft_error))
 
-    def __sub__(self, other):
+    def __sub__(self, other: Single | float) -> Single:
         return _single(mbf_sub(self.v, other.v if other.__class__ is Single else float(other),
                                soft_error))
 
-    def __rsub__(self, other): return _single(mbf_sub(float(other), self.v, soft_error))
+    def __rsub__(self, other: float) -> Single:
+        return _single(mbf_sub(float(other), self.v, soft_error))
 
-    def __mul__(self, other):
+    def __mul__(self, other: Single | float) -> Single:
         y = other.v if other.__class__ is Single else float(other)
         if y == 0 or self.v == 0:               # a product with a zero is +0 (mbf_mul)
             return ZERO
         return _single(mbf_mul(self.v, y, soft_error))
 
-    def __rmul__(self, other):
+    def __rmul__(self, other: float) -> Single:
         if self.v == 0:
             return ZERO
         return _single(mbf_mul(float(other), self.v, soft_error))
 
-    def __truediv__(self, other):
+    def __truediv__(self, other: Single | float) -> Single:
         return _single(mbf_div(self.v, other.v if other.__class__ is Single else float(other),
                                soft_error))
 
-    def __rtruediv__(self, other): return _single(mbf_div(float(other), self.v, soft_error))
+    def __rtruediv__(self, other: float) -> Single:
+        return _single(mbf_div(float(other), self.v, soft_error))
 
-    def __pow__(self, other):
+    def __pow__(self, other: Single | float) -> Single:
         if other.__class__ is not int:
             return _single(mbf_power(self.v, _value(other), soft_error))
         if other != 2:                 # an integer literal: repeated multiplication
@@ -1262,14 +1291,20 @@ class Single:
                 self._square = square
             return square
 
-    def __rpow__(self, other): return _single(mbf_power(float(other), self.v, soft_error))
-    def __neg__(self): return _single(mbf_neg(self.v))
-    def __lt__(self, other): return self.v < _value(other)
-    def __le__(self, other): return self.v <= _value(other)
-    def __gt__(self, other): return self.v > _value(other)
-    def __ge__(self, other): return self.v >= _value(other)
-    def __eq__(self, other): return self.v == _value(other)
-    def __hash__(self): return hash(self.v)
+    def __rpow__(self, other: float) -> Single:
+        return _single(mbf_power(float(other), self.v, soft_error))
+
+    def __float__(self) -> float: return self.v
+    def __neg__(self) -> Single: return _single(mbf_neg(self.v))
+    def __lt__(self, other: Single | float) -> bool: return self.v < _value(other)
+    def __le__(self, other: Single | float) -> bool: return self.v <= _value(other)
+    def __gt__(self, other: Single | float) -> bool: return self.v > _value(other)
+    def __ge__(self, other: Single | float) -> bool: return self.v >= _value(other)
+    # a Single equals a number only, as BASIC compares them (object's __eq__ takes anything)
+    def __eq__(self, other: Single | float) -> bool:  # type: ignore[override]
+        return self.v == _value(other)
+
+    def __hash__(self) -> int: return hash(self.v)
 
 
 def _single(v: float) -> Single:
@@ -1282,7 +1317,7 @@ def _single(v: float) -> Single:
 _new_object = object.__new__
 
 
-def _value(x) -> float:
+def _value(x: Single | float) -> float:
     return x.v if x.__class__ is Single else float(x)
 
 
@@ -1290,7 +1325,7 @@ _SOFT_ERRORS: contextvars.ContextVar[list[str]] = contextvars.ContextVar("soft_e
 
 
 @contextlib.contextmanager
-def soft_errors(sink: list[str] | None = None):
+def soft_errors(sink: list[str] | None = None) -> Iterator[list[str]]:
     """The soft errors of the GW-BASIC operations in the block go to `sink` (a new list if none
     is given), which the block yields; the previous one is back after it."""
     sink = [] if sink is None else sink
@@ -1344,7 +1379,7 @@ PROMPTS = {
 }
 
 
-def dimensions(v: Variables, bartype: int, ask) -> bool:
+def dimensions(v: Variables, bartype: int, ask: Callable[[str], Single]) -> bool:
     """Lines 250-480: ask for linkage `bartype`'s dimensions (ask(prompt) is INPUT), convert
     them and run the assembly check. True when the linkage passes it."""
     if bartype >= 4:                                                        # 250
@@ -1474,7 +1509,7 @@ def degrees_to_radians(x: Single) -> Single:
     return (x / 180) * PI
 
 
-def sweep_angles(PHI1: Single, PHI2: Single, INC: Single):
+def sweep_angles(PHI1: Single, PHI2: Single, INC: Single) -> Iterator[Single]:
     """Line 1050, FOR PHI=PHIB(1) TO PHIB(2) STEP INC: the values PHI takes."""
     for phi in mbf_for_values(PHI1.v, PHI2.v, INC.v, soft_error):
         yield Single(phi)
@@ -1485,7 +1520,7 @@ def _roots_and_angle_line(U11: Single, U12: Single, PHI: Single, SOL: int,
     """Lines 1100-1150: the two roots U(1), U(2), the input angle's text and the ANG.DAT line
     (the output angle in degrees for the four-bars, S = 0; the root itself for the sliders)."""
     U = (U11 + U12, U11 - U12)                                                           # 1100-1110
-    PSI = U                                                                              # 1120
+    PSI: tuple[Single, ...] = U                                                          # 1120
     if S == 0:                                                                           # 1130-1140
         PSI = tuple((2*ATN(u)/PI)*180 for u in U)
     angle = mbf_write_text(((PHI/PI)*180).v)
@@ -1544,8 +1579,8 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
     +-PI/2, so the other PSI can raise no soft error."""
     A1, B1, C1, D1, E1, F1, G1, H1, I1, J1 = [c.v for c in co]
     add, mul, scaled, div, e = mbf_add, mbf_mul, mbf_scaled, mbf_div, _redo
-    PHI = PHI.v
-    T = mbf_tan(scaled(.5, PHI, e), e)                                                   # 1060
+    phi = PHI.v
+    T = mbf_tan(scaled(.5, phi, e), e)                                                   # 1060
     T2 = mul(T, T, e)
     D1T, F1T, GJ, GH = mul(D1, T, e), mul(F1, T, e), add(G1, J1, e), add(G1, H1, e)
     GJT2 = mul(GJ, T2, e)
@@ -1566,7 +1601,7 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
     PSI = U[SOL - 1]                                                                     # 1120
     if S.v == 0:                                                                         # 1130-1140
         PSI = mul(div(scaled(2.0, mbf_atn(PSI, e), e), _PI, e), 180.0, e)
-    angle = mbf_write_text(mul(div(PHI, _PI, e), 180.0, e))
+    angle = mbf_write_text(mul(div(phi, _PI, e), 180.0, e))
     ang = f"{angle},{mbf_write_text(PSI)}\r\n"                                          # 1150
     if derivatives == 0:
         return ang, None, None
@@ -1616,7 +1651,7 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
             if UIM:                                                                      # 1270
                 M22 = 0.0
         if k == SOL - 1:
-            vel, acc = M11, (M22 if derivatives == 2 else None)
+            vel, acc = M11, (M22 if derivatives == 2 else 0.0)     # 0.0: not written
     return _write_lines(angle, ang, vel, acc, derivatives)                              # 1200-1330
 
 
@@ -1672,9 +1707,8 @@ MECHANISM_TYPES = {  # name: (menu key, the dimensions in the order the listing 
 # ---- 4. The original program: keys, screen, INPUT, the session ----------------------------------
 #
 # Holds: the menu program as the original runs it: the screen and its transcript, keys one
-# at a time, INPUT's reading of an answer, the session of menus and prompts, and the one
-# writer every file of the program goes through (whole or not at all); the menu program on
-# a terminal or driven by keys (menu_program, redirected_program).
+# at a time, INPUT's reading of an answer, the session of menus and prompts; the menu program
+# on a terminal or driven by keys (menu_program, redirected_program).
 # Uses: sections 1, 2 and 3 (the writer of the DAT files and the messages; GW-BASIC's
 # numbers; the listing's computation).
 
@@ -1689,7 +1723,8 @@ class Keys:
     (`pending` tells whether more bytes are already waiting) an ANSI escape sequence, which is
     what the arrow and function keys send, is one extended key too; Esc alone stays Esc."""
 
-    def __init__(self, read_byte, fold_crlf: bool, pending=None):
+    def __init__(self, read_byte: Callable[[], bytes], fold_crlf: bool,
+                 pending: Callable[[], bool] | None = None) -> None:
         self._read = read_byte
         self._fold = fold_crlf
         self._ready = pending
@@ -1730,7 +1765,8 @@ class Screen:  # ERRATA P6
     """PRINT, CLS, LOCATE and SOUND. On a terminal they draw with ANSI codes; redirected, the
     output is PC-BASIC's own transcript (--output=STDOUT): lines ended by CR LF, no positions."""
 
-    def __init__(self, write, terminal: bool, soft_errors=None):
+    def __init__(self, write: Callable[[str], object], terminal: bool,
+                 soft_errors: Callable[[str], object] | None = None) -> None:
         self._write = write
         self._write_soft_error = write if soft_errors is None else soft_errors
         self.terminal = terminal
@@ -1836,7 +1872,8 @@ def input_value(typed: str) -> Single | None:
     s = typed.replace(" ", "").upper()
     if s.startswith("&"):
         return _input_integer(s[1:])
-    number, suffix = re.match(r"([^!#]*)(.?)", s).groups()
+    # the pattern matches any text: never None
+    number, suffix = re.match(r"([^!#]*)(.?)", s).groups()  # type: ignore[union-attr]
     match = re.fullmatch(r"([+-]?)([0-9.]*)(?:([ED])([+-]?)([0-9]*))?", number)
     if match is None or (match[3] and suffix) or "," in s:
         return None
@@ -1903,14 +1940,6 @@ def _input_integer(digits: str) -> Single | None:
 def key_value(key: str) -> int:
     """VAL of a one-key string: its digit, or 0."""
     return "0123456789".find(key) if len(key) == 1 and key in "0123456789" else 0
-
-
-# -- writing files: whole or not at all (ERRATA P3) --------------------------------------------
-#
-# Every file the program writes goes through _Temporary: the menu's and run's DAT files in both
-# precisions, design --dat, the scenes' DAT files, the SVG and PNG drawings. It is written as it
-# comes under a unique name in the target folder, flushed to the disk and renamed over its own
-# name only when complete; on any failure or signal it is removed and the old file stands.
 
 
 MENU = ((6, "1. Plane Four Bar"), (8, "2. Spherical Four Bar"), (10, "3. Skew Four Bar"),
@@ -1986,8 +2015,9 @@ def answered_session(screen: Screen, key: str, answers: list[str], branch: str,
                        answered=True, derivatives=derivatives)
 
 
-def session_sweep(screen: Screen, co, PHI1: Single, PHI2: Single, INC: Single, SOL: int,
-                  S: Single, directory: str, derivatives: int = 2, answered: bool = False) -> int:
+def session_sweep(screen: Screen, co: tuple[Single, ...], PHI1: Single, PHI2: Single,
+                  INC: Single, SOL: int, S: Single, directory: str, derivatives: int = 2,
+                  answered: bool = False) -> int:
     """Lines 1020-1350: open the files, sweep PHI, close. Returns the points written."""
     with DatFiles(directory, 1 + derivatives) as files:                     # 1020-1040
         expected = check_sweep(PHI1, PHI2, INC, directory)
@@ -2022,7 +2052,8 @@ def check_sweep(PHI1: Single, PHI2: Single, INC: Single, directory: str) -> floa
     return points
 
 
-def menu_program(stdin=None, stdout=None, directory: str = ".") -> int:
+def menu_program(stdin: TextIO | None = None, stdout: TextIO | None = None,
+                 directory: str = ".") -> int:
     """`python3 linkage.py`: the original program on this terminal, or driven by the keys on
     standard input (`python3 linkage.py < keys.txt`) with PC-BASIC's screen transcript. A closed
     standard input is no keys; a closed standard output, no transcript."""
@@ -2041,7 +2072,8 @@ def menu_program(stdin=None, stdout=None, directory: str = ".") -> int:
     return screen_out.status(status)
 
 
-def redirected_program(keys_in, screen_out, directory: str = ".") -> int:
+def redirected_program(keys_in: BinaryIO | None, screen_out: BinaryIO | None,
+                       directory: str = ".") -> int:
     """The menu program reading its keys from the byte stream `keys_in` and writing PC-BASIC's
     screen transcript (CR LF lines) to the byte stream `screen_out` (either may be None: closed).
     The transcript's failures (a closed pipe, a full disk) never cost the DAT files."""
@@ -2057,8 +2089,10 @@ class _Transcript:
     full standard output) is remembered, not raised: the session goes on and writes its files,
     and status() says what happened on standard error and gives the exit status."""
 
-    def __init__(self, out, encode: bool = True):
-        self.out, self.encode, self.error = out, encode, None
+    def __init__(self, out: IO[Any] | None, encode: bool = True) -> None:
+        # out: bytes (encode), else text; None: closed, self.error says so and nothing is written
+        self.out, self.encode = cast("IO[Any]", out), encode
+        self.error: str | None = None
         if out is None:
             self.error = "standard output is closed: no screen transcript"
 
@@ -4028,7 +4062,7 @@ def evenly_spaced_angles(start: float, stop: float, step: float) -> list[float]:
     return [start + i * step for i in range(angle_count(start, stop, step))]
 
 
-def write_dat_files(motions: Iterable[Motion] | Iterable[SweepColumns], directory: str = ".", *,
+def write_dat_files(motions: Iterable[tuple], directory: str = ".", *,
                     clip: bool = False, missing: str = "skip", files: int = 3,
                     transmission: bool | None = None,
                     before_rename: Callable[[], None] | None = None,
@@ -7860,7 +7894,7 @@ def _accurate_motions(scene: Scene, branch: int | str, derivatives: int) -> list
         linkage = Linkage(scene.mechanism, **scene.dimensions)
         angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
         if scene.fast:
-            return linkage.sweep_arrays(angles, branch, derivatives).motions()
+            return linkage.sweep_arrays(angles, int(branch), derivatives).motions()
         return linkage.sweep(angles, branch, derivatives)
     except ValueError as e:
         raise _scene_error(scene.path, "dimensions", f"dimensions the engine accepts: {e}") \
@@ -8469,7 +8503,7 @@ QUICK_KEYS = b"12\r7\r9\r6\r0\r360\r10\r1"     # bench --quick: 37 points
 ONE_POINT_KEYS = b"12\r7\r9\r6\r0\r0\r1\r1"     # bench startup: one point
 
 
-def _timed(repeats: int, function):
+def _timed(repeats: int, function: Callable[[], Any]) -> tuple[float, Any]:
     """The fastest of `repeats` runs of function(), in seconds, and what the last run returned."""
     import time
     best, result = math.inf, None
@@ -8480,12 +8514,12 @@ def _timed(repeats: int, function):
     return best, result
 
 
-def _best_of(repeats: int, function) -> float:
+def _best_of(repeats: int, function: Callable[[], object]) -> float:
     """The fastest of `repeats` runs of function(), in seconds."""
     return _timed(repeats, function)[0]
 
 
-def bench_mbf(out, quick: bool = False) -> None:
+def bench_mbf(out: TextIO, quick: bool = False) -> None:
     """Time each single-precision operation and one sweep point of lines 1060-1330."""
     import random
     rng, count, repeats = random.Random(1), 20 if quick else 1000, 1 if quick else 5
@@ -8512,7 +8546,7 @@ def bench_mbf(out, quick: bool = False) -> None:
         print(f"{name:16} {_best_of(repeats, function) / len(xs) * 1e6:12.2f}", file=out)
     v = Variables()
     answers = iter(["2", "7", "9", "6"])
-    dimensions(v, 1, lambda prompt: input_value(next(answers)))
+    dimensions(v, 1, lambda prompt: Single(mbf_parse(next(answers))))
     co = coefficients(v, 1)
     angles = list(sweep_angles(ZERO, degrees_to_radians(Single(360.0)),
                                degrees_to_radians(Single(90.0 if quick else 1.0))))
@@ -8522,7 +8556,7 @@ def bench_mbf(out, quick: bool = False) -> None:
           f"the three WRITE #, plane four-bar a=6 b=2 c=7 d=9)", file=out)
 
 
-def bench_scene(out, quick: bool = False) -> None:
+def bench_scene(out: TextIO, quick: bool = False) -> None:
     """A displacement-only scene against the same scene drawing velocity and acceleration."""
     import tempfile
     step, many, few = (10.0, 1, 1) if quick else (0.01, 15, 5)
@@ -8552,7 +8586,7 @@ def bench_scene(out, quick: bool = False) -> None:
     _bench_mechanism_view(out, few)
 
 
-def _bench_mechanism_view(out, repeats: int) -> None:
+def _bench_mechanism_view(out: TextIO, repeats: int) -> None:
     """What drawing the mechanism costs: 72 poses of each kind (the Figs. 1-2 scenes' sweep)."""
     angles = evenly_spaced_angles(30.0, 385.0, 5.0)
     print(f"\nthe mechanism view, {len(angles)} positions (30 to 385 by 5 degrees, the Figs. 1-2 "
@@ -8571,7 +8605,7 @@ def _bench_mechanism_view(out, repeats: int) -> None:
               + f" {len(svg_drawing(drawing).encode()):10,}", file=out)
 
 
-def bench_port(out, quick: bool = False, basic_command=None) -> None:
+def bench_port(out: TextIO, quick: bool = False, basic_command: list[str] | None = None) -> None:
     """The port against PC-BASIC, both started as programs on the same keys, same bytes.
     The keys are the 3601-point session's (0 to 360 degrees by 0.1), PC-BASIC runs
     legacy_basic/LINKAGE.BAS; measured: CPU time (user and system of the child process:
@@ -8593,7 +8627,7 @@ def bench_port(out, quick: bool = False, basic_command=None) -> None:
     ports = {"python3 -m linkage": [sys.executable, "-m", "linkage"],
              "python3 linkage.py": [sys.executable, os.path.join(here, "linkage.py")]}
 
-    def child(command, folder, **options):
+    def child(command: list[str], folder: str, **options: Any) -> tuple[float, float, bytes]:
         """Run a program to its end: wall and CPU seconds, and its standard output."""
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
@@ -8602,16 +8636,16 @@ def bench_port(out, quick: bool = False, basic_command=None) -> None:
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
         return wall, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime, run.stdout
 
-    def in_process(folder):
+    def in_process(folder: str) -> float:
         cpu = time.process_time()
         redirected_program(io.BytesIO(keys), io.BytesIO(), folder)
         return time.process_time() - cpu
 
-    def written(folder, screen):
+    def written(folder: str, screen: bytes) -> dict[str, bytes]:
         return {n: open(os.path.join(folder, n), "rb").read() for n in DatFiles.NAMES} | {
             "the screen": screen}
 
-    rows = {name: [] for name in ports}
+    rows: dict[str, list[tuple[float, float, bytes]]] = {name: [] for name in ports}
     with tempfile.TemporaryDirectory() as folder:
         subprocess.run([sys.executable, "-c", "import linkage"], env=env, cwd=folder, check=True)
         for _ in range(repeats):                       # alternated, so that drift hits all alike
@@ -8653,7 +8687,7 @@ def bench_port(out, quick: bool = False, basic_command=None) -> None:
         print("PC-BASIC: not installed (pip install pcbasic==2.0.8)", file=out)
 
 
-def bench_startup(out, quick: bool = False) -> None:
+def bench_startup(out: TextIO, quick: bool = False) -> None:
     """Start-up: a one-point session by the installed `linkage` command, the module and the script.
     Each (python3 -m linkage and the `linkage` command from cached bytecode, python3 linkage.py
     compiled every run) beside Python starting alone, runs alternated: the CPU time of the child
@@ -8675,7 +8709,7 @@ def bench_startup(out, quick: bool = False) -> None:
         commands["linkage (the command)"] = [sys.executable, installed]
     commands |= {"python3 -m linkage": [sys.executable, "-m", "linkage"],
                  "python3 linkage.py": [sys.executable, os.path.join(here, "linkage.py")]}
-    times = {name: [] for name in commands}
+    times: dict[str, list[tuple[float, float]]] = {name: [] for name in commands}
     with tempfile.TemporaryDirectory() as folder:
         subprocess.run([sys.executable, "-c", "import linkage"], env=env, cwd=folder, check=True)
         for _ in range(runs):                      # alternated, so that drift hits all alike
@@ -8711,7 +8745,7 @@ BENCH_LINKAGES = ((PLANE_FOUR_BAR, dict(a=6, b=2, c=7, d=9)),
                   (SKEW_SLIDER_CRANK, dict(a=6, b=1, c=7.5, f=3, ksi=45)))
 
 
-def _pylinkage_rates(points: int) -> dict | str:
+def _pylinkage_rates(points: int) -> dict[str, Any] | str:
     """pylinkage's points per second on the plane four-bar and slider-crank of BENCH_LINKAGES,
     with numba where it is installed (NUMBA_DISABLE_JIT=1: without), or why it cannot be
     measured. The four-bar with velocity and acceleration (its fastest way,
@@ -8739,7 +8773,7 @@ def _pylinkage_rates(points: int) -> dict | str:
             PLANE_SLIDER_CRANK: points / _best_of(3, lambda: list(slider.step(points)))}
 
 
-def _bench_angles(points: int):
+def _bench_angles(points: int) -> tuple[list[float], Any, Any]:
     """`points` input angles from 0 to 360 degrees: as a list, and numpy with them as an array
     (None, None without numpy)."""
     angles = evenly_spaced_angles(0.0, 360.0, 360.0 / (points - 1))
@@ -8857,7 +8891,7 @@ void slider(long n, const double *phi, const double *k, double sign, int reduce,
 """
 
 
-def _c_loop():
+def _c_loop() -> Callable[..., list[Any]] | str:
     """C_SWEEP built with the C compiler (cc, or $CC) -O2 in a temporary folder and loaded with
     ctypes: a function (linkage, angles, branch) -> (phi, output, velocity, acceleration,
     status) arrays; or why it cannot be built (a str)."""
@@ -8884,7 +8918,7 @@ def _c_loop():
     library.four_bar.argtypes = common + [double_p, double_p, double_p, status_p]
     library.slider.argtypes = common + [ctypes.c_double, double_p, double_p, double_p, status_p]
 
-    def c_sweep(linkage, angles, branch=1):
+    def c_sweep(linkage: Linkage, angles: Any, branch: int = 1) -> list[Any]:
         """sweep_arrays' answer (its five arrays, new, as it makes them) by C_SWEEP."""
         n = len(angles)
         answer = [np.empty(n) for _ in range(3)] + [np.empty(n, dtype=np.int8)]
@@ -8903,7 +8937,7 @@ C_SIZES = (1_000, 10_000, 100_000, 1_000_000, 10_000_000)
 C_TARGET = 0.7           # sweep_arrays' rate over the C loop's, at 1e4 points and more
 
 
-def _bench_c_loop(out, sizes) -> None:
+def _bench_c_loop(out: TextIO, sizes: tuple[int, ...]) -> None:
     """sweep_arrays against C_SWEEP at each of `sizes` points, plane four-bar and slider-crank,
     velocity and acceleration: rates and their ratio, the two alternated."""
     c_sweep = _c_loop()
@@ -8950,8 +8984,8 @@ def _bench_c_loop(out, sizes) -> None:
               file=out)
 
 
-def bench_engine(out, quick: bool = False, points: int = 100_001,
-                 pylinkage_points: int | None = None, c_sizes=C_SIZES) -> None:
+def bench_engine(out: TextIO, quick: bool = False, points: int = 100_001,
+                 pylinkage_points: int | None = None, c_sizes: tuple[int, ...] = C_SIZES) -> None:
     """The accurate engine's speed, scalar and vectorised (numpy), beside a C loop of the numpy
     path's formulas (at each of c_sizes points) and pylinkage's (on as many angles as ours,
     unless pylinkage_points)."""
@@ -8964,7 +8998,8 @@ def bench_engine(out, quick: bool = False, points: int = 100_001,
           "within an hour: compare within one run, the ratios first)", file=out)
     print(f"{'linkage':12} {'numpy/scalar':>12} {'scalar disp':>12} {'scalar +v,a':>12} "
           f"{'numpy disp':>12} {'numpy +v,a':>12}", file=out)
-    scalar, fast = {}, {}
+    scalar: dict[str, dict[int, float]] = {}
+    fast: dict[str, dict[int, float]] = {}
     for kind, dims in BENCH_LINKAGES:
         linkage = Linkage(kind, **dims)
         runs = {(way, level): math.inf for way in ("scalar", "numpy")[:1 + (np is not None)]
@@ -9007,17 +9042,17 @@ def bench_engine(out, quick: bool = False, points: int = 100_001,
           f"core (one Python thread): {'met' if slowest >= ENGINE_TARGET else 'NOT MET'}, "
           f"slowest {slowest:,.0f}", file=out)
     if fast:
-        fast = {k: r[2] for k, r in fast.items()}
-        short = [k for k, r in fast.items()
+        full = {k: r[2] for k, r in fast.items()}          # with velocity and acceleration
+        short = [k for k, r in full.items()
                   if r < FAST_TARGETS.get(k, FAST_TARGETS["others"])]
         print(f"target: numpy path >= {FAST_TARGETS[PLANE_FOUR_BAR]:,} (plane), "
               f">= {FAST_TARGETS['others']:,} (the others) with velocity and acceleration: "
               + (f"NOT MET for {', '.join(short)}" if short else "met")
-              + f", plane {fast[PLANE_FOUR_BAR]:,.0f}, slowest other "
-              f"{min(r for k, r in fast.items() if k != PLANE_FOUR_BAR):,.0f}", file=out)
+              + f", plane {full[PLANE_FOUR_BAR]:,.0f}, slowest other "
+              f"{min(r for k, r in full.items() if k != PLANE_FOUR_BAR):,.0f}", file=out)
 
 
-def bench_coupler(out, quick: bool = False, points: int = 100_001) -> None:
+def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> None:
     """What the coupler point (with velocity and acceleration) and the transmission angle add
     to a sweep with velocity and acceleration, scalar and numpy: the time of the sweep with them
     over the sweep alone."""
@@ -9057,7 +9092,7 @@ def bench_coupler(out, quick: bool = False, points: int = 100_001) -> None:
 FILES_TARGET = 1_000_000   # points a second of CPU: run --precision double --fast, DAT and CSV
 
 
-def bench_files(out, quick: bool = False) -> None:
+def bench_files(out: TextIO, quick: bool = False) -> None:
     """run --precision double to the DAT files and a CSV, as a process: its CPU time, --fast and
     without, alternated (the CPU time is the process's, user and system, from getrusage)."""
     import resource
@@ -9069,7 +9104,7 @@ def bench_files(out, quick: bool = False) -> None:
     command = [sys.executable, os.path.abspath(__file__), "run", "plane", "--a", "6", "--b", "2",
                "--c", "7", "--d", "9", "--from", "0", "--to", "360", "--step", repr(step),
                "--branch", "1", "--precision", "double"]
-    best = {}
+    best: dict[str, tuple[float, float]] = {}
     with tempfile.TemporaryDirectory() as folder:
         for _ in range(repeats):
             for fast in ("--fast", ""):
@@ -9080,7 +9115,7 @@ def bench_files(out, quick: bool = False) -> None:
                 wall = time.perf_counter() - start
                 after = resource.getrusage(resource.RUSAGE_CHILDREN)
                 cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-                best[fast] = min(best.get(fast, (math.inf,)), (cpu, wall))
+                best[fast] = min(best.get(fast, (math.inf, math.inf)), (cpu, wall))
         size = sum(os.path.getsize(os.path.join(folder, n)) for n in DatFiles.NAMES + ("o.csv",))
     print(f"python3 linkage.py run plane --a 6 --b 2 --c 7 --d 9 --from 0 --to 360 --step "
           f"{step!r} --branch 1 --precision double --dir D --csv D/o.csv [--fast]: {points:,} "
@@ -9170,7 +9205,7 @@ def basic_answer(text: str, what: str) -> str:
     return text
 
 
-def _design_number(flag: str):
+def _design_number(flag: str) -> Callable[[str], float]:
     """The argparse type of a datum: an ordinary decimal (decimal_number), its refusal naming
     the option."""
     def number(text: str) -> float:
@@ -9225,7 +9260,7 @@ def _unwritten(e: OSError) -> str:
     return f"{e.filename or 'standard output'}: {e.strerror}"
 
 
-def _reported(work) -> int:
+def _reported(work: Callable[[], int | None]) -> int:
     """work()'s exit status (0 for None), or, where it fails, a message on standard error and
     status 1 (130 for Ctrl-C)."""
     try:
@@ -9250,12 +9285,12 @@ def _check_dimensions(args: argparse.Namespace, parser: argparse.ArgumentParser,
         parser.error(f"{args.type} needs {' '.join('--' + n for n in needed)}: {what}")
 
 
-def _check_outputs(parser: argparse.ArgumentParser, files: dict, folder: str | None = None,
-                   names=()) -> None:
+def _check_outputs(parser: argparse.ArgumentParser, files: dict[str, str | None],
+                   folder: str | None = None, names: Iterable[str] = ()) -> None:
     """Refuse (parser.error), before anything is written, a command whose outputs name one file
     twice: `files` {option: path} given, and `names` the files it writes in `folder` (one would
     overwrite the other, exit 0: `--csv cf/ANG.DAT` with `--dir cf`)."""
-    seen = {}
+    seen: dict[str, str] = {}             # a real path: the option (or --dir's file) naming it
     if folder is not None:
         seen.update((os.path.realpath(os.path.join(folder, n)), f"--dir's {os.path.normpath(n)}")
                     for n in names)
@@ -9355,7 +9390,9 @@ def _basic_csv(args: argparse.Namespace, answers: list[str], where: str,
     position, VEL and ACC clipped to +-3), each with the accurate engine's status of that
     position, so that a written zero that is no position can be told apart; an assembled row
     whose VEL or ACC the original wrote as +-3, its clip (ERRATA K9), is `clipped`."""
-    dims = {n: input_value(a).v for n, a in zip(MECHANISM_TYPES[args.type][1], answers)}
+    # every answer passed basic_answer: input_value gives a Single, never None
+    dims = {n: input_value(a).v  # type: ignore[union-attr]
+            for n, a in zip(MECHANISM_TYPES[args.type][1], answers)}
     ang, vel, acc = (read_dat(os.path.join(where, n)) for n in DatFiles.NAMES)
     try:
         statuses = [m.status for m in Linkage(args.type, **dims).sweep(
@@ -9367,7 +9404,7 @@ def _basic_csv(args: argparse.Namespace, answers: list[str], where: str,
     return write_csv(args.csv, rows, outputs=outputs)
 
 
-def _run_double(args: argparse.Namespace, numbers: dict) -> int:
+def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
     """`run ... --precision double`: the accurate engine's numbers in the same three files,
     shortest round-trip text, unclipped unless --clip; positions that do not exist are left out
     (the original writes zeros there, ERRATA K8), and so are those after a followed motion ended
@@ -9408,7 +9445,7 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
                        for v in (w or (None,) * 3)))
                 for mu, c in zip(mus, coupler_of(linkage, swept, *coupler))]
 
-    def motions(table):
+    def motions(table: Any) -> Iterator[Any]:
         """The sweep in blocks: SweepColumns by the vectorised path, else rows (a Motion, and
         with a CSV its further columns)."""
         nonlocal assembled
@@ -9421,7 +9458,7 @@ def _run_double(args: argparse.Namespace, numbers: dict) -> int:
                 if args.fast:                  # start + i * step, as below, in numpy
                     np = numpy_module()
                     angles = np.arange(first, last, dtype=np.float64) * step + start
-                    arrays = linkage.sweep_arrays(angles, int(args.branch))
+                    arrays: MotionArrays = linkage.sweep_arrays(angles, int(args.branch))
                     assembled += len(angles) - int(np.isnan(arrays.output).sum())
                     yield SweepColumns(*arrays, extra_columns(None, arrays) if table else ())
                 else:
@@ -9485,10 +9522,10 @@ def _dat_names(count: int) -> str:
     return ", ".join(DatFiles.NAMES[:count])
 
 
-def _draw_command(args: argparse.Namespace, make_figure) -> int:
+def _draw_command(args: argparse.Namespace, make_figure: Callable[[], Figure]) -> int:
     """Make the figure and draw it: the PNG with --png, the text plot with --text or without
     --png (_reported: every way it can fail is a message and a non-zero status)."""
-    def draw():
+    def draw() -> None:
         if args.png:
             matplotlib_canvas()                       # fail before any work
         figure = make_figure()
@@ -9500,16 +9537,16 @@ def _draw_command(args: argparse.Namespace, make_figure) -> int:
     return _reported(draw)
 
 
-def _check_frames(frames) -> None:
+def _check_frames(frames: int | None) -> None:
     if frames is not None and not 1 <= frames <= MAX_FRAMES:
         raise SceneError(f"--frames {frames}: expected 1 to {MAX_FRAMES:,} frames")
 
 
-def drawing_command(args: argparse.Namespace, make_drawing) -> int:
+def drawing_command(args: argparse.Namespace, make_drawing: Callable[[], Drawing]) -> int:
     """Draw the mechanism: an animated SVG with --svg, a PNG with --png, the terminal view with
     --text or neither (animated on a terminal; piped, --frames N stills). Files are written
     whole or not at all (_reported: every way it can fail is a message and a non-zero status)."""
-    def draw():
+    def draw() -> int | None:
         _check_frames(args.frames)
         if args.png:
             matplotlib_canvas()                       # fail before any work
@@ -9527,6 +9564,7 @@ def drawing_command(args: argparse.Namespace, make_drawing) -> int:
                  f"{'s' * (len(drawing.frames) > 1)})")
         if args.text or not (args.svg or args.png):
             return show_drawing(drawing, frames=args.frames)
+        return None
     return _reported(draw)
 
 
@@ -9609,7 +9647,7 @@ def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
     return _draw_command(args, lambda: dat_figure(args.directory, args.mechanism))
 
 
-def design_scene(result, path="design") -> Scene:
+def design_scene(result: Synthesis, path: str = "design") -> Scene:
     """The preferred design of a Synthesis as a mechanism scene: its whole motion (whole_motion)
     on its branch, its design positions marked; `path` names it in messages."""
     design = result.design
@@ -9671,7 +9709,7 @@ def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
     return code
 
 
-def _design_outputs(result, args: argparse.Namespace) -> int:
+def _design_outputs(result: Synthesis, args: argparse.Namespace) -> int:
     """design's files - the DAT files (--dat), the scene (--scene), the drawings (--svg, --png) -
     put in place as one set (WrittenSet: all or none), then --text's terminal drawing. The status
     (1: a DAT file that cannot be written)."""
@@ -9699,10 +9737,10 @@ def _design_outputs(result, args: argparse.Namespace) -> int:
                     fh.write(scene_text(design_scene(result, args.scene),
                                         f"python3 linkage.py {' '.join(args.words)}")
                              .encode("utf-8"))
-            if args.svg:
+            if drawing is not None and args.svg:
                 with outputs.opened(args.svg) as fh:
                     fh.write(svg_drawing(drawing).encode("utf-8"))
-            if args.png:
+            if drawing is not None and args.png:
                 with outputs.opened(args.png) as fh:
                     fh.write(png_drawing(drawing, dpi=getattr(args, "dpi", None),
                                          size=getattr(args, "size", None)))
@@ -9711,6 +9749,8 @@ def _design_outputs(result, args: argparse.Namespace) -> int:
               f"0 to 360 by 1 degree, branch {link.branch}, double precision")
     if args.scene and args.scene != "-":
         say(f"wrote {args.scene} (a scene: python3 linkage.py scene {args.scene})")
+    if drawing is None:                                   # neither --svg, --png nor --text
+        return 0
     for path in (args.svg, args.png):
         if path:
             say(f"wrote {path} ({len(drawing.frames)} position{'s' * (len(drawing.frames) > 1)})")
@@ -9778,13 +9818,13 @@ def annotated_listing(listing: str, errata: str, scan: str | None = None) -> lis
 
 def listing_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py listing [--ocr]`: the corrected listing with its errata."""
-    def show():
-        texts = [open(shipped_file("legacy_basic", name), encoding="utf-8").read()
-                 for name in ("LINKAGE.BAS", "ERRATA.md")]
+    def show() -> None:
+        listing, errata = (open(shipped_file("legacy_basic", name), encoding="utf-8").read()
+                           for name in ("LINKAGE.BAS", "ERRATA.md"))
         scan = (open(shipped_file("legacy_basic", "LINKAGE.OCR.txt"), encoding="utf-8").read()
                 if args.ocr else None)
         sys.stdout.write("".join(f"{printable(line)}\n"
-                                 for line in annotated_listing(*texts, scan)))
+                                 for line in annotated_listing(listing, errata, scan)))
     return _reported(show)
 
 
@@ -9795,7 +9835,7 @@ def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     if args.quick:
         print("--quick: a check that each runs, on tiny sizes; its numbers mean nothing")
     for name in args.names or list(BENCHMARKS):
-        print(f"\n== {name}: {BENCHMARKS[name].__doc__.splitlines()[0]}")
+        print(f"\n== {name}: {(BENCHMARKS[name].__doc__ or '').splitlines()[0]}")
         BENCHMARKS[name](sys.stdout, quick=args.quick)
     return 0
 
@@ -9806,10 +9846,10 @@ class Option(NamedTuple):
     """One argument of a sub-command: its name or flags, and what argparse's add_argument takes."""
 
     names: tuple[str, ...]
-    settings: dict
+    settings: dict[str, Any]
 
 
-def option(*names: str, **settings) -> Option:
+def option(*names: str, **settings: Any) -> Option:
     return Option(names, settings)
 
 
@@ -9985,11 +10025,11 @@ class CommandParser(argparse.ArgumentParser):
     """argparse, taking a negative number in any form (-1e3, -.5, -1D3) as an option's value
     (argparse before Python 3.13 takes -1e3 for an option and says "expected one argument")."""
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = re.compile(r"-\.?\d")
 
-    def add_options(self, options) -> None:
+    def add_options(self, options: Iterable[Option]) -> None:
         for o in options:
             self.add_argument(*o.names, **o.settings)
 
@@ -10017,15 +10057,15 @@ def build_parser() -> argparse.ArgumentParser:
                                                  f"{ANGLES_HELP}.", epilog=DESIGN_OUTPUT_HELP)
             for datum in DATA[method]:
                 flag = "--lambda" if datum.name == "lam" else "--" + datum.name.replace("_", "-")
+                counted: dict[str, Any] = {"nargs": 3} if datum.count == 3 else {}
                 sub.add_argument(flag, dest=datum.name, type=_design_number(flag),
-                                 required=not datum.optional, help=datum_help(datum),
-                                 **({"nargs": 3} if datum.count == 3 else {}))
+                                 required=not datum.optional, help=datum_help(datum), **counted)
             sub.add_options(command.options)
             sub.set_defaults(handler=command.handler, parser=sub)
     return parser
 
 
-def main(argv=None) -> int:
+def main(argv: Iterable[str] | None = None) -> int:
     """The command line (COMMANDS): the exit status. Every way a run can fail is a line on
     standard error and a non-zero status, never a traceback."""
     argv = sys.argv[1:] if argv is None else list(argv)
