@@ -423,9 +423,10 @@ def test_a_hang_up_mid_sweep_on_a_terminal_leaves_nothing(signum, tmp_path):
         term.press(b"1")
         wait_for_partial(tmp_path, term.proc)
         term.proc.send_signal(signum)
-        assert term.proc.wait(timeout=30) == 128 + signum
+        status = term.proc.wait(timeout=30)
+        term.drain(0.5)
+        assert status == 128 + signum, term.seen[-600:]      # what the program said, if not
         if signum == signal.SIGTERM:
-            term.drain(0.5)
             assert term.modes() == term.modes_before
             assert b"interrupted" in term.seen and b"Traceback" not in term.seen
     finally:
