@@ -9304,8 +9304,9 @@ def _check_outputs(parser: argparse.ArgumentParser, files: dict[str, str | None]
 
 
 def output_folder(parser: argparse.ArgumentParser, option: str, path: str) -> None:
-    """The one rule of every command's output folder (--dir, --dat): made if missing, with its
-    parents; refused (parser.error) where it cannot be, e.g. a file in the way."""
+    """The one rule of every command's output folder (run's and scene's --dir, design's --dat):
+    made if missing, with its parents, before any work; refused (parser.error, exit status 2)
+    where it cannot be, e.g. a file in the way."""
     try:
         os.makedirs(path, exist_ok=True)
     except OSError as e:
@@ -9597,6 +9598,8 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     _check_outputs(parser, {"--csv": args.csv, "--png": args.png}, args.dir,
                    [os.path.join(d, n) for d in (plan if len(plan) > 1 else ["."])
                     for n in DatFiles.NAMES + (DatFiles.MU,)])
+    if args.dir is not None:
+        output_folder(parser, "--dir", args.dir)
     return _reported(lambda: _scene_outputs(scene, args))
 
 
@@ -9606,11 +9609,6 @@ def _scene_outputs(scene: Scene, args: argparse.Namespace) -> None:
     then the text plot printed."""
     if args.png:
         matplotlib_canvas()                             # fail before any work
-    if args.dir is not None:
-        try:
-            os.makedirs(args.dir, exist_ok=True)
-        except OSError as e:
-            raise SceneError(f"cannot make the folder {args.dir!r}: {e.strerror}") from None
     try:
         staging = staging_folder(args.dir)
     except OSError as e:
@@ -9665,6 +9663,8 @@ def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
     exit 0, 1 bad data, 2 usage, 3 a miss."""
     _check_outputs(parser, {"--scene": args.scene, "--svg": args.svg, "--png": args.png},
                    args.dat, DatFiles.NAMES)
+    if args.dat is not None:
+        output_folder(parser, "--dat", args.dat)
     function, method = METHODS[args.method]
     try:
         result = function(**{datum.name: getattr(args, datum.name) for datum in DATA[method]
@@ -9723,7 +9723,6 @@ def _design_outputs(result: Synthesis, args: argparse.Namespace) -> int:
         outputs = WrittenSet()
         if args.dat is not None:
             try:
-                os.makedirs(args.dat, exist_ok=True)
                 where = stack.enter_context(staging_folder(args.dat))
                 write_dat_files(Linkage(kind, **dims).sweep(
                     evenly_spaced_angles(0.0, 360.0, 1.0), link.branch), where)

@@ -261,3 +261,23 @@ def test_run_makes_a_missing_output_folder_as_scene_does(tmp_path, precision):
                          text=True)
     assert got.returncode == 2 and "cannot make the folder: Not a directory" in got.stderr
     assert (tmp_path / "file").read_text() == "in the way"
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["scene", "fig3", "--dir", "{folder}"], "--dir"),
+    (["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--dat", "{folder}"], "--dat"),
+])
+def test_scene_and_design_follow_runs_folder_rule(tmp_path, argv, option):
+    """One rule for an output folder: made if missing (with its parents), refused with exit
+    status 2 and the same words as run's where a file is in the way."""
+    made = tmp_path / "new" / "folder"
+    got = subprocess.run(PROGRAM + [a.replace("{folder}", str(made)) for a in argv],
+                         capture_output=True, text=True, cwd=tmp_path)
+    assert got.returncode == 0, got.stderr
+    assert sorted(p.name for p in made.iterdir()) == ["ACC.DAT", "ANG.DAT", "VEL.DAT"]
+    (tmp_path / "file").write_text("in the way")
+    got = subprocess.run(PROGRAM + [a.replace("{folder}", str(tmp_path / "file" / "x"))
+                                    for a in argv], capture_output=True, text=True, cwd=tmp_path)
+    assert got.returncode == 2
+    assert f"{option} '{tmp_path / 'file' / 'x'}': cannot make the folder: Not a directory" \
+        in got.stderr
