@@ -6,9 +6,10 @@ Machine Theory, 1980s).
     python3 linkage.py                  the original program: menu 1-6, prompts, ANG/VEL/ACC.DAT
     python3 linkage.py run TYPE ...     the same program driven by options (see --help)
     python3 linkage.py analyse TYPE ... the linkage's type, ranges and transmission angle
-    python3 linkage.py scene FILE       a figure of the paper (data/scenes), text or PNG
+    python3 linkage.py scene NAME|FILE  a figure: the paper's, a coupler curve (scene --list)
     python3 linkage.py plot [DIR]       the figure of DAT files already written
     python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
+    python3 linkage.py listing [--ocr]  the BASIC listing as corrected, with its errata
     python3 linkage.py bench            speed (what accuracy costs: tests/bench_accuracy.py)
 
 Fidelity: ANG.DAT, VEL.DAT and ACC.DAT are byte-identical to those legacy_basic/LINKAGE.BAS
