@@ -214,13 +214,31 @@ class _Temporary:
 
 
 @contextlib.contextmanager
+def _signals_held(drop: bool = False) -> Iterator[None]:
+    """While the block runs, SIGINT, SIGTERM and SIGHUP are held back; after it, one that came
+    meanwhile is delivered (drop: dropped, the work it would have stopped being done). Around
+    the making of a temporary file and its record, so that no signal falls between the two and
+    leaves a file that nothing removes."""
+    import signal
+    held = {getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n)}
+    masks = hasattr(signal, "pthread_sigmask")              # not on Windows
+    if masks:
+        signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        if masks:
+            pending = signal.sigpending() & held
+            if pending and drop:
+                signal.sigtimedwait(pending, 0)
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, held)
+
+
+@contextlib.contextmanager
 def _renaming(*folders: str) -> Iterator[None]:
     """While the block runs: SIGINT, SIGTERM and SIGHUP held back, and the folders locked (in
     one order) against another of our sessions renaming its set into them; a signal that came
     meanwhile is dropped, as the work it would have stopped is done."""
-    import signal
-    held = {getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n)}
-    masks = hasattr(signal, "pthread_sigmask")              # not on Windows
     locks = []
     for folder in sorted({os.path.realpath(f) for f in folders}):
         with contextlib.suppress(ImportError, OSError):
@@ -229,16 +247,8 @@ def _renaming(*folders: str) -> Iterator[None]:
             locks.append(lock)
             fcntl.flock(lock, fcntl.LOCK_EX)
     try:
-        if masks:
-            signal.pthread_sigmask(signal.SIG_BLOCK, held)
-        try:
+        with _signals_held(drop=True):
             yield
-        finally:
-            if masks:
-                pending = signal.sigpending() & held
-                if pending:
-                    signal.sigtimedwait(pending, 0)
-                signal.pthread_sigmask(signal.SIG_UNBLOCK, held)
     finally:
         for lock in locks:
             os.close(lock)                      # and with it the lock
@@ -273,7 +283,8 @@ class WrittenSet:
 
     def file(self, path: str) -> _Temporary:
         """A file of the set, to write (bytes) now and to be put in place with the rest."""
-        self._files.append(_Temporary(path))
+        with _signals_held():                   # made and recorded, or neither
+            self._files.append(_Temporary(path))
         return self._files[-1]
 
     def adopt(self, staged: str, path: str) -> None:
@@ -379,14 +390,17 @@ def written_whole(path: str) -> Iterator[_Temporary | BinaryIO]:
         with _streamed(path) as out:
             yield out
         return
-    temporary = _Temporary(path)
+    temporary = None
     try:
+        with _signals_held():                   # made and recorded, or neither
+            temporary = _Temporary(path)
         yield temporary
         temporary.finish()
         with _renaming(os.path.dirname(os.path.abspath(path))):
             temporary.rename()
     finally:
-        temporary.discard()
+        if temporary is not None:
+            temporary.discard()
 
 
 def _is_stream(path: str) -> bool:
@@ -438,8 +452,9 @@ class DatFiles:  # ERRATA P3
         self._names = self.NAMES[:count] + ((self.MU,) if transmission else ())
         self._family = self.NAMES + (() if transmission is None else (self.MU,))
         try:
-            for name in self._names:
-                self._files.append(_Temporary(os.path.join(directory, name), "ascii"))
+            with _signals_held():               # each made and recorded, or neither
+                for name in self._names:
+                    self._files.append(_Temporary(os.path.join(directory, name), "ascii"))
             # written to directly: the sweep's inner loop (text files: opened in "ascii")
             self._open = [cast("TextIO", t.file) for t in self._files]
         except BaseException as e:

@@ -609,3 +609,34 @@ def test_design_writes_its_dat_files_scene_and_drawings_all_or_none(tmp_path):
     assert sorted(p.name for p in (tmp_path / "new" / "dats").iterdir()) == [
         "ACC.DAT", "ANG.DAT", "VEL.DAT"]
     assert (tmp_path / "d.toml").exists() and (tmp_path / "e.svg").exists()
+
+
+@pytest.mark.parametrize("nth", [1, 2, 3])
+def test_a_signal_as_a_temporary_file_is_made_leaves_none(nth, tmp_path, monkeypatch):
+    """SIGTERM the moment the nth of the DAT files' temporaries exists (as a loaded machine once
+    timed it: a .VEL.DAT…partial was left): each temporary is made and recorded with the signals
+    held, so the signal comes after and every one is removed; the old files stand."""
+    import tempfile
+    assert linkage.main(["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from",
+                         "0", "--to", "360", "--step", "90", "--branch", "1", "--dir",
+                         str(tmp_path)]) == 0
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    made, mkstemp = [], tempfile.mkstemp
+
+    def signalled(*args, **kwargs):
+        answer = mkstemp(*args, **kwargs)
+        made.append(answer[1])
+        if len(made) == nth:
+            os.kill(os.getpid(), signal.SIGTERM)
+        return answer
+    saved = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGHUP)}
+    monkeypatch.setattr(tempfile, "mkstemp", signalled)
+    try:
+        status = linkage.main(["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9",
+                               "--from", "0", "--to", "360", "--step", "10", "--branch", "1",
+                               "--dir", str(tmp_path)])
+    finally:
+        for s, handler in saved.items():
+            signal.signal(s, handler)
+    assert status == 128 + signal.SIGTERM and len(made) >= nth
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
