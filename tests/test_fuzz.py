@@ -228,41 +228,22 @@ def _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang):
     assert_whole(folder, status, {"sub": None})
 
 
-# One fuzzer a sub-command (LINKAGE_FUZZ=N: N command lines of each).
-@fuzz(400)
-@given(argv=run_argv())
-def test_any_run_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
-    _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
+# One fuzzer a sub-command: its command lines and its number of seeded examples (LINKAGE_FUZZ=N:
+# N new command lines of each).
+COMMAND_LINES = {"run": (run_argv(), 400), "design": (design_argv(), 250),
+                 "scene": (scene_argv(), 150), "plot": (plot_argv(), 100),
+                 "analyse": (analyse_argv(), 150), "other": (other_argv(), 50)}
 
 
-@fuzz(250)
-@given(argv=design_argv())
-def test_any_design_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
-    _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
+@pytest.mark.parametrize("command", list(COMMAND_LINES))
+def test_any_command_line(command, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
+    strategy, examples = COMMAND_LINES[command]
 
-
-@fuzz(150)
-@given(argv=scene_argv())
-def test_any_scene_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
-    _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
-
-
-@fuzz(100)
-@given(argv=plot_argv())
-def test_any_plot_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
-    _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
-
-
-@fuzz(150)
-@given(argv=analyse_argv())
-def test_any_analyse_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
-    _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
-
-
-@fuzz(50)
-@given(argv=other_argv())
-def test_any_other_line(argv, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
-    _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
+    @fuzz(examples)
+    @given(argv=strategy)
+    def check(argv):
+        _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang)
+    check()
 
 
 # ---- mutated scenes and DAT files ----------------------------------------------------------------
