@@ -1,4 +1,4 @@
-"""Tests of the accurate engine, the section of linkage.py after the original program (issue 5).
+"""Tests of the accurate engine, the section of linkage.py after the original program.
 
 1. An independent double-precision solver written from the geometry: bisection on the loop
    closures of tests/test_physics.py (not the half-tangent equation); output, velocity and

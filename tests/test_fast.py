@@ -1,4 +1,4 @@
-"""The vectorised path (issue 13): Linkage.sweep_arrays, run --fast and a scene's fast = true.
+"""The vectorised path: Linkage.sweep_arrays, run --fast and a scene's fast = true.
 
 The scalar engine (Linkage.sweep) is the specification: sweep_arrays must give its statuses
 exactly and its numbers to 1e-13 (FAST_TOL; output in degrees for the four-bars, over the
@@ -429,7 +429,7 @@ def test_fast_writes_the_same_files_where_a_zero_differs_in_sign(tmp_path):
                 assert x == y, (a, b)
 
 
-# -- the files' numbers, a block at once (issue 24) ------------------------------------------------
+# -- the files' numbers, a block at once -----------------------------------------------------------
 #
 # run --precision double, the scenes and design --dat write each number as repr does; a block of
 # rows is formatted by numpy at once (linkage._float_texts), and must give repr's text exactly.

@@ -1,4 +1,4 @@
-"""Change points and the followed motion (issue 13): Linkage.sweep(phis, "follow", start=1|2),
+"""Change points and the followed motion: Linkage.sweep(phis, "follow", start=1|2),
 `run ... --branch follow`, and velocity and acceleration at and near a change point.
 
 A change point is where the discriminant has a double zero in phi and the two branches cross with

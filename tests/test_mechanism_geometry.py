@@ -1,4 +1,4 @@
-"""Where joint_positions puts the joints, checked from first principles (issue 12): every link
+"""Where joint_positions puts the joints, checked from first principles: every link
 between its joints has its length, every revolute joint turns about its axis, spherical joints
 lie on the unit sphere, the slider on its line, and the output link's angle (the slider's
 position) measured from the joints is the engine's psi (x). The frames are those of

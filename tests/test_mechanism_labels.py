@@ -1,4 +1,4 @@
-"""Where the mechanism view puts its letters (issue 22 item 11, issue 23 item 8): in every frame
+"""Where the mechanism view puts its letters: in every frame
 of the Figs. 1-2 scenes and of 200 random linkages of each kind (some with a coupler point), no
 letter's box meets a joint's or pivot's mark, a link, a ground line or its hatching, or another
 letter, and none leaves the page; in the terminal at 80 x 24 every letter is shown; no link crosses the slider's guide or a pivot's hatching but the link that turns about

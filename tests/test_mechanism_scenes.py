@@ -1,4 +1,4 @@
-"""The mechanism view from the command line (issue 12): the Figs. 1-2 scenes, `scene FILE --svg`,
+"""The mechanism view from the command line: the Figs. 1-2 scenes, `scene FILE --svg`,
 `--frames`, `design ... --svg/--text`, and what each refuses. The geometry itself is checked in
 test_mechanism_geometry.py, the renderers in test_mechanism_text.py and test_mechanism_svg.py.
 """

@@ -1,4 +1,4 @@
-"""The mechanism as an animated SVG and as a PNG (issue 12). The SVG is read back with
+"""The mechanism as an animated SVG and as a PNG. The SVG is read back with
 xml.etree: its frames, which one shows without animation, the SMIL that plays them, and the
 joints of two frames against joint_positions; the PNG is decoded and its pixels counted."""
 

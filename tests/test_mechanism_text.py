@@ -1,4 +1,4 @@
-"""The mechanism in the terminal (issue 12): the still frame of each Figs. 1-2 scene against its
+"""The mechanism in the terminal: the still frame of each Figs. 1-2 scene against its
 snapshot (Unicode braille and ASCII), what the frame says, the frames printed with --frames N,
 and, in a pseudo-terminal, the animation: it runs, q stops it, Ctrl-C and Ctrl-Z leave the
 terminal as it was."""

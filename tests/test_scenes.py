@@ -1,4 +1,4 @@
-"""Scenes and plots (issue 6): every scene of data/scenes runs, writes its DAT files, draws a
+"""Scenes and plots: every scene of data/scenes runs, writes its DAT files, draws a
 real PNG and the plain-text plot stored in data/scenes/snapshots/ (python3
 tests/make_scene_snapshots.py rewrites those, and nothing else does). The text plot puts the
 curve where an independent solution of the linkage says it is; a displacement-only scene asks the

@@ -1,4 +1,4 @@
-"""Tests of the synthesis section of linkage.py (issue 7).
+"""Tests of the synthesis section of linkage.py.
 
   * Every number printed in the review's worked examples is reproduced to its printed digits
     (EXAMPLES: the review's printed numbers, typed from the review); where the review is wrong the
@@ -646,7 +646,7 @@ def test_slid_fg2_2_gives_back_a_random_slider_crank_and_refuses_inconsistent_da
 # == the valid ranges (linkage.DATA): data drawn log-uniformly across them =========================
 
 FUNCTIONS = {method: function for function, method in s.METHODS.values()}
-ANGLE_TARGET = 1e-9               # degrees: the analysed miss every design meets (issue 13)
+ANGLE_TARGET = 1e-9               # degrees: the analysed miss every design meets
 LENGTH_TARGET = 1e-12             # relative to the longest link
 
 
@@ -1261,7 +1261,7 @@ def test_fuzzed_command_lines(argv):
         assert_meets_targets(design)
 
 
-# == the answer: one lettering, angles as asked (issue 23, item 6) ================================
+# == the answer: one lettering, angles as asked ===================================================
 
 def _answer(capsys, *argv):
     code, out, err = _run(capsys, *argv)
@@ -1349,7 +1349,7 @@ def test_every_method_has_help_that_stands_alone():
         assert "counter-clockwise from the frame line" in text
 
 
-# == the design seen moving (issue 23, item 4) =====================================================
+# == the design seen moving ========================================================================
 
 def test_design_svg_moves_through_the_whole_motion_with_the_positions_marked(tmp_path):
     svg = tmp_path / "d.svg"
@@ -1432,7 +1432,7 @@ def test_a_scene_refuses_bad_marked_positions(tmp_path, marked, message):
         s.load_scene(str(path))
 
 
-# == DRAGLINK-2 where dpsi ~ dphi: the misses are the data's conditioning (issue 22, item 10) =====
+# == DRAGLINK-2 where dpsi ~ dphi: the misses are the data's conditioning =========================
 
 def _draglink_2_exact(dphi, dpsi, lam):
     """DRAGLINK-2's link ratios a/d, b/d, c/d (review letters) for lambda, in 50 digits from the
