@@ -32,12 +32,10 @@ from __future__ import annotations
 import argparse
 import contextlib
 import contextvars
-import dataclasses
 import decimal
 import fractions
 import functools
 import heapq
-import json
 import math
 import os
 import re
@@ -941,7 +939,8 @@ def _digits(x: float) -> tuple[str, int]:
     .99999994, can print as that power: "1").  The register is rounded half
     up to 24 bits and the single is rounded like WRITE does it: mbf_add .5 in
     single if not whole, truncate."""
-    f, e = _frexp(x if x > 0 else -x)
+    ax = x if x > 0 else -x
+    f, e = _frexp(ax)
     m = int(f * 4294967296.0)          # |x| = m * 2**e, m the register's 32 bits
     e -= 32
     k = 0
@@ -967,6 +966,38 @@ def _digits(x: float) -> tuple[str, int]:
     # carry it past: so the digits are floor(y + .5), for a whole y too.
     digits = str(int(_ldexp(q, e + 8) + 0.5))
     return digits, len(digits) + k
+
+
+_POWERS = tuple(10.0 ** j for j in range(23))      # exact doubles (5**22 < 2**53)
+
+
+def _digits_by_powers(ax: float) -> tuple[str, int] | None:
+    """_digits's loop in one multiplication where that is certain: E = |x|*10**j exactly (in
+    double, to 2**-53) for the j the loop takes, and the register's value after j of its
+    steps is within j*0.875 units of its 2**-31 of E (each step: the two bits the aligned x
+    loses, the sticky bit, the carry's dropped bit). So when E is clear of what decides (the
+    loop's stopping bound, a power of two, a half of the 24-bit rounding unit) by more than
+    that, the register's rounded 24 bits are E's rounded, and the digits floor(q*u + .5).
+    None: too near; the loop decides."""
+    j = math.ceil(5.99999997 - math.log10(ax))
+    if j < 0:
+        j = 0
+    E = ax * _POWERS[j]
+    if E < 999999.9375:
+        j += 1
+        E *= 10.0
+    slack = (j + 1) * 2.0 ** -30
+    if not 999999.9375 * (1 + slack) <= E < 9999999.375 * (1 - slack):
+        return None
+    f, e = _frexp(E)
+    if not 0.5 + slack <= f < 1 - slack:
+        return None
+    q = f * 16777216.0
+    half = q - math.floor(q) - 0.5
+    if -slack * q <= half <= slack * q:
+        return None
+    digits = str(int(_ldexp(math.floor(q + 0.5), e - 24) + 0.5))
+    return digits, len(digits) - j
 
 
 def _text(x: float) -> str:
@@ -1548,6 +1579,9 @@ def _clip3(m: float) -> float:
     return 3.0 if m > 3 else -3.0 if m < -3 else m
 
 
+DatLines: TypeAlias = tuple[str, str | None, str | None]   # ANG.DAT's, VEL.DAT's, ACC.DAT's line
+
+
 def _write_lines(angle: str, ang: str, m1: float, m2: float,
                  derivatives: int) -> tuple[str, str, str | None]:
     """Lines 1200-1210, 1290-1300 and 1320-1330: the VEL.DAT and ACC.DAT lines beside the
@@ -1559,7 +1593,7 @@ def _write_lines(angle: str, ang: str, m1: float, m2: float,
 
 
 def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
-                derivatives: int = 2) -> tuple[str, str | None, str | None]:
+                derivatives: int = 2) -> DatLines:
     """Lines 1060-1330 at one input angle: the lines WRITE # puts in ANG.DAT, VEL.DAT, ACC.DAT
     for solution SOL (1 is (A+B), 2 is (A-B)). The program always computes all three; a scene
     that shows fewer asks for `derivatives` 0 (lines 1060-1150 only) or 1 (without lines
@@ -1571,10 +1605,26 @@ def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
     is the screen: a subexpression that overflows says "Overflow" each time it is evaluated. So a
     point that raises any soft error is computed again as the listing writes it
     (sweep_point_as_listed), and its messages are those."""
+    return sweep_points(co, SOL, S, derivatives)(PHI)
+
+
+
+def sweep_points(co: tuple[Single, ...], SOL: int, S: Single,
+                 derivatives: int = 2) -> Callable[[Single], DatLines]:
+    """sweep_point for every point of one sweep: what the coefficients alone make (G1+J1,
+    .5*D1, ...) is computed once, not at each point (all points, as listed, if that says
+    anything)."""
     try:
-        return sweep_point_fast(co, PHI, SOL, S, derivatives)
+        constants = _sweep_constants(co, derivatives)
     except _Redo:
-        return sweep_point_as_listed(co, PHI, SOL, S, derivatives)
+        return lambda PHI: sweep_point_as_listed(co, PHI, SOL, S, derivatives)
+
+    def point(PHI: Single) -> DatLines:
+        try:
+            return _point_fast(constants, PHI.v, SOL, S.v, derivatives)
+        except _Redo:
+            return sweep_point_as_listed(co, PHI, SOL, S, derivatives)
+    return point
 
 
 class _Redo(Exception):
@@ -1585,20 +1635,38 @@ def _redo(message: str) -> None:
     raise _Redo(message)
 
 
+def _sweep_constants(co: tuple[Single, ...], derivatives: int) -> tuple[float, ...]:
+    """The coefficients' floats and what they alone make in lines 1070-1250: G1+J1, G1+H1,
+    .5*D1, .5*F1, .5*I1, .5*(G1+J1), .5*(G1+H1) and 2*C1 (_Redo on a soft error)."""
+    A1, B1, C1, D1, E1, F1, G1, H1, I1, J1 = [c.v for c in co]
+    GJ, GH = mbf_add(G1, J1, _redo), mbf_add(G1, H1, _redo)
+    if derivatives == 0:
+        return A1, B1, C1, D1, E1, F1, G1, H1, I1, J1, GJ, GH, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    HD, HF, HI = (mbf_scaled(.5, x, _redo) for x in (D1, F1, I1))
+    GJH, GHH = mbf_scaled(.5, GJ, _redo), mbf_scaled(.5, GH, _redo)
+    C12 = mbf_scaled(2.0, C1, _redo) if derivatives == 2 else 0.0
+    return A1, B1, C1, D1, E1, F1, G1, H1, I1, J1, GJ, GH, HD, HF, HI, GJH, GHH, C12
+
+
 def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
-                     derivatives: int = 2) -> tuple[str, str | None, str | None]:
+                     derivatives: int = 2) -> DatLines:
     """sweep_point with each repeated subexpression computed once, in the listing's order of
     operations (a+b+c is (a+b)+c, a*b*c is (a*b)*c), on the singles' floats with the mbf_
     functions (no Single made: half the time; the literals .5, 2 and 4 by mbf_scaled); the first
     soft error raises _Redo. X-Y is X+(-Y) (mbf_sub); the sums and products commute, so
     U(LOP)^2+1 is 1+U(LOP)^2. Lines 1130-1140 are computed for PSI(SOL) only: ATN is within
     +-PI/2, so the other PSI can raise no soft error."""
-    A1, B1, C1, D1, E1, F1, G1, H1, I1, J1 = [c.v for c in co]
+    return _point_fast(_sweep_constants(co, derivatives), PHI.v, SOL, S.v, derivatives)
+
+
+def _point_fast(constants: tuple[float, ...], phi: float, SOL: int, S: float,
+                derivatives: int) -> DatLines:
+    """sweep_point_fast from the sweep's constants (_sweep_constants), PHI's and S's floats."""
+    A1, B1, C1, D1, E1, F1, G1, H1, I1, J1, GJ, GH, HD, HF, HI, GJH, GHH, C12 = constants
     add, mul, scaled, div, e = mbf_add, mbf_mul, mbf_scaled, mbf_div, _redo
-    phi = PHI.v
     T = mbf_tan(scaled(.5, phi, e), e)                                                   # 1060
     T2 = mul(T, T, e)
-    D1T, F1T, GJ, GH = mul(D1, T, e), mul(F1, T, e), add(G1, J1, e), add(G1, H1, e)
+    D1T, F1T = mul(D1, T, e), mul(F1, T, e)
     GJT2 = mul(GJ, T2, e)
     NUM = add(add(D1T, GJT2, e), GH, e)                           # D1*T + (G1+J1)*T^2 + (G1+H1)
     DEN = add(add(B1, mul(C1, T2, e), e), F1T, e)                 # B1 + C1*T^2 + F1*T
@@ -1615,7 +1683,7 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
         U12 = div(mbf_power(add(NUM2, -DISC, e), .5, e), DEN2, e)                        # 1090
     U = (add(U11, U12, e), add(U11, -U12, e))                                            # 1100-1110
     PSI = U[SOL - 1]                                                                     # 1120
-    if S.v == 0:                                                                         # 1130-1140
+    if S == 0:                                                                           # 1130-1140
         PSI = mul(div(scaled(2.0, mbf_atn(PSI, e), e), _PI, e), 180.0, e)
     angle = mbf_write_text(mul(div(phi, _PI, e), 180.0, e))
     ang = f"{angle},{mbf_write_text(PSI)}\r\n"                                          # 1150
@@ -1623,16 +1691,20 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
         return ang, None, None
     OT = add(1.0, T2, e)
     NEG_OT = -OT
-    HD, HF, HI = scaled(.5, D1, e), scaled(.5, F1, e), scaled(.5, I1, e)
     A1T, C1T, GJT = mul(A1, T, e), mul(C1, T, e), mul(GJ, T, e)
     TAIL = mul(HD, T, e)                                          # .5*D1*T, then + F1*u*T ...
-    GJT2H, GHH = mul(scaled(.5, GJ, e), T2, e), scaled(.5, GH, e)
+    GJT2H = mul(GJH, T2, e)
+    P1B = Q1A = C2T = T3 = 0.0
     if derivatives == 2:
         P1B = add(add(add(GJT2, D1T, e), G1, e), H1, e)           # (G1+J1)*T^2 + D1*T + G1 + H1
         Q1A = scaled(2.0, OT, e)
-        C2T = mul(scaled(2.0, C1, e), T, e)
+        C2T = mul(C12, T, e)
         T3 = add(mul(3.0, T2, e), 1.0, e)
     for k, u in enumerate(U):                                                            # 1160
+        if k != SOL - 1 and _quiet_root(u, T, T2, constants, (
+                OT, DEN, TAIL, GJT2H, GHH, A1T, C1T, HD, HF, GJT, HI, GJ, P1B, Q1A, C2T, T3),
+                derivatives):
+            continue            # the root not written, which can say nothing: not computed
         U2 = mul(u, u, e)
         OU = add(1.0, U2, e)
         C1u, F1u = mul(C1, u, e), mul(F1, u, e)
@@ -1646,7 +1718,7 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
                                              mul(HF, OU, e), e), mul(GJT, u, e), e), HI, e), e),
                  mul(OU, S0, e), e)
         M11 = M1                                                                         # 1172
-        if S.v == 1:                                                                     # 1175
+        if S == 1:                                                                       # 1175
             M11 = div(mul(OU, M1, e), 2.0, e)
         if UIM:                                                                          # 1180
             M11 = M1 = 0.0
@@ -1662,7 +1734,7 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
             M1S = mul(M1, M1, e)
             M2 = div(-add(add(mul(P1, M1S, e), mul(Q1, M1, e), e), R1, e), S1, e)       # 1260
             M22 = M2                                                                     # 1262
-            if S.v == 1:                                                                 # 1265
+            if S == 1:                                                                   # 1265
                 M22 = div(mul(add(mul(M1S, u, e), M2, e), OU, e), 2.0, e)
             if UIM:                                                                      # 1270
                 M22 = 0.0
@@ -1671,8 +1743,51 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
     return _write_lines(angle, ang, vel, acc, derivatives)                              # 1200-1330
 
 
+_QUIET_LIMIT = 2.0 ** 120      # a bound below it leaves 2**7 to the largest single, 2**127
+_QUIET_SLACK = 2.0 ** -18     # 10 roundings in S0, each within 1.5 ulps (measured): < 2**-20.3
+
+
+def _quiet_root(u: float, T: float, T2: float, co: tuple[float, ...],
+                singles: tuple[float, ...], derivatives: int) -> bool:
+    """Whether lines 1170-1300 for the root u certainly raise no soft error, so that
+    sweep_point_fast may leave out the root it does not write (a third of a point's
+    operations). Each value of those lines is bounded above in doubles from the singles they
+    start from (a sum by the sum of its terms' bounds, a product by the product of theirs, a
+    quotient by its numerator's over a lower bound of its divisor), and none may come near
+    2**127 ("Overflow"); the one divisor that can be zero, S0 of line 1170 (2*S0 in line
+    1260), must be away from zero by more than its roundings and underflows can move it
+    ("Division by zero"). A single rounding is within 1.5 ulps (2**-23.4), and the bounds
+    allow 1e-4 over a line, so no bound is crossed unseen. False: the root is computed."""
+    A1, B1, C1, D1, _, F1, _, _, I1 = co[:9]
+    OT, DEN, TAIL, GJT2H, GHH, A1T, C1T, HD, HF, GJT, HI, GJ, P1B, Q1A, C2T, T3 = singles
+    au, aT, U2 = abs(u), abs(T), u * u
+    OU = 1.0 + U2
+    b1, c1, f1 = abs(B1) * au, abs(C1) * au, abs(F1) * au
+    S0 = B1 * u + C1 * u * T2 + TAIL + F1 * u * T + GJT2H + GHH    # as line 1170, in doubles
+    B_S0 = b1 + c1 * T2 + abs(TAIL) + f1 * aT + abs(GJT2H) + abs(GHH)
+    low = abs(S0) - _QUIET_SLACK * B_S0 - 2.0 ** -124 * (1.0 + T2 + aT)   # and 8 underflows
+    if not low * OU > 2.0 ** -100:
+        return False
+    OT, HD = abs(OT), abs(HD)
+    B_N = abs(A1T) + abs(C1T) * U2 + HD * au + abs(HF) * OU + abs(GJT) * au + abs(HI)
+    B_M1 = OT * B_N * 1.0001 / (low * OU)
+    if not max(OU, b1, c1, c1 * T2, f1, f1 * aT, OU * B_S0, OT * B_N, OU * B_M1) < _QUIET_LIMIT:
+        return False
+    if derivatives < 2:
+        return True
+    B_P1 = ((3.0 * U2 + 1.0) * abs(DEN) + au * abs(P1B)) * 1.0001                # 1220
+    B_Q1 = abs(Q1A) * (abs(C2T) * au + HD + f1 + abs(GJT)) * 1.0001               # 1230
+    B_A = abs(A1) + abs(C1) * U2 + abs(GJ) * au                                   # 1240
+    B_F = abs(F1) * OU + abs(D1) * au + abs(I1)
+    B_R1 = OT * (abs(T3) * B_A + aT * B_F) * 1.0001
+    B_M2 = (B_P1 * B_M1 * B_M1 + B_Q1 * B_M1 + B_R1) * 1.0001 / (2.0 * low)       # 1260
+    return max(3.0 * U2 + 1.0, B_P1, abs(C2T) * au, B_Q1, OT, abs(T3) * B_A, B_F * aT, B_F,
+               B_R1, 2.0 * B_S0, B_M1 * B_M1, B_P1 * B_M1 * B_M1, B_Q1 * B_M1,
+               OU * (B_M1 * B_M1 * au + B_M2)) < _QUIET_LIMIT                  # and 1265
+
+
 def sweep_point_as_listed(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
-                          derivatives: int = 2) -> tuple[str, str | None, str | None]:
+                          derivatives: int = 2) -> DatLines:
     """sweep_point exactly as the listing writes it, every subexpression evaluated where the
     listing evaluates it (the reference sweep_point_fast is held to; used when a point raises
     a soft error)."""
@@ -2038,8 +2153,9 @@ def session_sweep(screen: Screen, co: tuple[Single, ...], PHI1: Single, PHI2: Si
     with DatFiles(directory, 1 + derivatives) as files:                     # 1020-1040
         expected = check_sweep(PHI1, PHI2, INC, directory)
         with Progress(expected if answered else 0) as progress:
+            point = sweep_points(co, SOL, S, derivatives)
             for PHI in sweep_angles(PHI1, PHI2, INC):                       # 1050, 1340
-                files.write(sweep_point(co, PHI, SOL, S, derivatives))
+                files.write(point(PHI))
                 screen.show_soft_errors()
                 progress()
         if answered and not files.points:
@@ -6238,8 +6354,7 @@ def slider_transmission_extremes(link: SliderCrank) -> tuple[float, float]:
 
 # -- results --------------------------------------------------------------------------------------
 
-@dataclasses.dataclass(frozen=True)
-class Design:
+class Design(NamedTuple):
     """One linkage a method designs: in the paper's conventions (linkage, positions, travel) and
     in the review's own names and numbers (review), with the data it was designed for."""
     method: str                     # e.g. "FOURB-CR-1"
@@ -6254,8 +6369,7 @@ class Design:
     mu_max: float                   # from the review's formulas
 
 
-@dataclasses.dataclass(frozen=True)
-class Synthesis:
+class Synthesis(NamedTuple):
     """A method's answer: every solution it accepts, the one it prefers, and the roots it rejects
     (each with the reason)."""
     method: str
@@ -6472,7 +6586,7 @@ def fourb_cr_3(theta: float, psi: float) -> Synthesis:
         delta = _deg(math.asin(min(1.0, abs((ra["a"] + sign) ** 2 - ra["c"] ** 2 - ra["b"] ** 2)
                                    / (2 * ra["b"] * ra["c"]))))
         review = dict(ra, Delta=delta, theta0=theta0, psi0=psi0)
-        solutions.append(dataclasses.replace(design, review=review))
+        solutions.append(design._replace(review=review))
     _require(solutions, f"{method}: no real root lambda of the cubic gives a crank-rocker "
                         f"({'; '.join(rejected) or 'no positive root'})")
     best = min(range(len(solutions)), key=lambda i: _deviation(solutions[i]))
@@ -7346,7 +7460,7 @@ def rounding_floor(design: Design, checks: list[Check] | None = None) -> dict[st
         if getattr(link, name) == 0:
             continue
         moved = link._replace(**{name: getattr(link, name) * (1 + 2.0 ** -40)})
-        for check in analyze_design(dataclasses.replace(design, linkage=moved)):
+        for check in analyze_design(design._replace(linkage=moved)):
             was = base[check.name].measured
             if check.measured is None or was is None:
                 continue
@@ -7586,8 +7700,7 @@ class PanelSpec(NamedTuple):
     angles: tuple[float, ...] | None = None  # a mechanism panel's input angles (None: the sweep)
 
 
-@dataclasses.dataclass(frozen=True)
-class Scene:
+class Scene(NamedTuple):
     path: str
     title: str
     mechanism: str
@@ -8481,6 +8594,7 @@ def scene_drawing(scene: Scene) -> Drawing:
 
 def _toml_string(text: str) -> str:
     """A TOML basic string of text (its escapes are JSON's, and DEL too)."""
+    import json                         # here: the menu program starts without it
     return json.dumps(text).replace("\x7f", "\\u007f")
 
 
@@ -8497,7 +8611,8 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     lines += [f"title = {_toml_string(scene.title)}", f"mechanism = {_toml_string(scene.mechanism)}",
               f"dimensions = {{ {dims} }}",
               f"input = {{ from = {scene.start!r}, to = {scene.stop!r}, step = {scene.step!r} }}",
-              "branches = [" + ", ".join(json.dumps(b) for b in scene.branches) + "]"]
+              "branches = [" + ", ".join(_toml_string(b) if isinstance(b, str) else str(b)
+                                         for b in scene.branches) + "]"]
     if scene.coupler is not None:
         lines.append(f"coupler = [{numbers(scene.coupler)}]")
     if scene.marked:
@@ -8567,7 +8682,8 @@ def bench_mbf(out: TextIO, quick: bool = False) -> None:
     angles = list(sweep_angles(ZERO, degrees_to_radians(Single(360.0)),
                                degrees_to_radians(Single(90.0 if quick else 1.0))))
     with soft_errors():
-        seconds = _best_of(repeats, lambda: [sweep_point(co, phi, 1, v.S) for phi in angles])
+        point = sweep_points(co, 1, v.S)
+        seconds = _best_of(repeats, lambda: [point(phi) for phi in angles])
     print(f"{'sweep point':16} {seconds / len(angles) * 1e6:12.2f}   (lines 1060-1330 with "
           f"the three WRITE #, plane four-bar a=6 b=2 c=7 d=9)", file=out)
 

@@ -330,3 +330,23 @@ def test_the_fast_sweep_point_is_the_listed_one(co, phi, s, sol, derivatives):
         with linkage.soft_errors() as errors:
             assert linkage.sweep_point_fast(co, PHI, sol, S, derivatives) == listed
         assert not errors
+
+
+# Found by a search of 200,000 random points: the root not written (U(2), SOL = 1) overflows
+# while the written one does not; its "Overflow"s are on the original's screen all the same.
+QUIET_WRITTEN_ROOT = ((0.0, 0.0, 1e-30, 2.0, 99.514, 1e-30, 42.399, 0.0, 0.5, -96.646), -6.16222)
+
+
+@pytest.mark.parametrize("s", [0.0, 1.0])
+@pytest.mark.parametrize("derivatives", [1, 2])
+def test_the_root_not_written_still_says_overflow(s, derivatives):
+    """sweep_point leaves out the root it does not write only where that root can say nothing:
+    here it says "Overflow" (4 to 12 times) and the written root alone would say none."""
+    co = tuple(linkage.Single(linkage.mbf_parse(repr(c))) for c in QUIET_WRITTEN_ROOT[0])
+    PHI, S = linkage.Single(linkage.mbf_parse(repr(QUIET_WRITTEN_ROOT[1]))), linkage.Single(s)
+    with linkage.soft_errors() as listed_errors:
+        listed = linkage.sweep_point_as_listed(co, PHI, 1, S, derivatives)
+    with linkage.soft_errors() as errors:
+        assert linkage.sweep_point(co, PHI, 1, S, derivatives) == listed
+    assert errors == listed_errors and len(errors) >= 4
+    assert set(errors) == {"Overflow"}

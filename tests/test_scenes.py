@@ -9,7 +9,6 @@ mistake gets a message naming the file, the key and what was expected, and no tr
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import difflib
 import io
 import math
@@ -412,13 +411,17 @@ def test_the_listing_computes_only_what_the_panels_show(panels, level, monkeypat
     lines past 1150 (velocity) and past 1210 (acceleration) never run for a scene without them,
     and their files are not written."""
     computed = []
-    point = linkage.sweep_point
+    points = linkage.sweep_points
 
-    def counted(co, PHI, SOL, S, derivatives=2):
-        lines = point(co, PHI, SOL, S, derivatives)
-        computed.append((derivatives, tuple(line is not None for line in lines)))
+    def counted(co, SOL, S, derivatives=2):
+        point = points(co, SOL, S, derivatives)
+
+        def lines(PHI):
+            written = point(PHI)
+            computed.append((derivatives, tuple(line is not None for line in written)))
+            return written
         return lines
-    monkeypatch.setattr(linkage, "sweep_point", counted)
+    monkeypatch.setattr(linkage, "sweep_points", counted)
     scene = tmp_path / "scene.toml"
     scene.write_text(SCENE_TEXT.format(mechanism="plane", dims="{ a = 6, b = 2, c = 7, d = 9 }",
                                        precision="basic", panels=panels_text(*panels)))
@@ -473,8 +476,8 @@ def test_the_basic_numbers_are_pc_basic_s(name, case, tmp_path):
     asked = dict(zip(menu[1], map(float, answers)))
     assert {("ksi" if k == "skew" else k): v for k, v in asked.items()} == scene.dimensions
     start, stop, step = map(float, answers[-4:-1])
-    twin = dataclasses.replace(scene, start=start, stop=stop, step=step,
-                               branches=(int(answers[-1]),), precisions=("basic",))
+    twin = scene._replace(start=start, stop=stop, step=step,
+                          branches=(int(answers[-1]),), precisions=("basic",))
     linkage.compute_scene(twin, str(tmp_path))
     written = sorted(n for n in os.listdir(tmp_path) if n.endswith(".DAT"))
     assert written == sorted(["ANG.DAT", "VEL.DAT", "ACC.DAT"][:scene.derivatives + 1])

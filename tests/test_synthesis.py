@@ -17,7 +17,6 @@
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import io
 import math
 import os
@@ -581,7 +580,7 @@ def test_fourb_fg2_1_checks_the_turn_not_the_turn_modulo_360(u1, u2, u3, u4, u5,
     except s.DesignError:
         return
     assert not s.misses(design)
-    moved = dataclasses.replace(design, data=dict(design.data, psij=psij + turn))
+    moved = design._replace(data=dict(design.data, psij=psij + turn))
     assert [c.name for c in s.misses(moved)] == ["rotation_1_to_2"]
 
 
