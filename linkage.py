@@ -2684,13 +2684,20 @@ class Linkage:
 
 # -- the double-precision sweeps ------------------------------------------------------------------
 
-def _cos_sin_all(phis: list[float]) -> tuple[list[float], list[float]]:
-    """cos_sin_degrees of each angle, as a list of cosines and one of sines (one loop: the
-    sweeps' speed)."""
+def _sweep_four_bar(linkage: Linkage, phis: list[float], sign: float, level: int) -> list[Motion]:
+    """The four-bar loop: psi on branch `sign` (+1: dE/dpsi > 0) from P cos psi + Q sin psi = -S,
+    psi' = -E_phi / E_psi and psi'' = -(E_phiphi + 2 E_phipsi psi' + E_psipsi psi'^2) / E_psi,
+    with E_psi = sign sqrt(D), D = P^2 + Q^2 - S^2, and E_psipsi = S on the root."""
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = linkage._constants
+    precise_below = linkage._precise_below
+    hypot, sqrt, atan2 = math.hypot, math.sqrt, math.atan2
+    deg, new = _DEG, tuple.__new__
+    out: list[Motion] = []
+    append = out.append
     fmod, cos, sin, rad = math.fmod, math.cos, math.sin, _RAD
-    cs: list[float] = []
-    ss: list[float] = []
     for phi in phis:
+        # cos_sin_degrees inline, as in _sweep_slider (a helper shared by both loops costs 7-10 %
+        # of the sweep: bench engine, side by side)
         r = fmod(phi, 360.0)
         n = round(r / 90.0)
         y = (r - 90.0 * n) * rad
@@ -2704,22 +2711,6 @@ def _cos_sin_all(phis: list[float]) -> tuple[list[float], list[float]]:
             c, s = -cy, -sy
         else:
             c, s = sy, -cy
-        cs.append(c)
-        ss.append(s)
-    return cs, ss
-
-
-def _sweep_four_bar(linkage: Linkage, phis: list[float], sign: float, level: int) -> list[Motion]:
-    """The four-bar loop: psi on branch `sign` (+1: dE/dpsi > 0) from P cos psi + Q sin psi = -S,
-    psi' = -E_phi / E_psi and psi'' = -(E_phiphi + 2 E_phipsi psi' + E_psipsi psi'^2) / E_psi,
-    with E_psi = sign sqrt(D), D = P^2 + Q^2 - S^2, and E_psipsi = S on the root."""
-    p0, pc, ps, q0, qc, qs, s0, sc, ss = linkage._constants
-    precise_below = linkage._precise_below
-    hypot, sqrt, atan2 = math.hypot, math.sqrt, math.atan2
-    deg, new = _DEG, tuple.__new__
-    out: list[Motion] = []
-    append = out.append
-    for phi, c, s in zip(phis, *_cos_sin_all(phis)):
         xp, xq, xs = pc * c + ps * s, qc * c + qs * s, sc * c + ss * s
         p, q, sv = p0 + xp, q0 + xq, s0 + xs
         rr = hypot(p, q)
@@ -2763,7 +2754,23 @@ def _sweep_slider(linkage: Linkage, phis: list[float], sign: float, level: int) 
     new = tuple.__new__
     out: list[Motion] = []
     append = out.append
-    for phi, c, s in zip(phis, *_cos_sin_all(phis)):
+    fmod, cos, sin, rad = math.fmod, math.cos, math.sin, _RAD
+    for phi in phis:
+        # cos_sin_degrees inline, as in _sweep_four_bar (a helper shared by both loops costs 7-10 %
+        # of the sweep: bench engine, side by side)
+        r = fmod(phi, 360.0)
+        n = round(r / 90.0)
+        y = (r - 90.0 * n) * rad
+        cy, sy = cos(y), sin(y)
+        n &= 3
+        if n == 0:
+            c, s = cy, sy
+        elif n == 1:
+            c, s = -sy, cy
+        elif n == 2:
+            c, s = -cy, -sy
+        else:
+            c, s = sy, -cy
         xm, xk = mc * c + ms * s, kc * c + ks * s
         m, q = m0 + xm, k0 + xk
         dist = hypot(u0 + uc * c + us * s, v0 + vc * c + vs * s)
