@@ -968,38 +968,6 @@ def _digits(x: float) -> tuple[str, int]:
     return digits, len(digits) + k
 
 
-_POWERS = tuple(10.0 ** j for j in range(23))      # exact doubles (5**22 < 2**53)
-
-
-def _digits_by_powers(ax: float) -> tuple[str, int] | None:
-    """_digits's loop in one multiplication where that is certain: E = |x|*10**j exactly (in
-    double, to 2**-53) for the j the loop takes, and the register's value after j of its
-    steps is within j*0.875 units of its 2**-31 of E (each step: the two bits the aligned x
-    loses, the sticky bit, the carry's dropped bit). So when E is clear of what decides (the
-    loop's stopping bound, a power of two, a half of the 24-bit rounding unit) by more than
-    that, the register's rounded 24 bits are E's rounded, and the digits floor(q*u + .5).
-    None: too near; the loop decides."""
-    j = math.ceil(5.99999997 - math.log10(ax))
-    if j < 0:
-        j = 0
-    E = ax * _POWERS[j]
-    if E < 999999.9375:
-        j += 1
-        E *= 10.0
-    slack = (j + 1) * 2.0 ** -30
-    if not 999999.9375 * (1 + slack) <= E < 9999999.375 * (1 - slack):
-        return None
-    f, e = _frexp(E)
-    if not 0.5 + slack <= f < 1 - slack:
-        return None
-    q = f * 16777216.0
-    half = q - math.floor(q) - 0.5
-    if -slack * q <= half <= slack * q:
-        return None
-    digits = str(int(_ldexp(math.floor(q + 0.5), e - 24) + 0.5))
-    return digits, len(digits) - j
-
-
 def _text(x: float) -> str:
     """The digits of x without sign or padding, as PRINT and WRITE show them."""
     if x == 0:
@@ -9520,7 +9488,7 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
     return 0
 
 
-CLIPPED = "clipped"     # run --csv in basic precision: VEL or ACC written as +-3 (ERRATA K9)
+CSV_CLIPPED = "clipped"     # run --csv in basic precision: VEL or ACC written as +-3 (ERRATA K9)
 
 
 def _basic_csv(args: argparse.Namespace, answers: list[str], where: str,
@@ -9539,7 +9507,7 @@ def _basic_csv(args: argparse.Namespace, answers: list[str], where: str,
             [phi for phi, _ in ang], int(args.branch), derivatives=0)]
     except ValueError:                          # dimensions the engine refuses (a 0 link)
         statuses = ["unknown"] * len(ang)
-    rows = ((phi, psi, v, a, CLIPPED if status == ASSEMBLED and 3.0 in (abs(v), abs(a))
+    rows = ((phi, psi, v, a, CSV_CLIPPED if status == ASSEMBLED and 3.0 in (abs(v), abs(a))
              else status) for (phi, psi), (_, v), (_, a), status in zip(ang, vel, acc, statuses))
     return write_csv(args.csv, rows, outputs=outputs)
 

@@ -6,6 +6,7 @@ tests; tests/test_bench.py runs its benchmarks so)."""
 from __future__ import annotations
 
 import ast
+import builtins
 import re
 import subprocess
 import sys
@@ -257,3 +258,80 @@ def test_the_annotation_test_can_fail():
              "# ---- 9. Benchmarks ---", "def later(x):", "    return x"]
     found = unannotated(lines, ast.parse("\n".join(lines)), numbers=(5, 6, 7, 8))
     assert found == ["reach (2): x, rest", "K.m (9): y, return"]
+
+
+# A name a docstring mentions as code: `name` in backquotes, or name() with empty parentheses.
+MENTION = re.compile(r"`([A-Za-z_]\w*(?:\.[A-Za-z_]\w*)*)(?:\(\))?`|"
+                     r"(?<![\w.$])([A-Za-z_]\w*(?:\.[A-Za-z_]\w*)*)\(\)")
+NOT_PYTHON = {"fg"}         # the shell's command (single_keys: Ctrl-Z, then `fg`)
+
+
+def unknown_mentions(tree=TREE) -> list[str]:
+    """The names docstrings mention that the program nowhere has: each must be a name it
+    defines, binds or uses (a function, class, method, attribute, parameter, variable), a
+    string it uses (a command, a column, an extra), a builtin or a standard module; a dotted
+    name's last part an attribute of what its first part names (a class, module or module
+    of the standard library) or, failing that, one the program defines. BASIC's upper-case
+    functions (TAN(), CVS) are the listing's."""
+    known: set[str] = set(dir(builtins)) | set(sys.stdlib_module_names) | NOT_PYTHON
+    documented = [n for n in ast.walk(tree) if isinstance(
+        n, (ast.Module, ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef))]
+    docstrings = {id(n.body[0].value) for n in documented if ast.get_docstring(n) is not None}
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            known.add(node.name)
+        elif isinstance(node, ast.Name):
+            known.add(node.id)
+        elif isinstance(node, ast.arg):
+            known.add(node.arg)
+        elif isinstance(node, ast.Attribute):
+            known.add(node.attr)
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and \
+                id(node) not in docstrings:
+            known.update(re.findall(r"[A-Za-z_]\w*", node.value))
+    found = []
+    for node in documented:
+        for m in MENTION.finditer(ast.get_docstring(node, clean=False) or ""):
+            first, *rest = (m[1] or m[2]).split(".")
+            if re.fullmatch(r"[A-Z]{2,6}", first):
+                continue
+            owner = getattr(linkage, first, None) or sys.modules.get(first)
+            if first not in known or (rest and not hasattr(owner, rest[-1])
+                                      and rest[-1] not in known):
+                found.append(f"{getattr(node, 'name', 'module')} ({getattr(node, 'lineno', 1)})"
+                             f": {m[1] or m[2]}")
+    return found
+
+
+def test_the_names_docstrings_mention_exist():
+    """Every docstring names only what is there (a `commit()` promised where the method is
+    finish() is found)."""
+    assert unknown_mentions() == []
+
+
+def test_the_mention_test_can_fail():
+    """A made-up docstring that promises commit() and `Temporary.close_all` is caught; one that
+    names finish() and `os.replace`, both real, is not."""
+    tree = ast.parse('class T:\n    """Write, then commit(); see `Temporary.close_all`, finish() and'
+                     ' `os.replace`."""\n    def finish(self):\n        pass\n')
+    assert unknown_mentions(tree) == ["T (1): commit", "T (1): Temporary.close_all"]
+
+
+def test_no_module_level_name_is_bound_twice():
+    """One name per thing: a second `CLIPPED = ...` in a later section silently replaced the
+    first for every function that read it (a figure's legend said 'accelerationclipped')."""
+    bound = {}
+    twice = []
+    for node in TREE.body:
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            names = [node.name]
+        elif isinstance(node, (ast.Assign, ast.AnnAssign)):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            names = [n.id for t in targets for n in ast.walk(t) if isinstance(n, ast.Name)]
+        else:
+            continue
+        for name in names:
+            if name in bound:
+                twice.append(f"{name} ({bound[name]}, {node.lineno})")
+            bound[name] = node.lineno
+    assert twice == []

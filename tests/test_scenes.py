@@ -208,6 +208,15 @@ def test_the_figure_says_where_the_original_clipped(drawn):
     assert ("basic clipped at +-3" in text.splitlines()[-1]) == touches
 
 
+def test_the_clipped_curve_is_named_so_in_the_legend(tmp_path):
+    """Fig. 3's basic acceleration touches -3 at phi = 180 (the listing's spike, clipped): its
+    legend entry says so; the velocity, which stays within 1, does not."""
+    scene = linkage.load_scene(str(ROOT / "data" / "scenes" / "fig3-plane-four-bar.toml"))
+    figure = linkage.scene_figure(scene, linkage.compute_scene(scene, str(tmp_path)))
+    assert [c.label for p in figure.panels for c in p.curves] == [
+        "displacement", "velocity", "acceleration (clipped at +-3)"]
+
+
 # ---- the text plot puts the curve in the right cells -----------------------------------------
 
 def read_axes(text: str):
