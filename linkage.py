@@ -17,7 +17,7 @@ writes under PC-BASIC 2.0.8 given the same keystrokes, and so is the screen tran
 in GW-BASIC's own single precision (tests/test_port.py holds the port to all 44 golden cases,
 tests/test_differential.py to random sessions). Deviations from the original are marked
 `# ERRATA Pn` here and listed in legacy_basic/ERRATA.md, Part 3: only where the original would
-hang or lose data (P1-P6).
+hang or lose data (P1-P7).
 
 Sections, each used only by those after it (its header says which it uses): 1. files,
 messages and the terminal (the one writer of files, say, signals, single keys); 2. GW-BASIC
@@ -3056,8 +3056,8 @@ class MotionArrays(NamedTuple):
 
     phi: numpy.ndarray
     output: numpy.ndarray
-    velocity: numpy.ndarray
-    acceleration: numpy.ndarray
+    velocity: numpy.ndarray | None          # None: not asked for
+    acceleration: numpy.ndarray | None
     status: numpy.ndarray
 
     def motions(self) -> list[Motion]:
@@ -3674,8 +3674,8 @@ class CouplerArrays(NamedTuple):
     not asked for), and the MotionArrays status codes."""
     phi: numpy.ndarray
     position: numpy.ndarray
-    velocity: numpy.ndarray
-    acceleration: numpy.ndarray
+    velocity: numpy.ndarray | None          # None: not asked for
+    acceleration: numpy.ndarray | None
     status: numpy.ndarray
 
 
@@ -4627,8 +4627,8 @@ class Stroke(NamedTuple):
 
 
 class Mark(NamedTuple):
-    """A joint on the page: kind "pivot" (on a fixed axis) or "joint" (a moving pin); name is
-    joint_positions()'s."""
+    """A joint on the page: kind "pivot" (on a fixed axis), "joint" (a moving pin) or "point"
+    (a coupler point); name is joint_positions()'s."""
     at: Point
     kind: str
     name: str
@@ -9545,7 +9545,7 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
         if arrays is not None:
             point = coupler_of_arrays(linkage, arrays, *coupler)[1:4] if coupler else ()
             return (transmission_of_arrays(linkage, arrays),) + tuple(
-                a[:, axis] for a in point for axis in range(3))
+                a[:, axis] for a in point if a is not None for axis in range(3))   # all asked
         mus = transmission_of(linkage, swept)
         if not coupler:
             return [(mu,) for mu in mus]
@@ -9568,7 +9568,10 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
                     angles = np.arange(first, last, dtype=np.float64) * step + start
                     arrays: MotionArrays = linkage.sweep_arrays(angles, int(args.branch))
                     assembled += len(angles) - int(np.isnan(arrays.output).sum())
-                    yield SweepColumns(*arrays, extra_columns(None, arrays) if table else ())
+                    assert arrays.velocity is not None and arrays.acceleration is not None
+                    yield SweepColumns(arrays.phi, arrays.output, arrays.velocity,
+                                       arrays.acceleration, arrays.status,
+                                       extra_columns(None, arrays) if table else ())
                 else:
                     angles = [start + i * step for i in range(first, last)]
                     swept = (linkage.sweep(angles, FOLLOW, start=int(args.start_branch or 1))
@@ -9861,8 +9864,21 @@ def _design_outputs(result: Synthesis, args: argparse.Namespace) -> int:
         if path:
             say(f"wrote {path} ({len(drawing.frames)} position{'s' * (len(drawing.frames) > 1)})")
     if args.text:
-        return show_drawing(drawing, frames=len(result.design.positions))
+        if sys.stdout.isatty():
+            return show_drawing(drawing)                  # the whole motion, until q
+        return show_drawing(_positions_drawing(result), frames=len(result.design.positions))
     return 0
+
+
+def _positions_drawing(result: Synthesis) -> Drawing:
+    """The preferred design drawn at its design positions, one frame each: the still frames that
+    design --text prints where its output is not a terminal."""
+    scene = design_scene(result)
+    branch = scene.branches[0]
+    assert isinstance(branch, int)                        # a design's branch: 1 or 2
+    return mechanism_drawing(Linkage(scene.mechanism, **scene.dimensions), scene.marked, branch,
+                             scene.title, f"{MECHANISM_NAMES[scene.mechanism]}; branch {branch}; "
+                             f"the {len(scene.marked)} design positions")
 
 
 ERRATUM = re.compile(r"^### ([EL]\d+)\. Lines? ([0-9, ]+): `(.+)` → `(.+)`$", re.MULTILINE)

@@ -1405,12 +1405,18 @@ def test_design_scene_is_a_scene_file_that_runs(tmp_path):
     assert frames.returncode == 0 and frames.stdout.count("φ = ") == 2, frames.stderr
 
 
-def test_design_text_draws_the_motion(capsys):
-    code, out, _ = _run(capsys, "draglink-1", "--dpsi0", "120", "--mu-min", "45", "--text")
+def test_design_text_piped_draws_the_design_positions(capsys):
+    """Into a pipe, design --text prints one still frame at each design position (a terminal
+    gets the whole motion, animated)."""
+    code, out, _ = _run(capsys, "fourb-fg2-1", "--phij", "60", "--psij", "30", "--phi0", "50",
+                        "--a", "4", "--c", "2", "--text")
     assert code == 0
-    drawn = out.split("mu_max = ")[-1]
-    assert drawn.count("φ = ") == 2                                  # two stills, piped
-    assert "marked: 2" in drawn
+    printed, drawn = out.rsplit("mu_max = ", 1)
+    positions = re.findall(r"^position\d+\.phi = (\S+)$", printed, re.MULTILINE)
+    assert positions == ["50", "110"] * 2               # phi0 and phi0 + phij, both solutions
+    positions = positions[:2]
+    assert re.findall(r"φ = (\S+)°", drawn) == positions
+    assert "the 2 design positions" in drawn
 
 
 @pytest.mark.parametrize("marked, message", [
