@@ -1572,7 +1572,10 @@ def sweep_point(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
     computes each once (sweep_point_fast), about a third fewer operations. What is not the same
     is the screen: a subexpression that overflows says "Overflow" each time it is evaluated. So a
     point that raises any soft error is computed again as the listing writes it
-    (sweep_point_as_listed), and its messages are those."""
+    (sweep_point_as_listed), and its messages are those.
+
+    One point (the tests' and bench's entry); a sweep makes its point function once
+    (sweep_points, as session_sweep does) and calls it at each angle."""
     return sweep_points(co, SOL, S, derivatives)(PHI)
 
 
@@ -1623,7 +1626,8 @@ def sweep_point_fast(co: tuple[Single, ...], PHI: Single, SOL: int, S: Single,
     functions (no Single made: half the time; the literals .5, 2 and 4 by mbf_scaled); the first
     soft error raises _Redo. X-Y is X+(-Y) (mbf_sub); the sums and products commute, so
     U(LOP)^2+1 is 1+U(LOP)^2. Lines 1130-1140 are computed for PSI(SOL) only: ATN is within
-    +-PI/2, so the other PSI can raise no soft error."""
+    +-PI/2, so the other PSI can raise no soft error; and the root not written only where it
+    could (_quiet_root). A sweep runs the same _point_fast through sweep_points."""
     return _point_fast(_sweep_constants(co, derivatives), PHI.v, SOL, S.v, derivatives)
 
 
@@ -2330,8 +2334,8 @@ STOPPED = "stopped"              # branch="follow" only: the followed motion end
 #                                  the linkage does not assemble, or its output link is free):
 #                                  all None
 
-_RAD = math.pi / 180.0
-_DEG = 180.0 / math.pi
+RAD = math.pi / 180.0            # radians per degree
+DEG = 180.0 / math.pi            # degrees per radian
 _PRECISE_BELOW = 2.0 ** -12      # relative discriminant under which a point is done in decimal
 _DECIMAL = decimal.Context(prec=50, Emin=-10 ** 6, Emax=10 ** 6)
 _DECIMAL_FINE = decimal.Context(prec=110, Emin=-10 ** 6, Emax=10 ** 6)   # near a change point
@@ -2371,7 +2375,7 @@ def cos_sin_degrees(x: float) -> tuple[float, float]:
     """cos and sin of x degrees (a float), reduced exactly in degrees: exact at multiples of 90."""
     r = math.fmod(x, 360.0)                 # exact
     n = round(r / 90.0)
-    y = (r - 90.0 * n) * _RAD               # |r - 90 n| <= 45: the subtraction is exact
+    y = (r - 90.0 * n) * RAD               # |r - 90 n| <= 45: the subtraction is exact
     c, s = math.cos(y), math.sin(y)
     return ((c, s), (-s, c), (-c, -s), (s, -c))[n & 3]
 
@@ -2659,10 +2663,10 @@ def _sweep_four_bar(linkage: Linkage, phis: list[float], sign: float, level: int
     p0, pc, ps, q0, qc, qs, s0, sc, ss = linkage._constants
     precise_below = linkage._precise_below
     hypot, sqrt, atan2 = math.hypot, math.sqrt, math.atan2
-    deg, new = _DEG, tuple.__new__
+    deg, new = DEG, tuple.__new__
     out: list[Motion] = []
     append = out.append
-    fmod, cos, sin, rad = math.fmod, math.cos, math.sin, _RAD
+    fmod, cos, sin, rad = math.fmod, math.cos, math.sin, RAD
     for phi in phis:
         # cos_sin_degrees inline, as in _sweep_slider (a helper shared by both loops costs 7-10 %
         # of the sweep: bench engine, side by side)
@@ -2722,7 +2726,7 @@ def _sweep_slider(linkage: Linkage, phis: list[float], sign: float, level: int) 
     new = tuple.__new__
     out: list[Motion] = []
     append = out.append
-    fmod, cos, sin, rad = math.fmod, math.cos, math.sin, _RAD
+    fmod, cos, sin, rad = math.fmod, math.cos, math.sin, RAD
     for phi in phis:
         # cos_sin_degrees inline, as in _sweep_four_bar (a helper shared by both loops costs 7-10 %
         # of the sweep: bench engine, side by side)
@@ -2837,7 +2841,7 @@ _Followed = tuple[float, float, float, float, int, bool]
 def _follow_state(linkage: Linkage, m: Motion, label: int) -> _Followed:
     """The followed position of a Motion on branch `label`."""
     output, velocity, acceleration = _known(m)
-    y = output if linkage.is_slider else output * _RAD
+    y = output if linkage.is_slider else output * RAD
     return (m.phi, y, velocity, acceleration, label, m.status == CHANGE_POINT)
 
 
@@ -2871,14 +2875,14 @@ def _follow_step(linkage: Linkage, state: _Followed, phi: float,
     if status not in (ASSEMBLED, CHANGE_POINT):
         return None, here[0]
     phi0, y0, v0, a0, label0, crossing0 = state
-    h = (phi - phi0) * _RAD
+    h = (phi - phi0) * RAD
     misfits = []
     for label, m in enumerate(here, 1):
         y1, v1, a1 = _known(m)
         if linkage.is_slider:
             step = y1 - y0
         else:
-            step = math.remainder(y1 * _RAD - y0, 2.0 * math.pi)
+            step = math.remainder(y1 * RAD - y0, 2.0 * math.pi)
         misfit = (abs(step - 0.5 * h * (v0 + v1) + h * h * (a1 - a0) / 12.0)
                   + abs(h) * abs(v1 - v0 - 0.5 * h * (a0 + a1)))
         misfits.append((misfit, label, step, v1, a1, m))
@@ -2930,7 +2934,7 @@ def _four_bar_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None,
     root = Decimal(0) if dead else disc.sqrt()
     sn = -q * sv - sign * p * root
     cn = -p * sv + sign * q * root
-    psi = math.atan2(float(sn), float(cn)) * _DEG
+    psi = math.atan2(float(sn), float(cn)) * DEG
     if psi == -180.0:
         psi = 180.0
     cp, sp = cn / r2, sn / r2
@@ -3096,7 +3100,7 @@ def _fast_cos_sin(np, phi, reduce, w):
     np.rint(n, out=n)                       # half to even, as round() does
     y = np.multiply(n, 90.0, out=w["y"])
     np.subtract(r, y, out=y)
-    np.multiply(y, _RAD, out=y)
+    np.multiply(y, RAD, out=y)
     cy, sy = np.cos(y, out=w["cy"]), np.sin(y, out=w["sy"])
     lo, hi = n.min(), n.max()
     if lo == hi:                            # one quarter turn for the whole block (the usual)
@@ -3205,7 +3209,7 @@ def _fast_four_bar(np, k, c, s, sign, level, res, w):
     (np.subtract if sign > 0 else np.add)(cn, qr, out=cn)
     np.negative(cn, out=cn)
     psi = np.arctan2(sn, cn, out=res["output"])
-    np.multiply(psi, _DEG, out=psi)
+    np.multiply(psi, DEG, out=psi)
     np.copyto(psi, 180.0, where=np.equal(psi, -180.0, out=w["flag"]))
     if level == 0:
         return
@@ -3607,7 +3611,7 @@ def _transmission_form(kind: str, a: Vec3, p: Vec3, p_q: Vec3, atan2: Callable[[
     """mu in degrees from the pins' positions and the output pin's P_q (see the notes above)."""
     t_r = cross(a if PINS[kind].joint_at_a == "OA" else (0.0, 0.0, 1.0), _sub(p, a))
     normal = cross(p_q, t_r)
-    return atan2(dot(normal, normal) ** 0.5, dot(p_q, t_r)) * _DEG
+    return atan2(dot(normal, normal) ** 0.5, dot(p_q, t_r)) * DEG
 
 
 class CouplerMotion(NamedTuple):
@@ -3661,7 +3665,7 @@ def _cos_sin_degrees_array(np, x):
     with np.errstate(invalid="ignore"):
         r = np.fmod(x, 360.0)
         n = np.rint(r / 90.0)
-        y = (r - 90.0 * n) * _RAD
+        y = (r - 90.0 * n) * RAD
         quarter = np.nan_to_num(n).astype(np.intp) & 3
     cy, sy = np.cos(y), np.sin(y)
     tc, ts = np.take(_QUARTER_COS, quarter), np.take(_QUARTER_SIN, quarter)
@@ -5970,10 +5974,10 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
 # transmission-angle extremes. Corrections to the review are marked `# ERRATUM Sn` and justified
 # in SYNTHESIS_ERRATA.md.
 #
-# Uses: section 5 (the engine checks every design; the command line draws a design).
+# Uses: section 5 (the engine checks every design). The design command's tables (METHODS, their
+# help) are here, beside the methods; the command line (section 10) builds the parser from them.
 
 
-_R = math.pi / 180.0                    # radians per degree
 MU_MARGIN = 0.1     # degrees: a design whose transmission angle comes this close to 0 or 180 is
 #                     at a dead centre for all practical purposes (and ill-conditioned): refused
 
@@ -6030,7 +6034,7 @@ def _require_margin(mu_min: float, mu_max: float, design: Design | None = None) 
 
 def _deg(x: float) -> float:
     """Radians to degrees."""
-    return x / _R
+    return x / RAD
 
 
 def _wrap(angle: float) -> float:
@@ -6262,8 +6266,8 @@ def slider_crank_from_review(r: float, l: float, epsilon: float, branch: int = 1
 def _branch_at(link: FourBar, phi: float, psi: float) -> int:
     """The engine's branch of a four-bar position (phi, psi in degrees): 1 when the coupler B->D
     turns counter-clockwise from the output link, 2 when clockwise."""
-    bx, by = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
-    ux, uy = math.cos(psi * _R), math.sin(psi * _R)
+    bx, by = link.b * math.cos(phi * RAD), link.b * math.sin(phi * RAD)
+    ux, uy = math.cos(psi * RAD), math.sin(psi * RAD)
     dx, dy = link.a + link.d * ux, link.d * uy
     return 1 if ux * (dy - by) - uy * (dx - bx) > 0 else 2
 
@@ -6288,7 +6292,7 @@ def _cos_transmission(link: FourBar, phi: float) -> float:
     """cos mu by eq. (1), in the review's letters
     cos mu = (b^2 + c^2 - (a^2 + d^2) + 2ad cos phi) / 2bc."""
     a, b, c, d = link.b, link.c, link.d, link.a            # the review's letters
-    return (b * b + c * c - (a * a + d * d) + 2 * a * d * math.cos(phi * _R)) / (2 * b * c)
+    return (b * b + c * c - (a * a + d * d) + 2 * a * d * math.cos(phi * RAD)) / (2 * b * c)
 
 
 def four_bar_transmission_angle(link: FourBar, phi: float) -> float:
@@ -6311,7 +6315,7 @@ def slider_transmission_angle(link: SliderCrank, phi: float) -> float:
     """Eq. (3), crank driving: the angle (degrees) between the rod and the normal to the slider's
     line at crank angle phi (degrees). ERRATUM S9: 90 - arctan(...), not arctan(...) - 90."""
     r, l, epsilon = link.b, link.c, -link.e                # the review's letters
-    h = abs(epsilon + r * math.sin(phi * _R))
+    h = abs(epsilon + r * math.sin(phi * RAD))
     _require(h <= l, f"eq. (3): the rod cannot reach the slider's line at phi = {phi:g}")
     return 90.0 - _deg(math.atan2(h, math.sqrt(l * l - h * h)))
 
@@ -6405,10 +6409,10 @@ def _chen_links(method: str, theta: float, psi: float, theta0: float, psi0: floa
     crank; here b + a and b - a are the distances of the rocker pin from the crank pivot at the
     two dead centres, and a = (|P1|^2 - |P2|^2) / 2(|P1| + |P2|) with
     |P1|^2 - |P2|^2 = 4c sin(psi0 + psi/2) sin(psi/2), which cancels nothing."""
-    t0, t, p, p0 = theta0 * _R, theta * _R, psi * _R, psi0 * _R
-    _require(abs(math.sin(alpha * _R)) > 1e-12,
+    t0, t, p, p0 = theta0 * RAD, theta * RAD, psi * RAD, psi0 * RAD
+    _require(abs(math.sin(alpha * RAD)) > 1e-12,
              f"{method}: sin(psi0 - theta0) = 0: the extended dead centre is degenerate")
-    c = math.sin(t0) / math.sin(alpha * _R)
+    c = math.sin(t0) / math.sin(alpha * RAD)
     pins = ((1.0 + c * math.cos(p0), c * math.sin(p0), t0),
             (1.0 + c * math.cos(p0 + p), c * math.sin(p0 + p), t0 + t))
     # signed distances along the crank's direction at the extended dead centre and the opposite
@@ -6430,18 +6434,18 @@ def fourb_cr_1(theta: float, psi: float, theta0: float) -> Synthesis:
     data = {"theta": theta, "psi": psi, "theta0": theta0}
     check_data(method, data)
     theta0 = _wrap(theta0)
-    t, t0 = theta * _R, theta0 * _R
+    t, t0 = theta * RAD, theta0 * RAD
     # ERRATUM S14: the review's psi0 = atan(n1 (n3 + n4) / (n2 n3 - n1 n5)), n1..n5 sines and
     # cosines of theta0, theta + theta0, psi - theta - theta0, written as alpha = psi0 - theta0
     # with tan(alpha) = sin(theta0) sin(psi - theta) / (sin(theta + theta0)
     # - sin(theta0) cos(psi - theta)), the denominator as sums of products that do not cancel.
     # ERRATUM S11: alpha is fixed modulo 180; alpha + 180 gives the same a and b and c < 0, so
     # take the one with c = sin(theta0) / sin(alpha) > 0.
-    swing_less_theta = (psi - theta) * _R                  # in degrees first: exact when close
+    swing_less_theta = (psi - theta) * RAD                  # in degrees first: exact when close
     alpha = _deg(math.atan2(math.sin(t0) * math.sin(swing_less_theta),
-                            2 * math.cos(math.fsum((theta0, theta / 2)) * _R) * math.sin(t / 2)
+                            2 * math.cos(math.fsum((theta0, theta / 2)) * RAD) * math.sin(t / 2)
                             + 2 * math.sin(t0) * math.sin(swing_less_theta / 2) ** 2))
-    if math.sin(alpha * _R) * math.sin(t0) < 0:
+    if math.sin(alpha * RAD) * math.sin(t0) < 0:
         alpha = alpha + 180.0 if alpha <= 0 else alpha - 180.0
     psi0 = _wrap(theta0 + alpha)
     a, b, c = _chen_links(method, theta, psi, theta0, psi0, alpha)
@@ -6458,14 +6462,14 @@ def fourb_cr_2(theta: float, psi: float, psi0: float) -> Synthesis:
     data = {"theta": theta, "psi": psi, "psi0": psi0}
     check_data(method, data)
     psi0 = _wrap(psi0)
-    p = psi * _R
+    p = psi * RAD
     # ERRATUM S1: the printed m2 and m0 are exchanged: with x = tan(theta0) the quadratic is
     # m2 x^2 + m1 x + m0 = 0, m2 = cos psi0 cos thetaf - cos y, m0 = -sin psi0 sin thetaf.
     # ERRATUM S14: its coefficients cancel (m2 for a small swing and time ratio); the same
     # equation, sin(theta0) sin(psi + psi0 - theta - theta0) = sin(theta + theta0)
     # sin(psi0 - theta0), is sin(2 theta0 + theta - psi0 - psi/2) = K with
     # K = sin(psi0 + psi/2) sin(theta - psi/2) / sin(psi/2), solved in closed form.
-    k = (math.sin(math.fsum((psi0, psi / 2)) * _R) * math.sin(math.fsum((theta, -psi / 2)) * _R)
+    k = (math.sin(math.fsum((psi0, psi / 2)) * RAD) * math.sin(math.fsum((theta, -psi / 2)) * RAD)
          / math.sin(p / 2))
     _require(abs(k) <= 1.0 + 1e-12,
              f"{method}: no extended dead centre: sin(2 theta0 + theta - psi0 - psi/2) = "
@@ -6530,11 +6534,11 @@ def fourb_cr_3(theta: float, psi: float) -> Synthesis:
     method = "FOURB-CR-3"
     data = {"theta": theta, "psi": psi}
     check_data(method, data)
-    p = psi * _R
+    p = psi * RAD
     # ERRATUM S14: t = tan(theta_f / 2) and u = tan((theta_f - psi) / 2), theta_f = 180 + theta,
     # as -cot(theta/2) and -cot((theta - psi)/2): 180 + theta loses the digits of a small theta;
     # likewise sin(theta_f/2) = cos(theta/2), cos(theta_f/2) = -sin(theta/2) below.
-    h, g = theta / 2 * _R, (theta - psi) / 2 * _R
+    h, g = theta / 2 * RAD, (theta - psi) / 2 * RAD
     t = -1.0 / math.tan(h)
     u = -math.cos(g) / math.sin(g) if math.sin(g) else math.inf      # theta = psi: u infinite
     solutions, rejected = [], []
@@ -6597,15 +6601,15 @@ def _centric(psi: float, mu_min: float) -> tuple[float, float, float, float, flo
     (1 - b^2 in FOURB-CR-4, the denominator of eqs. 6a-6b), and the extended dead centre
     (theta0, psi0): the rocker's chord between the dead centres of a centric crank-rocker passes
     through the crank pivot, so tan(theta0) = sqrt(D) / sin h and psi0 = theta0 + 90 - psi/2."""
-    h = psi / 2 * _R
-    cos_h = math.sin((90.0 - psi / 2) * _R)                  # 90 - psi/2 exact for psi near 180
+    h = psi / 2 * RAD
+    cos_h = math.sin((90.0 - psi / 2) * RAD)                  # 90 - psi/2 exact for psi near 180
     # m + h near 90 is the degenerate end (rocker c -> 0): sin(90 - psi/2 - mu_min), its
     # argument summed exactly (fsum), not cos(m + h)
-    big_d = (math.sin(math.fsum((90.0, -psi / 2, mu_min)) * _R)
-             * math.sin(math.fsum((90.0, -psi / 2, -mu_min)) * _R))
+    big_d = (math.sin(math.fsum((90.0, -psi / 2, mu_min)) * RAD)
+             * math.sin(math.fsum((90.0, -psi / 2, -mu_min)) * RAD))
     _require(big_d > 0, f"cos(mu_min - psi/2) cos(mu_min + psi/2) = {big_d:.6g} is not positive")
     theta0 = _deg(math.atan2(math.sqrt(big_d), math.sin(h)))
-    cos_m = math.sin(math.fsum((90.0, -mu_min)) * _R)         # keeps its digits near 90
+    cos_m = math.sin(math.fsum((90.0, -mu_min)) * RAD)         # keeps its digits near 90
     return math.sin(h), cos_h, cos_m, big_d, theta0, theta0 + 90.0 - psi / 2
 
 
@@ -6669,7 +6673,7 @@ def draglink_1(dpsi0: float, mu_min: float) -> Synthesis:
     method = "DRAGLINK-1"
     data = {"dpsi0": dpsi0, "mu_min": mu_min}
     check_data(method, data)
-    dp, m = dpsi0 * _R, mu_min * _R
+    dp, m = dpsi0 * RAD, mu_min * RAD
     c = 1.0
     # ERRATUM S3: b = c sqrt(sin dpsi0 / sin(dpsi0 - 2 mu_min)); the print has dpsi0 - mu_min.
     ratio = math.sin(dp) / math.sin(dp - 2 * m) if math.sin(dp - 2 * m) else -1.0
@@ -6708,12 +6712,12 @@ def draglink_1(dpsi0: float, mu_min: float) -> Synthesis:
 def _draglink_2_links(dphi: float, dpsi: float, lam: float) -> tuple[float, float, float]:
     """DRAGLINK-2's link ratios a/d, b/d, c/d for lambda = b/d, coupler / frame (ERRATUM S4), by
     step 5 with epsilon = lambda / ut (the same as the procedure without optimisation)."""
-    dl = (dphi - dpsi) * _R
-    t, u = math.tan(dphi * _R / 2), math.tan(dpsi * _R / 2)
+    dl = (dphi - dpsi) * RAD
+    t, u = math.tan(dphi * RAD / 2), math.tan(dpsi * RAD / 2)
     eps = lam / (u * t)
-    a = math.sin(dpsi * _R / 2) / math.sin(dl / 2) * math.sqrt(1 + t * t * eps * eps)
+    a = math.sin(dpsi * RAD / 2) / math.sin(dl / 2) * math.sqrt(1 + t * t * eps * eps)
     b = u * t * eps
-    c = math.sin(dphi * _R / 2) / math.sin(dl / 2) * math.sqrt(1 + u * u * eps * eps)
+    c = math.sin(dphi * RAD / 2) / math.sin(dl / 2) * math.sqrt(1 + u * u * eps * eps)
     return a, b, c
 
 
@@ -6726,7 +6730,7 @@ def draglink_2(dphi: float, dpsi: float, lam: float | None = None) -> Synthesis:
     data = {"dphi": dphi, "dpsi": dpsi} if lam is None else {"dphi": dphi, "dpsi": dpsi,
                                                              "lambda": lam}
     check_data(method, dict(data, lam=lam))
-    t, u = math.tan(dphi * _R / 2), math.tan(dpsi * _R / 2)
+    t, u = math.tan(dphi * RAD / 2), math.tan(dpsi * RAD / 2)
     if lam is None:
         # ERRATUM S13: lambda = t / sqrt(x) is negative for dphi > 180 (t < 0), and b/d = lambda
         # with it; the lengths depend on lambda^2 but b: take |lambda| (FOURB-CR-3 takes |b|).
@@ -6758,16 +6762,16 @@ def _draglink_2_design(method: str, data: Data, dphi: float, dpsi: float, lam: f
     # in a sine) and dmu_max = max(|dmu_1|, |dmu_2|) (the print: max(mu_1, mu_2)).
     dmu = [_deg(math.asin(max(-1.0, min(1.0, (a * a + d * d - b * b - c * c + s * 2 * d * a)
                                         / (2 * b * c))))) for s in (1, -1)]
-    dl = (dphi - dpsi) * _R
-    r = -b * math.cos(dpsi * _R / 2) / (a * math.sin(dl / 2))
-    s = -d * math.sin(dpsi * _R / 2) / (a * math.sin(dl / 2))
+    dl = (dphi - dpsi) * RAD
+    r = -b * math.cos(dpsi * RAD / 2) / (a * math.sin(dl / 2))
+    s = -d * math.sin(dpsi * RAD / 2) / (a * math.sin(dl / 2))
     phi1 = (_deg(math.atan2(r, s)) - dphi / 2) % 360.0
     review.update(dmu_1=dmu[0], dmu_2=dmu[1], dmu_max=max(abs(x) for x in dmu), phi1=phi1)
     # At a unit-velocity-ratio position the coupler is parallel to the frame: the output pin is
     # the crank pin moved by the coupler along the frame line.
     positions = []
     for phi in (phi1, phi1 + dphi):
-        px, py = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
+        px, py = link.b * math.cos(phi * RAD), link.b * math.sin(phi * RAD)
         pin = min(((px + sign * link.c, py) for sign in (1, -1)),
                   key=lambda q: abs(math.hypot(q[0] - link.a, q[1]) - link.d))
         _require(abs(math.hypot(pin[0] - link.a, pin[1]) - link.d) < 1e-9 * link.d,
@@ -6830,7 +6834,7 @@ def _output_turn(link: FourBar, phi_from: float, phi_to: float, psi_from: float,
     180 only where coupler and output are in line) and so changes by less than 180."""
     def diagonal(phi: float) -> float:
         """arg(B - O4) less the part that turns with the crank (b >= a) or less 180 (b < a)."""
-        x, y = math.cos(phi * _R), math.sin(phi * _R)
+        x, y = math.cos(phi * RAD), math.sin(phi * RAD)
         if link.b >= link.a:
             return _deg(math.atan2(link.a * y, link.b - link.a * x))
         return _deg(math.atan2(-link.b * y, link.a - link.b * x))
@@ -6858,12 +6862,12 @@ def fourb_fg2_1(phij: float, psij: float, phi0: float, a: float, c: float) -> Sy
     method = "FOURB-FG2-1"
     data = {"phij": phij, "psij": psij, "phi0": phi0, "a": a, "c": c}
     check_data(method, data)
-    xi, ej = phij * _R / 2, psij * _R / 2
+    xi, ej = phij * RAD / 2, psij * RAD / 2
     r_a = math.sin(ej) / math.sin(xi - ej)
     r_b = math.sin(xi) / math.sin(xi - ej)
     # ERRATUM S12: steps 3-5 multiplied through by cos(phi0), which the printed a1, b1, c1 divide
     # by, so that phi0 = 90 is no singularity: a1 sin psi0 + b1 cos psi0 + c1 = 0 with
-    f0 = phi0 * _R
+    f0 = phi0 * RAD
     a1 = r_a * math.cos(ej) / a + math.cos(f0 + xi - ej)
     b1 = r_a * math.sin(ej) / a - math.sin(f0 + xi - ej)
     c1 = -r_b / c * math.sin(f0 + xi)
@@ -6882,7 +6886,7 @@ def fourb_fg2_1(phij: float, psij: float, phi0: float, a: float, c: float) -> Sy
     solutions, rejected = [], []
     for psi0 in sorted({_wrap(_deg(alpha - base)), _wrap(_deg(math.pi - alpha - base))}):
         xa, ya = a * math.cos(f0), a * math.sin(f0)
-        xb, yb = 1.0 + c * math.cos(psi0 * _R), c * math.sin(psi0 * _R)
+        xb, yb = 1.0 + c * math.cos(psi0 * RAD), c * math.sin(psi0 * RAD)
         b = math.hypot(xb - xa, yb - ya)
         try:
             _require_lengths(b_coupler=b, a_crank=a, c_output=c, d_frame=1.0)
@@ -6942,7 +6946,7 @@ def fourb_fg3_1(phi: Sequence[float], psi: Sequence[float]) -> Synthesis:
     phis, psis = list(phi), list(psi)
     data = {"phi1": phis[0], "phi2": phis[1], "phi3": phis[2],
             "psi1": psis[0], "psi2": psis[1], "psi3": psis[2]}
-    f, p = [x * _R for x in phis], [x * _R for x in psis]
+    f, p = [x * RAD for x in phis], [x * RAD for x in psis]
     matrix = [[math.cos(f[i]), math.cos(p[i]), -1.0] for i in range(3)]
     rhs = [math.cos(f[i] - p[i]) for i in range(3)]
     try:
@@ -6984,7 +6988,7 @@ def _slider_design(method: str, data: Data, s1: float, s2: float, theta1: float,
                    review: dict[str, float]) -> Design:
     """Chen's slider-crank from its dead-centre positions (step 4 of SLID-FG2-1, step 1 of
     SLID-FG2-2): crank r, rod l, checks, conversion to the paper's letters."""
-    c1, c2 = math.cos(theta1 * _R), math.cos(theta2 * _R)
+    c1, c2 = math.cos(theta1 * RAD), math.cos(theta2 * RAD)
     _require(abs(c1) > 1e-12 and abs(c2) > 1e-12, f"{method}: cos(theta1) or cos(theta2) is 0")
     far, near = s1 / c1, s2 / c2          # pivot-to-pin distances l + r and l - r
     _require(far > 0 and near > 0, f"{method}: s1/cos(theta1) = {far:.6g} and s2/cos(theta2) = "
@@ -7011,7 +7015,7 @@ def slid_fg2_1(dtheta: float, ds: float, epsilon: float) -> Synthesis:
     method = "SLID-FG2-1"
     data = {"dtheta": dtheta, "ds": ds, "epsilon": epsilon}
     check_data(method, data)
-    disc = ds * ds - 4 * (epsilon * ds / math.tan(dtheta * _R) + epsilon * epsilon)
+    disc = ds * ds - 4 * (epsilon * ds / math.tan(dtheta * RAD) + epsilon * epsilon)
     _require(disc >= 0, f"{method}: s1 is complex (ds^2 - 4(epsilon ds cot(dtheta) + "
                         f"epsilon^2) = {disc:.6g} < 0)")
     s1 = ds / 2 + math.sqrt(disc) / 2
@@ -7030,10 +7034,10 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
     method = "SLID-FG2-2"
     data = {"theta1": theta1, "theta2": theta2, "s1": s1, "s2": s2}
     check_data(method, data)
-    epsilon = -s1 * math.tan(theta1 * _R)
+    epsilon = -s1 * math.tan(theta1 * RAD)
     # ERRATUM S8: both pins lie on the slider's line y = -epsilon, so the data must have
     # s1 tan(theta1) = s2 tan(theta2); the formulas use only the first.
-    epsilon_2 = -s2 * math.tan(theta2 * _R)
+    epsilon_2 = -s2 * math.tan(theta2 * RAD)
     # compared as the pin's direction at the second (an offset that agrees to 1e-9 of s1 can
     # turn the direction by much more when s2 is small)
     if abs(_wrap(theta2 - _deg(math.atan2(-epsilon, s2)))) > tolerance:
@@ -7095,9 +7099,9 @@ def _output(link: Designed, phi: float) -> float | None:
 def measured_transmission_angle(link: Designed, phi: float, output: float) -> float:
     """The transmission angle (degrees) measured on the positions of the analysed linkage: at the
     coupler-output joint (four-bar); between the rod and the normal to the slider's line."""
-    bx, by = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
+    bx, by = link.b * math.cos(phi * RAD), link.b * math.sin(phi * RAD)
     if isinstance(link, FourBar):
-        dx, dy = link.a + link.d * math.cos(output * _R), link.d * math.sin(output * _R)
+        dx, dy = link.a + link.d * math.cos(output * RAD), link.d * math.sin(output * RAD)
         u, v = (bx - dx, by - dy), (link.a - dx, -dy)
         return _deg(math.atan2(abs(u[0] * v[1] - u[1] * v[0]), u[0] * v[0] + u[1] * v[1]))
     wx, wy = output - bx, link.e - by
@@ -7122,9 +7126,9 @@ def _in_line(link: Designed, phi: float) -> float | None:
     out = _output(link, phi)
     if out is None:
         return None
-    bx, by = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
+    bx, by = link.b * math.cos(phi * RAD), link.b * math.sin(phi * RAD)
     if isinstance(link, FourBar):
-        px, py = link.a + link.d * math.cos(out * _R), link.d * math.sin(out * _R)
+        px, py = link.a + link.d * math.cos(out * RAD), link.d * math.sin(out * RAD)
     else:
         px, py = out, link.e
     return bx * (py - by) - by * (px - bx)
@@ -7253,13 +7257,13 @@ def velocity_ratio(link: Designed, phi: float) -> float | None:
     out = _output(link, phi)
     if out is None:
         return None
-    bx, by = link.b * math.cos(phi * _R), link.b * math.sin(phi * _R)
+    bx, by = link.b * math.cos(phi * RAD), link.b * math.sin(phi * RAD)
     if isinstance(link, FourBar):
-        px, py = link.a + link.d * math.cos(out * _R), link.d * math.sin(out * _R)
+        px, py = link.a + link.d * math.cos(out * RAD), link.d * math.sin(out * RAD)
         theta3 = math.atan2(py - by, px - bx)
-        return (link.b * math.sin(phi * _R - theta3)) / (link.d * math.sin(out * _R - theta3))
+        return (link.b * math.sin(phi * RAD - theta3)) / (link.d * math.sin(out * RAD - theta3))
     theta3 = math.atan2(link.e - by, out - bx)
-    return -link.b * math.sin(phi * _R - theta3) / math.cos(theta3) * _R
+    return -link.b * math.sin(phi * RAD - theta3) / math.cos(theta3) * RAD
 
 
 class Check(NamedTuple):
@@ -7419,7 +7423,7 @@ def conditioning(design: Design) -> float:
     """How much the tolerances grow for a near-locking design, whose transmission angle comes
     within 1 degree of 0 or 180: its positions are ill-conditioned, as 1 / sin(mu)."""
     worst = min(design.mu_min, 180.0 - design.mu_max)
-    return max(1.0, math.sin(_R) / max(math.sin(worst * _R), 1e-300))
+    return max(1.0, math.sin(RAD) / max(math.sin(worst * RAD), 1e-300))
 
 
 def rounding_floor(design: Design, checks: list[Check] | None = None) -> dict[str, float]:
@@ -7597,7 +7601,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     return below + step / 2, above - step / 2, step
 
 
-# ---- 8. Scenes and plots: the paper's Figures 3-6 ------------------------------------------------
+# ---- 8. Scenes and plots: the paper's figures and the other scenes -------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a mechanism and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -7609,7 +7613,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # `basic` runs the menu program's own session (run_session, as the `run` command does) and reads
 # back the files it wrote; `double` asks the engine. Each computes only what the panels show: a
 # displacement-only scene runs lines 1060-1150 of the listing and no further
-# (sweep_point(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
+# (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
 # those files are written.
 #
 # Every figure is drawn from DAT files, so `scene` and `plot` draw alike: one series a folder
