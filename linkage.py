@@ -2312,6 +2312,7 @@ LINKAGE_DIMENSIONS = {
 MECHANISM_NAMES = {PLANE_FOUR_BAR: "plane four-bar", SPHERICAL_FOUR_BAR: "spherical four-bar",
                    SKEW_FOUR_BAR: "skew four-bar", PLANE_SLIDER_CRANK: "plane slider-crank",
                    SKEW_SLIDER_CRANK: "skew slider-crank"}
+SLIDER_CRANKS = (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK)     # the rest are four-bars
 DIMENSION_NAMES = {"a": "the fixed link", "b": "the input crank", "c": "the coupler",
                    "d": "the output crank", "e": "the slider offset",
                    "f": "the vertical sector of the fixed link", "ksi": "the skew angle, degrees"}
@@ -2511,7 +2512,7 @@ _CLOSURES = {PLANE_FOUR_BAR: _plane_closure, SKEW_FOUR_BAR: _skew_closure,
 def _size_squared(kind: str, k: Sequence[Any]) -> Any:
     """A bound on the discriminant's terms (its scale), from the closure's constants: exact
     (Fractions) or in the Decimals' context, as they come."""
-    if kind in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK):
+    if kind in SLIDER_CRANKS:
         reach = abs(k[12]) + sum(abs(v) for v in k[6:12])
         return reach * reach
     size = sum(abs(v) for v in k[:9])
@@ -2535,7 +2536,7 @@ class Linkage:
     def __init__(self, kind: str, **dims: float) -> None:
         self.dims = _dims_of(kind, dims)
         self.kind = kind
-        self.is_slider = kind in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK)
+        self.is_slider = kind in SLIDER_CRANKS
         largest = max([abs(v) for k, v in self.dims.items() if k != "ksi"]
                       if kind != SPHERICAL_FOUR_BAR else [0.0])
         self._unit = math.ldexp(1.0, min(math.frexp(largest)[1], 1023)) if largest else 1.0
@@ -8298,7 +8299,7 @@ def scene_figure(scene: Scene, series: list[Series]) -> Figure:
                  ("basic", "double"): "basic and double, overlaid"}[scene.precisions]
     subtitle = (f"{MECHANISM_NAMES[scene.mechanism]}; "
                 f"branch{'es' * (len(scene.branches) > 1)} {branches}; precision {precision}")
-    group = "slider" if scene.mechanism in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK) else "four-bar"
+    group = "slider" if scene.mechanism in SLIDER_CRANKS else "four-bar"
     return build_figure(f"{scene.title}: {dims}", subtitle, group, scene.panels, series)
 
 
@@ -8312,7 +8313,7 @@ def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
              for qs in (("displacement",), ("velocity", "acceleration"), ("transmission",))
              if present & set(qs)]
     group = ("unknown" if mechanism is None else
-             "slider" if mechanism in (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK) else "four-bar")
+             "slider" if mechanism in SLIDER_CRANKS else "four-bar")
     precisions = " and ".join(dict.fromkeys(s.precision or "unknown" for s in series))
     branches = sorted({s.branch for s in series if s.branch}, key=str)
     what = (f"precision {precisions}" + (" (from the number format)" if len(series) == 1 else "")
@@ -10012,7 +10013,7 @@ COMMANDS = {
         "linkage's arcs). " + "; ".join(f"{name}: {' '.join('--' + d for d in dims)}"
                                        for name, (_, dims) in MECHANISM_TYPES.items()) + ".",
         (option("type", type=_mechanism_type, metavar="TYPE",
-                help="plane, spherical, skew, slider, skew-slider (or 1-5)"),
+                help=f"{', '.join(MECHANISM_NAMES)} (or 1-5)"),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
          option("--skew", dest="old_skew", metavar="X", help=argparse.SUPPRESS),
          option("--from", dest="start", required=True, metavar="P1",
@@ -10058,7 +10059,7 @@ COMMANDS = {
         "transmission angle's extremes with the crank angles where they occur, and the dead "
         "centres and change points: one `name = value` a line. Dimensions as for run.",
         (option("type", type=_mechanism_type, metavar="TYPE",
-                help="plane, spherical, skew, slider, skew-slider (or 1-5)"),
+                help=f"{', '.join(MECHANISM_NAMES)} (or 1-5)"),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
          option("--branch", choices=("1", "2", FOLLOW), default="1",
                 help="the assembly: 1 (A+B, the default), 2 (A-B), or follow (the motion "
@@ -10101,8 +10102,7 @@ COMMANDS = {
         (option("directory", nargs="?", default=".", metavar="DIR",
                 help="the folder of the DAT files, or of folders of them (default: here)"),
          option("--mechanism", type=_mechanism_type, metavar="TYPE",
-                help="plane, spherical, skew, slider or skew-slider (or 1-5): gives the axes "
-                     "their units"),
+                help=f"{', '.join(MECHANISM_NAMES)} (or 1-5): gives the axes their units"),
          *PNG_OPTIONS)),
     "design": Command(
         design_command, "synthesise a linkage by one of the review's methods (python3 "
