@@ -1798,7 +1798,10 @@ def sweep_point_as_listed(co: tuple[Single, ...], PHI: Single, SOL: int, S: Sing
     return _write_lines(angle, ang, M11[SOL - 1].v, M22[SOL - 1].v, derivatives)        # 1200-1330
 
 
-MECHANISM_TYPES = {  # name: (menu key, the dimensions in the order the listing asks for them)
+# name: (menu key, the dimensions in the order the listing asks for them). The names are the
+# engine's kinds (PLANE_FOUR_BAR ...: section 5, which the 1980s program does not use);
+# tests/test_layout.py holds the two to the same five.
+MECHANISM_TYPES = {
     "plane": ("1", ("b", "c", "d", "a")),
     "spherical": ("2", ("b", "c", "d", "a")),
     "skew": ("3", ("b", "c", "d", "a", "f", "ksi")),

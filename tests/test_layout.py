@@ -335,3 +335,11 @@ def test_no_module_level_name_is_bound_twice():
                 twice.append(f"{name} ({bound[name]}, {node.lineno})")
             bound[name] = node.lineno
     assert twice == []
+
+
+def test_the_menus_linkages_are_the_engines_kinds():
+    """MECHANISM_TYPES (the original program's menu, section 3) spells the five kinds itself, as
+    it may not use the engine's constants: the same five names, in the menu's order."""
+    assert list(linkage.MECHANISM_TYPES) == list(linkage.MECHANISM_NAMES) == [
+        linkage.PLANE_FOUR_BAR, linkage.SPHERICAL_FOUR_BAR, linkage.SKEW_FOUR_BAR,
+        linkage.PLANE_SLIDER_CRANK, linkage.SKEW_SLIDER_CRANK]
