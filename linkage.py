@@ -5971,7 +5971,7 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
 # between the positions, and inconsistent dead-centre data (SLID-FG2-2). Where the review's
 # formulas cancel, the same quantities are computed by identities that do not (ERRATUM S14).
 #
-# Checking. Every design can be run through `analyze`, the one adapter to the analysis (the
+# Checking. Every design can be run through `engine_outputs`, the one adapter to the analysis (the
 # accurate engine, never the synthesis formulas), and
 # `analyze_design` measures on the analysed linkage what it really does: rocker swing, crank
 # rotation between the dead centres, the prescribed positions met or missed, the
@@ -6278,7 +6278,9 @@ def _branch_at(link: FourBar, phi: float, psi: float) -> int:
 
 def grashof_type(link: FourBar) -> str:
     """'crank-rocker', 'drag-link', 'double-rocker' (Grashof, coupler shortest), 'rocker-crank',
-    'change-point' (s + l = p + q) or 'triple-rocker' (non-Grashof), with the crank as input."""
+    'change-point' (s + l = p + q) or 'triple-rocker' (non-Grashof), with the crank as input:
+    the review's names, to within 1e-12 of the longest link (analyse's type, exact in the typed
+    lengths, calls a drag-link a double-crank and a triple-rocker a non-Grashof double-rocker)."""
     lengths = sorted((link.a, link.b, link.c, link.d))
     excess = lengths[0] + lengths[3] - lengths[1] - lengths[2]
     if abs(excess) <= 1e-12 * lengths[3]:
@@ -7060,14 +7062,14 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
 
 # -- the analysis adapter ------------------------------------------------------------------------
 
-def analyze(kind: str, dims: dict[str, float], phis: Iterable[float], branch: int = 1
-            ) -> list[float | None]:
+def engine_outputs(kind: str, dims: dict[str, float], phis: Iterable[float], branch: int = 1
+                   ) -> list[float | None]:
     """The adapter to the analysis: output angle psi (degrees, (-180, 180]) of the plane
     four-bar (PLANE_FOUR_BAR, dims a b c d) or slider position x (PLANE_SLIDER_CRANK, dims b c
     e) at each input angle phi (degrees) on branch 1 or 2, computed by the accurate engine; None
     where the linkage cannot be assembled."""
     if kind not in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
-        raise ValueError(f"analyze: kind {kind!r} is neither {PLANE_FOUR_BAR!r} nor "
+        raise ValueError(f"engine_outputs: kind {kind!r} is neither {PLANE_FOUR_BAR!r} nor "
                          f"{PLANE_SLIDER_CRANK!r}")
     linkage = _engine_linkage(kind, tuple(dims[name] for name in LINKAGE_DIMENSIONS[kind]))
     return [m.output if m.status in (ASSEMBLED, DEAD_CENTRE, CHANGE_POINT) else None
@@ -7092,7 +7094,7 @@ def kind_and_dimensions(link: Designed) -> tuple[str, dict[str, float]]:
 def _outputs(link: Designed, phis: Iterable[float]) -> list[float | None]:
     """The analysed output at each input angle (degrees), None where not assembled."""
     kind, dims = kind_and_dimensions(link)
-    return analyze(kind, dims, list(phis), link.branch)
+    return engine_outputs(kind, dims, list(phis), link.branch)
 
 
 def _output(link: Designed, phi: float) -> float | None:

@@ -290,7 +290,7 @@ def test_errata_s6_second_solution_of_fourb_fg2_1():
     assert f"{math.hypot(xb - xa, yb - ya):.6f}" == "4.441984"
     printed = s.FourBar(a=1.0, b=4.0, c=2.441984, d=2.0)
     for branch in (1, 2):
-        out = s.analyze("plane", printed._asdict(), [50.0], branch)[0]
+        out = s.engine_outputs("plane", printed._asdict(), [50.0], branch)[0]
         assert out is None or abs(s._wrap(out - 169.186625)) > 10
 
 
@@ -342,7 +342,7 @@ def test_eq_1_in_the_review_letters_is_the_angle_on_the_paper_linkage(a, b, c, d
     """Eq. (1) typed in the review's letters (a crank, b coupler, c output, d frame, a and d beside
     phi) equals the angle at the coupler-output joint measured on the converted linkage."""
     link = s.four_bar_from_review(a, b, c, d, branch)
-    out = s.analyze("plane", link._asdict(), [phi], branch)[0]
+    out = s.engine_outputs("plane", link._asdict(), [phi], branch)[0]
     assume(out is not None)
     cos_mu = (b * b + c * c - (a * a + d * d) + 2 * a * d * math.cos(phi * R)) / (2 * b * c)
     expected = math.degrees(math.acos(max(-1.0, min(1.0, cos_mu))))
@@ -359,7 +359,7 @@ def test_eq_3_in_the_review_letters_is_the_angle_on_the_paper_slider(r, l, epsil
     """Eq. (3) (corrected, S9) in the review's letters, slider on y = -epsilon, equals the angle
     between rod and normal measured on SliderCrank(b=r, c=l, e=-epsilon)."""
     link = s.slider_crank_from_review(r, l, epsilon)
-    x = s.analyze("slider", {"b": r, "c": l, "e": -epsilon}, [theta], 1)[0]
+    x = s.engine_outputs("slider", {"b": r, "c": l, "e": -epsilon}, [theta], 1)[0]
     h = epsilon + r * math.sin(theta * R)
     expected = 90 - math.degrees(math.atan(abs(h) / math.sqrt(l * l - h * h)))
     assert s.measured_transmission_angle(link, theta, x) == pytest.approx(expected, abs=1e-9)
@@ -402,7 +402,7 @@ def test_example_linkages_in_the_review_geometry(results):
 @given(st.floats(0.1, 3), st.floats(0.1, 3), st.floats(0.1, 3), st.floats(0.1, 3),
        st.lists(st.floats(-720, 720), min_size=1, max_size=8), st.sampled_from([1, 2]))
 def test_adapter_closes_the_four_bar_loop(a, b, c, d, phis, branch):
-    outs = s.analyze("plane", {"a": a, "b": b, "c": c, "d": d}, phis, branch)
+    outs = s.engine_outputs("plane", {"a": a, "b": b, "c": c, "d": d}, phis, branch)
     for phi, out in zip(phis, outs):
         pin = (b * math.cos(phi * R), b * math.sin(phi * R))
         reach = math.hypot(pin[0] - a, pin[1])
@@ -421,7 +421,7 @@ def test_adapter_closes_the_four_bar_loop(a, b, c, d, phis, branch):
 @given(st.floats(0.1, 3), st.floats(0.1, 3), st.floats(-2, 2),
        st.lists(st.floats(-720, 720), min_size=1, max_size=8), st.sampled_from([1, 2]))
 def test_adapter_closes_the_slider_loop(b, c, e, phis, branch):
-    outs = s.analyze("slider", {"b": b, "c": c, "e": e}, phis, branch)
+    outs = s.engine_outputs("slider", {"b": b, "c": c, "e": e}, phis, branch)
     for phi, x in zip(phis, outs):
         pin = (b * math.cos(phi * R), b * math.sin(phi * R))
         if x is None:
