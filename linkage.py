@@ -2441,7 +2441,10 @@ def _dims_of(kind: str, dims: dict[str, float]) -> dict[str, float]:
 
 # The (cos, sin) of q degrees, exact Fractions of the doubles (_trig_double) or of the decimals.
 _Trig = Callable[[Fraction], tuple[Fraction, Fraction]]
-_Constants = tuple[Fraction | int, ...]     # the closure's constants (0 an int where it is 0)
+# The closure's constants (0 an int where it is 0), each term of the closure as (k0, kc, ks) of
+# k0 + kc cos phi + ks sin phi: four-bars 9, P = k[0:3], Q = k[3:6], S = k[6:9]; slider-cranks
+# 13, m = k[0:3], q = k[3:6], u = k[6:9], v = k[9:12], and the rod c = k[12].
+_Constants = tuple[Fraction | int, ...]
 
 
 def _closure_constants(kind: str, dims: dict[str, float], trig: _Trig) -> _Constants:
@@ -2512,13 +2515,18 @@ _CLOSURES = {PLANE_FOUR_BAR: _plane_closure, SKEW_FOUR_BAR: _skew_closure,
              SKEW_SLIDER_CRANK: _skew_slider_closure}
 
 
-def _size_squared(kind: str, k: Sequence[Any]) -> Any:
-    """A bound on the discriminant's terms (its scale), from the closure's constants: exact
-    (Fractions) or in the Decimals' context, as they come."""
+def _size(kind: str, k: Sequence[Any]) -> Any:
+    """The root of the discriminant's scale, from the closure's constants (_Constants): the
+    slider-crank's rod and u, v terms, the four-bar's P, Q, S terms, their magnitudes summed;
+    exact (Fractions), in the Decimals' context or in double, as they come."""
     if kind in SLIDER_CRANKS:
-        reach = abs(k[12]) + sum(abs(v) for v in k[6:12])
-        return reach * reach
-    size = sum(abs(v) for v in k[:9])
+        return abs(k[12]) + sum(abs(v) for v in k[6:12])
+    return sum(abs(v) for v in k[:9])
+
+
+def _size_squared(kind: str, k: Sequence[Any]) -> Any:
+    """A bound on the discriminant's terms (its scale)."""
+    size = _size(kind, k)
     return size * size
 
 
@@ -3816,12 +3824,8 @@ def _discriminant(linkage: Linkage
                   ) -> tuple[Callable[[float], float], Callable[[float], float]]:
     """D(phi) and D'(phi) (phi in degrees, D' by radians) over the scale of D, in double: each
     term divided by the scale's root before it is squared (no overflow, no underflow)."""
-    k = linkage._constants
-    if linkage.is_slider:
-        root = abs(k[12]) + sum(abs(v) for v in k[6:12]) or 1.0
-    else:
-        root = sum(abs(v) for v in k[:9]) or 1.0
-    k = tuple(v / root for v in k)
+    root = _size(linkage.kind, linkage._constants) or 1.0
+    k = tuple(v / root for v in linkage._constants)
 
     def terms(phi: float) -> tuple[float, float]:
         c, s = cos_sin_degrees(phi)
