@@ -343,3 +343,22 @@ def test_the_menus_linkages_are_the_engines_kinds():
     assert list(linkage.MECHANISM_TYPES) == list(linkage.MECHANISM_NAMES) == [
         linkage.PLANE_FOUR_BAR, linkage.SPHERICAL_FOUR_BAR, linkage.SKEW_FOUR_BAR,
         linkage.PLANE_SLIDER_CRANK, linkage.SKEW_SLIDER_CRANK]
+
+
+def pyflakes(*paths: Path) -> str:
+    """What pyflakes (pinned in the test dependencies) says of these files."""
+    return subprocess.run([sys.executable, "-m", "pyflakes", *map(str, paths)],
+                          capture_output=True, text=True, timeout=300).stdout
+
+
+def test_pyflakes_finds_nothing():
+    """No unused import or variable, no undefined name, in the program or its tests."""
+    root = Path(linkage.__file__).parent
+    assert pyflakes(root / "linkage.py", *sorted((root / "tests").glob("*.py"))) == ""
+
+
+def test_pyflakes_can_fail(tmp_path):
+    made_up = tmp_path / "made_up.py"
+    made_up.write_text("import os\n\n\ndef f():\n    return undefined_name\n")
+    said = pyflakes(made_up)
+    assert "'os' imported but unused" in said and "undefined name 'undefined_name'" in said
