@@ -10,6 +10,8 @@ import os
 
 from hypothesis import HealthCheck, settings
 
+import program
+
 settings.register_profile("explore", deadline=None,
                           suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
 settings.register_profile("seeded", parent=settings.get_profile("explore"), derandomize=True,
@@ -39,6 +41,12 @@ SLOW_TESTS = {"test_agrees_with_the_listing_in_double_precision",
               "test_the_listings_spike_at_180_is_absent", "test_png_size_and_dpi",
               "test_draglink_2_misses_near_dpsi_equal_dphi_are_rounding_limited",
               "test_the_type_checker_finds_nothing"}
+
+
+def pytest_configure(config):
+    """linkage.py's bytecode, once a run (by pytest-xdist's controller, before its workers)."""
+    if not hasattr(config, "workerinput"):
+        program.compile_once()
 
 
 def pytest_ignore_collect(collection_path, config):

@@ -7,12 +7,12 @@ from __future__ import annotations
 import dataclasses
 import re
 import subprocess
-import sys
 
 import pytest
 
 import basic_runner
 import test_physics
+from program import SCRIPT
 
 LEGACY = basic_runner.ROOT / "legacy_basic"
 HEADING = re.compile(r"^### ([EL]\d+)\. Lines? ([0-9, ]+): `(.+)` → `(.+)`$", re.MULTILINE)
@@ -190,7 +190,7 @@ def test_every_deviation_of_the_port_is_tagged_in_the_code():
 # -- `linkage.py listing`: the corrected listing for the historical reader ---------------------
 
 def _listing(*options):
-    got = subprocess.run([sys.executable, str(basic_runner.ROOT / "linkage.py"), "listing", *options], capture_output=True,
+    got = subprocess.run(SCRIPT + ["listing", *options], capture_output=True,
                          text=True, encoding="utf-8")
     assert got.returncode == 0 and not got.stderr, got.stderr
     return got.stdout.splitlines()

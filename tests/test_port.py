@@ -8,19 +8,17 @@ import io
 import os
 import re
 import subprocess
-import sys
 import threading
 import typing
 
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-import basic_runner
 import linkage
 import make_golden
+from program import PROGRAM, SCRIPT
 from terminal import Terminal
 
-PROGRAM = [sys.executable, str(basic_runner.ROOT / "linkage.py")]
 CASES = make_golden.load_cases()
 
 
@@ -28,8 +26,8 @@ class FreeSpace(typing.NamedTuple):
     free: int
 
 
-def run_port(keys: bytes, directory) -> subprocess.CompletedProcess:
-    return subprocess.run(PROGRAM, input=keys, cwd=directory, capture_output=True, timeout=300)
+def run_port(keys: bytes, directory, program=PROGRAM) -> subprocess.CompletedProcess:
+    return subprocess.run(program, input=keys, cwd=directory, capture_output=True, timeout=300)
 
 
 def dat_files(directory) -> dict[str, bytes]:
@@ -158,7 +156,8 @@ def test_run_reports_an_illegal_linkage(tmp_path):
     (b"11\r1\r1\r20\r", "the keystrokes ended before the program did"),
 ])
 def test_the_port_stops_cleanly(keys, message, tmp_path):
-    result = run_port(keys, tmp_path)
+    """(Started as the user starts it, `python3 linkage.py`.)"""
+    result = run_port(keys, tmp_path, SCRIPT)
     assert result.returncode == 1
     assert message in result.stderr.decode()
     assert "Traceback" not in result.stderr.decode()
@@ -167,7 +166,7 @@ def test_the_port_stops_cleanly(keys, message, tmp_path):
 
 def test_a_directory_it_cannot_write():
     """/proc takes no new files, even from root (CI runs as root, so chmod would not do)."""
-    result = subprocess.run(PROGRAM, input=b"12\r7\r9\r6\r0\r90\r10\r1", cwd="/proc",
+    result = subprocess.run(SCRIPT, input=b"12\r7\r9\r6\r0\r90\r10\r1", cwd="/proc",
                             capture_output=True, timeout=60)
     assert result.returncode == 1
     assert "cannot write the DAT files in '.'" in result.stderr.decode()
