@@ -37,11 +37,14 @@ def pytest_addoption(parser):
 
 
 # and these tests of the quick modules, the slowest (their fixtures run the listing's model or
-# PC-BASIC, or they render PNGs);
+# PC-BASIC, they render PNGs, or they hold the engine to the 50-digit reference on the hard
+# catalogue);
 SLOW_TESTS = {"test_agrees_with_the_listing_in_double_precision",
               "test_the_listings_spike_at_180_is_absent", "test_png_size_and_dpi",
               "test_draglink_2_misses_near_dpsi_equal_dphi_are_rounding_limited",
-              "test_the_type_checker_finds_nothing", "test_the_png_overlays_the_positions"}
+              "test_the_type_checker_finds_nothing", "test_the_png_overlays_the_positions",
+              "test_hard_case", "test_hard_catalogue_covers_the_singularities",
+              "test_worst_errors_over_the_catalogue", "test_reference_is_converged"}
 # and of the port's golden cases (tests/test_port.py) only a short session of each mechanism and
 # the menu's wrong keys.
 QUICK_CASES = {"plane-b1", "spherical-b1", "skew-b1", "slider-b1", "skew-slider-b1",
