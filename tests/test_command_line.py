@@ -16,8 +16,8 @@ import pytest
 
 import basic_runner
 import linkage
+from program import PROGRAM, SCRIPT
 
-PROGRAM = [sys.executable, str(basic_runner.ROOT / "linkage.py")]
 SCENES = basic_runner.ROOT / "data" / "scenes"
 GOLDEN = basic_runner.ROOT / "data" / "golden"
 # a skew slider-crank that cannot be assembled at 180 and 210 degrees
@@ -120,6 +120,24 @@ def test_ksi_is_the_one_spelling_and_skew_still_works(tmp_path):
         assert (tmp_path / "new" / name).read_bytes() == (tmp_path / "old" / name).read_bytes()
     help_text = run(["run", "--help"], tmp_path).stdout
     assert b"--ksi" in help_text and b"--skew" not in help_text.replace(b"--skew-", b"")
+
+
+@pytest.mark.parametrize("argv, keys", [
+    (["--version"], b""), (["run", "plane", "--a", "6"], b""), ([], b"12\r7\r9\r6\r0\r90\r45\r1"),
+    (["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--svg", "d.svg"], b"")])
+def test_the_tests_start_the_program_the_users_way(argv, keys, tmp_path):
+    """PROGRAM (the tests' start from compiled bytecode) is `python3 linkage.py` (SCRIPT): the
+    same output, files and exit status, on this checkout's linkage.py."""
+    done = []
+    for start in (SCRIPT, PROGRAM):
+        folder = tmp_path / str(len(done))
+        folder.mkdir()
+        got = subprocess.run(start + argv, input=keys, cwd=folder, capture_output=True,
+                             timeout=300)
+        done.append((got.returncode, got.stdout, got.stderr,
+                     {p.name: p.read_bytes() for p in folder.iterdir()}))
+    assert done[0] == done[1]
+    assert done[0][0] in (0, 2) and b"Traceback" not in done[0][2]
 
 
 def test_the_test_run_is_derandomized_unless_asked_to_explore():

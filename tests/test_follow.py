@@ -16,7 +16,6 @@ import math
 import signal
 import subprocess
 from fractions import Fraction
-import sys
 from pathlib import Path
 
 import pytest
@@ -25,6 +24,7 @@ from hypothesis import assume, given, settings, strategies as st
 import linkage as engine
 import engine_harness as harness
 import basic_runner
+from program import PROGRAM
 
 ROOT = Path(__file__).resolve().parent.parent
 SLIDERS = ("slider", "skew-slider")
@@ -403,8 +403,7 @@ def test_a_grashof_boundary_linkage_is_smooth_through_its_change_point(a, b, c, 
 # -- the command line ---------------------------------------------------------------------------
 
 def run(*args, cwd=None):
-    return subprocess.run([sys.executable, str(ROOT / "linkage.py"), "run", *args],
-                          capture_output=True, text=True, cwd=cwd)
+    return subprocess.run(PROGRAM + ["run", *args], capture_output=True, text=True, cwd=cwd)
 
 
 PLANE_5243 = ["plane", "--b", "2", "--c", "4", "--d", "3", "--a", "5"]
@@ -489,8 +488,8 @@ def test_a_scene_refuses_follow_where_it_has_no_meaning(tmp_path, change, messag
     with pytest.raises(engine.SceneError, match="key 'branches'") as refused:
         engine.load_scene(str(path))
     assert message in str(refused.value)
-    done = subprocess.run([sys.executable, str(ROOT / "linkage.py"), "scene", str(path),
-                           "--dir", str(tmp_path)], capture_output=True, text=True)
+    done = subprocess.run(PROGRAM + ["scene", str(path), "--dir", str(tmp_path)],
+                          capture_output=True, text=True)
     assert done.returncode != 0 and message in done.stderr and "Traceback" not in done.stderr
 
 

@@ -22,9 +22,9 @@ import pytest
 import basic_runner
 import linkage
 import make_golden
+from program import PROGRAM
 from terminal import Terminal
 
-PROGRAM = [sys.executable, str(basic_runner.ROOT / "linkage.py")]
 PLANE = ["plane", "--b", "2", "--c", "7", "--d", "9", "--a", "6", "--branch", "1"]
 SHORT = PLANE + ["--from", "0", "--to", "360", "--step", "10"]          # 37 points
 KEYS_721 = b"12\r7\r9\r6\r0\r360\r.5\r1"                               # the menu, 721 points

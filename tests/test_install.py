@@ -4,6 +4,7 @@ that has no data/ beside it. The install hint that `--png` prints without matplo
 printed (the package index is reachable wherever the test set-up could install the test
 dependencies), and then the PNG is written."""
 
+import os
 import re
 import subprocess
 import sys
@@ -12,6 +13,10 @@ import venv
 import pytest
 
 from basic_runner import ROOT
+
+# the venv's Python sees none of the test environment's modules, even where PYTHONPATH names the
+# clone (whose build leaves a fmb_linkage.egg-info there, and pip would call the wheel installed)
+CLEAN = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
 
 
 @pytest.fixture(scope="module")
@@ -26,7 +31,7 @@ def installed(tmp_path_factory):
     venv.EnvBuilder(with_pip=True, clear=True).create(where / "venv")
     python = where / "venv" / "bin" / "python"
     subprocess.run([str(python), "-m", "pip", "install", "-q", "--no-deps", str(wheel)],
-                   check=True)
+                   check=True, env=CLEAN)
     empty = where / "empty"
     empty.mkdir()
     return python, where / "venv" / "bin" / "linkage", empty
@@ -34,7 +39,7 @@ def installed(tmp_path_factory):
 
 def _run(command, folder, *args):
     return subprocess.run([str(command), *args], cwd=folder, capture_output=True, text=True,
-                          timeout=300)
+                          timeout=300, env=CLEAN)
 
 
 def test_the_installed_command_lists_the_scenes_by_name_and_title(installed):
@@ -63,7 +68,7 @@ def test_the_png_hint_installs_what_the_png_needs(installed):
     assert hint, got.stderr
     assert "linkage" not in hint[1]            # "linkage" on the index is somebody else's
     subprocess.run([str(python), "-m", "pip", "install", "-q", hint[1]], check=True,
-                   timeout=600)
+                   timeout=600, env=CLEAN)
     got = _run(linkage, empty, "scene", "fig3", "--png", "x.png")
     assert got.returncode == 0, got.stderr
     assert "wrote x.png" in got.stderr

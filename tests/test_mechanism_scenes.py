@@ -9,18 +9,17 @@ import contextlib
 import io
 import os
 import subprocess
-import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
 
 import linkage
+from program import PROGRAM
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = ROOT / "data" / "scenes"
 FIGURES_1_2 = sorted(SCENES.glob("fig[12]*.toml"))
-PROGRAM = [sys.executable, str(ROOT / "linkage.py")]
 SVG = "{http://www.w3.org/2000/svg}"
 
 

@@ -9,17 +9,16 @@ import difflib
 import os
 import re
 import subprocess
-import sys
 
 import pytest
 
 import basic_runner
 import linkage
 import make_scene_snapshots
+from program import PROGRAM
 from terminal import Terminal
 
 ROOT = basic_runner.ROOT
-PROGRAM = [sys.executable, str(ROOT / "linkage.py")]
 FIGURES_1_2 = sorted((ROOT / "data" / "scenes").glob("fig[12]?-*.toml"))
 CAPTION = re.compile(rb"\xcf\x86 = ([-0-9.]+)\xc2\xb0")          # "φ = 35°" in UTF-8
 

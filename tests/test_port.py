@@ -8,19 +8,17 @@ import io
 import os
 import re
 import subprocess
-import sys
 import threading
 import typing
 
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-import basic_runner
 import linkage
 import make_golden
+from program import PROGRAM, SCRIPT
 from terminal import Terminal
 
-PROGRAM = [sys.executable, str(basic_runner.ROOT / "linkage.py")]
 CASES = make_golden.load_cases()
 
 
@@ -28,8 +26,8 @@ class FreeSpace(typing.NamedTuple):
     free: int
 
 
-def run_port(keys: bytes, directory) -> subprocess.CompletedProcess:
-    return subprocess.run(PROGRAM, input=keys, cwd=directory, capture_output=True, timeout=300)
+def run_port(keys: bytes, directory, program=PROGRAM) -> subprocess.CompletedProcess:
+    return subprocess.run(program, input=keys, cwd=directory, capture_output=True, timeout=300)
 
 
 def dat_files(directory) -> dict[str, bytes]:
@@ -46,13 +44,28 @@ def first_difference(name: str, want: bytes, got: bytes) -> str:
 
 # ---- the golden corpus ---------------------------------------------------------------------
 
-@pytest.mark.parametrize("case", CASES, ids=[c["name"] for c in CASES])
-def test_the_port_writes_the_golden_bytes(case, tmp_path):
+@pytest.fixture(scope="module")
+def golden_run(request, tmp_path_factory):
+    """(case, the port's run of its keys, the DAT files it wrote): one run a case, which the
+    case's tests below share (pytest runs them one after another, scope="module")."""
+    case = request.param
+    folder = tmp_path_factory.mktemp(case["name"])
+    result = run_port((make_golden.GOLDEN / case["name"] / "keys.txt").read_bytes(), folder)
+    return case, result, dat_files(folder)
+
+
+def golden(cases):
+    """Parametrize a test by golden case, sharing each case's run (golden_run)."""
+    return pytest.mark.parametrize("golden_run", cases, ids=[c["name"] for c in cases],
+                                   indirect=True)
+
+
+@golden(CASES)
+def test_the_port_writes_the_golden_bytes(golden_run):
+    case, result, got = golden_run
     folder = make_golden.GOLDEN / case["name"]
-    result = run_port((folder / "keys.txt").read_bytes(), tmp_path)
     assert result.returncode == 0, result.stderr.decode()
     want = {p.name: p.read_bytes() for p in folder.iterdir() if p.name.endswith(".DAT")}
-    got = dat_files(tmp_path)
     assert sorted(got) == sorted(want)
     for name in want:
         assert got[name] == want[name], first_difference(f"{case['name']}/{name}", want[name],
@@ -62,13 +75,12 @@ def test_the_port_writes_the_golden_bytes(case, tmp_path):
                                                      result.stdout)
 
 
-@pytest.mark.parametrize("case", [c for c in CASES if c["name"] not in (
-    "plane-change-point", "plane-double-rocker")], ids=lambda c: c["name"])
-def test_the_port_shows_the_golden_screen(case, tmp_path):
+@golden([c for c in CASES if c["name"] not in ("plane-change-point", "plane-double-rocker")])
+def test_the_port_shows_the_golden_screen(golden_run):
     """The screen transcript, apart from the two cases whose "Overflow" messages depend on the
     unfinished arithmetic, is already PC-BASIC's byte for byte."""
+    case, result, _ = golden_run
     folder = make_golden.GOLDEN / case["name"]
-    result = run_port((folder / "keys.txt").read_bytes(), tmp_path)
     screen = (folder / "SCREEN.TXT").read_bytes()
     assert result.stdout == screen, first_difference(f"{case['name']}/SCREEN.TXT", screen,
                                                      result.stdout)
@@ -98,22 +110,19 @@ RUN_CASES = [c for c in CASES
              if run_options((make_golden.GOLDEN / c["name"] / "keys.txt").read_bytes())]
 
 
-@pytest.mark.parametrize("case", RUN_CASES, ids=[c["name"] for c in RUN_CASES])
-def test_run_writes_what_the_menu_writes(case, tmp_path):
-    folder = make_golden.GOLDEN / case["name"]
-    keys = (folder / "keys.txt").read_bytes()
-    menu, run = tmp_path / "menu", tmp_path / "run"
-    menu.mkdir()
-    run.mkdir()
-    assert run_port(keys, menu).returncode == 0
-    result = subprocess.run(PROGRAM + ["run"] + run_options(keys) + ["--dir", str(run)],
+@golden(RUN_CASES)
+def test_run_writes_what_the_menu_writes(golden_run, tmp_path):
+    case, menu, menu_files = golden_run
+    keys = (make_golden.GOLDEN / case["name"] / "keys.txt").read_bytes()
+    assert menu.returncode == 0
+    result = subprocess.run(PROGRAM + ["run"] + run_options(keys) + ["--dir", str(tmp_path)],
                             capture_output=True, timeout=300)
-    if (menu / "ANG.DAT").read_bytes() == b"\x1a":      # the menu's empty sweep (K14): run refuses
+    if menu_files["ANG.DAT"] == b"\x1a":      # the menu's empty sweep (K14): run refuses
         assert result.returncode == 1 and b"has no point" in result.stderr
-        assert os.listdir(run) == []
+        assert os.listdir(tmp_path) == []
         return
     assert result.returncode == 0, result.stderr.decode()
-    assert dat_files(run) == dat_files(menu)
+    assert dat_files(tmp_path) == menu_files
 
 
 def test_run_covers_every_mechanism():
@@ -158,7 +167,8 @@ def test_run_reports_an_illegal_linkage(tmp_path):
     (b"11\r1\r1\r20\r", "the keystrokes ended before the program did"),
 ])
 def test_the_port_stops_cleanly(keys, message, tmp_path):
-    result = run_port(keys, tmp_path)
+    """(Started as the user starts it, `python3 linkage.py`.)"""
+    result = run_port(keys, tmp_path, SCRIPT)
     assert result.returncode == 1
     assert message in result.stderr.decode()
     assert "Traceback" not in result.stderr.decode()
@@ -167,7 +177,7 @@ def test_the_port_stops_cleanly(keys, message, tmp_path):
 
 def test_a_directory_it_cannot_write():
     """/proc takes no new files, even from root (CI runs as root, so chmod would not do)."""
-    result = subprocess.run(PROGRAM, input=b"12\r7\r9\r6\r0\r90\r10\r1", cwd="/proc",
+    result = subprocess.run(SCRIPT, input=b"12\r7\r9\r6\r0\r90\r10\r1", cwd="/proc",
                             capture_output=True, timeout=60)
     assert result.returncode == 1
     assert "cannot write the DAT files in '.'" in result.stderr.decode()

@@ -25,12 +25,12 @@ import pytest
 import basic_runner
 import linkage
 import make_scene_snapshots
+from program import PROGRAM
 
 ROOT = basic_runner.ROOT
 ALL_SCENES = sorted((ROOT / "data" / "scenes").glob("*.toml"))
 SCENES = [p for p in ALL_SCENES if not linkage.load_scene(str(p)).draws_mechanism]   # curves
 GOLDEN = ROOT / "data" / "golden"
-PROGRAM = [sys.executable, str(ROOT / "linkage.py")]
 
 
 def scene_id(path):

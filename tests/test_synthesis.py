@@ -23,13 +23,13 @@ import os
 import pathlib
 import re
 import subprocess
-import sys
 
 import pytest
 from hypothesis import HealthCheck, assume, example, given, seed, settings
 from hypothesis import strategies as st
 
 import linkage as s
+from program import PROGRAM
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 ERRATA = (ROOT / "data" / "SYNTHESIS_ERRATA.md").read_text(encoding="utf-8")
@@ -865,8 +865,8 @@ def test_data_outside_the_range_are_refused_naming_the_datum(method, units, draw
 
 def test_help_states_each_range_from_the_table():
     for command, (_, method) in s.METHODS.items():
-        done = subprocess.run([sys.executable, str(ROOT / "linkage.py"), "design", command,
-                               "--help"], capture_output=True, text=True)
+        done = subprocess.run(PROGRAM + ["design", command, "--help"], capture_output=True,
+                              text=True)
         text = " ".join(done.stdout.split())
         for datum in s.DATA[method]:
             assert " ".join(s.datum_help(datum).split()) in text, (command, datum.name)
@@ -1175,7 +1175,7 @@ def test_command_bad_input_is_a_message_not_a_traceback(capsys, argv, message):
 
 
 def test_command_in_a_fresh_interpreter():
-    program = [sys.executable, str(ROOT / "linkage.py"), "design"]
+    program = PROGRAM + ["design"]
     done = subprocess.run(program + ["draglink-1", "--dpsi0", "120", "--mu-min", "80"],
                           capture_output=True, text=True)
     assert done.returncode == 1 and done.stdout == ""
@@ -1186,9 +1186,9 @@ def test_command_in_a_fresh_interpreter():
 
 def test_command_writes_the_designs_dat_files(tmp_path):
     """--dat hands the design to the engine: its ANG.DAT swings the rocker through psi = 50."""
-    done = subprocess.run([sys.executable, str(ROOT / "linkage.py"), "design", "fourb-cr-1",
-                           "--theta", "10", "--psi", "50", "--theta0", "30", "--dat",
-                           str(tmp_path)], capture_output=True, text=True)
+    done = subprocess.run(PROGRAM + ["design", "fourb-cr-1", "--theta", "10", "--psi", "50",
+                                     "--theta0", "30", "--dat", str(tmp_path)],
+                          capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     rows = (tmp_path / "ANG.DAT").read_bytes().rstrip(b"\x1a").decode().split("\r\n")[:-1]
     psis = [float(row.split(",")[1]) for row in rows]
@@ -1339,8 +1339,8 @@ def test_every_method_has_help_that_stands_alone():
     """Each method's help says what it designs and what the answer's letters are, and points at
     nothing it does not show ("see the names above" had nothing above)."""
     for command, (_, method) in s.METHODS.items():
-        done = subprocess.run([sys.executable, str(ROOT / "linkage.py"), "design", command,
-                               "--help"], capture_output=True, text=True)
+        done = subprocess.run(PROGRAM + ["design", command, "--help"], capture_output=True,
+                              text=True)
         text = re.sub(r"-\s+", "-", " ".join(done.stdout.split()))
         assert done.returncode == 0 and "above" not in text, (command, text)
         assert re.sub(r"-\s+", "-", s.METHOD_HELP[method]) in text, command
@@ -1352,9 +1352,8 @@ def test_every_method_has_help_that_stands_alone():
 
 def test_design_svg_moves_through_the_whole_motion_with_the_positions_marked(tmp_path):
     svg = tmp_path / "d.svg"
-    done = subprocess.run([sys.executable, str(ROOT / "linkage.py"), "design", "fourb-cr-4",
-                           "--psi", "60", "--mu-min", "40", "--svg", str(svg)],
-                          capture_output=True, text=True)
+    done = subprocess.run(PROGRAM + ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40",
+                                     "--svg", str(svg)], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     text = svg.read_text()
     phis = [float(x) for x in re.findall(r'<g class="frame" data-phi="([^"]+)"', text)]
@@ -1384,7 +1383,7 @@ def test_a_crank_that_does_not_turn_fully_is_drawn_from_limit_to_limit():
 def test_design_scene_is_a_scene_file_that_runs(tmp_path):
     """--scene writes through the one writer a TOML scene that load_scene reads back as the
     design's scene, and that `scene` draws as design does (the same SVG)."""
-    program = [sys.executable, str(ROOT / "linkage.py")]
+    program = PROGRAM
     argv = ["design", "fourb-fg2-1", "--phij", "60", "--psij", "30", "--phi0", "50", "--a", "4",
             "--c", "2"]
     done = subprocess.run(program + argv + ["--scene", str(tmp_path / "d.toml"), "--svg",
