@@ -10,6 +10,7 @@ import struct
 import subprocess
 import sys
 import tempfile
+import tomllib
 
 import numpy
 import pytest
@@ -102,9 +103,12 @@ def test_the_readme_one_liners_read_the_original_files(case):
 
 
 def test_one_version_everywhere(tmp_path):
+    """--version, the module's __version__ and the installed distribution's (pyproject's name:
+    the clean environment CI makes has only that one) agree."""
     result = run(["--version"], tmp_path)
     assert result.stdout.decode().strip() == f"linkage.py {linkage.__version__}"
-    assert importlib.metadata.version("linkage") == linkage.__version__
+    project = tomllib.loads((basic_runner.ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    assert importlib.metadata.version(project["name"]) == linkage.__version__
 
 
 def test_ksi_is_the_one_spelling_and_skew_still_works(tmp_path):
