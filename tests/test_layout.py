@@ -30,9 +30,9 @@ def section_of(lineno: int, banners) -> int:
     return max((n for n, first, _ in banners if first <= lineno), default=0)
 
 
-def top_level_names(lines=LINES, tree=TREE) -> dict[str, int]:
-    """Each module-level name and the section that defines it."""
-    defined, banners = {}, sections(lines)
+def bindings(tree=TREE) -> list[tuple[str, int]]:
+    """Each name the module binds at its top level (def, class, assignment), with the line."""
+    bound = []
     for node in tree.body:
         if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
             names = [node.name]
@@ -41,8 +41,15 @@ def top_level_names(lines=LINES, tree=TREE) -> dict[str, int]:
             names = [n.id for t in targets for n in ast.walk(t) if isinstance(n, ast.Name)]
         else:
             continue
-        for name in names:
-            defined.setdefault(name, section_of(node.lineno, banners))
+        bound += [(name, node.lineno) for name in names]
+    return bound
+
+
+def top_level_names(lines=LINES, tree=TREE) -> dict[str, int]:
+    """Each module-level name and the section that defines it."""
+    defined, banners = {}, sections(lines)
+    for name, lineno in bindings(tree):
+        defined.setdefault(name, section_of(lineno, banners))
     return defined
 
 
@@ -320,20 +327,9 @@ def test_the_mention_test_can_fail():
 def test_no_module_level_name_is_bound_twice():
     """One name per thing: a second `CLIPPED = ...` in a later section silently replaced the
     first for every function that read it (a figure's legend said 'accelerationclipped')."""
-    bound = {}
-    twice = []
-    for node in TREE.body:
-        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
-            names = [node.name]
-        elif isinstance(node, (ast.Assign, ast.AnnAssign)):
-            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
-            names = [n.id for t in targets for n in ast.walk(t) if isinstance(n, ast.Name)]
-        else:
-            continue
-        for name in names:
-            if name in bound:
-                twice.append(f"{name} ({bound[name]}, {node.lineno})")
-            bound[name] = node.lineno
+    first: dict[str, int] = {}
+    twice = [f"{name} ({first[name]}, {lineno})" for name, lineno in bindings()
+             if first.setdefault(name, lineno) != lineno]
     assert twice == []
 
 
