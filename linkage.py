@@ -939,8 +939,7 @@ def _digits(x: float) -> tuple[str, int]:
     .99999994, can print as that power: "1").  The register is rounded half
     up to 24 bits and the single is rounded like WRITE does it: mbf_add .5 in
     single if not whole, truncate."""
-    ax = x if x > 0 else -x
-    f, e = _frexp(ax)
+    f, e = _frexp(x if x > 0 else -x)
     m = int(f * 4294967296.0)          # |x| = m * 2**e, m the register's 32 bits
     e -= 32
     k = 0
@@ -2379,7 +2378,7 @@ def cos_sin_degrees(x: float) -> tuple[float, float]:
     """cos and sin of x degrees (a float), reduced exactly in degrees: exact at multiples of 90."""
     r = math.fmod(x, 360.0)                 # exact
     n = round(r / 90.0)
-    y = (r - 90.0 * n) * RAD               # |r - 90 n| <= 45: the subtraction is exact
+    y = (r - 90.0 * n) * RAD                # |r - 90 n| <= 45: the subtraction is exact
     c, s = math.cos(y), math.sin(y)
     return ((c, s), (-s, c), (-c, -s), (s, -c))[n & 3]
 
