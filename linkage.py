@@ -2529,10 +2529,12 @@ def _size_squared(kind: str, k: Sequence[Any]) -> Any:
     return size * size
 
 
-class Linkage:
-    """One linkage of the listing's five kinds, with the constants of its closure computed once.
+class Closure:
+    """One linkage's loop closure, its constants computed once, and the output it solves for:
+    motion and sweep. Linkage (section 10) is this with all that is derived from it; the
+    sections between take a Closure.
 
-    Linkage(kind, **dims): kind is PLANE_FOUR_BAR ("plane", dims a b c d), SPHERICAL_FOUR_BAR
+    Closure(kind, **dims): kind is PLANE_FOUR_BAR ("plane", dims a b c d), SPHERICAL_FOUR_BAR
     ("spherical", a b c d in degrees), SKEW_FOUR_BAR ("skew", a b c d f ksi; ksi in degrees),
     PLANE_SLIDER_CRANK ("slider", b c e; c is the rod c* as typed) or SKEW_SLIDER_CRANK
     ("skew-slider", a b c f ksi). Geometry and signs are the listing's (tests/test_physics.py).
@@ -2560,7 +2562,8 @@ class Linkage:
         self._decimal: dict[int, tuple[tuple[Decimal, ...], Decimal, Decimal]] | None = None
 
     def __repr__(self) -> str:
-        return "Linkage(%r, %s)" % (self.kind, ", ".join("%s=%r" % kv for kv in self.dims.items()))
+        return "%s(%r, %s)" % (type(self).__name__, self.kind,
+                               ", ".join("%s=%r" % kv for kv in self.dims.items()))
 
     def motion(self, phi: float, branch: int | str = 1, derivatives: int = 2) -> Motion:
         """The output (and its first `derivatives` derivatives) at input angle phi (degrees)."""
@@ -2598,45 +2601,6 @@ class Linkage:
         loop = _sweep_slider if self.is_slider else _sweep_four_bar
         return loop(self, phis, sign, derivatives)
 
-    def sweep_arrays(self, phis: Sequence[float] | numpy.ndarray, branch: int = 1,
-                     derivatives: int = 2) -> MotionArrays:
-        """sweep on numpy arrays (the optional extra `fast`): a MotionArrays of the output,
-        velocity and acceleration (NaN where there is no position) and status codes. The same
-        numbers as sweep to 1e-13 (tests/test_fast.py): a point near a dead centre or change
-        point, or whose numbers are not finite, is computed by sweep itself. Raises
-        FastUnavailable where numpy is not installed."""
-        return _sweep_arrays(self, phis, branch, derivatives)
-
-    def coupler(self, phis: Iterable[float], u: float, v: float = 0.0, branch: int | str = 1,
-                derivatives: int = 2, *, start: int | None = None) -> list[CouplerMotion]:
-        """The coupler point (u, v) at each input angle of `phis`: a CouplerMotion each, its
-        position, velocity and acceleration (x, y, z) on the branch (or motion) that sweep takes.
-        The point is fixed to the coupler, in its own frame: plane kinds P = A + u e + v n (u, v
-        lengths, e the unit vector from A to the output pin, n = e turned +90 degrees about z);
-        the spherical four-bar P = cos v (cos u A + sin u t) + sin v (A x t) (u, v degrees, t
-        the unit tangent at A toward B); the skew kinds P = A + u e, v = 0 (their coupler may
-        spin about that line). A ValueError says why a point is refused."""
-        u, v = check_coupler_point(self, u, v)
-        return coupler_of(self, self.sweep(phis, branch, derivatives, start=start), u, v)
-
-    def transmission(self, phis: Iterable[float], branch: int | str = 1, *,
-                     start: int | None = None) -> list[float | None]:
-        """The transmission angle mu (degrees, [0, 180]) at each input angle, None where there
-        is no position: the angle between the output pin's velocity and its velocity relative
-        to the crank pin A (the review's section 2; see the section's notes)."""
-        return transmission_of(self, self.sweep(phis, branch, 0, start=start))
-
-    def coupler_arrays(self, phis: Sequence[float] | numpy.ndarray, u: float, v: float = 0.0,
-                       branch: int = 1, derivatives: int = 2) -> CouplerArrays:
-        """coupler on numpy arrays (sweep_arrays's numbers): a CouplerArrays."""
-        u, v = check_coupler_point(self, u, v)
-        return coupler_of_arrays(self, self.sweep_arrays(phis, branch, derivatives), u, v)
-
-    def transmission_arrays(self, phis: Sequence[float] | numpy.ndarray,
-                            branch: int = 1) -> numpy.ndarray:
-        """transmission on numpy arrays: a float64 array, NaN where there is no position."""
-        return transmission_of_arrays(self, self.sweep_arrays(phis, branch, 0))
-
     def _precise(self, phi: float, sign: float, level: int) -> Motion:
         """One point in 50-digit decimal arithmetic (near a dead-centre), as a Motion; in 110
         digits where the discriminant is within 1e-12 of its scale (near a change point)."""
@@ -2667,7 +2631,7 @@ class Linkage:
 
 # -- the double-precision sweeps ------------------------------------------------------------------
 
-def _sweep_four_bar(linkage: Linkage, phis: list[float], sign: float, level: int) -> list[Motion]:
+def _sweep_four_bar(linkage: Closure, phis: list[float], sign: float, level: int) -> list[Motion]:
     """The four-bar loop: psi on branch `sign` (+1: dE/dpsi > 0) from P cos psi + Q sin psi = -S,
     psi' = -E_phi / E_psi and psi'' = -(E_phiphi + 2 E_phipsi psi' + E_psipsi psi'^2) / E_psi,
     with E_psi = sign sqrt(D), D = P^2 + Q^2 - S^2, and E_psipsi = S on the root."""
@@ -2727,7 +2691,7 @@ def _sweep_four_bar(linkage: Linkage, phis: list[float], sign: float, level: int
     return out
 
 
-def _sweep_slider(linkage: Linkage, phis: list[float], sign: float, level: int) -> list[Motion]:
+def _sweep_slider(linkage: Closure, phis: list[float], sign: float, level: int) -> list[Motion]:
     """The slider-crank loop: x = m + sign sqrt(D), D = c^2 - u^2 - v^2, by the stable quadratic
     formula (the root away from zero first, the other as q over it); x' = -G_phi / G_x and x''
     likewise, with G_x = 2 sign sqrt(D)."""
@@ -2814,7 +2778,7 @@ _FOLLOW_CROSS = 1e-6         # if their distance times their velocity is below t
 #                              centre's roots meet with infinite velocity, keeping it finite)
 
 
-def _follow(linkage: Linkage, phis: list[float], start: int, level: int) -> list[Motion]:
+def _follow(linkage: Closure, phis: list[float], start: int, level: int) -> list[Motion]:
     """Linkage.sweep(phis, FOLLOW, level, start=start): see there and the notes above."""
     both = {b: (_sweep_slider if linkage.is_slider else _sweep_four_bar)(
         linkage, phis, 1.0 if b == 1 else -1.0, 2) for b in (1, 2)}
@@ -2849,7 +2813,7 @@ def _follow(linkage: Linkage, phis: list[float], start: int, level: int) -> list
 _Followed = tuple[float, float, float, float, int, bool]
 
 
-def _follow_state(linkage: Linkage, m: Motion, label: int) -> _Followed:
+def _follow_state(linkage: Closure, m: Motion, label: int) -> _Followed:
     """The followed position of a Motion on branch `label`."""
     output, velocity, acceleration = _known(m)
     y = output if linkage.is_slider else output * RAD
@@ -2869,7 +2833,7 @@ def _with_level(m: Motion, level: int) -> Motion:
     return Motion(m.phi, m.output, m.velocity if level == 1 else None, None, m.status)
 
 
-def _follow_step(linkage: Linkage, state: _Followed, phi: float,
+def _follow_step(linkage: Closure, state: _Followed, phi: float,
                  here: tuple[Motion, Motion] | None, length: float, depth: int, splits: list[int]
                  ) -> tuple[_Followed | None, Motion]:
     """From the followed position `state` to angle phi, whose two roots are `here` (Motions of
@@ -3521,7 +3485,7 @@ def _quarter_turned(w: Vec3) -> Vec3:
     return (-w[1], w[0], 0.0)
 
 
-def check_coupler_point(linkage: Linkage, u: float, v: float = 0.0) -> tuple[float, float]:
+def check_coupler_point(linkage: Closure, u: float, v: float = 0.0) -> tuple[float, float]:
     """(u, v) as floats if they name a point of `linkage`'s coupler (see Linkage.coupler), or a
     ValueError that says why not."""
     try:
@@ -3550,7 +3514,7 @@ def check_coupler_point(linkage: Linkage, u: float, v: float = 0.0) -> tuple[flo
     return u, v
 
 
-def _joint_kinematics(linkage: Linkage, dims: dict[str, float], c: Real, s: Real, out: Real,
+def _joint_kinematics(linkage: Closure, dims: dict[str, float], c: Real, s: Real, out: Real,
                       level: int, q1: Real | None, q2: Real | None,
                       cos_sin: Callable[[Any], tuple[Any, Any]]
                       ) -> tuple[tuple[Vec3, ...], tuple[Vec3, ...], Vec3]:
@@ -3574,7 +3538,7 @@ def _joint_kinematics(linkage: Linkage, dims: dict[str, float], c: Real, s: Real
     return a, (p[0], p1, p2), p[1]
 
 
-def output_pin_at(linkage: Linkage, dims: dict[str, float], out: Real,
+def output_pin_at(linkage: Closure, dims: dict[str, float], out: Real,
                   cos_sin: Callable[[Any], tuple[Any, Any]]) -> Kinematics:
     """The output pin at output `out`: the output angle (degrees; cos_sin gives its cosine and
     sine), or the slider's position (in the lengths of `dims`)."""
@@ -3585,7 +3549,7 @@ def output_pin_at(linkage: Linkage, dims: dict[str, float], out: Real,
     return pins.output_pin(dims, cq, sq, None)
 
 
-def _coupler_form(linkage: Linkage, a: Sequence[Vec3], p: Sequence[Vec3], u: float, v: float,
+def _coupler_form(linkage: Closure, a: Sequence[Vec3], p: Sequence[Vec3], u: float, v: float,
                   sqrt: Callable[[Any], Any]) -> list[Vec3]:
     """The coupler point and its derivatives (as many as a and p carry) from the pins' (scaled
     lengths: see _joint_kinematics), in the linkage's lengths."""
@@ -3636,7 +3600,7 @@ class CouplerMotion(NamedTuple):
     status: str
 
 
-def coupler_of(linkage: Linkage, motions: Iterable[Motion], u: float, v: float = 0.0
+def coupler_of(linkage: Closure, motions: Iterable[Motion], u: float, v: float = 0.0
                ) -> list[CouplerMotion]:
     """The coupler point (u, v) (see Linkage.coupler) at each of `motions` (Linkage.sweep's): as
     many derivatives as each Motion carries."""
@@ -3655,7 +3619,7 @@ def coupler_of(linkage: Linkage, motions: Iterable[Motion], u: float, v: float =
     return out
 
 
-def transmission_of(linkage: Linkage, motions: Iterable[Motion]) -> list[float | None]:
+def transmission_of(linkage: Closure, motions: Iterable[Motion]) -> list[float | None]:
     """The transmission angle mu (degrees, [0, 180]) at each of `motions`, None where there is no
     position."""
     out: list[float | None] = []
@@ -3694,7 +3658,7 @@ class CouplerArrays(NamedTuple):
     status: numpy.ndarray
 
 
-def coupler_of_arrays(linkage: Linkage, arrays: MotionArrays, u: float,
+def coupler_of_arrays(linkage: Closure, arrays: MotionArrays, u: float,
                       v: float = 0.0) -> CouplerArrays:
     """coupler_of on a MotionArrays (Linkage.sweep_arrays'): a CouplerArrays."""
     np = numpy_module()
@@ -3714,7 +3678,7 @@ def coupler_of_arrays(linkage: Linkage, arrays: MotionArrays, u: float,
     return CouplerArrays(arrays.phi, position, velocity, acceleration, arrays.status)
 
 
-def transmission_of_arrays(linkage: Linkage, arrays: MotionArrays) -> numpy.ndarray:
+def transmission_of_arrays(linkage: Closure, arrays: MotionArrays) -> numpy.ndarray:
     """transmission_of on a MotionArrays: a float64 array, NaN where there is no position."""
     np = numpy_module()
     c, s = _cos_sin_degrees_array(np, arrays.phi)
@@ -3724,6 +3688,55 @@ def transmission_of_arrays(linkage: Linkage, arrays: MotionArrays) -> numpy.ndar
                                       functools.partial(_cos_sin_degrees_array, np))
         mu = _transmission_form(linkage.kind, a[0], p[0], p_q, np.arctan2)
     return np.broadcast_to(np.asarray(mu, dtype=np.float64), (len(arrays.phi),)).copy()
+
+
+class Linkage(Closure):
+    """One linkage of the listing's five kinds: Linkage(kind, **dims) (see Closure), and all
+    that can be asked of it. Each method names a question and the section that answers it: the
+    engine's motion and sweep (section 6), the coupler point and the transmission angle (7), and
+    the same on numpy arrays (8)."""
+
+    __slots__ = ()
+
+    def sweep_arrays(self, phis: Sequence[float] | numpy.ndarray, branch: int = 1,
+                     derivatives: int = 2) -> MotionArrays:
+        """sweep on numpy arrays (the optional extra `fast`): a MotionArrays of the output,
+        velocity and acceleration (NaN where there is no position) and status codes. The same
+        numbers as sweep to 1e-13 (tests/test_fast.py): a point near a dead centre or change
+        point, or whose numbers are not finite, is computed by sweep itself. Raises
+        FastUnavailable where numpy is not installed."""
+        return _sweep_arrays(self, phis, branch, derivatives)
+
+    def coupler(self, phis: Iterable[float], u: float, v: float = 0.0, branch: int | str = 1,
+                derivatives: int = 2, *, start: int | None = None) -> list[CouplerMotion]:
+        """The coupler point (u, v) at each input angle of `phis`: a CouplerMotion each, its
+        position, velocity and acceleration (x, y, z) on the branch (or motion) that sweep takes.
+        The point is fixed to the coupler, in its own frame: plane kinds P = A + u e + v n (u, v
+        lengths, e the unit vector from A to the output pin, n = e turned +90 degrees about z);
+        the spherical four-bar P = cos v (cos u A + sin u t) + sin v (A x t) (u, v degrees, t
+        the unit tangent at A toward B); the skew kinds P = A + u e, v = 0 (their coupler may
+        spin about that line). A ValueError says why a point is refused."""
+        u, v = check_coupler_point(self, u, v)
+        return coupler_of(self, self.sweep(phis, branch, derivatives, start=start), u, v)
+
+    def transmission(self, phis: Iterable[float], branch: int | str = 1, *,
+                     start: int | None = None) -> list[float | None]:
+        """The transmission angle mu (degrees, [0, 180]) at each input angle, None where there
+        is no position: the angle between the output pin's velocity and its velocity relative
+        to the crank pin A (the review's section 2; see the section's notes)."""
+        return transmission_of(self, self.sweep(phis, branch, 0, start=start))
+
+    def coupler_arrays(self, phis: Sequence[float] | numpy.ndarray, u: float, v: float = 0.0,
+                       branch: int = 1, derivatives: int = 2) -> CouplerArrays:
+        """coupler on numpy arrays (sweep_arrays's numbers): a CouplerArrays."""
+        u, v = check_coupler_point(self, u, v)
+        return coupler_of_arrays(self, self.sweep_arrays(phis, branch, derivatives), u, v)
+
+    def transmission_arrays(self, phis: Sequence[float] | numpy.ndarray,
+                            branch: int = 1) -> numpy.ndarray:
+        """transmission on numpy arrays: a float64 array, NaN where there is no position."""
+        return transmission_of_arrays(self, self.sweep_arrays(phis, branch, 0))
+
 
 
 # -- the linkage's type and range of motion (analyse) -------------------------------------------
@@ -3819,7 +3832,7 @@ def _bisect(f: Callable[[float], float], lo: float, hi: float, f_lo: float) -> f
     return lo + (hi - lo) / 2
 
 
-def _discriminant(linkage: Linkage
+def _discriminant(linkage: Closure
                   ) -> tuple[Callable[[float], float], Callable[[float], float]]:
     """D(phi) and D'(phi) (phi in degrees, D' by radians) over the scale of D, in double: each
     term divided by the scale's root before it is squared (no overflow, no underflow)."""
@@ -3840,7 +3853,7 @@ def _discriminant(linkage: Linkage
     return (lambda phi: terms(phi)[0]), (lambda phi: terms(phi)[1])
 
 
-def crank_limits(linkage: Linkage) -> tuple[list[float], list[float]]:
+def crank_limits(linkage: Closure) -> tuple[list[float], list[float]]:
     """(dead centres, change points): the input angles in [0, 360) where D changes sign, and
     where a minimum of D touches zero. A minimum within the touching line where the engine (in
     50 or 110 digits) finds no position is a gap too narrow for double: its two dead centres
@@ -3914,7 +3927,7 @@ class Analysis(NamedTuple):
     (from, to) the crank turns through, None when it turns fully; output_min/max None when the
     output turns fully; time_ratio and the strokes None where the crank rocks or the output
     turns fully."""
-    linkage: Linkage
+    linkage: Closure
     branch: int | str
     type: str
     criterion: str
@@ -3936,7 +3949,7 @@ class Analysis(NamedTuple):
         return self.forward_stroke / self.return_stroke
 
 
-def _assembled_near(linkage: Linkage, phi: float, branch: int, inward: int) -> Motion:
+def _assembled_near(linkage: Closure, phi: float, branch: int, inward: int) -> Motion:
     """The Motion at phi on `branch`, or where the crank first assembles stepping `inward`
     (+1 or -1) from it by a few ulps (phi, a dead centre found in double, may miss by one)."""
     for k in range(60):
@@ -3951,7 +3964,7 @@ def _assembled_near(linkage: Linkage, phi: float, branch: int, inward: int) -> M
 _Run = list[tuple[Motion, int | str]]
 
 
-def _circuits(linkage: Linkage, branch: int | str, start: int | None, dead: list[float]
+def _circuits(linkage: Closure, branch: int | str, start: int | None, dead: list[float]
               ) -> tuple[tuple[tuple[float, float], ...] | None, list[_Run]]:
     """The motion in order, as runs [(Motion, the listing's branch or FOLLOW)]: one run over a
     full turn where the crank turns fully, else one a crank interval, out on the branch and back
@@ -3991,7 +4004,7 @@ def unwrapped(values: Sequence[float], angular: bool) -> list[float]:
     return out
 
 
-def _motion_extremes(linkage: Linkage, run: _Run, outputs: list[float]
+def _motion_extremes(linkage: Closure, run: _Run, outputs: list[float]
                      ) -> list[tuple[float, float]]:
     """Where the output's velocity changes sign along a run (or is zero on a sample), refined by
     bisection on the branch of the sample before, and the ends of each piece on one branch:
@@ -4016,7 +4029,7 @@ def _motion_extremes(linkage: Linkage, run: _Run, outputs: list[float]
     return found
 
 
-def _mu_extremes(linkage: Linkage, run: _Run, maximum: bool) -> Extreme:
+def _mu_extremes(linkage: Closure, run: _Run, maximum: bool) -> Extreme:
     """The transmission angle's greatest (least) value along a run: each sampled local extreme
     refined on its branch within its neighbours."""
     # a run holds positions only: mu is never None on it
@@ -4040,7 +4053,7 @@ def _mu_extremes(linkage: Linkage, run: _Run, maximum: bool) -> Extreme:
     return pick(candidates, key=lambda e: e.value)
 
 
-def _linkage_type(linkage: Linkage, crank_turns: bool, output_turns: bool, changes: list[float]
+def _linkage_type(linkage: Closure, crank_turns: bool, output_turns: bool, changes: list[float]
                   ) -> tuple[str, str]:
     """(type, criterion): Grashof's rule for the plane four-bar, b + |e| against c for the plane
     slider-crank, else the motion's class."""
@@ -4075,7 +4088,7 @@ def _linkage_type(linkage: Linkage, crank_turns: bool, output_turns: bool, chang
         (crank_turns, output_turns)], text
 
 
-def analyse(linkage: Linkage, branch: int | str = 1, start: int | None = None) -> Analysis:
+def analyse(linkage: Closure, branch: int | str = 1, start: int | None = None) -> Analysis:
     """The linkage's type and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
     Analysis (see the notes above). ValueError if it assembles at no input angle."""
     if branch not in (1, 2, FOLLOW):
