@@ -3026,6 +3026,13 @@ def numpy_module() -> ModuleType:
     return numpy
 
 
+def angle_array(start: float, step: float, first: int, last: int) -> numpy.ndarray:
+    """The input angles start + i * step for i from first to last (excluded) as a float64
+    array: the same numbers as the scalar path's list (evenly_spaced_angles)."""
+    np = numpy_module()
+    return np.arange(first, last, dtype=np.float64) * step + start
+
+
 class MotionArrays(NamedTuple):
     """Linkage.sweep_arrays' answer: Linkage.sweep's Motion fields as numpy arrays, one element an
     input angle. output, velocity and acceleration are float64, NaN where the position does not
@@ -3047,6 +3054,11 @@ class MotionArrays(NamedTuple):
         output, velocity, acceleration = (c if c is not None else [None] * n for c in columns)
         return [Motion(phi, o, v, a, STATUS_CODES[k]) for phi, o, v, a, k in
                 zip(self.phi.tolist(), output, velocity, acceleration, self.status.tolist())]
+
+
+def assembled_count(arrays: MotionArrays) -> int:
+    """How many of a MotionArrays' angles have a position."""
+    return len(arrays.output) - int(numpy_module().isnan(arrays.output).sum())
 
 
 def _fast_lin(np, a, x, b, y, out, spare):
@@ -4237,9 +4249,16 @@ def _block_texts(block, fields, clip, zero, csv):
     clipped to +-3 if `clip`, a missing value left out, or written as 0.0 if `zero`), then if
     `csv` its CSV rows; and its number of rows."""
     clipped = [clip and f in (2, 3) for f in fields]
-    if not isinstance(block, SweepColumns):
+    if isinstance(block, SweepColumns):
+        yield from column_texts(block, fields, clipped, zero, csv)
+    else:
         yield _row_texts(block, fields, clipped, zero, csv), len(block)
-        return
+
+
+def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[bool], zero: bool,
+                 csv: bool) -> Iterator[tuple[list[bytes], int]]:
+    """_block_texts of SweepColumns, formatted a block at once (the same bytes as a number at a
+    time, _float_texts)."""
     np = numpy_module()
     phi = block.phi
     with np.errstate(all="ignore"):
@@ -4311,13 +4330,13 @@ def _blocks(rows):
             continue
         block.append(row)
         if len(block) == NUMBER_ROWS:
-            yield _as_columns(block, True)
+            yield as_columns(block, True)
             block = []
     if block:
-        yield _as_columns(block, "numpy" in sys.modules)
+        yield as_columns(block, "numpy" in sys.modules)
 
 
-def _as_columns(rows, vectorised):
+def as_columns(rows: list[tuple], vectorised: bool) -> list[tuple] | SweepColumns:
     """SweepColumns of a list of rows (phi, output, velocity, acceleration, status, extra ...),
     or the list itself where not `vectorised` or numpy is not installed."""
     if not vectorised:
@@ -8878,254 +8897,23 @@ BENCH_LINKAGES = ((PLANE_FOUR_BAR, dict(a=6, b=2, c=7, d=9)),
                   (SKEW_SLIDER_CRANK, dict(a=6, b=1, c=7.5, f=3, ksi=45)))
 
 
-def _pylinkage_rates(points: int) -> dict[str, Any] | str:
-    """pylinkage's points per second on the plane four-bar and slider-crank of BENCH_LINKAGES,
-    with numba where it is installed (NUMBA_DISABLE_JIT=1: without), or why it cannot be
-    measured. The four-bar with velocity and acceleration (its fastest way,
-    Mechanism.step_fast_with_kinematics, the input at 1 rad/s); the slider-crank positions only
-    (Mechanism.step): pylinkage 1.3.0 gives no slider velocity (step_with_derivatives leaves it
-    None, and step_fast_with_kinematics does not move the slider; tests/test_pylinkage.py)."""
+def _bench_angles(points: int) -> tuple[list[float], Any]:
+    """`points` input angles from 0 to 360 degrees: as a list, and as a numpy array (None
+    without numpy)."""
+    step = 360.0 / (points - 1)
     try:
-        import pylinkage
-        from pylinkage import _numba_compat
-        from pylinkage.mechanism import fourbar, slider_crank
-    except ImportError:
-        return "not installed (pip install pylinkage)"
-    step = math.radians(360.0 / (points - 1))
-    four_bar = fourbar(crank=2.0, coupler=7.0, rocker=9.0, ground=6.0, omega=step)
-    four_bar.set_input_velocity(four_bar._driver_links[0], 1.0, 0.0)
-    slider = slider_crank(crank=2.0, rod=7.0, omega=step, slide_through=(0.0, 1.5))
-    jit = _numba_compat.HAS_NUMBA and os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
-    if jit:
-        four_bar.step_fast_with_kinematics(3)          # compiled here, not in the timing
-    return {"version": f"pylinkage {pylinkage.__version__}, "
-                       + ("with numba (its solver compiled)" if jit else "without numba (not "
-                          "installed, or NUMBA_DISABLE_JIT=1: its solver runs as plain Python)"),
-            PLANE_FOUR_BAR: points / _best_of(3, lambda: four_bar.step_fast_with_kinematics(
-                points)),
-            PLANE_SLIDER_CRANK: points / _best_of(3, lambda: list(slider.step(points)))}
-
-
-def _bench_angles(points: int) -> tuple[list[float], Any, Any]:
-    """`points` input angles from 0 to 360 degrees: as a list, and numpy with them as an array
-    (None, None without numpy)."""
-    angles = evenly_spaced_angles(0.0, 360.0, 360.0 / (points - 1))
-    try:
-        np = numpy_module()
+        array = angle_array(0.0, step, 0, points)
     except FastUnavailable:
-        return angles, None, None
-    return angles, np, np.array(angles)
+        array = None
+    return evenly_spaced_angles(0.0, 360.0, step), array
 
 
-C_SWEEP = r"""
-/* The numpy path's formulas (linkage.py, _fast_cos_sin, _fast_hypot, _fast_four_bar,
-   _fast_slider and _sweep_arrays' classification) as one C loop a point: bench engine times it
-   beside sweep_arrays. Status 2 where not assembled, 5 where sweep_arrays would hand the point to
-   the scalar engine (not redone here). */
-#include <math.h>
-
-static void cos_sin(double phi, int reduce, double *c, double *s)
-{
-    double r = reduce ? fmod(phi, 360.0) : phi, n = rint(r / 90.0);
-    double y = (r - n * 90.0) * (M_PI / 180.0), cy = cos(y), sy = sin(y);
-    switch ((long)n & 3) {
-    case 0: *c = cy; *s = sy; break;
-    case 1: *c = -sy; *s = cy; break;
-    case 2: *c = -cy; *s = -sy; break;
-    default: *c = sy; *s = -cy;
-    }
-}
-
-static void square(double x, double *hi, double *lo)   /* x^2 = hi + lo exactly (Dekker) */
-{
-    double t = x * 134217729.0, xh = t - (t - x), xl = x - xh;
-    *hi = x * x;
-    *lo = ((xh * xh - *hi) + 2.0 * xh * xl) + xl * xl;
-}
-
-static double hypot_exact(double x, double y)           /* CPython 3.11's, as _fast_hypot */
-{
-    int e;
-    double ax = fabs(x), ay = fabs(y), hi, lo, f1, f2, csum, t, h, r;
-    frexp(ax > ay ? ax : ay, &e);
-    ax = ldexp(ax, -e);
-    ay = ldexp(ay, -e);
-    square(ax, &hi, &f1);
-    csum = hi + 1.0;
-    f2 = (1.0 - csum) + hi;
-    square(ay, &hi, &lo);
-    f1 += lo;
-    t = csum + hi;
-    f2 += (csum - t) + hi;
-    csum = t;
-    h = sqrt((csum - 1.0) + (f1 + f2));
-    square(h, &hi, &lo);
-    r = csum - hi;
-    f2 += (csum - r) - hi;
-    f1 -= lo;
-    r = (r - 1.0) + (f1 + f2);
-    return ldexp(h + r / (h * 2.0), e);
-}
-
-static signed char status_of(double disc, double last, double line)
-{
-    return disc < -line ? 2 : (fabs(disc) <= line || !isfinite(last)) ? 5 : 0;
-}
-
-void four_bar(long n, const double *phi, const double *k, double sign, int reduce, double line,
-              double *out, double *vel, double *acc, signed char *status)
-{
-    double p0 = k[0], pc = k[1], ps = k[2], q0 = k[3], qc = k[4], qs = k[5];
-    double s0 = k[6], sc = k[7], ss = k[8];
-    for (long i = 0; i < n; i++) {
-        double c, s;
-        cos_sin(phi[i], reduce, &c, &s);
-        double xp = pc * c + ps * s, xq = qc * c + qs * s, xs = sc * c + ss * s;
-        double p = p0 + xp, q = q0 + xq, sv = s0 + xs, rr = hypot_exact(p, q);
-        double disc = (rr - sv) * (rr + sv), root = sqrt(disc);
-        double sn = -(q * sv + sign * (p * root)), cn = -(p * sv - sign * (q * root));
-        double psi = atan2(sn, cn) * (180.0 / M_PI);
-        out[i] = psi == -180.0 ? 180.0 : psi;
-        double r2 = rr * rr, cp = cn / r2, sp = sn / r2;
-        double dp = ps * c - pc * s, dq = qs * c - qc * s, ds = ss * c - sc * s;
-        double v = -sign * (((dp * cp + dq * sp) + ds) / root);
-        double e = (xp * cp + xq * sp) + xs, fp = (dq * cp - dp * sp) * 2.0 * v;
-        vel[i] = v;
-        acc[i] = -sign * (((fp - e) + sv * v * v) / root);
-        status[i] = status_of(disc, acc[i], line);
-    }
-}
-
-void slider(long n, const double *phi, const double *k, double sign, int reduce, double line,
-            double unit, double *out, double *vel, double *acc, signed char *status)
-{
-    double m0 = k[0], mc = k[1], ms = k[2], k0 = k[3], kc = k[4], ks = k[5], u0 = k[6];
-    double uc = k[7], us = k[8], v0 = k[9], vc = k[10], vs = k[11], rod = k[12];
-    int offset = v0 != 0.0 || vc != 0.0 || vs != 0.0;
-    for (long i = 0; i < n; i++) {
-        double c, s;
-        cos_sin(phi[i], reduce, &c, &s);
-        double xm = mc * c + ms * s, xk = kc * c + ks * s, m = m0 + xm, q = k0 + xk;
-        double u = (u0 + uc * c) + us * s;
-        double dist = offset ? hypot_exact(u, (v0 + vc * c) + vs * s) : fabs(u);
-        double disc = (rod - dist) * (dist + rod), root = sqrt(disc);
-        double big = m + (m < 0.0 ? -root : root), x = q / big;
-        if ((sign < 0.0) == (m < 0.0))
-            x = big;
-        double dm = ms * c - mc * s, dk = ks * c - kc * s;
-        double v = sign * ((dm * x - dk * 0.5) / root);
-        double a = sign * ((((xk * 0.5 - xm * x) + dm * 2.0 * v) - v * v) / root);
-        status[i] = status_of(disc, a, line);
-        out[i] = x * unit;
-        vel[i] = v * unit;
-        acc[i] = a * unit;
-    }
-}
-"""
-
-
-def _c_loop() -> Callable[..., list[Any]] | str:
-    """C_SWEEP built with the C compiler (cc, or $CC) -O2 in a temporary folder and loaded with
-    ctypes: a function (linkage, angles, branch) -> (phi, output, velocity, acceleration,
-    status) arrays; or why it cannot be built (a str)."""
-    import ctypes
-    import subprocess
-    import tempfile
-    compiler = os.environ.get("CC") or shutil.which("cc")
-    if not compiler:
-        return "no C compiler (cc) found"
-    with tempfile.TemporaryDirectory() as folder:
-        source, built = os.path.join(folder, "sweep.c"), os.path.join(folder, "sweep.so")
-        with open(source, "w", encoding="ascii") as f:
-            f.write(C_SWEEP)
-        try:
-            subprocess.run([compiler, "-O2", "-shared", "-fPIC", "-o", built, source, "-lm"],
-                           check=True, capture_output=True, timeout=120)
-            library = ctypes.CDLL(built)          # mapped: the file may go with its folder
-        except (OSError, subprocess.SubprocessError) as e:
-            return f"{compiler} -O2 failed: {getattr(e, 'stderr', b'').decode(errors='replace')[:200] or e}"
-    np = numpy_module()
-    double_p, status_p = (np.ctypeslib.ndpointer(dtype=t, flags="C_CONTIGUOUS")
-                          for t in (np.float64, np.int8))
-    common = [ctypes.c_long, double_p, double_p, ctypes.c_double, ctypes.c_int, ctypes.c_double]
-    library.four_bar.argtypes = common + [double_p, double_p, double_p, status_p]
-    library.slider.argtypes = common + [ctypes.c_double, double_p, double_p, double_p, status_p]
-
-    def c_sweep(linkage: Linkage, angles: Any, branch: int = 1) -> list[Any]:
-        """sweep_arrays' answer (its five arrays, new, as it makes them) by C_SWEEP."""
-        n = len(angles)
-        answer = [np.empty(n) for _ in range(3)] + [np.empty(n, dtype=np.int8)]
-        args = [n, angles, np.array(linkage._constants), 1.0 if branch == 1 else -1.0,
-                int(not max(-angles.min(), angles.max()) < 360.0),
-                FAST_MARGIN * linkage._precise_below]
-        if linkage.is_slider:
-            library.slider(*args, linkage._unit, *answer)
-        else:
-            library.four_bar(*args, *answer)
-        return [np.array(angles)] + answer
-    return c_sweep
-
-
-C_SIZES = (1_000, 10_000, 100_000, 1_000_000, 10_000_000)
-C_TARGET = 0.7           # sweep_arrays' rate over the C loop's, at 1e4 points and more
-
-
-def _bench_c_loop(out: TextIO, sizes: tuple[int, ...]) -> None:
-    """sweep_arrays against C_SWEEP at each of `sizes` points, plane four-bar and slider-crank,
-    velocity and acceleration: rates and their ratio, the two alternated."""
-    c_sweep = _c_loop()
-    if isinstance(c_sweep, str):
-        print(f"C loop: skipped ({c_sweep})", file=out)
-        return
-    print("\nsweep_arrays against a C loop of the same formulas (C_SWEEP, cc -O2, called with "
-          "ctypes; its points for the scalar engine not redone), branch 1, velocity and "
-          "acceleration; points per second, best of 3 to 300 (more for fewer points), the two "
-          "alternated; agree to: the largest difference of their outputs", file=out)
-    print(f"{'points':>11} {'linkage':12} {'numpy':>12} {'C':>12} {'numpy/C':>8} {'agree to':>9}",
-          file=out)
-    np = numpy_module()
-    ratios, fixed = {}, {}
-    for kind, dims in (BENCH_LINKAGES[0], BENCH_LINKAGES[3]):
-        linkage = Linkage(kind, **dims)
-        rates = {}
-        for n in sizes:
-            angles = np.linspace(0.0, 360.0, n)
-            repeats = max(3, min(300, 3_000_000 // n))
-            best = [math.inf, math.inf]
-            for _ in range(repeats):
-                for i, run in enumerate((lambda: linkage.sweep_arrays(angles, 1),
-                                         lambda: c_sweep(linkage, angles))):
-                    best[i] = min(best[i], _best_of(1, run))
-            fast, c = linkage.sweep_arrays(angles, 1), c_sweep(linkage, angles)
-            usual = (fast.status == 0) & (c[4] == 0)
-            agree = float(np.max(np.abs(fast.output - c[1])[usual], initial=0.0))
-            rates[n] = (n / best[0], n / best[1])
-            ratios[kind, n] = best[1] / best[0]
-            print(f"{n:11,} {kind:12} {n / best[0]:12,.0f} {n / best[1]:12,.0f} "
-                  f"{best[1] / best[0]:8.2f} {agree:9.1e}", file=out)
-        (n1, (r1, _)), (n2, (r2, _)) = list(rates.items())[:2]
-        fixed[kind] = (n1 / r1 - n1 * (n2 / r2 - n1 / r1) / (n2 - n1)) * 1e6
-    print("fixed cost of a sweep_arrays call: " + ", ".join(
-        f"{kind} {us:,.0f} us" for kind, us in fixed.items())
-        + f" (its time at {sizes[0]:,} points less {sizes[0]:,} points at the cost of a point "
-        f"from {sizes[0]:,} to {sizes[1]:,})", file=out)
-    if max(sizes) >= 10_000:
-        short = [f"{k} at {n:,}" for (k, n), r in ratios.items() if n >= 10_000 and r < C_TARGET]
-        print(f"target: numpy >= {C_TARGET} of the C loop from 10,000 points to {max(sizes):,}: "
-              + (f"NOT MET ({', '.join(short)})" if short else "met")
-              + f", lowest {min(r for (k, n), r in ratios.items() if n >= 10_000):.2f}",
-              file=out)
-
-
-def bench_engine(out: TextIO, quick: bool = False, points: int = 100_001,
-                 pylinkage_points: int | None = None, c_sizes: tuple[int, ...] = C_SIZES) -> None:
-    """The accurate engine's speed, scalar and vectorised (numpy), beside a C loop of the numpy
-    path's formulas (at each of c_sizes points) and pylinkage's (on as many angles as ours,
-    unless pylinkage_points)."""
+def bench_engine(out: TextIO, quick: bool = False, points: int = 100_001) -> None:
+    """The accurate engine's speed, scalar and vectorised (numpy). Beside other programs (a C
+    loop of the same formulas, pylinkage): tests/support/bench_peers.py."""
     if quick:
-        points, pylinkage_points = 1001, 101
-    pylinkage_points = pylinkage_points or points
-    angles, np, array = _bench_angles(points)
+        points = 1001
+    angles, array = _bench_angles(points)
     print(f"{points:,} input angles, 0 to 360 degrees, branch 1; points per second, best of 5, "
           "the scalar engine and the numpy path alternated (this machine's speed drifts 2x "
           "within an hour: compare within one run, the ratios first)", file=out)
@@ -9135,7 +8923,7 @@ def bench_engine(out: TextIO, quick: bool = False, points: int = 100_001,
     fast: dict[str, dict[int, float]] = {}
     for kind, dims in BENCH_LINKAGES:
         linkage = Linkage(kind, **dims)
-        runs = {(way, level): math.inf for way in ("scalar", "numpy")[:1 + (np is not None)]
+        runs = {(way, level): math.inf for way in ("scalar", "numpy")[:1 + (array is not None)]
                 for level in (0, 2)}
         for _ in range(5):
             for way, level in runs:
@@ -9144,7 +8932,7 @@ def bench_engine(out: TextIO, quick: bool = False, points: int = 100_001,
                     lambda: linkage.sweep_arrays(array, 1, level))))
         rates = [len(angles) / runs["scalar", level] for level in (0, 2)]
         scalar[kind] = {0: rates[0], 2: rates[1]}
-        if np is not None:
+        if array is not None:
             fast_rates = [len(angles) / runs["numpy", level] for level in (0, 2)]
             fast[kind] = {0: fast_rates[0], 2: fast_rates[1]}
             print(f"{kind:12} {fast_rates[1] / rates[1]:11,.0f}x {rates[0]:12,.0f} "
@@ -9152,22 +8940,6 @@ def bench_engine(out: TextIO, quick: bool = False, points: int = 100_001,
         else:
             print(f"{kind:12} {'':>12} {rates[0]:12,.0f} {rates[1]:12,.0f} "
                   f"{'numpy not installed':>25}", file=out)
-    if np is not None:
-        _bench_c_loop(out, C_SIZES[:2] if quick else c_sizes)
-    pylinkage = _pylinkage_rates(pylinkage_points)
-    if isinstance(pylinkage, str):
-        print(f"pylinkage: {pylinkage}", file=out)
-    else:
-        print(f"{pylinkage['version']}; {pylinkage_points:,} angles; ours/pylinkage compares "
-              "like with like (the slider: our displacement-only rates)", file=out)
-        for kind, what in ((PLANE_FOUR_BAR, "with velocity and acceleration "
-                            "(step_fast_with_kinematics)"),
-                           (PLANE_SLIDER_CRANK, "positions only (step; no slider velocity)")):
-            level = 2 if kind == PLANE_FOUR_BAR else 0
-            ours = (f"numpy path {fast[kind][level] / pylinkage[kind]:,.0f}x, " if kind in fast
-                    else "")
-            print(f"{kind:12} {pylinkage[kind]:12,.0f} points/s {what}; ours/pylinkage: {ours}"
-                  f"scalar engine {scalar[kind][level] / pylinkage[kind]:,.1f}x", file=out)
     if quick:
         return
     slowest = min(r[2] for r in scalar.values())
@@ -9191,7 +8963,7 @@ def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> No
     over the sweep alone."""
     if quick:
         points = 1001
-    angles, np, array = _bench_angles(points)
+    angles, array = _bench_angles(points)
     print(f"{points:,} input angles, 0 to 360 degrees, branch 1, velocity and acceleration; the "
           "time with the coupler point (u = c/2, v = c/4: the skew kinds v = 0) and mu over the "
           "time without; best of 3 (numpy: of 9), one run", file=out)
@@ -9208,7 +8980,7 @@ def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> No
                    linkage.sweep(angles)))]
         text = (f"{kind:12} {len(angles) / base:10,.0f}/s " + " ".join(
             f"{t / base:{w}.2f}x" for t, w in zip(row[1:], (8, 5, 5))))
-        if np is not None:
+        if array is not None:
             fast = _best_of(9, lambda: linkage.sweep_arrays(array))
             times = [_best_of(9, lambda: coupler_of_arrays(linkage, linkage.sweep_arrays(array),
                                                            u, v)),
@@ -9590,10 +9362,9 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
             for first in range(0, count, block):
                 last = min(first + block, count)
                 if args.fast:                  # start + i * step, as below, in numpy
-                    np = numpy_module()
-                    angles = np.arange(first, last, dtype=np.float64) * step + start
-                    arrays: MotionArrays = linkage.sweep_arrays(angles, int(args.branch))
-                    assembled += len(angles) - int(np.isnan(arrays.output).sum())
+                    arrays: MotionArrays = linkage.sweep_arrays(
+                        angle_array(start, step, first, last), int(args.branch))
+                    assembled += assembled_count(arrays)
                     assert arrays.velocity is not None and arrays.acceleration is not None
                     yield SweepColumns(arrays.phi, arrays.output, arrays.velocity,
                                        arrays.acceleration, arrays.status,
@@ -9605,7 +9376,7 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
                     assembled += sum(m.output is not None for m in swept)
                     yield from (map(tuple.__add__, swept, extra_columns(swept, None)) if table
                                 else swept)
-                progress(len(angles))
+                progress(last - first)
         if not assembled:
             raise ProgramStop(f"Illegal linkage (impossible to assemble): it assembles at none "
                               f"of the {count:,} input angles")

@@ -328,23 +328,37 @@ def test_without_numpy_sweep_arrays_raises_fast_unavailable():
 
 # -- bench engine ---------------------------------------------------------------------------------
 
-def test_bench_engine_prints_the_three_side_by_side():
-    """One row a linkage with the scalar and the numpy path's rates and their ratio, the C loop
-    beside the numpy path at each size, pylinkage's rates beside ours (with numba or without, as
-    it says), the targets; on a short sweep (the bench's times are not asserted)."""
+def test_bench_engine_prints_the_two_side_by_side():
+    """One row a linkage with the scalar and the numpy path's rates and their ratio, and the
+    targets; on a short sweep (the bench's times are not asserted)."""
     import io
     out = io.StringIO()
-    engine.bench_engine(out, points=2001, pylinkage_points=101, c_sizes=(1000, 3000))
+    engine.bench_engine(out, points=2001)
     text = out.getvalue()
     rows = [line.split() for line in text.splitlines()
             if line.split() and line.split()[0] in engine.LINKAGE_DIMENSIONS]
-    assert [row[0] for row in rows] == [kind for kind, _ in engine.BENCH_LINKAGES] + [
-        "plane", "slider"]                         # five kinds, then pylinkage's two
-    for kind, ratio, *rates in rows[:5]:
+    assert [row[0] for row in rows] == [kind for kind, _ in engine.BENCH_LINKAGES]
+    for kind, ratio, *rates in rows:
         assert ratio.endswith("x") and len(rates) == 4
         assert all(float(r.replace(",", "")) > 0 for r in rates)
-    assert "pylinkage 1.3.0, with" in text and "ours/pylinkage: numpy path" in text
     assert "target: numpy path >= 10,000,000 (plane)" in text
+    assert "C loop" not in text and "pylinkage" not in text.replace("bench_peers", "")
+
+
+def test_the_peers_bench_prints_the_c_loop_and_pylinkage_beside_ours():
+    """tests/support/bench_peers.py: the C loop beside the numpy path at each size (their rates,
+    ratio and how near their outputs are), pylinkage's rates beside ours (with numba or without,
+    as it says)."""
+    import io
+    from support import bench_peers
+    out = io.StringIO()
+    bench_peers.bench_c_loop(out, (1000, 3000))
+    bench_peers.bench_pylinkage(out, 101)
+    text = out.getvalue()
+    assert "pylinkage 1.3.0, with" in text and "ours/pylinkage: numpy path" in text
+    rows = [line.split() for line in text.splitlines()
+            if line.split() and line.split()[0] in engine.LINKAGE_DIMENSIONS]
+    assert [row[0] for row in rows] == ["plane", "slider"]
     c_rows = [line.split() for line in text.splitlines() if line[:11].strip() in ("1,000",
                                                                                 "3,000")]
     assert [(row[0], row[1]) for row in c_rows] == [("1,000", "plane"), ("3,000", "plane"),
@@ -360,7 +374,8 @@ def test_bench_engine_prints_the_three_side_by_side():
 def test_the_c_loop_gives_the_numpy_paths_numbers():
     """C_SWEEP, built and called as bench engine does, computes what sweep_arrays computes (the
     same formulas): every kind, both branches, angles across several turns."""
-    sweep = engine._c_loop()
+    from support import bench_peers
+    sweep = bench_peers.c_loop()
     if isinstance(sweep, str):
         pytest.skip(sweep)
     angles = np.array(DENSE)
@@ -380,25 +395,34 @@ def test_the_c_loop_gives_the_numpy_paths_numbers():
                                                                                     branch)
 
 
-def test_bench_engine_says_where_there_is_no_c_compiler(monkeypatch):
+def test_the_peers_bench_says_where_there_is_no_c_compiler(monkeypatch):
     import io
+    from support import bench_peers
     monkeypatch.delenv("CC", raising=False)
     monkeypatch.setenv("PATH", "")
     out = io.StringIO()
-    engine._bench_c_loop(out, (1000,))
+    bench_peers.bench_c_loop(out, (1000,))
     assert out.getvalue() == "C loop: skipped (no C compiler (cc) found)\n"
 
 
-def test_bench_engine_without_numpy_or_pylinkage(tmp_path):
-    code = ("import io, sys; sys.modules['numpy'] = None; sys.modules['pylinkage'] = None; "
+def test_bench_engine_without_numpy(tmp_path):
+    code = ("import io, sys; sys.modules['numpy'] = None; "
             "sys.path.insert(0, sys.argv[1]); import linkage; out = io.StringIO(); "
-            "linkage.bench_engine(out, points=201, pylinkage_points=11); print(out.getvalue())")
+            "linkage.bench_engine(out, points=201); print(out.getvalue())")
     done = subprocess.run([sys.executable, "-c", code, str(ROOT)], capture_output=True,
                           text=True, timeout=120)
     assert done.returncode == 0 and "needs numpy" not in done.stderr, done.stderr
     assert done.stdout.count("numpy not installed") == 5
-    assert "pylinkage: not installed" in done.stdout
     assert "target: scalar >= 100,000" in done.stdout and "target: numpy" not in done.stdout
+
+
+def test_the_peers_bench_without_pylinkage(monkeypatch):
+    import io
+    from support import bench_peers
+    monkeypatch.setitem(sys.modules, "pylinkage", None)
+    out = io.StringIO()
+    bench_peers.bench_pylinkage(out, 11)
+    assert out.getvalue() == "pylinkage: not installed (pip install pylinkage)\n"
 
 
 def test_fast_writes_the_same_files_where_a_zero_differs_in_sign(tmp_path):
