@@ -19,12 +19,17 @@ tests/test_differential.py to random sessions). Deviations from the original are
 `# ERRATA Pn` here and listed in legacy_basic/ERRATA.md, Part 3: only where the original would
 hang or lose data (P1-P7).
 
-Sections, each used only by those after it (its header says which it uses): 1. files,
-messages and the terminal (the one writer of files, say, signals, single keys); 2. GW-BASIC
-single precision; 3. the listing's computation; 4. the original program (screen, keys, INPUT,
-the menu session); 5. the accurate engine; 6. the mechanism view; 7. synthesis; 8. scenes and
-plots; 9. benchmarks; 10. the command line, last. The engine, the view and synthesis never use
-the original program.
+Sections, each used only by those after it (its header says which it uses, and what it offers
+them): 1. files, messages and the terminal (the one writer of files, say, signals, single keys);
+2. the five linkages (their kinds, dimensions and names: the one table); 3. GW-BASIC single
+precision; 4. the listing's computation; 5. the original program (screen, keys, INPUT, the menu
+session); 6. the accurate engine (the closure solved, swept and followed); 7. what the engine
+derives (joints, coupler point, transmission angle, analyse); 8. the numpy path; 9. the linkage
+(Linkage, a method for each question); 10. DAT and CSV files; 11. the mechanism drawn; 12. the
+mechanism's renderers (terminal, SVG, PNG); 13. synthesis: what a design is; 14. synthesis: the
+review's methods; 15. synthesis: designs measured and checked; 16. scenes; 17. plots;
+18. benchmarks of the program itself; 19. the command line, last. The engine, the view and
+synthesis never use the original program.
 """
 
 from __future__ import annotations
@@ -59,13 +64,17 @@ __version__ = "0.2.0"
 PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linkage.py"
 
 
-# ---- 1. Files, messages and the terminal --------------------------------------------------------
+# ---- 1. Files, messages and the terminal ---------------------------------------------------------
 #
-# Holds: what every later section writes and says with: the one writer of files (written
-# whole or not at all: written_whole, WrittenSet, DatFiles), the messages on standard error
-# (say, said, printable), the signals that end a run cleanly, the progress of a long sweep, a
-# terminal's single keys, and the files that come with the program.
+# Holds: what every later section writes and says with: the one writer of files (written whole or
+# not at all: written_whole, WrittenSet, DatFiles), the messages on standard error (say, said,
+# printable), the signals that end a run cleanly, the progress of a long sweep, a terminal's single
+# keys, and the files that come with the program.
+#
 # Uses: nothing.
+# Offers: ProgramStop, WriteError, printable, say, said, Interrupted, signals_caught,
+#   interrupted_status, WrittenSet, staging_folder, written, SHIPPED, shipped_folders, shipped_file,
+#   written_whole, DatFiles, Progress, is_terminal, single_keys.
 
 
 class ProgramStop(Exception):
@@ -636,7 +645,76 @@ def single_keys(fd: int | None, enter: Callable[[], object] | None = None,
             signal.signal(signal.SIGTSTP, before)
 
 
-# ---- 2. GW-BASIC single precision ----------------------------------------------------------------
+# ---- 2. The five linkages: their kinds, dimensions and names -------------------------------------
+#
+# Holds: the one table of the five kinds (plane, spherical and skew four-bar, plane and skew
+# slider-crank): their names, their dimensions in the engine's order and in the order the listing
+# asks for them (MECHANISM_TYPES, the menu's key), what each dimension is, the status a computed
+# position can have, and degrees against radians.
+#
+# Uses: nothing.
+# Offers: PLANE_FOUR_BAR, SPHERICAL_FOUR_BAR, SKEW_FOUR_BAR, PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK,
+#   LINKAGE_DIMENSIONS, MECHANISM_NAMES, SLIDER_CRANKS, DIMENSION_NAMES, ASSEMBLED, DEAD_CENTRE,
+#   CHANGE_POINT, NOT_ASSEMBLED, INDETERMINATE, STOPPED, RAD, DEG, MECHANISM_TYPES.
+
+
+# The five kinds, named as tests/test_physics.py names them, with their dimensions: lengths as
+# typed; the spherical linkage's arcs and the skew angle ksi in degrees.
+PLANE_FOUR_BAR = "plane"
+SPHERICAL_FOUR_BAR = "spherical"
+SKEW_FOUR_BAR = "skew"
+PLANE_SLIDER_CRANK = "slider"
+SKEW_SLIDER_CRANK = "skew-slider"
+LINKAGE_DIMENSIONS = {
+    PLANE_FOUR_BAR: ("a", "b", "c", "d"),
+    SPHERICAL_FOUR_BAR: ("a", "b", "c", "d"),
+    SKEW_FOUR_BAR: ("a", "b", "c", "d", "f", "ksi"),
+    PLANE_SLIDER_CRANK: ("b", "c", "e"),
+    SKEW_SLIDER_CRANK: ("a", "b", "c", "f", "ksi"),
+}
+MECHANISM_NAMES = {PLANE_FOUR_BAR: "plane four-bar", SPHERICAL_FOUR_BAR: "spherical four-bar",
+                   SKEW_FOUR_BAR: "skew four-bar", PLANE_SLIDER_CRANK: "plane slider-crank",
+                   SKEW_SLIDER_CRANK: "skew slider-crank"}
+SLIDER_CRANKS = (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK)     # the rest are four-bars
+DIMENSION_NAMES = {"a": "the fixed link", "b": "the input crank", "c": "the coupler",
+                   "d": "the output crank", "e": "the slider offset",
+                   "f": "the vertical sector of the fixed link", "ksi": "the skew angle, degrees"}
+
+# The status of a computed position (Motion.status).
+ASSEMBLED = "assembled"          # output, and the derivatives asked for, are given
+DEAD_CENTRE = "dead-centre"      # output given (the double root: the same on both branches),
+#                                  velocity and acceleration None: the discriminant is zero (to
+#                                  1e-33 of its scale), the velocity infinite or, where the two
+#                                  branches cross (change point), undetermined
+CHANGE_POINT = "change-point"    # the two branches cross here (a double zero of the
+#                                  discriminant, e.g. a + b = c + d): output given (the double
+#                                  root), velocity and acceleration the limits of the listing's
+#                                  branch from above (phi -> phi0+); see the section's notes
+NOT_ASSEMBLED = "not-assembled"  # the linkage cannot be assembled at this input angle: all None
+INDETERMINATE = "indeterminate"  # the output link is free (every psi closes the loop, e.g. the
+#                                  crank tip on the output pivot and c = d): all None
+STOPPED = "stopped"              # branch="follow" only: the followed motion ended before
+#                                  this angle (at a dead centre the crank cannot pass, or where
+#                                  the linkage does not assemble, or its output link is free):
+#                                  all None
+
+RAD = math.pi / 180.0            # radians per degree
+DEG = 180.0 / math.pi            # degrees per radian
+
+
+# kind: (the original program's menu key, the dimensions in the order the listing asks for them:
+# the menu's order, against LINKAGE_DIMENSIONS' order of the paper's letters).
+MECHANISM_TYPES = {
+    PLANE_FOUR_BAR: ("1", ("b", "c", "d", "a")),
+    SPHERICAL_FOUR_BAR: ("2", ("b", "c", "d", "a")),
+    SKEW_FOUR_BAR: ("3", ("b", "c", "d", "a", "f", "ksi")),
+    PLANE_SLIDER_CRANK: ("4", ("b", "c", "e")),
+    SKEW_SLIDER_CRANK: ("5", ("b", "c", "a", "f", "ksi")),
+}
+
+
+# ---- 3. GW-BASIC single precision ----------------------------------------------------------------
+#
 # GW-BASIC single precision (Microsoft Binary Format) as PC-BASIC 2.0.8 computes it.
 #
 # A single is held as a plain Python float whose value is exactly representable
@@ -649,7 +727,12 @@ def single_keys(fd: int | None, enter: Callable[[], object] | None = None,
 # the function returns +-MAX and calls the `err` callable it was given with the
 # message, in the order the interpreter prints them.
 #
-# Uses: nothing (the sections after it compute GW-BASIC's numbers with it).
+# Uses: nothing.
+# Offers: MBF_MAX, OVERFLOW, DIV_ZERO, ErrorSink, mbf_from_bytes, mbf_to_bytes, mbf_add, mbf_sub,
+#   mbf_mul, mbf_scaled, mbf_div, mbf_neg, mbf_int, mbf_write_text, mbf_print_text, mbf_sin,
+#   mbf_cos, mbf_tan, mbf_atn, mbf_exp, mbf_log, mbf_sqr, mbf_power, mbf_ipower, decimal_parts,
+#   mbf_parse, scaled_to_single, mbf_for_values, mbf_for_final.
+
 
 MBF_MAX = math.ldexp(0xFFFFFF, 127 - 24)      # 1.701412E+38, the overflow value
 OVERFLOW = "Overflow"
@@ -1206,7 +1289,7 @@ def mbf_for_final(start: float, stop: float, step: float,
     return mbf_add(last, step, err)
 
 
-# ---- 3. The listing's computation: lines 110, 250-930 and 1050-1340 ------------------------------
+# ---- 4. The listing's computation: lines 110, 250-930 and 1050-1340 ------------------------------
 #
 # The listing's variables keep their BASIC names here, so that this section can be read beside
 # legacy_basic/LINKAGE.BAS line by line. In the paper's symbols (eqs. (1)-(3), Table 1):
@@ -1228,7 +1311,10 @@ def mbf_for_final(start: float, stop: float, step: float,
 # session's own (Screen.errors), for its screen to show: a context variable, so that two
 # sessions in one process, in two threads or contexts, never see each other's.
 #
-# Uses: section 2 (the single-precision operations).
+# Uses: section 3.
+# Offers: Single, soft_errors, soft_error, SIN, COS, TAN, ATN, INT, ZERO, PI, Variables, PROMPTS,
+#   dimensions, ASSEMBLY_NAMES, assembly_refusal, coefficients, degrees_to_radians, sweep_angles,
+#   DatLines, sweep_point, sweep_points, sweep_point_fast, sweep_point_as_listed.
 
 
 class Single:
@@ -1797,25 +1883,16 @@ def sweep_point_as_listed(co: tuple[Single, ...], PHI: Single, SOL: int, S: Sing
     return _write_lines(angle, ang, M11[SOL - 1].v, M22[SOL - 1].v, derivatives)        # 1200-1330
 
 
-# name: (menu key, the dimensions in the order the listing asks for them). The names are the
-# engine's kinds (PLANE_FOUR_BAR ...: section 5, which the 1980s program does not use);
-# tests/test_layout.py holds the two to the same five.
-MECHANISM_TYPES = {
-    "plane": ("1", ("b", "c", "d", "a")),
-    "spherical": ("2", ("b", "c", "d", "a")),
-    "skew": ("3", ("b", "c", "d", "a", "f", "ksi")),
-    "slider": ("4", ("b", "c", "e")),
-    "skew-slider": ("5", ("b", "c", "a", "f", "ksi")),
-}
-
-
-# ---- 4. The original program: keys, screen, INPUT, the session ----------------------------------
+# ---- 5. The original program: keys, screen, INPUT, the session -----------------------------------
 #
-# Holds: the menu program as the original runs it: the screen and its transcript, keys one
-# at a time, INPUT's reading of an answer, the session of menus and prompts; the menu program
-# on a terminal or driven by keys (menu_program, redirected_program).
-# Uses: sections 1, 2 and 3 (the writer of the DAT files and the messages; GW-BASIC's
-# numbers; the listing's computation).
+# Holds: the menu program as the original runs it: the screen and its transcript, keys one at a
+# time, INPUT's reading of an answer, the session of menus and prompts; the menu program on a
+# terminal or driven by keys (menu_program, redirected_program).
+#
+# Uses: sections 1, 3 and 4.
+# Offers: EndOfKeys, Keys, Screen, input_number, INPUT_LINE, input_value, DOUBLE_OVERFLOW,
+#   key_value, MENU, BYTES_PER_POINT, run_session, answered_session, session_sweep, check_sweep,
+#   menu_program, redirected_program.
 
 
 class EndOfKeys(Exception):  # ERRATA P4
@@ -2254,7 +2331,7 @@ def _run_guarded(screen: Screen, keys: Keys, directory: str) -> int:
     return status
 
 
-# ---- 5. The accurate engine ----------------------------------------------------------------------
+# ---- 6. The accurate engine: the closure solved, swept and followed ------------------------------
 #
 # The five linkages in IEEE double precision, stable where the
 # listing is not.
@@ -2294,51 +2371,10 @@ def _run_guarded(screen: Screen, keys: Keys, directory: str) -> int:
 # i.e. branch 1 the root with E_phipsi + E_psipsi v = +sqrt(E_phipsi^2 - E_psipsi E_phiphi) > 0,
 # the sign dE/dpsi takes on it just past phi0 (sliders: G_x = 2(x - m), v = m' +- sqrt(...)).
 #
-# Uses: section 1 (the one writer, for the DAT and CSV files); never the original program.
+# Uses: section 2.
+# Offers: Motion, Vector, cos_sin_degrees, closure_scale, Closure, FOLLOW.
 
 
-# The mechanisms, named as tests/test_physics.py names them, with their dimensions: lengths as
-# typed; the spherical linkage's arcs and the skew angle ksi in degrees.
-PLANE_FOUR_BAR = "plane"
-SPHERICAL_FOUR_BAR = "spherical"
-SKEW_FOUR_BAR = "skew"
-PLANE_SLIDER_CRANK = "slider"
-SKEW_SLIDER_CRANK = "skew-slider"
-LINKAGE_DIMENSIONS = {
-    PLANE_FOUR_BAR: ("a", "b", "c", "d"),
-    SPHERICAL_FOUR_BAR: ("a", "b", "c", "d"),
-    SKEW_FOUR_BAR: ("a", "b", "c", "d", "f", "ksi"),
-    PLANE_SLIDER_CRANK: ("b", "c", "e"),
-    SKEW_SLIDER_CRANK: ("a", "b", "c", "f", "ksi"),
-}
-MECHANISM_NAMES = {PLANE_FOUR_BAR: "plane four-bar", SPHERICAL_FOUR_BAR: "spherical four-bar",
-                   SKEW_FOUR_BAR: "skew four-bar", PLANE_SLIDER_CRANK: "plane slider-crank",
-                   SKEW_SLIDER_CRANK: "skew slider-crank"}
-SLIDER_CRANKS = (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK)     # the rest are four-bars
-DIMENSION_NAMES = {"a": "the fixed link", "b": "the input crank", "c": "the coupler",
-                   "d": "the output crank", "e": "the slider offset",
-                   "f": "the vertical sector of the fixed link", "ksi": "the skew angle, degrees"}
-
-# The status of a computed position (Motion.status).
-ASSEMBLED = "assembled"          # output, and the derivatives asked for, are given
-DEAD_CENTRE = "dead-centre"      # output given (the double root: the same on both branches),
-#                                  velocity and acceleration None: the discriminant is zero (to
-#                                  1e-33 of its scale), the velocity infinite or, where the two
-#                                  branches cross (change point), undetermined
-CHANGE_POINT = "change-point"    # the two branches cross here (a double zero of the
-#                                  discriminant, e.g. a + b = c + d): output given (the double
-#                                  root), velocity and acceleration the limits of the listing's
-#                                  branch from above (phi -> phi0+); see the section's notes
-NOT_ASSEMBLED = "not-assembled"  # the linkage cannot be assembled at this input angle: all None
-INDETERMINATE = "indeterminate"  # the output link is free (every psi closes the loop, e.g. the
-#                                  crank tip on the output pivot and c = d): all None
-STOPPED = "stopped"              # branch="follow" only: the followed motion ended before
-#                                  this angle (at a dead centre the crank cannot pass, or where
-#                                  the linkage does not assemble, or its output link is free):
-#                                  all None
-
-RAD = math.pi / 180.0            # radians per degree
-DEG = 180.0 / math.pi            # degrees per radian
 _PRECISE_BELOW = 2.0 ** -12      # relative discriminant under which a point is done in decimal
 _DECIMAL = decimal.Context(prec=50, Emin=-10 ** 6, Emax=10 ** 6)
 _DECIMAL_FINE = decimal.Context(prec=110, Emin=-10 ** 6, Emax=10 ** 6)   # near a change point
@@ -2514,7 +2550,7 @@ _CLOSURES = {PLANE_FOUR_BAR: _plane_closure, SKEW_FOUR_BAR: _skew_closure,
              SKEW_SLIDER_CRANK: _skew_slider_closure}
 
 
-def _size(kind: str, k: Sequence[Any]) -> Any:
+def closure_scale(kind: str, k: Sequence[Any]) -> Any:
     """The root of the discriminant's scale, from the closure's constants (_Constants): the
     slider-crank's rod and u, v terms, the four-bar's P, Q, S terms, their magnitudes summed;
     exact (Fractions), in the Decimals' context or in double, as they come."""
@@ -2525,7 +2561,7 @@ def _size(kind: str, k: Sequence[Any]) -> Any:
 
 def _size_squared(kind: str, k: Sequence[Any]) -> Any:
     """A bound on the discriminant's terms (its scale)."""
-    size = _size(kind, k)
+    size = closure_scale(kind, k)
     return size * size
 
 
@@ -2986,380 +3022,25 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
     return Motion(phi, float(x) * unit, float(vel) * unit, float(acc) * unit, ASSEMBLED)
 
 
-# -- the vectorised path: numpy, a block of angles at a time ------------------------------------
+# ---- 7. What the engine derives: joints, coupler point, transmission angle, analyse --------------
 #
-# Linkage.sweep_arrays is _sweep_four_bar and _sweep_slider written on numpy arrays: the same
-# formulas with the same operations in the same order, hypot computed as CPython's math.hypot
-# (_fast_hypot), so the same numbers: here (numpy 2.4.6) the velocity and acceleration to the bit,
-# the output within a unit in the last place (numpy's arctan2 is not libm's; where numpy's cos
-# and sin are not libm's either, a few). The angles go through in
-# blocks of FAST_BLOCK, every operation written into a preallocated array (out=) so that the
-# working set stays in the cache; a term whose constant is zero is left out (it adds nothing but
-# the sign of a zero). The vectorised path decides only "assembled" and the plainly "not
-# assembled": a point the scalar engine would redo in 50-digit decimal (discriminant within
-# _precise_below of zero), widened by FAST_MARGIN so that a last-place difference cannot carry a
-# point across that line, and any point whose numbers are not finite, is handed to Linkage.sweep
-# itself - never approximated here. numpy is imported at the first use only: linkage.py runs on
-# the standard library alone, and this path is the optional extra `fast`.
-
-STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE,  # MotionArrays.status
-                CHANGE_POINT)
-FAST_BLOCK = 16384       # angles a block (of 4096 to 32768 the fastest at 1e4 and 1e5 points here,
-#                          2026-11-26; memory: 50 arrays of it, 6.5 MB)
-FAST_MARGIN = 2.0        # handed to the scalar engine: |D| <= FAST_MARGIN * its decimal line
-
-
-class FastUnavailable(RuntimeError):
-    """The vectorised path (Linkage.sweep_arrays, run --fast, a scene's fast = true) where numpy
-    cannot be imported."""
-
-
-def numpy_module() -> ModuleType:
-    """numpy, imported at the first use; FastUnavailable, saying what to install, without it."""
-    try:
-        import numpy
-    except ImportError:
-        raise FastUnavailable("the vectorised path (--fast, a scene's fast = true) needs numpy, "
-                              "which is not installed: python3 -m pip install numpy; "
-                              "without it, leave --fast out: the same numbers, computed one "
-                              "point at a time") from None
-    return numpy
-
-
-def angle_array(start: float, step: float, first: int, last: int) -> numpy.ndarray:
-    """The input angles start + i * step for i from first to last (excluded) as a float64
-    array: the same numbers as the scalar path's list (evenly_spaced_angles)."""
-    np = numpy_module()
-    return np.arange(first, last, dtype=np.float64) * step + start
-
-
-class MotionArrays(NamedTuple):
-    """Linkage.sweep_arrays' answer: Linkage.sweep's Motion fields as numpy arrays, one element an
-    input angle. output, velocity and acceleration are float64, NaN where the position does not
-    exist (status says why); velocity and acceleration are None when not asked for. status holds
-    int8 codes, indices into STATUS_CODES (0 ASSEMBLED, 1 DEAD_CENTRE, 2 NOT_ASSEMBLED,
-    3 INDETERMINATE, 4 CHANGE_POINT)."""
-
-    phi: numpy.ndarray
-    output: numpy.ndarray
-    velocity: numpy.ndarray | None          # None: not asked for
-    acceleration: numpy.ndarray | None
-    status: numpy.ndarray
-
-    def motions(self) -> list[Motion]:
-        """The same answer as Linkage.sweep gives it: a list of Motion, None for NaN."""
-        columns = [None if a is None else [None if v != v else v for v in a.tolist()]
-                   for a in (self.output, self.velocity, self.acceleration)]
-        n = len(self.phi)
-        output, velocity, acceleration = (c if c is not None else [None] * n for c in columns)
-        return [Motion(phi, o, v, a, STATUS_CODES[k]) for phi, o, v, a, k in
-                zip(self.phi.tolist(), output, velocity, acceleration, self.status.tolist())]
-
-
-def assembled_count(arrays: MotionArrays) -> int:
-    """How many of a MotionArrays' angles have a position."""
-    return len(arrays.output) - int(numpy_module().isnan(arrays.output).sum())
-
-
-def _fast_lin(np, a, x, b, y, out, spare):
-    """a x + b y into out, as the scalar engine rounds it; a term with a zero constant left out."""
-    if a and b:
-        np.multiply(x, a, out=out)
-        np.multiply(y, b, out=spare)
-        return np.add(out, spare, out=out)
-    if a or b:
-        return np.multiply(x if a else y, a or b, out=out)
-    out.fill(0.0)
-    return out
-
-
-def _fast_plus(np, k, x, out):
-    """k + x into out (x itself when k is zero)."""
-    return np.add(x, k, out=out) if k else x
-
-
-def _fast_cos_sin(np, phi, reduce, w):
-    """cos and sin of phi degrees as _sweep_four_bar computes them: the angle reduced exactly to
-    y = r - 90 n (|y| <= 45), cos y and sin y, then turned by n quarter turns (products with 0 and
-    +-1, exact)."""
-    r = np.fmod(phi, 360.0, out=w["r"]) if reduce else phi
-    n = np.divide(r, 90.0, out=w["n"])
-    np.rint(n, out=n)                       # half to even, as round() does
-    y = np.multiply(n, 90.0, out=w["y"])
-    np.subtract(r, y, out=y)
-    np.multiply(y, RAD, out=y)
-    cy, sy = np.cos(y, out=w["cy"]), np.sin(y, out=w["sy"])
-    lo, hi = n.min(), n.max()
-    if lo == hi:                            # one quarter turn for the whole block (the usual)
-        q = int(lo) & 3
-        if q == 0:
-            return cy, sy
-        if q == 2:
-            return np.negative(cy, out=cy), np.negative(sy, out=sy)
-        return (np.negative(sy, out=sy), cy) if q == 1 else (sy, np.negative(cy, out=cy))
-    quarter = w["quarter"]
-    np.copyto(quarter, n, casting="unsafe")
-    np.bitwise_and(quarter, 3, out=quarter)
-    turn_c = np.take(_QUARTER_COS, quarter, out=w["tc"])
-    turn_s = np.take(_QUARTER_SIN, quarter, out=w["ts"])
-    c, s, spare = w["c"], w["s"], w["spare"]
-    np.multiply(cy, turn_c, out=c)
-    np.subtract(c, np.multiply(sy, turn_s, out=spare), out=c)
-    np.multiply(sy, turn_c, out=s)
-    np.add(s, np.multiply(cy, turn_s, out=spare), out=s)
-    return c, s
-
-
-_QUARTER_COS = (1.0, 0.0, -1.0, 0.0)     # cos and sin of n quarter turns
-_QUARTER_SIN = (0.0, 1.0, 0.0, -1.0)
-
-
-def _fast_square(np, x, hi, lo, t, u):
-    """x^2 = hi + lo exactly (Dekker's split): the double-length square CPython's hypot uses."""
-    np.multiply(x, x, out=hi)
-    np.multiply(x, 134217729.0, out=t)              # 2^27 + 1
-    np.subtract(t, x, out=u)
-    np.subtract(t, u, out=t)                        # the high half of x
-    np.subtract(x, t, out=u)                        # the low half
-    np.multiply(t, t, out=lo)
-    np.subtract(lo, hi, out=lo)
-    np.multiply(t, 2.0, out=t)
-    np.multiply(t, u, out=t)
-    np.add(lo, t, out=lo)                           # ((xh xh - hi) + 2 xh xl) + xl xl
-    np.multiply(u, u, out=u)
-    np.add(lo, u, out=lo)
-
-
-def _fast_hypot(np, x, y, out, w):
-    """math.hypot(x, y) elementwise, bit for bit as CPython 3.11 computes it (vector_norm: scaled
-    by a power of two, the squares and their sum carried as double-doubles, one differential
-    correction; identical on 3 million random pairs). numpy's hypot is libm's, an ulp away in
-    about 0.6% of cases, which the discriminant's cancellation near a dead centre magnifies
-    beyond 1e-13 in the output. NaN where x = y = 0 (the caller hands such points over)."""
-    ax, ay, hi, lo, t, u = (w[key] for key in ("ax", "ay", "hi", "lo", "t", "t2"))
-    csum, f1, f2, exponent = w["csum"], w["f1"], w["f2"], w["exponent"]
-    np.abs(x, out=ax)
-    np.abs(y, out=ay)
-    np.frexp(np.maximum(ax, ay, out=out), out=(t, exponent))
-    np.negative(exponent, out=exponent)
-    np.ldexp(ax, exponent, out=ax)                  # lossless scaling into [0.5, 1)
-    np.ldexp(ay, exponent, out=ay)
-    _fast_square(np, ax, hi, f1, t, u)
-    np.add(hi, 1.0, out=csum)                       # csum = 1 + x^2, f2 its rounding error
-    np.subtract(1.0, csum, out=f2)
-    np.add(f2, hi, out=f2)
-    _fast_square(np, ay, hi, lo, t, u)
-    np.add(f1, lo, out=f1)
-    np.add(csum, hi, out=t)                         # csum + y^2, its error into f2
-    np.subtract(csum, t, out=csum)
-    np.add(csum, hi, out=csum)
-    np.add(f2, csum, out=f2)
-    csum, t = t, csum
-    h = np.subtract(csum, 1.0, out=out)
-    np.add(h, np.add(f1, f2, out=lo), out=h)
-    np.sqrt(h, out=h)
-    _fast_square(np, h, hi, lo, ax, u)              # h^2 = hi + lo
-    np.subtract(csum, hi, out=ay)                   # csum - h^2, its error into f2
-    np.subtract(csum, ay, out=csum)
-    np.subtract(csum, hi, out=csum)
-    np.add(f2, csum, out=f2)
-    np.subtract(f1, lo, out=f1)
-    np.subtract(ay, 1.0, out=ay)
-    np.add(ay, np.add(f1, f2, out=f1), out=ay)      # the residual
-    np.divide(ay, np.multiply(h, 2.0, out=u), out=ay)
-    np.add(h, ay, out=h)                            # the differential correction
-    np.negative(exponent, out=exponent)
-    return np.ldexp(h, exponent, out=h)
-
-
-def _fast_four_bar(np, k, c, s, sign, level, res, w):
-    """_sweep_four_bar on one block: psi, psi', psi'' into res, the discriminant into
-    res["disc"]."""
-    p0, pc, ps, q0, qc, qs, s0, sc, ss = k
-    spare = w["spare"]
-    xp = _fast_lin(np, pc, c, ps, s, w["xp"], spare)
-    xq = _fast_lin(np, qc, c, qs, s, w["xq"], spare)
-    xs = _fast_lin(np, sc, c, ss, s, w["xs"], spare)
-    p, q, sv = _fast_plus(np, p0, xp, w["p"]), _fast_plus(np, q0, xq, w["q"]), \
-        _fast_plus(np, s0, xs, w["sv"])
-    rr = _fast_hypot(np, p, q, w["rr"], w)
-    disc = np.subtract(rr, sv, out=res["disc"])
-    np.multiply(disc, np.add(rr, sv, out=spare), out=disc)
-    root = np.sqrt(disc, out=w["root"])      # NaN where not assembled: found by the caller
-    sn, cn = w["sn"], w["cn"]
-    np.multiply(q, sv, out=sn)               # sn = -q sv - sign p root
-    pr = np.multiply(p, root, out=spare)
-    (np.add if sign > 0 else np.subtract)(sn, pr, out=sn)
-    np.negative(sn, out=sn)
-    np.multiply(p, sv, out=cn)               # cn = -p sv + sign q root
-    qr = np.multiply(q, root, out=spare)
-    (np.subtract if sign > 0 else np.add)(cn, qr, out=cn)
-    np.negative(cn, out=cn)
-    psi = np.arctan2(sn, cn, out=res["output"])
-    np.multiply(psi, DEG, out=psi)
-    np.copyto(psi, 180.0, where=np.equal(psi, -180.0, out=w["flag"]))
-    if level == 0:
-        return
-    r2 = np.multiply(rr, rr, out=w["r2"])
-    cp, sp = np.divide(cn, r2, out=cn), np.divide(sn, r2, out=sn)
-    dp = _fast_lin(np, ps, c, -pc, s, w["dp"], spare)
-    dq = _fast_lin(np, qs, c, -qc, s, w["dq"], spare)
-    ds = _fast_lin(np, ss, c, -sc, s, w["ds"], spare)
-    vel = np.multiply(dp, cp, out=res["velocity"])       # -sign (dp cp + dq sp + ds) / root
-    np.add(vel, np.multiply(dq, sp, out=spare), out=vel)
-    np.add(vel, ds, out=vel)
-    np.divide(vel, root, out=vel)
-    if sign > 0:
-        np.negative(vel, out=vel)
-    if level == 1:
-        return
-    acc = res["acceleration"]
-    e = np.multiply(xp, cp, out=w["e"])                  # -e_ff = xp cp + xq sp + xs
-    np.add(e, np.multiply(xq, sp, out=spare), out=e)
-    np.add(e, xs, out=e)
-    fp = np.multiply(dq, cp, out=w["fp"])                # e_fp = dq cp - dp sp
-    np.subtract(fp, np.multiply(dp, sp, out=spare), out=fp)
-    np.multiply(fp, 2.0, out=fp)
-    np.multiply(fp, vel, out=fp)
-    np.subtract(fp, e, out=acc)                          # e_ff + 2 e_fp vel
-    np.multiply(sv, vel, out=spare)
-    np.multiply(spare, vel, out=spare)
-    np.add(acc, spare, out=acc)                          # ... + sv vel vel
-    np.divide(acc, root, out=acc)
-    if sign > 0:
-        np.negative(acc, out=acc)
-
-
-def _fast_slider(np, k, c, s, sign, level, res, w):
-    """_sweep_slider on one block, in the linkage's scaled lengths (the caller multiplies by the
-    unit): x, x', x'' into res, the discriminant into res["disc"]."""
-    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = k
-    spare = w["spare"]
-    xm = _fast_lin(np, mc, c, ms, s, w["xm"], spare)
-    xk = _fast_lin(np, kc, c, ks, s, w["xk"], spare)
-    m, q = _fast_plus(np, m0, xm, w["m"]), _fast_plus(np, k0, xk, w["q"])
-    u = _fast_affine(np, u0, uc, c, us, s, w["u"], spare)
-    if v0 or vc or vs:
-        dist = _fast_hypot(np, u, _fast_affine(np, v0, vc, c, vs, s, w["v"], spare), w["dist"],
-                           w)
-    else:
-        dist = np.abs(u, out=w["dist"])                  # hypot(u, 0), exactly
-    disc = np.subtract(rod, dist, out=res["disc"])
-    np.multiply(disc, np.add(dist, rod, out=spare), out=disc)
-    root = np.sqrt(disc, out=w["root"])
-    negative = np.less(m, 0.0, out=w["flag"])
-    big = w["big"]                                       # m + root, or m - root where m < 0
-    np.copyto(big, root)
-    np.negative(big, out=big, where=negative)
-    np.add(big, m, out=big)
-    x = res["output"]
-    np.divide(q, big, out=x)                             # the other root, q / big
-    if sign < 0:
-        np.copyto(x, big, where=negative)
-    else:
-        np.logical_not(negative, out=negative)
-        np.copyto(x, big, where=negative)
-    if level == 0:
-        return
-    dm = _fast_lin(np, ms, c, -mc, s, w["dm"], spare)
-    dk = _fast_lin(np, ks, c, -kc, s, w["dk"], spare)
-    vel = np.multiply(dm, x, out=res["velocity"])        # sign (dm x - dk / 2) / root
-    np.subtract(vel, np.multiply(dk, 0.5, out=spare), out=vel)
-    np.divide(vel, root, out=vel)
-    if sign < 0:
-        np.negative(vel, out=vel)
-    if level == 1:
-        return
-    acc = np.multiply(xk, 0.5, out=res["acceleration"])  # sign (xk/2 - xm x + 2 dm x' - x'^2)
-    np.subtract(acc, np.multiply(xm, x, out=spare), out=acc)
-    np.multiply(dm, 2.0, out=spare)
-    np.add(acc, np.multiply(spare, vel, out=spare), out=acc)
-    np.subtract(acc, np.multiply(vel, vel, out=spare), out=acc)
-    np.divide(acc, root, out=acc)
-    if sign < 0:
-        np.negative(acc, out=acc)
-
-
-def _fast_affine(np, k0, kc, c, ks, s, out, spare):
-    """(k0 + kc c) + ks s into out, in _sweep_slider's order; zero terms left out."""
-    if kc:
-        np.multiply(c, kc, out=out)
-        if k0:
-            np.add(out, k0, out=out)
-    else:
-        out.fill(k0)
-    if ks:
-        np.add(out, np.multiply(s, ks, out=spare), out=out)
-    return out
-
-
-_FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "xq", "xs", "p",
-              "q", "sv", "rr", "root", "sn", "cn", "r2", "dp", "dq", "ds", "e", "fp", "xm", "xk",
-              "m", "u", "v", "dist", "big", "dm", "dk", "ax", "ay", "hi", "lo", "t", "t2", "csum",
-              "f1", "f2", "disc")
-
-
-def _sweep_arrays(linkage, phis, branch, derivatives):
-    """Linkage.sweep_arrays: see there."""
-    np = numpy_module()
-    if branch not in (1, 2):
-        raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
-    if derivatives not in (0, 1, 2):
-        raise ValueError("derivatives is 0 (output), 1 (and velocity) or 2 (and acceleration)")
-    try:
-        phi = np.array(phis, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError("input angles must be numbers") from None
-    if phi.ndim != 1:
-        raise ValueError("input angles must be a sequence of numbers (one dimension)")
-    low, high = (phi.min(), phi.max()) if len(phi) else (0.0, 0.0)   # NaN if any is NaN
-    if not (math.isfinite(low) and math.isfinite(high)):
-        raise ValueError("input angles must be finite")
-    count, sign, level = len(phi), 1.0 if branch == 1 else -1.0, derivatives
-    res = {"output": np.empty(count), "velocity": np.empty(count) if level >= 1 else None,
-           "acceleration": np.empty(count) if level >= 2 else None}
-    status = np.zeros(count, dtype=np.int8)
-    block = min(FAST_BLOCK, max(count, 1))
-    w = dict(zip(_FAST_WORK, np.empty((len(_FAST_WORK), block))))   # one allocation: the
-    #                                     allocator keeps it for the next call, not new pages
-    w["flag"], w["missing"], w["redo"] = np.empty((3, block), dtype=bool)
-    w["quarter"] = np.empty(block, dtype=np.intp)
-    w["exponent"] = np.empty(block, dtype=np.intc)
-    reduce = not max(-low, high) < 360.0
-    step = _fast_slider if linkage.is_slider else _fast_four_bar
-    k = linkage._constants
-    line = FAST_MARGIN * linkage._precise_below
-    last = ("output", "velocity", "acceleration")[level]
-    redo = []
-    with np.errstate(all="ignore"):        # a block at a time: memory bounded, in the cache
-        for start in range(0, count, block):
-            stop = min(start + block, count)
-            n = stop - start
-            part = {key: None if a is None else a[start:stop] for key, a in res.items()}
-            work = w if n == block else {key: a[:n] for key, a in w.items()}
-            part["disc"] = work["disc"]
-            c, s = _fast_cos_sin(np, phi[start:stop], reduce, work)
-            step(np, k, c, s, sign, level, part, work)
-            disc, missing, again = part["disc"], work["missing"], work["redo"]
-            np.less(disc, -line, out=missing)
-            np.less_equal(np.abs(disc, out=disc), line, out=again)
-            again |= ~(np.isfinite(part[last], out=work["flag"]) | missing)
-            status[start:stop][missing] = STATUS_CODES.index(NOT_ASSEMBLED)
-            if again.any():
-                redo.append(np.flatnonzero(again) + start)
-            if linkage.is_slider:
-                for key in ("output", "velocity", "acceleration"):
-                    if part[key] is not None:
-                        np.multiply(part[key], linkage._unit, out=part[key])
-    where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
-    if len(where):
-        columns = [res[key] for key in ("output", "velocity", "acceleration")]
-        for i, m in zip(where.tolist(), linkage.sweep(phi[where].tolist(), branch, level)):
-            for column, value in zip(columns, m[1:4]):
-                if column is not None:
-                    column[i] = math.nan if value is None else value
-            status[i] = STATUS_CODES.index(m.status)
-    return MotionArrays(phi, res["output"], res["velocity"], res["acceleration"], status)
+# Holds: what follows from the engine's output angle (or slider position) and its derivatives: where
+# every joint is (joint_positions, in the frame the listing's coefficients imply;
+# tests/test_physics.py derives it: the input axis is z and the crank b turns in the plane z = 0
+# from +x), the moving pins with their derivatives by phi (PINS, joint_kinematics), a point fixed to
+# the coupler (coupler_of), the transmission angle (transmission_of), and analyse: a linkage's type,
+# crank and output ranges, dead centres, change points and transmission-angle extremes.
+#
+# The transmission angle mu is the angle between the output pin's velocity and its velocity relative
+# to the crank pin A (the review's section 2): for the plane four-bar the angle between coupler and
+# output, eq. (1); for the skew kinds it is taken about the input shaft's direction, so that a skew
+# linkage made plane gives eq. (1).
+#
+# Uses: sections 2 and 6.
+# Offers: Real, Vec3, Kinematics, Pins, PINS, COUPLER_REACH, pin_dimensions, cross, dot, rotated_y,
+#   check_coupler_point, joint_kinematics, output_pin_at, coupler_form, transmission_form,
+#   CouplerMotion, coupler_of, transmission_of, ANALYSIS_SAMPLES, extreme_of, crank_limits, Extreme,
+#   Analysis, unwrapped, analyse, value_text, analysis_lines, Pose, joint_positions.
 
 
 # -- the joints, the coupler point and the transmission angle -----------------------------------
@@ -3526,7 +3207,7 @@ def check_coupler_point(linkage: Closure, u: float, v: float = 0.0) -> tuple[flo
     return u, v
 
 
-def _joint_kinematics(linkage: Closure, dims: dict[str, float], c: Real, s: Real, out: Real,
+def joint_kinematics(linkage: Closure, dims: dict[str, float], c: Real, s: Real, out: Real,
                       level: int, q1: Real | None, q2: Real | None,
                       cos_sin: Callable[[Any], tuple[Any, Any]]
                       ) -> tuple[tuple[Vec3, ...], tuple[Vec3, ...], Vec3]:
@@ -3561,10 +3242,10 @@ def output_pin_at(linkage: Closure, dims: dict[str, float], out: Real,
     return pins.output_pin(dims, cq, sq, None)
 
 
-def _coupler_form(linkage: Closure, a: Sequence[Vec3], p: Sequence[Vec3], u: float, v: float,
+def coupler_form(linkage: Closure, a: Sequence[Vec3], p: Sequence[Vec3], u: float, v: float,
                   sqrt: Callable[[Any], Any]) -> list[Vec3]:
     """The coupler point and its derivatives (as many as a and p carry) from the pins' (scaled
-    lengths: see _joint_kinematics), in the linkage's lengths."""
+    lengths: see joint_kinematics), in the linkage's lengths."""
     form = PINS[linkage.kind].coupler
     if form == "sphere":
         cu, su = cos_sin_degrees(u)
@@ -3593,7 +3274,7 @@ def _coupler_form(linkage: Closure, a: Sequence[Vec3], p: Sequence[Vec3], u: flo
     return out
 
 
-def _transmission_form(kind: str, a: Vec3, p: Vec3, p_q: Vec3, atan2: Callable[[Any, Any], Any]
+def transmission_form(kind: str, a: Vec3, p: Vec3, p_q: Vec3, atan2: Callable[[Any, Any], Any]
                        ) -> Real:
     """mu in degrees from the pins' positions and the output pin's P_q (see the notes above)."""
     t_r = cross(a if PINS[kind].joint_at_a == "OA" else (0.0, 0.0, 1.0), _sub(p, a))
@@ -3624,9 +3305,9 @@ def coupler_of(linkage: Closure, motions: Iterable[Motion], u: float, v: float =
             continue
         level = 0 if m.velocity is None else 1 if m.acceleration is None else 2
         c, s = cos_sin_degrees(m.phi)
-        a, p, _ = _joint_kinematics(linkage, dims, c, s, m.output, level, m.velocity,
+        a, p, _ = joint_kinematics(linkage, dims, c, s, m.output, level, m.velocity,
                                     m.acceleration, cos_sin_degrees)
-        point: list[Vector | None] = [*_coupler_form(linkage, a, p, u, v, math.sqrt), None, None]
+        point: list[Vector | None] = [*coupler_form(linkage, a, p, u, v, math.sqrt), None, None]
         out.append(CouplerMotion(m.phi, point[0], point[1], point[2], m.status))
     return out
 
@@ -3641,114 +3322,10 @@ def transmission_of(linkage: Closure, motions: Iterable[Motion]) -> list[float |
             out.append(None)
             continue
         c, s = cos_sin_degrees(m.phi)
-        a, p, p_q = _joint_kinematics(linkage, dims, c, s, m.output, 0, None, None,
+        a, p, p_q = joint_kinematics(linkage, dims, c, s, m.output, 0, None, None,
                                       cos_sin_degrees)
-        out.append(_transmission_form(linkage.kind, a[0], p[0], p_q, math.atan2))
+        out.append(transmission_form(linkage.kind, a[0], p[0], p_q, math.atan2))
     return out
-
-
-def _cos_sin_degrees_array(np, x):
-    """cos_sin_degrees elementwise (NaN stays NaN)."""
-    with np.errstate(invalid="ignore"):
-        r = np.fmod(x, 360.0)
-        n = np.rint(r / 90.0)
-        y = (r - 90.0 * n) * RAD
-        quarter = np.nan_to_num(n).astype(np.intp) & 3
-    cy, sy = np.cos(y), np.sin(y)
-    tc, ts = np.take(_QUARTER_COS, quarter), np.take(_QUARTER_SIN, quarter)
-    return cy * tc - sy * ts, sy * tc + cy * ts
-
-
-class CouplerArrays(NamedTuple):
-    """Linkage.coupler_arrays' answer: phi, then position, velocity and acceleration as float64
-    arrays of shape (n, 3) (NaN where there is no position; velocity and acceleration None when
-    not asked for), and the MotionArrays status codes."""
-    phi: numpy.ndarray
-    position: numpy.ndarray
-    velocity: numpy.ndarray | None          # None: not asked for
-    acceleration: numpy.ndarray | None
-    status: numpy.ndarray
-
-
-def coupler_of_arrays(linkage: Closure, arrays: MotionArrays, u: float,
-                      v: float = 0.0) -> CouplerArrays:
-    """coupler_of on a MotionArrays (Linkage.sweep_arrays'): a CouplerArrays."""
-    np = numpy_module()
-    u, v = check_coupler_point(linkage, u, v)
-    level = 0 if arrays.velocity is None else 1 if arrays.acceleration is None else 2
-    c, s = _cos_sin_degrees_array(np, arrays.phi)
-    with np.errstate(all="ignore"):
-        a, p, _ = _joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
-                                    arrays.output, level, arrays.velocity,
-                                    arrays.acceleration, functools.partial(_cos_sin_degrees_array,
-                                                                           np))
-        point = _coupler_form(linkage, a, p, u, v, np.sqrt)
-    count = len(arrays.phi)
-    stacked = [np.stack([np.broadcast_to(np.asarray(x, dtype=np.float64), (count,))
-                         for x in w], axis=1) for w in point] + [None, None]
-    position, velocity, acceleration = stacked[:3]
-    return CouplerArrays(arrays.phi, position, velocity, acceleration, arrays.status)
-
-
-def transmission_of_arrays(linkage: Closure, arrays: MotionArrays) -> numpy.ndarray:
-    """transmission_of on a MotionArrays: a float64 array, NaN where there is no position."""
-    np = numpy_module()
-    c, s = _cos_sin_degrees_array(np, arrays.phi)
-    with np.errstate(all="ignore"):
-        a, p, p_q = _joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
-                                      arrays.output, 0, None, None,
-                                      functools.partial(_cos_sin_degrees_array, np))
-        mu = _transmission_form(linkage.kind, a[0], p[0], p_q, np.arctan2)
-    return np.broadcast_to(np.asarray(mu, dtype=np.float64), (len(arrays.phi),)).copy()
-
-
-class Linkage(Closure):
-    """One linkage of the listing's five kinds: Linkage(kind, **dims) (see Closure), and all
-    that can be asked of it. Each method names a question and the section that answers it: the
-    engine's motion and sweep (section 6), the coupler point and the transmission angle (7), and
-    the same on numpy arrays (8)."""
-
-    __slots__ = ()
-
-    def sweep_arrays(self, phis: Sequence[float] | numpy.ndarray, branch: int = 1,
-                     derivatives: int = 2) -> MotionArrays:
-        """sweep on numpy arrays (the optional extra `fast`): a MotionArrays of the output,
-        velocity and acceleration (NaN where there is no position) and status codes. The same
-        numbers as sweep to 1e-13 (tests/test_fast.py): a point near a dead centre or change
-        point, or whose numbers are not finite, is computed by sweep itself. Raises
-        FastUnavailable where numpy is not installed."""
-        return _sweep_arrays(self, phis, branch, derivatives)
-
-    def coupler(self, phis: Iterable[float], u: float, v: float = 0.0, branch: int | str = 1,
-                derivatives: int = 2, *, start: int | None = None) -> list[CouplerMotion]:
-        """The coupler point (u, v) at each input angle of `phis`: a CouplerMotion each, its
-        position, velocity and acceleration (x, y, z) on the branch (or motion) that sweep takes.
-        The point is fixed to the coupler, in its own frame: plane kinds P = A + u e + v n (u, v
-        lengths, e the unit vector from A to the output pin, n = e turned +90 degrees about z);
-        the spherical four-bar P = cos v (cos u A + sin u t) + sin v (A x t) (u, v degrees, t
-        the unit tangent at A toward B); the skew kinds P = A + u e, v = 0 (their coupler may
-        spin about that line). A ValueError says why a point is refused."""
-        u, v = check_coupler_point(self, u, v)
-        return coupler_of(self, self.sweep(phis, branch, derivatives, start=start), u, v)
-
-    def transmission(self, phis: Iterable[float], branch: int | str = 1, *,
-                     start: int | None = None) -> list[float | None]:
-        """The transmission angle mu (degrees, [0, 180]) at each input angle, None where there
-        is no position: the angle between the output pin's velocity and its velocity relative
-        to the crank pin A (the review's section 2; see the section's notes)."""
-        return transmission_of(self, self.sweep(phis, branch, 0, start=start))
-
-    def coupler_arrays(self, phis: Sequence[float] | numpy.ndarray, u: float, v: float = 0.0,
-                       branch: int = 1, derivatives: int = 2) -> CouplerArrays:
-        """coupler on numpy arrays (sweep_arrays's numbers): a CouplerArrays."""
-        u, v = check_coupler_point(self, u, v)
-        return coupler_of_arrays(self, self.sweep_arrays(phis, branch, derivatives), u, v)
-
-    def transmission_arrays(self, phis: Sequence[float] | numpy.ndarray,
-                            branch: int = 1) -> numpy.ndarray:
-        """transmission on numpy arrays: a float64 array, NaN where there is no position."""
-        return transmission_of_arrays(self, self.sweep_arrays(phis, branch, 0))
-
 
 
 # -- the linkage's type and range of motion (analyse) -------------------------------------------
@@ -3848,7 +3425,7 @@ def _discriminant(linkage: Closure
                   ) -> tuple[Callable[[float], float], Callable[[float], float]]:
     """D(phi) and D'(phi) (phi in degrees, D' by radians) over the scale of D, in double: each
     term divided by the scale's root before it is squared (no overflow, no underflow)."""
-    root = _size(linkage.kind, linkage._constants) or 1.0
+    root = closure_scale(linkage.kind, linkage._constants) or 1.0
     k = tuple(v / root for v in linkage._constants)
 
     def terms(phi: float) -> tuple[float, float]:
@@ -4186,117 +3763,536 @@ def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
     return [f"{prefix}{name} = {value}" for name, value in rows]
 
 
-# -- angles and files ----------------------------------------------------------------------------
+class Pose(NamedTuple):
+    """Where every joint of a linkage is at one input angle (see joint_positions).
 
-def angle_count(start: float, stop: float, step: float) -> int:
-    """How many input angles start, start + step, ... reach stop (within step / 1e9)."""
-    if step == 0 or not all(math.isfinite(v) for v in (start, stop, step)):
-        raise ValueError("start, stop and step must be finite and step non-zero")
-    steps = (stop - start) / step
-    if not math.isfinite(steps) or steps > 2.0 ** 62:
-        raise ValueError(f"from {start:g} to {stop:g} by {step:g} is too many points")
-    return max(math.floor(steps + 1e-9) + 1, 0)
-
-
-def evenly_spaced_angles(start: float, stop: float, step: float) -> list[float]:
-    """The input angles start, start + step, ... up to stop (within step / 1e9), each computed
-    as start + i * step: no accumulated rounding (the listing's single-precision FOR drifts,
-    quirk K10)."""
-    return [start + i * step for i in range(angle_count(start, stop, step))]
-
-
-def write_dat_files(motions: Iterable[tuple], directory: str = ".", *,
-                    clip: bool = False, missing: str = "skip", files: int = 3,
-                    transmission: bool | None = None,
-                    before_rename: Callable[[], None] | None = None,
-                    csv: Any = None) -> int:
-    """Write ANG.DAT, VEL.DAT and ACC.DAT (the first `files` of them) in the listing's format
-    ("phi,value" lines, CRLF, a 0x1A end byte) at full precision: each number as the shortest
-    text that reads back exactly (repr). `motions` may be any iterable of rows (a generator keeps
-    a long sweep out of memory) or of SweepColumns (a block of rows as numpy arrays); the files
-    are written whole or not at all (DatFiles). Returns the number of rows.
-
-    Unclipped unless clip=True (then VEL and ACC are clipped to +-3 as lines 1200-1300 do). A value
-    that is None (see Motion.status) is left out of its file (missing="skip"), or written as 0 as
-    the listing writes positions it cannot assemble (missing="zero", quirk K8).
-
-    transmission=True: each row's sixth field (after a Motion's five), the transmission angle,
-    goes to MU.DAT too; False: an old MU.DAT there is removed with the old set (DatFiles).
-    before_rename: see DatFiles.close. csv: an open binary file to which every row goes too, as
-    csv_line writes it (all its fields, unclipped), its numbers formatted once for both.
+    joints: name -> (x, y, z). Always the ground joints and the crank pin A; the output side (B,
+    or the slider C) only where the linkage assembles (status ASSEMBLED, DEAD_CENTRE or
+    CHANGE_POINT).
+    axes: name -> (point, unit direction): "input" and "output" (the four-bars' shafts),
+    "guide" (the slider's line).
     """
-    if missing not in ("skip", "zero"):
-        raise ValueError('missing is "skip" or "zero"')
-    fields = (1, 2, 3)[:files] + ((5,) if transmission else ())
-    out = DatFiles(directory, files, transmission)
+
+    phi: float
+    status: str
+    output: float | None
+    joints: dict[str, Vector]
+    axes: dict[str, tuple[Vector, Vector]]
+
+
+def joint_positions(linkage: Closure, phi: float, branch: int | str = 1) -> Pose:
+    """The 3-D position of every joint of `linkage` at input angle phi (degrees) on `branch`.
+
+    plane:        A0 = (0, 0, 0) the input pivot, A the crank pin, B the output crank pin,
+                  B0 = (a, 0, 0) the output pivot.
+    spherical:    on the unit sphere about O = (0, 0, 0): A0 = (0, 0, 1) where the input axis
+                  meets it, B0 = (sin a, 0, cos a) the output axis's, A and B the pins.
+    skew:         A0 = (0, 0, 0) on the input axis z; the common perpendicular (length a) runs
+                  along x from F0 = (0, 0, f) to F1 = (a, 0, f) on the output axis, of direction
+                  w = (0, -sin ksi, cos ksi); B0 = F1 - g w = (a, f tan ksi, 0), g = f / cos ksi,
+                  is the centre of the output crank's circle, in the plane z = 0 as the crank's.
+    slider:       A0, A; the slider C = (x, e, 0) on the guide y = e.
+    skew-slider:  A0, A, F0 = (0, 0, f); the slider C = F1 + x (0, sin ksi, -cos ksi) on the
+                  guide through F1 = (a, 0, f).
+    """
+    motion = linkage.motion(phi, branch, derivatives=0)
+    dims, kind, pins = pin_dimensions(linkage.dims), linkage.kind, PINS[linkage.kind]
+    joints, axes = _GROUND_JOINTS[kind](dims)
+    joints["A"] = pins.crank_pin(dims, *cos_sin_degrees(motion.phi))[0]
+    out = motion.output
+    if out is not None:
+        joints[pins.output_joint] = output_pin_at(linkage, dims, out, cos_sin_degrees)[0]
+    return Pose(motion.phi, motion.status, out, joints, axes)
+
+
+_Z_AXIS = (0.0, 0.0, 1.0)
+_ORIGIN = (0.0, 0.0, 0.0)
+# A kind's ground: its fixed joints and its axes, as Pose has them.
+_Ground = tuple[dict[str, Vector], dict[str, tuple[Vector, Vector]]]
+
+
+def _plane_ground_joints(dims: dict[str, float]) -> _Ground:
+    b0 = (dims["a"], 0.0, 0.0)
+    return {"A0": _ORIGIN, "B0": b0}, {"input": (_ORIGIN, _Z_AXIS), "output": (b0, _Z_AXIS)}
+
+
+def _spherical_ground_joints(dims: dict[str, float]) -> _Ground:
+    ca, sa = cos_sin_degrees(dims["a"])
+    b0 = (sa, 0.0, ca)
+    return ({"O": _ORIGIN, "A0": _Z_AXIS, "B0": b0},
+            {"input": (_ORIGIN, _Z_AXIS), "output": (_ORIGIN, b0)})
+
+
+def _skew_ground_joints(dims: dict[str, float]) -> _Ground:
+    a, f = dims["a"], dims["f"]
+    cx, sx = cos_sin_degrees(dims["ksi"])
+    f1 = (a, 0.0, f)
+    return ({"A0": _ORIGIN, "F0": (0.0, 0.0, f), "F1": f1, "B0": (a, f * sx / cx, 0.0)},
+            {"input": (_ORIGIN, _Z_AXIS), "output": (f1, (0.0, -sx, cx))})
+
+
+def _slider_ground_joints(dims: dict[str, float]) -> _Ground:
+    return {"A0": _ORIGIN}, {"input": (_ORIGIN, _Z_AXIS),
+                             "guide": ((0.0, dims["e"], 0.0), (1.0, 0.0, 0.0))}
+
+
+def _skew_slider_ground_joints(dims: dict[str, float]) -> _Ground:
+    a, f = dims["a"], dims["f"]
+    cx, sx = cos_sin_degrees(dims["ksi"])
+    f1 = (a, 0.0, f)
+    return ({"A0": _ORIGIN, "F0": (0.0, 0.0, f), "F1": f1},
+            {"input": (_ORIGIN, _Z_AXIS), "guide": (f1, (0.0, sx, -cx))})
+
+
+_GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _spherical_ground_joints,
+                  SKEW_FOUR_BAR: _skew_ground_joints, PLANE_SLIDER_CRANK: _slider_ground_joints,
+                  SKEW_SLIDER_CRANK: _skew_slider_ground_joints}
+
+
+# ---- 8. The numpy path: sweeps, coupler points and file lines on arrays --------------------------
+#
+# Holds: the engine's sweep on numpy arrays (sweep_arrays' work: the same formulas in blocks, a
+# point near a dead centre or change point handed to the scalar engine), the coupler point and
+# transmission angle on arrays, and numbers formatted as repr formats them a block at once (the DAT
+# and CSV lines). numpy is an optional extra: numpy_module raises FastUnavailable without it. No
+# other section uses numpy itself (test_layout).
+#
+# Uses: sections 2, 6 and 7.
+# Offers: STATUS_CODES, FAST_BLOCK, FAST_MARGIN, FastUnavailable, numpy_module, angle_array,
+#   MotionArrays, assembled_count, motion_arrays_of, CouplerArrays, coupler_of_arrays,
+#   transmission_of_arrays, SweepColumns, NUMBER_ROWS, LINE_ROWS, as_columns, column_texts.
+
+
+# -- the vectorised path: numpy, a block of angles at a time ------------------------------------
+#
+# Linkage.sweep_arrays is _sweep_four_bar and _sweep_slider written on numpy arrays: the same
+# formulas with the same operations in the same order, hypot computed as CPython's math.hypot
+# (_fast_hypot), so the same numbers: here (numpy 2.4.6) the velocity and acceleration to the bit,
+# the output within a unit in the last place (numpy's arctan2 is not libm's; where numpy's cos
+# and sin are not libm's either, a few). The angles go through in
+# blocks of FAST_BLOCK, every operation written into a preallocated array (out=) so that the
+# working set stays in the cache; a term whose constant is zero is left out (it adds nothing but
+# the sign of a zero). The vectorised path decides only "assembled" and the plainly "not
+# assembled": a point the scalar engine would redo in 50-digit decimal (discriminant within
+# _precise_below of zero), widened by FAST_MARGIN so that a last-place difference cannot carry a
+# point across that line, and any point whose numbers are not finite, is handed to Linkage.sweep
+# itself - never approximated here. numpy is imported at the first use only: linkage.py runs on
+# the standard library alone, and this path is the optional extra `fast`.
+
+STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE,  # MotionArrays.status
+                CHANGE_POINT)
+FAST_BLOCK = 16384       # angles a block (of 4096 to 32768 the fastest at 1e4 and 1e5 points here,
+#                          2026-11-26; memory: 50 arrays of it, 6.5 MB)
+FAST_MARGIN = 2.0        # handed to the scalar engine: |D| <= FAST_MARGIN * its decimal line
+
+
+class FastUnavailable(RuntimeError):
+    """The vectorised path (Linkage.sweep_arrays, run --fast, a scene's fast = true) where numpy
+    cannot be imported."""
+
+
+def numpy_module() -> ModuleType:
+    """numpy, imported at the first use; FastUnavailable, saying what to install, without it."""
     try:
-        for block in _blocks(motions):
-            for texts, points in _block_texts(block, fields, clip, missing == "zero",
-                                              csv is not None):
-                if csv is not None:
-                    csv.write(texts.pop())
-                out.write(texts, points)
-    except BaseException:
-        out.discard()
-        raise
-    out.close(before_rename)
-    return out.points
+        import numpy
+    except ImportError:
+        raise FastUnavailable("the vectorised path (--fast, a scene's fast = true) needs numpy, "
+                              "which is not installed: python3 -m pip install numpy; "
+                              "without it, leave --fast out: the same numbers, computed one "
+                              "point at a time") from None
+    return numpy
 
 
-def _block_texts(block, fields, clip, zero, csv):
-    """One block's lines (rows, or SweepColumns), in parts: each part's texts (bytes), one for
-    each DAT file of `fields` (row indices; "phi,value" CR LF, VEL and ACC (fields 2 and 3)
-    clipped to +-3 if `clip`, a missing value left out, or written as 0.0 if `zero`), then if
-    `csv` its CSV rows; and its number of rows."""
-    clipped = [clip and f in (2, 3) for f in fields]
-    if isinstance(block, SweepColumns):
-        yield from column_texts(block, fields, clipped, zero, csv)
-    else:
-        yield _row_texts(block, fields, clipped, zero, csv), len(block)
-
-
-def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[bool], zero: bool,
-                 csv: bool) -> Iterator[tuple[list[bytes], int]]:
-    """_block_texts of SweepColumns, formatted a block at once (the same bytes as a number at a
-    time, _float_texts)."""
+def angle_array(start: float, step: float, first: int, last: int) -> numpy.ndarray:
+    """The input angles start + i * step for i from first to last (excluded) as a float64
+    array: the same numbers as the scalar path's list (evenly_spaced_angles)."""
     np = numpy_module()
-    phi = block.phi
+    return np.arange(first, last, dtype=np.float64) * step + start
+
+
+class MotionArrays(NamedTuple):
+    """Linkage.sweep_arrays' answer: Linkage.sweep's Motion fields as numpy arrays, one element an
+    input angle. output, velocity and acceleration are float64, NaN where the position does not
+    exist (status says why); velocity and acceleration are None when not asked for. status holds
+    int8 codes, indices into STATUS_CODES (0 ASSEMBLED, 1 DEAD_CENTRE, 2 NOT_ASSEMBLED,
+    3 INDETERMINATE, 4 CHANGE_POINT)."""
+
+    phi: numpy.ndarray
+    output: numpy.ndarray
+    velocity: numpy.ndarray | None          # None: not asked for
+    acceleration: numpy.ndarray | None
+    status: numpy.ndarray
+
+    def motions(self) -> list[Motion]:
+        """The same answer as Linkage.sweep gives it: a list of Motion, None for NaN."""
+        columns = [None if a is None else [None if v != v else v for v in a.tolist()]
+                   for a in (self.output, self.velocity, self.acceleration)]
+        n = len(self.phi)
+        output, velocity, acceleration = (c if c is not None else [None] * n for c in columns)
+        return [Motion(phi, o, v, a, STATUS_CODES[k]) for phi, o, v, a, k in
+                zip(self.phi.tolist(), output, velocity, acceleration, self.status.tolist())]
+
+
+def assembled_count(arrays: MotionArrays) -> int:
+    """How many of a MotionArrays' angles have a position."""
+    return len(arrays.output) - int(numpy_module().isnan(arrays.output).sum())
+
+
+def _fast_lin(np, a, x, b, y, out, spare):
+    """a x + b y into out, as the scalar engine rounds it; a term with a zero constant left out."""
+    if a and b:
+        np.multiply(x, a, out=out)
+        np.multiply(y, b, out=spare)
+        return np.add(out, spare, out=out)
+    if a or b:
+        return np.multiply(x if a else y, a or b, out=out)
+    out.fill(0.0)
+    return out
+
+
+def _fast_plus(np, k, x, out):
+    """k + x into out (x itself when k is zero)."""
+    return np.add(x, k, out=out) if k else x
+
+
+def _fast_cos_sin(np, phi, reduce, w):
+    """cos and sin of phi degrees as _sweep_four_bar computes them: the angle reduced exactly to
+    y = r - 90 n (|y| <= 45), cos y and sin y, then turned by n quarter turns (products with 0 and
+    +-1, exact)."""
+    r = np.fmod(phi, 360.0, out=w["r"]) if reduce else phi
+    n = np.divide(r, 90.0, out=w["n"])
+    np.rint(n, out=n)                       # half to even, as round() does
+    y = np.multiply(n, 90.0, out=w["y"])
+    np.subtract(r, y, out=y)
+    np.multiply(y, RAD, out=y)
+    cy, sy = np.cos(y, out=w["cy"]), np.sin(y, out=w["sy"])
+    lo, hi = n.min(), n.max()
+    if lo == hi:                            # one quarter turn for the whole block (the usual)
+        q = int(lo) & 3
+        if q == 0:
+            return cy, sy
+        if q == 2:
+            return np.negative(cy, out=cy), np.negative(sy, out=sy)
+        return (np.negative(sy, out=sy), cy) if q == 1 else (sy, np.negative(cy, out=cy))
+    quarter = w["quarter"]
+    np.copyto(quarter, n, casting="unsafe")
+    np.bitwise_and(quarter, 3, out=quarter)
+    turn_c = np.take(_QUARTER_COS, quarter, out=w["tc"])
+    turn_s = np.take(_QUARTER_SIN, quarter, out=w["ts"])
+    c, s, spare = w["c"], w["s"], w["spare"]
+    np.multiply(cy, turn_c, out=c)
+    np.subtract(c, np.multiply(sy, turn_s, out=spare), out=c)
+    np.multiply(sy, turn_c, out=s)
+    np.add(s, np.multiply(cy, turn_s, out=spare), out=s)
+    return c, s
+
+
+_QUARTER_COS = (1.0, 0.0, -1.0, 0.0)     # cos and sin of n quarter turns
+_QUARTER_SIN = (0.0, 1.0, 0.0, -1.0)
+
+
+def _fast_square(np, x, hi, lo, t, u):
+    """x^2 = hi + lo exactly (Dekker's split): the double-length square CPython's hypot uses."""
+    np.multiply(x, x, out=hi)
+    np.multiply(x, 134217729.0, out=t)              # 2^27 + 1
+    np.subtract(t, x, out=u)
+    np.subtract(t, u, out=t)                        # the high half of x
+    np.subtract(x, t, out=u)                        # the low half
+    np.multiply(t, t, out=lo)
+    np.subtract(lo, hi, out=lo)
+    np.multiply(t, 2.0, out=t)
+    np.multiply(t, u, out=t)
+    np.add(lo, t, out=lo)                           # ((xh xh - hi) + 2 xh xl) + xl xl
+    np.multiply(u, u, out=u)
+    np.add(lo, u, out=lo)
+
+
+def _fast_hypot(np, x, y, out, w):
+    """math.hypot(x, y) elementwise, bit for bit as CPython 3.11 computes it (vector_norm: scaled
+    by a power of two, the squares and their sum carried as double-doubles, one differential
+    correction; identical on 3 million random pairs). numpy's hypot is libm's, an ulp away in
+    about 0.6% of cases, which the discriminant's cancellation near a dead centre magnifies
+    beyond 1e-13 in the output. NaN where x = y = 0 (the caller hands such points over)."""
+    ax, ay, hi, lo, t, u = (w[key] for key in ("ax", "ay", "hi", "lo", "t", "t2"))
+    csum, f1, f2, exponent = w["csum"], w["f1"], w["f2"], w["exponent"]
+    np.abs(x, out=ax)
+    np.abs(y, out=ay)
+    np.frexp(np.maximum(ax, ay, out=out), out=(t, exponent))
+    np.negative(exponent, out=exponent)
+    np.ldexp(ax, exponent, out=ax)                  # lossless scaling into [0.5, 1)
+    np.ldexp(ay, exponent, out=ay)
+    _fast_square(np, ax, hi, f1, t, u)
+    np.add(hi, 1.0, out=csum)                       # csum = 1 + x^2, f2 its rounding error
+    np.subtract(1.0, csum, out=f2)
+    np.add(f2, hi, out=f2)
+    _fast_square(np, ay, hi, lo, t, u)
+    np.add(f1, lo, out=f1)
+    np.add(csum, hi, out=t)                         # csum + y^2, its error into f2
+    np.subtract(csum, t, out=csum)
+    np.add(csum, hi, out=csum)
+    np.add(f2, csum, out=f2)
+    csum, t = t, csum
+    h = np.subtract(csum, 1.0, out=out)
+    np.add(h, np.add(f1, f2, out=lo), out=h)
+    np.sqrt(h, out=h)
+    _fast_square(np, h, hi, lo, ax, u)              # h^2 = hi + lo
+    np.subtract(csum, hi, out=ay)                   # csum - h^2, its error into f2
+    np.subtract(csum, ay, out=csum)
+    np.subtract(csum, hi, out=csum)
+    np.add(f2, csum, out=f2)
+    np.subtract(f1, lo, out=f1)
+    np.subtract(ay, 1.0, out=ay)
+    np.add(ay, np.add(f1, f2, out=f1), out=ay)      # the residual
+    np.divide(ay, np.multiply(h, 2.0, out=u), out=ay)
+    np.add(h, ay, out=h)                            # the differential correction
+    np.negative(exponent, out=exponent)
+    return np.ldexp(h, exponent, out=h)
+
+
+def _fast_four_bar(np, k, c, s, sign, level, res, w):
+    """_sweep_four_bar on one block: psi, psi', psi'' into res, the discriminant into
+    res["disc"]."""
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = k
+    spare = w["spare"]
+    xp = _fast_lin(np, pc, c, ps, s, w["xp"], spare)
+    xq = _fast_lin(np, qc, c, qs, s, w["xq"], spare)
+    xs = _fast_lin(np, sc, c, ss, s, w["xs"], spare)
+    p, q, sv = _fast_plus(np, p0, xp, w["p"]), _fast_plus(np, q0, xq, w["q"]), \
+        _fast_plus(np, s0, xs, w["sv"])
+    rr = _fast_hypot(np, p, q, w["rr"], w)
+    disc = np.subtract(rr, sv, out=res["disc"])
+    np.multiply(disc, np.add(rr, sv, out=spare), out=disc)
+    root = np.sqrt(disc, out=w["root"])      # NaN where not assembled: found by the caller
+    sn, cn = w["sn"], w["cn"]
+    np.multiply(q, sv, out=sn)               # sn = -q sv - sign p root
+    pr = np.multiply(p, root, out=spare)
+    (np.add if sign > 0 else np.subtract)(sn, pr, out=sn)
+    np.negative(sn, out=sn)
+    np.multiply(p, sv, out=cn)               # cn = -p sv + sign q root
+    qr = np.multiply(q, root, out=spare)
+    (np.subtract if sign > 0 else np.add)(cn, qr, out=cn)
+    np.negative(cn, out=cn)
+    psi = np.arctan2(sn, cn, out=res["output"])
+    np.multiply(psi, DEG, out=psi)
+    np.copyto(psi, 180.0, where=np.equal(psi, -180.0, out=w["flag"]))
+    if level == 0:
+        return
+    r2 = np.multiply(rr, rr, out=w["r2"])
+    cp, sp = np.divide(cn, r2, out=cn), np.divide(sn, r2, out=sn)
+    dp = _fast_lin(np, ps, c, -pc, s, w["dp"], spare)
+    dq = _fast_lin(np, qs, c, -qc, s, w["dq"], spare)
+    ds = _fast_lin(np, ss, c, -sc, s, w["ds"], spare)
+    vel = np.multiply(dp, cp, out=res["velocity"])       # -sign (dp cp + dq sp + ds) / root
+    np.add(vel, np.multiply(dq, sp, out=spare), out=vel)
+    np.add(vel, ds, out=vel)
+    np.divide(vel, root, out=vel)
+    if sign > 0:
+        np.negative(vel, out=vel)
+    if level == 1:
+        return
+    acc = res["acceleration"]
+    e = np.multiply(xp, cp, out=w["e"])                  # -e_ff = xp cp + xq sp + xs
+    np.add(e, np.multiply(xq, sp, out=spare), out=e)
+    np.add(e, xs, out=e)
+    fp = np.multiply(dq, cp, out=w["fp"])                # e_fp = dq cp - dp sp
+    np.subtract(fp, np.multiply(dp, sp, out=spare), out=fp)
+    np.multiply(fp, 2.0, out=fp)
+    np.multiply(fp, vel, out=fp)
+    np.subtract(fp, e, out=acc)                          # e_ff + 2 e_fp vel
+    np.multiply(sv, vel, out=spare)
+    np.multiply(spare, vel, out=spare)
+    np.add(acc, spare, out=acc)                          # ... + sv vel vel
+    np.divide(acc, root, out=acc)
+    if sign > 0:
+        np.negative(acc, out=acc)
+
+
+def _fast_slider(np, k, c, s, sign, level, res, w):
+    """_sweep_slider on one block, in the linkage's scaled lengths (the caller multiplies by the
+    unit): x, x', x'' into res, the discriminant into res["disc"]."""
+    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = k
+    spare = w["spare"]
+    xm = _fast_lin(np, mc, c, ms, s, w["xm"], spare)
+    xk = _fast_lin(np, kc, c, ks, s, w["xk"], spare)
+    m, q = _fast_plus(np, m0, xm, w["m"]), _fast_plus(np, k0, xk, w["q"])
+    u = _fast_affine(np, u0, uc, c, us, s, w["u"], spare)
+    if v0 or vc or vs:
+        dist = _fast_hypot(np, u, _fast_affine(np, v0, vc, c, vs, s, w["v"], spare), w["dist"],
+                           w)
+    else:
+        dist = np.abs(u, out=w["dist"])                  # hypot(u, 0), exactly
+    disc = np.subtract(rod, dist, out=res["disc"])
+    np.multiply(disc, np.add(dist, rod, out=spare), out=disc)
+    root = np.sqrt(disc, out=w["root"])
+    negative = np.less(m, 0.0, out=w["flag"])
+    big = w["big"]                                       # m + root, or m - root where m < 0
+    np.copyto(big, root)
+    np.negative(big, out=big, where=negative)
+    np.add(big, m, out=big)
+    x = res["output"]
+    np.divide(q, big, out=x)                             # the other root, q / big
+    if sign < 0:
+        np.copyto(x, big, where=negative)
+    else:
+        np.logical_not(negative, out=negative)
+        np.copyto(x, big, where=negative)
+    if level == 0:
+        return
+    dm = _fast_lin(np, ms, c, -mc, s, w["dm"], spare)
+    dk = _fast_lin(np, ks, c, -kc, s, w["dk"], spare)
+    vel = np.multiply(dm, x, out=res["velocity"])        # sign (dm x - dk / 2) / root
+    np.subtract(vel, np.multiply(dk, 0.5, out=spare), out=vel)
+    np.divide(vel, root, out=vel)
+    if sign < 0:
+        np.negative(vel, out=vel)
+    if level == 1:
+        return
+    acc = np.multiply(xk, 0.5, out=res["acceleration"])  # sign (xk/2 - xm x + 2 dm x' - x'^2)
+    np.subtract(acc, np.multiply(xm, x, out=spare), out=acc)
+    np.multiply(dm, 2.0, out=spare)
+    np.add(acc, np.multiply(spare, vel, out=spare), out=acc)
+    np.subtract(acc, np.multiply(vel, vel, out=spare), out=acc)
+    np.divide(acc, root, out=acc)
+    if sign < 0:
+        np.negative(acc, out=acc)
+
+
+def _fast_affine(np, k0, kc, c, ks, s, out, spare):
+    """(k0 + kc c) + ks s into out, in _sweep_slider's order; zero terms left out."""
+    if kc:
+        np.multiply(c, kc, out=out)
+        if k0:
+            np.add(out, k0, out=out)
+    else:
+        out.fill(k0)
+    if ks:
+        np.add(out, np.multiply(s, ks, out=spare), out=out)
+    return out
+
+
+_FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "xq", "xs", "p",
+              "q", "sv", "rr", "root", "sn", "cn", "r2", "dp", "dq", "ds", "e", "fp", "xm", "xk",
+              "m", "u", "v", "dist", "big", "dm", "dk", "ax", "ay", "hi", "lo", "t", "t2", "csum",
+              "f1", "f2", "disc")
+
+
+def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
+                     derivatives: int) -> MotionArrays:
+    """Linkage.sweep_arrays: see there."""
+    np = numpy_module()
+    if branch not in (1, 2):
+        raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
+    if derivatives not in (0, 1, 2):
+        raise ValueError("derivatives is 0 (output), 1 (and velocity) or 2 (and acceleration)")
+    try:
+        phi = np.array(phis, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError("input angles must be numbers") from None
+    if phi.ndim != 1:
+        raise ValueError("input angles must be a sequence of numbers (one dimension)")
+    low, high = (phi.min(), phi.max()) if len(phi) else (0.0, 0.0)   # NaN if any is NaN
+    if not (math.isfinite(low) and math.isfinite(high)):
+        raise ValueError("input angles must be finite")
+    count, sign, level = len(phi), 1.0 if branch == 1 else -1.0, derivatives
+    res = {"output": np.empty(count), "velocity": np.empty(count) if level >= 1 else None,
+           "acceleration": np.empty(count) if level >= 2 else None}
+    status = np.zeros(count, dtype=np.int8)
+    block = min(FAST_BLOCK, max(count, 1))
+    w = dict(zip(_FAST_WORK, np.empty((len(_FAST_WORK), block))))   # one allocation: the
+    #                                     allocator keeps it for the next call, not new pages
+    w["flag"], w["missing"], w["redo"] = np.empty((3, block), dtype=bool)
+    w["quarter"] = np.empty(block, dtype=np.intp)
+    w["exponent"] = np.empty(block, dtype=np.intc)
+    reduce = not max(-low, high) < 360.0
+    step = _fast_slider if linkage.is_slider else _fast_four_bar
+    k = linkage._constants
+    line = FAST_MARGIN * linkage._precise_below
+    last = ("output", "velocity", "acceleration")[level]
+    redo = []
+    with np.errstate(all="ignore"):        # a block at a time: memory bounded, in the cache
+        for start in range(0, count, block):
+            stop = min(start + block, count)
+            n = stop - start
+            part = {key: None if a is None else a[start:stop] for key, a in res.items()}
+            work = w if n == block else {key: a[:n] for key, a in w.items()}
+            part["disc"] = work["disc"]
+            c, s = _fast_cos_sin(np, phi[start:stop], reduce, work)
+            step(np, k, c, s, sign, level, part, work)
+            disc, missing, again = part["disc"], work["missing"], work["redo"]
+            np.less(disc, -line, out=missing)
+            np.less_equal(np.abs(disc, out=disc), line, out=again)
+            again |= ~(np.isfinite(part[last], out=work["flag"]) | missing)
+            status[start:stop][missing] = STATUS_CODES.index(NOT_ASSEMBLED)
+            if again.any():
+                redo.append(np.flatnonzero(again) + start)
+            if linkage.is_slider:
+                for key in ("output", "velocity", "acceleration"):
+                    if part[key] is not None:
+                        np.multiply(part[key], linkage._unit, out=part[key])
+    where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
+    if len(where):
+        columns = [res[key] for key in ("output", "velocity", "acceleration")]
+        for i, m in zip(where.tolist(), linkage.sweep(phi[where].tolist(), branch, level)):
+            for column, value in zip(columns, m[1:4]):
+                if column is not None:
+                    column[i] = math.nan if value is None else value
+            status[i] = STATUS_CODES.index(m.status)
+    return MotionArrays(phi, res["output"], res["velocity"], res["acceleration"], status)
+
+
+def _cos_sin_degrees_array(np, x):
+    """cos_sin_degrees elementwise (NaN stays NaN)."""
+    with np.errstate(invalid="ignore"):
+        r = np.fmod(x, 360.0)
+        n = np.rint(r / 90.0)
+        y = (r - 90.0 * n) * RAD
+        quarter = np.nan_to_num(n).astype(np.intp) & 3
+    cy, sy = np.cos(y), np.sin(y)
+    tc, ts = np.take(_QUARTER_COS, quarter), np.take(_QUARTER_SIN, quarter)
+    return cy * tc - sy * ts, sy * tc + cy * ts
+
+
+class CouplerArrays(NamedTuple):
+    """Linkage.coupler_arrays' answer: phi, then position, velocity and acceleration as float64
+    arrays of shape (n, 3) (NaN where there is no position; velocity and acceleration None when
+    not asked for), and the MotionArrays status codes."""
+    phi: numpy.ndarray
+    position: numpy.ndarray
+    velocity: numpy.ndarray | None          # None: not asked for
+    acceleration: numpy.ndarray | None
+    status: numpy.ndarray
+
+
+def coupler_of_arrays(linkage: Closure, arrays: MotionArrays, u: float,
+                      v: float = 0.0) -> CouplerArrays:
+    """coupler_of on a MotionArrays (Linkage.sweep_arrays'): a CouplerArrays."""
+    np = numpy_module()
+    u, v = check_coupler_point(linkage, u, v)
+    level = 0 if arrays.velocity is None else 1 if arrays.acceleration is None else 2
+    c, s = _cos_sin_degrees_array(np, arrays.phi)
     with np.errstate(all="ignore"):
-        values = [c + 0.0 for c in block[1:4] + block.extra]  # -0.0 written as 0.0
-    outputs = []
-    for f, clipped_column in zip(fields, clipped):
-        column = values[f - 1 if f < 4 else f - 2]
-        if clipped_column:
-            column = np.clip(column, -3.0, 3.0)
-        if zero:
-            outputs.append(((phi, np.where(np.isnan(column), 0.0, column)), None))
-        else:
-            outputs.append(((phi, column), ~np.isnan(column)))
-    if csv:
-        status = np.array(STATUS_CODES, dtype="S").take(block.status)
-        unsigned = phi + 0.0 if ((phi == 0.0) & np.signbit(phi)).any() else phi   # the CSV's
-        outputs.append(((unsigned, *values[:3], status.view(np.uint8).reshape(len(block), -1),
-                         *values[3:]), None))
+        a, p, _ = joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
+                                    arrays.output, level, arrays.velocity,
+                                    arrays.acceleration, functools.partial(_cos_sin_degrees_array,
+                                                                           np))
+        point = coupler_form(linkage, a, p, u, v, np.sqrt)
+    count = len(arrays.phi)
+    stacked = [np.stack([np.broadcast_to(np.asarray(x, dtype=np.float64), (count,))
+                         for x in w], axis=1) for w in point] + [None, None]
+    position, velocity, acceleration = stacked[:3]
+    return CouplerArrays(arrays.phi, position, velocity, acceleration, arrays.status)
+
+
+def transmission_of_arrays(linkage: Closure, arrays: MotionArrays) -> numpy.ndarray:
+    """transmission_of on a MotionArrays: a float64 array, NaN where there is no position."""
+    np = numpy_module()
+    c, s = _cos_sin_degrees_array(np, arrays.phi)
     with np.errstate(all="ignore"):
-        yield from _lines(np, outputs)
-
-
-def _row_texts(rows, fields, clipped, zero, csv) -> list:
-    """_block_texts of a list of rows, a number at a time (without numpy)."""
-    phis = [repr(float(row[0])) for row in rows]
-    zero_value = 0.0 if zero else None
-
-    def line(phi, value, clip):
-        if value is None:
-            value = zero_value
-            if value is None:
-                return ""
-        elif clip:
-            value = min(3.0, max(-3.0, value))
-        return f"{phi},{float(value) + 0.0!r}\r\n"           # -0.0 written as 0.0
-    return ["".join(line(phi, row[f], clip) for phi, row in zip(phis, rows)).encode("ascii")
-            for f, clip in zip(fields, clipped)] + [
-        "".join(map(csv_line, rows)).encode("ascii")] * csv
+        a, p, p_q = joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
+                                      arrays.output, 0, None, None,
+                                      functools.partial(_cos_sin_degrees_array, np))
+        mu = transmission_form(linkage.kind, a[0], p[0], p_q, np.arctan2)
+    return np.broadcast_to(np.asarray(mu, dtype=np.float64), (len(arrays.phi),)).copy()
 
 
 class SweepColumns(NamedTuple):
@@ -4317,23 +4313,6 @@ class SweepColumns(NamedTuple):
 
 NUMBER_ROWS = 16384      # numbers formatted at once (numpy's fixed cost a call shared)
 LINE_ROWS = 4096         # lines joined at once (their matrices stay in the cache)
-
-
-def _blocks(rows):
-    """rows in blocks of NUMBER_ROWS (SweepColumns are passed on as they are): a full block becomes
-    SweepColumns where numpy is installed (formatted at once: many times faster than a number at
-    a time, the same bytes), a shorter one where numpy is imported already."""
-    block = []
-    for row in rows:
-        if isinstance(row, SweepColumns):
-            yield row
-            continue
-        block.append(row)
-        if len(block) == NUMBER_ROWS:
-            yield as_columns(block, True)
-            block = []
-    if block:
-        yield as_columns(block, "numpy" in sys.modules)
 
 
 def as_columns(rows: list[tuple], vectorised: bool) -> list[tuple] | SweepColumns:
@@ -4526,6 +4505,211 @@ def _float_texts(np, x) -> list:
     return [text]
 
 
+def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[bool], zero: bool,
+                 csv: bool) -> Iterator[tuple[list[bytes], int]]:
+    """_block_texts of SweepColumns, formatted a block at once (the same bytes as a number at a
+    time, _float_texts)."""
+    np = numpy_module()
+    phi = block.phi
+    with np.errstate(all="ignore"):
+        values = [c + 0.0 for c in block[1:4] + block.extra]  # -0.0 written as 0.0
+    outputs = []
+    for f, clipped_column in zip(fields, clipped):
+        column = values[f - 1 if f < 4 else f - 2]
+        if clipped_column:
+            column = np.clip(column, -3.0, 3.0)
+        if zero:
+            outputs.append(((phi, np.where(np.isnan(column), 0.0, column)), None))
+        else:
+            outputs.append(((phi, column), ~np.isnan(column)))
+    if csv:
+        status = np.array(STATUS_CODES, dtype="S").take(block.status)
+        unsigned = phi + 0.0 if ((phi == 0.0) & np.signbit(phi)).any() else phi   # the CSV's
+        outputs.append(((unsigned, *values[:3], status.view(np.uint8).reshape(len(block), -1),
+                         *values[3:]), None))
+    with np.errstate(all="ignore"):
+        yield from _lines(np, outputs)
+
+
+# ---- 9. The linkage: one class for all that can be asked of it -----------------------------------
+#
+# Holds: Linkage, the engine's Closure with a method for each question the sections before answer:
+# motion and sweep (the engine), coupler and transmission (what it derives), and the same on numpy
+# arrays.
+#
+# Uses: sections 6, 7 and 8.
+# Offers: Linkage.
+
+
+class Linkage(Closure):
+    """One linkage of the listing's five kinds: Linkage(kind, **dims) (see Closure), and all
+    that can be asked of it. Each method names a question and the section that answers it: the
+    engine's motion and sweep (section 6), the coupler point and the transmission angle (7), and
+    the same on numpy arrays (8)."""
+
+    __slots__ = ()
+
+    def sweep_arrays(self, phis: Sequence[float] | numpy.ndarray, branch: int = 1,
+                     derivatives: int = 2) -> MotionArrays:
+        """sweep on numpy arrays (the optional extra `fast`): a MotionArrays of the output,
+        velocity and acceleration (NaN where there is no position) and status codes. The same
+        numbers as sweep to 1e-13 (tests/test_fast.py): a point near a dead centre or change
+        point, or whose numbers are not finite, is computed by sweep itself. Raises
+        FastUnavailable where numpy is not installed."""
+        return motion_arrays_of(self, phis, branch, derivatives)
+
+    def coupler(self, phis: Iterable[float], u: float, v: float = 0.0, branch: int | str = 1,
+                derivatives: int = 2, *, start: int | None = None) -> list[CouplerMotion]:
+        """The coupler point (u, v) at each input angle of `phis`: a CouplerMotion each, its
+        position, velocity and acceleration (x, y, z) on the branch (or motion) that sweep takes.
+        The point is fixed to the coupler, in its own frame: plane kinds P = A + u e + v n (u, v
+        lengths, e the unit vector from A to the output pin, n = e turned +90 degrees about z);
+        the spherical four-bar P = cos v (cos u A + sin u t) + sin v (A x t) (u, v degrees, t
+        the unit tangent at A toward B); the skew kinds P = A + u e, v = 0 (their coupler may
+        spin about that line). A ValueError says why a point is refused."""
+        u, v = check_coupler_point(self, u, v)
+        return coupler_of(self, self.sweep(phis, branch, derivatives, start=start), u, v)
+
+    def transmission(self, phis: Iterable[float], branch: int | str = 1, *,
+                     start: int | None = None) -> list[float | None]:
+        """The transmission angle mu (degrees, [0, 180]) at each input angle, None where there
+        is no position: the angle between the output pin's velocity and its velocity relative
+        to the crank pin A (the review's section 2; see the section's notes)."""
+        return transmission_of(self, self.sweep(phis, branch, 0, start=start))
+
+    def coupler_arrays(self, phis: Sequence[float] | numpy.ndarray, u: float, v: float = 0.0,
+                       branch: int = 1, derivatives: int = 2) -> CouplerArrays:
+        """coupler on numpy arrays (sweep_arrays's numbers): a CouplerArrays."""
+        u, v = check_coupler_point(self, u, v)
+        return coupler_of_arrays(self, self.sweep_arrays(phis, branch, derivatives), u, v)
+
+    def transmission_arrays(self, phis: Sequence[float] | numpy.ndarray,
+                            branch: int = 1) -> numpy.ndarray:
+        """transmission on numpy arrays: a float64 array, NaN where there is no position."""
+        return transmission_of_arrays(self, self.sweep_arrays(phis, branch, 0))
+
+
+# ---- 10. DAT and CSV files: the sweep's formats, written and read --------------------------------
+#
+# Holds: the accurate engine's files: ANG.DAT, VEL.DAT, ACC.DAT (and MU.DAT) in the listing's format
+# ("phi,value" CR LF lines, the end byte 1A) at full precision, the CSV's columns, a sweep's angles,
+# and read_dat, which reads any DAT file back. They are written through DatFiles and written_whole
+# (section 1), a block of rows at once where numpy is there (section 8), the same bytes either way.
+#
+# Uses: sections 1 and 8.
+# Offers: SceneError, angle_count, evenly_spaced_angles, write_dat_files, CSV_HEADER,
+#   TRANSMISSION_COLUMN, COUPLER_COLUMNS, csv_line, write_csv, read_dat, dat_precision.
+
+
+class SceneError(ValueError):
+    """A scene file, or a DAT file, that cannot be drawn; the message names the file and the key
+    (or line) and what was expected."""
+
+
+# -- angles and files ----------------------------------------------------------------------------
+
+def angle_count(start: float, stop: float, step: float) -> int:
+    """How many input angles start, start + step, ... reach stop (within step / 1e9)."""
+    if step == 0 or not all(math.isfinite(v) for v in (start, stop, step)):
+        raise ValueError("start, stop and step must be finite and step non-zero")
+    steps = (stop - start) / step
+    if not math.isfinite(steps) or steps > 2.0 ** 62:
+        raise ValueError(f"from {start:g} to {stop:g} by {step:g} is too many points")
+    return max(math.floor(steps + 1e-9) + 1, 0)
+
+
+def evenly_spaced_angles(start: float, stop: float, step: float) -> list[float]:
+    """The input angles start, start + step, ... up to stop (within step / 1e9), each computed
+    as start + i * step: no accumulated rounding (the listing's single-precision FOR drifts,
+    quirk K10)."""
+    return [start + i * step for i in range(angle_count(start, stop, step))]
+
+
+def write_dat_files(motions: Iterable[tuple], directory: str = ".", *,
+                    clip: bool = False, missing: str = "skip", files: int = 3,
+                    transmission: bool | None = None,
+                    before_rename: Callable[[], None] | None = None,
+                    csv: Any = None) -> int:
+    """Write ANG.DAT, VEL.DAT and ACC.DAT (the first `files` of them) in the listing's format
+    ("phi,value" lines, CRLF, a 0x1A end byte) at full precision: each number as the shortest
+    text that reads back exactly (repr). `motions` may be any iterable of rows (a generator keeps
+    a long sweep out of memory) or of SweepColumns (a block of rows as numpy arrays); the files
+    are written whole or not at all (DatFiles). Returns the number of rows.
+
+    Unclipped unless clip=True (then VEL and ACC are clipped to +-3 as lines 1200-1300 do). A value
+    that is None (see Motion.status) is left out of its file (missing="skip"), or written as 0 as
+    the listing writes positions it cannot assemble (missing="zero", quirk K8).
+
+    transmission=True: each row's sixth field (after a Motion's five), the transmission angle,
+    goes to MU.DAT too; False: an old MU.DAT there is removed with the old set (DatFiles).
+    before_rename: see DatFiles.close. csv: an open binary file to which every row goes too, as
+    csv_line writes it (all its fields, unclipped), its numbers formatted once for both.
+    """
+    if missing not in ("skip", "zero"):
+        raise ValueError('missing is "skip" or "zero"')
+    fields = (1, 2, 3)[:files] + ((5,) if transmission else ())
+    out = DatFiles(directory, files, transmission)
+    try:
+        for block in _blocks(motions):
+            for texts, points in _block_texts(block, fields, clip, missing == "zero",
+                                              csv is not None):
+                if csv is not None:
+                    csv.write(texts.pop())
+                out.write(texts, points)
+    except BaseException:
+        out.discard()
+        raise
+    out.close(before_rename)
+    return out.points
+
+
+def _block_texts(block, fields, clip, zero, csv):
+    """One block's lines (rows, or SweepColumns), in parts: each part's texts (bytes), one for
+    each DAT file of `fields` (row indices; "phi,value" CR LF, VEL and ACC (fields 2 and 3)
+    clipped to +-3 if `clip`, a missing value left out, or written as 0.0 if `zero`), then if
+    `csv` its CSV rows; and its number of rows."""
+    clipped = [clip and f in (2, 3) for f in fields]
+    if isinstance(block, SweepColumns):
+        yield from column_texts(block, fields, clipped, zero, csv)
+    else:
+        yield _row_texts(block, fields, clipped, zero, csv), len(block)
+
+
+def _row_texts(rows, fields, clipped, zero, csv) -> list:
+    """_block_texts of a list of rows, a number at a time (without numpy)."""
+    phis = [repr(float(row[0])) for row in rows]
+    zero_value = 0.0 if zero else None
+
+    def line(phi, value, clip):
+        if value is None:
+            value = zero_value
+            if value is None:
+                return ""
+        elif clip:
+            value = min(3.0, max(-3.0, value))
+        return f"{phi},{float(value) + 0.0!r}\r\n"           # -0.0 written as 0.0
+    return ["".join(line(phi, row[f], clip) for phi, row in zip(phis, rows)).encode("ascii")
+            for f, clip in zip(fields, clipped)] + [
+        "".join(map(csv_line, rows)).encode("ascii")] * csv
+
+
+def _blocks(rows):
+    """rows in blocks of NUMBER_ROWS (SweepColumns are passed on as they are): a full block becomes
+    SweepColumns where numpy is installed (formatted at once: many times faster than a number at
+    a time, the same bytes), a shorter one where numpy is imported already."""
+    block = []
+    for row in rows:
+        if isinstance(row, SweepColumns):
+            yield row
+            continue
+        block.append(row)
+        if len(block) == NUMBER_ROWS:
+            yield as_columns(block, True)
+            block = []
+    if block:
+        yield as_columns(block, "numpy" in sys.modules)
+
+
 CSV_HEADER = ("phi", "output", "velocity", "acceleration", "status")
 TRANSMISSION_COLUMN = ("transmission",)          # run --csv in double precision
 COUPLER_COLUMNS = tuple(f"coupler_{q}{axis}" for q in ("", "v", "a") for axis in "xyz")
@@ -4554,107 +4738,71 @@ def write_csv(path: str, rows: Iterable[tuple], header: tuple[str, ...] = CSV_HE
     return count
 
 
-# ---- 6. The mechanism view: joint positions, drawings, and their renderers -----------------------
+# -- reading DAT files -------------------------------------------------------------------------
+
+def read_dat(path: str, warn: Callable[[str], None] | None = None) -> list[tuple[float, float]]:
+    """The (input angle, value) pairs of a DAT file as WRITE # writes them (CRLF lines "x,y", the
+    end-of-file byte 1A; numbers like .5, -1.713751E-02) or as the engine writes them (repr).
+    warn(message), if given, hears of a file that may have been cut short: empty, without its
+    end-of-file byte, or with its last line unended."""
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read()
+    except OSError as e:
+        raise SceneError(f"{path}: cannot read: {e.strerror}") from None
+    text = data.split(b"\x1a", 1)[0].decode("latin-1")
+    if warn is not None and b"\x1a" not in data:
+        warn(f"{path}: {'empty' if not data else 'no end-of-file byte (1A)'}: the file may have "
+             "been cut short")
+    elif warn is not None and text and not text.endswith("\r\n"):
+        warn(f"{path}: its last line has no line end: the file may have been cut short")
+    points = []
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line.strip():
+            continue
+        fields = line.split(",")
+        try:
+            if len(fields) != 2:
+                raise ValueError
+            x, y = (float(f.strip().upper().replace("D", "E")) for f in fields)
+            if not (math.isfinite(x) and math.isfinite(y)):
+                raise ValueError
+        except ValueError:
+            raise SceneError(f"{path}: line {number}: expected two numbers \"angle,value\", "
+                             f"got {line[:40]!r}") from None
+        points.append((x, y))
+    return points
+
+
+def dat_precision(directory: str) -> str:
+    """basic or double from how the numbers are written (GW-BASIC's .5 and 1E-02, or Python's
+    repr 0.5, 2.0 and 1e-02), "" if the files do not tell."""
+    try:
+        with open(os.path.join(directory, "ANG.DAT"), "rb") as fh:
+            text = fh.read(4096).decode("latin-1")
+    except OSError:
+        return ""
+    numbers = re.split(r"[,\r\n\x1a]+", text)
+    if any(re.fullmatch(r"-?(0\.\d+|\d+\.0|[\d.]+e[-+]\d+)", n) for n in numbers):
+        return "double"
+    if any(re.fullmatch(r"-?(\.\d+|\d+|[\d.]+E[-+]\d+)", n) for n in numbers):
+        return "basic"
+    return ""
+
+
+# ---- 11. The mechanism drawn: poses projected onto the page --------------------------------------
 #
-# What the engine computes, made visible. joint_positions() places every joint of a linkage in
-# 3-D, in the frame the listing's coefficients imply (tests/test_physics.py derives it): the input
-# axis is z and the crank b turns in the plane z = 0 from +x; the output link's angle psi (the
-# slider's x) is the engine's. mechanism_drawing() projects the poses of a sweep onto the page -
-# plane linkages as they are, the spherical linkage on its sphere seen obliquely, the skew
-# linkages in a fixed isometric view with their two shaft axes - and gives a Drawing: the ground
-# (fixed pivots hatched on the side the links cross least, axes), drawn once, and one Frame a
-# pose with its letters. The renderers draw a Drawing: the terminal (Unicode braille, or ASCII),
-# an animated SVG, a PNG (matplotlib). The letters go where no mark, link, hatching or other
-# letter covers them (place_labels): placed for the SVG's letters in the Drawing, placed again
-# by the terminal and the PNG for the sizes they draw letters at.
+# Holds: mechanism_drawing(), which projects the poses of a sweep onto the page - plane linkages as
+# they are, the spherical linkage on its sphere seen obliquely, the skew linkages in a fixed
+# isometric view with their two shaft axes - and gives a Drawing: the ground (fixed pivots hatched
+# on the side the links cross least, axes), drawn once, and one Frame a pose with its letters. The
+# letters go where no mark, link, hatching or other letter covers them (place_labels).
 #
-# Uses: sections 1 and 5 (single keys for the animation, printable titles; the engine's
-# positions).
-
-class Pose(NamedTuple):
-    """Where every joint of a linkage is at one input angle (see joint_positions).
-
-    joints: name -> (x, y, z). Always the ground joints and the crank pin A; the output side (B,
-    or the slider C) only where the linkage assembles (status ASSEMBLED, DEAD_CENTRE or
-    CHANGE_POINT).
-    axes: name -> (point, unit direction): "input" and "output" (the four-bars' shafts),
-    "guide" (the slider's line).
-    """
-
-    phi: float
-    status: str
-    output: float | None
-    joints: dict[str, Vector]
-    axes: dict[str, tuple[Vector, Vector]]
-
-
-def joint_positions(linkage: Linkage, phi: float, branch: int | str = 1) -> Pose:
-    """The 3-D position of every joint of `linkage` at input angle phi (degrees) on `branch`.
-
-    plane:        A0 = (0, 0, 0) the input pivot, A the crank pin, B the output crank pin,
-                  B0 = (a, 0, 0) the output pivot.
-    spherical:    on the unit sphere about O = (0, 0, 0): A0 = (0, 0, 1) where the input axis
-                  meets it, B0 = (sin a, 0, cos a) the output axis's, A and B the pins.
-    skew:         A0 = (0, 0, 0) on the input axis z; the common perpendicular (length a) runs
-                  along x from F0 = (0, 0, f) to F1 = (a, 0, f) on the output axis, of direction
-                  w = (0, -sin ksi, cos ksi); B0 = F1 - g w = (a, f tan ksi, 0), g = f / cos ksi,
-                  is the centre of the output crank's circle, in the plane z = 0 as the crank's.
-    slider:       A0, A; the slider C = (x, e, 0) on the guide y = e.
-    skew-slider:  A0, A, F0 = (0, 0, f); the slider C = F1 + x (0, sin ksi, -cos ksi) on the
-                  guide through F1 = (a, 0, f).
-    """
-    motion = linkage.motion(phi, branch, derivatives=0)
-    dims, kind, pins = pin_dimensions(linkage.dims), linkage.kind, PINS[linkage.kind]
-    joints, axes = _GROUND_JOINTS[kind](dims)
-    joints["A"] = pins.crank_pin(dims, *cos_sin_degrees(motion.phi))[0]
-    out = motion.output
-    if out is not None:
-        joints[pins.output_joint] = output_pin_at(linkage, dims, out, cos_sin_degrees)[0]
-    return Pose(motion.phi, motion.status, out, joints, axes)
-
-
-_Z_AXIS = (0.0, 0.0, 1.0)
-_ORIGIN = (0.0, 0.0, 0.0)
-# A kind's ground: its fixed joints and its axes, as Pose has them.
-_Ground = tuple[dict[str, Vector], dict[str, tuple[Vector, Vector]]]
-
-
-def _plane_ground_joints(dims: dict[str, float]) -> _Ground:
-    b0 = (dims["a"], 0.0, 0.0)
-    return {"A0": _ORIGIN, "B0": b0}, {"input": (_ORIGIN, _Z_AXIS), "output": (b0, _Z_AXIS)}
-
-
-def _spherical_ground_joints(dims: dict[str, float]) -> _Ground:
-    ca, sa = cos_sin_degrees(dims["a"])
-    b0 = (sa, 0.0, ca)
-    return ({"O": _ORIGIN, "A0": _Z_AXIS, "B0": b0},
-            {"input": (_ORIGIN, _Z_AXIS), "output": (_ORIGIN, b0)})
-
-
-def _skew_ground_joints(dims: dict[str, float]) -> _Ground:
-    a, f = dims["a"], dims["f"]
-    cx, sx = cos_sin_degrees(dims["ksi"])
-    f1 = (a, 0.0, f)
-    return ({"A0": _ORIGIN, "F0": (0.0, 0.0, f), "F1": f1, "B0": (a, f * sx / cx, 0.0)},
-            {"input": (_ORIGIN, _Z_AXIS), "output": (f1, (0.0, -sx, cx))})
-
-
-def _slider_ground_joints(dims: dict[str, float]) -> _Ground:
-    return {"A0": _ORIGIN}, {"input": (_ORIGIN, _Z_AXIS),
-                             "guide": ((0.0, dims["e"], 0.0), (1.0, 0.0, 0.0))}
-
-
-def _skew_slider_ground_joints(dims: dict[str, float]) -> _Ground:
-    a, f = dims["a"], dims["f"]
-    cx, sx = cos_sin_degrees(dims["ksi"])
-    f1 = (a, 0.0, f)
-    return ({"A0": _ORIGIN, "F0": (0.0, 0.0, f), "F1": f1},
-            {"input": (_ORIGIN, _Z_AXIS), "guide": (f1, (0.0, sx, -cx))})
-
-
-_GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _spherical_ground_joints,
-                  SKEW_FOUR_BAR: _skew_ground_joints, PLANE_SLIDER_CRANK: _slider_ground_joints,
-                  SKEW_SLIDER_CRANK: _skew_slider_ground_joints}
+# Uses: sections 2, 6, 7 and 9.
+# Offers: Point, Box, Stroke, Mark, Label, Letters, Layer, Frame, Drawing, MECHANISM_EXAMPLES,
+#   STROKE_STYLES, VIEWS, project, Segment, stroke_segments, place_labels, mechanism_drawing,
+#   spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale, svg_radius,
+#   svg_letters.
 
 
 # -- the drawing: what every renderer draws ------------------------------------------------------
@@ -5396,7 +5544,7 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
         chart = tuple((pose.phi, mu) for pose, mu in zip(poses, mus))
     unplaced = [_frame(linkage, pose, size, point, mu)
                 for pose, point, mu in zip(poses, points, mus)]
-    links = [s for i in _spread(len(unplaced), 120) for s in unplaced[i].layer.strokes]
+    links = [s for i in spread_indices(len(unplaced), 120) for s in unplaced[i].layer.strokes]
     ground = _GROUNDS[kind](linkage, poses, size, links)
     if marked:
         ground = _with_marked(linkage, ground, marked, branch, size)
@@ -5422,6 +5570,57 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
                            for b in traced)
         subtitle += f"; P({coupler[0]:g}, {coupler[1]:g})" + (f" solid, {others}" if others else "")
     return Drawing(title, subtitle, kind, ground, frames, bounds, size, letters, chart)
+
+
+def spread_indices(count: int, wanted: int) -> list[int]:
+    """`wanted` indices spread evenly over range(count), from 0 (all of them, if no more)."""
+    return list(range(count)) if wanted >= count else [i * count // wanted
+                                                       for i in range(wanted)]
+
+
+# -- the SVG -------------------------------------------------------------------------------------
+# One self-contained file a browser plays with no script: each frame a group whose visibility a
+# SMIL <animate> switches in turn. Without animation (a static viewer) the first frame with the
+# linkage in it is the one visible. Page points are turned into SVG pixels here, y down, so that
+# text is never mirrored; the root's data-scale and data-origin say how (svg = origin + scale *
+# (x, -y)).
+
+SVG_WIDTH = 800
+SVG_HEIGHT = 640                # the most the drawing itself takes, in pixels
+SVG_MARGIN = 16
+SVG_LETTER = 19                 # the letters' font size, in pixels
+
+
+def svg_scale(bounds: Box) -> float:
+    """SVG pixels a page unit: the bounds fitted in SVG_WIDTH less the margins by SVG_HEIGHT."""
+    x0, y0, x1, y1 = bounds
+    return min((SVG_WIDTH - 2 * SVG_MARGIN) / max(x1 - x0, 1e-300),
+               SVG_HEIGHT / max(y1 - y0, 1e-300))
+
+
+def svg_radius(size: float, scale: float) -> float:
+    """A joint's circle, in pixels, for ground symbols of `size` page units."""
+    return max(3.0, min(7.0, 0.16 * size * scale))
+
+
+def svg_letters(bounds: Box, size: float) -> Letters:
+    """How big the SVG of a drawing within `bounds` draws letters, marks and lines, in page
+    units: a letter's box 0.6 by 0.8 of its font size, a mark's circle with its edge, the
+    links' half width."""
+    scale = svg_scale(bounds)
+    return Letters(0.6 * SVG_LETTER / scale, 0.8 * SVG_LETTER / scale,
+                   (svg_radius(size, scale) + 1.0) / scale, 1.6 / scale)
+
+
+# ---- 12. The mechanism's renderers: terminal, SVG and PNG ----------------------------------------
+#
+# Holds: what draws a Drawing: the terminal (Unicode braille, or ASCII; still or animated until a
+# key), an animated SVG, a PNG (matplotlib). The SVG's letters are those placed in the Drawing; the
+# terminal and the PNG place them again for the sizes they draw letters at.
+#
+# Uses: sections 1 and 11.
+# Offers: text_drawing, frame_seconds, show_drawing, svg_drawing, PlotUnavailable,
+#   matplotlib_canvas, png_drawing.
 
 
 # -- the terminal view ---------------------------------------------------------------------------
@@ -5566,18 +5765,12 @@ def text_drawing(drawing: Drawing, index: int = 0, width: int = 80, height: int 
     return "\n".join(_plain(line, unicode)[:width] for line in lines)
 
 
-def _spread(count: int, wanted: int) -> list[int]:
-    """`wanted` indices spread evenly over range(count), from 0 (all of them, if no more)."""
-    return list(range(count)) if wanted >= count else [i * count // wanted
-                                                       for i in range(wanted)]
-
-
 def _still_frames(drawing: Drawing, frames: int | None) -> list[int]:
     """The frames printed one after another: the first with the linkage there, or `frames`
     spread evenly over the drawing."""
     if frames is None:
         return [next((i for i, f in enumerate(drawing.frames) if f.message is None), 0)]
-    return _spread(len(drawing.frames), frames)
+    return spread_indices(len(drawing.frames), frames)
 
 
 def frame_seconds(count: int) -> float:
@@ -5667,17 +5860,6 @@ def _key_within(fd: int | None, seconds: float | None) -> bytes | None:
     return None
 
 
-# -- the SVG -------------------------------------------------------------------------------------
-# One self-contained file a browser plays with no script: each frame a group whose visibility a
-# SMIL <animate> switches in turn. Without animation (a static viewer) the first frame with the
-# linkage in it is the one visible. Page points are turned into SVG pixels here, y down, so that
-# text is never mirrored; the root's data-scale and data-origin say how (svg = origin + scale *
-# (x, -y)).
-
-SVG_WIDTH = 800
-SVG_HEIGHT = 640                # the most the drawing itself takes, in pixels
-SVG_MARGIN = 16
-SVG_LETTER = 19                 # the letters' font size, in pixels
 _SVG_STYLE = """
 polyline{fill:none;stroke-linecap:round;stroke-linejoin:round}
 polyline.link{stroke:#1b1b1b;stroke-width:3.2}
@@ -5707,27 +5889,6 @@ dominant-baseline:central}
 """ % SVG_LETTER
 
 
-def _svg_scale(bounds: Box) -> float:
-    """SVG pixels a page unit: the bounds fitted in SVG_WIDTH less the margins by SVG_HEIGHT."""
-    x0, y0, x1, y1 = bounds
-    return min((SVG_WIDTH - 2 * SVG_MARGIN) / max(x1 - x0, 1e-300),
-               SVG_HEIGHT / max(y1 - y0, 1e-300))
-
-
-def _svg_radius(size: float, scale: float) -> float:
-    """A joint's circle, in pixels, for ground symbols of `size` page units."""
-    return max(3.0, min(7.0, 0.16 * size * scale))
-
-
-def svg_letters(bounds: Box, size: float) -> Letters:
-    """How big the SVG of a drawing within `bounds` draws letters, marks and lines, in page
-    units: a letter's box 0.6 by 0.8 of its font size, a mark's circle with its edge, the
-    links' half width."""
-    scale = _svg_scale(bounds)
-    return Letters(0.6 * SVG_LETTER / scale, 0.8 * SVG_LETTER / scale,
-                   (_svg_radius(size, scale) + 1.0) / scale, 1.6 / scale)
-
-
 class _SvgPage(NamedTuple):
     """How page points become SVG pixels: (left + scale x, top - scale y)."""
     scale: float
@@ -5745,7 +5906,7 @@ class _SvgPage(NamedTuple):
 def _svg_layer(page: _SvgPage, layer: Layer, size: float) -> list[str]:
     out = [f'<polyline class="{s.style}" points="{" ".join(page.xy(p) for p in s.points)}"/>'
            for s in sorted(layer.strokes, key=lambda s: _TEXT_ORDER.index(s.style))]
-    radius = _svg_radius(size, page.scale)
+    radius = svg_radius(size, page.scale)
     out += [f'<circle class="{m.kind}" data-joint="{m.name}" {page.attrs(m.at, "cx", "cy")} '
             f'r="{radius:.1f}"/>' for m in layer.marks]
     out += [f'<text class="label" {page.attrs(label.at)}>{_xml(label.text)}</text>'
@@ -5813,7 +5974,7 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
     seconds_per_frame)."""
     x0, y0, x1, y1 = drawing.bounds
     margin, head, foot = SVG_MARGIN, 58, 40
-    scale = _svg_scale(drawing.bounds)
+    scale = svg_scale(drawing.bounds)
     width = SVG_WIDTH
     height = round(head + foot + (y1 - y0) * scale)
     page = _SvgPage(scale, (width - (x1 - x0) * scale) / 2 - x0 * scale, head + y1 * scale)
@@ -5945,7 +6106,7 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
     import io
     MplFigure, FigureCanvasAgg = matplotlib_canvas()
     placed = [f for f in drawing.frames if f.message is None] or list(drawing.frames)
-    chosen = [placed[i] for i in _spread(len(placed), positions)]
+    chosen = [placed[i] for i in spread_indices(len(placed), positions)]
     x0, y0, x1, y1 = drawing.bounds
     width, dpi = 8.0, dpi or 100
     inches = (width, min(10.0, max(3.0, width * (y1 - y0) / (x1 - x0) + 0.9)))
@@ -5976,7 +6137,8 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
     return out.getvalue()
 
 
-# ---- 7. Synthesis: four-bar and slider-crank function generators ---------------------------------
+# ---- 13. Synthesis: what a design is, its data and its linkage -----------------------------------
+#
 # The classical analytical synthesis methods collected by E. Pennestrì and P. P. Valentini, "A
 # review of simple analytical methods for the kinematic synthesis of four-bar and slider-crank
 # function generators for two and three prescribed finite positions" (2009): the transmission
@@ -6013,8 +6175,13 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
 # transmission-angle extremes. Corrections to the review are marked `# ERRATUM Sn` and justified
 # in SYNTHESIS_ERRATA.md.
 #
-# Uses: section 5 (the engine checks every design). The design command's tables (METHODS, their
-# help) are here, beside the methods; the command line (section 10) builds the parser from them.
+# Uses: section 2.
+# Offers: MU_MARGIN, DesignError, require, in_degrees, wrap_degrees, PSI_MIN, LENGTH_MIN,
+#   LENGTH_MAX, ANGLE_EPSILON, Data, Bound, Datum, DATA, number_text, range_text, check_data,
+#   FourBar, SliderCrank, Designed, four_bar_from_review, four_bar_to_review,
+#   slider_crank_from_review, grashof_type, cos_transmission, four_bar_transmission_angle,
+#   four_bar_transmission_extremes, slider_transmission_angle, slider_transmission_extremes, Design,
+#   Synthesis.
 
 
 MU_MARGIN = 0.1     # degrees: a design whose transmission angle comes this close to 0 or 180 is
@@ -6030,53 +6197,18 @@ class DesignError(ValueError):
         self.design = design
 
 
-def _require(condition: object, message: str, design: Design | None = None) -> None:
+def require(condition: object, message: str, design: Design | None = None) -> None:
     """Raise DesignError(message) unless condition holds."""
     if not condition:
         raise DesignError(message, design)
 
 
-_P = ParamSpec("_P")                    # a method's parameters, kept by _method
-
-
-def _method(name: str) -> Callable[[Callable[_P, Synthesis]], Callable[_P, Synthesis]]:
-    """Decorator: every DesignError of the method's function starts with the method's name."""
-    def decorate(function: Callable[_P, Synthesis]) -> Callable[_P, Synthesis]:
-        @functools.wraps(function)
-        def method(*args: _P.args, **kwargs: _P.kwargs) -> Synthesis:
-            try:
-                return function(*args, **kwargs)
-            except DesignError as error:
-                if str(error).startswith(name + ":"):
-                    raise
-                raise DesignError(f"{name}: {error}", error.design) from None
-        return method
-    return decorate
-
-
-def _require_lengths(**lengths: float) -> None:
-    """Every link length positive: above 1e-6 of the longest (less is a degenerate linkage)."""
-    longest = max(abs(v) for v in lengths.values())
-    for name, value in lengths.items():
-        _require(value > 1e-6 * longest, f"link length {name.replace('_', ' ')} = {value:.6g} "
-                                         f"is not positive" + (" (to 1e-6 of the longest: a "
-                                                                "degenerate linkage)"
-                                                                if value > 0 else ""))
-
-
-def _require_margin(mu_min: float, mu_max: float, design: Design | None = None) -> None:
-    """Refuse a design whose transmission angle comes within MU_MARGIN of 0 or 180 degrees."""
-    _require(min(mu_min, 180.0 - mu_max) >= MU_MARGIN - 1e-9,       # mu_min = 0.1 + 1e-16: met
-             f"dead centre: the transmission angle comes within {MU_MARGIN:g} degree of 0 or 180 "
-             f"(mu from {mu_min:.6g} to {mu_max:.6g})", design)
-
-
-def _deg(x: float) -> float:
+def in_degrees(x: float) -> float:
     """Radians to degrees."""
     return x / RAD
 
 
-def _wrap(angle: float) -> float:
+def wrap_degrees(angle: float) -> float:
     """An angle in degrees brought into (-180, 180]."""
     w = math.fmod(angle, 360.0)
     if w > 180.0:
@@ -6089,8 +6221,8 @@ def _wrap(angle: float) -> float:
 def _acos_deg(x: float, what: str) -> float:
     """arccos in degrees; a DesignError names `what` when |x| > 1 (the configuration is not
     reached) beyond round-off."""
-    _require(abs(x) <= 1.0 + 1e-12, f"{what}: cos = {x:.6g} is outside [-1, 1]")
-    return _deg(math.acos(max(-1.0, min(1.0, x))))
+    require(abs(x) <= 1.0 + 1e-12, f"{what}: cos = {x:.6g} is outside [-1, 1]")
+    return in_degrees(math.acos(max(-1.0, min(1.0, x))))
 
 
 # -- the valid data of each method: stated once, for the refusals, the help and the tests --------
@@ -6207,7 +6339,7 @@ DATA = {
 }
 
 
-def _g(x: float) -> str:
+def number_text(x: float) -> str:
     """A number as short as it is exact: 65, not 65.000000000000014 unless it is that."""
     short = f"{x:g}"
     return short if float(short) == x else repr(float(x))
@@ -6222,10 +6354,10 @@ def _bound_text(end: Bound, data: Data | None) -> str:
     """An end of a range as text, with its value when it depends on the data (data None: the
     text alone)."""
     if not isinstance(end, tuple):
-        return _g(end)
+        return number_text(end)
     if data is None:
         return end[0]
-    return f"{end[0]} = {_g(end[1](data))}"
+    return f"{end[0]} = {number_text(end[1](data))}"
 
 
 def range_text(datum: Datum, data: Data | None = None) -> str:
@@ -6244,19 +6376,19 @@ def check_data(method: str, data: Data) -> None:
         if value is None and datum.optional:
             continue
         values = value if datum.count > 1 else [value]
-        _require(len(values) == datum.count, f"{method}: {datum.name} takes {datum.count} values")
+        require(len(values) == datum.count, f"{method}: {datum.name} takes {datum.count} values")
         for v in values:
-            _require(isinstance(v, (int, float)) and math.isfinite(v),
+            require(isinstance(v, (int, float)) and math.isfinite(v),
                      f"{method}: {datum.name} = {v} is not a finite number")
             lo = _bound_value(datum.lo, data)
             hi = _bound_value(datum.hi, data)
             inside = ((lo <= v if "lo" in datum.closed else lo < v)
                       and (v <= hi if "hi" in datum.closed else v < hi))
-            _require(inside, f"{method}: {datum.meaning.split(' (')[0]}: {datum.name} = {_g(v)} "
+            require(inside, f"{method}: {datum.meaning.split(' (')[0]}: {datum.name} = {number_text(v)} "
                              f"is not in {range_text(datum, data)}")
         for reason, test in datum.excluded:
-            _require(not test(data), f"{method}: {datum.name} = "
-                     f"{', '.join(_g(v) for v in values)}: {reason}")
+            require(not test(data), f"{method}: {datum.name} = "
+                     f"{', '.join(number_text(v) for v in values)}: {reason}")
 
 
 # -- the designed linkages, in the paper's letters -----------------------------------------------
@@ -6302,15 +6434,6 @@ def slider_crank_from_review(r: float, l: float, epsilon: float, branch: int = 1
     return SliderCrank(b=r, c=l, e=-epsilon, branch=branch)
 
 
-def _branch_at(link: FourBar, phi: float, psi: float) -> int:
-    """The engine's branch of a four-bar position (phi, psi in degrees): 1 when the coupler B->D
-    turns counter-clockwise from the output link, 2 when clockwise."""
-    bx, by = link.b * math.cos(phi * RAD), link.b * math.sin(phi * RAD)
-    ux, uy = math.cos(psi * RAD), math.sin(psi * RAD)
-    dx, dy = link.a + link.d * ux, link.d * uy
-    return 1 if ux * (dy - by) - uy * (dx - bx) > 0 else 2
-
-
 def grashof_type(link: FourBar) -> str:
     """'crank-rocker', 'drag-link', 'double-rocker' (Grashof, coupler shortest), 'rocker-crank',
     'change-point' (s + l = p + q) or 'triple-rocker' (non-Grashof), with the crank as input:
@@ -6329,7 +6452,7 @@ def grashof_type(link: FourBar) -> str:
 
 # -- the transmission angle: eqs. (1)-(4) ---------------------------------------------------------
 
-def _cos_transmission(link: FourBar, phi: float) -> float:
+def cos_transmission(link: FourBar, phi: float) -> float:
     """cos mu by eq. (1), in the review's letters
     cos mu = (b^2 + c^2 - (a^2 + d^2) + 2ad cos phi) / 2bc."""
     a, b, c, d = link.b, link.c, link.d, link.a            # the review's letters
@@ -6338,7 +6461,7 @@ def _cos_transmission(link: FourBar, phi: float) -> float:
 
 def four_bar_transmission_angle(link: FourBar, phi: float) -> float:
     """Eq. (1): the angle (degrees) between coupler and output at input angle phi (degrees)."""
-    return _acos_deg(_cos_transmission(link, phi), f"transmission angle at phi = {phi:g}")
+    return _acos_deg(cos_transmission(link, phi), f"transmission angle at phi = {phi:g}")
 
 
 def four_bar_transmission_extremes(link: FourBar) -> tuple[float, float]:
@@ -6357,18 +6480,18 @@ def slider_transmission_angle(link: SliderCrank, phi: float) -> float:
     line at crank angle phi (degrees). ERRATUM S9: 90 - arctan(...), not arctan(...) - 90."""
     r, l, epsilon = link.b, link.c, -link.e                # the review's letters
     h = abs(epsilon + r * math.sin(phi * RAD))
-    _require(h <= l, f"eq. (3): the rod cannot reach the slider's line at phi = {phi:g}")
-    return 90.0 - _deg(math.atan2(h, math.sqrt(l * l - h * h)))
+    require(h <= l, f"eq. (3): the rod cannot reach the slider's line at phi = {phi:g}")
+    return 90.0 - in_degrees(math.atan2(h, math.sqrt(l * l - h * h)))
 
 
 def slider_transmission_extremes(link: SliderCrank) -> tuple[float, float]:
     """Eq. (4) and its counterpart: least and greatest transmission angles (degrees) over a full
     crank turn; eq. (4), printed for epsilon >= 0, takes |epsilon| here."""
     r, l, epsilon = link.b, link.c, abs(link.e)
-    _require(l > r + epsilon, f"eq. (4): the crank cannot turn fully (l = {l:.6g} <= r + "
+    require(l > r + epsilon, f"eq. (4): the crank cannot turn fully (l = {l:.6g} <= r + "
                               f"|epsilon| = {r + epsilon:.6g})")
-    mu_min = _deg(math.atan(math.sqrt((l / (r + epsilon)) ** 2 - 1.0)))
-    mu_max = 90.0 if epsilon <= r else 90.0 - _deg(math.asin((epsilon - r) / l))
+    mu_min = in_degrees(math.atan(math.sqrt((l / (r + epsilon)) ** 2 - 1.0)))
+    mu_max = 90.0 if epsilon <= r else 90.0 - in_degrees(math.asin((epsilon - r) / l))
     return mu_min, mu_max
 
 
@@ -6403,6 +6526,62 @@ class Synthesis(NamedTuple):
         return self.solutions[self.preferred]
 
 
+# ---- 14. Synthesis: the review's methods ---------------------------------------------------------
+#
+# Holds: the review's methods, each a function of its data returning a Synthesis: the crank-rockers
+# FOURB-CR-1..4 and Volmer's, the drag-links DRAGLINK-1 and -2, the function generators FOURB-FG2-1,
+# FOURB-FG3-1, SLID-FG2-1 and SLID-FG2-2. Corrections to the review are marked `# ERRATUM Sn` and
+# justified in data/SYNTHESIS_ERRATA.md.
+#
+# Uses: sections 2 and 13.
+# Offers: fourb_cr_1, fourb_cr_2, fourb_cr_3, fourb_cr_4, volmer_crank_rocker, draglink_1,
+#   draglink_2, limit_angles, fourb_fg2_1, fourb_fg3_1, slid_fg2_1, slid_fg2_2.
+
+
+_P = ParamSpec("_P")                    # a method's parameters, kept by _method
+
+
+def _method(name: str) -> Callable[[Callable[_P, Synthesis]], Callable[_P, Synthesis]]:
+    """Decorator: every DesignError of the method's function starts with the method's name."""
+    def decorate(function: Callable[_P, Synthesis]) -> Callable[_P, Synthesis]:
+        @functools.wraps(function)
+        def method(*args: _P.args, **kwargs: _P.kwargs) -> Synthesis:
+            try:
+                return function(*args, **kwargs)
+            except DesignError as error:
+                if str(error).startswith(name + ":"):
+                    raise
+                raise DesignError(f"{name}: {error}", error.design) from None
+        return method
+    return decorate
+
+
+def _require_lengths(**lengths: float) -> None:
+    """Every link length positive: above 1e-6 of the longest (less is a degenerate linkage)."""
+    longest = max(abs(v) for v in lengths.values())
+    for name, value in lengths.items():
+        require(value > 1e-6 * longest, f"link length {name.replace('_', ' ')} = {value:.6g} "
+                                         f"is not positive" + (" (to 1e-6 of the longest: a "
+                                                                "degenerate linkage)"
+                                                                if value > 0 else ""))
+
+
+def _require_margin(mu_min: float, mu_max: float, design: Design | None = None) -> None:
+    """Refuse a design whose transmission angle comes within MU_MARGIN of 0 or 180 degrees."""
+    require(min(mu_min, 180.0 - mu_max) >= MU_MARGIN - 1e-9,       # mu_min = 0.1 + 1e-16: met
+             f"dead centre: the transmission angle comes within {MU_MARGIN:g} degree of 0 or 180 "
+             f"(mu from {mu_min:.6g} to {mu_max:.6g})", design)
+
+
+def _branch_at(link: FourBar, phi: float, psi: float) -> int:
+    """The engine's branch of a four-bar position (phi, psi in degrees): 1 when the coupler B->D
+    turns counter-clockwise from the output link, 2 when clockwise."""
+    bx, by = link.b * math.cos(phi * RAD), link.b * math.sin(phi * RAD)
+    ux, uy = math.cos(psi * RAD), math.sin(psi * RAD)
+    dx, dy = link.a + link.d * ux, link.d * uy
+    return 1 if ux * (dy - by) - uy * (dx - bx) > 0 else 2
+
+
 def _one(design: Design) -> Synthesis:
     """A Synthesis with a single solution."""
     return Synthesis(design.method, (design,))
@@ -6424,14 +6603,14 @@ def _crank_rocker(method: str, data: Data, a: float, b: float, c: float, d: floa
     a, b, c = a / d, b / d, c / d
     link = four_bar_from_review(a, b, c, 1.0)
     kind = grashof_type(link)
-    _require(kind == "crank-rocker", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
+    require(kind == "crank-rocker", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
                                      f"c = {c:.6g}, d = 1 is a {kind}, not a crank-rocker")
     # ERRATUM S11: both dead centres must lie on one assembly branch: the sine rule also accepts
     # a folded position on the mirror branch, where this linkage's real folded dead centre is
     # elsewhere.
     positions = ((theta0, psi0), (theta0 + 180.0 + theta, psi0 + psi))
     branches = [_branch_at(link, phi, psi_) for phi, psi_ in positions]
-    _require(branches[0] == branches[1],
+    require(branches[0] == branches[1],
              f"{method}: branch defect: the extended and folded dead centres of a = {a:.6g}, "
              f"b = {b:.6g}, c = {c:.6g}, d = 1 lie on different assembly branches")
     link = link._replace(branch=branches[0])
@@ -6451,7 +6630,7 @@ def _chen_links(method: str, theta: float, psi: float, theta0: float, psi0: floa
     two dead centres, and a = (|P1|^2 - |P2|^2) / 2(|P1| + |P2|) with
     |P1|^2 - |P2|^2 = 4c sin(psi0 + psi/2) sin(psi/2), which cancels nothing."""
     t0, t, p, p0 = theta0 * RAD, theta * RAD, psi * RAD, psi0 * RAD
-    _require(abs(math.sin(alpha * RAD)) > 1e-12,
+    require(abs(math.sin(alpha * RAD)) > 1e-12,
              f"{method}: sin(psi0 - theta0) = 0: the extended dead centre is degenerate")
     c = math.sin(t0) / math.sin(alpha * RAD)
     pins = ((1.0 + c * math.cos(p0), c * math.sin(p0), t0),
@@ -6474,7 +6653,7 @@ def fourb_cr_1(theta: float, psi: float, theta0: float) -> Synthesis:
     method = "FOURB-CR-1"
     data = {"theta": theta, "psi": psi, "theta0": theta0}
     check_data(method, data)
-    theta0 = _wrap(theta0)
+    theta0 = wrap_degrees(theta0)
     t, t0 = theta * RAD, theta0 * RAD
     # ERRATUM S14: the review's psi0 = atan(n1 (n3 + n4) / (n2 n3 - n1 n5)), n1..n5 sines and
     # cosines of theta0, theta + theta0, psi - theta - theta0, written as alpha = psi0 - theta0
@@ -6483,12 +6662,12 @@ def fourb_cr_1(theta: float, psi: float, theta0: float) -> Synthesis:
     # ERRATUM S11: alpha is fixed modulo 180; alpha + 180 gives the same a and b and c < 0, so
     # take the one with c = sin(theta0) / sin(alpha) > 0.
     swing_less_theta = (psi - theta) * RAD                  # in degrees first: exact when close
-    alpha = _deg(math.atan2(math.sin(t0) * math.sin(swing_less_theta),
+    alpha = in_degrees(math.atan2(math.sin(t0) * math.sin(swing_less_theta),
                             2 * math.cos(math.fsum((theta0, theta / 2)) * RAD) * math.sin(t / 2)
                             + 2 * math.sin(t0) * math.sin(swing_less_theta / 2) ** 2))
     if math.sin(alpha * RAD) * math.sin(t0) < 0:
         alpha = alpha + 180.0 if alpha <= 0 else alpha - 180.0
-    psi0 = _wrap(theta0 + alpha)
+    psi0 = wrap_degrees(theta0 + alpha)
     a, b, c = _chen_links(method, theta, psi, theta0, psi0, alpha)
     turns = data["theta0"] - theta0                      # whole turns: the position as given
     return _one(_crank_rocker(method, data, a, b, c, 1.0, data["theta0"], psi0 + turns, theta,
@@ -6502,7 +6681,7 @@ def fourb_cr_2(theta: float, psi: float, psi0: float) -> Synthesis:
     method = "FOURB-CR-2"
     data = {"theta": theta, "psi": psi, "psi0": psi0}
     check_data(method, data)
-    psi0 = _wrap(psi0)
+    psi0 = wrap_degrees(psi0)
     p = psi * RAD
     # ERRATUM S1: the printed m2 and m0 are exchanged: with x = tan(theta0) the quadratic is
     # m2 x^2 + m1 x + m0 = 0, m2 = cos psi0 cos thetaf - cos y, m0 = -sin psi0 sin thetaf.
@@ -6512,18 +6691,18 @@ def fourb_cr_2(theta: float, psi: float, psi0: float) -> Synthesis:
     # K = sin(psi0 + psi/2) sin(theta - psi/2) / sin(psi/2), solved in closed form.
     k = (math.sin(math.fsum((psi0, psi / 2)) * RAD) * math.sin(math.fsum((theta, -psi / 2)) * RAD)
          / math.sin(p / 2))
-    _require(abs(k) <= 1.0 + 1e-12,
+    require(abs(k) <= 1.0 + 1e-12,
              f"{method}: no extended dead centre: sin(2 theta0 + theta - psi0 - psi/2) = "
              f"{k:.6g} is outside [-1, 1] (the quadratic in tan(theta0) has complex roots)")
-    base = _deg(math.asin(max(-1.0, min(1.0, k))))
+    base = in_degrees(math.asin(max(-1.0, min(1.0, k))))
     solutions, rejected = [], []
     # ERRATUM S11: theta0 is fixed modulo 180; theta0 + 180 gives -a, -b and the same c, so
     # both are tried (step 8 keeps the one with all links positive, if any).
     for two in sorted({base, 180.0 - base}):
         for turn in (0.0, 180.0):
             # alpha = psi0 - theta0 as a sum of the data, not a difference of theta0
-            alpha = _wrap(math.fsum((psi0, theta, -psi / 2, -two)) / 2 - turn)
-            theta0 = _wrap(math.fsum((psi0, -theta, psi / 2, two)) / 2 + turn)
+            alpha = wrap_degrees(math.fsum((psi0, theta, -psi / 2, -two)) / 2 - turn)
+            theta0 = wrap_degrees(math.fsum((psi0, -theta, psi / 2, two)) / 2 + turn)
             try:
                 a, b, c = _chen_links(method, theta, psi, theta0, psi0, alpha)
                 solutions.append(_crank_rocker(method, data, a, b, c, 1.0,
@@ -6531,7 +6710,7 @@ def fourb_cr_2(theta: float, psi: float, psi0: float) -> Synthesis:
                                                psi, {"theta0": theta0}))
             except DesignError as error:                  # step 8: only all-positive links
                 rejected.append(f"theta0 = {theta0:.6g}: {error}")
-    _require(solutions, f"{method}: no root gives a crank-rocker ({'; '.join(rejected)})")
+    require(solutions, f"{method}: no root gives a crank-rocker ({'; '.join(rejected)})")
     return Synthesis(method, tuple(solutions), 0, tuple(rejected))
 
 
@@ -6603,11 +6782,11 @@ def fourb_cr_3(theta: float, psi: float) -> Synthesis:
         # (d = 1): the deviation at the extreme that is the worse one for the sign of theta.
         ra = design.review
         sign = 1.0 if theta < 0 else -1.0
-        delta = _deg(math.asin(min(1.0, abs((ra["a"] + sign) ** 2 - ra["c"] ** 2 - ra["b"] ** 2)
+        delta = in_degrees(math.asin(min(1.0, abs((ra["a"] + sign) ** 2 - ra["c"] ** 2 - ra["b"] ** 2)
                                    / (2 * ra["b"] * ra["c"]))))
         review = dict(ra, Delta=delta, theta0=theta0, psi0=psi0)
         solutions.append(design._replace(review=review))
-    _require(solutions, f"{method}: no real root lambda of the cubic gives a crank-rocker "
+    require(solutions, f"{method}: no real root lambda of the cubic gives a crank-rocker "
                         f"({'; '.join(rejected) or 'no positive root'})")
     best = min(range(len(solutions)), key=lambda i: _deviation(solutions[i]))
     return Synthesis(method, tuple(solutions), best, tuple(rejected))
@@ -6618,9 +6797,9 @@ def _triangle_angle(x: float, y: float, z: float) -> float:
     formula ("Miscalculating area and angles of a needle-like triangle"), accurate to a few
     roundings of the sides where the law of cosines cancels; DesignError if there is none."""
     x, y = max(x, y), min(x, y)
-    _require(x <= y + z and z <= x + y, f"no triangle has the sides {x:.6g}, {y:.6g}, {z:.6g}")
+    require(x <= y + z and z <= x + y, f"no triangle has the sides {x:.6g}, {y:.6g}, {z:.6g}")
     mu = z - (x - y) if y >= z else y - (x - z)
-    return _deg(2 * math.atan(math.sqrt(max(0.0, ((x - y) + z) * mu)
+    return in_degrees(2 * math.atan(math.sqrt(max(0.0, ((x - y) + z) * mu)
                                         / ((x + (y + z)) * ((x - z) + y)))))
 
 
@@ -6631,7 +6810,7 @@ def _extended_dead_centre(a: float, b: float, c: float) -> tuple[float, float]:
     cancels for a small crank and a rocker near the frame's length)."""
     reach = a + b
     theta0 = _triangle_angle(1.0, reach, c)
-    _require(0.0 < theta0 < 180.0, "the extended dead centre lies on the frame line")
+    require(0.0 < theta0 < 180.0, "the extended dead centre lies on the frame line")
     return theta0, 180.0 - _triangle_angle(1.0, c, reach)
 
 
@@ -6648,8 +6827,8 @@ def _centric(psi: float, mu_min: float) -> tuple[float, float, float, float, flo
     # argument summed exactly (fsum), not cos(m + h)
     big_d = (math.sin(math.fsum((90.0, -psi / 2, mu_min)) * RAD)
              * math.sin(math.fsum((90.0, -psi / 2, -mu_min)) * RAD))
-    _require(big_d > 0, f"cos(mu_min - psi/2) cos(mu_min + psi/2) = {big_d:.6g} is not positive")
-    theta0 = _deg(math.atan2(math.sqrt(big_d), math.sin(h)))
+    require(big_d > 0, f"cos(mu_min - psi/2) cos(mu_min + psi/2) = {big_d:.6g} is not positive")
+    theta0 = in_degrees(math.atan2(math.sqrt(big_d), math.sin(h)))
     cos_m = math.sin(math.fsum((90.0, -mu_min)) * RAD)         # keeps its digits near 90
     return math.sin(h), cos_h, cos_m, big_d, theta0, theta0 + 90.0 - psi / 2
 
@@ -6699,7 +6878,7 @@ def _drag_link(method: str, data: Data, a: float, b: float, c: float, d: float,
     a, b, c = a / d, b / d, c / d
     link = four_bar_from_review(a, b, c, 1.0)
     kind = grashof_type(link)
-    _require(kind == "drag-link", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
+    require(kind == "drag-link", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
                                   f"c = {c:.6g}, d = 1 is a {kind}, not a drag-link")
     mu_min, mu_max = four_bar_transmission_extremes(link)
     _require_margin(mu_min, mu_max)
@@ -6718,7 +6897,7 @@ def draglink_1(dpsi0: float, mu_min: float) -> Synthesis:
     c = 1.0
     # ERRATUM S3: b = c sqrt(sin dpsi0 / sin(dpsi0 - 2 mu_min)); the print has dpsi0 - mu_min.
     ratio = math.sin(dp) / math.sin(dp - 2 * m) if math.sin(dp - 2 * m) else -1.0
-    _require(ratio > 0, f"{method}: sin(dpsi0) / sin(dpsi0 - 2 mu_min) = {ratio:.6g} is not "
+    require(ratio > 0, f"{method}: sin(dpsi0) / sin(dpsi0 - 2 mu_min) = {ratio:.6g} is not "
                         f"positive (footnote 4: no solution)")
     b = c * math.sqrt(ratio)
     lam = math.atan(b * math.sin(m) / (c + b * math.cos(m)))
@@ -6727,25 +6906,25 @@ def draglink_1(dpsi0: float, mu_min: float) -> Synthesis:
     a = (a1 + b1) / 2
     d = a1 - a
     link, review = _drag_link(method, data, a, b, c, d,
-                              {"lambda": _deg(lam), "a1": a1, "b1": b1, "b_for_c1": b,
+                              {"lambda": in_degrees(lam), "a1": a1, "b1": b1, "b_for_c1": b,
                                "a_for_c1": a})
     # The design positions are the crank on the frame line, phi = 0 (diagonal a - d = b1,
     # mu = mu_min) and phi = 180 (diagonal a + d = a1, mu = 180 - mu_min). There the output lies
     # at the triangle's angle at the output pivot (opposite the coupler b: lam2 and lam) from the
     # frame line, on the side that keeps it on one branch; the branch is the one on which the
     # output turns dpsi0 (counter-clockwise, with the crank) from phi = 0 to phi = 180.
-    lam2 = _deg(math.atan2(b * math.sin(m), c - b * math.cos(m)))
+    lam2 = in_degrees(math.atan2(b * math.sin(m), c - b * math.cos(m)))
     for branch in (1, 2):
         psi_1 = next(x for x in (lam2, -lam2) if _branch_at(link, 0.0, x) == branch)
-        psi_2 = next(x for x in (180.0 - _deg(lam), 180.0 + _deg(lam))
+        psi_2 = next(x for x in (180.0 - in_degrees(lam), 180.0 + in_degrees(lam))
                      if _branch_at(link, 180.0, x) == branch)
-        if abs(_wrap(psi_2 - psi_1 - dpsi0)) < 1e-6:
+        if abs(wrap_degrees(psi_2 - psi_1 - dpsi0)) < 1e-6:
             break
     else:
         raise DesignError(f"{method}: on neither branch does the output turn dpsi0 = {dpsi0:g}")
     link = link._replace(branch=branch)
-    psi_1 = _wrap(psi_1)                 # the second as the first plus the turn (to rounding)
-    positions = ((0.0, psi_1), (180.0, psi_1 + dpsi0 + _wrap(psi_2 - psi_1 - dpsi0)))
+    psi_1 = wrap_degrees(psi_1)                 # the second as the first plus the turn (to rounding)
+    positions = ((0.0, psi_1), (180.0, psi_1 + dpsi0 + wrap_degrees(psi_2 - psi_1 - dpsi0)))
     return _one(Design(method, data, link, review, positions, None,
                        review["mu_min"], review["mu_max"]))
 
@@ -6788,7 +6967,7 @@ def draglink_2(dphi: float, dpsi: float, lam: float | None = None) -> Synthesis:
             solutions.append(_draglink_2_design(method, data, dphi, dpsi, value))
         except DesignError as error:
             rejected.append(f"lambda = {value:.6g}: {error}")
-    _require(solutions, f"{method}: no drag-link: {'; '.join(rejected) or 'no positive root'}")
+    require(solutions, f"{method}: no drag-link: {'; '.join(rejected) or 'no positive root'}")
     best = min(range(len(solutions)), key=lambda i: solutions[i].review["dmu_max"])
     return Synthesis(method, tuple(solutions), best, tuple(rejected))
 
@@ -6801,12 +6980,12 @@ def _draglink_2_design(method: str, data: Data, dphi: float, dpsi: float, lam: f
     a, b, c, d = review["a"], review["b"], review["c"], 1.0
     # ERRATUM S5: sin(dmu_i) = (a^2 + d^2 - b^2 - c^2 +- 2da) / 2bc (the print wraps the quotient
     # in a sine) and dmu_max = max(|dmu_1|, |dmu_2|) (the print: max(mu_1, mu_2)).
-    dmu = [_deg(math.asin(max(-1.0, min(1.0, (a * a + d * d - b * b - c * c + s * 2 * d * a)
+    dmu = [in_degrees(math.asin(max(-1.0, min(1.0, (a * a + d * d - b * b - c * c + s * 2 * d * a)
                                         / (2 * b * c))))) for s in (1, -1)]
     dl = (dphi - dpsi) * RAD
     r = -b * math.cos(dpsi * RAD / 2) / (a * math.sin(dl / 2))
     s = -d * math.sin(dpsi * RAD / 2) / (a * math.sin(dl / 2))
-    phi1 = (_deg(math.atan2(r, s)) - dphi / 2) % 360.0
+    phi1 = (in_degrees(math.atan2(r, s)) - dphi / 2) % 360.0
     review.update(dmu_1=dmu[0], dmu_2=dmu[1], dmu_max=max(abs(x) for x in dmu), phi1=phi1)
     # At a unit-velocity-ratio position the coupler is parallel to the frame: the output pin is
     # the crank pin moved by the coupler along the frame line.
@@ -6815,16 +6994,16 @@ def _draglink_2_design(method: str, data: Data, dphi: float, dpsi: float, lam: f
         px, py = link.b * math.cos(phi * RAD), link.b * math.sin(phi * RAD)
         pin = min(((px + sign * link.c, py) for sign in (1, -1)),
                   key=lambda q: abs(math.hypot(q[0] - link.a, q[1]) - link.d))
-        _require(abs(math.hypot(pin[0] - link.a, pin[1]) - link.d) < 1e-9 * link.d,
+        require(abs(math.hypot(pin[0] - link.a, pin[1]) - link.d) < 1e-9 * link.d,
                  f"{method}: the coupler is not parallel to the frame at phi = {phi:g}")
-        psi = _deg(math.atan2(pin[1], pin[0] - link.a))
+        psi = in_degrees(math.atan2(pin[1], pin[0] - link.a))
         positions.append((phi, psi, _branch_at(link, phi, psi)))
-    _require(positions[0][2] == positions[1][2],
+    require(positions[0][2] == positions[1][2],
              f"{method}: the two design positions lie on different branches")
-    _require(abs(_wrap(positions[1][1] - positions[0][1] - dpsi)) < 1e-6,
+    require(abs(wrap_degrees(positions[1][1] - positions[0][1] - dpsi)) < 1e-6,
              f"{method}: the output turns {positions[1][1] - positions[0][1]:.6g}, not {dpsi:g}")
     link = link._replace(branch=positions[0][2])
-    psi1 = _wrap(positions[0][1])
+    psi1 = wrap_degrees(positions[0][1])
     return Design(method, data, link, review,
                   ((phi1, psi1), (phi1 + dphi, psi1 + dpsi)), None,
                   review["mu_min"], review["mu_max"])
@@ -6832,7 +7011,7 @@ def _draglink_2_design(method: str, data: Data, dphi: float, dpsi: float, lam: f
 
 # -- function generators: FOURB-FG2-1, FOURB-FG3-1 -------------------------------------------------
 
-def _limit_angles(link: FourBar) -> list[float]:
+def limit_angles(link: FourBar) -> list[float]:
     """Input angles (degrees, in [0, 360)) at which the four-bar meets a dead centre of its input
     (coupler and output in line, mu = 0 or 180): the ends of its assembly ranges."""
     out = []
@@ -6840,7 +7019,7 @@ def _limit_angles(link: FourBar) -> list[float]:
         # |B - O2|^2 = a^2 + b^2 - 2ab cos(phi) = reach^2
         cos_phi = (link.a ** 2 + link.b ** 2 - reach * reach) / (2 * link.a * link.b)
         if abs(cos_phi) <= 1 + 1e-12:
-            phi = _deg(math.acos(max(-1.0, min(1.0, cos_phi))))
+            phi = in_degrees(math.acos(max(-1.0, min(1.0, cos_phi))))
             out += [phi, (360.0 - phi) % 360.0]
     return out
 
@@ -6854,7 +7033,7 @@ def _travel_problem(link: FourBar, positions: Sequence[tuple[float, float]]) -> 
         return "branch defect: the positions lie on different assembly branches"
     lo = min(phi for phi, _ in positions)
     hi = max(phi for phi, _ in positions)
-    for limit in _limit_angles(link):
+    for limit in limit_angles(link):
         inside = lo + (limit - lo) % 360.0
         if inside <= hi:
             return f"dead centre: the input meets a limit position at phi = {limit:.6g}"
@@ -6877,13 +7056,13 @@ def _output_turn(link: FourBar, phi_from: float, phi_to: float, psi_from: float,
         """arg(B - O4) less the part that turns with the crank (b >= a) or less 180 (b < a)."""
         x, y = math.cos(phi * RAD), math.sin(phi * RAD)
         if link.b >= link.a:
-            return _deg(math.atan2(link.a * y, link.b - link.a * x))
-        return _deg(math.atan2(-link.b * y, link.a - link.b * x))
+            return in_degrees(math.atan2(link.a * y, link.b - link.a * x))
+        return in_degrees(math.atan2(-link.b * y, link.a - link.b * x))
 
     turns = phi_to - phi_from if link.b >= link.a else 0.0
     ends = [(phi, diagonal(phi) + (phi if link.b >= link.a else 180.0))
             for phi in (phi_from, phi_to)]
-    gamma = [_wrap(psi - direction) for psi, (_, direction) in zip((psi_from, psi_to), ends)]
+    gamma = [wrap_degrees(psi - direction) for psi, (_, direction) in zip((psi_from, psi_to), ends)]
     return turns + diagonal(phi_to) - diagonal(phi_from) + gamma[1] - gamma[0]
 
 
@@ -6891,7 +7070,7 @@ def _travel_transmission(link: FourBar, lo: float, hi: float) -> tuple[float, fl
     """Transmission-angle extremes (degrees) over input angles lo..hi by eq. (1): at the ends, and
     at phi = 0 or 180 (mod 360) where the travel passes them."""
     phis = [lo, hi] + [lo + (x - lo) % 360.0 for x in (0.0, 180.0)]
-    values = [_deg(math.acos(max(-1.0, min(1.0, _cos_transmission(link, phi)))))
+    values = [in_degrees(math.acos(max(-1.0, min(1.0, cos_transmission(link, phi)))))
               for phi in phis if phi <= hi]
     return min(values), max(values)
 
@@ -6916,16 +7095,16 @@ def fourb_fg2_1(phij: float, psij: float, phi0: float, a: float, c: float) -> Sy
     # Data for which the coupler's length is the same at both positions for every psi0 (e.g. the
     # crank positions symmetric about the frame line with a matching psij): a1 = b1 = c1 = 0.
     scale = max(1.0, abs(r_a) / a, abs(r_b) / c)
-    _require(max(radius, abs(c1)) > 1e-9 * scale,
+    require(max(radius, abs(c1)) > 1e-9 * scale,
              f"{method}: a1 = b1 = c1 = 0 (to 1e-9 of their terms): every psi0 gives a "
              f"four-bar through both positions; the data do not determine psi0 and b")
-    _require(radius > 0 and abs(c1) <= radius,
+    require(radius > 0 and abs(c1) <= radius,
              f"{method}: a1 sin(psi0) + b1 cos(psi0) + c1 = 0 has no real root (|c1| = "
              f"{abs(c1):.6g} > sqrt(a1^2 + b1^2) = {radius:.6g})")
     base = math.atan2(b1, a1)          # a1 sin x + b1 cos x = R sin(x + base)
     alpha = math.asin(max(-1.0, min(1.0, -c1 / radius)))
     solutions, rejected = [], []
-    for psi0 in sorted({_wrap(_deg(alpha - base)), _wrap(_deg(math.pi - alpha - base))}):
+    for psi0 in sorted({wrap_degrees(in_degrees(alpha - base)), wrap_degrees(in_degrees(math.pi - alpha - base))}):
         xa, ya = a * math.cos(f0), a * math.sin(f0)
         xb, yb = 1.0 + c * math.cos(psi0 * RAD), c * math.sin(psi0 * RAD)
         b = math.hypot(xb - xa, yb - ya)
@@ -6946,14 +7125,14 @@ def fourb_fg2_1(phij: float, psij: float, phi0: float, a: float, c: float) -> Sy
         turn = _output_turn(link, phi0, phi0 + phij, psi0, psi0 + psij)
         if abs(turn - psij) > 180.0:
             rejected.append(f"psi0 = {psi0:.6g}, b = {b:.6g}: while the crank turns "
-                            f"{_g(phij)} the output turns {turn:.6g}, not {_g(psij)}: it meets "
+                            f"{number_text(phij)} the output turns {turn:.6g}, not {number_text(psij)}: it meets "
                             f"the position, not the motion")
             continue
         travel = (min(phi0, phi0 + phij), max(phi0, phi0 + phij))
         mu_min, mu_max = _travel_transmission(link, *travel)
         review = {"a": a, "b": b, "c": c, "d": 1.0, "psi0": psi0}
         solutions.append(Design(method, data, link, review, positions, travel, mu_min, mu_max))
-    _require(solutions, f"{method}: no solution drives through both positions: "
+    require(solutions, f"{method}: no solution drives through both positions: "
                         f"{'; '.join(rejected)}")
     best = min(range(len(solutions)), key=lambda i: _deviation(solutions[i]))
     return Synthesis(method, tuple(solutions), best, tuple(rejected))
@@ -6967,7 +7146,7 @@ def _solve3(matrix: list[list[float]], rhs: list[float]) -> list[float]:
                 + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
     d0 = det(matrix)
     scale = max(abs(x) for row in matrix for x in row) ** 3
-    _require(abs(d0) > 1e-12 * scale, "the system [A]{k} = {B} is singular: the three positions "
+    require(abs(d0) > 1e-12 * scale, "the system [A]{k} = {B} is singular: the three positions "
                                       "do not determine a four-bar")
     out = []
     for j in range(3):
@@ -6994,16 +7173,16 @@ def fourb_fg3_1(phi: Sequence[float], psi: Sequence[float]) -> Synthesis:
         k1, k2, k3 = _solve3(matrix, rhs)
     except DesignError as error:
         raise DesignError(f"{method}: {error}") from None
-    _require(k1 > 0, f"{method}: k1 = {k1:.6g}: link length c/d = 1/k1 is not positive")
-    _require(k2 > 0, f"{method}: k2 = {k2:.6g}: link length a/d = 1/k2 is not positive")
+    require(k1 > 0, f"{method}: k1 = {k1:.6g}: link length c/d = 1/k1 is not positive")
+    require(k2 > 0, f"{method}: k2 = {k2:.6g}: link length a/d = 1/k2 is not positive")
     c, a = 1 / k1, 1 / k2
     b2 = a * a + c * c + 1 - 2 * a * c * k3
-    _require(b2 > 0, f"{method}: b^2 = a^2 + c^2 + d^2 - 2ac k3 = {b2:.6g}: the coupler length "
+    require(b2 > 0, f"{method}: b^2 = a^2 + c^2 + d^2 - 2ac k3 = {b2:.6g}: the coupler length "
                      f"is not real and positive")
     b = math.sqrt(b2)
     _require_lengths(a_crank=a, b_coupler=b, c_output=c, d_frame=1.0)
     # at a position on a dead centre cos(mu) may round beyond 1: _travel_problem refuses it
-    mus = [_deg(math.acos(max(-1.0, min(1.0, _cos_transmission(four_bar_from_review(a, b, c, 1.0),
+    mus = [in_degrees(math.acos(max(-1.0, min(1.0, cos_transmission(four_bar_from_review(a, b, c, 1.0),
                                                                 x)))))
            for x in phis]
     # The review's output angle is measured from the opposite direction (S7): paper psi =
@@ -7018,7 +7197,7 @@ def fourb_fg3_1(phi: Sequence[float], psi: Sequence[float]) -> Synthesis:
     travel = (min(phis), max(phis))
     mu_min, mu_max = _travel_transmission(link, *travel)
     design = Design(method, data, link, review, positions, travel, mu_min, mu_max)
-    _require(problem is None, f"{method}: the design a = {a:.6g}, b = {b:.6g}, c = {c:.6g}, "
+    require(problem is None, f"{method}: the design a = {a:.6g}, b = {b:.6g}, c = {c:.6g}, "
                               f"d = 1 cannot drive through the positions: {problem}", design)
     return _one(design)
 
@@ -7030,16 +7209,16 @@ def _slider_design(method: str, data: Data, s1: float, s2: float, theta1: float,
     """Chen's slider-crank from its dead-centre positions (step 4 of SLID-FG2-1, step 1 of
     SLID-FG2-2): crank r, rod l, checks, conversion to the paper's letters."""
     c1, c2 = math.cos(theta1 * RAD), math.cos(theta2 * RAD)
-    _require(abs(c1) > 1e-12 and abs(c2) > 1e-12, f"{method}: cos(theta1) or cos(theta2) is 0")
+    require(abs(c1) > 1e-12 and abs(c2) > 1e-12, f"{method}: cos(theta1) or cos(theta2) is 0")
     far, near = s1 / c1, s2 / c2          # pivot-to-pin distances l + r and l - r
-    _require(far > 0 and near > 0, f"{method}: s1/cos(theta1) = {far:.6g} and s2/cos(theta2) = "
+    require(far > 0 and near > 0, f"{method}: s1/cos(theta1) = {far:.6g} and s2/cos(theta2) = "
                                    f"{near:.6g} (the distances l + r, l - r) are not both "
                                    f"positive")
     r = (far - near) / 2
     l = (far + near) / 2
     epsilon = review["epsilon"]
     _require_lengths(r_crank=r, l_rod=l)
-    _require(s1 > 0 and s2 > 0, f"{method}: a slider position s1 = {s1:.6g} or s2 = {s2:.6g} is "
+    require(s1 > 0 and s2 > 0, f"{method}: a slider position s1 = {s1:.6g} or s2 = {s2:.6g} is "
                                 f"not positive (the rod would point backwards)")
     link = slider_crank_from_review(r, l, epsilon)
     mu_min, mu_max = slider_transmission_extremes(link)
@@ -7057,11 +7236,11 @@ def slid_fg2_1(dtheta: float, ds: float, epsilon: float) -> Synthesis:
     data = {"dtheta": dtheta, "ds": ds, "epsilon": epsilon}
     check_data(method, data)
     disc = ds * ds - 4 * (epsilon * ds / math.tan(dtheta * RAD) + epsilon * epsilon)
-    _require(disc >= 0, f"{method}: s1 is complex (ds^2 - 4(epsilon ds cot(dtheta) + "
+    require(disc >= 0, f"{method}: s1 is complex (ds^2 - 4(epsilon ds cot(dtheta) + "
                         f"epsilon^2) = {disc:.6g} < 0)")
     s1 = ds / 2 + math.sqrt(disc) / 2
     s2 = s1 - ds
-    theta1 = _deg(math.atan(-epsilon / s1))
+    theta1 = in_degrees(math.atan(-epsilon / s1))
     theta2 = theta1 + dtheta + 180.0
     return _one(_slider_design(method, data, s1, s2, theta1, theta2, {"epsilon": epsilon}))
 
@@ -7081,7 +7260,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
     epsilon_2 = -s2 * math.tan(theta2 * RAD)
     # compared as the pin's direction at the second (an offset that agrees to 1e-9 of s1 can
     # turn the direction by much more when s2 is small)
-    if abs(_wrap(theta2 - _deg(math.atan2(-epsilon, s2)))) > tolerance:
+    if abs(wrap_degrees(theta2 - in_degrees(math.atan2(-epsilon, s2)))) > tolerance:
         try:                                   # what the formulas give, for the error to show
             design = _slider_design(method, data, s1, s2, theta1, theta2, {"epsilon": epsilon})
         except DesignError:
@@ -7089,10 +7268,25 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
         raise DesignError(f"{method}: inconsistent dead centres: the offset from position 1, "
                           f"-s1 tan(theta1) = {epsilon:.6g}, differs from that from position 2, "
                           f"-s2 tan(theta2) = {epsilon_2:.6g} (theta2 = {theta2:.9g} is not "
-                          f"the direction {_deg(math.atan2(-epsilon, s2)):.9g} of that pin)",
+                          f"the direction {in_degrees(math.atan2(-epsilon, s2)):.9g} of that pin)",
                           design)
     design = _slider_design(method, data, s1, s2, theta1, theta2, {"epsilon": epsilon})
     return _one(design)
+
+
+# ---- 15. Synthesis: designs measured and checked by the engine -----------------------------------
+#
+# Holds: every design run through engine_outputs, the one adapter to the analysis (the accurate
+# engine, never the synthesis formulas); analyze_design measures on the analysed linkage what it
+# really does: rocker swing, crank rotation between the dead centres, the prescribed positions met
+# or missed, the transmission-angle extremes. METHODS, the table of the methods, and a design's
+# lines of text.
+#
+# Uses: sections 2, 7, 9, 13 and 14.
+# Offers: engine_outputs, kind_and_dimensions, measured_transmission_angle, Measured, measure,
+#   output_change, velocity_ratio, Check, analyze_design, ANGLE_TOLERANCE, LENGTH_TOLERANCE,
+#   RATIO_TOLERANCE, conditioning, rounding_floor, misses, METHODS, ASKED_ANGLES, REVIEW_LETTERS,
+#   letters, design_lines, review_lines, whole_motion.
 
 
 # -- the analysis adapter ------------------------------------------------------------------------
@@ -7144,9 +7338,9 @@ def measured_transmission_angle(link: Designed, phi: float, output: float) -> fl
     if isinstance(link, FourBar):
         dx, dy = link.a + link.d * math.cos(output * RAD), link.d * math.sin(output * RAD)
         u, v = (bx - dx, by - dy), (link.a - dx, -dy)
-        return _deg(math.atan2(abs(u[0] * v[1] - u[1] * v[0]), u[0] * v[0] + u[1] * v[1]))
+        return in_degrees(math.atan2(abs(u[0] * v[1] - u[1] * v[0]), u[0] * v[0] + u[1] * v[1]))
     wx, wy = output - bx, link.e - by
-    return _deg(math.atan2(abs(wx), abs(wy)))
+    return in_degrees(math.atan2(abs(wx), abs(wy)))
 
 
 class Measured(NamedTuple):
@@ -7321,7 +7515,7 @@ class Check(NamedTuple):
                                      and math.isnan(self.measured)):
             return math.inf
         difference = self.measured - self.expected
-        return abs(_wrap(difference)) if self.unit == "deg" else abs(difference)
+        return abs(wrap_degrees(difference)) if self.unit == "deg" else abs(difference)
 
 
 def analyze_design(design: Design) -> list[Check]:
@@ -7485,7 +7679,7 @@ def rounding_floor(design: Design, checks: list[Check] | None = None) -> dict[st
             if check.measured is None or was is None:
                 continue
             change = check.measured - was
-            floor[check.name] += abs(_wrap(change) if check.unit == "deg" else change) * 2.0 ** -13
+            floor[check.name] += abs(wrap_degrees(change) if check.unit == "deg" else change) * 2.0 ** -13
     return floor
 
 
@@ -7516,65 +7710,6 @@ METHODS: dict[str, tuple[Callable[..., Synthesis], str]] = {
     "fourb-fg2-1": (fourb_fg2_1, "FOURB-FG2-1"), "fourb-fg3-1": (fourb_fg3_1, "FOURB-FG3-1"),
     "slid-fg2-1": (slid_fg2_1, "SLID-FG2-1"), "slid-fg2-2": (slid_fg2_2, "SLID-FG2-2"),
 }
-
-
-ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
-               "towards the output pivot B0)")
-METHOD_HELP = {  # each method's --help: what it designs from what (the data: DATA)
-    "FOURB-CR-1": "A crank-rocker (Chen; Pamidi) whose rocker swings through psi while the crank "
-                  "turns 180 + theta from the extended dead centre (crank and coupler in line) to "
-                  "the folded one, the crank at theta0 at the extended one.",
-    "FOURB-CR-2": "A crank-rocker (Chen; Pamidi) whose rocker swings through psi while the crank "
-                  "turns 180 + theta from the extended dead centre (crank and coupler in line) to "
-                  "the folded one, the rocker at psi0 at the extended one; up to two linkages.",
-    "FOURB-CR-3": "A crank-rocker (Freudenstein & Primrose) whose rocker swings through psi "
-                  "while the crank turns 180 + theta from the extended dead centre to the folded "
-                  "one, with the least greatest deviation of the transmission angle from 90 "
-                  "degrees.",
-    "FOURB-CR-4": "A centric crank-rocker (Brodell & Soni: theta = 0, the crank turning 180 "
-                  "degrees each way) whose rocker swings through psi, with least transmission "
-                  "angle mu_min.",
-    "FOURB-CR-4 (Volmer)": "The centric crank-rocker of FOURB-CR-4 by Volmer's equations (6a-c): "
-                           "rocker swing psi, least transmission angle mu_min.",
-    "DRAGLINK-1": "A drag-link (Bagci: frame shortest, crank and output turning fully) whose "
-                  "output turns dpsi0 while the crank turns 180 degrees from the frame line "
-                  "(phi = 0) to its extension (phi = 180), with transmission angle mu_min at "
-                  "phi = 0 and 180 - mu_min at phi = 180.",
-    "DRAGLINK-2": "A drag-link (Tsai: frame shortest) with unit velocity ratio (output as fast as "
-                  "the crank) at two positions dphi apart on the crank and dpsi on the output; "
-                  "lambda = coupler / frame given, or chosen for the transmission angle closest "
-                  "to 90 degrees.",
-    "FOURB-FG2-1": "A four-bar function generator (Chiang): while the crank turns through phij "
-                   "from phi0 the output turns through psij (signed, counter-clockwise positive: "
-                   "the motion itself, not only the end position), for a given crank a and "
-                   "output c (frame 1); finds the coupler and the output's start psi0. Up to two "
-                   "linkages.",
-    "FOURB-FG3-1": "A four-bar function generator (Freudenstein's equation) through three "
-                   "positions: the output at psi1, psi2, psi3 when the crank is at phi1, phi2, "
-                   "phi3. The output angles are the review's: measured from the opposite "
-                   "direction to the program's, which are 180 less.",
-    "SLID-FG2-1": "A slider-crank (Chen) whose slider moves ds between its dead centres while the "
-                  "crank turns dtheta from the outer to the inner one, for a chosen offset "
-                  "epsilon (the slider's line is y = -epsilon: the program's e = -epsilon).",
-    "SLID-FG2-2": "A slider-crank (Chen) through its two dead centres: the crank at theta1 with "
-                  "the slider at s1 (outer), the crank pin in the direction theta2 with the "
-                  "slider at s2 (inner; the crank itself at theta2 - 180). The two must agree: "
-                  "s1 tan(theta1) = s2 tan(theta2).",
-}
-DESIGN_OUTPUT_HELP = (
-    "Prints, a `name = value` line each: the data; per solution the linkage in the program's "
-    "letters, as `run` takes them (four-bars: a the fixed link = 1, b the input crank, c the "
-    "coupler, d the output crank; slider-cranks: b the crank, c the rod, e the offset of the "
-    "slider's line y = e), its branch (run --branch), the design positions (phi the crank, psi "
-    "the output, x the slider; angles as the data give them), the transmission angle's extremes "
-    "mu_min and mu_max; then, labelled review, the review's own numbers in its letters. Exit 0, "
-    "1 for data no design meets, 2 for a usage error, 3 when --analyze finds a miss.")
-
-
-def datum_help(datum: Datum) -> str:
-    """The help of a datum: what it is, its valid range, the values refused in it (DATA)."""
-    refused = "".join(f"; refused: {reason}" for reason, _ in datum.excluded)
-    return f"{datum.meaning}; in {range_text(datum)}{refused}"
 
 
 # The angles a method's data measure otherwise than the program (the crank angle phi and the
@@ -7630,7 +7765,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     position still exists)."""
     link = design.linkage
     first = design.positions[0][0]
-    limits = [] if isinstance(link, SliderCrank) else _limit_angles(link)
+    limits = [] if isinstance(link, SliderCrank) else limit_angles(link)
     if not limits or (isinstance(link, FourBar)
                       and grashof_type(link) in ("crank-rocker", "drag-link")):
         return first, first + 360.0 - step, step
@@ -7642,7 +7777,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     return below + step / 2, above - step / 2, step
 
 
-# ---- 8. Scenes and plots: the paper's figures and the other scenes -------------------------------
+# ---- 16. Scenes: a figure's data, loaded and computed --------------------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a mechanism and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -7657,15 +7792,12 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
 # those files are written.
 #
-# Every figure is drawn from DAT files, so `scene` and `plot` draw alike: one series a folder
-# (the scene's DIR itself, or DIR/<precision>-branch<n> when it overlays several; n is "follow"
-# for the motion followed through change points, branches = ["follow"]). A curve breaks
-# where the input angle skips a step (the engine leaves out positions that do not exist). Output
-# angles are drawn unwrapped: whole turns are added so that a curve is continuous across +-180
-# degrees, and so that the curves of a panel lie within half a turn of the first one.
-#
-# Uses: sections 1, 3, 4, 5 and 6 (the writer; the menu's dimensions; the menu session, for
-# precision basic; the engine; the mechanism drawn).
+# Uses: sections 1, 2, 5, 6, 7, 8, 9 and 10.
+# Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, QUANTITY_FILES, MECHANISM_PANEL, MAX_FRAMES,
+#   PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, PanelSpec, Scene, scene_error,
+#   load_scene, known_scenes, scene_path, scene_list, check_assembles, Series, branch_text,
+#   compute_scene, scene_csv.
+
 
 SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "title": "a string (the figure's title)",
@@ -7707,11 +7839,6 @@ AXIS_LABELS = {
 for _labels in AXIS_LABELS.values():
     _labels["transmission"] = ("transmission angle", "mu", "deg")
 INPUT_AXIS = ("input angle", "phi", "deg")
-
-
-class SceneError(ValueError):
-    """A scene file, or a DAT file, that cannot be drawn; the message names the file and the key
-    (or line) and what was expected."""
 
 
 class PanelSpec(NamedTuple):
@@ -7771,7 +7898,7 @@ def _kind_of(x: object) -> str:
     return f"{what} {x!r}" if isinstance(x, (str, int, float)) else what
 
 
-def _scene_error(path: str, key: str, expected: str, got: object = None) -> SceneError:
+def scene_error(path: str, key: str, expected: str, got: object = None) -> SceneError:
     return SceneError(f"{path}: key '{key}': expected {expected}"
                       + ("" if got is None else f", got {_kind_of(got)}"))
 
@@ -7801,7 +7928,7 @@ def load_scene(path: str) -> Scene:
 
     mechanism = data["mechanism"]
     if not isinstance(mechanism, str) or mechanism not in LINKAGE_DIMENSIONS:
-        raise _scene_error(path, "mechanism", SCENE_KEYS["mechanism"], mechanism)
+        raise scene_error(path, "mechanism", SCENE_KEYS["mechanism"], mechanism)
     dims = _scene_dimensions(path, mechanism, data["dimensions"])
     start, stop, step = _scene_sweep(path, data["input"])
 
@@ -7809,47 +7936,47 @@ def load_scene(path: str) -> Scene:
     if (not isinstance(branches, list) or not branches
             or not all(b in (1, 2, FOLLOW) and not isinstance(b, bool) for b in branches)
             or len(set(branches)) != len(branches)):
-        raise _scene_error(path, "branches", "[1], [2] or [1, 2], and with precision double "
+        raise scene_error(path, "branches", "[1], [2] or [1, 2], and with precision double "
                            "\"follow\" among them", branches)
     panels = data["panels"]
     if (not isinstance(panels, list) or not 1 <= len(panels) <= 3
             or not all(isinstance(p, dict) for p in panels)):
-        raise _scene_error(path, "panels", SCENE_KEYS["panels"], panels)
+        raise scene_error(path, "panels", SCENE_KEYS["panels"], panels)
     fast = data.get("fast", False)
     if not isinstance(fast, bool):
-        raise _scene_error(path, "fast", SCENE_KEYS["fast"], fast)
+        raise scene_error(path, "fast", SCENE_KEYS["fast"], fast)
     if any(p.get("quantities") == [MECHANISM_PANEL] for p in panels):
         if fast:
-            raise _scene_error(path, "fast", "false, or no fast: a mechanism scene's few "
+            raise scene_error(path, "fast", "false, or no fast: a mechanism scene's few "
                                "positions are computed one at a time", fast)
         if branches[0] == FOLLOW or (FOLLOW in branches and "coupler" not in data):
-            raise _scene_error(path, "branches", "[1] or [2]: a mechanism scene draws one of "
+            raise scene_error(path, "branches", "[1] or [2]: a mechanism scene draws one of "
                                "the listing's branches (and with a coupler, traces the "
                                "coupler curve of the others given, \"follow\" among them)",
                                branches)
         return _mechanism_scene(path, data, dims, start, stop, step, tuple(branches))
     for key, what in (("coupler", "a coupler point is"), ("marked", "marked positions are")):
         if key in data:
-            raise _scene_error(path, key, f"no {key}: {what} drawn by a mechanism scene "
+            raise scene_error(path, key, f"no {key}: {what} drawn by a mechanism scene "
                                "(panels = [{quantities = [\"mechanism\"]}])", data[key])
     if "precision" not in data:
         raise SceneError(f"{path}: key 'precision' is missing: expected {SCENE_KEYS['precision']}")
     precision = data["precision"]
     if not isinstance(precision, str) or precision not in PRECISIONS:
-        raise _scene_error(path, "precision", SCENE_KEYS["precision"], precision)
+        raise scene_error(path, "precision", SCENE_KEYS["precision"], precision)
     if fast and "double" not in PRECISIONS[precision]:
-        raise _scene_error(path, "fast", "false with precision basic: only the engine's numbers "
+        raise scene_error(path, "fast", "false with precision basic: only the engine's numbers "
                            "(double) have a vectorised path", fast)
     if FOLLOW in branches and precision != "double":
-        raise _scene_error(path, "branches", "1 and 2 only with precision basic or both: "
+        raise scene_error(path, "branches", "1 and 2 only with precision basic or both: "
                            "\"follow\" is the accurate engine's (the original program has "
                            "branches 1 and 2)", branches)
     if fast and FOLLOW in branches:
-        raise _scene_error(path, "fast", "false with the branch \"follow\": the vectorised path "
+        raise scene_error(path, "fast", "false with the branch \"follow\": the vectorised path "
                            "computes the listing's branches 1 and 2", fast)
     specs = _scene_panels(path, panels)
     if precision == "basic" and any("transmission" in spec.quantities for spec in specs):
-        raise _scene_error(path, "precision", "double or both with a transmission panel: the "
+        raise scene_error(path, "precision", "double or both with a transmission panel: the "
                            "transmission angle is the accurate engine's (the original program "
                            "computes the output link only)", precision)
     return Scene(path, _scene_title(path, data), mechanism, dims, start, stop, step,
@@ -7900,7 +8027,7 @@ def _scene_dimensions(path: str, mechanism: str, given: object) -> dict[str, flo
     """The scene's `dimensions` table, checked against what the mechanism takes."""
     names = LINKAGE_DIMENSIONS[mechanism]
     if not isinstance(given, dict):
-        raise _scene_error(path, "dimensions", SCENE_KEYS["dimensions"], given)
+        raise scene_error(path, "dimensions", SCENE_KEYS["dimensions"], given)
     takes = f"a {mechanism} linkage takes {', '.join(names)}"
     for key in given:
         if key not in names:
@@ -7910,7 +8037,7 @@ def _scene_dimensions(path: str, mechanism: str, given: object) -> dict[str, flo
             raise SceneError(f"{path}: key 'dimensions.{key}' is missing: expected a number, "
                              f"{DIMENSION_NAMES[key]} ({takes})")
         if not _is_number(given[key]):
-            raise _scene_error(path, f"dimensions.{key}",
+            raise scene_error(path, f"dimensions.{key}",
                                f"a number, {DIMENSION_NAMES[key]}", given[key])
     return {k: float(given[k]) for k in names}
 
@@ -7918,19 +8045,19 @@ def _scene_dimensions(path: str, mechanism: str, given: object) -> dict[str, flo
 def _scene_sweep(path: str, sweep: object) -> tuple[float, float, float]:
     """The scene's `input` table: from, to, step in degrees, a sweep of at most MAX_SCENE_POINTS."""
     if not isinstance(sweep, dict):
-        raise _scene_error(path, "input", SCENE_KEYS["input"], sweep)
+        raise scene_error(path, "input", SCENE_KEYS["input"], sweep)
     _unknown_keys(path, sweep, ("from", "to", "step"), "input.")
     for key in ("from", "to", "step"):
         if key not in sweep:
             raise SceneError(f"{path}: key 'input.{key}' is missing: expected a number (degrees)")
         if not _is_number(sweep[key]):
-            raise _scene_error(path, f"input.{key}", "a number (degrees)", sweep[key])
+            raise scene_error(path, f"input.{key}", "a number (degrees)", sweep[key])
     start, stop, step = (float(sweep[k]) for k in ("from", "to", "step"))
     if step == 0 or (stop - start) / step < 0:
-        raise _scene_error(path, "input.step", f"a step that goes from {start:g} to {stop:g} "
+        raise scene_error(path, "input.step", f"a step that goes from {start:g} to {stop:g} "
                            "(non-zero, with the sign of to - from)", sweep["step"])
     if (stop - start) / step >= MAX_SCENE_POINTS:
-        raise _scene_error(path, "input.step", f"a step giving at most {MAX_SCENE_POINTS:,} "
+        raise scene_error(path, "input.step", f"a step giving at most {MAX_SCENE_POINTS:,} "
                            "points", sweep["step"])
     return start, stop, step
 
@@ -7945,13 +8072,13 @@ def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, .
         if (not isinstance(quantities, list) or not quantities
                 or not all(q in QUANTITIES for q in quantities)
                 or len(set(quantities)) != len(quantities)):
-            raise _scene_error(path, f"{key}.quantities",
+            raise scene_error(path, f"{key}.quantities",
                                f"a list of one or more of {', '.join(QUANTITIES)}", quantities)
         limits = panel.get("limits")
         if limits is not None and not (isinstance(limits, list) and len(limits) == 2
                                        and all(_is_number(v) for v in limits)
                                        and limits[0] < limits[1]):
-            raise _scene_error(path, f"{key}.limits", "[low, high], two numbers, low < high",
+            raise scene_error(path, f"{key}.limits", "[low, high], two numbers, low < high",
                                limits)
         specs.append(PanelSpec(tuple(quantities),
                                None if limits is None else (float(limits[0]), float(limits[1]))))
@@ -7961,7 +8088,7 @@ def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, .
 def _scene_title(path: str, data: dict[str, Any]) -> str:
     title = data.get("title", MECHANISM_NAMES[data["mechanism"]].capitalize())
     if not isinstance(title, str):
-        raise _scene_error(path, "title", SCENE_KEYS["title"], title)
+        raise scene_error(path, "title", SCENE_KEYS["title"], title)
     return printable(title)
 
 
@@ -7970,20 +8097,20 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
     """The rest of a mechanism scene: one panel, quantities = ["mechanism"], optional angles; the
     positions are the accurate engine's (precision double, or no precision key)."""
     if len(data["panels"]) != 1:
-        raise _scene_error(path, "panels", "one [[panels]] only: a mechanism panel is a scene "
+        raise scene_error(path, "panels", "one [[panels]] only: a mechanism panel is a scene "
                            "of its own", data["panels"])
     panel = data["panels"][0]
     _unknown_keys(path, panel, ("quantities", "angles"), "panels[1].")
     if data.get("precision", "double") != "double":
-        raise _scene_error(path, "precision", "double, or no precision: a mechanism scene draws "
+        raise scene_error(path, "precision", "double, or no precision: a mechanism scene draws "
                            "the accurate engine's positions", data["precision"])
     angles = panel.get("angles")
     if angles is not None and not (isinstance(angles, list) and 1 <= len(angles) <= MAX_FRAMES
                                    and all(_is_number(v) for v in angles)):
-        raise _scene_error(path, "panels[1].angles", f"a list of 1 to {MAX_FRAMES:,} input "
+        raise scene_error(path, "panels[1].angles", f"a list of 1 to {MAX_FRAMES:,} input "
                            "angles (degrees)", angles)
     if angles is None and (stop - start) / step >= MAX_FRAMES:
-        raise _scene_error(path, "input.step", f"a step giving at most {MAX_FRAMES:,} positions "
+        raise scene_error(path, "input.step", f"a step giving at most {MAX_FRAMES:,} positions "
                            "to draw (or a list panels[1].angles)", data["input"]["step"])
     spec = PanelSpec((MECHANISM_PANEL,), None,
                      None if angles is None else tuple(float(v) for v in angles))
@@ -7991,16 +8118,16 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
     if coupler is not None:
         if not (isinstance(coupler, list) and len(coupler) in (1, 2)
                 and all(_is_number(v) for v in coupler)):
-            raise _scene_error(path, "coupler", SCENE_KEYS["coupler"], coupler)
+            raise scene_error(path, "coupler", SCENE_KEYS["coupler"], coupler)
         try:
             coupler = check_coupler_point(Linkage(data["mechanism"], **dims), *coupler)
         except ValueError as e:
-            raise _scene_error(path, "coupler", f"a point of this coupler: {e}", data["coupler"]) \
+            raise scene_error(path, "coupler", f"a point of this coupler: {e}", data["coupler"]) \
                 from None
     marked = data.get("marked", [])
     if not (isinstance(marked, list) and len(marked) <= MAX_FRAMES
             and all(_is_number(v) for v in marked)):
-        raise _scene_error(path, "marked", SCENE_KEYS["marked"], marked)
+        raise scene_error(path, "marked", SCENE_KEYS["marked"], marked)
     return Scene(path, _scene_title(path, data), data["mechanism"], dims, start, stop, step,
                  branches, ("double",), (spec,), coupler=coupler,
                  marked=tuple(float(v) for v in marked))
@@ -8032,7 +8159,7 @@ def _faithful_files(scene: Scene, branch: int | str, directory: str) -> list[str
         raise SceneError(str(e)) from None
     except ProgramStop as stop:
         where = "dimensions" if "Illegal linkage" in str(stop) else "input"
-        raise _scene_error(scene.path, where, "what the original program accepts (precision "
+        raise scene_error(scene.path, where, "what the original program accepts (precision "
                            f"basic): it says \"{stop}\"") from None
     screen.show_soft_errors()
     return [e.strip() for e in soft_errors]
@@ -8046,18 +8173,18 @@ def _accurate_motions(scene: Scene, branch: int | str, derivatives: int) -> list
             return linkage.sweep_arrays(angles, int(branch), derivatives).motions()
         return linkage.sweep(angles, branch, derivatives)
     except ValueError as e:
-        raise _scene_error(scene.path, "dimensions", f"dimensions the engine accepts: {e}") \
+        raise scene_error(scene.path, "dimensions", f"dimensions the engine accepts: {e}") \
             from None
     except FastUnavailable as e:
         raise SceneError(f"{scene.path}: key 'fast': {e}") from None
 
 
-def _check_assembles(scene: Scene, positions: Sequence[Motion | Pose]) -> None:
+def check_assembles(scene: Scene, positions: Sequence[Motion | Pose]) -> None:
     """A SceneError unless the linkage assembles at one of `positions` (the engine's Motions,
     or a drawing's Poses) at least."""
     if not any(m.output is not None for m in positions):
         dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
-        raise _scene_error(scene.path, "dimensions",
+        raise scene_error(scene.path, "dimensions",
                            "a linkage that can be assembled somewhere from "
                            f"{scene.start:g} to {scene.stop:g} degrees; the {scene.mechanism} "
                            f"linkage {dims} assembles at none of those {len(positions)} input "
@@ -8073,7 +8200,7 @@ class Series(NamedTuple):
     directory: str
 
 
-def _branch_text(branch: int | str) -> str:
+def branch_text(branch: int | str) -> str:
     return ("follow (the motion followed from branch 1)" if branch == FOLLOW
             else f"{branch} ({'A+B' if branch == 1 else 'A-B'})")
 
@@ -8085,7 +8212,7 @@ def compute_scene(scene: Scene, directory: str, report: Callable[[str], None] | 
     written for a linkage that assembles nowhere in the range."""
     accurate = {b: _accurate_motions(scene, b, scene.derivatives) for b in scene.branches
                 if "double" in scene.precisions}
-    _check_assembles(scene, accurate.get(scene.branches[0])
+    check_assembles(scene, accurate.get(scene.branches[0])
                      or _accurate_motions(scene, scene.branches[0], 0))
     plan = [(p, b) for b in scene.branches for p in scene.precisions]
     series = []
@@ -8144,56 +8271,23 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
     return write_csv(path, rows(), ("series",) + CSV_HEADER, outputs)
 
 
-# -- reading DAT files -------------------------------------------------------------------------
-
-def read_dat(path: str, warn: Callable[[str], None] | None = None) -> list[tuple[float, float]]:
-    """The (input angle, value) pairs of a DAT file as WRITE # writes them (CRLF lines "x,y", the
-    end-of-file byte 1A; numbers like .5, -1.713751E-02) or as the engine writes them (repr).
-    warn(message), if given, hears of a file that may have been cut short: empty, without its
-    end-of-file byte, or with its last line unended."""
-    try:
-        with open(path, "rb") as fh:
-            data = fh.read()
-    except OSError as e:
-        raise SceneError(f"{path}: cannot read: {e.strerror}") from None
-    text = data.split(b"\x1a", 1)[0].decode("latin-1")
-    if warn is not None and b"\x1a" not in data:
-        warn(f"{path}: {'empty' if not data else 'no end-of-file byte (1A)'}: the file may have "
-             "been cut short")
-    elif warn is not None and text and not text.endswith("\r\n"):
-        warn(f"{path}: its last line has no line end: the file may have been cut short")
-    points = []
-    for number, line in enumerate(text.splitlines(), 1):
-        if not line.strip():
-            continue
-        fields = line.split(",")
-        try:
-            if len(fields) != 2:
-                raise ValueError
-            x, y = (float(f.strip().upper().replace("D", "E")) for f in fields)
-            if not (math.isfinite(x) and math.isfinite(y)):
-                raise ValueError
-        except ValueError:
-            raise SceneError(f"{path}: line {number}: expected two numbers \"angle,value\", "
-                             f"got {line[:40]!r}") from None
-        points.append((x, y))
-    return points
-
-
-def _dat_precision(directory: str) -> str:
-    """basic or double from how the numbers are written (GW-BASIC's .5 and 1E-02, or Python's
-    repr 0.5, 2.0 and 1e-02), "" if the files do not tell."""
-    try:
-        with open(os.path.join(directory, "ANG.DAT"), "rb") as fh:
-            text = fh.read(4096).decode("latin-1")
-    except OSError:
-        return ""
-    numbers = re.split(r"[,\r\n\x1a]+", text)
-    if any(re.fullmatch(r"-?(0\.\d+|\d+\.0|[\d.]+e[-+]\d+)", n) for n in numbers):
-        return "double"
-    if any(re.fullmatch(r"-?(\.\d+|\d+|[\d.]+E[-+]\d+)", n) for n in numbers):
-        return "basic"
-    return ""
+# ---- 17. Plots: a figure drawn as text or PNG ----------------------------------------------------
+#
+# Holds: a figure built from DAT files (scene_figure, dat_figure: its panels and curves) and drawn
+# as a plain-text plot (80 x 24, no dependency) or a PNG (matplotlib, the `plot` extra); a mechanism
+# scene's drawing; a scene written back as TOML.
+#
+# Every figure is drawn from DAT files, so `scene` and `plot` draw alike: one series a folder (the
+# scene's DIR itself, or DIR/<precision>-branch<n> when it overlays several; n is "follow" for the
+# motion followed through change points). A curve breaks where the input angle skips a step (the
+# engine leaves out positions that do not exist). Output angles are drawn unwrapped: whole turns are
+# added so that a curve is continuous across +-180 degrees, and so that the curves of a panel lie
+# within half a turn of the first one.
+#
+# Uses: sections 1, 2, 6, 9, 10, 11, 12 and 16.
+# Offers: dat_series, Curve, Panel, Figure, DRAWN_UP_TO, CLIPPED, build_figure, scene_figure,
+#   dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure, png_figure,
+#   scene_drawing, scene_text.
 
 
 def dat_series(directory: str) -> list[Series]:
@@ -8202,7 +8296,7 @@ def dat_series(directory: str) -> list[Series]:
     def has_dat(d: str) -> bool:
         return any(os.path.exists(os.path.join(d, n)) for n in QUANTITY_FILES.values())
     if has_dat(directory):
-        return [Series(os.path.basename(os.path.abspath(directory)), _dat_precision(directory),
+        return [Series(os.path.basename(os.path.abspath(directory)), dat_precision(directory),
                        None, directory)]
     try:
         folders = sorted(e.path for e in os.scandir(directory) if e.is_dir() and has_dat(e.path))
@@ -8216,7 +8310,7 @@ def dat_series(directory: str) -> list[Series]:
         name = os.path.basename(folder)
         match = re.fullmatch(r"(basic|double)-branch([12]|follow)", name)
         branch = None if not match else FOLLOW if match[2] == FOLLOW else int(match[2])
-        series.append(Series(name, match[1] if match else _dat_precision(folder), branch,
+        series.append(Series(name, match[1] if match else dat_precision(folder), branch,
                              folder))
     order = {1: 1, 2: 2, FOLLOW: 3}
     return sorted(series, key=lambda s: (order.get(s.branch, 4), s.precision != "basic",
@@ -8333,7 +8427,7 @@ def build_figure(title: str, subtitle: str, group: str, specs: Sequence[PanelSpe
 
 def scene_figure(scene: Scene, series: list[Series]) -> Figure:
     dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
-    branches = ", ".join(_branch_text(b) for b in scene.branches)
+    branches = ", ".join(branch_text(b) for b in scene.branches)
     precision = {("basic",): "basic (GW-BASIC single precision)",
                  ("double",): "double (the accurate engine)",
                  ("basic", "double"): "basic and double, overlaid"}[scene.precisions]
@@ -8606,9 +8700,9 @@ def scene_drawing(scene: Scene) -> Drawing:
                else ""),
             scene.coupler, scene.branches[1:], scene.marked)
     except ValueError as e:
-        raise _scene_error(scene.path, "dimensions", f"dimensions that can be drawn: {e}") \
+        raise scene_error(scene.path, "dimensions", f"dimensions that can be drawn: {e}") \
             from None
-    _check_assembles(scene, [frame.pose for frame in drawing.frames])
+    check_assembles(scene, [frame.pose for frame in drawing.frames])
     return drawing
 
 
@@ -8643,11 +8737,17 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ---- 9. Benchmarks -------------------------------------------------------------------------------
+# ---- 18. Benchmarks of the program itself --------------------------------------------------------
 #
-# Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS; what
-# accuracy costs is measured by tests/bench_accuracy.py, with the tests' instruments.
-# Uses: sections 1, 2, 3, 4, 5, 6 and 8 (what each bench times).
+# Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS. What
+# accuracy costs is measured by tests/bench_accuracy.py, with the tests' instruments; the engine
+# beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
+#
+# Uses: sections 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 12, 16 and 17.
+# Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
+#   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, FILES_TARGET,
+#   bench_files, BENCHMARKS, ELSEWHERE, machine.
+
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
 QUICK_KEYS = b"12\r7\r9\r6\r0\r360\r10\r1"     # bench --quick: 37 points
@@ -9060,13 +9160,78 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 10. The command line ------------------------------------------------------------------------
+# ---- 19. The command line ------------------------------------------------------------------------
 #
-# Holds: the shared parsers of what is typed on the command line (numbers in each precision,
-# mechanism types, PNG sizes), one handler a sub-command, and COMMANDS, the table of every
-# sub-command's help and options that build_parser turns into argparse; main() last.
+# Holds: the shared parsers of what is typed on the command line (numbers in each precision, linkage
+# kinds, PNG sizes), one handler a sub-command, the design methods' help, and COMMANDS, the table of
+# every sub-command's help and options that build_parser turns into argparse; main() last.
 #
-# Uses: sections 1, 3, 4, 5, 6, 7, 8 and 9 (every command runs a part of the program).
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 15, 16, 17 and 18.
+# Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
+#   decimal_number, basic_answer, output_folder, run_command, CSV_CLIPPED, analyse_command,
+#   drawing_command, scene_command, plot_command, design_scene, design_command, ERRATUM, SCAN_LINE,
+#   scan_lines, annotated_listing, listing_command, bench_command, Option, option, Command,
+#   DIMENSION_HELP, PNG_OPTIONS, COMMANDS, CommandParser, build_parser, main.
+
+
+ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
+               "towards the output pivot B0)")
+METHOD_HELP = {  # each method's --help: what it designs from what (the data: DATA)
+    "FOURB-CR-1": "A crank-rocker (Chen; Pamidi) whose rocker swings through psi while the crank "
+                  "turns 180 + theta from the extended dead centre (crank and coupler in line) to "
+                  "the folded one, the crank at theta0 at the extended one.",
+    "FOURB-CR-2": "A crank-rocker (Chen; Pamidi) whose rocker swings through psi while the crank "
+                  "turns 180 + theta from the extended dead centre (crank and coupler in line) to "
+                  "the folded one, the rocker at psi0 at the extended one; up to two linkages.",
+    "FOURB-CR-3": "A crank-rocker (Freudenstein & Primrose) whose rocker swings through psi "
+                  "while the crank turns 180 + theta from the extended dead centre to the folded "
+                  "one, with the least greatest deviation of the transmission angle from 90 "
+                  "degrees.",
+    "FOURB-CR-4": "A centric crank-rocker (Brodell & Soni: theta = 0, the crank turning 180 "
+                  "degrees each way) whose rocker swings through psi, with least transmission "
+                  "angle mu_min.",
+    "FOURB-CR-4 (Volmer)": "The centric crank-rocker of FOURB-CR-4 by Volmer's equations (6a-c): "
+                           "rocker swing psi, least transmission angle mu_min.",
+    "DRAGLINK-1": "A drag-link (Bagci: frame shortest, crank and output turning fully) whose "
+                  "output turns dpsi0 while the crank turns 180 degrees from the frame line "
+                  "(phi = 0) to its extension (phi = 180), with transmission angle mu_min at "
+                  "phi = 0 and 180 - mu_min at phi = 180.",
+    "DRAGLINK-2": "A drag-link (Tsai: frame shortest) with unit velocity ratio (output as fast as "
+                  "the crank) at two positions dphi apart on the crank and dpsi on the output; "
+                  "lambda = coupler / frame given, or chosen for the transmission angle closest "
+                  "to 90 degrees.",
+    "FOURB-FG2-1": "A four-bar function generator (Chiang): while the crank turns through phij "
+                   "from phi0 the output turns through psij (signed, counter-clockwise positive: "
+                   "the motion itself, not only the end position), for a given crank a and "
+                   "output c (frame 1); finds the coupler and the output's start psi0. Up to two "
+                   "linkages.",
+    "FOURB-FG3-1": "A four-bar function generator (Freudenstein's equation) through three "
+                   "positions: the output at psi1, psi2, psi3 when the crank is at phi1, phi2, "
+                   "phi3. The output angles are the review's: measured from the opposite "
+                   "direction to the program's, which are 180 less.",
+    "SLID-FG2-1": "A slider-crank (Chen) whose slider moves ds between its dead centres while the "
+                  "crank turns dtheta from the outer to the inner one, for a chosen offset "
+                  "epsilon (the slider's line is y = -epsilon: the program's e = -epsilon).",
+    "SLID-FG2-2": "A slider-crank (Chen) through its two dead centres: the crank at theta1 with "
+                  "the slider at s1 (outer), the crank pin in the direction theta2 with the "
+                  "slider at s2 (inner; the crank itself at theta2 - 180). The two must agree: "
+                  "s1 tan(theta1) = s2 tan(theta2).",
+}
+DESIGN_OUTPUT_HELP = (
+    "Prints, a `name = value` line each: the data; per solution the linkage in the program's "
+    "letters, as `run` takes them (four-bars: a the fixed link = 1, b the input crank, c the "
+    "coupler, d the output crank; slider-cranks: b the crank, c the rod, e the offset of the "
+    "slider's line y = e), its branch (run --branch), the design positions (phi the crank, psi "
+    "the output, x the slider; angles as the data give them), the transmission angle's extremes "
+    "mu_min and mu_max; then, labelled review, the review's own numbers in its letters. Exit 0, "
+    "1 for data no design meets, 2 for a usage error, 3 when --analyze finds a miss.")
+
+
+def datum_help(datum: Datum) -> str:
+    """The help of a datum: what it is, its valid range, the values refused in it (DATA)."""
+    refused = "".join(f"; refused: {reason}" for reason, _ in datum.excluded)
+    return f"{datum.meaning}; in {range_text(datum)}{refused}"
+
 
 # -- what is typed: one parser a kind of value, shared by every command -------------------------
 

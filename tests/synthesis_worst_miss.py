@@ -83,8 +83,8 @@ def random_designs(method, rng, count):
                     result = s.slid_fg2_1((m.output_min.phi - m.output_max.phi) % 360,
                                           m.output_max.value - m.output_min.value, epsilon)
                 else:
-                    result = s.slid_fg2_2(s._wrap(m.output_max.phi),
-                                          s._wrap(m.output_min.phi + 180),
+                    result = s.slid_fg2_2(s.wrap_degrees(m.output_max.phi),
+                                          s.wrap_degrees(m.output_min.phi + 180),
                                           m.output_max.value, m.output_min.value, 1e-7)
         except s.DesignError:
             continue

@@ -522,7 +522,7 @@ def test_a_block_writes_the_bytes_of_its_rows(rows, clip, zero, transmission):
     ACC clipped, -0.0 as 0.0 (but the DAT files' phi, as repr writes it), None as nan."""
     fields = (1, 2, 3) + ((5,) if transmission else ())
     one = list(engine._block_texts(rows, fields, clip, zero, True))
-    block = list(engine._block_texts(engine._as_columns(rows, True), fields, clip, zero, True))
+    block = list(engine._block_texts(engine.as_columns(rows, True), fields, clip, zero, True))
     assert [b"".join(t[i] for t, _ in block) for i in range(len(fields) + 1)] == one[0][0]
 
 

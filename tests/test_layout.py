@@ -163,14 +163,139 @@ def _section_numbers(*titles: str) -> list[int]:
 
 
 def test_the_files_and_messages_use_nothing_and_the_modern_program_never_the_original():
-    """Section 1 (files, messages, the terminal) is at the bottom; the engine, the mechanism view
-    and synthesis never use the 1980s program's section (they use section 1 for their I/O)."""
+    """Section 1 (files, messages, the terminal) is at the bottom; the engine and all that is
+    built on it (what it derives, the numpy path, the linkage, its files, the mechanism view,
+    synthesis) never use the 1980s program's sections (they use section 1 for their I/O)."""
     used = uses()
     (files,) = _section_numbers("Files, messages")
-    (original,) = _section_numbers("The original program")
-    assert files == 1 and used.get(files, {}) == {}
-    for modern in _section_numbers("The accurate engine", "The mechanism view", "Synthesis"):
-        assert original not in used.get(modern, {}), (modern, used[modern].get(original))
+    original = _section_numbers("GW-BASIC", "The listing's computation", "The original program")
+    assert files == 1 and used.get(files, {}) == {} and len(original) == 3
+    modern = _section_numbers("The accurate engine", "What the engine derives", "The numpy path",
+                              "The linkage", "DAT and CSV", "The mechanism", "Synthesis")
+    assert len(modern) == 10
+    for number in modern:
+        assert not set(original) & set(used.get(number, {})), (number, used[number])
+
+
+SIZE = 850          # lines: "about 800", a room a newcomer can hold
+LARGER = {"The command line": "all command-line code is here and only here: every sub-command's "
+                              "handler and COMMANDS, the table the parser is built from"}
+
+
+def section_sizes(lines=LINES) -> dict[str, int]:
+    banners = sections(lines)
+    ends = [first for _, first, _ in banners[1:]] + [len(lines) + 1]
+    return {title: end - first for (_, first, title), end in zip(banners, ends)}
+
+
+def test_each_section_is_a_room_one_can_hold():
+    """No section over about 800 lines but those LARGER names, each with its reason."""
+    larger = {title: n for title, n in section_sizes().items() if n > SIZE}
+    assert set(larger) == set(LARGER), larger
+
+
+def offered(lines=LINES) -> dict[int, list[str]]:
+    """What each header says it offers: "# Offers: a, b, c." and its continuation lines
+    ("#   d, e."), or "# Offers: nothing."."""
+    found = {}
+    for number, first, title in sections(lines):
+        header = []
+        for line in lines[first:]:
+            if not line.startswith("#"):
+                break
+            header.append(line)
+        start = [i for i, line in enumerate(header) if line.startswith("# Offers:")]
+        assert len(start) == 1, f"section {number} ({title}) has no '# Offers:' line"
+        text = [header[start[0]].removeprefix("# Offers:")]
+        text += [line[1:] for line in header[start[0] + 1:] if line.startswith("#   ")]
+        names = " ".join(text).strip().rstrip(".")
+        found[number] = [] if names == "nothing" else [n.strip() for n in names.split(",")]
+    return found
+
+
+def public_names(lines=LINES, tree=None) -> dict[int, list[str]]:
+    """Each section's public (no leading underscore) top-level names, in the order bound."""
+    tree = tree or ast.parse("\n".join(lines))
+    banners, found = sections(lines), {}
+    for name, lineno in bindings(tree):
+        number = section_of(lineno, banners)
+        if number and not name.startswith("_") and name not in found.get(number, []):
+            found.setdefault(number, []).append(name)
+    return found
+
+
+def test_each_header_says_what_it_offers():
+    """The Offers line names exactly the section's public names, in the order it binds them:
+    what later sections may use (test_each_section_is_one_room: they use no other)."""
+    public = public_names(LINES, TREE)
+    assert offered() == {n: public.get(n, []) for n, _, _ in sections()}
+
+
+def test_the_offers_test_can_fail():
+    """A made-up section whose Offers line leaves out a public name, and names a private one."""
+    lines = ["# ---- 1. One ---", "#", "# Offers: _hidden, shown.", "def shown():", "    pass",
+             "def also():", "    pass", "def _hidden():", "    pass"]
+    assert offered(lines) == {1: ["_hidden", "shown"]}
+    assert public_names(lines) == {1: ["shown", "also"]}
+
+
+def annotation_nodes(tree) -> set[int]:
+    """The ids of every node inside an annotation (they are never evaluated: from __future__
+    import annotations)."""
+    roots = []
+    for n in ast.walk(tree):
+        if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            a = n.args
+            roots += [p.annotation for p in a.posonlyargs + a.args + a.kwonlyargs
+                      + [p for p in (a.vararg, a.kwarg) if p is not None]] + [n.returns]
+        elif isinstance(n, ast.AnnAssign):
+            roots.append(n.annotation)
+    return {id(m) for r in roots if r is not None for m in ast.walk(r)}
+
+
+def sections_using(names: set[str], lines=LINES, tree=TREE) -> set[int]:
+    """The sections whose code (not their annotations) uses any of `names`, or imports it."""
+    banners, skip, found = sections(lines), annotation_nodes(tree), set()
+    for node in tree.body:
+        here = section_of(node.lineno, banners)
+        for n in ast.walk(node):
+            if id(n) in skip:
+                continue
+            if isinstance(n, ast.Name) and n.id in names:
+                found.add(here)
+            elif isinstance(n, (ast.Import, ast.ImportFrom)) and any(
+                    (a.name if isinstance(n, ast.Import) else n.module or "").split(".")[0]
+                    in names for a in n.names):
+                found.add(here)
+    return found
+
+
+def test_nothing_outside_the_numpy_path_touches_numpy():
+    """numpy is imported and used (np.…) in its own section only; the others ask it for what they
+    need (angle_array, column_texts, ...). The preamble imports it for annotations only."""
+    assert sections_using({"numpy", "np"}) - {0} == set(_section_numbers("The numpy path"))
+
+
+def test_command_line_code_is_in_the_last_section_only():
+    """argparse is used in the last section only (the preamble imports it)."""
+    assert sections_using({"argparse"}) - {0} == {len(sections())}
+
+
+def test_the_usage_tests_can_fail():
+    """A made-up section 2 that computes with np, and one that only annotates with numpy."""
+    lines = ["# ---- 1. One ---", "def f(x: numpy.ndarray) -> numpy.ndarray:", "    return x",
+             "# ---- 2. Two ---", "def g(np):", "    return np.zeros(3)",
+             "# ---- 3. Three ---", "def h():", "    import numpy", "    return numpy"]
+    assert sections_using({"numpy", "np"}, lines, ast.parse("\n".join(lines))) == {2, 3}
+
+
+def test_the_module_docstring_names_every_section():
+    """The module docstring's contents: "N. title" for every section, the title as the banner has
+    it up to its colon, in lower case."""
+    doc = " ".join(linkage.__doc__.split()).lower()
+    missing = [(n, title) for n, _, title in sections()
+               if f"{n}. {title.split(':')[0].lower()}" not in doc]
+    assert missing == []
 
 
 PARSER_CALLS = {"ArgumentParser", "CommandParser", "add_parser", "add_subparsers",
@@ -334,8 +459,8 @@ def test_no_module_level_name_is_bound_twice():
 
 
 def test_the_menus_linkages_are_the_engines_kinds():
-    """MECHANISM_TYPES (the original program's menu, section 3) spells the five kinds itself, as
-    it may not use the engine's constants: the same five names, in the menu's order."""
+    """MECHANISM_TYPES (the original program's menu: its keys and the order it asks for the
+    dimensions) has the five kinds, in the menu's order."""
     assert list(linkage.MECHANISM_TYPES) == list(linkage.MECHANISM_NAMES) == [
         linkage.PLANE_FOUR_BAR, linkage.SPHERICAL_FOUR_BAR, linkage.SKEW_FOUR_BAR,
         linkage.PLANE_SLIDER_CRANK, linkage.SKEW_SLIDER_CRANK]

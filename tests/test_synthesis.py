@@ -291,7 +291,7 @@ def test_errata_s6_second_solution_of_fourb_fg2_1():
     printed = s.FourBar(a=1.0, b=4.0, c=2.441984, d=2.0)
     for branch in (1, 2):
         out = s.engine_outputs("plane", printed._asdict(), [50.0], branch)[0]
-        assert out is None or abs(s._wrap(out - 169.186625)) > 10
+        assert out is None or abs(s.wrap_degrees(out - 169.186625)) > 10
 
 
 def test_errata_s7_first_row_of_freudenstein_matrix():
@@ -377,7 +377,7 @@ def test_example_linkages_in_the_review_geometry(results):
         xa, ya = 4 * math.cos(50 * R), 4 * math.sin(50 * R)
         xb, yb = 1 + 2 * math.cos(psi0 * R), 2 * math.sin(psi0 * R)
         assert link.c == pytest.approx(math.hypot(xb - xa, yb - ya), abs=1e-12)
-        assert s._output(link, 50) == pytest.approx(s._wrap(psi0), abs=1e-9)
+        assert s._output(link, 50) == pytest.approx(s.wrap_degrees(psi0), abs=1e-9)
     fg3 = results["FOURB-FG3-1"].design
     assert [s._output(fg3.linkage, phi) for phi in (30, 45, 60)] == pytest.approx([15, 40, 65],
                                                                                  abs=1e-9)
@@ -528,7 +528,7 @@ def test_draglink_2_gives_back_a_random_drag_link(u1, u2, u3):
         assert "is not in [90 + dL/2" in str(error)
         return
     assert _same_linkage(design, link, 1e-6)
-    assert abs(s._wrap(design.review["phi1"] - data["phi1"])) < 1e-6 or \
+    assert abs(s.wrap_degrees(design.review["phi1"] - data["phi1"])) < 1e-6 or \
         design.linkage.branch != link.branch
     assert not s.misses(design)
 
@@ -547,13 +547,13 @@ def test_fourb_fg2_1_gives_back_a_random_four_bar(u1, u2, u3, u4, u5, branch):
     assume(m.assembled and m.mu_min.value > 5 and m.mu_max.value < 175)
     psi0 = s._output(link, phi0)
     psij = s.output_change(link, phi0, phi0 + phij)
-    assume(abs(s._wrap(phij - psij)) > 1)
+    assume(abs(s.wrap_degrees(phij - psij)) > 1)
     try:
         result = s.fourb_fg2_1(phij, psij, phi0, link.b, link.d)
     except s.DesignError as error:                        # a one-parameter family: psi0 free
         assert "every psi0 gives a four-bar" in str(error), str(error)
         return
-    assert any(_same_linkage(d, link, 1e-6) and abs(s._wrap(d.review["psi0"] - psi0)) < 1e-6
+    assert any(_same_linkage(d, link, 1e-6) and abs(s.wrap_degrees(d.review["psi0"] - psi0)) < 1e-6
                for d in result.solutions)
     for design in result.solutions:
         assert not s.misses(design)
@@ -574,7 +574,7 @@ def test_fourb_fg2_1_checks_the_turn_not_the_turn_modulo_360(u1, u2, u3, u4, u5,
     m = s.measure(link, min(phi0, phi0 + phij), max(phi0, phi0 + phij), 200)
     assume(m.assembled and m.mu_min.value > 5 and m.mu_max.value < 175)
     psij = s.output_change(link, phi0, phi0 + phij)
-    assume(abs(s._wrap(phij - psij)) > 1)
+    assume(abs(s.wrap_degrees(phij - psij)) > 1)
     try:
         design = s.fourb_fg2_1(phij, psij, phi0, link.b, link.d).design
     except s.DesignError:
@@ -633,7 +633,7 @@ def test_slid_fg2_2_gives_back_a_random_slider_crank_and_refuses_inconsistent_da
     found = slider_data(u1, u2, u3)
     assume(found is not None)
     link, _, m = found
-    data = (s._wrap(m.output_max.phi), s._wrap(m.output_min.phi + 180), m.output_max.value,
+    data = (s.wrap_degrees(m.output_max.phi), s.wrap_degrees(m.output_min.phi + 180), m.output_max.value,
             m.output_min.value)
     design = s.slid_fg2_2(*data, tolerance=1e-7).design
     assert _same_linkage(design, link, 1e-6)
@@ -1041,7 +1041,7 @@ def test_fourb_fg2_1_refuses_equal_rotations(phij, phi0, a, c):
 @SETTINGS
 @given(st.floats(-150, 150), st.floats(-150, 150), st.floats(-5, 0), st.floats(0.1, 5))
 def test_fourb_fg2_1_refuses_lengths_not_positive(phij, psij, a, c):
-    assume(abs(phij) > 1e-6 and abs(s._wrap(phij - psij)) > 1e-6)
+    assume(abs(phij) > 1e-6 and abs(s.wrap_degrees(phij - psij)) > 1e-6)
     with pytest.raises(s.DesignError, match=r"a = .* is not in \[1e-06, 1e\+06\]"):
         s.fourb_fg2_1(phij, psij, 10, a, c)
     with pytest.raises(s.DesignError, match=r"c = .* is not in \[1e-06, 1e\+06\]"):
@@ -1372,10 +1372,10 @@ def test_a_crank_that_does_not_turn_fully_is_drawn_from_limit_to_limit():
     phis = [40.0, 55.0, 70.0]
     result = s.fourb_fg3_1(phis, [s._output(link, p) + 180 for p in phis])
     start, stop, step = s.whole_motion(result.design)
-    limits = s._limit_angles(result.design.linkage)
+    limits = s.limit_angles(result.design.linkage)
     assert start < 40 and stop > 70
-    assert any(abs(s._wrap(start - step / 2 - x)) < 1e-9 for x in limits)
-    assert any(abs(s._wrap(stop + step / 2 - x)) < 1e-9 for x in limits)
+    assert any(abs(s.wrap_degrees(start - step / 2 - x)) < 1e-9 for x in limits)
+    assert any(abs(s.wrap_degrees(stop + step / 2 - x)) < 1e-9 for x in limits)
     drawing = s.scene_drawing(s.design_scene(result))
     assert all(frame.message is None for frame in drawing.frames)
 
