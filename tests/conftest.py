@@ -11,7 +11,7 @@ import os
 import pytest
 from hypothesis import HealthCheck, settings
 
-import program
+from support import program
 
 settings.register_profile("explore", deadline=None,
                           suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])

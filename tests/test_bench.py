@@ -16,8 +16,8 @@ from pathlib import Path
 
 import pytest
 
-import basic_runner
-import bench_accuracy
+from support import basic_runner
+from support import bench_accuracy
 import linkage
 from test_engine import TOL
 

@@ -15,9 +15,9 @@ import tomllib
 import numpy
 import pytest
 
-import basic_runner
+from support import basic_runner
 import linkage
-from program import PROGRAM, SCRIPT
+from support.program import PROGRAM, SCRIPT
 
 SCENES = basic_runner.ROOT / "data" / "scenes"
 GOLDEN = basic_runner.ROOT / "data" / "golden"

@@ -18,7 +18,7 @@ import tempfile
 
 from hypothesis import HealthCheck, Phase, assume, given, settings, strategies as st
 
-import basic_runner
+from support import basic_runner
 import linkage
 
 SESSIONS = int(os.environ.get("LINKAGE_DIFFERENTIAL", "8"))

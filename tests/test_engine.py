@@ -24,10 +24,10 @@ import pytest
 from hypothesis import assume, given, settings, strategies as st
 
 import linkage as engine
-import engine_harness as harness
-import listing_model
-import engine_reference as reference
-import basic_runner
+from support import engine_harness as harness
+from support import listing_model
+from support import engine_reference as reference
+from support import basic_runner
 import test_physics  # its closures: the geometry and sign conventions
 
 KINDS = tuple(engine.LINKAGE_DIMENSIONS)

@@ -30,7 +30,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import linkage as engine
-import engine_harness as harness
+from support import engine_harness as harness
 from test_engine import TOL, linkages
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -22,9 +22,9 @@ import pytest
 from hypothesis import assume, given, settings, strategies as st
 
 import linkage as engine
-import engine_harness as harness
-import basic_runner
-from program import PROGRAM
+from support import engine_harness as harness
+from support import basic_runner
+from support.program import PROGRAM
 
 ROOT = Path(__file__).resolve().parent.parent
 SLIDERS = ("slider", "skew-slider")

@@ -27,7 +27,7 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, example, given, settings, strategies as st
 
-import basic_runner
+from support import basic_runner
 import linkage
 
 LONG_RUN = int(os.environ.get("LINKAGE_FUZZ", "0"))

@@ -10,8 +10,8 @@ import os
 
 import pytest
 
-import basic_runner
-import make_golden
+from support import basic_runner
+from support import make_golden
 
 CASES = make_golden.load_cases()
 SAMPLE = {

@@ -10,7 +10,7 @@ import os
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-import basic_runner
+from support import basic_runner
 import linkage
 
 # One INPUT after another; each value is written as its four MBF bytes (MKS$), so equality is exact.

@@ -12,7 +12,7 @@ import venv
 
 import pytest
 
-from basic_runner import ROOT
+from support.basic_runner import ROOT
 
 # the venv's Python sees none of the test environment's modules, even where PYTHONPATH names the
 # clone (whose build leaves a fmb_linkage.egg-info there, and pip would call the wheel installed)

@@ -26,7 +26,7 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, Phase, given, settings, strategies as st
 
-import basic_runner
+from support import basic_runner
 import linkage as L
 
 ROOT = Path(__file__).resolve().parent.parent

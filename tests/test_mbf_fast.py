@@ -17,7 +17,7 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings, strategies as st
 
 import linkage as L
-import mbf_reference as R
+from support import mbf_reference as R
 
 # The number of examples a property: MBF_FAST_SCALE times the default run's (the default keeps the
 # suite quick; MBF_FAST_SCALE=5 is the run the port's speed-up was checked with, 40,000 random

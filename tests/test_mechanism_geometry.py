@@ -15,7 +15,7 @@ import tomllib
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-import basic_runner
+from support import basic_runner
 import linkage
 from test_physics import CASES
 

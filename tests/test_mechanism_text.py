@@ -12,11 +12,11 @@ import subprocess
 
 import pytest
 
-import basic_runner
+from support import basic_runner
 import linkage
-import make_scene_snapshots
-from program import PROGRAM
-from terminal import Terminal
+from support import make_scene_snapshots
+from support.program import PROGRAM
+from support.terminal import Terminal
 
 ROOT = basic_runner.ROOT
 FIGURES_1_2 = sorted((ROOT / "data" / "scenes").glob("fig[12]?-*.toml"))

@@ -23,7 +23,7 @@ from collections.abc import Callable
 
 import pytest
 
-import basic_runner
+from support import basic_runner
 
 H_DEG = 0.01          # finite-difference step, degrees
 CLOSURE_TOL = 1e-12   # loop-closure residual, relative to the largest link (measured: 2.2e-15)

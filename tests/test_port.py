@@ -15,9 +15,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import linkage
-import make_golden
-from program import PROGRAM, SCRIPT
-from terminal import Terminal
+from support import make_golden
+from support.program import PROGRAM, SCRIPT
+from support.terminal import Terminal
 
 CASES = make_golden.load_cases()
 

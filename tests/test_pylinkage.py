@@ -66,7 +66,7 @@ from pylinkage.exceptions import UnbuildableError
 from pylinkage.mechanism import fourbar, slider_crank
 
 import linkage as engine
-import engine_harness as harness
+from support import engine_harness as harness
 
 STEP = 1.5                  # degrees between the four-bar's positions
 STEPS = 240                 # a whole turn

@@ -12,7 +12,7 @@ import sys
 
 import pytest
 
-from basic_runner import ROOT
+from support.basic_runner import ROOT
 
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 COMMAND = re.compile(r"^python3 linkage\.py(?: |$)")

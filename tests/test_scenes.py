@@ -22,10 +22,10 @@ from pathlib import Path
 
 import pytest
 
-import basic_runner
+from support import basic_runner
 import linkage
-import make_scene_snapshots
-from program import PROGRAM
+from support import make_scene_snapshots
+from support.program import PROGRAM
 
 ROOT = basic_runner.ROOT
 ALL_SCENES = sorted((ROOT / "data" / "scenes").glob("*.toml"))

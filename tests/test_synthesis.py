@@ -29,7 +29,7 @@ from hypothesis import HealthCheck, assume, example, given, seed, settings
 from hypothesis import strategies as st
 
 import linkage as s
-from program import PROGRAM
+from support.program import PROGRAM
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 ERRATA = (ROOT / "data" / "SYNTHESIS_ERRATA.md").read_text(encoding="utf-8")

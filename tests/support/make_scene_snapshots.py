@@ -19,9 +19,9 @@ import os
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-import linkage  # noqa: E402
+import linkage
+
+ROOT = Path(__file__).resolve().parents[2]
 
 SCENES = ROOT / "data" / "scenes"
 SNAPSHOTS = SCENES / "snapshots"

@@ -14,10 +14,8 @@ from __future__ import annotations
 import concurrent.futures
 import sys
 import tomllib
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import basic_runner  # noqa: E402
+from support import basic_runner
 
 GOLDEN = basic_runner.ROOT / "data" / "golden"
 CASES_FILE = GOLDEN / "cases.toml"

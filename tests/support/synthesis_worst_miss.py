@@ -15,9 +15,6 @@ import importlib.util
 import math
 import random
 import sys
-from pathlib import Path
-
-sys.path[:0] = [str(Path(__file__).resolve().parent.parent), str(Path(__file__).resolve().parent)]
 
 import linkage as s
 import test_synthesis as t

@@ -18,23 +18,17 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
 import subprocess
 import sys
 import textwrap
 import time
 from typing import NamedTuple
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))   # the instruments, beside this
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # the program
-
-import basic_runner       # noqa: E402
-import engine_harness     # noqa: E402
-import linkage            # noqa: E402
-from linkage import (ASSEMBLED, DIV_ZERO, INDETERMINATE, NOT_ASSEMBLED, OVERFLOW,  # noqa: E402
-                     Linkage, Variables, coefficients, degrees_to_radians, dimensions,
-                     input_value, soft_errors, sweep_point)
-import listing_model      # noqa: E402
+import linkage
+from linkage import (ASSEMBLED, DIV_ZERO, INDETERMINATE, NOT_ASSEMBLED, OVERFLOW, Linkage,
+                     Variables, coefficients, degrees_to_radians, dimensions, input_value,
+                     soft_errors, sweep_point)
+from support import basic_runner, engine_harness, listing_model
 
 DIVISION = "division by zero"   # GW-BASIC's soft error (or overflow) at the point, K7; Python's
 #                                 ZeroDivisionError or a non-finite number for the listing in double
@@ -88,7 +82,7 @@ def _reference():
     """engine_reference.py (it needs mpmath), or None and why it is missing: the rows that need
     it say so."""
     try:
-        import engine_reference
+        from support import engine_reference
     except ImportError as e:
         return None, f"{e.name} is not installed (pip install mpmath)"
     return engine_reference, ""

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import test_physics
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 SLIDERS = ("slider", "skew-slider")
 KINDS = ("plane", "spherical", "skew", "slider", "skew-slider")
 
@@ -36,7 +36,7 @@ def size(kind, dims):
 
 @functools.lru_cache(maxsize=None)
 def _ref_cached(kind, dims_items, phi, dps):
-    import engine_reference as reference
+    from support import engine_reference as reference
     return reference.solve(kind, dict(dims_items), phi, dps)
 
 

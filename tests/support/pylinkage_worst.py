@@ -9,9 +9,6 @@ from __future__ import annotations
 
 import random
 import sys
-from pathlib import Path
-
-sys.path[:0] = [str(Path(__file__).resolve().parent.parent), str(Path(__file__).resolve().parent)]
 
 import test_pylinkage as t
 

@@ -9,14 +9,9 @@ whose seventh digit is followed by exactly 5.
 from __future__ import annotations
 
 import random
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-import basic_runner  # noqa: E402
-import linkage  # noqa: E402
+import linkage
+from support import basic_runner
 
 TABLE = basic_runner.ROOT / "data" / "mbf" / "text_table.tsv"
 PROGRAM = b"\r\n".join([

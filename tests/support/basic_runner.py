@@ -20,7 +20,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 LISTING = ROOT / "legacy_basic" / "LINKAGE.BAS"
 DAT_FILES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
 
