@@ -12,8 +12,8 @@
    continuity of each branch, mirror images, and the limits spherical -> plane (arcs shrinking),
    skew -> plane (ksi, f -> 0) and skew slider -> plane slider; the branch labels against a
    transcription of the listing's formulas; no NaN and no silent number where there is none.
-4. The listing itself under PC-BASIC (tests/basic_runner.py): agreement in double precision where
-   it is well conditioned, and its spike at phi = 180 (K6), which the engine does not have.
+4. The listing itself under PC-BASIC (tests/support/basic_runner.py): agreement in double precision
+   where it is well conditioned, and its spike at phi = 180 (K6), which the engine does not have.
 """
 
 from __future__ import annotations
@@ -290,10 +290,10 @@ def test_worst_errors_over_the_catalogue():
 
 
 # The worst points of random linkages and angles against the 50-digit reference (issue 24: the
-# first as the issue gives it; the others found by python3 tests/bench_accuracy.py --random 400 1
-# and --random 3000 2): beyond the catalogue's measured worst in the output (angle 2.8e-13 degree,
-# the slider's position 3.0e-15 of its size), within RANDOM_TOL, README's bound; velocity and
-# acceleration within TOL.
+# first as the issue gives it; the others found by `PYTHONPATH=tests python3 -m
+# support.bench_accuracy --random 400 1` and `--random 3000 2`): beyond the catalogue's measured
+# worst in the output (angle 2.8e-13 degree, the slider's position 3.0e-15 of its size), within
+# RANDOM_TOL, README's bound; velocity and acceleration within TOL.
 RANDOM_TOL = {"output": 4e-13, "slider-output": 1e-14}
 RANDOM_WORST = [
     ("plane", dict(a=6.023015261223045, b=7.273167942406607, c=2.1630139506507593,

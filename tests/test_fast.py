@@ -21,6 +21,7 @@ the rest of the program runs on the standard library alone.
 from __future__ import annotations
 
 import math
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -34,6 +35,7 @@ from support import engine_harness as harness
 from test_engine import TOL, linkages
 
 ROOT = Path(__file__).resolve().parent.parent
+ROOT_ON_PATH = {**os.environ, "PYTHONPATH": str(ROOT)}     # a child that imports this linkage.py
 FAST_TOL = 1e-13
 LEVELS = (0, 1, 2)
 
@@ -315,12 +317,12 @@ def test_without_numpy_a_fast_scene_says_what_to_install(tmp_path):
 
 
 def test_without_numpy_sweep_arrays_raises_fast_unavailable():
-    code = ("import sys; sys.modules['numpy'] = None; sys.path.insert(0, sys.argv[1]); "
+    code = ("import sys; sys.modules['numpy'] = None; "
             "import linkage; link = linkage.Linkage('plane', a=6, b=2, c=7, d=9)\n"
             "try:\n    link.sweep_arrays([1.0])\nexcept linkage.FastUnavailable as e:\n"
             "    print('unavailable:', e)\nprint(link.motion(1.0).status)")
-    done = subprocess.run([sys.executable, "-c", code, str(ROOT)], capture_output=True,
-                          text=True, timeout=60)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=60, env=ROOT_ON_PATH)
     assert done.returncode == 0, done.stderr
     assert done.stdout.startswith("unavailable: ") and "needs numpy" in done.stdout
     assert done.stdout.endswith("assembled\n")
@@ -391,10 +393,10 @@ def test_bench_engine_says_where_there_is_no_c_compiler(monkeypatch):
 
 def test_bench_engine_without_numpy_or_pylinkage(tmp_path):
     code = ("import io, sys; sys.modules['numpy'] = None; sys.modules['pylinkage'] = None; "
-            "sys.path.insert(0, sys.argv[1]); import linkage; out = io.StringIO(); "
+            "import linkage; out = io.StringIO(); "
             "linkage.bench_engine(out, points=201, pylinkage_points=11); print(out.getvalue())")
-    done = subprocess.run([sys.executable, "-c", code, str(ROOT)], capture_output=True,
-                          text=True, timeout=120)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120, env=ROOT_ON_PATH)
     assert done.returncode == 0 and "needs numpy" not in done.stderr, done.stderr
     assert done.stdout.count("numpy not installed") == 5
     assert "pylinkage: not installed" in done.stdout

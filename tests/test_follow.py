@@ -5,7 +5,7 @@ A change point is where the discriminant has a double zero in phi and the two br
 finite velocity (a + b = c + d and the like); the listing's labels 1 and 2 (the sign of dE/dpsi)
 swap there, so a fixed branch jumps from one assembly to the other. The followed motion keeps to
 the assembly it started in. Expected values come from the 50-digit reference
-(tests/engine_reference.py, which solves the closure from the geometry and takes a change
+(tests/support/engine_reference.py, which solves the closure from the geometry and takes a change
 point's limits by solving just past it), from closed forms, or from the engine's fixed
 branches where only the choice of branch is under test.
 """

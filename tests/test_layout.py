@@ -123,7 +123,8 @@ def test_each_header_says_which_sections_it_uses():
 
 
 def test_the_program_imports_nothing_of_tests():
-    tests = {p.stem for p in (Path(linkage.__file__).parent / "tests").glob("*.py")}
+    tests = {p.stem for p in (Path(linkage.__file__).parent / "tests").glob("**/*.py")}
+    tests.add("support")
     imported = set()
     for n in ast.walk(TREE):
         if isinstance(n, ast.Import):
@@ -144,7 +145,7 @@ def test_the_layout_test_can_fail():
 
 def test_the_readmes_layout_matches_the_file():
     """README's "Layout": a row for each section (its line count within 15 %) and each file of
-    tests/."""
+    tests/ and tests/support/, by its path."""
     readme = (Path(linkage.__file__).parent / "README.md").read_text(encoding="utf-8")
     layout = readme[readme.index("## Layout"):readme.index("## How the listing is checked")]
     banners = sections()
@@ -154,8 +155,11 @@ def test_the_readmes_layout_matches_the_file():
         assert row and title.startswith(row[1].strip()), (number, title)
         assert abs(int(row[2].replace(",", "")) - (end - first)) <= 0.15 * (end - first), \
             (title, row[2], end - first)
-    for path in (Path(linkage.__file__).parent / "tests").glob("*.py"):
-        assert path.name in layout, path.name
+    root = Path(linkage.__file__).parent
+    files = [*(root / "tests").glob("*.py"), *(root / "tests" / "support").glob("*.py")]
+    assert len(files) > 40
+    for path in files:
+        assert f"`{path.relative_to(root)}`" in layout, path
 
 
 def _section_numbers(*titles: str) -> list[int]:
@@ -350,7 +354,7 @@ def pyflakes(*paths: Path) -> str:
 def test_pyflakes_finds_nothing():
     """No unused import or variable, no undefined name, in the program or its tests."""
     root = Path(linkage.__file__).parent
-    assert pyflakes(root / "linkage.py", *sorted((root / "tests").glob("*.py"))) == ""
+    assert pyflakes(root / "linkage.py", *sorted((root / "tests").glob("**/*.py"))) == ""
 
 
 def test_pyflakes_can_fail(tmp_path):

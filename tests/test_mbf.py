@@ -224,7 +224,8 @@ def _table() -> list[tuple[bytes, str, str]]:
 
 
 def test_write_and_print_text_match_the_table():
-    """Every row of data/mbf/text_table.tsv (made by tests/make_text_table.py with PC-BASIC)."""
+    """Every row of data/mbf/text_table.tsv (made by tests/support/make_text_table.py with
+    PC-BASIC)."""
     rows = _table()
     assert len(rows) > 8000
     misses = [(b.hex(), write, printed) for b, write, printed in rows

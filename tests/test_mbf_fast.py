@@ -1,10 +1,10 @@
-"""linkage.py's single-precision operations against tests/mbf_reference.py, the step-by-step
-versions they were made fast from: X+Y and X-Y (IEEE single rounding where it is the same),
-X/Y (the register's last 16 quotient bits found by one division where they are certain), the
-digits of PRINT and WRITE # (the times-ten loop inline, WRITE's rounding of the register as
-floor(y + .5)), and mbf_scaled, the listing's .5*X, 2*X and 4*X, against mbf_mul. Every result is compared with its
-sign bit and its soft errors, on hypothesis's operands, on a seeded sweep of random ones, and on
-the edges each fast path decides by: the ends of IEEE's normal range, overflow, underflow,
+"""linkage.py's single-precision operations against tests/support/mbf_reference.py, the
+step-by-step versions they were made fast from: X+Y and X-Y (IEEE single rounding where it is the
+same), X/Y (the register's last 16 quotient bits found by one division where they are certain), the
+digits of PRINT and WRITE # (the times-ten loop inline, WRITE's rounding of the register as floor(y
++ .5)), and mbf_scaled, the listing's .5*X, 2*X and 4*X, against mbf_mul. Every result is compared
+with its sign bit and its soft errors, on hypothesis's operands, on a seeded sweep of random ones,
+and on the edges each fast path decides by: the ends of IEEE's normal range, overflow, underflow,
 cancellation, ties, divisors full of low 1-bits, remainders beside the certain margins."""
 
 from __future__ import annotations

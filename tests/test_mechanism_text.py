@@ -37,7 +37,7 @@ def test_the_still_frame_matches_its_snapshot(scene, encoding):
     snapshot = make_scene_snapshots.snapshot_path(scene, encoding)
     want = snapshot.read_text(encoding=encoding)
     assert text == want, (f"{snapshot.name} differs (if the change is intended: python3 "
-                          "tests/make_scene_snapshots.py):\n"
+                          "tests/support/make_scene_snapshots.py):\n"
                           + "".join(difflib.unified_diff(want.splitlines(True),
                                                          text.splitlines(True), "snapshot",
                                                          "now")))

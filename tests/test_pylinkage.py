@@ -20,9 +20,10 @@ slider_crank(crank=b, rod=c, slide_through=(0, e)) runs the slider on the line y
   K <= K_DERIVATIVES (their errors grow as K^2 and K^3: 1.6e-9 in psi'' at K = 28 for the
   parallelogram 8, 7.25, 8, 7.25 near its change point). The engine's own numbers there are held
   to the 50-digit reference by test_engine.py. Measured, 2026-11-25, 2,714 sweeps of 240 points
-  (python3 tests/pylinkage_worst.py 1500 1 and 1500 2; a fifth of them parallelograms): output
-  compared at 511,062 points, worst 5.3e-11 degree; velocity and acceleration at 308,718, worst
-  1.6e-13 and 4.7e-12; no point where one assembles and the other not.
+  (`PYTHONPATH=tests python3 -m support.pylinkage_worst 1500 1` and `1500 2`; a fifth of them
+  parallelograms): output compared at 511,062 points, worst 5.3e-11 degree; velocity and
+  acceleration at 308,718, worst 1.6e-13 and 4.7e-12; no point where one assembles and the other
+  not.
 * Slider-crank: pylinkage 1.3.0 gives the slider's position but not its velocity:
   step_with_derivatives leaves the prismatic joint's velocity None ("until the mechanism model
   exposes a line constraint API"), and step_fast_with_kinematics leaves the slider where it

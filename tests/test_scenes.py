@@ -1,6 +1,6 @@
 """Scenes and plots: every scene of data/scenes runs, writes its DAT files, draws a
 real PNG and the plain-text plot stored in data/scenes/snapshots/ (python3
-tests/make_scene_snapshots.py rewrites those, and nothing else does). The text plot puts the
+tests/support/make_scene_snapshots.py rewrites those, and nothing else does). The text plot puts the
 curve where an independent solution of the linkage says it is; a displacement-only scene asks the
 engine for no derivative; the faithful numbers are PC-BASIC's (the golden corpus); a scene with a
 mistake gets a message naming the file, the key and what was expected, and no traceback.
@@ -159,10 +159,11 @@ def test_the_text_plot_matches_its_snapshot(drawn):
     assert len(lines) <= 24 and max(len(line) for line in lines) <= 80
     assert all(ch.isascii() for ch in text)
     snapshot = make_scene_snapshots.snapshot_path(Path(scene.path))
-    assert snapshot.exists(), "no snapshot: python3 tests/make_scene_snapshots.py"
+    assert snapshot.exists(), ("no snapshot: PYTHONPATH=tests python3 -m "
+                               "support.make_scene_snapshots")
     want = snapshot.read_text(encoding="ascii")
     assert text == want, (f"{snapshot.name} differs (if the change is intended: python3 "
-                          "tests/make_scene_snapshots.py):\n"
+                          "tests/support/make_scene_snapshots.py):\n"
                           + "".join(difflib.unified_diff(want.splitlines(True),
                                                          text.splitlines(True), "snapshot",
                                                          "now")))
@@ -579,11 +580,12 @@ def test_plot_of_bad_files_says_which_line(content, message, tmp_path):
 
 def test_png_without_matplotlib_names_the_extra(tmp_path):
     scene = ROOT / "data" / "scenes" / "fig3-plane-four-bar.toml"
-    code = ("import sys; sys.modules['matplotlib'] = None; sys.path.insert(0, %r); "
-            "import linkage; sys.exit(linkage.main(sys.argv[1:]))" % str(ROOT))
+    code = ("import sys; sys.modules['matplotlib'] = None; "
+            "import linkage; sys.exit(linkage.main(sys.argv[1:]))")
     result = subprocess.run([sys.executable, "-c", code, "scene", str(scene), "--dir",
                              str(tmp_path), "--png", str(tmp_path / "f.png")],
-                            capture_output=True, text=True, timeout=60)
+                            capture_output=True, text=True, timeout=60,
+                            env={**os.environ, "PYTHONPATH": str(ROOT)})
     assert result.returncode == 1
     assert "python3 -m pip install matplotlib" in result.stderr
     assert "Traceback" not in result.stderr

@@ -821,7 +821,7 @@ def test_fourb_cr_2_cases_against_mpmath(data):
 def test_every_method_meets_its_targets_in_range(method, units):
     """Data log-uniform across the method's valid range (DATA): a design that meets every target
     (1e-9 degree; see assert_meets_targets), or a DesignError naming the method; never another
-    exception (tests/synthesis_worst_miss.py runs many more, unseeded)."""
+    exception (tests/support/synthesis_worst_miss.py runs many more, unseeded)."""
     data = data_in_range(method, units)
     solutions, _ = design_in_range(method, data)
     for design in solutions:

@@ -2,7 +2,7 @@
 tests/test_pylinkage.py compares them (its compare_four_bar and compare_slider): the numbers its
 docstring quotes.
 
-    python3 tests/pylinkage_worst.py [four-bars, default 1500] [seed, default 1]
+    PYTHONPATH=tests python3 -m support.pylinkage_worst [four-bars, default 1500] [seed, default 1]
 """
 
 from __future__ import annotations
