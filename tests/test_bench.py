@@ -22,6 +22,8 @@ import support
 from support import basic_runner, bench_accuracy
 from test_engine import TOL
 
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
 ROOT = Path(__file__).resolve().parent.parent
 
 # (label, kind, dims, input angles): each point is an angle on one branch, so 16 points here.

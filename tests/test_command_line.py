@@ -12,12 +12,14 @@ import sys
 import tempfile
 import tomllib
 
-import numpy
 import pytest
 
 from support import basic_runner
 import linkage
+from support.peers import Peer
 from support.program import PROGRAM, SCRIPT
+
+numpy = Peer("numpy")
 
 SCENES = basic_runner.ROOT / "data" / "scenes"
 GOLDEN = basic_runner.ROOT / "data" / "golden"
@@ -173,6 +175,7 @@ def test_a_curve_under_another_stays_visible():
     assert "#" not in apart and "*" in apart and "o" in apart
 
 
+@pytest.mark.slow          # --quick leaves it out: renders PNGs
 def test_png_size_and_dpi(tmp_path):
     scene = str(SCENES / "fig3-plane-four-bar.toml")
     run(["scene", scene, "--png", "a.png", "--size", "1200x900"], tmp_path)

@@ -14,6 +14,8 @@ from support import basic_runner
 import test_physics
 from support.program import SCRIPT
 
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
 LEGACY = basic_runner.ROOT / "legacy_basic"
 HEADING = re.compile(r"^### ([EL]\d+)\. Lines? ([0-9, ]+): `(.+)` → `(.+)`$", re.MULTILINE)
 LINE_START = re.compile(r"^\w\d+[ \t]")      # a line number (or the scan's B30) and white space

@@ -34,6 +34,8 @@ import linkage as engine
 from support import engine_harness as harness
 from test_engine import TOL, linkages
 
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
 ROOT = Path(__file__).resolve().parent.parent
 ROOT_ON_PATH = {**os.environ, "PYTHONPATH": str(ROOT)}     # a child that imports this linkage.py
 FAST_TOL = 1e-13

@@ -26,6 +26,8 @@ from support import engine_harness as harness
 from support import basic_runner
 from support.program import PROGRAM
 
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
 ROOT = Path(__file__).resolve().parent.parent
 SLIDERS = ("slider", "skew-slider")
 GRASHOF_BOUNDARY = dict(a=5.0, b=2.0, c=4.0, d=3.0)        # a + b = c + d: change point at 180

@@ -13,6 +13,8 @@ import pytest
 from support import basic_runner
 from support import make_golden
 
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
 CASES = make_golden.load_cases()
 SAMPLE = {
     "plane-spike-180", "plane-change-point", "plane-reversed-range",

@@ -25,6 +25,8 @@ from support import make_golden
 from support.program import PROGRAM
 from support.terminal import Terminal
 
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
 PLANE = ["plane", "--b", "2", "--c", "7", "--d", "9", "--a", "6", "--branch", "1"]
 SHORT = PLANE + ["--from", "0", "--to", "360", "--step", "10"]          # 37 points
 KEYS_721 = b"12\r7\r9\r6\r0\r360\r.5\r1"                               # the menu, 721 points

@@ -13,6 +13,8 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 from support import basic_runner
 import linkage
 
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
 # One INPUT after another; each value is written as its four MBF bytes (MKS$), so equality is exact.
 PROGRAM = b"\r\n".join([
     b'10 OPEN "O",#1,"V.DAT"',

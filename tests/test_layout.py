@@ -12,6 +12,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 import linkage
 
 SOURCE = Path(linkage.__file__).read_text(encoding="utf-8")
@@ -252,6 +254,7 @@ def test_every_public_function_is_annotated():
     assert unannotated() == []
 
 
+@pytest.mark.slow          # --quick leaves it out: mypy
 def test_the_type_checker_finds_nothing():
     """mypy (pinned in the test dependencies; its options in pyproject.toml's [tool.mypy]) on
     linkage.py: no error."""

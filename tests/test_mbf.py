@@ -29,6 +29,8 @@ from hypothesis import HealthCheck, Phase, given, settings, strategies as st
 from support import basic_runner
 import linkage as L
 
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
 ROOT = Path(__file__).resolve().parent.parent
 TEXT_TABLE = ROOT / "data" / "mbf" / "text_table.tsv"
 BATCH = 200

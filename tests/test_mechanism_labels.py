@@ -17,6 +17,8 @@ from support import basic_runner
 import linkage
 from test_mechanism_geometry import LINKAGES
 
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
 SCENES = basic_runner.ROOT / "data" / "scenes"
 FIGURES_1_2 = sorted(SCENES.glob("fig[12]?-*.toml"))
 SOLID = ("link", "ground", "hatch", "hidden")       # what a letter must not touch

@@ -25,6 +25,8 @@ import pytest
 
 from support import basic_runner
 
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
 H_DEG = 0.01          # finite-difference step, degrees
 CLOSURE_TOL = 1e-12   # loop-closure residual, relative to the largest link (measured: 2.2e-15)
 VEL_TOL = 1e-9        # |VEL - finite difference of ANG|, absolute (measured: 1.3e-11)

@@ -14,6 +14,8 @@ import pytest
 
 from support.basic_runner import ROOT
 
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 COMMAND = re.compile(r"^python3 linkage\.py(?: |$)")
 TIMING = re.compile(r"^python3 linkage\.py\s+[0-9.]+\s*$")      # a row of a table of times

@@ -1452,6 +1452,7 @@ def _draglink_2_exact(dphi, dpsi, lam):
                 float(mp.sin(mp.mpf(dphi) * half) / mp.sin(dl) * mp.sqrt(1 + u * u * eps * eps)))
 
 
+@pytest.mark.slow          # --quick leaves it out: hundreds of designs
 @settings(SETTINGS, max_examples=int(os.environ.get("SYNTHESIS_EXAMPLES", "25")) // 2)
 @example(263.6237778003716, 0.0001898478902768632, None)        # crank and output 6e5 x frame
 @example(209.12127858040645, 0.0005764943954265948, 0.6273415056958008)

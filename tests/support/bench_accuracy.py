@@ -369,7 +369,7 @@ def measure_accuracy(cases, pcbasic_cases=None, repeats=ACCURACY_REPEATS) -> lis
     else:
         try:
             version = runner.pcbasic_version()
-        except (OSError, subprocess.CalledProcessError) as e:
+        except (OSError, ImportError, subprocess.CalledProcessError) as e:
             basic.note = f"PC-BASIC is not installed (pip install pcbasic==2.0.8): {e}"
         else:
             try:
