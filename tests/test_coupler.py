@@ -32,7 +32,7 @@ import pytest
 from hypothesis import assume, given, settings, strategies as st
 
 import linkage as engine
-from support.peers import Peer
+from support.peers import Peer, need
 from test_engine import linkages
 from test_follow import CHANGE_POINTS
 from test_pylinkage import condition, startable
@@ -933,6 +933,8 @@ def coupler_calls(monkeypatch):
      "--fast"],
 ])
 def test_what_asks_for_neither_computes_neither(argv, coupler_calls, tmp_path, capsys):
+    if "--fast" in argv:
+        need("numpy", load=False)
     scenes = Path(engine.__file__).parent / "data" / "scenes"
     argv = [a.format(scenes=scenes, tmp=tmp_path) for a in argv]
     assert engine.main(argv) == 0

@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 import linkage
+from support.peers import need
 
 SOURCE = Path(linkage.__file__).read_text(encoding="utf-8")
 LINES = SOURCE.splitlines()
@@ -350,6 +351,7 @@ def test_the_menus_linkages_are_the_engines_kinds():
 
 def pyflakes(*paths: Path) -> str:
     """What pyflakes (pinned in the test dependencies) says of these files."""
+    need("pyflakes", load=False)
     return subprocess.run([sys.executable, "-m", "pyflakes", *map(str, paths)],
                           capture_output=True, text=True, timeout=300).stdout
 

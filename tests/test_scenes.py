@@ -25,6 +25,7 @@ import pytest
 from support import basic_runner
 import linkage
 from support import make_scene_snapshots
+from support.peers import need
 from support.program import PROGRAM
 
 ROOT = basic_runner.ROOT
@@ -46,6 +47,7 @@ _drawn = {}
 def drawn(request, tmp_path_factory):
     """`scene FILE --png --text`, run once per scene (in this process: matplotlib is imported
     once); (scene, standard output, standard error, the DAT folder, the PNG)."""
+    need("matplotlib", load=False)
     path = request.param
     if path not in _drawn:
         out = tmp_path_factory.mktemp(path.stem)
@@ -593,6 +595,7 @@ def test_png_without_matplotlib_names_the_extra(tmp_path):
 
 
 def test_png_alone_draws_no_text_and_text_is_the_default(tmp_path, capsys):
+    need("matplotlib", load=False)
     scene = str(ROOT / "data" / "scenes" / "fig4-spherical-wobble-plate.toml")
     assert linkage.main(["scene", scene, "--dir", str(tmp_path), "--png",
                          str(tmp_path / "f.png")]) == 0
@@ -671,6 +674,7 @@ MISTAKES = [
 
 def test_a_figure_too_big_for_the_terminal_is_explained(tmp_path, capsys):
     """Three panels of two quantities, four series each: no room for the plots in 80 x 24."""
+    need("matplotlib", load=False)
     panel = '[[panels]]\nquantities = ["velocity", "acceleration"]\n'
     path = tmp_path / "big.toml"
     path.write_text(scene_file(precision='"both"', branches="[1, 2]", panels=panel * 3))
@@ -682,6 +686,7 @@ def test_a_figure_too_big_for_the_terminal_is_explained(tmp_path, capsys):
 
 
 def test_a_png_that_cannot_be_written_is_explained(tmp_path, capsys):
+    need("matplotlib", load=False)
     path = tmp_path / "s.toml"
     path.write_text(scene_file())
     out = tmp_path / "no such folder" / "f.png"
@@ -693,6 +698,7 @@ def test_a_png_that_cannot_be_written_is_explained(tmp_path, capsys):
 def test_a_scene_writes_its_set_of_files_all_or_none(tmp_path, capsys):
     """DAT files of every series, the CSV and the PNG: a failure of any one (here the PNG, the
     last to be made; then the CSV) leaves the old set as it was, byte for byte."""
+    need("matplotlib", load=False)
     path = tmp_path / "s.toml"
     panels = GOOD_PANELS + '[[panels]]\nquantities = ["velocity", "acceleration"]\n'
     path.write_text(scene_file(precision='"both"', branches="[1, 2]", panels=panels))
@@ -796,6 +802,7 @@ def test_the_list_takes_no_scene_and_a_scene_is_needed_without_it():
 
 
 def test_a_curve_scene_says_the_png_it_wrote(tmp_path):
+    need("matplotlib", load=False)
     got = subprocess.run(PROGRAM + ["scene", "fig3", "--png", "f.png"], capture_output=True,
                          text=True, cwd=tmp_path)
     assert got.returncode == 0, got.stderr

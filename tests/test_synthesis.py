@@ -29,6 +29,7 @@ from hypothesis import HealthCheck, assume, example, given, seed, settings
 from hypothesis import strategies as st
 
 import linkage as s
+from support.peers import need
 from support.program import PROGRAM
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -799,7 +800,7 @@ def test_found_cases(method, data, outcome):
 def test_fourb_cr_2_cases_against_mpmath(data):
     """The designed lengths (as doubles) analysed in 50 digits, independent of the engine: the
     swing and the crank rotation between the dead centres are the data's to 1e-9 degree."""
-    mp = pytest.importorskip("mpmath")
+    mp = need("mpmath")
     mp.mp.dps = 50
     (design,) = [d for d in s.fourb_cr_2(**data).solutions]
     link = design.linkage
@@ -1441,7 +1442,7 @@ def test_a_scene_refuses_bad_marked_positions(tmp_path, marked, message):
 def _draglink_2_exact(dphi, dpsi, lam):
     """DRAGLINK-2's link ratios a/d, b/d, c/d (review letters) for lambda, in 50 digits from the
     data as doubles: the review's step 5, independent of linkage.py's arithmetic."""
-    mp = pytest.importorskip("mpmath")
+    mp = need("mpmath")
     with mp.workdps(50):
         half = mp.pi / 360
         t, u = mp.tan(mp.mpf(dphi) * half), mp.tan(mp.mpf(dpsi) * half)

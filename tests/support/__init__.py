@@ -3,6 +3,7 @@
 basic_runner.py          the one place that runs PC-BASIC (single runs, batched runs, DEFDBL variant)
 program.py               the one place that starts linkage.py (as typed, or from cached bytecode)
 terminal.py              a program in a pseudo-terminal, for the pty tests
+peers.py                 the optional test dependencies, imported where used (need, Peer)
 engine_harness.py        the engine's sweeps, the hard catalogue and the scoring rules
 engine_reference.py      the 50-digit mpmath reference, written from the geometry
 listing_model.py         the listing's formulas in double precision (or mpmath)

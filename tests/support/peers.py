@@ -30,14 +30,19 @@ def need(name: str, load: bool = True):
             return None
         return importlib.import_module(name)
     except ImportError as e:
-        said = (f"needs {e.name or name}, which is not installed "
-                "(python3 -m pip install -e '.[test]')")
-        if os.environ.get("PYTEST_CURRENT_TEST"):
-            import pytest
-            if _in_ci():
-                pytest.fail(f"{said}; in CI every test dependency is installed", pytrace=False)
-            pytest.skip(said)
-        raise Missing(said, name=e.name or name) from e
+        lack(f"needs {e.name or name}, which is not installed (python3 -m pip install -e "
+             "'.[test]')", e.name or name)
+
+
+def lack(said: str, name: str | None = None):
+    """What a test needs is missing: in a running test, skipped saying `said` (failed where CI is
+    set); elsewhere Missing."""
+    if os.environ.get("PYTEST_CURRENT_TEST"):
+        import pytest
+        if _in_ci():
+            pytest.fail(f"{said}; in CI every test dependency is installed", pytrace=False)
+        pytest.skip(said)
+    raise Missing(said, name=name)
 
 
 class Peer:
