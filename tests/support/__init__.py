@@ -16,8 +16,9 @@ pylinkage_worst.py       study: the worst pylinkage-engine differences test_pyli
 synthesis_worst_miss.py  study: each design method's worst miss over log-uniform data
 
 The tests import these as `from support import basic_runner` (pyproject's pytest `pythonpath`
-puts tests/ on the path; nothing here or in the tests edits sys.path). The generators and studies
-run from the repository's root with the same path the tests have:
+puts tests/ on the path; no module finds another by editing sys.path: only program.py's child,
+which is the program, sets its sys.path[0] as `python3 linkage.py` would). The generators and
+studies run from the repository's root with the same path the tests have:
 
     PYTHONPATH=tests python3 -m support.make_golden [CASE ...]
 """
