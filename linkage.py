@@ -10,7 +10,7 @@ Machine Theory, 1980s).
     python3 linkage.py plot [DIR]       the figure of DAT files already written
     python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
     python3 linkage.py listing [--ocr]  the BASIC listing as corrected, with its errata
-    python3 linkage.py bench            speed (what accuracy costs: tests/bench_accuracy.py)
+    python3 linkage.py bench            speed (what accuracy costs: tests/support/bench_accuracy.py)
 
 Fidelity: ANG.DAT, VEL.DAT and ACC.DAT are byte-identical to those legacy_basic/LINKAGE.BAS
 writes under PC-BASIC 2.0.8 given the same keystrokes, and so is the screen transcript, computed
@@ -8740,8 +8740,8 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 # ---- 18. Benchmarks of the program itself --------------------------------------------------------
 #
 # Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS. What
-# accuracy costs is measured by tests/bench_accuracy.py, with the tests' instruments; the engine
-# beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
+# accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
+# the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
 # Uses: sections 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 12, 16 and 17.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
@@ -9138,7 +9138,8 @@ def bench_files(out: TextIO, quick: bool = False) -> None:
 
 BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
               "startup": bench_startup, "coupler": bench_coupler, "files": bench_files}
-ELSEWHERE = {"accuracy": "python3 tests/bench_accuracy.py (it measures with the tests' "
+ELSEWHERE = {"accuracy": "PYTHONPATH=tests python3 -m support.bench_accuracy (it measures "
+                         "with the tests' "
                          "instruments: the 50-digit mpmath reference, the listing in double, "
                          "PC-BASIC; README, Benchmarks)"}
 
@@ -10096,7 +10097,8 @@ COMMANDS = {
     "bench": Command(
         bench_command, "measure speed, and what accuracy costs in time",
         "Run the benchmarks and print their numbers (port runs PC-BASIC for minutes). What "
-        "accuracy costs is measured by the repository's script python3 tests/bench_accuracy.py.",
+        "accuracy costs is measured by the repository's script "
+        "PYTHONPATH=tests python3 -m support.bench_accuracy.",
         (option("names", nargs="*", type=_benchmark_name, metavar="NAME",
                 help=f"which: {', '.join(BENCHMARKS)} (default: all)"),
          option("--quick", action="store_true",

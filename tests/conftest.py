@@ -4,14 +4,21 @@ every machine and in CI, and a red run is reproducible. To explore new examples 
 
     LINKAGE_EXPLORE=1 python3 -m pytest
 
-(every example exploration has found is kept as an @example in its test)."""
+(every example exploration has found is kept as an @example in its test).
+
+The quick subset, `python3 -m pytest -n auto --quick` (the README's "Tests"), is every test not
+marked `slow` (`pytestmark = pytest.mark.slow` for a whole module: those that run PC-BASIC, build
+and install the wheel, fuzz, fill disks or sweep thousands of random linkages; @pytest.mark.slow
+on a test or a golden case), with at most QUICK_EXAMPLES examples a property. It needs only
+pytest and hypothesis: the optional peers are imported where used (support/peers.py: a test that
+needs a missing one is skipped, or failed where CI is set). pytest-xdist is optional too."""
 
 import os
 
 import pytest
 from hypothesis import HealthCheck, settings
 
-import program
+from support import program
 
 settings.register_profile("explore", deadline=None,
                           suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
@@ -19,36 +26,8 @@ settings.register_profile("seeded", parent=settings.get_profile("explore"), dera
                           database=None)
 settings.load_profile("explore" if os.environ.get("LINKAGE_EXPLORE") else "seeded")
 
-
-# The quick subset for contributors, `python3 -m pytest -n auto --quick` (the README's "Tests"):
-# every module but these, which run PC-BASIC, build and install the wheel, fuzz, fill disks or
-# sweep thousands of random linkages; and at most QUICK_EXAMPLES examples a property.
-SLOW = {"test_errata.py", "test_physics.py", "test_mbf.py", "test_input.py",
-        "test_differential.py", "test_golden.py", "test_install.py",
-        "test_readme.py", "test_fuzz.py", "test_hardening.py", "test_mechanism_labels.py",
-        "test_bench.py", "test_analyse.py", "test_follow.py", "test_mechanism_geometry.py",
-        "test_fast.py", "test_pylinkage.py"}
 QUICK_EXAMPLES = 10
-
-
-def pytest_addoption(parser):
-    parser.addoption("--quick", action="store_true",
-                     help="the quick subset: no slow module, at most 10 examples a property")
-
-
-# and these tests of the quick modules, the slowest (their fixtures run the listing's model or
-# PC-BASIC, they render PNGs, or they hold the engine to the 50-digit reference on the hard
-# catalogue);
-SLOW_TESTS = {"test_agrees_with_the_listing_in_double_precision",
-              "test_the_listings_spike_at_180_is_absent", "test_png_size_and_dpi",
-              "test_draglink_2_misses_near_dpsi_equal_dphi_are_rounding_limited",
-              "test_the_type_checker_finds_nothing", "test_the_png_overlays_the_positions",
-              "test_hard_case", "test_hard_catalogue_covers_the_singularities",
-              "test_worst_errors_over_the_catalogue", "test_reference_is_converged"}
-# and of the port's golden cases (tests/test_port.py) only a short session of each mechanism and
-# the menu's wrong keys.
-QUICK_CASES = {"plane-b1", "spherical-b1", "skew-b1", "slider-b1", "skew-slider-b1",
-               "menu-invalid-keys"}
+SLOW_MODULE = "\npytestmark = pytest.mark.slow"      # a module marked slow as a whole
 
 # Modules whose tests start first, the longest (a test or a chain of them) first, so that the
 # workers of `-n auto` end together on the many short tests of the other modules; test_fast and
@@ -60,8 +39,16 @@ FIRST = ["test_install.py", "test_fast.py", "test_engine.py", "test_port.py",
          "test_analyse.py"]
 
 
+def pytest_addoption(parser):
+    parser.addoption("--quick", action="store_true",
+                     help="the quick subset: no test marked slow, at most 10 examples a property")
+
+
 def pytest_configure(config):
-    """linkage.py's bytecode, once a run (by pytest-xdist's controller, before its workers)."""
+    """The markers; linkage.py's bytecode, once a run (by pytest-xdist's controller, before its
+    workers)."""
+    config.addinivalue_line("markers", "slow: left out by --quick (PC-BASIC, the wheel, fuzzing, "
+                            "PNGs, big sweeps, the 50-digit reference on the hard catalogue)")
     if not hasattr(config, "workerinput"):
         program.compile_once()
 
@@ -77,14 +64,12 @@ def pytest_xdist_make_scheduler(config, log):
 
 
 def pytest_ignore_collect(collection_path, config):
-    """--quick: the slow modules are not even imported."""
-    return True if config.getoption("quick") and collection_path.name in SLOW else None
-
-
-def _left_out_of_quick(item) -> bool:
-    if item.originalname in SLOW_TESTS:
-        return True
-    return "golden_run" in item.fixturenames and item.callspec.id not in QUICK_CASES
+    """--quick: a module marked slow as a whole is not even imported (its line read from the
+    file)."""
+    if config.getoption("quick") and collection_path.suffix == ".py" \
+            and collection_path.name.startswith("test_"):
+        return SLOW_MODULE in collection_path.read_text(encoding="utf-8") or None
+    return None
 
 
 def pytest_collection_modifyitems(config, items):
@@ -92,9 +77,9 @@ def pytest_collection_modifyitems(config, items):
     items.sort(key=lambda item: rank.get(item.path.name, len(FIRST)))    # stable: order kept
     if not config.getoption("quick"):
         return
-    slow = [item for item in items if _left_out_of_quick(item)]
+    slow = [item for item in items if item.get_closest_marker("slow")]
     config.hook.pytest_deselected(items=slow)
-    kept = [item for item in items if not _left_out_of_quick(item)]
+    kept = [item for item in items if not item.get_closest_marker("slow")]
     items[:] = kept
     for item in kept:              # hypothesis keeps a test's settings on the test function
         test = getattr(item, "obj", None)

@@ -26,6 +26,8 @@ from hypothesis import HealthCheck, Phase, assume, given, settings, strategies a
 import linkage
 from test_mechanism_geometry import LINKAGES     # the random linkages of every kind
 
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
 NOT = linkage.NOT_ASSEMBLED
 ALL_HEALTH = list(HealthCheck)
 

@@ -1,4 +1,4 @@
-"""The benchmarks. The accuracy bench's machinery (python3 tests/bench_accuracy.py), on a tiny
+"""The benchmarks. The accuracy bench's machinery (tests/support/bench_accuracy.py), on a tiny
 sweep: it scores the engine within the bounds tests/test_engine.py asserts and the faithful program
 at single precision's error, it counts the points where the listing fails apart from the errors,
 PC-BASIC's row agrees with the port's, and a missing mpmath or PC-BASIC is said, not a traceback.
@@ -8,6 +8,7 @@ No time is asserted: the benchmarks print times."""
 from __future__ import annotations
 
 import io
+import os
 import shutil
 import subprocess
 import sys
@@ -16,10 +17,12 @@ from pathlib import Path
 
 import pytest
 
-import basic_runner
-import bench_accuracy
 import linkage
+import support
+from support import basic_runner, bench_accuracy
 from test_engine import TOL
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -120,7 +123,8 @@ def test_pcbasic_row_is_the_ports(tallies):
 
 def test_missing_mpmath_and_pcbasic_are_said(monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "mpmath", None)               # import mpmath fails
-    monkeypatch.delitem(sys.modules, "engine_reference", raising=False)
+    monkeypatch.delitem(sys.modules, "support.engine_reference", raising=False)
+    monkeypatch.delattr(support, "engine_reference", raising=False)    # imported afresh
     monkeypatch.setattr(basic_runner, "pcbasic_command",
                         lambda: [sys.executable, "-m", "no_pcbasic_here"])
     rows = bench_accuracy.measure_accuracy(TINY[:1], TINY[:1], repeats=1)
@@ -136,12 +140,13 @@ def test_missing_mpmath_and_pcbasic_are_said(monkeypatch, capsys):
 
 
 def test_the_programs_benchmarks_run_without_tests(tmp_path):
-    """linkage.py copied alone (with legacy_basic/ for PC-BASIC's run), none of tests/ on sys.path
-    and every module of tests/ refused at import: each bench name runs (--quick: tiny sizes), the
-    port writes PC-BASIC's bytes, and `bench accuracy` names the script that measures it."""
+    """linkage.py copied alone (with legacy_basic/ for PC-BASIC's run), run isolated (-I: neither
+    the folder nor PYTHONPATH on its path) and every module of tests/ and tests/support/ refused
+    at import: each bench name runs (--quick: tiny sizes), the port writes PC-BASIC's bytes,
+    and `bench accuracy` names the script that measures it."""
     shutil.copy(linkage.__file__, tmp_path / "linkage.py")
     shutil.copytree(ROOT / "legacy_basic", tmp_path / "legacy_basic")
-    refused = sorted(p.stem for p in (ROOT / "tests").glob("*.py"))
+    refused = sorted({p.stem for p in (ROOT / "tests").glob("**/*.py")} | {"support"})
     code = textwrap.dedent(f"""
         import importlib.abc, runpy, sys
         class Refuse(importlib.abc.MetaPathFinder):
@@ -149,7 +154,6 @@ def test_the_programs_benchmarks_run_without_tests(tmp_path):
                 if name.split(".")[0] in {refused!r}:
                     raise ImportError(f"linkage.py imported {{name}} from tests/")
         sys.meta_path.insert(0, Refuse())
-        sys.path = [p for p in sys.path if "tests" not in p]
         sys.argv = ["linkage.py"] + sys.argv[1:]
         runpy.run_path("linkage.py", run_name="__main__")
     """)
@@ -162,19 +166,24 @@ def test_the_programs_benchmarks_run_without_tests(tmp_path):
     elsewhere = subprocess.run([sys.executable, "-I", "-c", code, "bench", "accuracy"],
                                capture_output=True, text=True, cwd=tmp_path, timeout=60)
     assert elsewhere.returncode == 2 and "Traceback" not in elsewhere.stderr
-    assert "python3 tests/bench_accuracy.py" in elsewhere.stderr
+    # the script it names (linkage.py's ELSEWHERE: to be spelled as bench_accuracy.COMMAND)
+    assert bench_accuracy.COMMAND in elsewhere.stderr
 
 
 def test_the_accuracy_script_runs_as_a_script():
-    """python3 tests/bench_accuracy.py from another folder finds the program and its instruments
-    (only the import is run here: the whole run takes minutes)."""
-    code = ("import runpy, sys; sys.argv = ['bench_accuracy.py']; "
-            f"m = runpy.run_path({str(ROOT / 'tests' / 'bench_accuracy.py')!r}); "
-            "print(m['ACCURACY_METHODS'][2], m['linkage'].__file__)")
-    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         cwd="/", timeout=60)
+    """The accuracy bench run as the README says (bench_accuracy.COMMAND, from the repository's
+    root) finds this checkout's program and its instruments: one random point a kind (the whole
+    run takes minutes)."""
+    env = {**os.environ, "PYTHONPATH": "tests"}
+    command = [sys.executable, *bench_accuracy.COMMAND.split()[2:], "--random", "1", "1"]
+    run = subprocess.run(command, env=env, capture_output=True, text=True, cwd=ROOT, timeout=120)
     assert run.returncode == 0, run.stderr
-    assert run.stdout.split()[:2] == ["the", "engine"]
+    said = run.stdout.splitlines()
+    assert said[0] == f"$ {bench_accuracy.COMMAND} --random 1 1"
+    assert said[1].startswith(f"linkage.py {linkage.__version__} on ")
+    assert [line.split(":")[0] for line in said if not line.startswith((" ", "$", "linkage",
+                                                                        "random"))] == \
+        list(bench_accuracy.engine_harness.KINDS)
 
 
 PORT_ROWS = ("python3 -m linkage", "python3 linkage.py", "in this process")

@@ -12,12 +12,14 @@ import sys
 import tempfile
 import tomllib
 
-import numpy
 import pytest
 
-import basic_runner
+from support import basic_runner
 import linkage
-from program import PROGRAM, SCRIPT
+from support.peers import Peer, lack
+from support.program import PROGRAM, SCRIPT
+
+numpy = Peer("numpy")
 
 SCENES = basic_runner.ROOT / "data" / "scenes"
 GOLDEN = basic_runner.ROOT / "data" / "golden"
@@ -108,7 +110,11 @@ def test_one_version_everywhere(tmp_path):
     result = run(["--version"], tmp_path)
     assert result.stdout.decode().strip() == f"linkage.py {linkage.__version__}"
     project = tomllib.loads((basic_runner.ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
-    assert importlib.metadata.version(project["name"]) == linkage.__version__
+    try:
+        installed = importlib.metadata.version(project["name"])
+    except importlib.metadata.PackageNotFoundError:
+        lack(f"needs {project['name']} installed (python3 -m pip install -e '.[test]')")
+    assert installed == linkage.__version__
 
 
 def test_ksi_is_the_one_spelling_and_skew_still_works(tmp_path):
@@ -173,6 +179,7 @@ def test_a_curve_under_another_stays_visible():
     assert "#" not in apart and "*" in apart and "o" in apart
 
 
+@pytest.mark.slow          # --quick leaves it out: renders PNGs
 def test_png_size_and_dpi(tmp_path):
     scene = str(SCENES / "fig3-plane-four-bar.toml")
     run(["scene", scene, "--png", "a.png", "--size", "1200x900"], tmp_path)

@@ -28,18 +28,17 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-import mpmath
-import numpy as np
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
-from pylinkage.exceptions import UnbuildableError, UnderconstrainedError
-from pylinkage.mechanism.builder import MechanismBuilder
-
 import linkage as engine
+from support.peers import Peer, need
 from test_engine import linkages
 from test_follow import CHANGE_POINTS
 from test_pylinkage import condition, startable
+
+mpmath, np = Peer("mpmath"), Peer("numpy")                     # imported at their first use
+pl_builder, pl_errors = Peer("pylinkage.mechanism.builder"), Peer("pylinkage.exceptions")
 
 KINDS = tuple(engine.LINKAGE_DIMENSIONS)
 SLIDERS = ("slider", "skew-slider")
@@ -297,7 +296,7 @@ def mp_coupler(kind, dims, a, p, u, v):
     return add((1, a), (mpmath.mpf(u), e), (mpmath.mpf(v), n))
 
 
-H = mpmath.mpf("1e-4")          # radians between the differences' positions
+H = "1e-4"                      # radians between the differences' positions (an mpf in use)
 D1 = (-1, 9, -45, 0, 45, -9, 1)                 # / 60 h
 D2 = (2, -27, 270, -490, 270, -27, 2)           # / 180 h^2
 
@@ -306,12 +305,13 @@ def mp_stencil(kind, dims, m):
     """[(phi, A, P, q)] at phi + k H (k = -3..3), the output solved at each, started from the
     engine's Taylor step (a guess only; the root is the geometry's)."""
     with mpmath.workdps(DPS):
+        h = mpmath.mpf(H)
         phi0 = mp_rad(m.phi)
         q0 = mpmath.mpf(m.output) if kind in SLIDERS else mp_rad(m.output)
         out = []
         for k in range(-3, 4):
-            phi = phi0 + k * H
-            guess = q0 + m.velocity * (k * H) + m.acceleration * (k * H) ** 2 / 2
+            phi = phi0 + k * h
+            guess = q0 + m.velocity * (k * h) + m.acceleration * (k * h) ** 2 / 2
             q = mp_solve(kind, dims, phi, guess)
             out.append((phi, mp_crank_pin(kind, dims, phi), mp_output_pin(kind, dims, q), q))
         return out
@@ -321,8 +321,9 @@ def differences(values):
     """(value, first, second derivative) of the 7 vectors (or numbers) at k H."""
     scalar = not isinstance(values[0], tuple)
     vs = [(x,) for x in values] if scalar else values
-    first = tuple(sum(w * x[i] for w, x in zip(D1, vs)) / (60 * H) for i in range(len(vs[0])))
-    second = tuple(sum(w * x[i] for w, x in zip(D2, vs)) / (180 * H * H)
+    h = mpmath.mpf(H)
+    first = tuple(sum(w * x[i] for w, x in zip(D1, vs)) / (60 * h) for i in range(len(vs[0])))
+    second = tuple(sum(w * x[i] for w, x in zip(D2, vs)) / (180 * h * h)
                    for i in range(len(vs[0])))
     if scalar:
         return values[3], first[0], second[0]
@@ -391,7 +392,7 @@ PYLINKAGE_TOL = 1e-9            # of the point's scale
 
 def tracked_four_bar(a, b, c, d, phi0, branch, u, v):
     """pylinkage's fourbar factory (the same joints) with a tracker at (u, v) on the coupler."""
-    builder = MechanismBuilder(name="fourbar")
+    builder = pl_builder.MechanismBuilder(name="fourbar")
     builder.add_ground_link("ground", ports={"A": (0.0, 0.0), "D": (a, 0.0)})
     builder.add_driver_link("crank", length=b, motor_port="A",
                             omega=math.radians(PYLINKAGE_STEP), initial_angle=math.radians(phi0))
@@ -408,7 +409,7 @@ def tracked_four_bar(a, b, c, d, phi0, branch, u, v):
 
 def tracked_slider(b, c, e, phi0, u, v):
     """pylinkage's slider_crank factory with a tracker at (u, v) on the rod."""
-    builder = MechanismBuilder(name="slider-crank")
+    builder = pl_builder.MechanismBuilder(name="slider-crank")
     builder.add_ground_link("ground", ports={"O": (0.0, 0.0)})
     builder.add_driver_link("crank", length=b, motor_port="O",
                             omega=math.radians(PYLINKAGE_STEP), initial_angle=math.radians(phi0))
@@ -434,7 +435,7 @@ def pylinkage_points(mechanism, tip_name, pin_name):
             t = positions[tip]
             out.append((math.degrees(math.atan2(t[1], t[0])), t, positions[pin],
                         positions[point]))
-    except (UnbuildableError, UnderconstrainedError):
+    except (pl_errors.UnbuildableError, pl_errors.UnderconstrainedError):
         pass
     return out
 
@@ -932,6 +933,8 @@ def coupler_calls(monkeypatch):
      "--fast"],
 ])
 def test_what_asks_for_neither_computes_neither(argv, coupler_calls, tmp_path, capsys):
+    if "--fast" in argv:
+        need("numpy", load=False)
     scenes = Path(engine.__file__).parent / "data" / "scenes"
     argv = [a.format(scenes=scenes, tmp=tmp_path) for a in argv]
     assert engine.main(argv) == 0

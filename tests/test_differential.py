@@ -15,11 +15,13 @@ import math
 import os
 import tempfile
 
-
+import pytest
 from hypothesis import HealthCheck, Phase, assume, given, settings, strategies as st
 
-import basic_runner
+from support import basic_runner
 import linkage
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 SESSIONS = int(os.environ.get("LINKAGE_DIFFERENTIAL", "8"))
 DIMENSIONS = {1: "bcda", 2: "bcda", 3: "bcdafk", 4: "bce", 5: "bcafk"}

@@ -12,8 +12,8 @@
    continuity of each branch, mirror images, and the limits spherical -> plane (arcs shrinking),
    skew -> plane (ksi, f -> 0) and skew slider -> plane slider; the branch labels against a
    transcription of the listing's formulas; no NaN and no silent number where there is none.
-4. The listing itself under PC-BASIC (tests/basic_runner.py): agreement in double precision where
-   it is well conditioned, and its spike at phi = 180 (K6), which the engine does not have.
+4. The listing itself under PC-BASIC (tests/support/basic_runner.py): agreement in double precision
+   where it is well conditioned, and its spike at phi = 180 (K6), which the engine does not have.
 """
 
 from __future__ import annotations
@@ -24,11 +24,12 @@ import pytest
 from hypothesis import assume, given, settings, strategies as st
 
 import linkage as engine
-import engine_harness as harness
-import listing_model
-import engine_reference as reference
-import basic_runner
 import test_physics  # its closures: the geometry and sign conventions
+from support import basic_runner, listing_model
+from support import engine_harness as harness
+from support.peers import Peer
+
+reference = Peer("support.engine_reference")     # the 50-digit reference needs mpmath
 
 KINDS = tuple(engine.LINKAGE_DIMENSIONS)
 SLIDERS = ("slider", "skew-slider")
@@ -242,6 +243,7 @@ def tolerance(kind, quantity):
     return TOL["slider-output"] if quantity == "output" and kind in SLIDERS else TOL[quantity]
 
 
+@pytest.mark.slow          # --quick leaves it out: the 50-digit reference on the hard catalogue
 @pytest.mark.parametrize("case", HARD, ids=[c["name"] for c in HARD])
 def test_hard_case(case):
     assert case.get("why"), "every hard case says why it is hard"
@@ -258,6 +260,7 @@ def test_hard_case(case):
     assert not problems, "\n".join(problems)
 
 
+@pytest.mark.slow          # --quick leaves it out: the 50-digit reference on the hard catalogue
 def test_hard_catalogue_covers_the_singularities():
     """The catalogue reaches every kind of trouble the engine claims to handle."""
     statuses, kinds = set(), set()
@@ -274,6 +277,7 @@ def test_hard_catalogue_covers_the_singularities():
         assert word in text, word
 
 
+@pytest.mark.slow          # --quick leaves it out: the 50-digit reference on the hard catalogue
 def test_worst_errors_over_the_catalogue():
     """The worst error per quantity, near-singular points included, as stated in the docstring."""
     worst = {}
@@ -290,10 +294,10 @@ def test_worst_errors_over_the_catalogue():
 
 
 # The worst points of random linkages and angles against the 50-digit reference (issue 24: the
-# first as the issue gives it; the others found by python3 tests/bench_accuracy.py --random 400 1
-# and --random 3000 2): beyond the catalogue's measured worst in the output (angle 2.8e-13 degree,
-# the slider's position 3.0e-15 of its size), within RANDOM_TOL, README's bound; velocity and
-# acceleration within TOL.
+# first as the issue gives it; the others found by `PYTHONPATH=tests python3 -m
+# support.bench_accuracy --random 400 1` and `--random 3000 2`): beyond the catalogue's measured
+# worst in the output (angle 2.8e-13 degree, the slider's position 3.0e-15 of its size), within
+# RANDOM_TOL, README's bound; velocity and acceleration within TOL.
 RANDOM_TOL = {"output": 4e-13, "slider-output": 1e-14}
 RANDOM_WORST = [
     ("plane", dict(a=6.023015261223045, b=7.273167942406607, c=2.1630139506507593,
@@ -326,6 +330,7 @@ def test_the_worst_random_points(kind, dims, phi, branch):
     assert errors["velocity"] <= TOL["velocity"] and errors["acceleration"] <= TOL["acceleration"]
 
 
+@pytest.mark.slow          # --quick leaves it out: the 50-digit reference at 50 and 70 digits
 def test_reference_is_converged():
     """The 50-digit reference agrees with a 70-digit run to 1e-35 on hard points (at 1e-9
     degree from a change point: to 1e-28; python3 linkage.py bench accuracy compares the
@@ -681,6 +686,7 @@ def pcbasic_double():
     return plan, results
 
 
+@pytest.mark.slow          # --quick leaves it out: PC-BASIC's DEFDBL variant
 def test_agrees_with_the_listing_in_double_precision(pcbasic_double):
     plan, results = pcbasic_double
     compared, worst = 0, {"ANG.DAT": 0.0, "VEL.DAT": 0.0, "ACC.DAT": 0.0}
@@ -702,6 +708,7 @@ def test_agrees_with_the_listing_in_double_precision(pcbasic_double):
     assert max(worst.values()) <= 1e-12
 
 
+@pytest.mark.slow          # --quick leaves it out: PC-BASIC's DEFDBL variant
 def test_the_listings_spike_at_180_is_absent(pcbasic_double):
     """K6: a = 6, b = 2, c = 7, d = 9, branch 2, 170..190 by 5. PC-BASIC (single precision)
     writes VEL .5450466 and ACC 3 (clipped) at 180 where the neighbours are about .25 and -.05;

@@ -10,9 +10,11 @@ import subprocess
 
 import pytest
 
-import basic_runner
+from support import basic_runner
 import test_physics
-from program import SCRIPT
+from support.program import SCRIPT
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 LEGACY = basic_runner.ROOT / "legacy_basic"
 HEADING = re.compile(r"^### ([EL]\d+)\. Lines? ([0-9, ]+): `(.+)` → `(.+)`$", re.MULTILINE)

@@ -5,7 +5,7 @@ A change point is where the discriminant has a double zero in phi and the two br
 finite velocity (a + b = c + d and the like); the listing's labels 1 and 2 (the sign of dE/dpsi)
 swap there, so a fixed branch jumps from one assembly to the other. The followed motion keeps to
 the assembly it started in. Expected values come from the 50-digit reference
-(tests/engine_reference.py, which solves the closure from the geometry and takes a change
+(tests/support/engine_reference.py, which solves the closure from the geometry and takes a change
 point's limits by solving just past it), from closed forms, or from the engine's fixed
 branches where only the choice of branch is under test.
 """
@@ -22,9 +22,11 @@ import pytest
 from hypothesis import assume, given, settings, strategies as st
 
 import linkage as engine
-import engine_harness as harness
-import basic_runner
-from program import PROGRAM
+from support import engine_harness as harness
+from support import basic_runner
+from support.program import PROGRAM
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 ROOT = Path(__file__).resolve().parent.parent
 SLIDERS = ("slider", "skew-slider")

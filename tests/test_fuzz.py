@@ -27,8 +27,10 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, example, given, settings, strategies as st
 
-import basic_runner
+from support import basic_runner
 import linkage
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 LONG_RUN = int(os.environ.get("LINKAGE_FUZZ", "0"))
 SCENES = sorted((basic_runner.ROOT / "data" / "scenes").glob("*.toml"))

@@ -10,8 +10,10 @@ import os
 
 import pytest
 
-import basic_runner
-import make_golden
+from support import basic_runner
+from support import make_golden
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 CASES = make_golden.load_cases()
 SAMPLE = {

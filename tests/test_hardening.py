@@ -19,11 +19,13 @@ import time
 
 import pytest
 
-import basic_runner
+from support import basic_runner
 import linkage
-import make_golden
-from program import PROGRAM
-from terminal import Terminal
+from support import make_golden
+from support.program import PROGRAM
+from support.terminal import Terminal
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 PLANE = ["plane", "--b", "2", "--c", "7", "--d", "9", "--a", "6", "--branch", "1"]
 SHORT = PLANE + ["--from", "0", "--to", "360", "--step", "10"]          # 37 points

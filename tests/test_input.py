@@ -10,8 +10,10 @@ import os
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-import basic_runner
+from support import basic_runner
 import linkage
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 # One INPUT after another; each value is written as its four MBF bytes (MKS$), so equality is exact.
 PROGRAM = b"\r\n".join([

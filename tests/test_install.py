@@ -12,7 +12,9 @@ import venv
 
 import pytest
 
-from basic_runner import ROOT
+from support.basic_runner import ROOT
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 # the venv's Python sees none of the test environment's modules, even where PYTHONPATH names the
 # clone (whose build leaves a fmb_linkage.egg-info there, and pip would call the wheel installed)

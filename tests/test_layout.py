@@ -12,7 +12,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 import linkage
+from support.peers import need
 
 SOURCE = Path(linkage.__file__).read_text(encoding="utf-8")
 LINES = SOURCE.splitlines()
@@ -123,7 +126,8 @@ def test_each_header_says_which_sections_it_uses():
 
 
 def test_the_program_imports_nothing_of_tests():
-    tests = {p.stem for p in (Path(linkage.__file__).parent / "tests").glob("*.py")}
+    tests = {p.stem for p in (Path(linkage.__file__).parent / "tests").glob("**/*.py")}
+    tests.add("support")
     imported = set()
     for n in ast.walk(TREE):
         if isinstance(n, ast.Import):
@@ -144,7 +148,7 @@ def test_the_layout_test_can_fail():
 
 def test_the_readmes_layout_matches_the_file():
     """README's "Layout": a row for each section (its line count within 15 %) and each file of
-    tests/."""
+    tests/ and tests/support/, by its path."""
     readme = (Path(linkage.__file__).parent / "README.md").read_text(encoding="utf-8")
     layout = readme[readme.index("## Layout"):readme.index("## How the listing is checked")]
     banners = sections()
@@ -154,8 +158,11 @@ def test_the_readmes_layout_matches_the_file():
         assert row and title.startswith(row[1].strip()), (number, title)
         assert abs(int(row[2].replace(",", "")) - (end - first)) <= 0.15 * (end - first), \
             (title, row[2], end - first)
-    for path in (Path(linkage.__file__).parent / "tests").glob("*.py"):
-        assert path.name in layout, path.name
+    root = Path(linkage.__file__).parent
+    files = [*(root / "tests").glob("*.py"), *(root / "tests" / "support").glob("*.py")]
+    assert len(files) > 40
+    for path in files:
+        assert f"`{path.relative_to(root)}`" in layout, path
 
 
 def _section_numbers(*titles: str) -> list[int]:
@@ -373,6 +380,7 @@ def test_every_public_function_is_annotated():
     assert unannotated() == []
 
 
+@pytest.mark.slow          # --quick leaves it out: mypy
 def test_the_type_checker_finds_nothing():
     """mypy (pinned in the test dependencies; its options in pyproject.toml's [tool.mypy]) on
     linkage.py: no error."""
@@ -468,6 +476,7 @@ def test_the_menus_linkages_are_the_engines_kinds():
 
 def pyflakes(*paths: Path) -> str:
     """What pyflakes (pinned in the test dependencies) says of these files."""
+    need("pyflakes", load=False)
     return subprocess.run([sys.executable, "-m", "pyflakes", *map(str, paths)],
                           capture_output=True, text=True, timeout=300).stdout
 
@@ -475,7 +484,7 @@ def pyflakes(*paths: Path) -> str:
 def test_pyflakes_finds_nothing():
     """No unused import or variable, no undefined name, in the program or its tests."""
     root = Path(linkage.__file__).parent
-    assert pyflakes(root / "linkage.py", *sorted((root / "tests").glob("*.py"))) == ""
+    assert pyflakes(root / "linkage.py", *sorted((root / "tests").glob("**/*.py"))) == ""
 
 
 def test_pyflakes_can_fail(tmp_path):

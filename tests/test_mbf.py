@@ -26,8 +26,10 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, Phase, given, settings, strategies as st
 
-import basic_runner
+from support import basic_runner
 import linkage as L
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 ROOT = Path(__file__).resolve().parent.parent
 TEXT_TABLE = ROOT / "data" / "mbf" / "text_table.tsv"
@@ -224,7 +226,8 @@ def _table() -> list[tuple[bytes, str, str]]:
 
 
 def test_write_and_print_text_match_the_table():
-    """Every row of data/mbf/text_table.tsv (made by tests/make_text_table.py with PC-BASIC)."""
+    """Every row of data/mbf/text_table.tsv (made by tests/support/make_text_table.py with
+    PC-BASIC)."""
     rows = _table()
     assert len(rows) > 8000
     misses = [(b.hex(), write, printed) for b, write, printed in rows

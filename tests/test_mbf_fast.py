@@ -1,10 +1,10 @@
-"""linkage.py's single-precision operations against tests/mbf_reference.py, the step-by-step
-versions they were made fast from: X+Y and X-Y (IEEE single rounding where it is the same),
-X/Y (the register's last 16 quotient bits found by one division where they are certain), the
-digits of PRINT and WRITE # (the times-ten loop inline, WRITE's rounding of the register as
-floor(y + .5)), and mbf_scaled, the listing's .5*X, 2*X and 4*X, against mbf_mul. Every result is compared with its
-sign bit and its soft errors, on hypothesis's operands, on a seeded sweep of random ones, and on
-the edges each fast path decides by: the ends of IEEE's normal range, overflow, underflow,
+"""linkage.py's single-precision operations against tests/support/mbf_reference.py, the
+step-by-step versions they were made fast from: X+Y and X-Y (IEEE single rounding where it is the
+same), X/Y (the register's last 16 quotient bits found by one division where they are certain), the
+digits of PRINT and WRITE # (the times-ten loop inline, WRITE's rounding of the register as floor(y
++ .5)), and mbf_scaled, the listing's .5*X, 2*X and 4*X, against mbf_mul. Every result is compared
+with its sign bit and its soft errors, on hypothesis's operands, on a seeded sweep of random ones,
+and on the edges each fast path decides by: the ends of IEEE's normal range, overflow, underflow,
 cancellation, ties, divisors full of low 1-bits, remainders beside the certain margins."""
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings, strategies as st
 
 import linkage as L
-import mbf_reference as R
+from support import mbf_reference as R
 
 # The number of examples a property: MBF_FAST_SCALE times the default run's (the default keeps the
 # suite quick; MBF_FAST_SCALE=5 is the run the port's speed-up was checked with, 40,000 random

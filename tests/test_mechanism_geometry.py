@@ -15,9 +15,11 @@ import tomllib
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-import basic_runner
+from support import basic_runner
 import linkage
 from test_physics import CASES
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 LENGTH_TOL = 1e-12      # |measured - dimension|, relative to the linkage's largest length
 ANGLE_TOL = 1e-9        # degrees, the output angle measured from the joints against the engine's

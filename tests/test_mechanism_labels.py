@@ -13,9 +13,11 @@ import math
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-import basic_runner
+from support import basic_runner
 import linkage
 from test_mechanism_geometry import LINKAGES
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 SCENES = basic_runner.ROOT / "data" / "scenes"
 FIGURES_1_2 = sorted(SCENES.glob("fig[12]?-*.toml"))
@@ -117,7 +119,7 @@ def test_every_letter_and_mark_is_in_each_terminal_frame_at_80_by_24(scene):
 def test_the_terminal_snapshots_have_every_letter(scene):
     """The stored 80 x 24 frames (data/scenes/snapshots, the first frame) show every letter
     the paper gives the linkage."""
-    import make_scene_snapshots
+    from support import make_scene_snapshots
     letters = {"plane": "abcd", "spherical": "abcd", "skew": "abcdfgξ", "slider": "be",
                "skew-slider": "abcfξ"}[linkage.load_scene(str(scene)).mechanism]
     for encoding in ("utf-8", "ascii"):

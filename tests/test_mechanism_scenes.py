@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 import linkage
-from program import PROGRAM
+from support.program import PROGRAM
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = ROOT / "data" / "scenes"

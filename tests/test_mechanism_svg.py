@@ -103,6 +103,7 @@ def grey_pixels(data):
     return [row[i:i + 3] for row in rows for i in range(0, len(row), channels)], width, height
 
 
+@pytest.mark.slow          # --quick leaves it out: renders PNGs
 @pytest.mark.parametrize("kind, count, positions", [("skew", 12, 6), ("spherical", 12, 6),
                                                      ("slider", 3, 12)])
 def test_the_png_overlays_the_positions(kind, count, positions):

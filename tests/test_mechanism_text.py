@@ -12,11 +12,11 @@ import subprocess
 
 import pytest
 
-import basic_runner
+from support import basic_runner
 import linkage
-import make_scene_snapshots
-from program import PROGRAM
-from terminal import Terminal
+from support import make_scene_snapshots
+from support.program import PROGRAM
+from support.terminal import Terminal
 
 ROOT = basic_runner.ROOT
 FIGURES_1_2 = sorted((ROOT / "data" / "scenes").glob("fig[12]?-*.toml"))
@@ -37,7 +37,7 @@ def test_the_still_frame_matches_its_snapshot(scene, encoding):
     snapshot = make_scene_snapshots.snapshot_path(scene, encoding)
     want = snapshot.read_text(encoding=encoding)
     assert text == want, (f"{snapshot.name} differs (if the change is intended: python3 "
-                          "tests/make_scene_snapshots.py):\n"
+                          "tests/support/make_scene_snapshots.py):\n"
                           + "".join(difflib.unified_diff(want.splitlines(True),
                                                          text.splitlines(True), "snapshot",
                                                          "now")))

@@ -23,7 +23,9 @@ from collections.abc import Callable
 
 import pytest
 
-import basic_runner
+from support import basic_runner
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 H_DEG = 0.01          # finite-difference step, degrees
 CLOSURE_TOL = 1e-12   # loop-closure residual, relative to the largest link (measured: 2.2e-15)

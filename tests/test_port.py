@@ -15,9 +15,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import linkage
-import make_golden
-from program import PROGRAM, SCRIPT
-from terminal import Terminal
+from support import make_golden
+from support.program import PROGRAM, SCRIPT
+from support.terminal import Terminal
 
 CASES = make_golden.load_cases()
 
@@ -54,10 +54,17 @@ def golden_run(request, tmp_path_factory):
     return case, result, dat_files(folder)
 
 
+# The golden cases --quick keeps: a short session of each mechanism and the menu's wrong keys;
+# the others are marked slow.
+QUICK_CASES = {"plane-b1", "spherical-b1", "skew-b1", "slider-b1", "skew-slider-b1",
+               "menu-invalid-keys"}
+
+
 def golden(cases):
     """Parametrize a test by golden case, sharing each case's run (golden_run)."""
-    return pytest.mark.parametrize("golden_run", cases, ids=[c["name"] for c in cases],
-                                   indirect=True)
+    return pytest.mark.parametrize("golden_run", [
+        pytest.param(c, id=c["name"], marks=() if c["name"] in QUICK_CASES else pytest.mark.slow)
+        for c in cases], indirect=True)
 
 
 @golden(CASES)

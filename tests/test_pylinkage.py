@@ -20,9 +20,10 @@ slider_crank(crank=b, rod=c, slide_through=(0, e)) runs the slider on the line y
   K <= K_DERIVATIVES (their errors grow as K^2 and K^3: 1.6e-9 in psi'' at K = 28 for the
   parallelogram 8, 7.25, 8, 7.25 near its change point). The engine's own numbers there are held
   to the 50-digit reference by test_engine.py. Measured, 2026-11-25, 2,714 sweeps of 240 points
-  (python3 tests/pylinkage_worst.py 1500 1 and 1500 2; a fifth of them parallelograms): output
-  compared at 511,062 points, worst 5.3e-11 degree; velocity and acceleration at 308,718, worst
-  1.6e-13 and 4.7e-12; no point where one assembles and the other not.
+  (`PYTHONPATH=tests python3 -m support.pylinkage_worst 1500 1` and `1500 2`; a fifth of them
+  parallelograms): output compared at 511,062 points, worst 5.3e-11 degree; velocity and
+  acceleration at 308,718, worst 1.6e-13 and 4.7e-12; no point where one assembles and the other
+  not.
 * Slider-crank: pylinkage 1.3.0 gives the slider's position but not its velocity:
   step_with_derivatives leaves the prismatic joint's velocity None ("until the mechanism model
   exposes a line constraint API"), and step_fast_with_kinematics leaves the slider where it
@@ -62,11 +63,13 @@ import math
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
-from pylinkage.exceptions import UnbuildableError
-from pylinkage.mechanism import fourbar, slider_crank
-
 import linkage as engine
-import engine_harness as harness
+from support import engine_harness as harness
+from support.peers import Peer
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
+
+pl, pl_errors = Peer("pylinkage.mechanism"), Peer("pylinkage.exceptions")   # at their first use
 
 STEP = 1.5                  # degrees between the four-bar's positions
 STEPS = 240                 # a whole turn
@@ -93,7 +96,7 @@ def angle_error(x, y):
 def pylinkage_four_bar(a, b, c, d, phi0, pylinkage_branch, steps=STEPS):
     """pylinkage's sweep from phi0 by STEP: [(phi, psi, psi', psi'', rocker tip)] up to the first
     position it cannot build, and whether it stopped there."""
-    mechanism = fourbar(crank=b, coupler=c, rocker=d, ground=a, omega=math.radians(STEP),
+    mechanism = pl.fourbar(crank=b, coupler=c, rocker=d, ground=a, omega=math.radians(STEP),
                         initial_angle=math.radians(phi0), branch=pylinkage_branch)
     mechanism.set_input_velocity(mechanism._driver_links[0], 1.0, 0.0)
     tip, rocker = joint_index(mechanism, "crank.tip"), joint_index(mechanism, "rocker.0")
@@ -109,7 +112,7 @@ def pylinkage_four_bar(a, b, c, d, phi0, pylinkage_branch, steps=STEPS):
                 velocity, acceleration = (rx * vy - ry * vx) / r2, (rx * ay - ry * ax) / r2
             points.append((math.degrees(math.atan2(by, bx)), math.degrees(math.atan2(ry, rx)),
                            velocity, acceleration, (cx, cy)))
-    except UnbuildableError:
+    except pl_errors.UnbuildableError:
         return points, True
     return points, False
 
@@ -242,22 +245,22 @@ def test_pylinkages_tangent_tolerance():
         link = engine.Linkage("plane", a=a, b=b, c=c, d=d)
         assert link.motion(phi0, 1).status == engine.NOT_ASSEMBLED
         if pylinkage_builds:
-            mechanism = fourbar(crank=b, coupler=c, rocker=d, ground=a,
+            mechanism = pl.fourbar(crank=b, coupler=c, rocker=d, ground=a,
                                 initial_angle=math.radians(phi0))
             tip = mechanism.joints[joint_index(mechanism, "rocker.0")].position
             psi = math.degrees(math.atan2(tip[1], tip[0] - a))
             crank = (b * math.cos(math.radians(phi0)), b * math.sin(math.radians(phi0)))
             assert psi == pytest.approx(math.degrees(math.atan2(crank[1], crank[0] - a)), abs=1e-5)
         else:
-            with pytest.raises(UnbuildableError):
-                fourbar(crank=b, coupler=c, rocker=d, ground=a, initial_angle=math.radians(phi0))
+            with pytest.raises(pl_errors.UnbuildableError):
+                pl.fourbar(crank=b, coupler=c, rocker=d, ground=a, initial_angle=math.radians(phi0))
 
 
 # -- the slider-crank: positions, differentiated ---------------------------------------------------
 
 def pylinkage_slider(b, c, e, phi0, steps):
     """pylinkage's slider positions from phi0 by H degrees: [(phi, x)]."""
-    mechanism = slider_crank(crank=b, rod=c, omega=math.radians(H),
+    mechanism = pl.slider_crank(crank=b, rod=c, omega=math.radians(H),
                              initial_angle=math.radians(phi0), slide_through=(0.0, e))
     tip, slider = joint_index(mechanism, "crank.tip"), joint_index(mechanism, "rod.1")
     points = []
@@ -304,7 +307,7 @@ def test_random_slider_cranks(b, e, margin, phi0):
 def test_pylinkage_gives_no_slider_velocity():
     """Why the slider's derivatives are differentiated (the docstring): pylinkage 1.3.0's two
     kinematic paths give none. Should a later pylinkage give them, compare them directly."""
-    mechanism = slider_crank(crank=2.0, rod=7.0, omega=math.radians(1.0),
+    mechanism = pl.slider_crank(crank=2.0, rod=7.0, omega=math.radians(1.0),
                              slide_through=(0.0, 1.5))
     mechanism.set_input_velocity(mechanism._driver_links[0], 1.0, 0.0)
     slider = joint_index(mechanism, "rod.1")

@@ -12,7 +12,9 @@ import sys
 
 import pytest
 
-from basic_runner import ROOT
+from support.basic_runner import ROOT
+
+pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 COMMAND = re.compile(r"^python3 linkage\.py(?: |$)")

@@ -1,6 +1,6 @@
 """Scenes and plots: every scene of data/scenes runs, writes its DAT files, draws a
 real PNG and the plain-text plot stored in data/scenes/snapshots/ (python3
-tests/make_scene_snapshots.py rewrites those, and nothing else does). The text plot puts the
+tests/support/make_scene_snapshots.py rewrites those, and nothing else does). The text plot puts the
 curve where an independent solution of the linkage says it is; a displacement-only scene asks the
 engine for no derivative; the faithful numbers are PC-BASIC's (the golden corpus); a scene with a
 mistake gets a message naming the file, the key and what was expected, and no traceback.
@@ -22,10 +22,11 @@ from pathlib import Path
 
 import pytest
 
-import basic_runner
+from support import basic_runner
 import linkage
-import make_scene_snapshots
-from program import PROGRAM
+from support import make_scene_snapshots
+from support.peers import need
+from support.program import PROGRAM
 
 ROOT = basic_runner.ROOT
 ALL_SCENES = sorted((ROOT / "data" / "scenes").glob("*.toml"))
@@ -46,6 +47,7 @@ _drawn = {}
 def drawn(request, tmp_path_factory):
     """`scene FILE --png --text`, run once per scene (in this process: matplotlib is imported
     once); (scene, standard output, standard error, the DAT folder, the PNG)."""
+    need("matplotlib", load=False)
     path = request.param
     if path not in _drawn:
         out = tmp_path_factory.mktemp(path.stem)
@@ -159,10 +161,11 @@ def test_the_text_plot_matches_its_snapshot(drawn):
     assert len(lines) <= 24 and max(len(line) for line in lines) <= 80
     assert all(ch.isascii() for ch in text)
     snapshot = make_scene_snapshots.snapshot_path(Path(scene.path))
-    assert snapshot.exists(), "no snapshot: python3 tests/make_scene_snapshots.py"
+    assert snapshot.exists(), ("no snapshot: PYTHONPATH=tests python3 -m "
+                               "support.make_scene_snapshots")
     want = snapshot.read_text(encoding="ascii")
     assert text == want, (f"{snapshot.name} differs (if the change is intended: python3 "
-                          "tests/make_scene_snapshots.py):\n"
+                          "tests/support/make_scene_snapshots.py):\n"
                           + "".join(difflib.unified_diff(want.splitlines(True),
                                                          text.splitlines(True), "snapshot",
                                                          "now")))
@@ -579,11 +582,12 @@ def test_plot_of_bad_files_says_which_line(content, message, tmp_path):
 
 def test_png_without_matplotlib_names_the_extra(tmp_path):
     scene = ROOT / "data" / "scenes" / "fig3-plane-four-bar.toml"
-    code = ("import sys; sys.modules['matplotlib'] = None; sys.path.insert(0, %r); "
-            "import linkage; sys.exit(linkage.main(sys.argv[1:]))" % str(ROOT))
+    code = ("import sys; sys.modules['matplotlib'] = None; "
+            "import linkage; sys.exit(linkage.main(sys.argv[1:]))")
     result = subprocess.run([sys.executable, "-c", code, "scene", str(scene), "--dir",
                              str(tmp_path), "--png", str(tmp_path / "f.png")],
-                            capture_output=True, text=True, timeout=60)
+                            capture_output=True, text=True, timeout=60,
+                            env={**os.environ, "PYTHONPATH": str(ROOT)})
     assert result.returncode == 1
     assert "python3 -m pip install matplotlib" in result.stderr
     assert "Traceback" not in result.stderr
@@ -591,6 +595,7 @@ def test_png_without_matplotlib_names_the_extra(tmp_path):
 
 
 def test_png_alone_draws_no_text_and_text_is_the_default(tmp_path, capsys):
+    need("matplotlib", load=False)
     scene = str(ROOT / "data" / "scenes" / "fig4-spherical-wobble-plate.toml")
     assert linkage.main(["scene", scene, "--dir", str(tmp_path), "--png",
                          str(tmp_path / "f.png")]) == 0
@@ -669,6 +674,7 @@ MISTAKES = [
 
 def test_a_figure_too_big_for_the_terminal_is_explained(tmp_path, capsys):
     """Three panels of two quantities, four series each: no room for the plots in 80 x 24."""
+    need("matplotlib", load=False)
     panel = '[[panels]]\nquantities = ["velocity", "acceleration"]\n'
     path = tmp_path / "big.toml"
     path.write_text(scene_file(precision='"both"', branches="[1, 2]", panels=panel * 3))
@@ -680,6 +686,7 @@ def test_a_figure_too_big_for_the_terminal_is_explained(tmp_path, capsys):
 
 
 def test_a_png_that_cannot_be_written_is_explained(tmp_path, capsys):
+    need("matplotlib", load=False)
     path = tmp_path / "s.toml"
     path.write_text(scene_file())
     out = tmp_path / "no such folder" / "f.png"
@@ -691,6 +698,7 @@ def test_a_png_that_cannot_be_written_is_explained(tmp_path, capsys):
 def test_a_scene_writes_its_set_of_files_all_or_none(tmp_path, capsys):
     """DAT files of every series, the CSV and the PNG: a failure of any one (here the PNG, the
     last to be made; then the CSV) leaves the old set as it was, byte for byte."""
+    need("matplotlib", load=False)
     path = tmp_path / "s.toml"
     panels = GOOD_PANELS + '[[panels]]\nquantities = ["velocity", "acceleration"]\n'
     path.write_text(scene_file(precision='"both"', branches="[1, 2]", panels=panels))
@@ -794,6 +802,7 @@ def test_the_list_takes_no_scene_and_a_scene_is_needed_without_it():
 
 
 def test_a_curve_scene_says_the_png_it_wrote(tmp_path):
+    need("matplotlib", load=False)
     got = subprocess.run(PROGRAM + ["scene", "fig3", "--png", "f.png"], capture_output=True,
                          text=True, cwd=tmp_path)
     assert got.returncode == 0, got.stderr

@@ -29,7 +29,8 @@ from hypothesis import HealthCheck, assume, example, given, seed, settings
 from hypothesis import strategies as st
 
 import linkage as s
-from program import PROGRAM
+from support.peers import need
+from support.program import PROGRAM
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 ERRATA = (ROOT / "data" / "SYNTHESIS_ERRATA.md").read_text(encoding="utf-8")
@@ -799,7 +800,7 @@ def test_found_cases(method, data, outcome):
 def test_fourb_cr_2_cases_against_mpmath(data):
     """The designed lengths (as doubles) analysed in 50 digits, independent of the engine: the
     swing and the crank rotation between the dead centres are the data's to 1e-9 degree."""
-    mp = pytest.importorskip("mpmath")
+    mp = need("mpmath")
     mp.mp.dps = 50
     (design,) = [d for d in s.fourb_cr_2(**data).solutions]
     link = design.linkage
@@ -821,7 +822,7 @@ def test_fourb_cr_2_cases_against_mpmath(data):
 def test_every_method_meets_its_targets_in_range(method, units):
     """Data log-uniform across the method's valid range (DATA): a design that meets every target
     (1e-9 degree; see assert_meets_targets), or a DesignError naming the method; never another
-    exception (tests/synthesis_worst_miss.py runs many more, unseeded)."""
+    exception (tests/support/synthesis_worst_miss.py runs many more, unseeded)."""
     data = data_in_range(method, units)
     solutions, _ = design_in_range(method, data)
     for design in solutions:
@@ -1441,7 +1442,7 @@ def test_a_scene_refuses_bad_marked_positions(tmp_path, marked, message):
 def _draglink_2_exact(dphi, dpsi, lam):
     """DRAGLINK-2's link ratios a/d, b/d, c/d (review letters) for lambda, in 50 digits from the
     data as doubles: the review's step 5, independent of linkage.py's arithmetic."""
-    mp = pytest.importorskip("mpmath")
+    mp = need("mpmath")
     with mp.workdps(50):
         half = mp.pi / 360
         t, u = mp.tan(mp.mpf(dphi) * half), mp.tan(mp.mpf(dpsi) * half)
@@ -1452,6 +1453,7 @@ def _draglink_2_exact(dphi, dpsi, lam):
                 float(mp.sin(mp.mpf(dphi) * half) / mp.sin(dl) * mp.sqrt(1 + u * u * eps * eps)))
 
 
+@pytest.mark.slow          # --quick leaves it out: hundreds of designs
 @settings(SETTINGS, max_examples=int(os.environ.get("SYNTHESIS_EXAMPLES", "25")) // 2)
 @example(263.6237778003716, 0.0001898478902768632, None)        # crank and output 6e5 x frame
 @example(209.12127858040645, 0.0005764943954265948, 0.6273415056958008)

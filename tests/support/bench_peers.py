@@ -1,9 +1,9 @@
 """The engine beside other programs: the numpy path against a C loop of the same formulas
 (C_SWEEP, built with cc -O2 and loaded with ctypes) and against pylinkage (with numba where it is
 installed). Not part of the shipped program (`python3 linkage.py bench` measures the program
-itself); run after the README's install:
+itself); run from the repository's root as the other studies are:
 
-    python3 tests/support/bench_peers.py [--quick]
+    PYTHONPATH=tests python3 -m support.bench_peers [--quick]
 
 It prints its numbers and how they were taken; tests/test_bench.py runs it on tiny sizes."""
 

@@ -11,7 +11,7 @@ checked against the source's hash at every start, so an edited linkage.py is nev
 import os
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SOURCE = os.path.join(ROOT, "linkage.py")
 SCRIPT = [sys.executable, SOURCE]
 PROGRAM = [sys.executable, os.path.abspath(__file__)]

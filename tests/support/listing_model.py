@@ -3,7 +3,7 @@
 coefficients(): lines 250-930 (a fresh run: every variable starts at 0, as after RUN);
 point(): lines 1060-1330 for one input angle, returning what lines 1150, 1320 and 1330 write
 (unclipped unless clip=True). `m` is the arithmetic: the math module (double precision, as the
-double-precision variant of tests/basic_runner.py runs it) or mpmath (any precision).
+double-precision variant of tests/support/basic_runner.py runs it) or mpmath (any precision).
 Division by zero, which GW-BASIC reports and carries on past (K7), returns status "division".
 """
 

@@ -1,7 +1,7 @@
 """Rewrite the stored text plots of the scenes: data/scenes/snapshots/<scene>.txt.
 
-    python3 tests/make_scene_snapshots.py           # every scene of data/scenes
-    python3 tests/make_scene_snapshots.py NAME ...  # only these scenes
+    PYTHONPATH=tests python3 -m support.make_scene_snapshots           # every scene of data/scenes
+    PYTHONPATH=tests python3 -m support.make_scene_snapshots NAME ...  # only these scenes
 
 Each snapshot is what `python3 linkage.py scene data/scenes/<scene>.toml --text` prints into a
 pipe (80 x 24). A mechanism scene has two: its still frame in Unicode (<scene>.txt, UTF-8) and
@@ -19,9 +19,9 @@ import os
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-import linkage  # noqa: E402
+import linkage
+
+ROOT = Path(__file__).resolve().parents[2]
 
 SCENES = ROOT / "data" / "scenes"
 SNAPSHOTS = SCENES / "snapshots"

@@ -2,16 +2,13 @@
 tests/test_pylinkage.py compares them (its compare_four_bar and compare_slider): the numbers its
 docstring quotes.
 
-    python3 tests/pylinkage_worst.py [four-bars, default 1500] [seed, default 1]
+    PYTHONPATH=tests python3 -m support.pylinkage_worst [four-bars, default 1500] [seed, default 1]
 """
 
 from __future__ import annotations
 
 import random
 import sys
-from pathlib import Path
-
-sys.path[:0] = [str(Path(__file__).resolve().parent.parent), str(Path(__file__).resolve().parent)]
 
 import test_pylinkage as t
 

@@ -4,9 +4,10 @@ designs, and over data drawn log-uniformly across each method's valid range (lin
 long, unseeded run of the test test_synthesis.test_every_method_meets_its_targets_in_range).
 Every number is measured through linkage.analyze (the accurate engine).
 
-    python3 tests/synthesis_worst_miss.py [designs per method, default 200] [seed, default 1;
-        "random": a new one] [--log-uniform-only] [--module PATH/linkage.py: design and analyse
-        with another version of the module (the data ranges stay this one's)]
+    PYTHONPATH=tests python3 -m support.synthesis_worst_miss (from the repository's root)
+        [designs per method, default 200] [seed, default 1; "random": a new one]
+        [--log-uniform-only] [--module PATH/linkage.py: design and analyse with another version of
+        the module (the data ranges stay this one's)]
 """
 
 from __future__ import annotations
@@ -15,9 +16,6 @@ import importlib.util
 import math
 import random
 import sys
-from pathlib import Path
-
-sys.path[:0] = [str(Path(__file__).resolve().parent.parent), str(Path(__file__).resolve().parent)]
 
 import linkage as s
 import test_synthesis as t

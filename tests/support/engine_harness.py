@@ -9,8 +9,9 @@ import tomllib
 from pathlib import Path
 
 import test_physics
+from support.peers import need
 
-DATA = Path(__file__).resolve().parent.parent / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 SLIDERS = ("slider", "skew-slider")
 KINDS = ("plane", "spherical", "skew", "slider", "skew-slider")
 
@@ -36,7 +37,7 @@ def size(kind, dims):
 
 @functools.lru_cache(maxsize=None)
 def _ref_cached(kind, dims_items, phi, dps):
-    import engine_reference as reference
+    reference = need("support.engine_reference")
     return reference.solve(kind, dict(dims_items), phi, dps)
 
 

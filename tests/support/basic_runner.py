@@ -20,7 +20,9 @@ import sys
 import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+from support.peers import need
+
+ROOT = Path(__file__).resolve().parents[2]
 LISTING = ROOT / "legacy_basic" / "LINKAGE.BAS"
 DAT_FILES = ("ANG.DAT", "VEL.DAT", "ACC.DAT")
 
@@ -45,6 +47,7 @@ NO_YIELD = ("import sys, time\n"
 
 def pcbasic_command() -> list[str]:
     """The PC-BASIC of the Python running the tests (so a venv's copy is used), as NO_YIELD."""
+    need("pcbasic", load=False)
     return [sys.executable, "-c", NO_YIELD]
 
 

@@ -1,5 +1,6 @@
 """Make data/mbf/text_table.tsv with PC-BASIC: singles (as MBF bytes) and the text WRITE # and
-PRINT # give them. Never edit the table by hand; run `python3 tests/make_text_table.py`.
+PRINT # give them. Never edit the table by hand; run, from the repository's root,
+`PYTHONPATH=tests python3 -m support.make_text_table`.
 
 The values: the edges (zero, the extremes), random singles over the whole range, and the
 hard places of the decimal conversion: the neighbours of every power of ten and of numbers
@@ -9,14 +10,9 @@ whose seventh digit is followed by exactly 5.
 from __future__ import annotations
 
 import random
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-import basic_runner  # noqa: E402
-import linkage  # noqa: E402
+import linkage
+from support import basic_runner
 
 TABLE = basic_runner.ROOT / "data" / "mbf" / "text_table.tsv"
 PROGRAM = b"\r\n".join([
@@ -58,7 +54,8 @@ def main() -> None:
     printed = run.files["P.DAT"].decode("ascii").rstrip("\x1a").split("\r\n")
     TABLE.parent.mkdir(parents=True, exist_ok=True)
     with open(TABLE, "w", encoding="ascii", newline="\n") as f:
-        f.write(f"# made by tests/make_text_table.py with {basic_runner.pcbasic_version()}\n")
+        f.write(f"# made by tests/support/make_text_table.py with "
+                f"{basic_runner.pcbasic_version()}\n")
         f.write("# MBF bytes (hex)\tWRITE # text\tPRINT # text (between quotes)\n")
         for b, w, p in zip(values, write, printed):
             f.write(f'{b.hex()}\t{w}\t"{p}"\n')

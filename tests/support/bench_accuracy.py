@@ -1,41 +1,38 @@
 """What accuracy costs in time: six ways of computing the same points, each timed and scored
 against the 50-digit reference.
 
-    python3 tests/bench_accuracy.py      (minutes: mpmath, and PC-BASIC a session a point)
-    python3 tests/bench_accuracy.py --random [POINTS [SEED]]   (the engine at random points)
+    PYTHONPATH=tests python3 -m support.bench_accuracy                   (minutes: mpmath, PC-BASIC)
+    PYTHONPATH=tests python3 -m support.bench_accuracy --random [POINTS [SEED]]   (random points)
+
+(from the repository's root; --random: the engine alone at random points).
 
 The methods: GW-BASIC single precision (the port's own lines 250-930 and 1060-1330), the listing's
 formulas in double (listing_model.py), the accurate engine, mpmath at 30 and 50 digits, and PC-BASIC
 running legacy_basic/LINKAGE.BAS. The measuring instruments are the tests' own, which is why this
-is a script here and not a `bench` of linkage.py (data/BENCHMARKS.md, "What accuracy costs in time"): engine_harness.py (the two
-sweeps, the scoring rules), engine_reference.py (the mpmath solver written from the geometry, which
-is the reference), listing_model.py (the listing's formulas in double precision) and
-basic_runner.py (PC-BASIC). A point is one input angle on one branch. tests/test_bench.py runs it
-on a tiny sweep.
+is a script here and not a `bench` of linkage.py (data/BENCHMARKS.md, "What accuracy costs in
+time"): engine_harness.py (the two sweeps, the scoring rules), engine_reference.py (the mpmath
+solver written from the geometry, which is the reference), listing_model.py (the listing's formulas
+in double precision) and basic_runner.py (PC-BASIC). A point is one input angle on one branch.
+tests/test_bench.py runs it on a tiny sweep.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
-import os
 import subprocess
 import sys
 import textwrap
 import time
 from typing import NamedTuple
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))   # the instruments, beside this
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # the program
+import linkage
+from linkage import (ASSEMBLED, DIV_ZERO, INDETERMINATE, NOT_ASSEMBLED, OVERFLOW, Linkage,
+                     Variables, coefficients, degrees_to_radians, dimensions, input_value,
+                     soft_errors, sweep_point)
+from support import basic_runner, engine_harness, listing_model
 
-import basic_runner       # noqa: E402
-import engine_harness     # noqa: E402
-import linkage            # noqa: E402
-from linkage import (ASSEMBLED, DIV_ZERO, INDETERMINATE, NOT_ASSEMBLED, OVERFLOW,  # noqa: E402
-                     Linkage, Variables, coefficients, degrees_to_radians, dimensions,
-                     input_value, soft_errors, sweep_point)
-import listing_model      # noqa: E402
-
+COMMAND = "PYTHONPATH=tests python3 -m support.bench_accuracy"    # from the repository's root
 DIVISION = "division by zero"   # GW-BASIC's soft error (or overflow) at the point, K7; Python's
 #                                 ZeroDivisionError or a non-finite number for the listing in double
 ILLEGAL = "illegal linkage"     # line 480's assembly check refuses the linkage: no point computed
@@ -88,7 +85,7 @@ def _reference():
     """engine_reference.py (it needs mpmath), or None and why it is missing: the rows that need
     it say so."""
     try:
-        import engine_reference
+        from support import engine_reference
     except ImportError as e:
         return None, f"{e.name} is not installed (pip install mpmath)"
     return engine_reference, ""
@@ -160,8 +157,9 @@ def _faithful_method(cases, repeats):
 
 
 def _listing_double_method(cases, repeats, model):
-    """The listing's formulas in double precision: tests/listing_model.py, the transcription of
-    lines 250-930 and 1060-1330 that the tests hold against PC-BASIC's DEFDBL variant; unclipped."""
+    """The listing's formulas in double precision: tests/support/listing_model.py, the
+    transcription of lines 250-930 and 1060-1330 that the tests hold against PC-BASIC's DEFDBL
+    variant; unclipped."""
     coefficients_of = []
     for _, kind, dims, _ in cases:
         try:
@@ -211,7 +209,7 @@ def _engine_method(cases, repeats):
 
 
 def _mpmath_method(cases, reference, dps):
-    """tests/engine_reference.py's solver at `dps` digits: root finding on the loop closure
+    """tests/support/engine_reference.py's solver at `dps` digits: root finding on the loop closure
     written from the geometry, implicit differentiation; one solve gives both branches. Returns
     also the solver's own points (the reference for the others)."""
     def compute():
@@ -325,8 +323,8 @@ ACCURACY_METHODS = ("GW-BASIC single precision (the port)", "the listing's formu
                     "PC-BASIC running the listing")
 ACCURACY_NOTES = (
     "How it is measured. A point is one input angle on one branch. Each method's worst error over "
-    "the sweep against the 50-digit reference (tests/engine_reference.py: root finding on the "
-    "loop closure written from the geometry; mpmath rows carry 10 guard digits), as "
+    "the sweep against the 50-digit reference (tests/support/engine_reference.py: root finding on "
+    "the loop closure written from the geometry; mpmath rows carry 10 guard digits), as "
     "tests/test_engine.py scores:",
     """\
   angle         |psi - psi_ref| in degrees, wrapped (the four-bars' output)
@@ -371,7 +369,7 @@ def measure_accuracy(cases, pcbasic_cases=None, repeats=ACCURACY_REPEATS) -> lis
     else:
         try:
             version = runner.pcbasic_version()
-        except (OSError, subprocess.CalledProcessError) as e:
+        except (OSError, ImportError, subprocess.CalledProcessError) as e:
             basic.note = f"PC-BASIC is not installed (pip install pcbasic==2.0.8): {e}"
         else:
             try:
@@ -508,7 +506,7 @@ def random_accuracy(out, points=RANDOM_POINTS, seed=1) -> None:
 
 
 if __name__ == "__main__":
-    print(f"$ python3 tests/bench_accuracy.py {' '.join(sys.argv[1:])}".rstrip())
+    print(f"$ {COMMAND} {' '.join(sys.argv[1:])}".rstrip())
     print(f"linkage.py {linkage.__version__} on {linkage.machine()}")
     if sys.argv[1:2] == ["--random"]:
         random_accuracy(sys.stdout, *map(int, sys.argv[2:4]))

@@ -1,7 +1,9 @@
 """Regenerate the golden corpus: run legacy_basic/LINKAGE.BAS under PC-BASIC for every case.
 
-    python3 tests/make_golden.py            # every case of data/golden/cases.toml
-    python3 tests/make_golden.py NAME ...   # only these cases
+    PYTHONPATH=tests python3 -m support.make_golden            # every case of cases.toml
+    PYTHONPATH=tests python3 -m support.make_golden NAME ...   # only these cases
+
+(from the repository's root; the cases are data/golden/cases.toml's).
 
 For each case, data/golden/<name>/ receives keys.txt (the keystrokes), SCREEN.TXT (PC-BASIC's
 standard output) and every file the program wrote (ANG.DAT, VEL.DAT, ACC.DAT), as bytes. The
@@ -14,10 +16,8 @@ from __future__ import annotations
 import concurrent.futures
 import sys
 import tomllib
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import basic_runner  # noqa: E402
+from support import basic_runner
 
 GOLDEN = basic_runner.ROOT / "data" / "golden"
 CASES_FILE = GOLDEN / "cases.toml"
@@ -27,7 +27,7 @@ README_HEAD = """\
 # The golden corpus
 
 Each folder is one session of `legacy_basic/LINKAGE.BAS` under {version}, written by
-`python3 tests/make_golden.py` from the cases in `cases.toml`, never by hand:
+`PYTHONPATH=tests python3 -m support.make_golden` from the cases in `cases.toml`, never by hand:
 `keys.txt` (the keystrokes as typed), `SCREEN.TXT` (PC-BASIC's standard output, run as
 `pcbasic LINKAGE.BAS --interface=none -q --input=keys.txt --output=STDOUT --sound=False`) and the
 files the program wrote, byte for byte (CRLF line ends, the end-of-file byte 0x1A).
