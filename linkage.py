@@ -3909,11 +3909,76 @@ class Extreme(NamedTuple):
     value: float
 
 
+EQUAL_STROKES = 1e-9                # degrees: strokes this close are equal (time ratio 1)
+
+
+def _time_ratio(forward: float | None, back: float | None) -> float | None:
+    """The time ratio as engineers quote it: the slower stroke's crank turn over the faster's
+    (>= 1); None without strokes."""
+    if forward is None or back is None:
+        return None
+    return max(forward, back) / min(forward, back)
+
+
+def _slower_stroke(forward: float | None, back: float | None) -> str | None:
+    """Which stroke takes the crank longer: "forward" (the output rising), "return", or "neither"
+    (equal within EQUAL_STROKES); None without strokes."""
+    if forward is None or back is None:
+        return None
+    if abs(forward - back) <= EQUAL_STROKES:
+        return "neither"
+    return "forward" if forward > back else "return"
+
+
+def _mu_worst(mu_min: Extreme, mu_max: Extreme) -> Extreme:
+    """Of the transmission angle's extremes, the one further from 90 degrees (mu_min if equally
+    far)."""
+    return mu_max if abs(mu_max.value - 90.0) > abs(mu_min.value - 90.0) else mu_min
+
+
+class Circuit(NamedTuple):
+    """One circuit of the motion (see analyse): crank_range the crank's interval on it (None when
+    the crank turns fully: the circuit is the branch's), output_min/max None when the output
+    turns fully, the strokes None where the crank rocks or the output turns fully; mu_min and
+    mu_max the transmission angle's extremes over the circuit."""
+    crank_range: tuple[tuple[float, float], ...] | None
+    output_min: Extreme | None
+    output_max: Extreme | None
+    forward_stroke: float | None
+    return_stroke: float | None
+    mu_min: Extreme
+    mu_max: Extreme
+
+    @property
+    def time_ratio(self) -> float | None:
+        """The slower stroke's crank turn over the faster's (>= 1; slower_stroke says which)."""
+        return _time_ratio(self.forward_stroke, self.return_stroke)
+
+    @property
+    def time_ratio_review(self) -> float | None:
+        """The review's eq. (5): the crank's turn while the output rises over its turn back."""
+        if self.forward_stroke is None or self.return_stroke is None:    # given both or neither
+            return None
+        return self.forward_stroke / self.return_stroke
+
+    @property
+    def slower_stroke(self) -> str | None:
+        """"forward", "return" or "neither" (see _slower_stroke)."""
+        return _slower_stroke(self.forward_stroke, self.return_stroke)
+
+    @property
+    def mu_worst(self) -> Extreme:
+        """The transmission angle furthest from 90 degrees (mu_min or mu_max)."""
+        return _mu_worst(self.mu_min, self.mu_max)
+
+
 class Analysis(NamedTuple):
-    """What `analyse` finds (see the notes above). Angles in degrees; crank_range the intervals
-    (from, to) the crank turns through, None when it turns fully; output_min/max None when the
-    output turns fully; time_ratio and the strokes None where the crank rocks or the output
-    turns fully."""
+    """What `analyse` finds (see the notes above and analyse). Angles in degrees; crank_range
+    the intervals (from, to) the crank turns through, None when it turns fully; circuits the
+    motion's circuits, each analysed on its own; the output's and the transmission angle's
+    extremes and the strokes are circuit 1's (circuits[0]): output_min/max None when the output
+    turns fully; time_ratio and the strokes None where the crank rocks or the output turns
+    fully."""
     linkage: Linkage
     branch: int | str
     type: str
@@ -3927,35 +3992,97 @@ class Analysis(NamedTuple):
     mu_max: Extreme
     dead_centres: tuple[float, ...]
     change_points: tuple[float, ...]
+    circuits: tuple[Circuit, ...] = ()
 
     @property
     def time_ratio(self) -> float | None:
+        """The slower stroke's crank turn over the faster's (>= 1; slower_stroke says which)."""
+        return _time_ratio(self.forward_stroke, self.return_stroke)
+
+    @property
+    def time_ratio_review(self) -> float | None:
         """The review's eq. (5): the crank's turn while the output rises over its turn back."""
         if self.forward_stroke is None or self.return_stroke is None:    # given both or neither
             return None
         return self.forward_stroke / self.return_stroke
 
+    @property
+    def slower_stroke(self) -> str | None:
+        """"forward", "return" or "neither" (see _slower_stroke)."""
+        return _slower_stroke(self.forward_stroke, self.return_stroke)
+
+    @property
+    def mu_worst(self) -> Extreme:
+        """The transmission angle furthest from 90 degrees (mu_min or mu_max)."""
+        return _mu_worst(self.mu_min, self.mu_max)
+
 
 def _assembled_near(linkage: Linkage, phi: float, branch: int, inward: int) -> Motion:
-    """The Motion at phi on `branch`, or where the crank first assembles stepping `inward`
-    (+1 or -1) from it by a few ulps (phi, a dead centre found in double, may miss by one)."""
+    """The Motion at phi on `branch`, or where the crank first assembles with a velocity stepping
+    `inward` (+1 or -1) from it by a few ulps (phi, a dead centre found in double, may miss by
+    one; on it the engine gives no velocity); failing that the first with an output."""
+    first = None
     for k in range(60):
         x = phi + inward * k * k * 1e-13 * max(1.0, abs(phi))
         m = linkage.motion(x, branch)
-        if m.output is not None:
+        if m.output is not None and m.velocity is not None:
             return m
-    return linkage.motion(phi, branch)
+        if m.output is not None and first is None:
+            first = m
+    return first if first is not None else linkage.motion(phi, branch)
+
+
+def _at_dead_centre(linkage: Linkage, phi: float, branch: int, inward: int) -> Motion:
+    """The Motion at the dead centre phi on `branch`, for a run: the velocity and acceleration of
+    the nearest position with a velocity (_assembled_near), their signs are what the run needs;
+    the angle phi; the output the double root there: the engine's where it gives one at phi
+    (DEAD_CENTRE), else the mean of the two branches' outputs at the nearest angle where both
+    assemble. Each branch's output is off by the square root of phi's rounding (the output goes
+    as the square root of the distance to the dead centre: 1e-6 degree for a miss of one ulp);
+    their mean by the rounding itself."""
+    m = _assembled_near(linkage, phi, branch, inward)
+    if m.output is None:
+        return m
+    for k in range(60):
+        x = phi + inward * k * k * 1e-13 * max(1.0, abs(phi))
+        one, other = linkage.motion(x, 1, 0), linkage.motion(x, 2, 0)
+        if one.output is None or other.output is None:
+            continue
+        if one.status == DEAD_CENTRE or other.status == DEAD_CENTRE:
+            output = one.output if one.status == DEAD_CENTRE else other.output
+        else:
+            two = other.output
+            if not linkage.is_slider:
+                two += 360.0 * round((one.output - two) / 360.0)
+            output = (one.output + two) / 2.0
+        return m._replace(phi=phi, output=output)
+    return m
 
 
 # A run of the motion: (Motion, the listing's branch or FOLLOW) in order.
 _Run = list[tuple[Motion, int | str]]
 
 
+def _rocking_samples(lo: float, hi: float) -> list[float]:
+    """Input angles strictly inside the crank interval (lo, hi) (dead centres), spaced evenly in
+    u where phi = lo + (hi - lo)(1 - cos(pi u)) / 2: about half a degree apart mid-way and
+    closing in on each dead centre as the square of the distance to it, where the output goes
+    as the square root of the crank's distance from it (its velocity as the inverse square
+    root): evenly spaced in u, the output is smooth through the dead centre, from one branch to
+    the other, and an extreme beside it is not stepped over."""
+    width = hi - lo
+    count = max(16, math.ceil(width * math.pi / (2.0 * (360.0 / ANALYSIS_SAMPLES))))
+    inner = [lo + width * (1.0 - math.cos(math.pi * k / count)) / 2.0 for k in range(1, count)]
+    return sorted({x for x in inner if lo < x < hi})
+
+
 def _circuits(linkage: Linkage, branch: int | str, start: int | None, dead: list[float]
               ) -> tuple[tuple[tuple[float, float], ...] | None, list[_Run]]:
-    """The motion in order, as runs [(Motion, the listing's branch or FOLLOW)]: one run over a
-    full turn where the crank turns fully, else one a crank interval, out on the branch and back
-    on the other."""
+    """The motion in order, as runs [(Motion, the listing's branch or FOLLOW)], one a circuit:
+    one run over a full turn where the crank turns fully, else one a crank interval, out on the
+    branch from its first dead centre to its second and back on the other (_rocking_samples),
+    each dead centre on both branches (_at_dead_centre) and the run closed on its first
+    position."""
     step = 360.0 / ANALYSIS_SAMPLES
     if not dead:
         phis = [i * step for i in range(ANALYSIS_SAMPLES + 1)]
@@ -3971,13 +4098,15 @@ def _circuits(linkage: Linkage, branch: int | str, start: int | None, dead: list
             intervals.append((lo, hi))
     runs: list[_Run] = []
     out = 1 if branch == FOLLOW else int(branch)
+    back = 3 - out
     for lo, hi in intervals:
-        inner = [lo + i * step for i in range(1, math.ceil((hi - lo) / step)) if lo + i * step < hi]
-        run: _Run = [(_assembled_near(linkage, lo, out, 1), out)]
+        inner = _rocking_samples(lo, hi)
+        run: _Run = [(_at_dead_centre(linkage, lo, out, 1), out)]
         run += [(m, out) for m in linkage.sweep(inner, out)]
-        run.append((_assembled_near(linkage, hi, out, -1), out))
-        back = 3 - out
+        run.append((_at_dead_centre(linkage, hi, out, -1), out))
+        run.append((_at_dead_centre(linkage, hi, back, -1), back))
         run += [(m, back) for m in reversed(linkage.sweep(inner, back))]
+        run.append((_at_dead_centre(linkage, lo, back, 1), back))
         run.append((run[0][0], out))
         runs.append([(m, b) for m, b in run if m.output is not None])
     return tuple((lo % 360.0, hi % 360.0 if hi % 360.0 else 360.0) for lo, hi in intervals), runs
@@ -3991,11 +4120,39 @@ def unwrapped(values: Sequence[float], angular: bool) -> list[float]:
     return out
 
 
+def _velocity_zeros(linkage: Linkage, m0: Motion, m1: Motion, branch: int
+                    ) -> list[float]:
+    """The input angles between two positions on one branch where the output's velocity is
+    zero: one where the velocity changes sign; where it does not but the acceleration does, the
+    velocity's extreme between them (the acceleration's zero) and, if the velocity has changed
+    sign there, the two zeros either side of it."""
+    v0, v1 = m0.velocity, m1.velocity
+    assert v0 is not None and v1 is not None
+
+    def velocity(p: float) -> float:
+        return linkage.motion(p, branch, 1).velocity or 0.0
+    if v0 * v1 < 0:
+        return [_bisect(velocity, m0.phi, m1.phi, v0)]
+    a0, a1 = m0.acceleration, m1.acceleration
+    if v0 == 0 or a0 is None or a1 is None or a0 * a1 >= 0:
+        return []
+
+    def acceleration(p: float) -> float:
+        return linkage.motion(p, branch, 2).acceleration or 0.0
+    x = _bisect(acceleration, m0.phi, m1.phi, a0)
+    vx = velocity(x)
+    if vx * v0 > 0:
+        return []
+    if vx == 0:
+        return [x]
+    return [_bisect(velocity, m0.phi, x, v0), _bisect(velocity, x, m1.phi, vx)]
+
+
 def _motion_extremes(linkage: Linkage, run: _Run, outputs: list[float]
                      ) -> list[tuple[float, float]]:
-    """Where the output's velocity changes sign along a run (or is zero on a sample), refined by
-    bisection on the branch of the sample before, and the ends of each piece on one branch:
-    [(phi, output continuous with the run)]."""
+    """Where the output's velocity is zero along a run (_velocity_zeros between neighbours on
+    one branch, or on a sample), refined on that branch, and the ends of each piece on one
+    branch: [(phi, output continuous with the run)]."""
     found: list[tuple[float, float]] = []
     angular = not linkage.is_slider
     for i in range(len(run) - 1):
@@ -4005,9 +4162,7 @@ def _motion_extremes(linkage: Linkage, run: _Run, outputs: list[float]
             continue
         if m0.velocity == 0:                          # an extreme on the sample itself
             found.append((m0.phi, outputs[i]))
-        elif m0.velocity * m1.velocity < 0:
-            x = _bisect(lambda p: linkage.motion(p, b0, 1).velocity or 0.0, m0.phi, m1.phi,
-                        m0.velocity)
+        for x in _velocity_zeros(linkage, m0, m1, int(b0)):
             value = linkage.motion(x, b0, 0).output
             if value is not None:
                 if angular:
@@ -4016,14 +4171,43 @@ def _motion_extremes(linkage: Linkage, run: _Run, outputs: list[float]
     return found
 
 
+def _worth(f: Callable[[float], float], x: float, fx: float, lo: float, hi: float,
+           maximum: bool) -> tuple[float, float]:
+    """A smooth extreme (x, f(x)) of f on [lo, hi] with x rounded to what it is worth: f is
+    flat there, f(x + t) = f(x) -+ k t^2 / 2, so angles within sqrt(2 noise / k) of x (noise:
+    64 ulps of f, the rounding of the transmission angle: at phi = 0 exactly it differs from its
+    neighbours' by 20; k from a second difference) give f(x) to within rounding; x is rounded to
+    the coarsest decimal that is that close and where f is as good within the noise (180.0, not
+    180.0000000004339); the value is the better of the two."""
+    h = min(1e-2, (hi - lo) / 4.0)
+    if not h > 0 or x - h < lo or x + h > hi:
+        return x, fx
+    k = abs(f(x + h) - 2.0 * fx + f(x - h)) / (h * h)
+    noise = 64.0 * math.ulp(max(abs(fx), 1.0))
+    if k == 0:
+        return x, fx
+    reach = math.sqrt(2.0 * noise / k)
+    for digits in range(-2, 16):
+        r = round(x, digits)
+        if r == x:
+            break
+        if abs(r - x) > reach or not lo <= r <= hi:
+            continue
+        fr = f(r)
+        if (fr >= fx - noise) if maximum else (fr <= fx + noise):
+            return r, (max(fx, fr) if maximum else min(fx, fr))
+    return x, fx
+
+
 def _mu_extremes(linkage: Linkage, run: _Run, maximum: bool) -> Extreme:
     """The transmission angle's greatest (least) value along a run: each sampled local extreme
-    refined on its branch within its neighbours."""
+    refined on its branch within its neighbours, its angle rounded to what it is worth."""
     # a run holds positions only: mu is never None on it
     mus = cast("list[float]", transmission_of(linkage, [m for m, _ in run]))
     pick = max if maximum else min
     best = pick(zip(mus, range(len(run))))
-    candidates = [Extreme(run[best[1]][0].phi % 360.0, best[0])]
+    candidates = []
+    refined = set()
     for i in range(1, len(run) - 1):
         if not all((mus[i] >= mus[j]) if maximum else (mus[i] <= mus[j]) for j in (i - 1, i + 1)):
             continue
@@ -4036,7 +4220,13 @@ def _mu_extremes(linkage: Linkage, run: _Run, maximum: bool) -> Extreme:
             value = transmission_of(linkage, [linkage.motion(phi, b, 0)])[0]
             return value if value is not None else (-1.0 if maximum else 361.0)
         x, value = extreme_of(mu, lo, hi, maximum)
+        if (value < mus[i]) if maximum else (value > mus[i]):      # the sample is better
+            x, value = run[i][0].phi, mus[i]
+        x, value = _worth(mu, x, value, lo, hi, maximum)
         candidates.append(Extreme(x % 360.0, value))
+        refined.add(i)
+    if best[1] not in refined:                     # at an end of the run or of a branch
+        candidates.append(Extreme(run[best[1]][0].phi % 360.0, best[0]))
     return pick(candidates, key=lambda e: e.value)
 
 
@@ -4075,47 +4265,82 @@ def _linkage_type(linkage: Linkage, crank_turns: bool, output_turns: bool, chang
         (crank_turns, output_turns)], text
 
 
-def analyse(linkage: Linkage, branch: int | str = 1, start: int | None = None) -> Analysis:
-    """The linkage's type and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
-    Analysis (see the notes above). ValueError if it assembles at no input angle."""
-    if branch not in (1, 2, FOLLOW):
-        raise ValueError('branch is 1, 2 or "follow"')
-    dead, changes = crank_limits(linkage)
-    crank_range, runs = _circuits(linkage, branch, start, dead)
+def _circuit(linkage: Linkage, run: _Run, crank_range: tuple[tuple[float, float], ...] | None,
+             ends: list[tuple[float, int]]) -> tuple[Circuit, bool]:
+    """(the Circuit of a run, whether the output turns fully on it): its output extremes (the
+    least brought into [-180, 180) for the four-bars), strokes where the crank turns fully, and
+    the transmission angle's extremes, with 0 or 180 at the dead centres of its crank interval
+    (`ends`: each with the way into the interval, +1 or -1)."""
     angular = not linkage.is_slider
-    extremes: list[tuple[float, float]] = []
-    turns = False
-    for run in runs:
-        if len(run) < 2:
-            continue
-        outputs = unwrapped([_output_of(m) for m, _ in run], angular)
-        turns |= angular and abs(outputs[-1] - outputs[0]) > 180.0
-        extremes += _motion_extremes(linkage, run, outputs) + [(run[-1][0].phi, outputs[-1])]
-    runs = [run for run in runs if run]
-    if not runs:
-        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle on "
-                         f"branch {branch}")
+    outputs = unwrapped([_output_of(m) for m, _ in run], angular)
+    turns = angular and abs(outputs[-1] - outputs[0]) > 180.0
     low = high = None
     forward = back = None
-    if not turns and extremes:
+    if not turns:
+        extremes = _motion_extremes(linkage, run, outputs) + [(run[-1][0].phi, outputs[-1])]
         lowest = min(extremes, key=lambda e: e[1])
         highest = max(extremes, key=lambda e: e[1])
-        shift = (360.0 * math.floor(lowest[1] / 360.0 + 0.5) if angular and len(runs) == 1
-                 else 0.0)
+        shift = 360.0 * math.floor(lowest[1] / 360.0 + 0.5) if angular else 0.0
         low, high = (Extreme(p % 360.0, v - shift) for p, v in (lowest, highest))
         if crank_range is None:
             forward = (high.phi - low.phi) % 360.0
             back = 360.0 - forward
-    kind, criterion = _linkage_type(linkage, crank_range is None, turns, changes)
     # at a dead centre the coupler lies along the output crank (D = 0: E_psi = 0), mu is 0 or 180
-    locked = [Extreme(phi, 180.0 * round(mu / 180.0)) for phi, mu in zip(dead, transmission_of(
-        linkage, [_assembled_near(linkage, phi, 1, 1) for phi in dead])) if mu is not None]
-    mu_min = min([_mu_extremes(linkage, run, False) for run in runs] + locked,
-                 key=lambda e: e.value)
-    mu_max = max([_mu_extremes(linkage, run, True) for run in runs] + locked,
-                 key=lambda e: e.value)
-    return Analysis(linkage, branch, kind, criterion, crank_range, low, high, forward, back,
-                    mu_min, mu_max, tuple(dead), tuple(changes))
+    locked = [Extreme(phi, 180.0 * round(mu / 180.0)) for (phi, _), mu in zip(
+        ends, transmission_of(linkage, [_assembled_near(linkage, phi, 1, inward)
+                                        for phi, inward in ends])) if mu is not None]
+    mu_min = min([_mu_extremes(linkage, run, False)] + locked, key=lambda e: e.value)
+    mu_max = max([_mu_extremes(linkage, run, True)] + locked, key=lambda e: e.value)
+    return Circuit(crank_range, low, high, forward, back, mu_min, mu_max), turns
+
+
+def analyse(linkage: Linkage, branch: int | str = 1, start: int | None = None) -> Analysis:
+    """The linkage's type and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
+    Analysis (see the notes above). ValueError if it assembles at no input angle.
+
+    Circuits: where the crank turns fully the motion analysed is the branch's, one circuit (the
+    other branch is the linkage's other circuit: analyse it with the other branch); where the
+    crank rocks, each crank interval between dead centres is a circuit of its own, run out on
+    the branch and back on the other (a linkage cannot pass from one circuit to another without
+    being taken apart), and each is analysed on its own: Analysis.circuits, in the order of
+    crank_range. The top-level output_min, output_max, strokes, time ratio and mu extremes are
+    circuit 1's: for a one-circuit linkage what they always were, for a two-circuit one those of
+    the circuit whose crank interval crank_range lists first (never a range spanning both).
+
+    The output's extremes are every zero of its velocity along the circuit (a sign change
+    between samples, or a change of the acceleration's sign with the velocity's extreme beyond
+    zero, each refined by bisection) and the dead centres; beside a dead centre the samples
+    close in on it as the square of the distance (_rocking_samples), and each dead centre is
+    taken on both branches, so that an extreme next to one is not stepped over. time_ratio is
+    the slower stroke's crank turn over the faster's (>= 1, slower_stroke "forward", "return" or
+    "neither"); time_ratio_review is the review's eq. (5), forward over return; mu_worst is the
+    transmission angle furthest from 90 degrees. Angles of flat extremes of mu are rounded to
+    what they are worth (_worth)."""
+    if branch not in (1, 2, FOLLOW):
+        raise ValueError('branch is 1, 2 or "follow"')
+    dead, changes = crank_limits(linkage)
+    crank_range, runs = _circuits(linkage, branch, start, dead)
+    intervals: list[tuple[tuple[float, float], ...] | None] = (
+        [None] if crank_range is None else [(interval,) for interval in crank_range])
+    circuits: list[Circuit] = []
+    turns = False
+    for interval, run in zip(intervals, runs):
+        if not run:
+            continue
+        ends = [] if interval is None else [
+            (x, inward) for end, inward in zip(interval[0], (1, -1)) for x in dead
+            if abs((x - end + 180.0) % 360.0 - 180.0) <= 1e-9]
+        circuit, circuit_turns = _circuit(linkage, run, interval, ends)
+        circuits.append(circuit)
+        turns |= circuit_turns
+    if not circuits:
+        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle on "
+                         f"branch {branch}")
+    kind, criterion = _linkage_type(linkage, crank_range is None, turns, changes)
+    first = circuits[0]
+    return Analysis(linkage, branch, kind, criterion, crank_range, first.output_min,
+                    first.output_max, first.forward_stroke, first.return_stroke, first.mu_min,
+                    first.mu_max, tuple(dead), tuple(changes), tuple(circuits))
 
 
 def _output_of(m: Motion) -> float:
@@ -4133,15 +4358,10 @@ def value_text(x: float) -> str:
     return f"{x:.10g}"
 
 
-def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
-    """The `name = value` lines of an Analysis, each name after `prefix`."""
-    a, linkage = analysis, analysis.linkage
-    unit = "" if linkage.is_slider else " deg"
-    rows = [("mechanism", linkage.kind)]
-    rows += [(n, value_text(v)) for n, v in linkage.dims.items()]
-    rows += [("branch", str(a.branch)), ("type", a.type), ("criterion", a.criterion),
-             ("crank_range", "full" if a.crank_range is None else ", ".join(
-                 f"{value_text(lo)} to {value_text(hi)}" for lo, hi in a.crank_range))]
+def _motion_rows(motion: Analysis | Circuit, unit: str) -> list[tuple[str, str]]:
+    """The rows of an Analysis' or a Circuit's output range, strokes and transmission angle."""
+    a = motion
+    rows: list[tuple[str, str]] = []
     if a.output_min is None or a.output_max is None:         # given both or neither
         rows.append(("output_range", "full"))
     else:
@@ -4152,12 +4372,44 @@ def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
                  ("output_max_phi", value_text(a.output_max.phi))]
     if a.time_ratio is not None:                    # forward and return strokes given
         rows += [("time_ratio", value_text(a.time_ratio)),
+                 ("slower_stroke", cast(str, a.slower_stroke)),
+                 ("time_ratio_review", value_text(cast(float, a.time_ratio_review))),
                  ("forward_stroke", value_text(cast(float, a.forward_stroke))),
                  ("return_stroke", value_text(cast(float, a.return_stroke)))]
+    worst = a.mu_worst
     rows += [("mu_min", value_text(a.mu_min.value)), ("mu_min_phi", value_text(a.mu_min.phi)),
              ("mu_max", value_text(a.mu_max.value)), ("mu_max_phi", value_text(a.mu_max.phi)),
-             ("dead_centres", ", ".join(map(value_text, a.dead_centres)) or "none"),
+             ("mu_worst", value_text(worst.value)),
+             ("mu_worst_deviation", value_text(abs(worst.value - 90.0))),
+             ("mu_worst_at", value_text(worst.phi))]
+    return rows
+
+
+def _range_text(crank_range: tuple[tuple[float, float], ...] | None) -> str:
+    return "full" if crank_range is None else ", ".join(
+        f"{value_text(lo)} to {value_text(hi)}" for lo, hi in crank_range)
+
+
+def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
+    """The `name = value` lines of an Analysis, each name after `prefix`: the linkage, its type,
+    crank range and number of circuits, circuit 1's motion (see analyse), the dead centres and
+    change points; then, where there are two circuits or more, each circuit's crank range and
+    motion as circuit_N.name lines."""
+    a, linkage = analysis, analysis.linkage
+    unit = "" if linkage.is_slider else " deg"
+    rows = [("mechanism", linkage.kind)]
+    rows += [(n, value_text(v)) for n, v in linkage.dims.items()]
+    rows += [("branch", str(a.branch)), ("type", a.type), ("criterion", a.criterion),
+             ("crank_range", _range_text(a.crank_range)),
+             ("circuits", str(max(1, len(a.circuits))))]
+    rows += _motion_rows(a, unit)
+    rows += [("dead_centres", ", ".join(map(value_text, a.dead_centres)) or "none"),
              ("change_points", ", ".join(map(value_text, a.change_points)) or "none")]
+    if len(a.circuits) > 1:
+        for i, circuit in enumerate(a.circuits, 1):
+            rows += [(f"circuit_{i}.{name}", value) for name, value in
+                     [("crank_range", _range_text(circuit.crank_range))]
+                     + _motion_rows(circuit, unit)]
     return [f"{prefix}{name} = {value}" for name, value in rows]
 
 
