@@ -26,8 +26,8 @@ settings.load_profile("explore" if os.environ.get("LINKAGE_EXPLORE") else "seede
 SLOW = {"test_errata.py", "test_physics.py", "test_mbf.py", "test_input.py",
         "test_differential.py", "test_golden.py", "test_install.py",
         "test_readme.py", "test_fuzz.py", "test_hardening.py", "test_mechanism_labels.py",
-        "test_bench.py", "test_analyse.py", "test_follow.py", "test_mechanism_geometry.py",
-        "test_fast.py", "test_pylinkage.py"}
+        "test_bench.py", "test_analyse.py", "test_analyse_brute.py", "test_follow.py",
+        "test_mechanism_geometry.py", "test_fast.py", "test_pylinkage.py"}
 QUICK_EXAMPLES = 10
 
 
