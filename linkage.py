@@ -3735,13 +3735,16 @@ def transmission_of_arrays(linkage: Linkage, arrays: MotionArrays) -> numpy.ndar
 # samples (and extremes) of opposite sign by bisection on D, to the last bit of phi. A zero where
 # D changes sign is a dead centre, the crank's limit; a minimum of D that touches zero (within
 # 1e-12 of its scale, the engine's decimal line) is a change point, where the branches cross.
-# The motion is then swept on the branch asked (through a change point with branch "follow");
-# where the crank rocks between two dead centres, its circuit runs out on the listing's branch
-# and back on the other (the two meet at the dead centres). Along it: the output's extremes
-# (where its velocity changes sign, refined by bisection) and whether it turns fully, the time
-# ratio (review eq. (5)), and the transmission angle's extremes (refined by extreme_of). The
-# type is Grashof's class for the plane four-bar (exact in the typed lengths), the offset
-# slider-crank's b + |e| against c, and for the other kinds the class the motion shows.
+# The motion is then swept circuit by circuit: where the crank turns fully, the branch asked
+# (through a change point with branch "follow"); where it rocks, each interval between two dead
+# centres is a circuit of its own, run out on the listing's branch and back on the other (the two
+# meet at the dead centres), sampled ever closer to each dead centre (_rocking_samples) and with
+# each dead centre on both branches (_at_dead_centre). Along each: the output's extremes (every
+# zero of its velocity, _velocity_zeros, refined by bisection; and the dead centres) and whether
+# it turns fully, the strokes and time ratios, and the transmission angle's extremes (refined by
+# extreme_of, their angles rounded by _worth). The type is Grashof's class for the plane
+# four-bar (exact in the typed lengths), the offset slider-crank's b + |e| against c, and for the
+# other kinds the class the motion shows.
 
 ANALYSIS_SAMPLES = 720              # D and the motion sampled every half degree
 _TOUCHING = 1e-12                   # |D| over its scale under which a minimum touches zero
