@@ -529,12 +529,32 @@ def test_the_time_ratio_is_the_slower_stroke_over_the_faster():
     assert float(values["time_ratio_review"]) == pytest.approx(forward / back, abs=2e-4)
 
 
-@pytest.mark.parametrize("kind, dims, branch", [
-    ("plane", dict(a=0.47, b=4.22, c=0.75, d=3.04), 2),
+@pytest.mark.parametrize("kind, dims, branch, which, phi", [
+    # formerly 1.811127163e-06
+    ("plane", dict(a=0.47, b=4.22, c=0.75, d=3.04), 2, "mu_min", 0.0),
+    # formerly 359.99999999998704, 179.9999999998424, 180.00000000049863, 3.412310434214305e-10
+    ("plane", dict(a=4.008028898209531, b=5.082824894101982, c=0.3307582795319148,
+                   d=1.1311763488888926), 2, "mu_min", 0.0),
+    ("plane", dict(a=5.654342145036684, b=3.1013905291742563, c=8.344754444015251,
+                   d=2.0506951191423513), 2, "mu_max", 180.0),
+    ("plane", dict(a=8.390555758973122, b=5.5948713054037365, c=8.76515150094124,
+                   d=7.0060849666151235), 2, "mu_max", 180.0),
+    ("plane", dict(a=0.8901659151423407, b=9.673926332663036, c=6.140823464730407,
+                   d=2.671976405398228), 2, "mu_min", 0.0),
+    # formerly 89.99999999984249, 90.00000000005186
+    ("slider", dict(b=8.02030105187808, c=8.90869172916406, e=2.985018415937625), 2, "mu_min",
+     90.0),
+    ("slider", dict(b=6.164106367952446, c=3.814876044758746, e=4.295043679355203), 1,
+     "mu_min", 90.0),
 ])
-def test_the_angle_of_a_flat_transmission_extreme_is_rounded(kind, dims, branch):
-    """The plane four-bar's mu depends on phi alone, through cos phi: its extremes inside the
-    crank's range are at phi = 0 and 180 exactly (formerly given at 1.811127163e-06 here)."""
+def test_the_angle_of_a_flat_transmission_extreme_is_rounded(kind, dims, branch, which, phi):
+    """The plane four-bar's mu depends on phi through cos phi alone (eq. (1)), the slider's
+    through sin phi (the rod's slope): inside the crank's range their extremes are at phi = 0 or
+    180 (90 or 270) exactly, where the old code gave angles a few 1e-10 off (found by sampling
+    random linkages: 166 of 400)."""
     analysis = linkage.analyse(linkage.Linkage(kind, **dims), branch)
-    assert analysis.mu_min.phi == 0.0, analysis.mu_min
+    got = getattr(analysis, which)
+    assert got.phi == phi, got
+    if kind == "plane":
+        assert abs(got.value - float(Model(kind, dims).mu(phi))) <= 1e-9, got
     check(kind, dims, branch)
