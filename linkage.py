@@ -24,12 +24,12 @@ them): 1. files, messages and the terminal (the one writer of files, say, signal
 2. the five linkages (their kinds, dimensions and names: the one table); 3. GW-BASIC single
 precision; 4. the listing's computation; 5. the original program (screen, keys, INPUT, the menu
 session); 6. the accurate engine (the closure solved, swept and followed); 7. what the engine
-derives (joints, coupler point, transmission angle, analyse); 8. the numpy path; 9. the linkage
-(Linkage, a method for each question); 10. DAT and CSV files; 11. the mechanism drawn; 12. the
-mechanism's renderers (terminal, SVG, PNG); 13. synthesis: what a design is; 14. synthesis: the
-review's methods; 15. synthesis: designs measured and checked; 16. scenes; 17. plots;
-18. benchmarks of the program itself; 19. the command line, last. The engine, the view and
-synthesis never use the original program.
+derives (joints, coupler point, transmission angle); 8. the linkage analysed (analyse);
+9. the numpy path; 10. the linkage (Linkage, a method for each question); 11. DAT and CSV files;
+12. the mechanism drawn; 13. the mechanism's renderers (terminal, SVG, PNG); 14. synthesis: what
+a design is; 15. synthesis: the review's methods; 16. synthesis: designs measured and checked;
+17. scenes; 18. plots; 19. benchmarks of the program itself; 20. the command line, last. The
+engine, the view and synthesis never use the original program.
 """
 
 from __future__ import annotations
@@ -2567,8 +2567,8 @@ def _size_squared(kind: str, k: Sequence[Any]) -> Any:
 
 class Closure:
     """One linkage's loop closure, its constants computed once, and the output it solves for:
-    motion and sweep. Linkage (section 10) is this with all that is derived from it; the
-    sections between take a Closure.
+    motion and sweep. Linkage (its own section, below) is this with all that is derived from
+    it; the sections between take a Closure.
 
     Closure(kind, **dims): kind is PLANE_FOUR_BAR ("plane", dims a b c d), SPHERICAL_FOUR_BAR
     ("spherical", a b c d in degrees), SKEW_FOUR_BAR ("skew", a b c d f ksi; ksi in degrees),
@@ -3022,14 +3022,13 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
     return Motion(phi, float(x) * unit, float(vel) * unit, float(acc) * unit, ASSEMBLED)
 
 
-# ---- 7. What the engine derives: joints, coupler point, transmission angle, analyse --------------
+# ---- 7. What the engine derives: joints, coupler point, transmission angle -----------------------
 #
 # Holds: what follows from the engine's output angle (or slider position) and its derivatives: where
 # every joint is (joint_positions, in the frame the listing's coefficients imply;
 # tests/test_physics.py derives it: the input axis is z and the crank b turns in the plane z = 0
 # from +x), the moving pins with their derivatives by phi (PINS, joint_kinematics), a point fixed to
-# the coupler (coupler_of), the transmission angle (transmission_of), and analyse: a linkage's type,
-# crank and output ranges, dead centres, change points and transmission-angle extremes.
+# the coupler (coupler_of) and the transmission angle (transmission_of).
 #
 # The transmission angle mu is the angle between the output pin's velocity and its velocity relative
 # to the crank pin A (the review's section 2): for the plane four-bar the angle between coupler and
@@ -3039,8 +3038,7 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 # Uses: sections 2 and 6.
 # Offers: Real, Vec3, Kinematics, Pins, PINS, COUPLER_REACH, pin_dimensions, cross, dot, rotated_y,
 #   check_coupler_point, joint_kinematics, output_pin_at, coupler_form, transmission_form,
-#   CouplerMotion, coupler_of, transmission_of, ANALYSIS_SAMPLES, extreme_of, crank_limits, Extreme,
-#   Analysis, unwrapped, analyse, value_text, analysis_lines, Pose, joint_positions.
+#   CouplerMotion, coupler_of, transmission_of, Pose, joint_positions.
 
 
 # -- the joints, the coupler point and the transmission angle -----------------------------------
@@ -3328,6 +3326,106 @@ def transmission_of(linkage: Closure, motions: Iterable[Motion]) -> list[float |
     return out
 
 
+
+
+class Pose(NamedTuple):
+    """Where every joint of a linkage is at one input angle (see joint_positions).
+
+    joints: name -> (x, y, z). Always the ground joints and the crank pin A; the output side (B,
+    or the slider C) only where the linkage assembles (status ASSEMBLED, DEAD_CENTRE or
+    CHANGE_POINT).
+    axes: name -> (point, unit direction): "input" and "output" (the four-bars' shafts),
+    "guide" (the slider's line).
+    """
+
+    phi: float
+    status: str
+    output: float | None
+    joints: dict[str, Vector]
+    axes: dict[str, tuple[Vector, Vector]]
+
+
+def joint_positions(linkage: Closure, phi: float, branch: int | str = 1) -> Pose:
+    """The 3-D position of every joint of `linkage` at input angle phi (degrees) on `branch`.
+
+    plane:        A0 = (0, 0, 0) the input pivot, A the crank pin, B the output crank pin,
+                  B0 = (a, 0, 0) the output pivot.
+    spherical:    on the unit sphere about O = (0, 0, 0): A0 = (0, 0, 1) where the input axis
+                  meets it, B0 = (sin a, 0, cos a) the output axis's, A and B the pins.
+    skew:         A0 = (0, 0, 0) on the input axis z; the common perpendicular (length a) runs
+                  along x from F0 = (0, 0, f) to F1 = (a, 0, f) on the output axis, of direction
+                  w = (0, -sin ksi, cos ksi); B0 = F1 - g w = (a, f tan ksi, 0), g = f / cos ksi,
+                  is the centre of the output crank's circle, in the plane z = 0 as the crank's.
+    slider:       A0, A; the slider C = (x, e, 0) on the guide y = e.
+    skew-slider:  A0, A, F0 = (0, 0, f); the slider C = F1 + x (0, sin ksi, -cos ksi) on the
+                  guide through F1 = (a, 0, f).
+    """
+    motion = linkage.motion(phi, branch, derivatives=0)
+    dims, kind, pins = pin_dimensions(linkage.dims), linkage.kind, PINS[linkage.kind]
+    joints, axes = _GROUND_JOINTS[kind](dims)
+    joints["A"] = pins.crank_pin(dims, *cos_sin_degrees(motion.phi))[0]
+    out = motion.output
+    if out is not None:
+        joints[pins.output_joint] = output_pin_at(linkage, dims, out, cos_sin_degrees)[0]
+    return Pose(motion.phi, motion.status, out, joints, axes)
+
+
+_Z_AXIS = (0.0, 0.0, 1.0)
+_ORIGIN = (0.0, 0.0, 0.0)
+# A kind's ground: its fixed joints and its axes, as Pose has them.
+_Ground = tuple[dict[str, Vector], dict[str, tuple[Vector, Vector]]]
+
+
+def _plane_ground_joints(dims: dict[str, float]) -> _Ground:
+    b0 = (dims["a"], 0.0, 0.0)
+    return {"A0": _ORIGIN, "B0": b0}, {"input": (_ORIGIN, _Z_AXIS), "output": (b0, _Z_AXIS)}
+
+
+def _spherical_ground_joints(dims: dict[str, float]) -> _Ground:
+    ca, sa = cos_sin_degrees(dims["a"])
+    b0 = (sa, 0.0, ca)
+    return ({"O": _ORIGIN, "A0": _Z_AXIS, "B0": b0},
+            {"input": (_ORIGIN, _Z_AXIS), "output": (_ORIGIN, b0)})
+
+
+def _skew_ground_joints(dims: dict[str, float]) -> _Ground:
+    a, f = dims["a"], dims["f"]
+    cx, sx = cos_sin_degrees(dims["ksi"])
+    f1 = (a, 0.0, f)
+    return ({"A0": _ORIGIN, "F0": (0.0, 0.0, f), "F1": f1, "B0": (a, f * sx / cx, 0.0)},
+            {"input": (_ORIGIN, _Z_AXIS), "output": (f1, (0.0, -sx, cx))})
+
+
+def _slider_ground_joints(dims: dict[str, float]) -> _Ground:
+    return {"A0": _ORIGIN}, {"input": (_ORIGIN, _Z_AXIS),
+                             "guide": ((0.0, dims["e"], 0.0), (1.0, 0.0, 0.0))}
+
+
+def _skew_slider_ground_joints(dims: dict[str, float]) -> _Ground:
+    a, f = dims["a"], dims["f"]
+    cx, sx = cos_sin_degrees(dims["ksi"])
+    f1 = (a, 0.0, f)
+    return ({"A0": _ORIGIN, "F0": (0.0, 0.0, f), "F1": f1},
+            {"input": (_ORIGIN, _Z_AXIS), "guide": (f1, (0.0, sx, -cx))})
+
+
+_GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _spherical_ground_joints,
+                  SKEW_FOUR_BAR: _skew_ground_joints, PLANE_SLIDER_CRANK: _slider_ground_joints,
+                  SKEW_SLIDER_CRANK: _skew_slider_ground_joints}
+
+
+# ---- 8. The linkage analysed: type, ranges, dead centres, transmission extremes ------------------
+#
+# Holds: analyse, which says what a linkage does over its whole motion: its type (Grashof's class
+# for the plane four-bar), where the crank turns (crank_limits, the dead centres and change
+# points), each circuit's output range, strokes and time ratios, and the transmission angle's
+# extremes and the worst of them; analysis_lines, its `name = value` lines.
+#
+# Uses: sections 2, 6 and 7.
+# Offers: ANALYSIS_SAMPLES, extreme_of, crank_limits, Extreme, EQUAL_STROKES, Circuit, Analysis,
+#   unwrapped, analyse, value_text, analysis_lines.
+
+
 # -- the linkage's type and range of motion (analyse) -------------------------------------------
 #
 # Where the crank can turn is where the closure's discriminant D(phi) (P^2 + Q^2 - S^2 of the
@@ -3337,13 +3435,16 @@ def transmission_of(linkage: Closure, motions: Iterable[Motion]) -> list[float |
 # samples (and extremes) of opposite sign by bisection on D, to the last bit of phi. A zero where
 # D changes sign is a dead centre, the crank's limit; a minimum of D that touches zero (within
 # 1e-12 of its scale, the engine's decimal line) is a change point, where the branches cross.
-# The motion is then swept on the branch asked (through a change point with branch "follow");
-# where the crank rocks between two dead centres, its circuit runs out on the listing's branch
-# and back on the other (the two meet at the dead centres). Along it: the output's extremes
-# (where its velocity changes sign, refined by bisection) and whether it turns fully, the time
-# ratio (review eq. (5)), and the transmission angle's extremes (refined by extreme_of). The
-# type is Grashof's class for the plane four-bar (exact in the typed lengths), the offset
-# slider-crank's b + |e| against c, and for the other kinds the class the motion shows.
+# The motion is then swept circuit by circuit: where the crank turns fully, the branch asked
+# (through a change point with branch "follow"); where it rocks, each interval between two dead
+# centres is a circuit of its own, run out on the listing's branch and back on the other (the two
+# meet at the dead centres), sampled ever closer to each dead centre (_rocking_samples) and with
+# each dead centre on both branches (_at_dead_centre). Along each: the output's extremes (every
+# zero of its velocity, _velocity_zeros, refined by bisection; and the dead centres) and whether
+# it turns fully, the strokes and time ratios, and the transmission angle's extremes (refined by
+# extreme_of, their angles rounded by _worth). The type is Grashof's class for the plane
+# four-bar (exact in the typed lengths), the offset slider-crank's b + |e| against c, and for the
+# other kinds the class the motion shows.
 
 ANALYSIS_SAMPLES = 720              # D and the motion sampled every half degree
 _TOUCHING = 1e-12                   # |D| over its scale under which a minimum touches zero
@@ -3511,11 +3612,76 @@ class Extreme(NamedTuple):
     value: float
 
 
+EQUAL_STROKES = 1e-9                # degrees: strokes this close are equal (time ratio 1)
+
+
+def _time_ratio(forward: float | None, back: float | None) -> float | None:
+    """The time ratio as engineers quote it: the slower stroke's crank turn over the faster's
+    (>= 1); None without strokes."""
+    if forward is None or back is None:
+        return None
+    return max(forward, back) / min(forward, back)
+
+
+def _slower_stroke(forward: float | None, back: float | None) -> str | None:
+    """Which stroke takes the crank longer: "forward" (the output rising), "return", or "neither"
+    (equal within EQUAL_STROKES); None without strokes."""
+    if forward is None or back is None:
+        return None
+    if abs(forward - back) <= EQUAL_STROKES:
+        return "neither"
+    return "forward" if forward > back else "return"
+
+
+def _mu_worst(mu_min: Extreme, mu_max: Extreme) -> Extreme:
+    """Of the transmission angle's extremes, the one further from 90 degrees (mu_min if equally
+    far)."""
+    return mu_max if abs(mu_max.value - 90.0) > abs(mu_min.value - 90.0) else mu_min
+
+
+class Circuit(NamedTuple):
+    """One circuit of the motion (see analyse): crank_range the crank's interval on it (None when
+    the crank turns fully: the circuit is the branch's), output_min/max None when the output
+    turns fully, the strokes None where the crank rocks or the output turns fully; mu_min and
+    mu_max the transmission angle's extremes over the circuit."""
+    crank_range: tuple[tuple[float, float], ...] | None
+    output_min: Extreme | None
+    output_max: Extreme | None
+    forward_stroke: float | None
+    return_stroke: float | None
+    mu_min: Extreme
+    mu_max: Extreme
+
+    @property
+    def time_ratio(self) -> float | None:
+        """The slower stroke's crank turn over the faster's (>= 1; slower_stroke says which)."""
+        return _time_ratio(self.forward_stroke, self.return_stroke)
+
+    @property
+    def time_ratio_review(self) -> float | None:
+        """The review's eq. (5): the crank's turn while the output rises over its turn back."""
+        if self.forward_stroke is None or self.return_stroke is None:    # given both or neither
+            return None
+        return self.forward_stroke / self.return_stroke
+
+    @property
+    def slower_stroke(self) -> str | None:
+        """"forward", "return" or "neither" (see _slower_stroke)."""
+        return _slower_stroke(self.forward_stroke, self.return_stroke)
+
+    @property
+    def mu_worst(self) -> Extreme:
+        """The transmission angle furthest from 90 degrees (mu_min or mu_max)."""
+        return _mu_worst(self.mu_min, self.mu_max)
+
+
 class Analysis(NamedTuple):
-    """What `analyse` finds (see the notes above). Angles in degrees; crank_range the intervals
-    (from, to) the crank turns through, None when it turns fully; output_min/max None when the
-    output turns fully; time_ratio and the strokes None where the crank rocks or the output
-    turns fully."""
+    """What `analyse` finds (see the notes above and analyse). Angles in degrees; crank_range
+    the intervals (from, to) the crank turns through, None when it turns fully; circuits the
+    motion's circuits, each analysed on its own; the output's and the transmission angle's
+    extremes and the strokes are circuit 1's (circuits[0]): output_min/max None when the output
+    turns fully; time_ratio and the strokes None where the crank rocks or the output turns
+    fully."""
     linkage: Closure
     branch: int | str
     type: str
@@ -3529,35 +3695,97 @@ class Analysis(NamedTuple):
     mu_max: Extreme
     dead_centres: tuple[float, ...]
     change_points: tuple[float, ...]
+    circuits: tuple[Circuit, ...] = ()
 
     @property
     def time_ratio(self) -> float | None:
+        """The slower stroke's crank turn over the faster's (>= 1; slower_stroke says which)."""
+        return _time_ratio(self.forward_stroke, self.return_stroke)
+
+    @property
+    def time_ratio_review(self) -> float | None:
         """The review's eq. (5): the crank's turn while the output rises over its turn back."""
         if self.forward_stroke is None or self.return_stroke is None:    # given both or neither
             return None
         return self.forward_stroke / self.return_stroke
 
+    @property
+    def slower_stroke(self) -> str | None:
+        """"forward", "return" or "neither" (see _slower_stroke)."""
+        return _slower_stroke(self.forward_stroke, self.return_stroke)
+
+    @property
+    def mu_worst(self) -> Extreme:
+        """The transmission angle furthest from 90 degrees (mu_min or mu_max)."""
+        return _mu_worst(self.mu_min, self.mu_max)
+
 
 def _assembled_near(linkage: Closure, phi: float, branch: int, inward: int) -> Motion:
-    """The Motion at phi on `branch`, or where the crank first assembles stepping `inward`
-    (+1 or -1) from it by a few ulps (phi, a dead centre found in double, may miss by one)."""
+    """The Motion at phi on `branch`, or where the crank first assembles with a velocity stepping
+    `inward` (+1 or -1) from it by a few ulps (phi, a dead centre found in double, may miss by
+    one; on it the engine gives no velocity); failing that the first with an output."""
+    first = None
     for k in range(60):
         x = phi + inward * k * k * 1e-13 * max(1.0, abs(phi))
         m = linkage.motion(x, branch)
-        if m.output is not None:
+        if m.output is not None and m.velocity is not None:
             return m
-    return linkage.motion(phi, branch)
+        if m.output is not None and first is None:
+            first = m
+    return first if first is not None else linkage.motion(phi, branch)
+
+
+def _at_dead_centre(linkage: Closure, phi: float, branch: int, inward: int) -> Motion:
+    """The Motion at the dead centre phi on `branch`, for a run: the velocity and acceleration of
+    the nearest position with a velocity (_assembled_near), their signs are what the run needs;
+    the angle phi; the output the double root there: the engine's where it gives one at phi
+    (DEAD_CENTRE), else the mean of the two branches' outputs at the nearest angle where both
+    assemble. Each branch's output is off by the square root of phi's rounding (the output goes
+    as the square root of the distance to the dead centre: 1e-6 degree for a miss of one ulp);
+    their mean by the rounding itself."""
+    m = _assembled_near(linkage, phi, branch, inward)
+    if m.output is None:
+        return m
+    for k in range(60):
+        x = phi + inward * k * k * 1e-13 * max(1.0, abs(phi))
+        one, other = linkage.motion(x, 1, 0), linkage.motion(x, 2, 0)
+        if one.output is None or other.output is None:
+            continue
+        if one.status == DEAD_CENTRE or other.status == DEAD_CENTRE:
+            output = one.output if one.status == DEAD_CENTRE else other.output
+        else:
+            two = other.output
+            if not linkage.is_slider:
+                two += 360.0 * round((one.output - two) / 360.0)
+            output = (one.output + two) / 2.0
+        return m._replace(phi=phi, output=output)
+    return m
 
 
 # A run of the motion: (Motion, the listing's branch or FOLLOW) in order.
 _Run = list[tuple[Motion, int | str]]
 
 
+def _rocking_samples(lo: float, hi: float) -> list[float]:
+    """Input angles strictly inside the crank interval (lo, hi) (dead centres), spaced evenly in
+    u where phi = lo + (hi - lo)(1 - cos(pi u)) / 2: about half a degree apart mid-way and
+    closing in on each dead centre as the square of the distance to it, where the output goes
+    as the square root of the crank's distance from it (its velocity as the inverse square
+    root): evenly spaced in u, the output is smooth through the dead centre, from one branch to
+    the other, and an extreme beside it is not stepped over."""
+    width = hi - lo
+    count = max(16, math.ceil(width * math.pi / (2.0 * (360.0 / ANALYSIS_SAMPLES))))
+    inner = [lo + width * (1.0 - math.cos(math.pi * k / count)) / 2.0 for k in range(1, count)]
+    return sorted({x for x in inner if lo < x < hi})
+
+
 def _circuits(linkage: Closure, branch: int | str, start: int | None, dead: list[float]
               ) -> tuple[tuple[tuple[float, float], ...] | None, list[_Run]]:
-    """The motion in order, as runs [(Motion, the listing's branch or FOLLOW)]: one run over a
-    full turn where the crank turns fully, else one a crank interval, out on the branch and back
-    on the other."""
+    """The motion in order, as runs [(Motion, the listing's branch or FOLLOW)], one a circuit:
+    one run over a full turn where the crank turns fully, else one a crank interval, out on the
+    branch from its first dead centre to its second and back on the other (_rocking_samples),
+    each dead centre on both branches (_at_dead_centre) and the run closed on its first
+    position."""
     step = 360.0 / ANALYSIS_SAMPLES
     if not dead:
         phis = [i * step for i in range(ANALYSIS_SAMPLES + 1)]
@@ -3573,13 +3801,15 @@ def _circuits(linkage: Closure, branch: int | str, start: int | None, dead: list
             intervals.append((lo, hi))
     runs: list[_Run] = []
     out = 1 if branch == FOLLOW else int(branch)
+    back = 3 - out
     for lo, hi in intervals:
-        inner = [lo + i * step for i in range(1, math.ceil((hi - lo) / step)) if lo + i * step < hi]
-        run: _Run = [(_assembled_near(linkage, lo, out, 1), out)]
+        inner = _rocking_samples(lo, hi)
+        run: _Run = [(_at_dead_centre(linkage, lo, out, 1), out)]
         run += [(m, out) for m in linkage.sweep(inner, out)]
-        run.append((_assembled_near(linkage, hi, out, -1), out))
-        back = 3 - out
+        run.append((_at_dead_centre(linkage, hi, out, -1), out))
+        run.append((_at_dead_centre(linkage, hi, back, -1), back))
         run += [(m, back) for m in reversed(linkage.sweep(inner, back))]
+        run.append((_at_dead_centre(linkage, lo, back, 1), back))
         run.append((run[0][0], out))
         runs.append([(m, b) for m, b in run if m.output is not None])
     return tuple((lo % 360.0, hi % 360.0 if hi % 360.0 else 360.0) for lo, hi in intervals), runs
@@ -3593,11 +3823,39 @@ def unwrapped(values: Sequence[float], angular: bool) -> list[float]:
     return out
 
 
+def _velocity_zeros(linkage: Closure, m0: Motion, m1: Motion, branch: int
+                    ) -> list[float]:
+    """The input angles between two positions on one branch where the output's velocity is
+    zero: one where the velocity changes sign; where it does not but the acceleration does, the
+    velocity's extreme between them (the acceleration's zero) and, if the velocity has changed
+    sign there, the two zeros either side of it."""
+    v0, v1 = m0.velocity, m1.velocity
+    assert v0 is not None and v1 is not None
+
+    def velocity(p: float) -> float:
+        return linkage.motion(p, branch, 1).velocity or 0.0
+    if v0 * v1 < 0:
+        return [_bisect(velocity, m0.phi, m1.phi, v0)]
+    a0, a1 = m0.acceleration, m1.acceleration
+    if v0 == 0 or a0 is None or a1 is None or a0 * a1 >= 0:
+        return []
+
+    def acceleration(p: float) -> float:
+        return linkage.motion(p, branch, 2).acceleration or 0.0
+    x = _bisect(acceleration, m0.phi, m1.phi, a0)
+    vx = velocity(x)
+    if vx * v0 > 0:
+        return []
+    if vx == 0:
+        return [x]
+    return [_bisect(velocity, m0.phi, x, v0), _bisect(velocity, x, m1.phi, vx)]
+
+
 def _motion_extremes(linkage: Closure, run: _Run, outputs: list[float]
                      ) -> list[tuple[float, float]]:
-    """Where the output's velocity changes sign along a run (or is zero on a sample), refined by
-    bisection on the branch of the sample before, and the ends of each piece on one branch:
-    [(phi, output continuous with the run)]."""
+    """Where the output's velocity is zero along a run (_velocity_zeros between neighbours on
+    one branch, or on a sample), refined on that branch, and the ends of each piece on one
+    branch: [(phi, output continuous with the run)]."""
     found: list[tuple[float, float]] = []
     angular = not linkage.is_slider
     for i in range(len(run) - 1):
@@ -3607,9 +3865,7 @@ def _motion_extremes(linkage: Closure, run: _Run, outputs: list[float]
             continue
         if m0.velocity == 0:                          # an extreme on the sample itself
             found.append((m0.phi, outputs[i]))
-        elif m0.velocity * m1.velocity < 0:
-            x = _bisect(lambda p: linkage.motion(p, b0, 1).velocity or 0.0, m0.phi, m1.phi,
-                        m0.velocity)
+        for x in _velocity_zeros(linkage, m0, m1, int(b0)):
             value = linkage.motion(x, b0, 0).output
             if value is not None:
                 if angular:
@@ -3618,14 +3874,43 @@ def _motion_extremes(linkage: Closure, run: _Run, outputs: list[float]
     return found
 
 
+def _worth(f: Callable[[float], float], x: float, fx: float, lo: float, hi: float,
+           maximum: bool) -> tuple[float, float]:
+    """A smooth extreme (x, f(x)) of f on [lo, hi] with x rounded to what it is worth: f is
+    flat there, f(x + t) = f(x) -+ k t^2 / 2, so angles within sqrt(2 noise / k) of x (noise:
+    64 ulps of f, the rounding of the transmission angle: at phi = 0 exactly it differs from its
+    neighbours' by 20; k from a second difference) give f(x) to within rounding; x is rounded to
+    the coarsest decimal that is that close and where f is as good within the noise (180.0, not
+    180.0000000004339); the value is the better of the two."""
+    h = min(1e-2, (hi - lo) / 4.0)
+    if not h > 0 or x - h < lo or x + h > hi:
+        return x, fx
+    k = abs(f(x + h) - 2.0 * fx + f(x - h)) / (h * h)
+    noise = 64.0 * math.ulp(max(abs(fx), 1.0))
+    if k == 0:
+        return x, fx
+    reach = math.sqrt(2.0 * noise / k)
+    for digits in range(-2, 16):
+        r = round(x, digits)
+        if r == x:
+            break
+        if abs(r - x) > reach or not lo <= r <= hi:
+            continue
+        fr = f(r)
+        if (fr >= fx - noise) if maximum else (fr <= fx + noise):
+            return r, (max(fx, fr) if maximum else min(fx, fr))
+    return x, fx
+
+
 def _mu_extremes(linkage: Closure, run: _Run, maximum: bool) -> Extreme:
     """The transmission angle's greatest (least) value along a run: each sampled local extreme
-    refined on its branch within its neighbours."""
+    refined on its branch within its neighbours, its angle rounded to what it is worth."""
     # a run holds positions only: mu is never None on it
     mus = cast("list[float]", transmission_of(linkage, [m for m, _ in run]))
     pick = max if maximum else min
     best = pick(zip(mus, range(len(run))))
-    candidates = [Extreme(run[best[1]][0].phi % 360.0, best[0])]
+    candidates = []
+    refined = set()
     for i in range(1, len(run) - 1):
         if not all((mus[i] >= mus[j]) if maximum else (mus[i] <= mus[j]) for j in (i - 1, i + 1)):
             continue
@@ -3638,7 +3923,13 @@ def _mu_extremes(linkage: Closure, run: _Run, maximum: bool) -> Extreme:
             value = transmission_of(linkage, [linkage.motion(phi, b, 0)])[0]
             return value if value is not None else (-1.0 if maximum else 361.0)
         x, value = extreme_of(mu, lo, hi, maximum)
+        if (value < mus[i]) if maximum else (value > mus[i]):      # the sample is better
+            x, value = run[i][0].phi, mus[i]
+        x, value = _worth(mu, x, value, lo, hi, maximum)
         candidates.append(Extreme(x % 360.0, value))
+        refined.add(i)
+    if best[1] not in refined:                     # at an end of the run or of a branch
+        candidates.append(Extreme(run[best[1]][0].phi % 360.0, best[0]))
     return pick(candidates, key=lambda e: e.value)
 
 
@@ -3677,47 +3968,82 @@ def _linkage_type(linkage: Closure, crank_turns: bool, output_turns: bool, chang
         (crank_turns, output_turns)], text
 
 
-def analyse(linkage: Closure, branch: int | str = 1, start: int | None = None) -> Analysis:
-    """The linkage's type and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
-    Analysis (see the notes above). ValueError if it assembles at no input angle."""
-    if branch not in (1, 2, FOLLOW):
-        raise ValueError('branch is 1, 2 or "follow"')
-    dead, changes = crank_limits(linkage)
-    crank_range, runs = _circuits(linkage, branch, start, dead)
+def _circuit(linkage: Closure, run: _Run, crank_range: tuple[tuple[float, float], ...] | None,
+             ends: list[tuple[float, int]]) -> tuple[Circuit, bool]:
+    """(the Circuit of a run, whether the output turns fully on it): its output extremes (the
+    least brought into [-180, 180) for the four-bars), strokes where the crank turns fully, and
+    the transmission angle's extremes, with 0 or 180 at the dead centres of its crank interval
+    (`ends`: each with the way into the interval, +1 or -1)."""
     angular = not linkage.is_slider
-    extremes: list[tuple[float, float]] = []
-    turns = False
-    for run in runs:
-        if len(run) < 2:
-            continue
-        outputs = unwrapped([_output_of(m) for m, _ in run], angular)
-        turns |= angular and abs(outputs[-1] - outputs[0]) > 180.0
-        extremes += _motion_extremes(linkage, run, outputs) + [(run[-1][0].phi, outputs[-1])]
-    runs = [run for run in runs if run]
-    if not runs:
-        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle on "
-                         f"branch {branch}")
+    outputs = unwrapped([_output_of(m) for m, _ in run], angular)
+    turns = angular and abs(outputs[-1] - outputs[0]) > 180.0
     low = high = None
     forward = back = None
-    if not turns and extremes:
+    if not turns:
+        extremes = _motion_extremes(linkage, run, outputs) + [(run[-1][0].phi, outputs[-1])]
         lowest = min(extremes, key=lambda e: e[1])
         highest = max(extremes, key=lambda e: e[1])
-        shift = (360.0 * math.floor(lowest[1] / 360.0 + 0.5) if angular and len(runs) == 1
-                 else 0.0)
+        shift = 360.0 * math.floor(lowest[1] / 360.0 + 0.5) if angular else 0.0
         low, high = (Extreme(p % 360.0, v - shift) for p, v in (lowest, highest))
         if crank_range is None:
             forward = (high.phi - low.phi) % 360.0
             back = 360.0 - forward
-    kind, criterion = _linkage_type(linkage, crank_range is None, turns, changes)
     # at a dead centre the coupler lies along the output crank (D = 0: E_psi = 0), mu is 0 or 180
-    locked = [Extreme(phi, 180.0 * round(mu / 180.0)) for phi, mu in zip(dead, transmission_of(
-        linkage, [_assembled_near(linkage, phi, 1, 1) for phi in dead])) if mu is not None]
-    mu_min = min([_mu_extremes(linkage, run, False) for run in runs] + locked,
-                 key=lambda e: e.value)
-    mu_max = max([_mu_extremes(linkage, run, True) for run in runs] + locked,
-                 key=lambda e: e.value)
-    return Analysis(linkage, branch, kind, criterion, crank_range, low, high, forward, back,
-                    mu_min, mu_max, tuple(dead), tuple(changes))
+    locked = [Extreme(phi, 180.0 * round(mu / 180.0)) for (phi, _), mu in zip(
+        ends, transmission_of(linkage, [_assembled_near(linkage, phi, 1, inward)
+                                        for phi, inward in ends])) if mu is not None]
+    mu_min = min([_mu_extremes(linkage, run, False)] + locked, key=lambda e: e.value)
+    mu_max = max([_mu_extremes(linkage, run, True)] + locked, key=lambda e: e.value)
+    return Circuit(crank_range, low, high, forward, back, mu_min, mu_max), turns
+
+
+def analyse(linkage: Closure, branch: int | str = 1, start: int | None = None) -> Analysis:
+    """The linkage's type and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
+    Analysis (see the notes above). ValueError if it assembles at no input angle.
+
+    Circuits: where the crank turns fully the motion analysed is the branch's, one circuit (the
+    other branch is the linkage's other circuit: analyse it with the other branch); where the
+    crank rocks, each crank interval between dead centres is a circuit of its own, run out on
+    the branch and back on the other (a linkage cannot pass from one circuit to another without
+    being taken apart), and each is analysed on its own: Analysis.circuits, in the order of
+    crank_range. The top-level output_min, output_max, strokes, time ratio and mu extremes are
+    circuit 1's: for a one-circuit linkage what they always were, for a two-circuit one those of
+    the circuit whose crank interval crank_range lists first (never a range spanning both).
+
+    The output's extremes are every zero of its velocity along the circuit (a sign change
+    between samples, or a change of the acceleration's sign with the velocity's extreme beyond
+    zero, each refined by bisection) and the dead centres; beside a dead centre the samples
+    close in on it as the square of the distance (_rocking_samples), and each dead centre is
+    taken on both branches, so that an extreme next to one is not stepped over. time_ratio is
+    the slower stroke's crank turn over the faster's (>= 1, slower_stroke "forward", "return" or
+    "neither"); time_ratio_review is the review's eq. (5), forward over return; mu_worst is the
+    transmission angle furthest from 90 degrees. Angles of flat extremes of mu are rounded to
+    what they are worth (_worth)."""
+    if branch not in (1, 2, FOLLOW):
+        raise ValueError('branch is 1, 2 or "follow"')
+    dead, changes = crank_limits(linkage)
+    crank_range, runs = _circuits(linkage, branch, start, dead)
+    intervals: list[tuple[tuple[float, float], ...] | None] = (
+        [None] if crank_range is None else [(interval,) for interval in crank_range])
+    circuits: list[Circuit] = []
+    turns = False
+    for interval, run in zip(intervals, runs):
+        if not run:
+            continue
+        ends = [] if interval is None else [
+            (x, inward) for end, inward in zip(interval[0], (1, -1)) for x in dead
+            if abs((x - end + 180.0) % 360.0 - 180.0) <= 1e-9]
+        circuit, circuit_turns = _circuit(linkage, run, interval, ends)
+        circuits.append(circuit)
+        turns |= circuit_turns
+    if not circuits:
+        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle on "
+                         f"branch {branch}")
+    kind, criterion = _linkage_type(linkage, crank_range is None, turns, changes)
+    first = circuits[0]
+    return Analysis(linkage, branch, kind, criterion, crank_range, first.output_min,
+                    first.output_max, first.forward_stroke, first.return_stroke, first.mu_min,
+                    first.mu_max, tuple(dead), tuple(changes), tuple(circuits))
 
 
 def _output_of(m: Motion) -> float:
@@ -3735,15 +4061,10 @@ def value_text(x: float) -> str:
     return f"{x:.10g}"
 
 
-def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
-    """The `name = value` lines of an Analysis, each name after `prefix`."""
-    a, linkage = analysis, analysis.linkage
-    unit = "" if linkage.is_slider else " deg"
-    rows = [("mechanism", linkage.kind)]
-    rows += [(n, value_text(v)) for n, v in linkage.dims.items()]
-    rows += [("branch", str(a.branch)), ("type", a.type), ("criterion", a.criterion),
-             ("crank_range", "full" if a.crank_range is None else ", ".join(
-                 f"{value_text(lo)} to {value_text(hi)}" for lo, hi in a.crank_range))]
+def _motion_rows(motion: Analysis | Circuit, unit: str) -> list[tuple[str, str]]:
+    """The rows of an Analysis' or a Circuit's output range, strokes and transmission angle."""
+    a = motion
+    rows: list[tuple[str, str]] = []
     if a.output_min is None or a.output_max is None:         # given both or neither
         rows.append(("output_range", "full"))
     else:
@@ -3754,102 +4075,48 @@ def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
                  ("output_max_phi", value_text(a.output_max.phi))]
     if a.time_ratio is not None:                    # forward and return strokes given
         rows += [("time_ratio", value_text(a.time_ratio)),
+                 ("slower_stroke", cast(str, a.slower_stroke)),
+                 ("time_ratio_review", value_text(cast(float, a.time_ratio_review))),
                  ("forward_stroke", value_text(cast(float, a.forward_stroke))),
                  ("return_stroke", value_text(cast(float, a.return_stroke)))]
+    worst = a.mu_worst
     rows += [("mu_min", value_text(a.mu_min.value)), ("mu_min_phi", value_text(a.mu_min.phi)),
              ("mu_max", value_text(a.mu_max.value)), ("mu_max_phi", value_text(a.mu_max.phi)),
-             ("dead_centres", ", ".join(map(value_text, a.dead_centres)) or "none"),
+             ("mu_worst", value_text(worst.value)),
+             ("mu_worst_deviation", value_text(abs(worst.value - 90.0))),
+             ("mu_worst_at", value_text(worst.phi))]
+    return rows
+
+
+def _range_text(crank_range: tuple[tuple[float, float], ...] | None) -> str:
+    return "full" if crank_range is None else ", ".join(
+        f"{value_text(lo)} to {value_text(hi)}" for lo, hi in crank_range)
+
+
+def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
+    """The `name = value` lines of an Analysis, each name after `prefix`: the linkage, its type,
+    crank range and number of circuits, circuit 1's motion (see analyse), the dead centres and
+    change points; then, where there are two circuits or more, each circuit's crank range and
+    motion as circuit_N.name lines."""
+    a, linkage = analysis, analysis.linkage
+    unit = "" if linkage.is_slider else " deg"
+    rows = [("mechanism", linkage.kind)]
+    rows += [(n, value_text(v)) for n, v in linkage.dims.items()]
+    rows += [("branch", str(a.branch)), ("type", a.type), ("criterion", a.criterion),
+             ("crank_range", _range_text(a.crank_range)),
+             ("circuits", str(max(1, len(a.circuits))))]
+    rows += _motion_rows(a, unit)
+    rows += [("dead_centres", ", ".join(map(value_text, a.dead_centres)) or "none"),
              ("change_points", ", ".join(map(value_text, a.change_points)) or "none")]
+    if len(a.circuits) > 1:
+        for i, circuit in enumerate(a.circuits, 1):
+            rows += [(f"circuit_{i}.{name}", value) for name, value in
+                     [("crank_range", _range_text(circuit.crank_range))]
+                     + _motion_rows(circuit, unit)]
     return [f"{prefix}{name} = {value}" for name, value in rows]
 
 
-class Pose(NamedTuple):
-    """Where every joint of a linkage is at one input angle (see joint_positions).
-
-    joints: name -> (x, y, z). Always the ground joints and the crank pin A; the output side (B,
-    or the slider C) only where the linkage assembles (status ASSEMBLED, DEAD_CENTRE or
-    CHANGE_POINT).
-    axes: name -> (point, unit direction): "input" and "output" (the four-bars' shafts),
-    "guide" (the slider's line).
-    """
-
-    phi: float
-    status: str
-    output: float | None
-    joints: dict[str, Vector]
-    axes: dict[str, tuple[Vector, Vector]]
-
-
-def joint_positions(linkage: Closure, phi: float, branch: int | str = 1) -> Pose:
-    """The 3-D position of every joint of `linkage` at input angle phi (degrees) on `branch`.
-
-    plane:        A0 = (0, 0, 0) the input pivot, A the crank pin, B the output crank pin,
-                  B0 = (a, 0, 0) the output pivot.
-    spherical:    on the unit sphere about O = (0, 0, 0): A0 = (0, 0, 1) where the input axis
-                  meets it, B0 = (sin a, 0, cos a) the output axis's, A and B the pins.
-    skew:         A0 = (0, 0, 0) on the input axis z; the common perpendicular (length a) runs
-                  along x from F0 = (0, 0, f) to F1 = (a, 0, f) on the output axis, of direction
-                  w = (0, -sin ksi, cos ksi); B0 = F1 - g w = (a, f tan ksi, 0), g = f / cos ksi,
-                  is the centre of the output crank's circle, in the plane z = 0 as the crank's.
-    slider:       A0, A; the slider C = (x, e, 0) on the guide y = e.
-    skew-slider:  A0, A, F0 = (0, 0, f); the slider C = F1 + x (0, sin ksi, -cos ksi) on the
-                  guide through F1 = (a, 0, f).
-    """
-    motion = linkage.motion(phi, branch, derivatives=0)
-    dims, kind, pins = pin_dimensions(linkage.dims), linkage.kind, PINS[linkage.kind]
-    joints, axes = _GROUND_JOINTS[kind](dims)
-    joints["A"] = pins.crank_pin(dims, *cos_sin_degrees(motion.phi))[0]
-    out = motion.output
-    if out is not None:
-        joints[pins.output_joint] = output_pin_at(linkage, dims, out, cos_sin_degrees)[0]
-    return Pose(motion.phi, motion.status, out, joints, axes)
-
-
-_Z_AXIS = (0.0, 0.0, 1.0)
-_ORIGIN = (0.0, 0.0, 0.0)
-# A kind's ground: its fixed joints and its axes, as Pose has them.
-_Ground = tuple[dict[str, Vector], dict[str, tuple[Vector, Vector]]]
-
-
-def _plane_ground_joints(dims: dict[str, float]) -> _Ground:
-    b0 = (dims["a"], 0.0, 0.0)
-    return {"A0": _ORIGIN, "B0": b0}, {"input": (_ORIGIN, _Z_AXIS), "output": (b0, _Z_AXIS)}
-
-
-def _spherical_ground_joints(dims: dict[str, float]) -> _Ground:
-    ca, sa = cos_sin_degrees(dims["a"])
-    b0 = (sa, 0.0, ca)
-    return ({"O": _ORIGIN, "A0": _Z_AXIS, "B0": b0},
-            {"input": (_ORIGIN, _Z_AXIS), "output": (_ORIGIN, b0)})
-
-
-def _skew_ground_joints(dims: dict[str, float]) -> _Ground:
-    a, f = dims["a"], dims["f"]
-    cx, sx = cos_sin_degrees(dims["ksi"])
-    f1 = (a, 0.0, f)
-    return ({"A0": _ORIGIN, "F0": (0.0, 0.0, f), "F1": f1, "B0": (a, f * sx / cx, 0.0)},
-            {"input": (_ORIGIN, _Z_AXIS), "output": (f1, (0.0, -sx, cx))})
-
-
-def _slider_ground_joints(dims: dict[str, float]) -> _Ground:
-    return {"A0": _ORIGIN}, {"input": (_ORIGIN, _Z_AXIS),
-                             "guide": ((0.0, dims["e"], 0.0), (1.0, 0.0, 0.0))}
-
-
-def _skew_slider_ground_joints(dims: dict[str, float]) -> _Ground:
-    a, f = dims["a"], dims["f"]
-    cx, sx = cos_sin_degrees(dims["ksi"])
-    f1 = (a, 0.0, f)
-    return ({"A0": _ORIGIN, "F0": (0.0, 0.0, f), "F1": f1},
-            {"input": (_ORIGIN, _Z_AXIS), "guide": (f1, (0.0, sx, -cx))})
-
-
-_GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _spherical_ground_joints,
-                  SKEW_FOUR_BAR: _skew_ground_joints, PLANE_SLIDER_CRANK: _slider_ground_joints,
-                  SKEW_SLIDER_CRANK: _skew_slider_ground_joints}
-
-
-# ---- 8. The numpy path: sweeps, coupler points and file lines on arrays --------------------------
+# ---- 9. The numpy path: sweeps, coupler points and file lines on arrays --------------------------
 #
 # Holds: the engine's sweep on numpy arrays (sweep_arrays' work: the same formulas in blocks, a
 # point near a dead centre or change point handed to the scalar engine), the coupler point and
@@ -4531,21 +4798,21 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
         yield from _lines(np, outputs)
 
 
-# ---- 9. The linkage: one class for all that can be asked of it -----------------------------------
+# ---- 10. The linkage: one class for all that can be asked of it ----------------------------------
 #
 # Holds: Linkage, the engine's Closure with a method for each question the sections before answer:
 # motion and sweep (the engine), coupler and transmission (what it derives), and the same on numpy
 # arrays.
 #
-# Uses: sections 6, 7 and 8.
+# Uses: sections 6, 7 and 9.
 # Offers: Linkage.
 
 
 class Linkage(Closure):
     """One linkage of the listing's five kinds: Linkage(kind, **dims) (see Closure), and all
     that can be asked of it. Each method names a question and the section that answers it: the
-    engine's motion and sweep (section 6), the coupler point and the transmission angle (7), and
-    the same on numpy arrays (8)."""
+    engine's motion and sweep, the coupler point and the transmission angle (what the engine
+    derives), and the same on numpy arrays (the numpy path)."""
 
     __slots__ = ()
 
@@ -4589,14 +4856,15 @@ class Linkage(Closure):
         return transmission_of_arrays(self, self.sweep_arrays(phis, branch, 0))
 
 
-# ---- 10. DAT and CSV files: the sweep's formats, written and read --------------------------------
+# ---- 11. DAT and CSV files: the sweep's formats, written and read --------------------------------
 #
 # Holds: the accurate engine's files: ANG.DAT, VEL.DAT, ACC.DAT (and MU.DAT) in the listing's format
 # ("phi,value" CR LF lines, the end byte 1A) at full precision, the CSV's columns, a sweep's angles,
 # and read_dat, which reads any DAT file back. They are written through DatFiles and written_whole
-# (section 1), a block of rows at once where numpy is there (section 8), the same bytes either way.
+# (section 1), a block of rows at once where numpy is there (the numpy path), the same bytes
+# either way.
 #
-# Uses: sections 1 and 8.
+# Uses: sections 1 and 9.
 # Offers: SceneError, angle_count, evenly_spaced_angles, write_dat_files, CSV_HEADER,
 #   TRANSMISSION_COLUMN, COUPLER_COLUMNS, csv_line, write_csv, read_dat, dat_precision.
 
@@ -4790,7 +5058,7 @@ def dat_precision(directory: str) -> str:
     return ""
 
 
-# ---- 11. The mechanism drawn: poses projected onto the page --------------------------------------
+# ---- 12. The mechanism drawn: poses projected onto the page --------------------------------------
 #
 # Holds: mechanism_drawing(), which projects the poses of a sweep onto the page - plane linkages as
 # they are, the spherical linkage on its sphere seen obliquely, the skew linkages in a fixed
@@ -4798,7 +5066,7 @@ def dat_precision(directory: str) -> str:
 # on the side the links cross least, axes), drawn once, and one Frame a pose with its letters. The
 # letters go where no mark, link, hatching or other letter covers them (place_labels).
 #
-# Uses: sections 2, 6, 7 and 9.
+# Uses: sections 2, 6, 7 and 10.
 # Offers: Point, Box, Stroke, Mark, Label, Letters, Layer, Frame, Drawing, MECHANISM_EXAMPLES,
 #   STROKE_STYLES, VIEWS, project, Segment, stroke_segments, place_labels, mechanism_drawing,
 #   spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale, svg_radius,
@@ -5612,13 +5880,13 @@ def svg_letters(bounds: Box, size: float) -> Letters:
                    (svg_radius(size, scale) + 1.0) / scale, 1.6 / scale)
 
 
-# ---- 12. The mechanism's renderers: terminal, SVG and PNG ----------------------------------------
+# ---- 13. The mechanism's renderers: terminal, SVG and PNG ----------------------------------------
 #
 # Holds: what draws a Drawing: the terminal (Unicode braille, or ASCII; still or animated until a
 # key), an animated SVG, a PNG (matplotlib). The SVG's letters are those placed in the Drawing; the
 # terminal and the PNG place them again for the sizes they draw letters at.
 #
-# Uses: sections 1 and 11.
+# Uses: sections 1 and 12.
 # Offers: text_drawing, frame_seconds, show_drawing, svg_drawing, PlotUnavailable,
 #   matplotlib_canvas, png_drawing.
 
@@ -6137,7 +6405,7 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
     return out.getvalue()
 
 
-# ---- 13. Synthesis: what a design is, its data and its linkage -----------------------------------
+# ---- 14. Synthesis: what a design is, its data and its linkage -----------------------------------
 #
 # The classical analytical synthesis methods collected by E. Pennestrì and P. P. Valentini, "A
 # review of simple analytical methods for the kinematic synthesis of four-bar and slider-crank
@@ -6526,14 +6794,14 @@ class Synthesis(NamedTuple):
         return self.solutions[self.preferred]
 
 
-# ---- 14. Synthesis: the review's methods ---------------------------------------------------------
+# ---- 15. Synthesis: the review's methods ---------------------------------------------------------
 #
 # Holds: the review's methods, each a function of its data returning a Synthesis: the crank-rockers
 # FOURB-CR-1..4 and Volmer's, the drag-links DRAGLINK-1 and -2, the function generators FOURB-FG2-1,
 # FOURB-FG3-1, SLID-FG2-1 and SLID-FG2-2. Corrections to the review are marked `# ERRATUM Sn` and
 # justified in data/SYNTHESIS_ERRATA.md.
 #
-# Uses: sections 2 and 13.
+# Uses: sections 2 and 14.
 # Offers: fourb_cr_1, fourb_cr_2, fourb_cr_3, fourb_cr_4, volmer_crank_rocker, draglink_1,
 #   draglink_2, limit_angles, fourb_fg2_1, fourb_fg3_1, slid_fg2_1, slid_fg2_2.
 
@@ -7274,7 +7542,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
     return _one(design)
 
 
-# ---- 15. Synthesis: designs measured and checked by the engine -----------------------------------
+# ---- 16. Synthesis: designs measured and checked by the engine -----------------------------------
 #
 # Holds: every design run through engine_outputs, the one adapter to the analysis (the accurate
 # engine, never the synthesis formulas); analyze_design measures on the analysed linkage what it
@@ -7282,7 +7550,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
 # or missed, the transmission-angle extremes. METHODS, the table of the methods, and a design's
 # lines of text.
 #
-# Uses: sections 2, 7, 9, 13 and 14.
+# Uses: sections 2, 8, 10, 14 and 15.
 # Offers: engine_outputs, kind_and_dimensions, measured_transmission_angle, Measured, measure,
 #   output_change, velocity_ratio, Check, analyze_design, ANGLE_TOLERANCE, LENGTH_TOLERANCE,
 #   RATIO_TOLERANCE, conditioning, rounding_floor, misses, METHODS, ASKED_ANGLES, REVIEW_LETTERS,
@@ -7777,7 +8045,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     return below + step / 2, above - step / 2, step
 
 
-# ---- 16. Scenes: a figure's data, loaded and computed --------------------------------------------
+# ---- 17. Scenes: a figure's data, loaded and computed --------------------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a mechanism and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -7792,7 +8060,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
 # those files are written.
 #
-# Uses: sections 1, 2, 5, 6, 7, 8, 9 and 10.
+# Uses: sections 1, 2, 5, 6, 7, 9, 10 and 11.
 # Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, QUANTITY_FILES, MECHANISM_PANEL, MAX_FRAMES,
 #   PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, PanelSpec, Scene, scene_error,
 #   load_scene, known_scenes, scene_path, scene_list, check_assembles, Series, branch_text,
@@ -8271,7 +8539,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
     return write_csv(path, rows(), ("series",) + CSV_HEADER, outputs)
 
 
-# ---- 17. Plots: a figure drawn as text or PNG ----------------------------------------------------
+# ---- 18. Plots: a figure drawn as text or PNG ----------------------------------------------------
 #
 # Holds: a figure built from DAT files (scene_figure, dat_figure: its panels and curves) and drawn
 # as a plain-text plot (80 x 24, no dependency) or a PNG (matplotlib, the `plot` extra); a mechanism
@@ -8284,7 +8552,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 # added so that a curve is continuous across +-180 degrees, and so that the curves of a panel lie
 # within half a turn of the first one.
 #
-# Uses: sections 1, 2, 6, 9, 10, 11, 12 and 16.
+# Uses: sections 1, 2, 6, 10, 11, 12, 13 and 17.
 # Offers: dat_series, Curve, Panel, Figure, DRAWN_UP_TO, CLIPPED, build_figure, scene_figure,
 #   dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure, png_figure,
 #   scene_drawing, scene_text.
@@ -8737,13 +9005,13 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ---- 18. Benchmarks of the program itself --------------------------------------------------------
+# ---- 19. Benchmarks of the program itself --------------------------------------------------------
 #
 # Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS. What
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 12, 16 and 17.
+# Uses: sections 1, 2, 3, 4, 5, 7, 9, 10, 11, 12, 13, 17 and 18.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
 #   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, FILES_TARGET,
 #   bench_files, BENCHMARKS, ELSEWHERE, machine.
@@ -9161,13 +9429,13 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 19. The command line ------------------------------------------------------------------------
+# ---- 20. The command line ------------------------------------------------------------------------
 #
 # Holds: the shared parsers of what is typed on the command line (numbers in each precision, linkage
 # kinds, PNG sizes), one handler a sub-command, the design methods' help, and COMMANDS, the table of
 # every sub-command's help and options that build_parser turns into argparse; main() last.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 15, 16, 17 and 18.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 16, 17, 18 and 19.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
 #   decimal_number, basic_answer, output_folder, run_command, CSV_CLIPPED, analyse_command,
 #   drawing_command, scene_command, plot_command, design_scene, design_command, ERRATUM, SCAN_LINE,

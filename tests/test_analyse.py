@@ -317,8 +317,16 @@ def check_extremes_against_brute_force(link, branch):
     assert analysis.forward_stroke is not None, where
     assert abs(wrapped(analysis.forward_stroke - forward)) <= 1e-3, (where, forward)
     assert abs(analysis.forward_stroke + analysis.return_stroke - 360.0) <= 1e-9, where
-    assert analysis.time_ratio == pytest.approx(analysis.forward_stroke / analysis.return_stroke,
-                                                rel=1e-12)
+    # the review's eq. (5), forward over return, and the ratio as engineers quote it: the slower
+    # stroke over the faster (>= 1), with which stroke is the slower
+    assert analysis.time_ratio_review == pytest.approx(
+        analysis.forward_stroke / analysis.return_stroke, rel=1e-12)
+    slower, faster = sorted((analysis.forward_stroke, analysis.return_stroke), reverse=True)
+    assert analysis.time_ratio == pytest.approx(slower / faster, rel=1e-12)
+    assert analysis.time_ratio >= 1.0
+    if abs(analysis.forward_stroke - analysis.return_stroke) > 1e-6:
+        assert analysis.slower_stroke == ("forward" if analysis.forward_stroke > analysis.return_stroke
+                                          else "return"), where
     return True
 
 
