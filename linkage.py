@@ -25,11 +25,12 @@ them): 1. files, messages and the terminal (the one writer of files, say, signal
 precision; 4. the listing's computation; 5. the original program (screen, keys, INPUT, the menu
 session); 6. the accurate engine (the closure solved, swept and followed); 7. what the engine
 derives (joints, coupler point, transmission angle); 8. the linkage analysed (analyse);
-9. the numpy path; 10. the linkage (Linkage, a method for each question); 11. DAT and CSV files;
-12. the mechanism drawn; 13. the mechanism's renderers (terminal, SVG, PNG); 14. synthesis: what
-a design is; 15. synthesis: the review's methods; 16. synthesis: designs measured and checked;
-17. scenes; 18. plots; 19. benchmarks of the program itself; 20. the command line, last. The
-engine, the view and synthesis never use the original program.
+9. the numpy path; 10. forces (driving torque, joint reactions, shaking); 11. the linkage
+(Linkage, a method for each question); 12. DAT and CSV files; 13. the mechanism drawn; 14. the
+mechanism's renderers (terminal, SVG, PNG); 15. synthesis: what a design is; 16. synthesis: the
+review's methods; 17. synthesis: designs measured and checked; 18. scenes; 19. plots;
+20. benchmarks of the program itself; 21. the command line, last. The engine, the view and
+synthesis never use the original program.
 """
 
 from __future__ import annotations
@@ -4798,13 +4799,652 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
         yield from _lines(np, outputs)
 
 
-# ---- 10. The linkage: one class for all that can be asked of it ----------------------------------
+# ---- 10. Forces: what it takes to drive the linkage ----------------------------------------------
+#
+# Kinetostatics: the motion is the engine's (psi, psi' and psi'' at each input angle phi, the crank
+# turning at a given speed and acceleration); forces() finds what holds the bodies to it. Newton's
+# and Euler's equations of each moving body (its mass times its centre's acceleration; the rate
+# of its angular momentum, I dOmega/dt + Omega x I Omega about its centre) against gravity, the
+# loads, the driver's torque and the joints' reactions make one linear system in the reactions
+# and the torque, solved at each angle by Gaussian elimination with partial pivoting, its rows
+# and columns scaled to a largest entry of 1 first. At the engine's DEAD_CENTRE (the output's
+# dead centre, mu = 0) and CHANGE_POINT, and wherever that system is singular (a pivot under
+# 1e-12), the forces are unbounded: status UNBOUNDED and None, never an inf or a NaN (approaching
+# a dead centre they are finite and grow as psi' psi''). Nothing here runs unless forces() is
+# called.
+#
+# Units SI: lengths in metres (the dimensions as given; the spherical four-bar's arcs stay in
+# degrees, on a sphere of `radius` metres), kg, N, N m; the speed in rpm, omega = 2 pi rpm / 60;
+# the crank's acceleration alpha in rad/s^2. A point X(phi) of the engine's moves with velocity
+# X' omega and acceleration X'' omega^2 + X' alpha (' = d/dphi, radians). Gravity (Effects.gravity)
+# a number g: g along -y for the plane kinds, along -z (the input axis) for the spatial kinds; or
+# a 3-vector as given. The plane kinds are analysed in their plane z = 0 (forces with a z
+# component are refused there).
+#
+# Each body's frame (x, y, z orthonormal and right-handed; a centre and inertia are given in it):
+#   crank:    origin the pivot A0 (the sphere's centre O for the spherical four-bar), z the input
+#             axis, x toward the pin A (square to z).
+#   coupler:  plane kinds: origin A, x toward the output pin, z = (0, 0, 1), so that its centre
+#             (u, v) is Linkage.coupler's point (u, v). Skew kinds: origin A, x toward the output
+#             pin; with a ball joint at each end it may spin idly about that line, so its mass must
+#             lie on it: a centre (u, 0, 0) and an inertia axisymmetric about x (its spin is taken
+#             as zero, Omega = AB x (vB - vA) / |AB|^2, so only the transverse moment acts).
+#             Spherical: origin O, x toward A, z along A x B, y = z x x (Linkage.coupler's t).
+#   output:   four-bars: origin the output's pivot B0 (O for the spherical four-bar), z its axis
+#             (psi turns positively about it: (0, 0, 1), w, or OB0), x toward the pin B. Sliders:
+#             origin C, x along the guide in the sense of increasing x, y = (0, 1, 0) (plane) or
+#             (1, 0, 0) (skew: along the common perpendicular), z = x cross y.
+# The plane kinds take a scalar centre for crank and output (the distance from the pivot toward
+# the pin; the slider's from C along the guide), (u, v) for the coupler, and a scalar inertia
+# about the centre (the z component; the others do not act in the plane); the spatial kinds a
+# 3-vector and a symmetric positive semi-definite 3 x 3 tensor about the centre. A Body of a mass
+# only is a uniform slender rod between its joints (spherical: the arc of the sphere between
+# them; a slider: a point mass at C).
+#
+# Each joint's reaction is the force (and moment about the joint) that the body before it exerts
+# on the body after it, along frame - crank - coupler - output, at a ground joint the frame's on
+# the moving link; the unknowns, by kind:
+#   plane, slider:  each pin joint a force in the plane (2 unknowns); the slider's guide a normal
+#                   force and a moment about z at C (2); the torque: 9 = 3 bodies x 3 equations.
+#   skew:           the revolutes A0 and B0 a force (3) and a moment square to their axis (2), at
+#                   A0 and B0; the balls A and B a force (3); the torque: 17 = 6 + 5 + 6 equations,
+#                   the coupler's about A->B dropped (all its forces meet that line: 0 = 0).
+#   skew-slider:    A0 (5), the balls A and C (3 each), the guide a force square to it (2) and a
+#                   moment (3), at C; the torque: 17 = 6 + 5 + 6.
+#   spherical:      every joint's axis passes through O, and so every body turns about O: the
+#                   linkage is over-constrained (spatially 6 x 3 = 18 equations for 4 x 5 + 1 = 21
+#                   unknowns), and the joints' forces can carry a self-balanced system of 3
+#                   parameters that rigid bodies leave undetermined (the links' elasticity and fit
+#                   decide it). Determinate are each joint's moment about O (square to its axis, 2
+#                   each), the torque (8 + 1 = 9 = 3 bodies x Euler's 3 equations about O), and the
+#                   frame's resultant: the joints report their moments about O only (force None).
+# The shaking force and moment are what the linkage exerts on its frame: minus the ground joints'
+# reactions, and minus the driver's torque (its stator sits on the frame), the moment about A0
+# (O for the spherical kind); the loads and gravity act from outside. For the spherical kind the
+# shaking force is the whole linkage's Newton: sum of (m g - m a_G) plus the loads' forces.
+#
+#
+# Uses: sections 2, 6 and 7.
+# Offers: STANDARD_GRAVITY, UNBOUNDED, Matrix, Body, Bodies, Effects, Reaction, Forces, forces,
+#   ForcesSummary, forces_summary.
+
+
+STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
+UNBOUNDED = "unbounded"         # Forces.status where the force system is singular
+_SINGULAR_BELOW = 1e-12         # a pivot of the scaled system under this: singular
+Matrix = tuple[Vector, Vector, Vector]      # a 3 x 3 matrix, by rows
+_X, _Y, _Z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+_NOUGHT = (0.0, 0.0, 0.0)
+
+
+class Body(NamedTuple):
+    """One moving body: mass (kg), centre of mass and inertia about it (kg m^2) in the body's
+    frame (see the notes above); centre and inertia None: a uniform slender rod."""
+    mass: float = 0.0
+    centre: float | Sequence[float] | None = None
+    inertia: float | Sequence[Sequence[float]] | None = None
+
+
+class Bodies(NamedTuple):
+    """The three moving bodies; output is the slider of the slider-cranks. Massless if left out."""
+    crank: Body = Body()
+    coupler: Body = Body()
+    output: Body = Body()
+
+
+class Effects(NamedTuple):
+    """What drives and loads the linkage: the crank's speed (rpm) and acceleration (rad/s^2);
+    gravity (None, a number g along the kind's down, or a 3-vector, m/s^2); a torque on the
+    output about its axis in the sense of psi (N m, four-bars); a force on the slider along its
+    guide in the sense of x (N, slider-cranks); a force (fx, fy, fz) (N) at the coupler point
+    (u, v) of Linkage.coupler, as ((u, v), (fx, fy, fz))."""
+    speed_rpm: float = 0.0
+    crank_acceleration: float = 0.0
+    gravity: float | Sequence[float] | None = None
+    output_torque: float = 0.0
+    output_force: float = 0.0
+    coupler_force: tuple[Sequence[float], Sequence[float]] | None = None
+
+
+class Reaction(NamedTuple):
+    """A joint's reaction (see the notes above): its force (N) and its moment (N m) where it
+    carries one, None where not (a plane pin's moment, the spherical kind's forces)."""
+    force: Vector | None
+    moment: Vector | None
+
+
+class Forces(NamedTuple):
+    """One input angle's forces: the driver's torque on the crank about its axis, in the sense
+    of phi (N m), its power (W), each joint's Reaction, the shaking force (N) and moment (N m)
+    on the frame. None where there is no position (status the Motion's) or the forces are
+    unbounded (status UNBOUNDED)."""
+    phi: float
+    torque: float | None
+    power: float | None
+    joints: dict[str, Reaction] | None
+    shaking_force: Vector | None
+    shaking_moment: Vector | None
+    status: str
+
+
+class _Mass(NamedTuple):
+    mass: float
+    centre: Vector              # in the body's frame
+    inertia: Matrix             # about the centre, in the body's frame
+
+
+class _State(NamedTuple):
+    """A body at one instant: its frame's origin and axes (x, y, z), the origin's acceleration,
+    the angular velocity and acceleration."""
+    origin: Vector
+    axes: Matrix
+    acceleration: Vector
+    spin: Vector
+    spin_rate: Vector
+
+
+class _Joint(NamedTuple):
+    """A joint's unknowns: the force directions (acting at `at`) and the moment directions; the
+    bodies it joins (0 crank, 1 coupler, 2 output, None the frame): before acts on after."""
+    name: str
+    before: int | None
+    after: int
+    at: Vector
+    forces: tuple[Vector, ...]
+    moments: tuple[Vector, ...]
+
+
+def _comb(*terms: tuple[float, Vector]) -> Vector:
+    """The sum of (coefficient, 3-vector) terms."""
+    x = y = z = 0.0
+    for k, v in terms:
+        x, y, z = x + k * v[0], y + k * v[1], z + k * v[2]
+    return x, y, z
+
+
+def _unit3(v: Vector) -> Vector:
+    return _comb((1.0 / math.sqrt(dot(v, v)), v))
+
+
+def _in_world(axes: Matrix, v: Sequence[float]) -> Vector:
+    """A vector given in a body's frame (axes x, y, z), in the fixed frame."""
+    return _comb((v[0], axes[0]), (v[1], axes[1]), (v[2], axes[2]))
+
+
+def _inertia_times(axes: Matrix, inertia: Matrix, w: Vector) -> Vector:
+    """The body-frame inertia, turned into the fixed frame, times w."""
+    local = [dot(axis, w) for axis in axes]
+    return _in_world(axes, [sum(row[j] * local[j] for j in range(3)) for row in inertia])
+
+
+def _perpendicular_pair(k: Vector) -> tuple[Vector, Vector]:
+    """Two unit vectors square to the unit vector k and to each other."""
+    least = min(range(3), key=lambda i: abs(k[i]))
+    p = _unit3(cross(k, (_X, _Y, _Z)[least]))
+    return p, cross(k, p)
+
+
+def _spin_about_centre(a: Vector, b: Vector, va: Vector, vb: Vector) -> Vector:
+    """The angular velocity Omega of a body turning about the origin whose points a and b (not
+    parallel) move with va = Omega x a, vb = Omega x b (in Omega's basis a, b, a x b)."""
+    n = cross(a, b)
+    nn = dot(n, n)
+    return _comb((dot(vb, n) / nn, a), (-dot(va, n) / nn, b), (dot(va, b) / nn, n))
+
+
+def _checked_number(value: Any, what: str) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what} must be a number, not {value!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{what} must be finite, not {x!r}")
+    return x
+
+
+def _checked_numbers(values: Any, count: int, what: str) -> tuple[float, ...]:
+    try:
+        items = list(values)
+    except TypeError:
+        items = []
+    if len(items) != count:
+        raise ValueError(f"{what} must be {count} numbers, not {values!r}")
+    return tuple(_checked_number(v, what) for v in items)
+
+
+def _rod(mass: float, length: float) -> _Mass:
+    """A uniform slender rod along x from the origin, of `length`."""
+    side = mass * length * length / 12.0
+    return _Mass(mass, (length / 2.0, 0.0, 0.0), (_NOUGHT, (0.0, side, 0.0), (0.0, 0.0, side)))
+
+
+def _arc(mass: float, radius: float, arc: float, start: int, toward: int) -> _Mass:
+    """A uniform slender rod on the circle of `radius` about the origin, from the body axis
+    `start` toward the axis `toward` through `arc` radians."""
+    p, q = (_X, _Y, _Z)[start], (_X, _Y, _Z)[toward]
+    half = math.sin(2.0 * arc) / (4.0 * arc)
+    cc, ss, cs = 0.5 + half, 0.5 - half, math.sin(arc) ** 2 / (2.0 * arc)   # <cos^2>, <sin^2>, <cs>
+    g = _comb((radius * math.sin(arc) / arc, p), (radius * (1.0 - math.cos(arc)) / arc, q))
+    k = mass * radius * radius
+    gg = dot(g, g)
+    rows = []
+    for i in range(3):
+        row = []
+        for j in range(3):
+            mean = cc * p[i] * p[j] + ss * q[i] * q[j] + cs * (p[i] * q[j] + q[i] * p[j])
+            about_o = k * ((i == j) - mean)
+            row.append(about_o - mass * (gg * (i == j) - g[i] * g[j]))
+        rows.append(tuple(row))
+    return _Mass(mass, g, cast(Matrix, tuple(rows)))
+
+
+def _checked_body(kind: str, role: str, body: Body, rod: Callable[[float], _Mass]) -> _Mass:
+    """body as a _Mass in its frame, or a ValueError that says what is wrong with it; rod(mass)
+    the uniform rod it is when its centre and inertia are None."""
+    name = f"the {role}"
+    mass = _checked_number(body.mass, f"{name}'s mass")
+    if mass < 0.0:
+        raise ValueError(f"{name}'s mass must not be negative, not {mass:g}")
+    if body.centre is None and body.inertia is None:
+        return rod(mass)
+    if body.centre is None or body.inertia is None:
+        raise ValueError(f"{name}: give both its centre and its inertia, or neither (a rod)")
+    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
+    if plane:
+        if role == "coupler":
+            u, v = _checked_numbers(body.centre, 2, f"{name}'s centre (u, v)")
+            centre = (u, v, 0.0)
+        else:
+            centre = (_checked_number(body.centre, f"{name}'s centre"), 0.0, 0.0)
+        inertia = _checked_number(body.inertia, f"{name}'s inertia")
+        if inertia < 0.0:
+            raise ValueError(f"{name}'s inertia must not be negative, not {inertia:g}")
+        return _Mass(mass, centre, ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, inertia)))
+    centre = cast(Vector, _checked_numbers(body.centre, 3, f"{name}'s centre (x, y, z)"))
+    try:
+        rows = [_checked_numbers(row, 3, f"{name}'s inertia") for row in cast(Any, body.inertia)]
+    except TypeError:
+        rows = []
+    if len(rows) != 3:
+        raise ValueError(f"{name}'s inertia must be a 3 x 3 tensor (three rows of three numbers)")
+    scale = max(abs(x) for row in rows for x in row) or 1.0
+    if any(abs(rows[i][j] - rows[j][i]) > 1e-12 * scale for i in range(3) for j in range(i)):
+        raise ValueError(f"{name}'s inertia must be a symmetric tensor")
+    minors = [rows[i][i] for i in range(3)] + [
+        rows[i][i] * rows[j][j] - rows[i][j] ** 2 for i, j in ((0, 1), (0, 2), (1, 2))] + [
+        rows[0][0] * (rows[1][1] * rows[2][2] - rows[1][2] ** 2)
+        - rows[0][1] * (rows[0][1] * rows[2][2] - rows[1][2] * rows[0][2])
+        + rows[0][2] * (rows[0][1] * rows[1][2] - rows[1][1] * rows[0][2])]
+    if any(m < -1e-12 * scale ** (1 + (k > 2) + (k > 5)) for k, m in enumerate(minors)):
+        raise ValueError(f"{name}'s inertia must be positive semi-definite (no negative moment "
+                         "of inertia about any axis)")
+    if role == "coupler" and PINS[kind].coupler == "line":
+        if centre[1] or centre[2]:
+            raise ValueError(f"the {MECHANISM_NAMES[kind]}'s coupler may spin about the line "
+                             "from A to its output pin, so its centre must lie on it: (u, 0, 0)")
+        if any(rows[i][j] for i in range(3) for j in range(3) if i != j) or \
+                abs(rows[1][1] - rows[2][2]) > 1e-12 * scale:
+            raise ValueError(f"the {MECHANISM_NAMES[kind]}'s coupler may spin about the line "
+                             "from A to its output pin, so its inertia must be axisymmetric "
+                             "about it: ((axial, 0, 0), (0, transverse, 0), (0, 0, transverse))")
+    return _Mass(mass, centre, cast(Matrix, tuple(rows)))
+
+
+class _Setup(NamedTuple):
+    """What forces() computes once for a call: the bodies, the loads and the ground."""
+    linkage: Closure
+    dims: dict[str, float]
+    radius: float
+    masses: tuple[_Mass, _Mass, _Mass]
+    omega: float
+    alpha: float
+    gravity: Vector
+    output_torque: float
+    output_force: float
+    coupler_point: Vector | None        # (u, v, 0) plane, (u, 0, 0) line, sphere's unit vector
+    coupler_force: Vector
+    ground: dict[str, Vector]
+    axes: dict[str, tuple[Vector, Vector]]
+
+
+def _setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float) -> _Setup:
+    """The checked bodies and effects of a forces() call (a ValueError says what is wrong)."""
+    kind = linkage.kind
+    spherical, plane = kind == SPHERICAL_FOUR_BAR, kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
+    radius = _checked_number(radius, "the sphere's radius")
+    if radius <= 0.0:
+        raise ValueError(f"the sphere's radius must be positive, not {radius:g}")
+    if radius != 1.0 and not spherical:
+        raise ValueError("radius is the spherical four-bar's: the other kinds' dimensions are "
+                         "their lengths in metres")
+    dims = pin_dimensions(linkage.dims)
+    if spherical:
+        arcs = {n: math.acos(max(-1.0, min(1.0, cos_sin_degrees(dims[n])[0]))) for n in "bcd"}
+        if min(math.sin(x) for x in arcs.values()) == 0.0:
+            raise ValueError("forces need arcs b, c and d that are not 0 or 180 degrees")
+        crank: Callable[[float], _Mass] = functools.partial(_arc, radius=radius, arc=arcs["b"],
+                                                            start=2, toward=0)
+        coupler: Callable[[float], _Mass] = functools.partial(_arc, radius=radius,
+                                                              arc=arcs["c"], start=0, toward=1)
+        output: Callable[[float], _Mass] = functools.partial(_arc, radius=radius, arc=arcs["d"],
+                                                             start=2, toward=0)
+    else:
+        lengths = [abs(dims[n]) for n in ("b", "c") + (("d",) if "d" in dims else ())]
+        if min(lengths) == 0.0:
+            raise ValueError("forces need links of non-zero length (b, c and d)")
+        crank = functools.partial(_rod, length=abs(dims["b"]))
+        coupler = functools.partial(_rod, length=abs(dims["c"]))
+        output = (functools.partial(_rod, length=abs(dims["d"])) if not linkage.is_slider
+                  else lambda m: _Mass(m, _NOUGHT, (_NOUGHT, _NOUGHT, _NOUGHT)))
+    masses = (_checked_body(kind, "crank", bodies.crank, crank),
+              _checked_body(kind, "coupler", bodies.coupler, coupler),
+              _checked_body(kind, "slider" if linkage.is_slider else "output", bodies.output,
+                            output))
+    if effects.gravity is None:
+        gravity = _NOUGHT
+    elif isinstance(effects.gravity, (int, float)):
+        g = _checked_number(effects.gravity, "gravity")
+        gravity = (0.0, -g, 0.0) if plane else (0.0, 0.0, -g)
+    else:
+        gravity = cast(Vector, _checked_numbers(effects.gravity, 3, "gravity (gx, gy, gz)"))
+    output_torque = _checked_number(effects.output_torque, "the output torque")
+    output_force = _checked_number(effects.output_force, "the output force")
+    if output_torque and linkage.is_slider:
+        raise ValueError("a slider-crank's output is its slider: load it with output_force")
+    if output_force and not linkage.is_slider:
+        raise ValueError("a four-bar's output is a crank: load it with output_torque")
+    point, force = None, _NOUGHT
+    if effects.coupler_force is not None:
+        try:
+            at, given = effects.coupler_force
+        except (TypeError, ValueError):
+            raise ValueError("coupler_force is ((u, v), (fx, fy, fz))") from None
+        u, v = _checked_numbers(at, 2, "the coupler force's point (u, v)")
+        force = cast(Vector, _checked_numbers(given, 3, "the coupler force (fx, fy, fz)"))
+        form = PINS[kind].coupler
+        if form == "line" and v:
+            raise ValueError(f"the {MECHANISM_NAMES[kind]}'s coupler may spin about the line "
+                             "from A to its output pin, so a force on it must act at a point of "
+                             f"that line: v must be 0, not {v:g}")
+        if form == "sphere":
+            (cu, su), (cv, sv) = cos_sin_degrees(u), cos_sin_degrees(v)
+            point = (radius * cv * cu, radius * cv * su, radius * sv)
+        else:
+            point = (u, v, 0.0)
+    if plane and (gravity[2] or force[2]):
+        raise ValueError("the plane kinds are analysed in their plane: gravity and the coupler "
+                         "force must have no z component")
+    omega = 2.0 * math.pi * _checked_number(effects.speed_rpm, "the speed (rpm)") / 60.0
+    alpha = _checked_number(effects.crank_acceleration, "the crank's acceleration")
+    ground = joint_positions(linkage, 0.0)
+    return _Setup(linkage, dims, radius, masses, omega, alpha, gravity, output_torque,
+                  output_force, point, force, ground.joints, ground.axes)
+
+
+def _states(setup: _Setup, m: Motion) -> tuple[tuple[_State, _State, _State], Vector, Vector]:
+    """The three bodies at the Motion m, and the pins A and P (the output's, B or C)."""
+    linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
+    kind = linkage.kind
+    assert m.output is not None and m.velocity is not None and m.acceleration is not None
+    q1, q2 = m.velocity, m.acceleration
+    a = PINS[kind].crank_pin(dims, *cos_sin_degrees(m.phi))
+    p = output_pin_at(linkage, dims, m.output, cos_sin_degrees)
+    p1, p2 = _comb((q1, p[1])), _comb((q1 * q1, p[2]), (q2, p[1]))
+    pa, va, aa = _comb((r, a[0])), _comb((r * w, a[1])), _comb((r * w * w, a[2]), (r * al, a[1]))
+    pp, vp, ap = _comb((r, p[0])), _comb((r * w, p1)), _comb((r * w * w, p2), (r * al, p1))
+    x = _unit3((pa[0], pa[1], 0.0))
+    crank = _State(_NOUGHT, (x, cross(_Z, x), _Z), _NOUGHT, (0.0, 0.0, w), (0.0, 0.0, al))
+    form = PINS[kind].coupler
+    if form == "sphere":
+        z = _unit3(cross(pa, pp))
+        spin = _spin_about_centre(pa, pp, va, vp)
+        rate = _spin_about_centre(pa, pp, _comb((1.0, aa), (-1.0, cross(spin, va))),
+                                  _comb((1.0, ap), (-1.0, cross(spin, vp))))
+        x = _unit3(pa)
+        coupler = _State(_NOUGHT, (x, cross(z, x), z), _NOUGHT, spin, rate)
+    else:
+        ab, dv, da = _comb((1.0, pp), (-1.0, pa)), _comb((1.0, vp), (-1.0, va)), _comb((1.0, ap),
+                                                                                      (-1.0, aa))
+        squared = dot(ab, ab)
+        spin = _comb((1.0 / squared, cross(ab, dv)))
+        rate = _comb((1.0 / squared, cross(ab, _comb((1.0, da), (-1.0, cross(spin, dv))))))
+        x = _unit3(ab)
+        y, z = (cross(_Z, x), _Z) if form == "plane" else _perpendicular_pair(x)
+        coupler = _State(pa, (x, y, z), aa, spin, rate)
+    if linkage.is_slider:
+        g = setup.axes["guide"][1]
+        y = _Y if kind == PLANE_SLIDER_CRANK else _X
+        output = _State(pp, (g, y, cross(g, y)), ap, _NOUGHT, _NOUGHT)
+    else:
+        k = setup.axes["output"][1]
+        pivot = setup.ground.get("B0", _NOUGHT) if kind != SPHERICAL_FOUR_BAR else _NOUGHT
+        pivot = _comb((r, pivot))
+        arm = _comb((1.0, pp), (-1.0, pivot))
+        x = _unit3(_comb((1.0, arm), (-dot(arm, k), k)))
+        output = _State(pivot, (x, cross(k, x), k), _NOUGHT, _comb((q1 * w, k)),
+                        _comb((q2 * w * w + q1 * al, k)))
+    return (crank, coupler, output), pa, pp
+
+
+def _joints(setup: _Setup, states: tuple[_State, _State, _State], pa: Vector, pp: Vector
+            ) -> list[_Joint]:
+    """The kind's joints with their unknowns at this position (see the notes above)."""
+    kind = setup.linkage.kind
+    out = PINS[kind].output_joint
+    if kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
+        pins = [_Joint("A0", None, 0, _NOUGHT, (_X, _Y), ()),
+                _Joint("A", 0, 1, pa, (_X, _Y), ()), _Joint(out, 1, 2, pp, (_X, _Y), ())]
+        if kind == PLANE_FOUR_BAR:
+            return pins + [_Joint("B0", None, 2, states[2].origin, (_X, _Y), ())]
+        return pins + [_Joint("guide", None, 2, pp, (_Y,), (_Z,))]
+    if kind == SPHERICAL_FOUR_BAR:
+        return [_Joint(name, before, after, _NOUGHT, (), _perpendicular_pair(_unit3(axis)))
+                for name, before, after, axis in (("A0", None, 0, _Z), ("A", 0, 1, pa),
+                                                  ("B", 1, 2, pp),
+                                                  ("B0", None, 2, setup.axes["output"][1]))]
+    joints = [_Joint("A0", None, 0, _NOUGHT, (_X, _Y, _Z), _perpendicular_pair(_Z)),
+              _Joint("A", 0, 1, pa, (_X, _Y, _Z), ()), _Joint(out, 1, 2, pp, (_X, _Y, _Z), ())]
+    if kind == SKEW_FOUR_BAR:
+        k = setup.axes["output"][1]
+        return joints + [_Joint("B0", None, 2, states[2].origin, (_X, _Y, _Z),
+                                _perpendicular_pair(k))]
+    return joints + [_Joint("guide", None, 2, pp, _perpendicular_pair(setup.axes["guide"][1]),
+                            (_X, _Y, _Z))]
+
+
+def _equations(kind: str, states: tuple[_State, _State, _State]
+               ) -> list[list[tuple[Vector, Vector]]]:
+    """Each body's equations as (force, moment) directions its wrench about the origin is
+    projected on: the plane's 3, space's 6 (the skew coupler's 5), Euler's 3 about O."""
+    if kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
+        return [[(_X, _NOUGHT), (_Y, _NOUGHT), (_NOUGHT, _Z)]] * 3
+    if kind == SPHERICAL_FOUR_BAR:
+        return [[(_NOUGHT, _X), (_NOUGHT, _Y), (_NOUGHT, _Z)]] * 3
+    full = [(_X, _NOUGHT), (_Y, _NOUGHT), (_Z, _NOUGHT),
+            (_NOUGHT, _X), (_NOUGHT, _Y), (_NOUGHT, _Z)]
+    return [full, full[:3] + [(_NOUGHT, states[1].axes[1]), (_NOUGHT, states[1].axes[2])], full]
+
+
+def _solved(rows: list[list[float]], rhs: list[float]) -> list[float] | None:
+    """x with rows x = rhs, by Gaussian elimination with partial pivoting on the system scaled
+    to a largest entry of 1 in each row and column; None where it is singular (a pivot under
+    _SINGULAR_BELOW)."""
+    n = len(rows)
+    work = [list(row) + [b] for row, b in zip(rows, rhs)]
+    for row in work:
+        big = max(abs(v) for v in row[:n])
+        if big == 0.0:
+            return None
+        row[:] = [v / big for v in row]
+    columns = [max(abs(row[j]) for row in work) for j in range(n)]
+    if min(columns) == 0.0:
+        return None
+    for row in work:
+        row[:n] = [v / s for v, s in zip(row, columns)]
+    for k in range(n):
+        pivot = max(range(k, n), key=lambda i: abs(work[i][k]))
+        if abs(work[pivot][k]) < _SINGULAR_BELOW:
+            return None
+        work[k], work[pivot] = work[pivot], work[k]
+        for i in range(k + 1, n):
+            f = work[i][k] / work[k][k]
+            if f:
+                work[i][k:] = [v - f * t for v, t in zip(work[i][k:], work[k][k:])]
+    x = [0.0] * n
+    for k in reversed(range(n)):
+        x[k] = (work[k][n] - sum(work[k][j] * x[j] for j in range(k + 1, n))) / work[k][k]
+    return [v / s for v, s in zip(x, columns)]
+
+
+def _forces_at(setup: _Setup, m: Motion) -> Forces:
+    """One position's Forces (see forces)."""
+    none = Forces(m.phi, None, None, None, None, None, m.status)
+    if m.output is None:
+        return none
+    if m.status in (DEAD_CENTRE, CHANGE_POINT) or m.velocity is None or m.acceleration is None:
+        return none._replace(status=UNBOUNDED)
+    kind = setup.linkage.kind
+    states, pa, pp = _states(setup, m)
+    joints = _joints(setup, states, pa, pp)
+    # each body's wrench about the origin that the reactions and the torque must make up:
+    # the rate of its momenta less gravity and the loads
+    needed = []
+    for body, (mass, state) in enumerate(zip(setup.masses, states)):
+        rho = _in_world(state.axes, mass.centre)
+        centre = _comb((1.0, state.origin), (1.0, rho))
+        a_g = _comb((1.0, state.acceleration), (1.0, cross(state.spin_rate, rho)),
+                    (1.0, cross(state.spin, cross(state.spin, rho))))
+        net = _comb((mass.mass, a_g), (-mass.mass, setup.gravity))
+        turning = _comb((1.0, cross(centre, net)),
+                        (1.0, _inertia_times(state.axes, mass.inertia, state.spin_rate)),
+                        (1.0, cross(state.spin, _inertia_times(state.axes, mass.inertia,
+                                                                state.spin))))
+        if body == 1 and setup.coupler_point is not None:
+            at = _comb((1.0, state.origin), (1.0, _in_world(state.axes, setup.coupler_point)))
+            net = _comb((1.0, net), (-1.0, setup.coupler_force))
+            turning = _comb((1.0, turning), (-1.0, cross(at, setup.coupler_force)))
+        if body == 2 and setup.output_torque:
+            turning = _comb((1.0, turning), (-setup.output_torque, state.axes[2]))
+        if body == 2 and setup.output_force:
+            load = _comb((setup.output_force, state.axes[0]))
+            net = _comb((1.0, net), (-1.0, load))
+            turning = _comb((1.0, turning), (-1.0, cross(state.origin, load)))
+        needed.append((net, turning))
+    # one column per unknown: its unit wrench about the origin on each body it acts on
+    columns: list[list[tuple[Vector, Vector]]] = []
+    for joint in joints:
+        units = [(d, cross(joint.at, d)) for d in joint.forces] + [(_NOUGHT, d)
+                                                                   for d in joint.moments]
+        for f, t in units:
+            on = [(_NOUGHT, _NOUGHT)] * 3
+            on[joint.after] = (f, t)
+            if joint.before is not None:
+                on[joint.before] = (_comb((-1.0, f)), _comb((-1.0, t)))
+            columns.append(on)
+    columns.append([(_NOUGHT, _Z), (_NOUGHT, _NOUGHT), (_NOUGHT, _NOUGHT)])     # the torque
+    rows, rhs = [], []
+    for body, equations in enumerate(_equations(kind, states)):
+        for f_dir, t_dir in equations:
+            rows.append([dot(f_dir, col[body][0]) + dot(t_dir, col[body][1]) for col in columns])
+            rhs.append(dot(f_dir, needed[body][0]) + dot(t_dir, needed[body][1]))
+    x = _solved(rows, rhs)
+    if x is None:
+        return none._replace(status=UNBOUNDED)
+    torque, i = x[-1], 0
+    reactions: dict[str, Reaction] = {}
+    shaking_force, shaking_moment = _NOUGHT, (0.0, 0.0, -torque)
+    for joint in joints:
+        nf, nm = len(joint.forces), len(joint.moments)
+        force = _comb(*zip(x[i:i + nf], joint.forces)) if nf else None
+        moment = _comb(*zip(x[i + nf:i + nf + nm], joint.moments)) if nm else None
+        i += nf + nm
+        reactions[joint.name] = Reaction(force, moment)
+        if joint.before is None:
+            if force is not None:
+                shaking_force = _comb((1.0, shaking_force), (-1.0, force))
+                shaking_moment = _comb((1.0, shaking_moment), (-1.0, cross(joint.at, force)))
+            if moment is not None:
+                shaking_moment = _comb((1.0, shaking_moment), (-1.0, moment))
+    if kind == SPHERICAL_FOUR_BAR:     # the whole linkage's Newton: the loads less m a_G
+        shaking_force = _comb(*((-1.0, net) for net, _ in needed))
+    return Forces(m.phi, torque, torque * setup.omega, reactions, shaking_force, shaking_moment,
+                  m.status)
+
+
+def forces(linkage: Closure, phis: Iterable[float], branch: int | str = 1,
+           bodies: Bodies = Bodies(), effects: Effects = Effects(), *, radius: float = 1.0,
+           start: int | None = None) -> list[Forces]:
+    """The driving torque, the joints' reactions and the frame's shaking force and moment at
+    each input angle of `phis` (degrees) on `branch` (as Linkage.sweep), for the bodies' masses
+    and the effects (see the notes above; radius: the spherical four-bar's sphere, metres)."""
+    setup = _setup(linkage, bodies, effects, radius)
+    return [_forces_at(setup, m) for m in linkage.sweep(phis, branch, 2, start=start)]
+
+
+class ForcesSummary(NamedTuple):
+    """The figures of a swept list of Forces: (value, phi) of the largest; None if none."""
+    peak_torque: tuple[float, float] | None         # the largest |T|, signed
+    rms_torque: float | None
+    mean_power: float | None
+    peak_joints: dict[str, tuple[float, float]]     # |force| (spherical: |moment about O|)
+    peak_shaking_force: tuple[float, float] | None
+    peak_shaking_moment: tuple[float, float] | None
+    flywheel_inertia: float | None                  # kg m^2, for the speed fluctuation cs
+
+
+def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
+                   ) -> ForcesSummary:
+    """Peak and RMS torque, mean power, each joint's peak, the peak shaking force and moment,
+    and the flywheel inertia ΔE_max / (cs omega^2) that holds the speed within +-cs/2 of its
+    mean: ΔE_max the largest swing of the integral of (T - T_mean) dphi along `results` (a
+    sweep over one turn, every position defined; else None), means by the trapezoid rule."""
+    known = [r for r in results if r.torque is not None]
+    if not known:
+        return ForcesSummary(None, None, None, {}, None, None, None)
+
+    def peak(values: Iterable[tuple[float, float]]) -> tuple[float, float]:
+        return max(values, key=lambda vp: abs(vp[0]))
+
+    def size(v: Vector | None) -> float:
+        return math.sqrt(dot(v, v)) if v is not None else 0.0
+
+    torques = [cast(float, r.torque) for r in known]
+    joints: dict[str, tuple[float, float]] = {}
+    for r in known:
+        for name, reaction in cast(dict, r.joints).items():
+            value = size(reaction.force if reaction.force is not None else reaction.moment)
+            if name not in joints or value > joints[name][0]:
+                joints[name] = (value, r.phi)
+    phis = [r.phi * RAD for r in known]
+    span = phis[-1] - phis[0]
+    if len(known) > 1 and span:
+        weights = [((phis[min(i + 1, len(phis) - 1)] - phis[max(i - 1, 0)]) / 2.0) / span
+                   for i in range(len(phis))]
+    else:
+        weights = [1.0 / len(known)] * len(known)
+    mean = sum(w * t for w, t in zip(weights, torques))
+    rms = math.sqrt(sum(w * t * t for w, t in zip(weights, torques)))
+    omega = 2.0 * math.pi * _checked_number(speed_rpm, "the speed (rpm)") / 60.0
+    flywheel = None
+    if len(known) == len(results) and len(known) > 1 and span and omega and cs > 0.0:
+        energy, low, high = 0.0, 0.0, 0.0
+        for i in range(1, len(known)):
+            energy += (torques[i - 1] + torques[i] - 2.0 * mean) / 2.0 * (phis[i] - phis[i - 1])
+            low, high = min(low, energy), max(high, energy)
+        flywheel = (high - low) / (cs * omega * omega)
+    return ForcesSummary(
+        peak((t, r.phi) for t, r in zip(torques, known)), rms, mean * omega, joints,
+        peak((size(r.shaking_force), r.phi) for r in known),
+        peak((size(r.shaking_moment), r.phi) for r in known), flywheel)
+
+
+# ---- 11. The linkage: one class for all that can be asked of it ----------------------------------
 #
 # Holds: Linkage, the engine's Closure with a method for each question the sections before answer:
-# motion and sweep (the engine), coupler and transmission (what it derives), and the same on numpy
-# arrays.
+# motion and sweep (the engine), coupler and transmission (what it derives), the same on numpy
+# arrays, and forces (what it takes to drive it).
 #
-# Uses: sections 6, 7 and 9.
+# Uses: sections 6, 7, 9 and 10.
 # Offers: Linkage.
 
 
@@ -4812,7 +5452,7 @@ class Linkage(Closure):
     """One linkage of the listing's five kinds: Linkage(kind, **dims) (see Closure), and all
     that can be asked of it. Each method names a question and the section that answers it: the
     engine's motion and sweep, the coupler point and the transmission angle (what the engine
-    derives), and the same on numpy arrays (the numpy path)."""
+    derives), the same on numpy arrays (the numpy path), and the forces that drive it."""
 
     __slots__ = ()
 
@@ -4855,8 +5495,16 @@ class Linkage(Closure):
         """transmission on numpy arrays: a float64 array, NaN where there is no position."""
         return transmission_of_arrays(self, self.sweep_arrays(phis, branch, 0))
 
+    def forces(self, phis: Iterable[float], branch: int | str = 1, bodies: Bodies = Bodies(),
+               effects: Effects = Effects(), *, radius: float = 1.0,
+               start: int | None = None) -> list[Forces]:
+        """What it takes to drive the linkage at each input angle: the driving torque, the
+        joints' reactions and the frame's shaking, for the bodies and effects given (see the
+        forces section's notes: SI units, each body's frame)."""
+        return forces(self, phis, branch, bodies, effects, radius=radius, start=start)
 
-# ---- 11. DAT and CSV files: the sweep's formats, written and read --------------------------------
+
+# ---- 12. DAT and CSV files: the sweep's formats, written and read --------------------------------
 #
 # Holds: the accurate engine's files: ANG.DAT, VEL.DAT, ACC.DAT (and MU.DAT) in the listing's format
 # ("phi,value" CR LF lines, the end byte 1A) at full precision, the CSV's columns, a sweep's angles,
@@ -5058,7 +5706,7 @@ def dat_precision(directory: str) -> str:
     return ""
 
 
-# ---- 12. The mechanism drawn: poses projected onto the page --------------------------------------
+# ---- 13. The mechanism drawn: poses projected onto the page --------------------------------------
 #
 # Holds: mechanism_drawing(), which projects the poses of a sweep onto the page - plane linkages as
 # they are, the spherical linkage on its sphere seen obliquely, the skew linkages in a fixed
@@ -5066,7 +5714,7 @@ def dat_precision(directory: str) -> str:
 # on the side the links cross least, axes), drawn once, and one Frame a pose with its letters. The
 # letters go where no mark, link, hatching or other letter covers them (place_labels).
 #
-# Uses: sections 2, 6, 7 and 10.
+# Uses: sections 2, 6, 7 and 11.
 # Offers: Point, Box, Stroke, Mark, Label, Letters, Layer, Frame, Drawing, MECHANISM_EXAMPLES,
 #   STROKE_STYLES, VIEWS, project, Segment, stroke_segments, place_labels, mechanism_drawing,
 #   spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale, svg_radius,
@@ -5880,13 +6528,13 @@ def svg_letters(bounds: Box, size: float) -> Letters:
                    (svg_radius(size, scale) + 1.0) / scale, 1.6 / scale)
 
 
-# ---- 13. The mechanism's renderers: terminal, SVG and PNG ----------------------------------------
+# ---- 14. The mechanism's renderers: terminal, SVG and PNG ----------------------------------------
 #
 # Holds: what draws a Drawing: the terminal (Unicode braille, or ASCII; still or animated until a
 # key), an animated SVG, a PNG (matplotlib). The SVG's letters are those placed in the Drawing; the
 # terminal and the PNG place them again for the sizes they draw letters at.
 #
-# Uses: sections 1 and 12.
+# Uses: sections 1 and 13.
 # Offers: text_drawing, frame_seconds, show_drawing, svg_drawing, PlotUnavailable,
 #   matplotlib_canvas, png_drawing.
 
@@ -6405,7 +7053,7 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
     return out.getvalue()
 
 
-# ---- 14. Synthesis: what a design is, its data and its linkage -----------------------------------
+# ---- 15. Synthesis: what a design is, its data and its linkage -----------------------------------
 #
 # The classical analytical synthesis methods collected by E. Pennestrì and P. P. Valentini, "A
 # review of simple analytical methods for the kinematic synthesis of four-bar and slider-crank
@@ -6794,14 +7442,14 @@ class Synthesis(NamedTuple):
         return self.solutions[self.preferred]
 
 
-# ---- 15. Synthesis: the review's methods ---------------------------------------------------------
+# ---- 16. Synthesis: the review's methods ---------------------------------------------------------
 #
 # Holds: the review's methods, each a function of its data returning a Synthesis: the crank-rockers
 # FOURB-CR-1..4 and Volmer's, the drag-links DRAGLINK-1 and -2, the function generators FOURB-FG2-1,
 # FOURB-FG3-1, SLID-FG2-1 and SLID-FG2-2. Corrections to the review are marked `# ERRATUM Sn` and
 # justified in data/SYNTHESIS_ERRATA.md.
 #
-# Uses: sections 2 and 14.
+# Uses: sections 2 and 15.
 # Offers: fourb_cr_1, fourb_cr_2, fourb_cr_3, fourb_cr_4, volmer_crank_rocker, draglink_1,
 #   draglink_2, limit_angles, fourb_fg2_1, fourb_fg3_1, slid_fg2_1, slid_fg2_2.
 
@@ -7542,7 +8190,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
     return _one(design)
 
 
-# ---- 16. Synthesis: designs measured and checked by the engine -----------------------------------
+# ---- 17. Synthesis: designs measured and checked by the engine -----------------------------------
 #
 # Holds: every design run through engine_outputs, the one adapter to the analysis (the accurate
 # engine, never the synthesis formulas); analyze_design measures on the analysed linkage what it
@@ -7550,7 +8198,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
 # or missed, the transmission-angle extremes. METHODS, the table of the methods, and a design's
 # lines of text.
 #
-# Uses: sections 2, 8, 10, 14 and 15.
+# Uses: sections 2, 8, 11, 15 and 16.
 # Offers: engine_outputs, kind_and_dimensions, measured_transmission_angle, Measured, measure,
 #   output_change, velocity_ratio, Check, analyze_design, ANGLE_TOLERANCE, LENGTH_TOLERANCE,
 #   RATIO_TOLERANCE, conditioning, rounding_floor, misses, METHODS, ASKED_ANGLES, REVIEW_LETTERS,
@@ -8045,7 +8693,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     return below + step / 2, above - step / 2, step
 
 
-# ---- 17. Scenes: a figure's data, loaded and computed --------------------------------------------
+# ---- 18. Scenes: a figure's data, loaded and computed --------------------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a mechanism and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -8060,7 +8708,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
 # those files are written.
 #
-# Uses: sections 1, 2, 5, 6, 7, 9, 10 and 11.
+# Uses: sections 1, 2, 5, 6, 7, 9, 11 and 12.
 # Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, QUANTITY_FILES, MECHANISM_PANEL, MAX_FRAMES,
 #   PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, PanelSpec, Scene, scene_error,
 #   load_scene, known_scenes, scene_path, scene_list, check_assembles, Series, branch_text,
@@ -8539,7 +9187,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
     return write_csv(path, rows(), ("series",) + CSV_HEADER, outputs)
 
 
-# ---- 18. Plots: a figure drawn as text or PNG ----------------------------------------------------
+# ---- 19. Plots: a figure drawn as text or PNG ----------------------------------------------------
 #
 # Holds: a figure built from DAT files (scene_figure, dat_figure: its panels and curves) and drawn
 # as a plain-text plot (80 x 24, no dependency) or a PNG (matplotlib, the `plot` extra); a mechanism
@@ -8552,7 +9200,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 # added so that a curve is continuous across +-180 degrees, and so that the curves of a panel lie
 # within half a turn of the first one.
 #
-# Uses: sections 1, 2, 6, 10, 11, 12, 13 and 17.
+# Uses: sections 1, 2, 6, 11, 12, 13, 14 and 18.
 # Offers: dat_series, Curve, Panel, Figure, DRAWN_UP_TO, CLIPPED, build_figure, scene_figure,
 #   dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure, png_figure,
 #   scene_drawing, scene_text.
@@ -9005,13 +9653,13 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ---- 19. Benchmarks of the program itself --------------------------------------------------------
+# ---- 20. Benchmarks of the program itself --------------------------------------------------------
 #
 # Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS. What
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 7, 9, 10, 11, 12, 13, 17 and 18.
+# Uses: sections 1, 2, 3, 4, 5, 7, 9, 11, 12, 13, 14, 18 and 19.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
 #   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, FILES_TARGET,
 #   bench_files, BENCHMARKS, ELSEWHERE, machine.
@@ -9429,13 +10077,13 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 20. The command line ------------------------------------------------------------------------
+# ---- 21. The command line ------------------------------------------------------------------------
 #
 # Holds: the shared parsers of what is typed on the command line (numbers in each precision, linkage
 # kinds, PNG sizes), one handler a sub-command, the design methods' help, and COMMANDS, the table of
 # every sub-command's help and options that build_parser turns into argparse; main() last.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 16, 17, 18 and 19.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14, 15, 17, 18, 19 and 20.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
 #   decimal_number, basic_answer, output_folder, run_command, CSV_CLIPPED, analyse_command,
 #   drawing_command, scene_command, plot_command, design_scene, design_command, ERRATUM, SCAN_LINE,

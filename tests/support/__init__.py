@@ -6,6 +6,7 @@ terminal.py              a program in a pseudo-terminal, for the pty tests
 peers.py                 the optional test dependencies, imported where used (need, Peer)
 engine_harness.py        the engine's sweeps, the hard catalogue and the scoring rules
 engine_reference.py      the 50-digit mpmath reference, written from the geometry
+forces_reference.py      the driving torque by the energy balance, the loop closed in mpmath
 listing_model.py         the listing's formulas in double precision (or mpmath)
 mbf_reference.py         GW-BASIC's arithmetic and number text step by step (test_mbf_fast's reference)
 make_golden.py           generator: data/golden/ from PC-BASIC
