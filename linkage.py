@@ -2411,31 +2411,45 @@ Vector = tuple[float, float, float]     # a point or a direction in space, (x, y
 
 # -- cos and sin of degrees, reduced exactly ------------------------------------------------------
 
+# Every path reduces an angle the same way: r = x mod 360, n = round(r / 90), y = r - 90 n
+# (|y| <= 45, exact), cos and sin of y, then turned by n quarter turns (exact: products with 0
+# and +-1). cos_sin_degrees is the one for a float; _reduced and _turned_quarters serve the exact
+# (Fraction) and decimal paths; the scalar sweeps' loops hold one inline copy each (named there),
+# the numpy path its array form (_fast_cos_sin).
+
+def _turned_quarters(n: int, c: Any, s: Any) -> tuple[Any, Any]:
+    """cos and sin of y + 90 n degrees from c = cos y and s = sin y."""
+    return ((c, s), (-s, c), (-c, -s), (s, -c))[n & 3]
+
+
 def cos_sin_degrees(x: float) -> tuple[float, float]:
     """cos and sin of x degrees (a float), reduced exactly in degrees: exact at multiples of 90."""
     r = math.fmod(x, 360.0)                 # exact
     n = round(r / 90.0)
     y = (r - 90.0 * n) * RAD                # |r - 90 n| <= 45: the subtraction is exact
-    c, s = math.cos(y), math.sin(y)
-    return ((c, s), (-s, c), (-c, -s), (s, -c))[n & 3]
+    return _turned_quarters(n, math.cos(y), math.sin(y))
+
+
+def _reduced(q: Fraction) -> tuple[int, Fraction]:
+    """n and y = r - 90 n of q degrees, r = q mod 360, exactly (|y| <= 45)."""
+    r = q % 360
+    n = round(r / 90)
+    return n, r - 90 * n
 
 
 def _trig_double(q: Fraction) -> tuple[Fraction, Fraction]:
     """cos and sin of q degrees (a Fraction, reduced exactly) as exact Fractions of the doubles."""
-    r = q % 360
-    n = round(r / 90)
-    c, s = cos_sin_degrees(float(r - 90 * n))  # the reduced angle, rounded once
-    cq, sq = ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4]
-    return Fraction(cq), Fraction(sq)
+    n, y = _reduced(q)
+    y_rad = float(y) * RAD                  # the reduced angle, rounded once
+    c, s = _turned_quarters(n, math.cos(y_rad), math.sin(y_rad))
+    return Fraction(c), Fraction(s)
 
 
 def _decimal_cos_sin_deg(q: Fraction, context: decimal.Context = _DECIMAL
                          ) -> tuple[Decimal, Decimal]:
     """cos and sin of q degrees (a Fraction) as Decimals of the context's digits (50, or 110 near
     a change point): exact reduction, Taylor."""
-    r = q % 360
-    n = round(r / 90)
-    y = r - 90 * n
+    n, y = _reduced(q)
     with decimal.localcontext(context):
         tiny = _DECIMAL_TINY.scaleb(50 - context.prec)
         x = Decimal(y.numerator) / Decimal(y.denominator) * _DECIMAL_PI / 180
@@ -2446,7 +2460,7 @@ def _decimal_cos_sin_deg(q: Fraction, context: decimal.Context = _DECIMAL
             c, s = c + tc, s + ts
             if abs(tc) + abs(ts) < tiny:
                 break
-        return ((c, s), (-s, c), (-c, -s), (s, -c))[n % 4]
+        return _turned_quarters(n, c, s)
 
 
 def _trig_decimal(q: Fraction, context: decimal.Context = _DECIMAL) -> tuple[Fraction, Fraction]:
@@ -4224,9 +4238,9 @@ def _fast_plus(np, k, x, out):
 
 
 def _fast_cos_sin(np, phi, reduce, w):
-    """cos and sin of phi degrees as _sweep_four_bar computes them: the angle reduced exactly to
-    y = r - 90 n (|y| <= 45), cos y and sin y, then turned by n quarter turns (products with 0 and
-    +-1, exact)."""
+    """cos_sin_degrees on an array (the one reduction, in numpy: r = phi mod 360, unless not
+    `reduce`; y = r - 90 n, |y| <= 45; cos y and sin y turned by n quarter turns, exact), into
+    the work buffers w."""
     r = np.fmod(phi, 360.0, out=w["r"]) if reduce else phi
     n = np.divide(r, 90.0, out=w["n"])
     np.rint(n, out=n)                       # half to even, as round() does
@@ -4509,15 +4523,12 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
 
 
 def _cos_sin_degrees_array(np, x):
-    """cos_sin_degrees elementwise (NaN stays NaN)."""
-    with np.errstate(invalid="ignore"):
-        r = np.fmod(x, 360.0)
-        n = np.rint(r / 90.0)
-        y = (r - 90.0 * n) * RAD
-        quarter = np.nan_to_num(n).astype(np.intp) & 3
-    cy, sy = np.cos(y), np.sin(y)
-    tc, ts = np.take(_QUARTER_COS, quarter), np.take(_QUARTER_SIN, quarter)
-    return cy * tc - sy * ts, sy * tc + cy * ts
+    """cos_sin_degrees elementwise (NaN stays NaN): _fast_cos_sin, with buffers of its own."""
+    x = np.asarray(x, dtype=np.float64)
+    w = {k: np.empty_like(x) for k in ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare")}
+    w["quarter"] = np.empty(x.shape, dtype=np.intp)
+    with np.errstate(invalid="ignore"):             # NaN's quarter: any, its cos and sin NaN
+        return _fast_cos_sin(np, x, True, w)
 
 
 class CouplerArrays(NamedTuple):
