@@ -3630,35 +3630,51 @@ class Extreme(NamedTuple):
 EQUAL_STROKES = 1e-9                # degrees: strokes this close are equal (time ratio 1)
 
 
-def _time_ratio(forward: float | None, back: float | None) -> float | None:
-    """The time ratio as engineers quote it: the slower stroke's crank turn over the faster's
-    (>= 1); None without strokes."""
-    if forward is None or back is None:
-        return None
-    return max(forward, back) / min(forward, back)
+class _Strokes:
+    """What Circuit and Analysis derive from their strokes and transmission-angle extremes."""
+    __slots__ = ()
+    forward_stroke: float | None
+    return_stroke: float | None
+    mu_min: Extreme
+    mu_max: Extreme
+
+    @property
+    def time_ratio(self) -> float | None:
+        """The time ratio as engineers quote it: the slower stroke's crank turn over the faster's
+        (>= 1; slower_stroke says which); None without strokes."""
+        forward, back = self.forward_stroke, self.return_stroke
+        if forward is None or back is None:
+            return None
+        return max(forward, back) / min(forward, back)
+
+    @property
+    def time_ratio_review(self) -> float | None:
+        """The review's eq. (5): the crank's turn while the output rises over its turn back."""
+        if self.forward_stroke is None or self.return_stroke is None:   # given both or neither
+            return None
+        return self.forward_stroke / self.return_stroke
+
+    @property
+    def slower_stroke(self) -> str | None:
+        """Which stroke takes the crank longer: "forward" (the output rising), "return", or
+        "neither" (equal within EQUAL_STROKES); None without strokes."""
+        forward, back = self.forward_stroke, self.return_stroke
+        if forward is None or back is None:
+            return None
+        if abs(forward - back) <= EQUAL_STROKES:
+            return "neither"
+        return "forward" if forward > back else "return"
+
+    @property
+    def mu_worst(self) -> Extreme:
+        """Of the transmission angle's extremes, the one further from 90 degrees (mu_min if
+        equally far)."""
+        return self.mu_max if abs(self.mu_max.value - 90.0) > abs(self.mu_min.value - 90.0) \
+            else self.mu_min
 
 
-def _slower_stroke(forward: float | None, back: float | None) -> str | None:
-    """Which stroke takes the crank longer: "forward" (the output rising), "return", or "neither"
-    (equal within EQUAL_STROKES); None without strokes."""
-    if forward is None or back is None:
-        return None
-    if abs(forward - back) <= EQUAL_STROKES:
-        return "neither"
-    return "forward" if forward > back else "return"
-
-
-def _mu_worst(mu_min: Extreme, mu_max: Extreme) -> Extreme:
-    """Of the transmission angle's extremes, the one further from 90 degrees (mu_min if equally
-    far)."""
-    return mu_max if abs(mu_max.value - 90.0) > abs(mu_min.value - 90.0) else mu_min
-
-
-class Circuit(NamedTuple):
-    """One circuit of the motion (see analyse): crank_range the crank's interval on it (None when
-    the crank turns fully: the circuit is the branch's), output_min/max None when the output
-    turns fully, the strokes None where the crank rocks or the output turns fully; mu_min and
-    mu_max the transmission angle's extremes over the circuit."""
+class _CircuitFields(NamedTuple):
+    """Circuit's fields."""
     crank_range: tuple[tuple[float, float], ...] | None
     output_min: Extreme | None
     output_max: Extreme | None
@@ -3667,36 +3683,17 @@ class Circuit(NamedTuple):
     mu_min: Extreme
     mu_max: Extreme
 
-    @property
-    def time_ratio(self) -> float | None:
-        """The slower stroke's crank turn over the faster's (>= 1; slower_stroke says which)."""
-        return _time_ratio(self.forward_stroke, self.return_stroke)
 
-    @property
-    def time_ratio_review(self) -> float | None:
-        """The review's eq. (5): the crank's turn while the output rises over its turn back."""
-        if self.forward_stroke is None or self.return_stroke is None:    # given both or neither
-            return None
-        return self.forward_stroke / self.return_stroke
-
-    @property
-    def slower_stroke(self) -> str | None:
-        """"forward", "return" or "neither" (see _slower_stroke)."""
-        return _slower_stroke(self.forward_stroke, self.return_stroke)
-
-    @property
-    def mu_worst(self) -> Extreme:
-        """The transmission angle furthest from 90 degrees (mu_min or mu_max)."""
-        return _mu_worst(self.mu_min, self.mu_max)
+class Circuit(_CircuitFields, _Strokes):
+    """One circuit of the motion (see analyse): crank_range the crank's interval on it (None when
+    the crank turns fully: the circuit is the branch's), output_min/max None when the output
+    turns fully, the strokes None where the crank rocks or the output turns fully; mu_min and
+    mu_max the transmission angle's extremes over the circuit."""
+    __slots__ = ()
 
 
-class Analysis(NamedTuple):
-    """What `analyse` finds (see the notes above and analyse). Angles in degrees; crank_range
-    the intervals (from, to) the crank turns through, None when it turns fully; circuits the
-    motion's circuits, each analysed on its own; the output's and the transmission angle's
-    extremes and the strokes are circuit 1's (circuits[0]): output_min/max None when the output
-    turns fully; time_ratio and the strokes None where the crank rocks or the output turns
-    fully."""
+class _AnalysisFields(NamedTuple):
+    """Analysis's fields."""
     linkage: Closure
     branch: int | str
     type: str
@@ -3712,27 +3709,16 @@ class Analysis(NamedTuple):
     change_points: tuple[float, ...]
     circuits: tuple[Circuit, ...] = ()
 
-    @property
-    def time_ratio(self) -> float | None:
-        """The slower stroke's crank turn over the faster's (>= 1; slower_stroke says which)."""
-        return _time_ratio(self.forward_stroke, self.return_stroke)
 
-    @property
-    def time_ratio_review(self) -> float | None:
-        """The review's eq. (5): the crank's turn while the output rises over its turn back."""
-        if self.forward_stroke is None or self.return_stroke is None:    # given both or neither
-            return None
-        return self.forward_stroke / self.return_stroke
+class Analysis(_AnalysisFields, _Strokes):
+    """What `analyse` finds (see the notes above and analyse). Angles in degrees; crank_range
+    the intervals (from, to) the crank turns through, None when it turns fully; circuits the
+    motion's circuits, each analysed on its own; the output's and the transmission angle's
+    extremes and the strokes are circuit 1's (circuits[0]): output_min/max None when the output
+    turns fully; time_ratio and the strokes None where the crank rocks or the output turns
+    fully."""
+    __slots__ = ()
 
-    @property
-    def slower_stroke(self) -> str | None:
-        """"forward", "return" or "neither" (see _slower_stroke)."""
-        return _slower_stroke(self.forward_stroke, self.return_stroke)
-
-    @property
-    def mu_worst(self) -> Extreme:
-        """The transmission angle furthest from 90 degrees (mu_min or mu_max)."""
-        return _mu_worst(self.mu_min, self.mu_max)
 
 
 def _assembled_near(linkage: Closure, phi: float, branch: int, inward: int) -> Motion:
