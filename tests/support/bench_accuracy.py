@@ -95,7 +95,7 @@ def _typed_linkage(kind: str, dims: dict):
     """Lines 250-480 given the dimensions typed at the prompts: the menu key, the answers typed
     (in the order the listing asks), and the listing's variables, or None where line 480 refuses
     the linkage. Soft errors go to the caller's soft_errors() block."""
-    key, typed = linkage._typed_dimensions(kind, dims)
+    key, typed = linkage.typed_dimensions(kind, dims)
     v, answers = Variables(), iter(typed)
     legal = dimensions(v, int(key), lambda prompt: input_value(next(answers)))
     return key, typed, v if legal else None
@@ -124,7 +124,7 @@ def _faithful_method(cases, repeats):
             key, _, v = _typed_linkage(kind, dims)
             if v is not None:
                 co = coefficients(v, int(key))
-                angles = [degrees_to_radians(input_value(linkage._typed(phi))) for phi in phis]
+                angles = [degrees_to_radians(input_value(linkage.typed_number(phi))) for phi in phis]
         if v is not None:
             jobs.append((label, phis, (co, v.S, angles), len(errors)))
         else:
@@ -253,7 +253,7 @@ def _pcbasic_method(cases, runner):
                 if v is None:
                     answers[label, phi, branch] = Answer(ILLEGAL)
                     continue
-                answers_typed = typed + [linkage._typed(phi)] * 2 + ["1"]     # from, to, step
+                answers_typed = typed + [linkage.typed_number(phi)] * 2 + ["1"]     # from, to, step
                 keys = key + "".join(t + "\r" for t in answers_typed)
                 sessions.append((keys + str(branch)).encode("ascii"))
                 where.append((label, phi, branch))
