@@ -3065,9 +3065,9 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 # ---- 7. What the engine derives: joints, coupler point, transmission angle -----------------------
 #
 # Holds: what follows from the engine's output angle (or slider position) and its derivatives: where
-# every joint is (joint_positions, in the frame the listing's coefficients imply;
-# tests/test_physics.py derives it: the input axis is z and the crank b turns in the plane z = 0
-# from +x), the moving pins with their derivatives by phi (PINS, joint_kinematics), a point fixed to
+# every joint is (joint_positions, in the frame the listing's coefficients imply, each kind's
+# spelled out in its docstring at the end of this section: the input axis is z, the crank turns
+# about it from +x; tests/test_physics.py derives it), the moving pins with their derivatives by phi (PINS, joint_kinematics), a point fixed to
 # the coupler (coupler_of) and the transmission angle (transmission_of).
 #
 # The transmission angle mu is the angle between the output pin's velocity and its velocity relative
@@ -4830,7 +4830,7 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # loads, the driver's torque and the joints' reactions make one linear system in the reactions
 # and the torque, solved at each angle by Gaussian elimination with partial pivoting, its rows
 # and columns scaled to a largest entry of 1 first. At the engine's DEAD_CENTRE (the output's
-# dead centre, mu = 0) and CHANGE_POINT, and wherever that system is singular (a pivot under
+# dead centre, mu = 0 or 180) and CHANGE_POINT, and wherever that system is singular (a pivot under
 # 1e-12), the forces are unbounded: status UNBOUNDED and None, never an inf or a NaN (approaching
 # a dead centre they are finite and grow as psi' psi''). Nothing here runs unless forces() is
 # called.
@@ -4845,7 +4845,7 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #
 # Each body's frame (x, y, z orthonormal and right-handed; a centre and inertia are given in it):
 #   crank:    origin the pivot A0 (the sphere's centre O for the spherical four-bar), z the input
-#             axis, x toward the pin A (square to z).
+#             axis, x toward the pin A (perpendicular to z).
 #   coupler:  plane kinds: origin A, x toward the output pin, z = (0, 0, 1), so that its centre
 #             (u, v) is Linkage.coupler's point (u, v). Skew kinds: origin A, x toward the output
 #             pin; with a ball joint at each end it may spin idly about that line, so its mass must
@@ -4868,16 +4868,16 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # the moving link; the unknowns, by kind:
 #   plane, slider:  each pin joint a force in the plane (2 unknowns); the slider's guide a normal
 #                   force and a moment about z at C (2); the torque: 9 = 3 bodies x 3 equations.
-#   skew:           the revolutes A0 and B0 a force (3) and a moment square to their axis (2), at
+#   skew:           the revolutes A0 and B0 a force (3) and a moment perpendicular to their axis (2), at
 #                   A0 and B0; the balls A and B a force (3); the torque: 17 = 6 + 5 + 6 equations,
 #                   the coupler's about A->B dropped (all its forces meet that line: 0 = 0).
-#   skew-slider:    A0 (5), the balls A and C (3 each), the guide a force square to it (2) and a
+#   skew-slider:    A0 (5), the balls A and C (3 each), the guide a force perpendicular to it (2) and a
 #                   moment (3), at C; the torque: 17 = 6 + 5 + 6.
 #   spherical:      every joint's axis passes through O, and so every body turns about O: the
 #                   linkage is over-constrained (spatially 6 x 3 = 18 equations for 4 x 5 + 1 = 21
 #                   unknowns), and the joints' forces can carry a self-balanced system of 3
 #                   parameters that rigid bodies leave undetermined (the links' elasticity and fit
-#                   decide it). Determinate are each joint's moment about O (square to its axis, 2
+#                   decide it). Determinate are each joint's moment about O (perpendicular to its axis, 2
 #                   each), the torque (8 + 1 = 9 = 3 bodies x Euler's 3 equations about O), and the
 #                   frame's resultant: the joints report their moments about O only (force None).
 # The shaking force and moment are what the linkage exerts on its frame: minus the ground joints'
@@ -4916,9 +4916,10 @@ class Bodies(NamedTuple):
 
 class Effects(NamedTuple):
     """What drives and loads the linkage: the crank's speed (rpm) and acceleration (rad/s^2);
-    gravity (None, a number g along the kind's down, or a 3-vector, m/s^2); a torque on the
-    output about its axis in the sense of psi (N m, four-bars); a force on the slider along its
-    guide in the sense of x (N, slider-cranks); a force (fx, fy, fz) (N) at the coupler point
+    gravity (None, a number g along the kind's down, or a 3-vector, m/s^2); a torque applied to
+    the output about its axis in the sense of psi (N m, four-bars: a load that resists the
+    motion where psi increases is negative); a force applied to the slider along its guide in
+    the sense of x (N, slider-cranks, likewise); a force (fx, fy, fz) (N) at the coupler point
     (u, v) of Linkage.coupler, as ((u, v), (fx, fy, fz))."""
     speed_rpm: float = 0.0
     crank_acceleration: float = 0.0
@@ -5000,7 +5001,7 @@ def _inertia_times(axes: Matrix, inertia: Matrix, w: Vector) -> Vector:
 
 
 def _perpendicular_pair(k: Vector) -> tuple[Vector, Vector]:
-    """Two unit vectors square to the unit vector k and to each other."""
+    """Two unit vectors perpendicular to the unit vector k and to each other."""
     least = min(range(3), key=lambda i: abs(k[i]))
     p = _unit3(cross(k, (_X, _Y, _Z)[least]))
     return p, cross(k, p)
@@ -5418,8 +5419,10 @@ def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
                    ) -> ForcesSummary:
     """Peak and RMS torque, mean power, each joint's peak, the peak shaking force and moment,
     and the flywheel inertia ΔE_max / (cs omega^2) that holds the speed within +-cs/2 of its
-    mean: ΔE_max the largest swing of the integral of (T - T_mean) dphi along `results` (a
-    sweep over one turn, every position defined; else None), means by the trapezoid rule."""
+    mean: ΔE_max the largest swing of the integral of (T - T_mean) dphi along `results` (None
+    unless every position is defined; the sweep should be one whole turn, as a flywheel's cycle
+    is: that is the caller's to give), means by the trapezoid rule; speed_rpm: the speed the
+    results were computed at (Effects.speed_rpm)."""
     known = [r for r in results if r.torque is not None]
     if not known:
         return ForcesSummary(None, None, None, {}, None, None, None)
