@@ -3067,8 +3067,9 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 # Holds: what follows from the engine's output angle (or slider position) and its derivatives: where
 # every joint is (joint_positions, in the frame the listing's coefficients imply, each kind's
 # spelled out in its docstring at the end of this section: the input axis is z, the crank turns
-# about it from +x; tests/test_physics.py derives it), the moving pins with their derivatives by phi (PINS, joint_kinematics), a point fixed to
-# the coupler (coupler_of) and the transmission angle (transmission_of).
+# about it from +x; tests/test_physics.py derives it), the moving pins with their derivatives by
+# phi (PINS, joint_kinematics), a point fixed to the coupler (coupler_of) and the transmission
+# angle (transmission_of).
 #
 # The transmission angle mu is the angle between the output pin's velocity and its velocity relative
 # to the crank pin A (the review's section 2): for the plane four-bar the angle between coupler and
@@ -4868,17 +4869,17 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # the moving link; the unknowns, by kind:
 #   plane, slider:  each pin joint a force in the plane (2 unknowns); the slider's guide a normal
 #                   force and a moment about z at C (2); the torque: 9 = 3 bodies x 3 equations.
-#   skew:           the revolutes A0 and B0 a force (3) and a moment perpendicular to their axis (2), at
-#                   A0 and B0; the balls A and B a force (3); the torque: 17 = 6 + 5 + 6 equations,
+#   skew:           the revolutes A0 and B0 a force (3) and a moment perpendicular to their axis
+#                   (2), at A0 and B0; the balls A and B a force (3); the torque: 17 = 6 + 5 + 6 equations,
 #                   the coupler's about A->B dropped (all its forces meet that line: 0 = 0).
-#   skew-slider:    A0 (5), the balls A and C (3 each), the guide a force perpendicular to it (2) and a
-#                   moment (3), at C; the torque: 17 = 6 + 5 + 6.
+#   skew-slider:    A0 (5), the balls A and C (3 each), the guide a force perpendicular to it (2)
+#                   and a moment (3), at C; the torque: 17 = 6 + 5 + 6.
 #   spherical:      every joint's axis passes through O, and so every body turns about O: the
 #                   linkage is over-constrained (spatially 6 x 3 = 18 equations for 4 x 5 + 1 = 21
 #                   unknowns), and the joints' forces can carry a self-balanced system of 3
 #                   parameters that rigid bodies leave undetermined (the links' elasticity and fit
-#                   decide it). Determinate are each joint's moment about O (perpendicular to its axis, 2
-#                   each), the torque (8 + 1 = 9 = 3 bodies x Euler's 3 equations about O), and the
+#                   decide it). Determinate are each joint's moment about O (perpendicular to its
+#                   axis, 2 each), the torque (8 + 1 = 9 = 3 bodies x Euler's 3 equations about O), and the
 #                   frame's resultant: the joints report their moments about O only (force None).
 # The shaking force and moment are what the linkage exerts on its frame: minus the ground joints'
 # reactions, and minus the driver's torque (its stator sits on the frame), the moment about A0
