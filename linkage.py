@@ -4870,8 +4870,9 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   plane, slider:  each pin joint a force in the plane (2 unknowns); the slider's guide a normal
 #                   force and a moment about z at C (2); the torque: 9 = 3 bodies x 3 equations.
 #   skew:           the revolutes A0 and B0 a force (3) and a moment perpendicular to their axis
-#                   (2), at A0 and B0; the balls A and B a force (3); the torque: 17 = 6 + 5 + 6 equations,
-#                   the coupler's about A->B dropped (all its forces meet that line: 0 = 0).
+#                   (2), at A0 and B0; the balls A and B a force (3); the torque: 17 = 6 + 5 + 6
+#                   equations, the coupler's about A->B dropped (all its forces meet that line:
+#                   0 = 0).
 #   skew-slider:    A0 (5), the balls A and C (3 each), the guide a force perpendicular to it (2)
 #                   and a moment (3), at C; the torque: 17 = 6 + 5 + 6.
 #   spherical:      every joint's axis passes through O, and so every body turns about O: the
@@ -4879,8 +4880,9 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #                   unknowns), and the joints' forces can carry a self-balanced system of 3
 #                   parameters that rigid bodies leave undetermined (the links' elasticity and fit
 #                   decide it). Determinate are each joint's moment about O (perpendicular to its
-#                   axis, 2 each), the torque (8 + 1 = 9 = 3 bodies x Euler's 3 equations about O), and the
-#                   frame's resultant: the joints report their moments about O only (force None).
+#                   axis, 2 each), the torque (8 + 1 = 9 = 3 bodies x Euler's 3 equations about
+#                   O), and the frame's resultant: the joints report their moments about O only
+#                   (force None).
 # The shaking force and moment are what the linkage exerts on its frame: minus the ground joints'
 # reactions, and minus the driver's torque (its stator sits on the frame), the moment about A0
 # (O for the spherical kind); the loads and gravity act from outside. For the spherical kind the
