@@ -36,6 +36,7 @@ import decimal
 import fractions
 import functools
 import heapq
+import io
 import math
 import os
 import re
@@ -259,7 +260,8 @@ class WrittenSet:
     an error are they renamed into place, together, signals held (with the names removed() of an
     old set that the new one does not write). On any failure every one is removed and the old
     files stand. Outputs that are no regular file (-, a FIFO, a device) cannot be: opened()
-    keeps what is written to them and writes it once the set is in place."""
+    keeps what is written to them and writes it before any file is renamed (if it fails, the old
+    files stand; once it is written, the files are put in place)."""
 
     def __init__(self) -> None:
         self._files: list[_Temporary] = []
@@ -294,9 +296,9 @@ class WrittenSet:
         self._removed.append(path)
 
     @contextlib.contextmanager
-    def opened(self, path: str) -> Iterator[_Temporary | BinaryIO]:
+    def opened(self, path: str) -> Iterator[_Temporary | _Stream | BinaryIO]:
         """As written_whole(path), but put in place with the set; an output that is no regular
-        file gets what was written once the set is in place."""
+        file gets what was written before the set's files are renamed into place."""
         if path == "-" or _is_stream(path):
             import io
             buffer = io.BytesIO()
@@ -306,10 +308,19 @@ class WrittenSet:
             yield self.file(path)
 
     def _commit(self) -> None:
+        """Put the set in place: the files finished, then the streams written whole (a stream
+        cannot be taken back: if one fails, no file has been renamed and the old ones stand),
+        and only then every file renamed."""
         for f in self._files:
             f.finish()
         targets = [f.path for f in self._files] + [p for _, p in self._moves] + self._removed
         folders = {os.path.dirname(os.path.abspath(p)) for p in targets}
+        for path in targets:                    # what would stop the renames, before a stream
+            if os.path.isdir(path):
+                raise IsADirectoryError(21, "it is a folder", path)
+        for path, data in self._streams:
+            with written_whole(path) as out:
+                out.write(data)
         for folder in folders:
             try:
                 os.makedirs(folder, exist_ok=True)
@@ -329,9 +340,6 @@ class WrittenSet:
             for path in self._removed:
                 with contextlib.suppress(FileNotFoundError):
                     os.unlink(path)
-        for path, data in self._streams:
-            with written_whole(path) as out:
-                out.write(data)
 
 
 def staging_folder(folder: str | None) -> tempfile.TemporaryDirectory[str]:
@@ -346,7 +354,7 @@ def staging_folder(folder: str | None) -> tempfile.TemporaryDirectory[str]:
 
 
 def written(path: str, outputs: WrittenSet | None = None,
-            ) -> contextlib.AbstractContextManager[_Temporary | BinaryIO]:
+            ) -> contextlib.AbstractContextManager[_Temporary | _Stream | BinaryIO]:
     """written_whole(path), or the file of the set `outputs` if one is given."""
     return written_whole(path) if outputs is None else outputs.opened(path)
 
@@ -378,7 +386,7 @@ def shipped_file(kind: str, name: str) -> str:
 
 
 @contextlib.contextmanager
-def written_whole(path: str) -> Iterator[_Temporary | BinaryIO]:
+def written_whole(path: str) -> Iterator[_Temporary | _Stream]:
     """Open `path` for writing (bytes) so that it is written whole or not at all: into a
     temporary file of a unique name in the same folder, flushed to the disk and renamed over
     `path` when the block ends; removed on any failure or interrupt, leaving `path` as it was.
@@ -411,19 +419,121 @@ def _is_stream(path: str) -> bool:
     return stat.S_ISFIFO(mode) or stat.S_ISCHR(mode)
 
 
+class _Stream:
+    """An output that is no regular file - standard output ("-"), a FIFO, a device - written
+    straight through: every byte given to write() is written (a short write of an unbuffered
+    stream, `python3 -u`, is written on from where it stopped), or OSError names `path` (none
+    for standard output: the one output the program writes without naming it). finish()
+    flushes it, as _Temporary.finish() makes a file ready."""
+
+    def __init__(self, path: str, out: BinaryIO) -> None:
+        self.path, self.out = path, out
+
+    def _failed(self, e: OSError) -> OSError:
+        return OSError(e.errno, e.strerror, None if self.path == "-" else self.path)
+
+    def write(self, data: bytes) -> int:
+        try:
+            return _write_all(self.out, data)
+        except OSError as e:
+            raise self._failed(e) from None
+
+    def finish(self) -> None:
+        try:
+            self.out.flush()
+        except OSError as e:
+            raise self._failed(e) from None
+
+
+def _write_all(out: Any, data: bytes) -> int:
+    """Write all of `data` to `out`: a buffered stream does (BufferedWriter), a raw one
+    (FileIO: standard output under `python3 -u`) may write part and return its count, and the
+    rest is written after it (a pipe whose reader left then fails: BrokenPipeError)."""
+    view = memoryview(data).cast("B")
+    done = 0
+    while done < len(view):
+        count = out.write(view[done:])
+        if count is None:                       # a non-blocking stream that is full
+            raise BlockingIOError(11, "the output cannot take more now")
+        done += count
+    return done
+
+
+class WholeWrites(io.RawIOBase):
+    """A raw binary stream (FileIO) whose write() writes all it is given, as _write_all: what
+    standard output's text layer writes through under `python3 -u` (whole_stdout)."""
+
+    def __init__(self, raw: Any) -> None:
+        super().__init__()
+        self.raw = raw
+
+    def write(self, data: Any) -> int:
+        return _write_all(self.raw, data)
+
+    def writable(self) -> bool:
+        return True
+
+    def fileno(self) -> int:
+        return int(self.raw.fileno())
+
+    def isatty(self) -> bool:
+        return bool(self.raw.isatty())
+
+    def close(self) -> None:                    # the descriptor is standard output's own
+        super().close()
+
+
 @contextlib.contextmanager
-def _streamed(path: str) -> Iterator[BinaryIO]:
-    """The output written straight to standard output ("-") or to the FIFO or device."""
+def whole_stdout() -> Iterator[None]:
+    """While it lasts, standard output's text layer writes whole: where Python wrote it
+    unbuffered (`python3 -u`, PYTHONUNBUFFERED), a short write of its raw stream - a pipe whose
+    reader left after part - was taken as whole, and the text or file said written; then
+    sys.stdout is a text layer as Python's, over WholeWrites. Elsewhere nothing changes."""
+    stdout = sys.stdout
+    if not isinstance(getattr(stdout, "buffer", None), io.FileIO):
+        yield
+        return
+    assert stdout is not None
+    raw = io.FileIO(stdout.fileno(), "wb", closefd=False)
+    sys.stdout = io.TextIOWrapper(cast("BinaryIO", WholeWrites(raw)), encoding=stdout.encoding,
+                                  errors=stdout.errors, write_through=True,
+                                  line_buffering=stdout.line_buffering)
+    try:
+        yield
+    finally:
+        if sys.stdout is not None:
+            with contextlib.suppress(OSError, ValueError):
+                sys.stdout.flush()
+        sys.stdout = stdout
+
+
+@contextlib.contextmanager
+def _streamed(path: str) -> Iterator[_Stream]:
+    """The output written straight to standard output ("-") or to the FIFO or device, whole
+    (_Stream): the block's writes, then a flush."""
     if path == "-":
         stdout = sys.stdout
         if stdout is None:
             raise OSError(9, "standard output is closed", "-")
-        stdout.flush()
-        yield stdout.buffer
-        stdout.buffer.flush()
+        stream = _Stream(path, stdout.buffer)
+        try:
+            stdout.flush()
+        except OSError as e:
+            raise stream._failed(e) from None
+        yield stream
+        stream.finish()
         return
-    with open(path, "wb") as out:
-        yield out
+    try:
+        out = open(path, "wb")
+    except OSError as e:
+        raise OSError(e.errno, e.strerror, path) from None
+    stream = _Stream(path, out)
+    try:
+        yield stream
+        stream.finish()
+    finally:
+        with contextlib.suppress(OSError):
+            out.close()                         # flushed, or failed: nothing more to say
 
 
 class DatFiles:  # ERRATA P3
@@ -9603,11 +9713,12 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
                                      before_rename=getattr(table, "finish", None), csv=table)
     except ProgramStop as stop:
         return said(stop, 1)
-    except BrokenPipeError:                     # --csv -: the reader stopped (main's to say)
-        raise
     except OSError as e:
-        return said(f"cannot write {args.csv}: {e.strerror}"
-                     + (" (the DAT files are written)" if points is not None else ""), 1)
+        if isinstance(e, BrokenPipeError) and e.filename is None:
+            raise                               # --csv -: the reader stopped (main's to say)
+        return said(f"cannot write {e.filename or args.csv}: {e.strerror}"
+                     + ("; the DAT files are written" if points is not None
+                        else "; the DAT files there are as they were"), 1)
     except KeyboardInterrupt as e:
         return said("interrupted; the DAT files there are as they were", interrupted_status(e))
     left_out = (f"; {points - assembled:,} without a position, left out"

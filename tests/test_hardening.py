@@ -640,3 +640,73 @@ def test_a_signal_as_a_temporary_file_is_made_leaves_none(nth, tmp_path):
                           cwd=basic_runner.ROOT, capture_output=True, text=True, timeout=120)
     assert done.returncode == 128 + signal.SIGTERM, done.stderr
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+# ---- a stream among the outputs (issue 35, item 1) ---------------------------------------------
+
+STREAMED_RUN = ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
+                "--to", "360", "--branch", "1"]
+
+
+def old_files(folder) -> dict[str, bytes]:
+    """A folder holding an old set (made by hand: no run of the program under test) and its
+    bytes."""
+    folder.mkdir(exist_ok=True)
+    for name in ("ANG.DAT", "VEL.DAT", "ACC.DAT"):
+        (folder / name).write_bytes(b"OLD " + name.encode())
+    return snapshot(folder)
+
+
+@pytest.mark.parametrize("argv", [
+    STREAMED_RUN + ["--step", "10"],
+    STREAMED_RUN + ["--step", "10", "--precision", "double"],
+    ["scene", "transmission", "--dir", "dd"],
+])
+def test_a_full_stream_among_the_outputs_leaves_the_old_files_and_says_so_truly(argv, tmp_path):
+    """Issue 35, item 1: `--csv /dev/full` failed (exit 1, "the DAT files there are as they
+    were") after the new DAT files had replaced the old ones: the stream was written after the
+    renames. Now it is written first; the folder keeps its old set, and the message names it."""
+    folder = tmp_path / "dd" if "scene" in argv else tmp_path
+    before = old_files(folder)
+    result = run(argv + ["--csv", "/dev/full"], tmp_path)
+    assert_clean(result)
+    said = result.stderr.decode()
+    assert result.returncode == 1 and "/dev/full: No space left on device" in said, said
+    assert snapshot(folder) == before
+
+
+@pytest.mark.parametrize("precision", ["basic", "double"])
+def test_a_fifo_whose_reader_quits_leaves_the_old_files(precision, tmp_path):
+    """Issue 35, item 1: a FIFO given as --csv whose reader leaves after 10 bytes: the run fails
+    (exit 1, the FIFO named) and the DAT files there are the old ones."""
+    import threading
+    before = old_files(tmp_path)
+    fifo = tmp_path / "p"
+    os.mkfifo(fifo)
+
+    def reader():
+        with open(fifo, "rb") as f:
+            f.read(10)
+    thread = threading.Thread(target=reader, daemon=True)
+    thread.start()
+    result = run(STREAMED_RUN + ["--step", "0.1", "--precision", precision, "--csv", str(fifo)],
+                 tmp_path)
+    thread.join(timeout=60)
+    assert_clean(result)
+    said = result.stderr.decode()
+    assert result.returncode == 1 and f"{fifo}: Broken pipe" in said, said
+    assert "as they were" in said
+    fifo.unlink()                               # (snapshot would wait for a writer)
+    assert snapshot(tmp_path) == before
+
+
+@pytest.mark.parametrize("precision", ["basic", "double"])
+def test_a_closed_standard_output_as_the_csv_leaves_the_old_files(precision, tmp_path):
+    """Issue 35, item 1: `--csv - >&-` replaced the DAT files, then said they were as they were."""
+    before = old_files(tmp_path)
+    args = " ".join(STREAMED_RUN + ["--step", "10", "--precision", precision, "--csv", "-"])
+    result = subprocess.run(["bash", "-c", f"{' '.join(PROGRAM)} {args} >&-"], cwd=tmp_path,
+                            capture_output=True, timeout=60)
+    assert_clean(result)
+    assert result.returncode == 1 and b"standard output is closed" in result.stderr
+    assert snapshot(tmp_path) == before
