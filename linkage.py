@@ -3148,8 +3148,8 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 # itself - never approximated here. numpy is imported at the first use only: linkage.py runs on
 # the standard library alone, and this path is the optional extra `fast`.
 
-STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE,  # MotionArrays.status
-                CHANGE_POINT)
+STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE,  # MotionArrays.status,
+                CHANGE_POINT, STOPPED)          # SweepColumns.status: every Motion.status
 FAST_BLOCK = 16384       # angles a block (of 4096 to 32768 the fastest at 1e4 and 1e5 points here,
 #                          2026-11-26; memory: 50 arrays of it, 6.5 MB)
 FAST_MARGIN = 2.0        # handed to the scalar engine: |D| <= FAST_MARGIN * its decimal line
@@ -3177,7 +3177,8 @@ class MotionArrays(NamedTuple):
     input angle. output, velocity and acceleration are float64, NaN where the position does not
     exist (status says why); velocity and acceleration are None when not asked for. status holds
     int8 codes, indices into STATUS_CODES (0 ASSEMBLED, 1 DEAD_CENTRE, 2 NOT_ASSEMBLED,
-    3 INDETERMINATE, 4 CHANGE_POINT)."""
+    3 INDETERMINATE, 4 CHANGE_POINT; 5 STOPPED is a followed motion's, which this path does not
+    compute)."""
 
     phi: numpy.ndarray
     output: numpy.ndarray
