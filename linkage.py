@@ -79,6 +79,14 @@ class WriteError(ProgramStop):
     is left and the old files stand."""
 
 
+def reader_gone(e: BaseException) -> bool:
+    """Whether `e` is standard output's reader gone (`| head`): a BrokenPipeError naming no file.
+    The one rule for it, in every command: no message, exit status 141 (main, as a shell's
+    128 + SIGPIPE); a FIFO named as an output whose reader leaves is a file that could not be
+    written (its name, exit 1)."""
+    return isinstance(e, BrokenPipeError) and e.filename is None
+
+
 def printable(text: str) -> str:
     """text with every character that is not printable (a control character, an escape
     sequence's ESC) written as its Python escape, \\x1b: what a scene's title or a user's word
@@ -621,6 +629,8 @@ class DatFiles:  # ERRATA P3
                         with contextlib.suppress(FileNotFoundError):
                             os.unlink(os.path.join(self.directory, name))
         except OSError as e:
+            if reader_gone(e):                  # before_rename: --csv -, its reader gone
+                raise
             raise WriteError(self._why(e)) from None
         finally:
             self.discard()
@@ -9499,6 +9509,8 @@ def _reported(work: Callable[[], int | None]) -> int:
     except (SceneError, PlotUnavailable) as e:
         return said(e, 1)
     except OSError as e:
+        if reader_gone(e):
+            raise                               # main's to end quietly (141)
         return said(_unwritten(e), 1)
     except KeyboardInterrupt as e:
         return said("interrupted", interrupted_status(e))
@@ -9604,6 +9616,8 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
     except KeyboardInterrupt as e:
         return said("interrupted; the DAT files there are as they were", interrupted_status(e))
     except OSError as e:
+        if reader_gone(e):
+            raise                               # --csv -: main's to end quietly (141)
         return said(f"{_unwritten(e)}; the DAT files there are as they were", 1)
     screen.show_soft_errors()
     say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)})")
@@ -9715,8 +9729,8 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
     except ProgramStop as stop:
         return said(stop, 1)
     except OSError as e:
-        if isinstance(e, BrokenPipeError) and e.filename is None:
-            raise                               # --csv -: the reader stopped (main's to say)
+        if reader_gone(e):
+            raise                               # --csv -: main's to end quietly (141)
         return said(f"cannot write {e.filename or args.csv}: {e.strerror}"
                      + ("; the DAT files are written" if points is not None
                         else "; the DAT files there are as they were"), 1)
@@ -10279,6 +10293,16 @@ class CommandParser(argparse.ArgumentParser):
         for o in options:
             self.add_argument(*o.names, **o.settings)
 
+    def _print_message(self, message: str, file: IO[str] | None = None) -> None:
+        """As argparse's, but a failure of standard output (--help, --version into `| head`)
+        is raised, for main's one rule (reader_gone: 141), where argparse drops it (exit 0, or
+        Python's "Exception ignored" at exit, 120); standard error's is dropped, as argparse's."""
+        if message and file is not None and file is sys.stdout:
+            file.write(message)
+            file.flush()
+            return
+        super()._print_message(message, file)
+
 
 def build_parser() -> argparse.ArgumentParser:
     """The program's parser, from COMMANDS; design has one sub-parser a method, its data from
@@ -10316,7 +10340,7 @@ def main(argv: Iterable[str] | None = None) -> int:
     standard error and a non-zero status, never a traceback."""
     argv = sys.argv[1:] if argv is None else list(argv)
     _reopen_closed_streams()
-    with signals_caught():
+    with signals_caught(), whole_stdout():
         return _command(argv)
 
 
@@ -10330,7 +10354,10 @@ def _command(argv: list[str]) -> int:
         if args.command is None:
             parser.error("give a command, or none for the menu program")
         args.words = argv                       # the command line, for what quotes it
-        return args.handler(args, args.parser)
+        status = args.handler(args, args.parser)
+        if sys.stdout is not None:
+            sys.stdout.flush()                  # here, not at exit: its failure is a status
+        return status
     except KeyboardInterrupt as e:
         return said("interrupted", interrupted_status(e))
     except BrokenPipeError as e:                # the reader (head, less) stopped reading

@@ -710,3 +710,72 @@ def test_a_closed_standard_output_as_the_csv_leaves_the_old_files(precision, tmp
     assert_clean(result)
     assert result.returncode == 1 and b"standard output is closed" in result.stderr
     assert snapshot(tmp_path) == before
+
+
+# ---- standard output's reader gone (issue 35, items 3 and 4) -----------------------------------
+
+SCENES = basic_runner.ROOT / "data" / "scenes"
+LONG_OUTPUTS = {                                # each writes far more than a pipe holds (64 KB)
+    "run basic --csv -": STREAMED_RUN + ["--step", "0.01", "--csv", "-"],
+    "run double --csv -": STREAMED_RUN + ["--step", "0.01", "--precision", "double", "--csv",
+                                          "-"],
+    "scene --svg -": ["scene", "coupler-plane-four-bar", "--svg", "-"],
+    "scene --frames": ["scene", "fig1a", "--frames", "100"],       # text, 80 KB
+}
+
+
+@pytest.mark.parametrize("unbuffered", ["", "1"])
+@pytest.mark.parametrize("output", list(LONG_OUTPUTS))
+def test_a_reader_that_leaves_after_100_bytes_is_no_output_written(output, unbuffered, tmp_path):
+    """Issue 35, item 3: under PYTHONUNBUFFERED=1 a write to standard output is one raw write,
+    which a pipe whose reader leaves cuts short (65,536 of 1,831,464 bytes) and which the program
+    took as whole: `--csv - | head -c 100` exited 0 saying "wrote - (36,003 rows)". Every write
+    is checked: the reader gone, the command ends as main's rule says (quiet, 141), having
+    put no DAT file in place."""
+    env = dict(os.environ, PYTHONUNBUFFERED=unbuffered)
+    proc = subprocess.Popen(PROGRAM + LONG_OUTPUTS[output], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, cwd=tmp_path, env=env)
+    assert len(proc.stdout.read(100)) == 100
+    proc.stdout.close()
+    said = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 141, said
+    assert said == ""
+    assert os.listdir(tmp_path) == []
+
+
+CLOSED_READER = [
+    ["run"] + SHORT + ["--csv", "-"],
+    ["run"] + SHORT + ["--csv", "-", "--precision", "double"],
+    ["scene", "transmission"],
+    ["scene", "transmission", "--csv", "-"],
+    ["scene", "fig1a", "--frames", "2"],
+    ["scene", "--list"],
+    ["scene", "fig1a", "--svg", "-"],
+    ["plot", str(basic_runner.ROOT / "data" / "golden" / "plane-b1")],
+    ["analyse", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9"],
+    ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--text"],
+    ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--scene", "-"],
+    ["listing"],
+    ["--help"],
+    ["run", "--help"],
+    ["--version"],
+]
+
+
+@pytest.mark.parametrize("unbuffered", ["", "1"])
+@pytest.mark.parametrize("argv", CLOSED_READER, ids=lambda a: " ".join(a[:4]))
+def test_a_closed_reader_ends_every_command_alike(argv, unbuffered, tmp_path):
+    """Issue 35, item 4: standard output a pipe whose reader is gone ended commands with 0, 1,
+    120 or 141, some with Python's "Exception ignored ... BrokenPipeError". One rule, for every
+    command, buffered or not: no word on standard error, exit status 141 (128 + SIGPIPE, as a
+    shell reports a command that SIGPIPE ended), and no file put in place."""
+    env = dict(os.environ, PYTHONUNBUFFERED=unbuffered)
+    read, write = os.pipe()
+    os.close(read)                                   # nobody will read
+    try:
+        done = subprocess.run(PROGRAM + argv, stdout=write, stderr=subprocess.PIPE,
+                              cwd=tmp_path, env=env, timeout=120)
+    finally:
+        os.close(write)
+    assert (done.returncode, done.stderr.decode()) == (141, "")
+    assert os.listdir(tmp_path) == []
