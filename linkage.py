@@ -505,7 +505,7 @@ def whole_stdout() -> Iterator[None]:
     raw = io.FileIO(stdout.fileno(), "wb", closefd=False)
     sys.stdout = io.TextIOWrapper(cast("BinaryIO", WholeWrites(raw)), encoding=stdout.encoding,
                                   errors=stdout.errors, write_through=True,
-                                  line_buffering=stdout.line_buffering)
+                                  line_buffering=bool(stdout.line_buffering))
     try:
         yield
     finally:
@@ -6282,7 +6282,8 @@ DATA = {
         Datum("psi", "three output angles (the review's)", **_ANGLE, count=3)),
     "SLID-FG2-1": (
         Datum("dtheta", "crank rotation between the dead centres", 0.0, 360.0, excluded=(
-            ("dtheta = 180 makes cot(dtheta) infinite", lambda d: _near(d["dtheta"], 180.0)),)),
+            ("dtheta = 180 makes cot(dtheta) infinite", lambda d: _near(d["dtheta"], 180.0)),
+            ("dtheta = 0 or 360 makes cot(dtheta) infinite", lambda d: _near(d["dtheta"], 0.0)))),
         Datum("ds", "slider displacement s1 - s2", **_LENGTH),
         Datum("epsilon", "offset (slider on y = -epsilon)",
               (f"-{LENGTH_MAX:g} ds", lambda d: -LENGTH_MAX * d["ds"]),
@@ -7900,6 +7901,7 @@ def load_scene(path: str) -> Scene:
             or len(set(branches)) != len(branches)):
         raise _scene_error(path, "branches", "[1], [2] or [1, 2], and with precision double "
                            "\"follow\" among them", branches)
+    branches = [int(b) if b in (1, 2) else b for b in branches]     # 1.0 is branch 1
     panels = data["panels"]
     if (not isinstance(panels, list) or not 1 <= len(panels) <= 3
             or not all(isinstance(p, dict) for p in panels)):
@@ -8037,11 +8039,14 @@ def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, .
             raise _scene_error(path, f"{key}.quantities",
                                f"a list of one or more of {', '.join(QUANTITIES)}", quantities)
         limits = panel.get("limits")
+        expected = (f"[low, high], two numbers, low < high, each within +-{DRAWN_UP_TO:g}, at "
+                    f"least {DRAWN_DOWN_TO:g} (and {DRAWN_CLOSEST:g} of the larger) apart")
         if limits is not None and not (isinstance(limits, list) and len(limits) == 2
-                                       and all(_is_number(v) for v in limits)
-                                       and limits[0] < limits[1]):
-            raise _scene_error(path, f"{key}.limits", "[low, high], two numbers, low < high",
-                               limits)
+                                       and all(_is_number(v) for v in limits)):
+            raise _scene_error(path, f"{key}.limits", expected, limits)
+        if limits is not None and not drawable_range(float(limits[0]), float(limits[1])):
+            raise SceneError(f"{path}: key '{key}.limits': expected {expected}, got "
+                             f"[{limits[0]:g}, {limits[1]:g}]")
         specs.append(PanelSpec(tuple(quantities),
                                None if limits is None else (float(limits[0]), float(limits[1]))))
     return tuple(specs)
@@ -8381,6 +8386,16 @@ def _series_label(series: Series, several_precisions: bool, several_branches: bo
 
 
 DRAWN_UP_TO = 1e100      # the largest value a figure draws (GW-BASIC's numbers end at 1.7E+38)
+DRAWN_DOWN_TO = 1e-100   # the least span an axis divides: values closer are drawn as one
+DRAWN_CLOSEST = 1e-9     # the least span of a scene's limits, relative to the larger (its ticks
+#                          apart in the text they are written in)
+
+
+def drawable_range(lo: float, hi: float) -> bool:
+    """Whether lo..hi (a panel's limits) is an axis a figure can draw: finite, low < high, each
+    within +-DRAWN_UP_TO, and far enough apart for its ticks to be computed and told apart."""
+    return (math.isfinite(lo) and math.isfinite(hi) and -DRAWN_UP_TO <= lo < hi <= DRAWN_UP_TO
+            and hi - lo >= max(DRAWN_DOWN_TO, DRAWN_CLOSEST * max(abs(lo), abs(hi))))
 CLIPPED = " (clipped at +-3)"       # a basic VEL or ACC curve that touches 3, as the original clips
 
 
@@ -8488,8 +8503,8 @@ ANGLE_STEPS = (15.0, 30.0, 45.0, 60.0, 90.0, 180.0, 360.0)     # tick steps for 
 def _nice_axis(lo: float, hi: float, cells: int, spacing: int, angles: bool = False) -> _Axis:
     """An axis over lo..hi in at most `cells` cells: ticks 1, 2 or 5 times a power of ten apart
     (or, for angles, also 15, 30, 45 ... degrees), each on a cell, at least `spacing` apart."""
-    if hi - lo <= 1e-12 * max(abs(lo), abs(hi)):
-        pad = abs(lo) * 0.1 or 1.0
+    if hi - lo <= max(1e-12 * max(abs(lo), abs(hi)), DRAWN_DOWN_TO):     # drawn as one value
+        pad = abs(lo) * 0.1 if abs(lo) > DRAWN_DOWN_TO else 1.0
         lo, hi = lo - pad, hi + pad
     most = max(2, (cells - 1) // spacing)
     exponent = math.floor(math.log10((hi - lo) / most))
@@ -9921,6 +9936,10 @@ def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
     except DesignError as error:
         say(f"error: {error}", f"{PROG} design")
         return 1
+    except (ArithmeticError, ValueError) as error:      # data check_data let through
+        say(f"error: {method}: the data cannot be computed in double precision ({error})",
+            f"{PROG} design")
+        return 1
     print(f"method = {result.method}")
     for key, value in result.design.data.items():
         print(f"data.{key} = {value_text(value)}")
@@ -10293,7 +10312,7 @@ class CommandParser(argparse.ArgumentParser):
         for o in options:
             self.add_argument(*o.names, **o.settings)
 
-    def _print_message(self, message: str, file: IO[str] | None = None) -> None:
+    def _print_message(self, message: str, file: Any = None) -> None:
         """As argparse's, but a failure of standard output (--help, --version into `| head`)
         is raised, for main's one rule (reader_gone: 141), where argparse drops it (exit 0, or
         Python's "Exception ignored" at exit, 120); standard error's is dropped, as argparse's."""
