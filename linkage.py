@@ -4196,11 +4196,43 @@ def _linkage_type(linkage: Linkage, crank_turns: bool, output_turns: bool, chang
         (crank_turns, output_turns)], text
 
 
+LINKS = {PLANE_FOUR_BAR: "abcd", SPHERICAL_FOUR_BAR: "abcd", SKEW_FOUR_BAR: "abcd",
+         PLANE_SLIDER_CRANK: "bc", SKEW_SLIDER_CRANK: "abc"}     # the dimensions that are links
+# Input angles at which degenerate() looks for a dead centre: more than the zeros that the
+# discriminant (a trigonometric polynomial of degree 2 or 3 in phi) has in a turn unless it is
+# zero at every angle, and none of them a special angle (0, 90, 180 ...).
+DEGENERATE_PROBES = tuple(17.3 + 47.9 * i for i in range(8))
+
+
+def degenerate(linkage: Linkage) -> str | None:
+    """Why the linkage is degenerate, or None: a link of zero length (the output then stands
+    still, or turns rigidly with the crank, or is free), or a dead centre at every input angle
+    (the discriminant zero everywhere: the linkage lies folded or stretched along a line at
+    every turn of the crank, and a search for its dead centres finds one at every sample: 160 of
+    them, in seconds). The first needs no computation, the second a sweep of 8 angles."""
+    dims = linkage.dims
+    zero = [n for n in LINKS[linkage.kind] if dims[n] == 0]
+    if "f" in dims and "a" in zero:             # a skew kind: the fixed link is a and f
+        zero[0] = "a = 0 and f" if dims["f"] == 0 else ""
+    if any(zero):
+        return " and ".join(f"{n} = 0 ({DIMENSION_NAMES[n[0]]} has no length)"
+                            for n in zero if n)
+    statuses = {m.status for m in linkage.sweep(DEGENERATE_PROBES, 1, 0)}
+    if statuses <= {DEAD_CENTRE, INDETERMINATE}:
+        return "it is at a dead centre (or its output link is free) at every input angle"
+    return None
+
+
 def analyse(linkage: Linkage, branch: int | str = 1, start: int | None = None) -> Analysis:
     """The linkage's type and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
-    Analysis (see the notes above). ValueError if it assembles at no input angle."""
+    Analysis (see the notes above). ValueError if it assembles at no input angle, or if it is
+    degenerate (degenerate(): a zero link, a dead centre at every angle)."""
     if branch not in (1, 2, FOLLOW):
         raise ValueError('branch is 1, 2 or "follow"')
+    reason = degenerate(linkage)
+    if reason is not None:
+        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} is degenerate: {reason}; "
+                         "nothing to analyse")
     dead, changes = crank_limits(linkage)
     crank_range, runs = _circuits(linkage, branch, start, dead)
     angular = not linkage.is_slider
