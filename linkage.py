@@ -8711,7 +8711,10 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
         if panel.limits:
             ax.set_ylim(*panel.limits)
         if xs_all:
-            ax.set_xlim(min(xs_all), max(xs_all))
+            x_lo, x_hi = min(xs_all), max(xs_all)
+            if x_lo == x_hi:                    # one angle: a span of one step about it
+                x_lo, x_hi = x_lo - x_step / 2, x_hi + x_step / 2
+            ax.set_xlim(x_lo, x_hi)
             ax.xaxis.set_major_locator(MultipleLocator(x_step))
         ax.grid(True, linewidth=0.4, alpha=0.5)
         ax.tick_params(labelsize=8)
@@ -9593,14 +9596,32 @@ def _check_outputs(parser: argparse.ArgumentParser, files: dict[str, str | None]
         seen[real] = option
 
 
+MADE_FOLDERS: list[str] = []     # the folders this command made (output_folder), deepest first
+
+
 def output_folder(parser: argparse.ArgumentParser, option: str, path: str) -> None:
     """The one rule of every command's output folder (run's and scene's --dir, design's --dat):
     made if missing, with its parents, before any work; refused (parser.error, exit status 2)
-    where it cannot be, e.g. a file in the way."""
+    where it cannot be, e.g. a file in the way. Those it makes are in MADE_FOLDERS: a command
+    that fails leaves none of them behind (unmake_folders)."""
+    missing, head = [], os.path.abspath(path)
+    while not os.path.lexists(head) and os.path.dirname(head) != head:
+        missing.append(head)
+        head = os.path.dirname(head)
     try:
         os.makedirs(path, exist_ok=True)
     except OSError as e:
+        MADE_FOLDERS.extend(m for m in missing if os.path.isdir(m))
         parser.error(f"{option} {path!r}: cannot make the folder: {e.strerror}")
+    MADE_FOLDERS.extend(missing)
+
+
+def unmake_folders() -> None:
+    """Remove the folders output_folder made for a command that failed, those still empty,
+    deepest first (one that holds a file, put there by anyone, stays)."""
+    while MADE_FOLDERS:
+        with contextlib.suppress(OSError):
+            os.rmdir(MADE_FOLDERS.pop(0))
 
 
 def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
@@ -9871,6 +9892,10 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     if args.list:
         if args.file is not None:
             parser.error("--list takes no scene")
+        given = [f"--{o}" for o in ("svg", "png", "csv", "dir", "frames", "text", "dpi", "size")
+                 if getattr(args, o, None) not in (None, False)]
+        if given:
+            parser.error(f"--list writes no file and draws nothing: no use for {' '.join(given)}")
         for name, title in scene_list():
             print(f"{name:34} {printable(title)}")
         return 0
@@ -9881,6 +9906,8 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
         scene = load_scene(args.file)
     except SceneError as e:
         return said(e, 1)
+    _check_not_inputs(parser, {"--svg": args.svg, "--png": args.png, "--csv": args.csv},
+                      [args.file])
     if scene.draws_mechanism:
         if args.csv or args.dir is not None:
             parser.error(f"--csv and --dir go with a scene of curves; {args.file} draws the "
@@ -9938,7 +9965,23 @@ def _scene_outputs(scene: Scene, args: argparse.Namespace) -> None:
 
 def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR."""
+    with contextlib.suppress(SceneError):        # no DAT file there: dat_figure's to say
+        _check_not_inputs(parser, {"--png": args.png}, [
+            os.path.join(s.directory, name) for s in dat_series(args.directory)
+            for name in QUANTITY_FILES.values()])
     return _draw_command(args, lambda: dat_figure(args.directory, args.mechanism))
+
+
+def _check_not_inputs(parser: argparse.ArgumentParser, files: dict[str, str | None],
+                      inputs: Iterable[str]) -> None:
+    """Refuse (parser.error), before anything is read or written, an output of `files` {option:
+    path} that is one of the command's `inputs` (`plot . --png ANG.DAT` wrote its figure over
+    the file it drew, exit 0), or would become one."""
+    real = {os.path.realpath(p): p for p in inputs}
+    for option, path in files.items():
+        if path and path != "-" and os.path.realpath(path) in real:
+            parser.error(f"{option} {path!r} is {real[os.path.realpath(path)]!r}, a file the "
+                         "command reads: it is not written over")
 
 
 def design_scene(result: Synthesis, path: str = "design") -> Scene:
@@ -10391,8 +10434,16 @@ def main(argv: Iterable[str] | None = None) -> int:
     standard error and a non-zero status, never a traceback."""
     argv = sys.argv[1:] if argv is None else list(argv)
     _reopen_closed_streams()
+    MADE_FOLDERS.clear()
     with signals_caught(), whole_stdout():
-        return _command(argv)
+        status = 1
+        try:
+            status = _command(argv)
+        finally:
+            if status != 0:                     # failed (or argparse's exit): no folder made
+                with _signals_held():
+                    unmake_folders()
+        return status
 
 
 def _command(argv: list[str]) -> int:

@@ -383,3 +383,33 @@ def test_a_design_datum_its_formula_cannot_take_is_refused(dtheta, tmp_path):
     refused_in_one_line(result, b"dtheta")
     assert result.stdout == b""
     assert not (tmp_path / "dd").exists() or os.listdir(tmp_path / "dd") == []
+
+
+# ---- small things (issue 35, item 7) ------------------------------------------------------------
+
+@pytest.mark.parametrize("option", ["--svg", "--png"])
+def test_a_full_device_is_named_not_called_standard_output(option, tmp_path):
+    """Issue 35, item 7: `scene fig1a --svg /dev/full` said "standard output: No space left on
+    device". The message names the file."""
+    result = run(["scene", "fig1a", option, "/dev/full"], tmp_path)
+    assert result.returncode == 1
+    assert result.stderr == b"linkage.py: /dev/full: No space left on device\n"
+
+
+def test_scene_list_takes_no_output(tmp_path):
+    """Issue 35, item 7: `scene --list --png x` listed the scenes and ignored --png (exit 0)."""
+    for extra in (["--png", "x"], ["--csv", "x"], ["--dir", "x"], ["--text"]):
+        result = run(["scene", "--list"] + extra, tmp_path)
+        assert result.returncode == 2 and extra[0].encode() in result.stderr
+        assert b"Traceback" not in result.stderr and result.stdout == b""
+    assert os.listdir(tmp_path) == []
+
+
+def test_a_one_point_png_is_drawn_without_a_warning(tmp_path):
+    """Issue 35, item 7: a PNG of one point printed matplotlib's UserWarning "Attempting to set
+    identical low and high xlims" on standard error."""
+    (tmp_path / "ANG.DAT").write_bytes(b"0,1\r\n\x1a")
+    result = run(["plot", ".", "--png", "one.png"], tmp_path)
+    assert result.returncode == 0
+    assert result.stderr == b"linkage.py: wrote one.png\n"
+    assert (tmp_path / "one.png").read_bytes().startswith(b"\x89PNG")

@@ -779,3 +779,49 @@ def test_a_closed_reader_ends_every_command_alike(argv, unbuffered, tmp_path):
         os.close(write)
     assert (done.returncode, done.stderr.decode()) == (141, "")
     assert os.listdir(tmp_path) == []
+
+
+# ---- what a failed command leaves, what it reads (issue 35, item 7) ----------------------------
+
+@pytest.mark.parametrize("argv", [
+    ["run", "plane", "--a", "20", "--b", "1", "--c", "1", "--d", "1", "--from", "0", "--to",
+     "360", "--step", "10", "--branch", "1", "--dir", "new/sub"],           # cannot be assembled
+    ["run", "plane", "--a", "20", "--b", "1", "--c", "1", "--d", "1", "--from", "0", "--to",
+     "360", "--step", "10", "--branch", "1", "--precision", "double", "--dir", "new/sub"],
+    ["scene", "bad.toml", "--dir", "new/sub"],                              # a scene refused
+    ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "95", "--dat", "new/sub"],   # bad data
+    ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--dat", "new/sub", "--png",
+     "new/sub"],                                                            # a folder in the way
+])
+def test_a_failed_command_leaves_no_folder_it_made(argv, tmp_path):
+    """Issue 35, item 7: the output folder is made before the work (output_folder); a command
+    that then failed left it behind, empty. It is removed; a folder that was there stays."""
+    (tmp_path / "bad.toml").write_text(    # a scene that loads, of a linkage never assembled
+        'title = "t"\nmechanism = "plane"\ndimensions = { a = 20, b = 1, c = 1, d = 1 }\n'
+        'input = { from = 0, to = 360, step = 10 }\nbranches = [1]\nprecision = "double"\n\n'
+        '[[panels]]\nquantities = ["displacement"]\n')
+    (tmp_path / "kept").mkdir()
+    result = run(argv, tmp_path)
+    assert_clean(result)
+    assert result.returncode != 0, result.stderr
+    assert sorted(os.listdir(tmp_path)) == ["bad.toml", "kept"]
+    result = run(argv[:-1] + ["kept"] if argv[-2] != "--png" else argv, tmp_path)
+    assert result.returncode != 0 and (tmp_path / "kept").is_dir()
+
+
+def test_plot_refuses_to_write_over_what_it_draws(tmp_path):
+    """Issue 35, item 7: `plot . --png ANG.DAT` wrote the figure over the file it drew (exit 0).
+    An output that is one of the files a command reads (or would read: VEL.DAT beside ANG.DAT)
+    is refused, before anything is written; so is a scene's own file as its --png."""
+    (tmp_path / "ANG.DAT").write_bytes(b"0,1\r\n10,2\r\n\x1a")
+    before = snapshot(tmp_path)
+    for png in ("ANG.DAT", "./VEL.DAT", str(tmp_path / "ANG.DAT")):
+        result = run(["plot", ".", "--png", png], tmp_path)
+        assert_clean(result)
+        assert result.returncode == 2 and b"it is not written over" in result.stderr, png
+        assert snapshot(tmp_path) == before
+    scene = (basic_runner.ROOT / "data" / "scenes" / "fig3-plane-four-bar.toml").read_bytes()
+    (tmp_path / "s.toml").write_bytes(scene)
+    result = run(["scene", "s.toml", "--png", "s.toml"], tmp_path)
+    assert result.returncode == 2 and b"it is not written over" in result.stderr
+    assert (tmp_path / "s.toml").read_bytes() == scene
