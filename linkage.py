@@ -242,6 +242,23 @@ def _signals_held(drop: bool = False) -> Iterator[None]:
 
 
 @contextlib.contextmanager
+def held_import(name: str) -> Iterator[None]:
+    """Around the import of the module `name` with C extensions (numpy, matplotlib), unless it
+    is imported already: SIGINT, SIGTERM and SIGHUP held until it is done, then delivered. An
+    extension's initialisation may run Python code (its own imports), where the handler would
+    raise: an extension that clears the errors of what it imports there swallows the signal, and
+    the program goes on as if none had come (numpy's _multiarray_umath importing datetime: a
+    double run SIGHUP'd 24-41 ms after its first .partial file finished and exited 0). Held, the
+    signal waits; and any thread the extension starts (a BLAS's workers) inherits the mask, so
+    that these signals always reach the main thread, which holds them where it must."""
+    if name in sys.modules:
+        yield                                   # imported already: nothing to hold
+        return
+    with _signals_held():
+        yield
+
+
+@contextlib.contextmanager
 def _renaming(*folders: str) -> Iterator[None]:
     """While the block runs: SIGINT, SIGTERM and SIGHUP held back, and the folders locked (in
     one order) against another of our sessions renaming its set into them; a signal that came
@@ -3171,9 +3188,13 @@ class FastUnavailable(RuntimeError):
 
 
 def numpy_module() -> ModuleType:
-    """numpy, imported at the first use; FastUnavailable, saying what to install, without it."""
+    """numpy, imported at the first use; FastUnavailable, saying what to install, without it.
+    Imported with SIGINT, SIGTERM and SIGHUP held (held_import): a signal whose handler ran in
+    numpy's C initialisation was swallowed there (the import went on, and a run finished as if
+    no signal had come), and the threads numpy's BLAS starts then hold them for good."""
     try:
-        import numpy
+        with held_import("numpy"):
+            import numpy
     except ImportError:
         raise FastUnavailable("the vectorised path (--fast, a scene's fast = true) needs numpy, "
                               "which is not installed: python3 -m pip install numpy; "
@@ -6050,8 +6071,9 @@ def matplotlib_canvas() -> tuple[type[matplotlib.figure.Figure],
                                  type[matplotlib.backends.backend_agg.FigureCanvasAgg]]:
     """matplotlib's Figure and Agg canvas (no pyplot: no global state), or PlotUnavailable."""
     try:
-        from matplotlib.figure import Figure as MplFigure
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        with held_import("matplotlib.backends.backend_agg"):    # as numpy_module's
+            from matplotlib.figure import Figure as MplFigure
+            from matplotlib.backends.backend_agg import FigureCanvasAgg
     except ImportError:
         raise PlotUnavailable("--png needs matplotlib, which is not installed: "
                               "python3 -m pip install matplotlib") from None
