@@ -10463,8 +10463,7 @@ def main(argv: Iterable[str] | None = None) -> int:
             status = _command(argv)
         finally:
             if status != 0:                     # failed (or argparse's exit): no folder made
-                with _signals_held():
-                    unmake_folders()
+                unmake_folders()
         return status
 
 
