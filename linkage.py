@@ -225,20 +225,22 @@ def _signals_held(drop: bool = False) -> Iterator[None]:
     """While the block runs, SIGINT, SIGTERM and SIGHUP are held back; after it, one that came
     meanwhile is delivered (drop: dropped, the work it would have stopped being done). Around
     the making of a temporary file and its record, so that no signal falls between the two and
-    leaves a file that nothing removes."""
+    leaves a file that nothing removes. Inside another such block (held_import's within), the
+    signals stay held, and pending, until the outer one ends."""
     import signal
     held = {getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n)}
     masks = hasattr(signal, "pthread_sigmask")              # not on Windows
+    before: set[int | signal.Signals] = set()
     if masks:
-        signal.pthread_sigmask(signal.SIG_BLOCK, held)
+        before = signal.pthread_sigmask(signal.SIG_BLOCK, held)
     try:
         yield
     finally:
         if masks:
-            pending = signal.sigpending() & held
+            pending = signal.sigpending() & (held - before)     # an outer block's: its own
             if pending and drop:
                 signal.sigtimedwait(pending, 0)
-            signal.pthread_sigmask(signal.SIG_UNBLOCK, held)
+            signal.pthread_sigmask(signal.SIG_SETMASK, before)
 
 
 @contextlib.contextmanager
@@ -503,9 +505,6 @@ class WholeWrites(io.RawIOBase):
 
     def isatty(self) -> bool:
         return bool(self.raw.isatty())
-
-    def close(self) -> None:                    # the descriptor is standard output's own
-        super().close()
 
 
 @contextlib.contextmanager
@@ -4233,11 +4232,12 @@ def degenerate(linkage: Linkage) -> str | None:
     them, in seconds). The first needs no computation, the second a sweep of 8 angles."""
     dims = linkage.dims
     zero = [n for n in LINKS[linkage.kind] if dims[n] == 0]
-    if "f" in dims and "a" in zero:             # a skew kind: the fixed link is a and f
-        zero[0] = "a = 0 and f" if dims["f"] == 0 else ""
-    if any(zero):
-        return " and ".join(f"{n} = 0 ({DIMENSION_NAMES[n[0]]} has no length)"
-                            for n in zero if n)
+    if "f" in dims and "a" in zero:             # a skew kind: its fixed link is a and f
+        zero.remove("a")
+        if dims["f"] == 0:
+            zero.insert(0, "a = 0 and f")
+    if zero:
+        return " and ".join(f"{n} = 0 ({DIMENSION_NAMES[n[0]]} has no length)" for n in zero)
     statuses = {m.status for m in linkage.sweep(DEGENERATE_PROBES, 1, 0)}
     if statuses <= {DEAD_CENTRE, INDETERMINATE}:
         return "it is at a dead centre (or its output link is free) at every input angle"

@@ -867,3 +867,19 @@ def test_a_signal_in_numpys_import_is_not_lost(nth, tmp_path):
     assert done.returncode == 128 + signal.SIGHUP, done.stderr
     assert "interrupted" in done.stderr and "Traceback" not in done.stderr
     assert snapshot(tmp_path) == before
+
+
+def test_signals_held_within_signals_held_stay_held_until_the_outer_block_ends():
+    """_signals_held inside _signals_held (held_import's hold of numpy's import, where a
+    temporary is being made) unblocked the signals at the inner block's end: the outer block
+    held nothing more. The inner one now gives back the mask it found."""
+    held = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
+
+    def blocked() -> set:
+        return signal.pthread_sigmask(signal.SIG_BLOCK, []) & held
+    assert blocked() == set()
+    with linkage._signals_held():
+        with linkage._signals_held(drop=True):
+            assert blocked() == held
+        assert blocked() == held
+    assert blocked() == set()
