@@ -42,6 +42,7 @@ import decimal
 import fractions
 import functools
 import heapq
+import io
 import math
 import os
 import re
@@ -73,9 +74,10 @@ PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linka
 # keys, and the files that come with the program.
 #
 # Uses: nothing.
-# Offers: ProgramStop, WriteError, printable, say, said, Interrupted, signals_caught,
-#   interrupted_status, WrittenSet, staging_folder, written, SHIPPED, shipped_folders, shipped_file,
-#   written_whole, DatFiles, Progress, is_terminal, single_keys.
+# Offers: ProgramStop, WriteError, reader_gone, printable, say, said, Interrupted, signals_caught,
+#   interrupted_status, held_import, WrittenSet, staging_folder, written, SHIPPED, shipped_folders,
+#   shipped_file, written_whole, WholeWrites, whole_stdout, DatFiles, Progress, is_terminal,
+#   single_keys.
 
 
 class ProgramStop(Exception):
@@ -86,6 +88,14 @@ class ProgramStop(Exception):
 class WriteError(ProgramStop):
     """A file could not be written (the message names it and says why); nothing half-written
     is left and the old files stand."""
+
+
+def reader_gone(e: BaseException) -> bool:
+    """Whether `e` is standard output's reader gone (`| head`): a BrokenPipeError naming no file.
+    The one rule for it, in every command: no message, exit status 141 (main, as a shell's
+    128 + SIGPIPE); a FIFO named as an output whose reader leaves is a file that could not be
+    written (its name, exit 1)."""
+    return isinstance(e, BrokenPipeError) and e.filename is None
 
 
 def printable(text: str) -> str:
@@ -226,20 +236,39 @@ def _signals_held(drop: bool = False) -> Iterator[None]:
     """While the block runs, SIGINT, SIGTERM and SIGHUP are held back; after it, one that came
     meanwhile is delivered (drop: dropped, the work it would have stopped being done). Around
     the making of a temporary file and its record, so that no signal falls between the two and
-    leaves a file that nothing removes."""
+    leaves a file that nothing removes. Inside another such block (held_import's within), the
+    signals stay held, and pending, until the outer one ends."""
     import signal
     held = {getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n)}
     masks = hasattr(signal, "pthread_sigmask")              # not on Windows
+    before: set[int | signal.Signals] = set()
     if masks:
-        signal.pthread_sigmask(signal.SIG_BLOCK, held)
+        before = signal.pthread_sigmask(signal.SIG_BLOCK, held)
     try:
         yield
     finally:
         if masks:
-            pending = signal.sigpending() & held
+            pending = signal.sigpending() & (held - before)     # an outer block's: its own
             if pending and drop:
                 signal.sigtimedwait(pending, 0)
-            signal.pthread_sigmask(signal.SIG_UNBLOCK, held)
+            signal.pthread_sigmask(signal.SIG_SETMASK, before)
+
+
+@contextlib.contextmanager
+def held_import(name: str) -> Iterator[None]:
+    """Around the import of the module `name` with C extensions (numpy, matplotlib), unless it
+    is imported already: SIGINT, SIGTERM and SIGHUP held until it is done, then delivered. An
+    extension's initialisation may run Python code (its own imports), where the handler would
+    raise: an extension that clears the errors of what it imports there swallows the signal, and
+    the program goes on as if none had come (numpy's _multiarray_umath importing datetime: a
+    double run SIGHUP'd 24-41 ms after its first .partial file finished and exited 0). Held, the
+    signal waits; and any thread the extension starts (a BLAS's workers) inherits the mask, so
+    that these signals always reach the main thread, which holds them where it must."""
+    if name in sys.modules:
+        yield                                   # imported already: nothing to hold
+        return
+    with _signals_held():
+        yield
 
 
 @contextlib.contextmanager
@@ -269,7 +298,8 @@ class WrittenSet:
     an error are they renamed into place, together, signals held (with the names removed() of an
     old set that the new one does not write). On any failure every one is removed and the old
     files stand. Outputs that are no regular file (-, a FIFO, a device) cannot be: opened()
-    keeps what is written to them and writes it once the set is in place."""
+    keeps what is written to them and writes it before any file is renamed (if it fails, the old
+    files stand; once it is written, the files are put in place)."""
 
     def __init__(self) -> None:
         self._files: list[_Temporary] = []
@@ -304,9 +334,9 @@ class WrittenSet:
         self._removed.append(path)
 
     @contextlib.contextmanager
-    def opened(self, path: str) -> Iterator[_Temporary | BinaryIO]:
+    def opened(self, path: str) -> Iterator[_Temporary | _Stream | BinaryIO]:
         """As written_whole(path), but put in place with the set; an output that is no regular
-        file gets what was written once the set is in place."""
+        file gets what was written before the set's files are renamed into place."""
         if path == "-" or _is_stream(path):
             import io
             buffer = io.BytesIO()
@@ -316,10 +346,19 @@ class WrittenSet:
             yield self.file(path)
 
     def _commit(self) -> None:
+        """Put the set in place: the files finished, then the streams written whole (a stream
+        cannot be taken back: if one fails, no file has been renamed and the old ones stand),
+        and only then every file renamed."""
         for f in self._files:
             f.finish()
         targets = [f.path for f in self._files] + [p for _, p in self._moves] + self._removed
         folders = {os.path.dirname(os.path.abspath(p)) for p in targets}
+        for path in targets:                    # what would stop the renames, before a stream
+            if os.path.isdir(path):
+                raise IsADirectoryError(21, "it is a folder", path)
+        for path, data in self._streams:
+            with written_whole(path) as out:
+                out.write(data)
         for folder in folders:
             try:
                 os.makedirs(folder, exist_ok=True)
@@ -339,9 +378,6 @@ class WrittenSet:
             for path in self._removed:
                 with contextlib.suppress(FileNotFoundError):
                     os.unlink(path)
-        for path, data in self._streams:
-            with written_whole(path) as out:
-                out.write(data)
 
 
 def staging_folder(folder: str | None) -> tempfile.TemporaryDirectory[str]:
@@ -356,7 +392,7 @@ def staging_folder(folder: str | None) -> tempfile.TemporaryDirectory[str]:
 
 
 def written(path: str, outputs: WrittenSet | None = None,
-            ) -> contextlib.AbstractContextManager[_Temporary | BinaryIO]:
+            ) -> contextlib.AbstractContextManager[_Temporary | _Stream | BinaryIO]:
     """written_whole(path), or the file of the set `outputs` if one is given."""
     return written_whole(path) if outputs is None else outputs.opened(path)
 
@@ -388,7 +424,7 @@ def shipped_file(kind: str, name: str) -> str:
 
 
 @contextlib.contextmanager
-def written_whole(path: str) -> Iterator[_Temporary | BinaryIO]:
+def written_whole(path: str) -> Iterator[_Temporary | _Stream]:
     """Open `path` for writing (bytes) so that it is written whole or not at all: into a
     temporary file of a unique name in the same folder, flushed to the disk and renamed over
     `path` when the block ends; removed on any failure or interrupt, leaving `path` as it was.
@@ -421,19 +457,118 @@ def _is_stream(path: str) -> bool:
     return stat.S_ISFIFO(mode) or stat.S_ISCHR(mode)
 
 
+class _Stream:
+    """An output that is no regular file - standard output ("-"), a FIFO, a device - written
+    straight through: every byte given to write() is written (a short write of an unbuffered
+    stream, `python3 -u`, is written on from where it stopped), or OSError names `path` (none
+    for standard output: the one output the program writes without naming it). finish()
+    flushes it, as _Temporary.finish() makes a file ready."""
+
+    def __init__(self, path: str, out: BinaryIO) -> None:
+        self.path, self.out = path, out
+
+    def _failed(self, e: OSError) -> OSError:
+        return OSError(e.errno, e.strerror, None if self.path == "-" else self.path)
+
+    def write(self, data: bytes) -> int:
+        try:
+            return _write_all(self.out, data)
+        except OSError as e:
+            raise self._failed(e) from None
+
+    def finish(self) -> None:
+        try:
+            self.out.flush()
+        except OSError as e:
+            raise self._failed(e) from None
+
+
+def _write_all(out: Any, data: bytes) -> int:
+    """Write all of `data` to `out`: a buffered stream does (BufferedWriter), a raw one
+    (FileIO: standard output under `python3 -u`) may write part and return its count, and the
+    rest is written after it (a pipe whose reader left then fails: BrokenPipeError)."""
+    view = memoryview(data).cast("B")
+    done = 0
+    while done < len(view):
+        count = out.write(view[done:])
+        if count is None:                       # a non-blocking stream that is full
+            raise BlockingIOError(11, "the output cannot take more now")
+        done += count
+    return done
+
+
+class WholeWrites(io.RawIOBase):
+    """A raw binary stream (FileIO) whose write() writes all it is given, as _write_all: what
+    standard output's text layer writes through under `python3 -u` (whole_stdout)."""
+
+    def __init__(self, raw: Any) -> None:
+        super().__init__()
+        self.raw = raw
+
+    def write(self, data: Any) -> int:
+        return _write_all(self.raw, data)
+
+    def writable(self) -> bool:
+        return True
+
+    def fileno(self) -> int:
+        return int(self.raw.fileno())
+
+    def isatty(self) -> bool:
+        return bool(self.raw.isatty())
+
+
 @contextlib.contextmanager
-def _streamed(path: str) -> Iterator[BinaryIO]:
-    """The output written straight to standard output ("-") or to the FIFO or device."""
+def whole_stdout() -> Iterator[None]:
+    """While it lasts, standard output's text layer writes whole: where Python wrote it
+    unbuffered (`python3 -u`, PYTHONUNBUFFERED), a short write of its raw stream - a pipe whose
+    reader left after part - was taken as whole, and the text or file said written; then
+    sys.stdout is a text layer as Python's, over WholeWrites. Elsewhere nothing changes."""
+    stdout = sys.stdout
+    if not isinstance(getattr(stdout, "buffer", None), io.FileIO):
+        yield
+        return
+    assert stdout is not None
+    raw = io.FileIO(stdout.fileno(), "wb", closefd=False)
+    sys.stdout = io.TextIOWrapper(cast("BinaryIO", WholeWrites(raw)), encoding=stdout.encoding,
+                                  errors=stdout.errors, write_through=True,
+                                  line_buffering=bool(stdout.line_buffering))
+    try:
+        yield
+    finally:
+        if sys.stdout is not None:
+            with contextlib.suppress(OSError, ValueError):
+                sys.stdout.flush()
+        sys.stdout = stdout
+
+
+@contextlib.contextmanager
+def _streamed(path: str) -> Iterator[_Stream]:
+    """The output written straight to standard output ("-") or to the FIFO or device, whole
+    (_Stream): the block's writes, then a flush."""
     if path == "-":
         stdout = sys.stdout
         if stdout is None:
             raise OSError(9, "standard output is closed", "-")
-        stdout.flush()
-        yield stdout.buffer
-        stdout.buffer.flush()
+        stream = _Stream(path, stdout.buffer)
+        try:
+            stdout.flush()
+        except OSError as e:
+            raise stream._failed(e) from None
+        yield stream
+        stream.finish()
         return
-    with open(path, "wb") as out:
-        yield out
+    try:
+        out = open(path, "wb")
+    except OSError as e:
+        raise OSError(e.errno, e.strerror, path) from None
+    stream = _Stream(path, out)
+    try:
+        yield stream
+        stream.finish()
+    finally:
+        with contextlib.suppress(OSError):
+            out.close()                         # flushed, or failed: nothing more to say
 
 
 class DatFiles:  # ERRATA P3
@@ -521,6 +656,8 @@ class DatFiles:  # ERRATA P3
                         with contextlib.suppress(FileNotFoundError):
                             os.unlink(os.path.join(self.directory, name))
         except OSError as e:
+            if reader_gone(e):                  # before_rename: --csv -, its reader gone
+                raise
             raise WriteError(self._why(e)) from None
         finally:
             self.discard()
@@ -3464,7 +3601,7 @@ _GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _sph
 #
 # Uses: sections 2, 6 and 7.
 # Offers: ANALYSIS_SAMPLES, extreme_of, crank_limits, Extreme, EQUAL_STROKES, Circuit, Analysis,
-#   unwrapped, analyse, value_text, analysis_lines.
+#   unwrapped, LINKS, DEGENERATE_PROBES, degenerate, analyse, value_text, analysis_lines.
 
 
 # -- the linkage's type and range of motion (analyse) -------------------------------------------
@@ -3995,6 +4132,34 @@ def _linkage_type(linkage: Closure, crank_turns: bool, output_turns: bool, chang
         (crank_turns, output_turns)], text
 
 
+LINKS = {PLANE_FOUR_BAR: "abcd", SPHERICAL_FOUR_BAR: "abcd", SKEW_FOUR_BAR: "abcd",
+         PLANE_SLIDER_CRANK: "bc", SKEW_SLIDER_CRANK: "abc"}     # the dimensions that are links
+# Input angles at which degenerate() looks for a dead centre: more than the zeros that the
+# discriminant (a trigonometric polynomial of degree 2 or 3 in phi) has in a turn unless it is
+# zero at every angle, and none of them a special angle (0, 90, 180 ...).
+DEGENERATE_PROBES = tuple(17.3 + 47.9 * i for i in range(8))
+
+
+def degenerate(linkage: Closure) -> str | None:
+    """Why the linkage is degenerate, or None: a link of zero length (the output then stands
+    still, or turns rigidly with the crank, or is free), or a dead centre at every input angle
+    (the discriminant zero everywhere: the linkage lies folded or stretched along a line at
+    every turn of the crank, and a search for its dead centres finds one at every sample: 160 of
+    them, in seconds). The first needs no computation, the second a sweep of 8 angles."""
+    dims = linkage.dims
+    zero = [n for n in LINKS[linkage.kind] if dims[n] == 0]
+    if "f" in dims and "a" in zero:             # a skew kind: its fixed link is a and f
+        zero.remove("a")
+        if dims["f"] == 0:
+            zero.insert(0, "a = 0 and f")
+    if zero:
+        return " and ".join(f"{n} = 0 ({DIMENSION_NAMES[n[0]]} has no length)" for n in zero)
+    statuses = {m.status for m in linkage.sweep(DEGENERATE_PROBES, 1, 0)}
+    if statuses <= {DEAD_CENTRE, INDETERMINATE}:
+        return "it is at a dead centre (or its output link is free) at every input angle"
+    return None
+
+
 def _circuit(linkage: Closure, run: _Run, crank_range: tuple[tuple[float, float], ...] | None,
              ends: list[tuple[float, int]]) -> tuple[Circuit, bool]:
     """(the Circuit of a run, whether the output turns fully on it): its output extremes (the
@@ -4026,7 +4191,8 @@ def _circuit(linkage: Closure, run: _Run, crank_range: tuple[tuple[float, float]
 
 def analyse(linkage: Closure, branch: int | str = 1, start: int | None = None) -> Analysis:
     """The linkage's type and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
-    Analysis (see the notes above). ValueError if it assembles at no input angle.
+    Analysis (see the notes above). ValueError if it assembles at no input angle, or if it is
+    degenerate (degenerate(): a zero link, a dead centre at every angle).
 
     Circuits: where the crank turns fully the motion analysed is the branch's, one circuit (the
     other branch is the linkage's other circuit: analyse it with the other branch); where the
@@ -4048,6 +4214,10 @@ def analyse(linkage: Closure, branch: int | str = 1, start: int | None = None) -
     what they are worth (_worth)."""
     if branch not in (1, 2, FOLLOW):
         raise ValueError('branch is 1, 2 or "follow"')
+    reason = degenerate(linkage)
+    if reason is not None:
+        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} is degenerate: {reason}; "
+                         "nothing to analyse")
     dead, changes = crank_limits(linkage)
     crank_range, runs = _circuits(linkage, branch, start, dead)
     intervals: list[tuple[tuple[float, float], ...] | None] = (
@@ -4151,7 +4321,7 @@ def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
 # and CSV lines). numpy is an optional extra: numpy_module raises FastUnavailable without it. No
 # other section uses numpy itself (test_layout).
 #
-# Uses: sections 2, 6 and 7.
+# Uses: sections 1, 2, 6 and 7.
 # Offers: STATUS_CODES, FAST_BLOCK, FAST_MARGIN, FastUnavailable, numpy_module, angle_array,
 #   MotionArrays, assembled_count, motion_arrays_of, CouplerArrays, coupler_of_arrays,
 #   transmission_of_arrays, SweepColumns, NUMBER_ROWS, LINE_ROWS, as_columns, column_texts.
@@ -4173,8 +4343,8 @@ def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
 # itself - never approximated here. numpy is imported at the first use only: linkage.py runs on
 # the standard library alone, and this path is the optional extra `fast`.
 
-STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE,  # MotionArrays.status
-                CHANGE_POINT)
+STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE,  # MotionArrays.status,
+                CHANGE_POINT, STOPPED)          # SweepColumns.status: every Motion.status
 FAST_BLOCK = 16384       # angles a block (of 4096 to 32768 the fastest at 1e4 and 1e5 points here,
 #                          2026-11-26; memory: 50 arrays of it, 6.5 MB)
 FAST_MARGIN = 2.0        # handed to the scalar engine: |D| <= FAST_MARGIN * its decimal line
@@ -4186,9 +4356,13 @@ class FastUnavailable(RuntimeError):
 
 
 def numpy_module() -> ModuleType:
-    """numpy, imported at the first use; FastUnavailable, saying what to install, without it."""
+    """numpy, imported at the first use; FastUnavailable, saying what to install, without it.
+    Imported with SIGINT, SIGTERM and SIGHUP held (held_import): a signal whose handler ran in
+    numpy's C initialisation was swallowed there (the import went on, and a run finished as if
+    no signal had come), and the threads numpy's BLAS starts then hold them for good."""
     try:
-        import numpy
+        with held_import("numpy"):
+            import numpy
     except ImportError:
         raise FastUnavailable("the vectorised path (--fast, a scene's fast = true) needs numpy, "
                               "which is not installed: python3 -m pip install numpy; "
@@ -4209,7 +4383,8 @@ class MotionArrays(NamedTuple):
     input angle. output, velocity and acceleration are float64, NaN where the position does not
     exist (status says why); velocity and acceleration are None when not asked for. status holds
     int8 codes, indices into STATUS_CODES (0 ASSEMBLED, 1 DEAD_CENTRE, 2 NOT_ASSEMBLED,
-    3 INDETERMINATE, 4 CHANGE_POINT)."""
+    3 INDETERMINATE, 4 CHANGE_POINT; 5 STOPPED is a followed motion's, which this path does not
+    compute)."""
 
     phi: numpy.ndarray
     output: numpy.ndarray
@@ -7034,8 +7209,9 @@ def matplotlib_canvas() -> tuple[type[matplotlib.figure.Figure],
                                  type[matplotlib.backends.backend_agg.FigureCanvasAgg]]:
     """matplotlib's Figure and Agg canvas (no pyplot: no global state), or PlotUnavailable."""
     try:
-        from matplotlib.figure import Figure as MplFigure
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        with held_import("matplotlib.backends.backend_agg"):    # as numpy_module's
+            from matplotlib.figure import Figure as MplFigure
+            from matplotlib.backends.backend_agg import FigureCanvasAgg
     except ImportError:
         raise PlotUnavailable("--png needs matplotlib, which is not installed: "
                               "python3 -m pip install matplotlib") from None
@@ -7269,7 +7445,8 @@ DATA = {
         Datum("psi", "three output angles (the review's)", **_ANGLE, count=3)),
     "SLID-FG2-1": (
         Datum("dtheta", "crank rotation between the dead centres", 0.0, 360.0, excluded=(
-            ("dtheta = 180 makes cot(dtheta) infinite", lambda d: _near(d["dtheta"], 180.0)),)),
+            ("dtheta = 180 makes cot(dtheta) infinite", lambda d: _near(d["dtheta"], 180.0)),
+            ("dtheta = 0 or 360 makes cot(dtheta) infinite", lambda d: _near(d["dtheta"], 0.0)))),
         Datum("ds", "slider displacement s1 - s2", **_LENGTH),
         Datum("epsilon", "offset (slider on y = -epsilon)",
               (f"-{LENGTH_MAX:g} ds", lambda d: -LENGTH_MAX * d["ds"]),
@@ -8738,9 +8915,9 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 #
 # Uses: sections 1, 2, 5, 6, 7, 9, 11 and 12.
 # Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, QUANTITY_FILES, MECHANISM_PANEL, MAX_FRAMES,
-#   PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, PanelSpec, Scene, scene_error,
-#   load_scene, known_scenes, scene_path, scene_list, check_assembles, Series, branch_text,
-#   compute_scene, scene_csv.
+#   PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, DRAWN_UP_TO, DRAWN_DOWN_TO,
+#   DRAWN_CLOSEST, drawable_range, PanelSpec, Scene, scene_error, load_scene, known_scenes,
+#   scene_path, scene_list, check_assembles, Series, branch_text, compute_scene, scene_csv.
 
 
 SCENE_KEYS = {  # key: what is expected (the error messages quote it)
@@ -8783,6 +8960,18 @@ AXIS_LABELS = {
 for _labels in AXIS_LABELS.values():
     _labels["transmission"] = ("transmission angle", "mu", "deg")
 INPUT_AXIS = ("input angle", "phi", "deg")
+
+DRAWN_UP_TO = 1e100      # the largest value a figure draws (GW-BASIC's numbers end at 1.7E+38)
+DRAWN_DOWN_TO = 1e-100   # the least span an axis divides: values closer are drawn as one
+DRAWN_CLOSEST = 1e-9     # the least span of a scene's limits, relative to the larger (its ticks
+#                          apart in the text they are written in)
+
+
+def drawable_range(lo: float, hi: float) -> bool:
+    """Whether lo..hi (a panel's limits) is an axis a figure can draw: finite, low < high, each
+    within +-DRAWN_UP_TO, and far enough apart for its ticks to be computed and told apart."""
+    return (math.isfinite(lo) and math.isfinite(hi) and -DRAWN_UP_TO <= lo < hi <= DRAWN_UP_TO
+            and hi - lo >= max(DRAWN_DOWN_TO, DRAWN_CLOSEST * max(abs(lo), abs(hi))))
 
 
 class PanelSpec(NamedTuple):
@@ -8882,6 +9071,7 @@ def load_scene(path: str) -> Scene:
             or len(set(branches)) != len(branches)):
         raise scene_error(path, "branches", "[1], [2] or [1, 2], and with precision double "
                            "\"follow\" among them", branches)
+    branches = [int(b) if b in (1, 2) else b for b in branches]     # 1.0 is branch 1
     panels = data["panels"]
     if (not isinstance(panels, list) or not 1 <= len(panels) <= 3
             or not all(isinstance(p, dict) for p in panels)):
@@ -9019,11 +9209,14 @@ def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, .
             raise scene_error(path, f"{key}.quantities",
                                f"a list of one or more of {', '.join(QUANTITIES)}", quantities)
         limits = panel.get("limits")
+        expected = (f"[low, high], two numbers, low < high, each within +-{DRAWN_UP_TO:g}, at "
+                    f"least {DRAWN_DOWN_TO:g} (and {DRAWN_CLOSEST:g} of the larger) apart")
         if limits is not None and not (isinstance(limits, list) and len(limits) == 2
-                                       and all(_is_number(v) for v in limits)
-                                       and limits[0] < limits[1]):
-            raise scene_error(path, f"{key}.limits", "[low, high], two numbers, low < high",
-                               limits)
+                                       and all(_is_number(v) for v in limits)):
+            raise scene_error(path, f"{key}.limits", expected, limits)
+        if limits is not None and not drawable_range(float(limits[0]), float(limits[1])):
+            raise SceneError(f"{path}: key '{key}.limits': expected {expected}, got "
+                             f"[{limits[0]:g}, {limits[1]:g}]")
         specs.append(PanelSpec(tuple(quantities),
                                None if limits is None else (float(limits[0]), float(limits[1]))))
     return tuple(specs)
@@ -9218,9 +9411,9 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 # within half a turn of the first one.
 #
 # Uses: sections 1, 2, 6, 11, 12, 13, 14 and 18.
-# Offers: dat_series, Curve, Panel, Figure, DRAWN_UP_TO, CLIPPED, build_figure, scene_figure,
-#   dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure, png_figure,
-#   scene_drawing, scene_text.
+# Offers: dat_series, Curve, Panel, Figure, CLIPPED, build_figure, scene_figure, dat_figure,
+#   TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure, png_figure, scene_drawing,
+#   scene_text.
 
 
 def dat_series(directory: str) -> list[Series]:
@@ -9318,7 +9511,6 @@ def _series_label(series: Series, several_precisions: bool, several_branches: bo
     return ", ".join(parts)
 
 
-DRAWN_UP_TO = 1e100      # the largest value a figure draws (GW-BASIC's numbers end at 1.7E+38)
 CLIPPED = " (clipped at +-3)"       # a basic VEL or ACC curve that touches 3, as the original clips
 
 
@@ -9426,8 +9618,8 @@ ANGLE_STEPS = (15.0, 30.0, 45.0, 60.0, 90.0, 180.0, 360.0)     # tick steps for 
 def _nice_axis(lo: float, hi: float, cells: int, spacing: int, angles: bool = False) -> _Axis:
     """An axis over lo..hi in at most `cells` cells: ticks 1, 2 or 5 times a power of ten apart
     (or, for angles, also 15, 30, 45 ... degrees), each on a cell, at least `spacing` apart."""
-    if hi - lo <= 1e-12 * max(abs(lo), abs(hi)):
-        pad = abs(lo) * 0.1 or 1.0
+    if hi - lo <= max(1e-12 * max(abs(lo), abs(hi)), DRAWN_DOWN_TO):     # drawn as one value
+        pad = abs(lo) * 0.1 if abs(lo) > DRAWN_DOWN_TO else 1.0
         lo, hi = lo - pad, hi + pad
     most = max(2, (cells - 1) // spacing)
     exponent = math.floor(math.log10((hi - lo) / most))
@@ -9602,7 +9794,10 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
         if panel.limits:
             ax.set_ylim(*panel.limits)
         if xs_all:
-            ax.set_xlim(min(xs_all), max(xs_all))
+            x_lo, x_hi = min(xs_all), max(xs_all)
+            if x_lo == x_hi:                    # one angle: a span of one step about it
+                x_lo, x_hi = x_lo - x_step / 2, x_hi + x_step / 2
+            ax.set_xlim(x_lo, x_hi)
             ax.xaxis.set_major_locator(MultipleLocator(x_step))
         ax.grid(True, linewidth=0.4, alpha=0.5)
         ax.tick_params(labelsize=8)
@@ -10308,10 +10503,11 @@ def machine() -> str:
 #
 # Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14, 15, 17, 18, 19 and 20.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
-#   decimal_number, basic_answer, output_folder, run_command, CSV_CLIPPED, analyse_command,
-#   drawing_command, scene_command, plot_command, design_scene, design_command, ERRATUM, SCAN_LINE,
-#   scan_lines, annotated_listing, listing_command, bench_command, Option, option, Command,
-#   DIMENSION_HELP, PNG_OPTIONS, COMMANDS, CommandParser, build_parser, main.
+#   decimal_number, basic_answer, MADE_FOLDERS, output_folder, unmake_folders, run_command,
+#   CSV_CLIPPED, analyse_command, drawing_command, scene_command, plot_command, design_scene,
+#   design_command, ERRATUM, SCAN_LINE, scan_lines, annotated_listing, listing_command,
+#   bench_command, Option, option, Command, DIMENSION_HELP, PNG_OPTIONS, COMMANDS, CommandParser,
+#   build_parser, main.
 
 
 ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
@@ -10476,6 +10672,8 @@ def _reported(work: Callable[[], int | None]) -> int:
     except (SceneError, PlotUnavailable) as e:
         return said(e, 1)
     except OSError as e:
+        if reader_gone(e):
+            raise                               # main's to end quietly (141)
         return said(_unwritten(e), 1)
     except KeyboardInterrupt as e:
         return said("interrupted", interrupted_status(e))
@@ -10511,14 +10709,32 @@ def _check_outputs(parser: argparse.ArgumentParser, files: dict[str, str | None]
         seen[real] = option
 
 
+MADE_FOLDERS: list[str] = []     # the folders this command made (output_folder), deepest first
+
+
 def output_folder(parser: argparse.ArgumentParser, option: str, path: str) -> None:
     """The one rule of every command's output folder (run's and scene's --dir, design's --dat):
     made if missing, with its parents, before any work; refused (parser.error, exit status 2)
-    where it cannot be, e.g. a file in the way."""
+    where it cannot be, e.g. a file in the way. Those it makes are in MADE_FOLDERS: a command
+    that fails leaves none of them behind (unmake_folders)."""
+    missing, head = [], os.path.abspath(path)
+    while not os.path.lexists(head) and os.path.dirname(head) != head:
+        missing.append(head)
+        head = os.path.dirname(head)
     try:
         os.makedirs(path, exist_ok=True)
     except OSError as e:
+        MADE_FOLDERS.extend(m for m in missing if os.path.isdir(m))
         parser.error(f"{option} {path!r}: cannot make the folder: {e.strerror}")
+    MADE_FOLDERS.extend(missing)
+
+
+def unmake_folders() -> None:
+    """Remove the folders output_folder made for a command that failed, those still empty,
+    deepest first (one that holds a file, put there by anyone, stays)."""
+    while MADE_FOLDERS:
+        with contextlib.suppress(OSError):
+            os.rmdir(MADE_FOLDERS.pop(0))
 
 
 def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
@@ -10581,6 +10797,8 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
     except KeyboardInterrupt as e:
         return said("interrupted; the DAT files there are as they were", interrupted_status(e))
     except OSError as e:
+        if reader_gone(e):
+            raise                               # --csv -: main's to end quietly (141)
         return said(f"{_unwritten(e)}; the DAT files there are as they were", 1)
     screen.show_soft_errors()
     say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)})")
@@ -10690,11 +10908,12 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
                                      before_rename=getattr(table, "finish", None), csv=table)
     except ProgramStop as stop:
         return said(stop, 1)
-    except BrokenPipeError:                     # --csv -: the reader stopped (main's to say)
-        raise
     except OSError as e:
-        return said(f"cannot write {args.csv}: {e.strerror}"
-                     + (" (the DAT files are written)" if points is not None else ""), 1)
+        if reader_gone(e):
+            raise                               # --csv -: main's to end quietly (141)
+        return said(f"cannot write {e.filename or args.csv}: {e.strerror}"
+                     + ("; the DAT files are written" if points is not None
+                        else "; the DAT files there are as they were"), 1)
     except KeyboardInterrupt as e:
         return said("interrupted; the DAT files there are as they were", interrupted_status(e))
     left_out = (f"; {points - assembled:,} without a position, left out"
@@ -10785,6 +11004,10 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     if args.list:
         if args.file is not None:
             parser.error("--list takes no scene")
+        given = [f"--{o}" for o in ("svg", "png", "csv", "dir", "frames", "text", "dpi", "size")
+                 if getattr(args, o, None) not in (None, False)]
+        if given:
+            parser.error(f"--list writes no file and draws nothing: no use for {' '.join(given)}")
         for name, title in scene_list():
             print(f"{name:34} {printable(title)}")
         return 0
@@ -10795,6 +11018,8 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
         scene = load_scene(args.file)
     except SceneError as e:
         return said(e, 1)
+    _check_not_inputs(parser, {"--svg": args.svg, "--png": args.png, "--csv": args.csv},
+                      [args.file])
     if scene.draws_mechanism:
         if args.csv or args.dir is not None:
             parser.error(f"--csv and --dir go with a scene of curves; {args.file} draws the "
@@ -10852,7 +11077,23 @@ def _scene_outputs(scene: Scene, args: argparse.Namespace) -> None:
 
 def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR."""
+    with contextlib.suppress(SceneError):        # no DAT file there: dat_figure's to say
+        _check_not_inputs(parser, {"--png": args.png}, [
+            os.path.join(s.directory, name) for s in dat_series(args.directory)
+            for name in QUANTITY_FILES.values()])
     return _draw_command(args, lambda: dat_figure(args.directory, args.mechanism))
+
+
+def _check_not_inputs(parser: argparse.ArgumentParser, files: dict[str, str | None],
+                      inputs: Iterable[str]) -> None:
+    """Refuse (parser.error), before anything is read or written, an output of `files` {option:
+    path} that is one of the command's `inputs` (`plot . --png ANG.DAT` wrote its figure over
+    the file it drew, exit 0), or would become one."""
+    real = {os.path.realpath(p): p for p in inputs}
+    for option, path in files.items():
+        if path and path != "-" and os.path.realpath(path) in real:
+            parser.error(f"{option} {path!r} is {real[os.path.realpath(path)]!r}, a file the "
+                         "command reads: it is not written over")
 
 
 def design_scene(result: Synthesis, path: str = "design") -> Scene:
@@ -10881,6 +11122,10 @@ def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
                              if getattr(args, datum.name) is not None})
     except DesignError as error:
         say(f"error: {error}", f"{PROG} design")
+        return 1
+    except (ArithmeticError, ValueError) as error:      # data check_data let through
+        say(f"error: {method}: the data cannot be computed in double precision ({error})",
+            f"{PROG} design")
         return 1
     print(f"method = {result.method}")
     for key, value in result.design.data.items():
@@ -11267,6 +11512,16 @@ class CommandParser(argparse.ArgumentParser):
         for o in options:
             self.add_argument(*o.names, **o.settings)
 
+    def _print_message(self, message: str, file: Any = None) -> None:
+        """As argparse's, but a failure of standard output (--help, --version into `| head`)
+        is raised, for main's one rule (reader_gone: 141), where argparse drops it (exit 0, or
+        Python's "Exception ignored" at exit, 120); standard error's is dropped, as argparse's."""
+        if message and file is not None and file is sys.stdout:
+            file.write(message)
+            file.flush()
+            return
+        super()._print_message(message, file)
+
 
 def build_parser() -> argparse.ArgumentParser:
     """The program's parser, from COMMANDS; design has one sub-parser a method, its data from
@@ -11304,8 +11559,15 @@ def main(argv: Iterable[str] | None = None) -> int:
     standard error and a non-zero status, never a traceback."""
     argv = sys.argv[1:] if argv is None else list(argv)
     _reopen_closed_streams()
-    with signals_caught():
-        return _command(argv)
+    MADE_FOLDERS.clear()
+    with signals_caught(), whole_stdout():
+        status = 1
+        try:
+            status = _command(argv)
+        finally:
+            if status != 0:                     # failed (or argparse's exit): no folder made
+                unmake_folders()
+        return status
 
 
 def _command(argv: list[str]) -> int:
@@ -11318,7 +11580,10 @@ def _command(argv: list[str]) -> int:
         if args.command is None:
             parser.error("give a command, or none for the menu program")
         args.words = argv                       # the command line, for what quotes it
-        return args.handler(args, args.parser)
+        status = args.handler(args, args.parser)
+        if sys.stdout is not None:
+            sys.stdout.flush()                  # here, not at exit: its failure is a status
+        return status
     except KeyboardInterrupt as e:
         return said("interrupted", interrupted_status(e))
     except BrokenPipeError as e:                # the reader (head, less) stopped reading

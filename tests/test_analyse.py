@@ -668,3 +668,45 @@ def test_the_readmes_analysis_is_what_the_program_prints(capsys):
     shown = [line.removeprefix("    ") for line in block.splitlines()]
     assert linkage.main(["analyse", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9"]) == 0
     assert capsys.readouterr().out.splitlines() == shown
+
+
+# == degenerate linkages (issue 35, item 6) =====================================================
+
+@pytest.mark.parametrize("argv, named", [
+    (["skew-slider", "--a", "0", "--b", "2", "--c", "2", "--f", "0", "--ksi", "0"], "a = 0"),
+    (["plane", "--a", "0", "--b", "2", "--c", "7", "--d", "9"], "a = 0"),
+    (["plane", "--a", "0", "--b", "2", "--c", "7", "--d", "8"], "a = 0"),   # turns rigidly
+    (["plane", "--a", "6", "--b", "0", "--c", "7", "--d", "9"], "b = 0"),
+    (["slider", "--b", "2", "--c", "0", "--e", "1"], "c = 0"),
+    (["spherical", "--a", "40", "--b", "20", "--c", "30", "--d", "0"], "d = 0"),
+    (["skew", "--a", "0", "--b", "2", "--c", "7", "--d", "9", "--f", "0", "--ksi", "30"],
+     "a = 0 and f = 0"),
+])
+def test_a_degenerate_linkage_is_said_to_be_so_at_once(capsys, argv, named):
+    """Issue 35, item 6: a zero link made analyse search a linkage at a dead centre at every
+    angle (12 s of CPU for the skew slider-crank) and print `type = rocker-slider` with 160
+    "dead centres" at its grid points. It is degenerate, said in one line (exit 1) at once: a
+    bound of 0.5 s of CPU that the search took 10 to 25 times over (a guard, not a benchmark)."""
+    import time
+    started = time.process_time()
+    status, out, err = main(["analyse", *argv], capsys)
+    spent = time.process_time() - started
+    assert status == 1 and out == ""
+    line = one_error_line(err)
+    assert "degenerate" in line and named in line, line
+    assert spent < 0.5, spent
+
+
+def test_a_linkage_at_a_dead_centre_at_every_angle_is_degenerate():
+    """No link of zero length, yet at a dead centre at every angle: the plane four-bar with
+    b + c = d and a fixed link of 1e-300 (nothing beside 2, 7 and 9 in the engine's numbers), its
+    statuses checked at 33 angles here. Ordinary linkages, one with a change point among them,
+    and a skew slider-crank whose fixed link is its vertical part f alone, are not degenerate."""
+    link = linkage.Linkage("plane", a=1e-300, b=2, c=7, d=9)
+    assert all(m.status == linkage.DEAD_CENTRE for m in link.sweep([0.5 + 11 * i for i in
+                                                                   range(33)], 1, 0))
+    assert "dead centre" in linkage.degenerate(link)
+    for kind, dims in (("plane", dict(a=6, b=2, c=7, d=9)), ("plane", dict(a=5, b=2, c=4, d=3)),
+                       ("slider", dict(b=2, c=3, e=1)),
+                       ("skew-slider", dict(a=0, b=1, c=3, f=0.5, ksi=30))):
+        assert linkage.degenerate(linkage.Linkage(kind, **dims)) is None, (kind, dims)

@@ -310,3 +310,113 @@ def test_scene_and_design_follow_runs_folder_rule(tmp_path, argv, option):
     assert got.returncode == 2
     assert f"{option} '{tmp_path / 'file' / 'x'}': cannot make the folder: Not a directory" \
         in got.stderr
+
+
+# ---- hostile numbers (issue 35, item 5) ---------------------------------------------------------
+
+CURVE_SCENE = ('title = "t"\nmechanism = "plane"\ndimensions = {{ a = 6, b = 2, c = 7, d = 9 }}\n'
+               'input = {{ from = 0, to = 360, step = 10 }}\nbranches = [1]\n'
+               'precision = "double"\n\n[[panels]]\nquantities = ["displacement"]\n'
+               'limits = {limits}\n')
+MECHANISM_SCENE = ('title = "t"\nmechanism = "plane"\ndimensions = {{ a = 6, b = 2, c = 7, d = 9 }}'
+                   '\ninput = {{ from = 0, to = 360, step = 30 }}\nbranches = [{branch}]\n\n'
+                   '[[panels]]\nquantities = ["mechanism"]\n')
+
+
+def refused_in_one_line(result: subprocess.CompletedProcess, *words: bytes) -> None:
+    assert result.returncode == 1, result.stderr
+    assert b"Traceback" not in result.stderr and result.stderr.count(b"\n") == 1, result.stderr
+    assert all(w in result.stderr for w in words), result.stderr
+
+
+@pytest.mark.parametrize("limits", ["[-1e308, 1e308]", "[0, 1e-320]", "[-1e101, 0]",
+                                    "[1, 1.0000000000000002]"])
+@pytest.mark.parametrize("png", [False, True])
+def test_a_panel_whose_limits_cannot_be_drawn_is_refused(limits, png, tmp_path):
+    """Issue 35, item 5: limits = [-1e308, 1e308] ended in OverflowError (the text plot) or
+    ValueError (--png), [0, 1e-320] in a math domain error. They are refused, naming the key,
+    and nothing is written."""
+    (tmp_path / "s.toml").write_text(CURVE_SCENE.format(limits=limits))
+    result = run(["scene", "s.toml"] + (["--png", "o.png"] if png else []), tmp_path)
+    refused_in_one_line(result, b"panels[1].limits")
+    assert sorted(os.listdir(tmp_path)) == ["s.toml"]
+
+
+def test_limits_at_the_ends_of_the_drawn_range_are_drawn(tmp_path):
+    (tmp_path / "s.toml").write_text(CURVE_SCENE.format(limits="[-1e100, 1e100]"))
+    result = run(["scene", "s.toml"], tmp_path)
+    assert result.returncode == 0 and b"Traceback" not in result.stderr, result.stderr
+
+
+@pytest.mark.parametrize("png", [False, True])
+def test_values_closer_than_an_axis_divides_are_drawn_as_one(png, tmp_path):
+    """Issue 35, item 5: an ANG.DAT holding 0,0 and 1,5E-324 ended in "math domain error" (the
+    y axis divided a span of 5e-324). Values that close are one value on the axis: drawn."""
+    (tmp_path / "ANG.DAT").write_bytes(b"0,0\r\n1,5E-324\r\n\x1a")
+    result = run(["plot", "."] + (["--png", "o.png"] if png else []), tmp_path)
+    assert result.returncode == 0 and b"Traceback" not in result.stderr, result.stderr
+    if png:
+        assert (tmp_path / "o.png").read_bytes().startswith(b"\x89PNG")
+    else:
+        assert b"(a) output ANG.DAT" in result.stdout
+
+
+@pytest.mark.parametrize("optimised", [[], ["-O"]])
+def test_a_mechanism_scene_takes_the_branches_a_curve_scene_takes(optimised, tmp_path):
+    """Issue 35, item 5: branches = [1.0], which a curve scene takes as branch 1, ended a
+    mechanism scene in AssertionError (and drew, unchecked, under python3 -O). It is branch 1:
+    the same drawing as branches = [1]."""
+    start = [sys.executable] + optimised + PROGRAM[1:]
+    drawn = {}
+    for branch in ("1", "1.0"):
+        (tmp_path / "m.toml").write_text(MECHANISM_SCENE.format(branch=branch))
+        done = subprocess.run(start + ["scene", "m.toml", "--frames", "2"], cwd=tmp_path,
+                              capture_output=True, timeout=120)
+        assert done.returncode == 0 and b"Traceback" not in done.stderr, done.stderr
+        drawn[branch] = done.stdout
+    assert drawn["1.0"] == drawn["1"]
+    (tmp_path / "m.toml").write_text(MECHANISM_SCENE.format(branch="1.5"))
+    done = subprocess.run(start + ["scene", "m.toml"], cwd=tmp_path, capture_output=True,
+                          timeout=120)
+    refused_in_one_line(done, b"branches")
+
+
+@pytest.mark.parametrize("dtheta", ["5e-324", "1e-300", "359.99999999999994"])
+def test_a_design_datum_its_formula_cannot_take_is_refused(dtheta, tmp_path):
+    """Issue 35, item 5: design slid-fg2-1 --dtheta 5e-324 ended in ZeroDivisionError (cot of a
+    crank rotation that rounds to 0). Refused in one line naming dtheta; nothing written."""
+    result = run(["design", "slid-fg2-1", "--dtheta", dtheta, "--ds", "28.2", "--epsilon", "1",
+                  "--dat", "dd"], tmp_path)
+    refused_in_one_line(result, b"dtheta")
+    assert result.stdout == b""
+    assert not (tmp_path / "dd").exists() or os.listdir(tmp_path / "dd") == []
+
+
+# ---- small things (issue 35, item 7) ------------------------------------------------------------
+
+@pytest.mark.parametrize("option", ["--svg", "--png"])
+def test_a_full_device_is_named_not_called_standard_output(option, tmp_path):
+    """Issue 35, item 7: `scene fig1a --svg /dev/full` said "standard output: No space left on
+    device". The message names the file."""
+    result = run(["scene", "fig1a", option, "/dev/full"], tmp_path)
+    assert result.returncode == 1
+    assert result.stderr == b"linkage.py: /dev/full: No space left on device\n"
+
+
+def test_scene_list_takes_no_output(tmp_path):
+    """Issue 35, item 7: `scene --list --png x` listed the scenes and ignored --png (exit 0)."""
+    for extra in (["--png", "x"], ["--csv", "x"], ["--dir", "x"], ["--text"]):
+        result = run(["scene", "--list"] + extra, tmp_path)
+        assert result.returncode == 2 and extra[0].encode() in result.stderr
+        assert b"Traceback" not in result.stderr and result.stdout == b""
+    assert os.listdir(tmp_path) == []
+
+
+def test_a_one_point_png_is_drawn_without_a_warning(tmp_path):
+    """Issue 35, item 7: a PNG of one point printed matplotlib's UserWarning "Attempting to set
+    identical low and high xlims" on standard error."""
+    (tmp_path / "ANG.DAT").write_bytes(b"0,1\r\n\x1a")
+    result = run(["plot", ".", "--png", "one.png"], tmp_path)
+    assert result.returncode == 0
+    assert result.stderr == b"linkage.py: wrote one.png\n"
+    assert (tmp_path / "one.png").read_bytes().startswith(b"\x89PNG")

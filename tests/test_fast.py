@@ -543,3 +543,31 @@ def test_the_dat_files_keep_phis_sign_of_zero(tmp_path):
         for name in ("ANG.DAT", "VEL.DAT", "ACC.DAT"):
             assert (tmp_path / folder / name).read_bytes().startswith(b"-0.0,"), (folder, name)
         assert (tmp_path / folder / "out.csv").read_bytes().split(b"\r\n")[1].startswith(b"0.0,")
+
+
+# Motion.status as the engine documents it (linkage.py, "The status of a computed position"):
+# written out here, not taken from STATUS_CODES, so that a status the numpy path lacks shows.
+EVERY_STATUS = ("assembled", "dead-centre", "change-point", "not-assembled", "indeterminate",
+                "stopped")
+
+
+@pytest.mark.parametrize("count", [engine.NUMBER_ROWS, engine.NUMBER_ROWS + 5])
+def test_both_paths_of_the_files_write_every_status(count):
+    """Issue 35, item 2: the files' rows are formatted a row at a time, or by numpy once a block
+    is full (NUMBER_ROWS rows, _blocks): numpy's path must take every status the scalar engine
+    gives, stopped included (it raised KeyError: 'stopped'), and write the same bytes."""
+    values = {"assembled": (10.0, -0.5, 2.25), "dead-centre": (90.0, None, None),
+              "change-point": (180.0, 0.25, -1.0)}
+    rows = [(i * 0.5, *values.get(s, (None, None, None)), s, 45.0)
+            for i, s in ((i, EVERY_STATUS[i % len(EVERY_STATUS)]) for i in range(count))]
+    blocks = list(engine._blocks(iter(rows)))
+    assert isinstance(blocks[0], engine.SweepColumns)            # numpy took over
+    fields = (1, 2, 3, 5)
+    for zero in (False, True):
+        one = engine._row_texts(rows, fields, [False] * 4, zero, True)
+        parts = [t for block in blocks for t, _ in engine._block_texts(block, fields, False, zero,
+                                                                      True)]
+        assert [b"".join(t[i] for t in parts) for i in range(len(fields) + 1)] == one
+    csv = b"".join(t[-1] for block in blocks
+                   for t, _ in engine._block_texts(block, fields, False, False, True))
+    assert [line.split(b",")[4].decode() for line in csv.splitlines()] == [r[4] for r in rows]

@@ -511,3 +511,44 @@ def test_a_motion_that_never_agrees_with_its_neighbours_ends_its_halvings():
         signal.alarm(0)
         signal.signal(signal.SIGALRM, previous)
     assert len(motions) == 37 and all(m.status == "assembled" for m in motions)
+
+
+# -- a long followed motion: the numpy path of the files (issue 35, item 2) ------------------------
+
+DEAD_CENTRE_4324 = ["plane", "--a", "4", "--b", "3", "--c", "4", "--d", "2"]
+
+
+def test_a_long_followed_motion_that_stops_is_written_where_numpy_takes_over(tmp_path):
+    """Issue 35, item 2: a followed motion of 16,384 points or more (a full block: the files'
+    numbers formatted by numpy) that stops at a dead centre ended in KeyError: 'stopped', as the
+    numpy path knew every status but STOPPED. Now its files are Linkage.sweep's, the CSV's
+    status column too (stopped included)."""
+    assert engine.NUMBER_ROWS <= 36001
+    done = run(*DEAD_CENTRE_4324, "--from", "0", "--to", "360", "--step", "0.01", "--branch",
+               "follow", "--precision", "double", "--dir", str(tmp_path), "--csv",
+               str(tmp_path / "out.csv"))
+    assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
+    angles = [0.0 + i * 0.01 for i in range(36001)]
+    followed = engine.Linkage("plane", a=4.0, b=3.0, c=4.0, d=2.0).sweep(angles, engine.FOLLOW)
+    rows = (tmp_path / "out.csv").read_text().splitlines()[1:]
+    assert [r.split(",")[4] for r in rows] == [m.status for m in followed]
+    assert "stopped" in {m.status for m in followed}
+    ang = basic_runner.read_dat((tmp_path / "ANG.DAT").read_bytes())
+    assert ang == [(m.phi, m.output) for m in followed if m.output is not None]
+
+
+def test_a_long_follow_scene_that_stops_is_written(tmp_path):
+    """Issue 35, item 2, a scene: branches = ["follow"] on 36,001 angles with a dead centre."""
+    path = tmp_path / "s.toml"
+    path.write_text('title = "stops"\nmechanism = "plane"\n'
+                    "dimensions = { a = 4, b = 3, c = 4, d = 2 }\n"
+                    "input = { from = 0, to = 360, step = 0.01 }\n"
+                    'branches = ["follow"]\nprecision = "double"\n\n'
+                    '[[panels]]\nquantities = ["displacement"]\n')
+    done = subprocess.run(PROGRAM + ["scene", str(path), "--dir", str(tmp_path / "out")],
+                          capture_output=True, text=True)
+    assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
+    angles = [0.0 + i * 0.01 for i in range(36001)]
+    followed = engine.Linkage("plane", a=4.0, b=3.0, c=4.0, d=2.0).sweep(angles, engine.FOLLOW)
+    ang = basic_runner.read_dat((tmp_path / "out" / "ANG.DAT").read_bytes())
+    assert ang == [(m.phi, m.output) for m in followed if m.output is not None]

@@ -642,3 +642,246 @@ def test_a_signal_as_a_temporary_file_is_made_leaves_none(nth, tmp_path):
                           cwd=basic_runner.ROOT, capture_output=True, text=True, timeout=120)
     assert done.returncode == 128 + signal.SIGTERM, done.stderr
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+# ---- a stream among the outputs (issue 35, item 1) ---------------------------------------------
+
+STREAMED_RUN = ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
+                "--to", "360", "--branch", "1"]
+
+
+def old_files(folder) -> dict[str, bytes]:
+    """A folder holding an old set (made by hand: no run of the program under test) and its
+    bytes."""
+    folder.mkdir(exist_ok=True)
+    for name in ("ANG.DAT", "VEL.DAT", "ACC.DAT"):
+        (folder / name).write_bytes(b"OLD " + name.encode())
+    return snapshot(folder)
+
+
+@pytest.mark.parametrize("argv", [
+    STREAMED_RUN + ["--step", "10"],
+    STREAMED_RUN + ["--step", "10", "--precision", "double"],
+    ["scene", "transmission", "--dir", "dd"],
+])
+def test_a_full_stream_among_the_outputs_leaves_the_old_files_and_says_so_truly(argv, tmp_path):
+    """Issue 35, item 1: `--csv /dev/full` failed (exit 1, "the DAT files there are as they
+    were") after the new DAT files had replaced the old ones: the stream was written after the
+    renames. Now it is written first; the folder keeps its old set, and the message names it."""
+    folder = tmp_path / "dd" if "scene" in argv else tmp_path
+    before = old_files(folder)
+    result = run(argv + ["--csv", "/dev/full"], tmp_path)
+    assert_clean(result)
+    said = result.stderr.decode()
+    assert result.returncode == 1 and "/dev/full: No space left on device" in said, said
+    assert snapshot(folder) == before
+
+
+@pytest.mark.parametrize("precision", ["basic", "double"])
+def test_a_fifo_whose_reader_quits_leaves_the_old_files(precision, tmp_path):
+    """Issue 35, item 1: a FIFO given as --csv whose reader leaves after 10 bytes: the run fails
+    (exit 1, the FIFO named) and the DAT files there are the old ones."""
+    import threading
+    before = old_files(tmp_path)
+    fifo = tmp_path / "p"
+    os.mkfifo(fifo)
+
+    def reader():
+        with open(fifo, "rb") as f:
+            f.read(10)
+    thread = threading.Thread(target=reader, daemon=True)
+    thread.start()
+    result = run(STREAMED_RUN + ["--step", "0.1", "--precision", precision, "--csv", str(fifo)],
+                 tmp_path)
+    thread.join(timeout=60)
+    assert_clean(result)
+    said = result.stderr.decode()
+    assert result.returncode == 1 and f"{fifo}: Broken pipe" in said, said
+    assert "as they were" in said
+    fifo.unlink()                               # (snapshot would wait for a writer)
+    assert snapshot(tmp_path) == before
+
+
+@pytest.mark.parametrize("precision", ["basic", "double"])
+def test_a_closed_standard_output_as_the_csv_leaves_the_old_files(precision, tmp_path):
+    """Issue 35, item 1: `--csv - >&-` replaced the DAT files, then said they were as they were."""
+    before = old_files(tmp_path)
+    args = " ".join(STREAMED_RUN + ["--step", "10", "--precision", precision, "--csv", "-"])
+    result = subprocess.run(["bash", "-c", f"{' '.join(PROGRAM)} {args} >&-"], cwd=tmp_path,
+                            capture_output=True, timeout=60)
+    assert_clean(result)
+    assert result.returncode == 1 and b"standard output is closed" in result.stderr
+    assert snapshot(tmp_path) == before
+
+
+# ---- standard output's reader gone (issue 35, items 3 and 4) -----------------------------------
+
+SCENES = basic_runner.ROOT / "data" / "scenes"
+LONG_OUTPUTS = {                                # each writes far more than a pipe holds (64 KB)
+    "run basic --csv -": STREAMED_RUN + ["--step", "0.01", "--csv", "-"],
+    "run double --csv -": STREAMED_RUN + ["--step", "0.01", "--precision", "double", "--csv",
+                                          "-"],
+    "scene --svg -": ["scene", "coupler-plane-four-bar", "--svg", "-"],
+    "scene --frames": ["scene", "fig1a", "--frames", "100"],       # text, 80 KB
+}
+
+
+@pytest.mark.parametrize("unbuffered", ["", "1"])
+@pytest.mark.parametrize("output", list(LONG_OUTPUTS))
+def test_a_reader_that_leaves_after_100_bytes_is_no_output_written(output, unbuffered, tmp_path):
+    """Issue 35, item 3: under PYTHONUNBUFFERED=1 a write to standard output is one raw write,
+    which a pipe whose reader leaves cuts short (65,536 of 1,831,464 bytes) and which the program
+    took as whole: `--csv - | head -c 100` exited 0 saying "wrote - (36,003 rows)". Every write
+    is checked: the reader gone, the command ends as main's rule says (quiet, 141), having
+    put no DAT file in place."""
+    env = dict(os.environ, PYTHONUNBUFFERED=unbuffered)
+    proc = subprocess.Popen(PROGRAM + LONG_OUTPUTS[output], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, cwd=tmp_path, env=env)
+    assert len(proc.stdout.read(100)) == 100
+    proc.stdout.close()
+    said = proc.stderr.read().decode()
+    assert proc.wait(timeout=120) == 141, said
+    assert said == ""
+    assert os.listdir(tmp_path) == []
+
+
+CLOSED_READER = [
+    ["run"] + SHORT + ["--csv", "-"],
+    ["run"] + SHORT + ["--csv", "-", "--precision", "double"],
+    ["scene", "transmission"],
+    ["scene", "transmission", "--csv", "-"],
+    ["scene", "fig1a", "--frames", "2"],
+    ["scene", "--list"],
+    ["scene", "fig1a", "--svg", "-"],
+    ["plot", str(basic_runner.ROOT / "data" / "golden" / "plane-b1")],
+    ["analyse", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9"],
+    ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--text"],
+    ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--scene", "-"],
+    ["listing"],
+    ["--help"],
+    ["run", "--help"],
+    ["--version"],
+]
+
+
+@pytest.mark.parametrize("unbuffered", ["", "1"])
+@pytest.mark.parametrize("argv", CLOSED_READER, ids=lambda a: " ".join(a[:4]))
+def test_a_closed_reader_ends_every_command_alike(argv, unbuffered, tmp_path):
+    """Issue 35, item 4: standard output a pipe whose reader is gone ended commands with 0, 1,
+    120 or 141, some with Python's "Exception ignored ... BrokenPipeError". One rule, for every
+    command, buffered or not: no word on standard error, exit status 141 (128 + SIGPIPE, as a
+    shell reports a command that SIGPIPE ended), and no file put in place."""
+    env = dict(os.environ, PYTHONUNBUFFERED=unbuffered)
+    read, write = os.pipe()
+    os.close(read)                                   # nobody will read
+    try:
+        done = subprocess.run(PROGRAM + argv, stdout=write, stderr=subprocess.PIPE,
+                              cwd=tmp_path, env=env, timeout=120)
+    finally:
+        os.close(write)
+    assert (done.returncode, done.stderr.decode()) == (141, "")
+    assert os.listdir(tmp_path) == []
+
+
+# ---- what a failed command leaves, what it reads (issue 35, item 7) ----------------------------
+
+@pytest.mark.parametrize("argv", [
+    ["run", "plane", "--a", "20", "--b", "1", "--c", "1", "--d", "1", "--from", "0", "--to",
+     "360", "--step", "10", "--branch", "1", "--dir", "new/sub"],           # cannot be assembled
+    ["run", "plane", "--a", "20", "--b", "1", "--c", "1", "--d", "1", "--from", "0", "--to",
+     "360", "--step", "10", "--branch", "1", "--precision", "double", "--dir", "new/sub"],
+    ["scene", "bad.toml", "--dir", "new/sub"],                              # a scene refused
+    ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "95", "--dat", "new/sub"],   # bad data
+    ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--dat", "new/sub", "--png",
+     "new/sub"],                                                            # a folder in the way
+])
+def test_a_failed_command_leaves_no_folder_it_made(argv, tmp_path):
+    """Issue 35, item 7: the output folder is made before the work (output_folder); a command
+    that then failed left it behind, empty. It is removed; a folder that was there stays."""
+    (tmp_path / "bad.toml").write_text(    # a scene that loads, of a linkage never assembled
+        'title = "t"\nmechanism = "plane"\ndimensions = { a = 20, b = 1, c = 1, d = 1 }\n'
+        'input = { from = 0, to = 360, step = 10 }\nbranches = [1]\nprecision = "double"\n\n'
+        '[[panels]]\nquantities = ["displacement"]\n')
+    (tmp_path / "kept").mkdir()
+    result = run(argv, tmp_path)
+    assert_clean(result)
+    assert result.returncode != 0, result.stderr
+    assert sorted(os.listdir(tmp_path)) == ["bad.toml", "kept"]
+    result = run(argv[:-1] + ["kept"] if argv[-2] != "--png" else argv, tmp_path)
+    assert result.returncode != 0 and (tmp_path / "kept").is_dir()
+
+
+def test_plot_refuses_to_write_over_what_it_draws(tmp_path):
+    """Issue 35, item 7: `plot . --png ANG.DAT` wrote the figure over the file it drew (exit 0).
+    An output that is one of the files a command reads (or would read: VEL.DAT beside ANG.DAT)
+    is refused, before anything is written; so is a scene's own file as its --png."""
+    (tmp_path / "ANG.DAT").write_bytes(b"0,1\r\n10,2\r\n\x1a")
+    before = snapshot(tmp_path)
+    for png in ("ANG.DAT", "./VEL.DAT", str(tmp_path / "ANG.DAT")):
+        result = run(["plot", ".", "--png", png], tmp_path)
+        assert_clean(result)
+        assert result.returncode == 2 and b"it is not written over" in result.stderr, png
+        assert snapshot(tmp_path) == before
+    scene = (basic_runner.ROOT / "data" / "scenes" / "fig3-plane-four-bar.toml").read_bytes()
+    (tmp_path / "s.toml").write_bytes(scene)
+    result = run(["scene", "s.toml", "--png", "s.toml"], tmp_path)
+    assert result.returncode == 2 and b"it is not written over" in result.stderr
+    assert (tmp_path / "s.toml").read_bytes() == scene
+
+
+SIGNALLED_IN_AN_IMPORT = """
+import os, signal, sys
+import linkage
+assert "numpy" not in sys.modules            # imported by the sweep's first full block
+seen = []
+class Signaller:                             # on the nth module numpy's import asks for
+    def find_spec(self, name, path=None, target=None):
+        if name == "numpy" or "numpy" in sys.modules:
+            seen.append(name)
+            if len(seen) == int(sys.argv[1]):
+                sys.stderr.write(f"SIGHUP in the import of {name}\\n")
+                os.kill(os.getpid(), signal.SIGHUP)
+        return None
+sys.meta_path.insert(0, Signaller())
+sys.exit(linkage.main(sys.argv[2:]))
+"""
+
+
+@pytest.mark.parametrize("nth", [*range(1, 41), *range(41, 101, 6)])
+def test_a_signal_in_numpys_import_is_not_lost(nth, tmp_path):
+    """Issue 35, item 8: a double run SIGHUP'd 24-41 ms after its first .partial file (7 of 270
+    runs) finished its 3.6 million points, replaced the DAT files and exited 0. The signal came
+    during `import numpy` (the sweep's first full block of rows is formatted by numpy), and the
+    handler's exception, raised in numpy's C initialisation (its import of datetime), was
+    cleared there. Here, in a process of its own, the signal comes as numpy's import asks for
+    its nth module: each of the first 40 (numpy._core and its C extensions), then every sixth
+    to the 100th. The run ends, 128 + SIGHUP, and the old files stand."""
+    argv = ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
+            "--to", "360", "--branch", "1", "--precision", "double", "--dir", str(tmp_path),
+            "--step"]
+    for name in ("ANG.DAT", "VEL.DAT", "ACC.DAT"):
+        (tmp_path / name).write_bytes(b"OLD " + name.encode())
+    before = snapshot(tmp_path)
+    done = subprocess.run([sys.executable, "-c", SIGNALLED_IN_AN_IMPORT, str(nth)] + argv
+                          + ["0.01"], cwd=basic_runner.ROOT, capture_output=True, text=True,
+                          timeout=120)
+    assert "SIGHUP in the import of" in done.stderr, done.stderr       # the moment came
+    assert done.returncode == 128 + signal.SIGHUP, done.stderr
+    assert "interrupted" in done.stderr and "Traceback" not in done.stderr
+    assert snapshot(tmp_path) == before
+
+
+def test_signals_held_within_signals_held_stay_held_until_the_outer_block_ends():
+    """_signals_held inside _signals_held (held_import's hold of numpy's import, where a
+    temporary is being made) unblocked the signals at the inner block's end: the outer block
+    held nothing more. The inner one now gives back the mask it found."""
+    held = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
+
+    def blocked() -> set:
+        return signal.pthread_sigmask(signal.SIG_BLOCK, []) & held
+    assert blocked() == set()
+    with linkage._signals_held():
+        with linkage._signals_held(drop=True):
+            assert blocked() == held
+        assert blocked() == held
+    assert blocked() == set()
