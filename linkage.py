@@ -9653,7 +9653,596 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ---- 20. Benchmarks of the program itself --------------------------------------------------------
+# ---- 20. The explorer: a linkage changed and watched in the terminal -----------------------------
+#
+# Holds: `python3 linkage.py explore`: a full-screen view of the linkage moving, its coupler curve
+# traced, and beside it its dimensions and what analyse answers, all following each key. The
+# state is a value (Explorer) and each key makes the next one (explore_key); the screen is drawn
+# from the state alone (explore_screen). The terminal loop (explore_terminal) and a replayed key
+# file (explore_replay) run the same two functions, so that what the tests replay is what a user
+# sees. What a state shows (ExploreView: the analysis, the drawing of the motion, the
+# transmission angle at each position) is computed once for each linkage, by the caller's cache.
+#
+# A linkage that does not assemble at every crank angle is drawn over the crank's reachable range
+# only, and playing stops at its dead centres; one that assembles nowhere is drawn and said so.
+# A change that cannot be drawn (a length of 0, an arc of 180 degrees) is refused on the status
+# line, the state as it was.
+#
+# Uses: sections 1, 2, 6, 7, 8, 11, 13, 14, 15, 18 and 19.
+# Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
+#   ExploreView, explore_view, ExploreViews, explore_key, explore_screen, explore_scene,
+#   terminal_keys, key_file, explore_replay, explore_terminal.
+
+
+# The keys, as the help screen lists them (the footer shows the first words of each).
+EXPLORE_HELP = (
+    ("Tab  S-Tab  Up  Down", "select the next or previous dimension"),
+    ("A B C D E F X U V", "select that dimension (X: the skew angle, U V: the coupler point)"),
+    ("Left  Right", "change the selected dimension by a small step"),
+    ("S-Left  S-Right  [  ]", "change it by a large step"),
+    ("=  Enter", "type an exact value (Enter takes it, Esc leaves it)"),
+    ("b", "the other branch (A+B or A-B)"),
+    ("f", "follow: analyse the motion followed through change points"),
+    ("Space", "play or pause"),
+    (",  .", "step back or forward one position"),
+    ("+  -", "faster or slower"),
+    ("c", "the coupler point and its curve on or off (move it: U, V)"),
+    ("k", "the next kind of linkage"),
+    ("u", "undo the last change"),
+    ("s", "save as a scene file (TOML): name it, Enter"),
+    ("?", "this help (any key leaves it)"),
+    ("q", "quit (Ctrl-C too)"),
+)
+# The names of keys that are not a character (a key file's lines); Tick is the timer's.
+EXPLORE_KEY_NAMES = ("Tab", "S-Tab", "Up", "Down", "Left", "Right", "S-Left", "S-Right",
+                     "Enter", "Esc", "Backspace", "Space", "Tick")
+EXPLORE_POSITIONS = 36          # positions drawn over the crank's range (10 degrees, a full turn)
+EXPLORE_SPEEDS = (1, 2, 4, 8, 12, 24)       # positions a second
+_TERMINAL_SEQUENCES = {b"\x1b[A": "Up", b"\x1b[B": "Down", b"\x1b[C": "Right", b"\x1b[D": "Left",
+                       b"\x1b[1;2C": "S-Right", b"\x1b[1;2D": "S-Left", b"\x1b[Z": "S-Tab",
+                       b"\x1bOA": "Up", b"\x1bOB": "Down", b"\x1bOC": "Right", b"\x1bOD": "Left",
+                       b"\t": "Tab", b"\r": "Enter", b"\n": "Enter", b"\x7f": "Backspace",
+                       b"\x08": "Backspace", b" ": "Space", b"\x1b": "Esc"}
+_UNDO_DEPTH = 100
+_TYPED_NUMBER = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
+
+
+class Explorer(NamedTuple):
+    """What the explorer shows and where the user is: the linkage (kind, dims in
+    LINKAGE_DIMENSIONS' order, branch, follow), the coupler point (u, v) and whether it is
+    traced, the shown position (index into ExploreView.phis) and the motion, what is being
+    typed (a value, a file name, an answer), the status line, and the states undo goes back
+    to."""
+    kind: str
+    dims: tuple[tuple[str, float], ...]
+    branch: int = 1
+    follow: bool = False
+    coupler: tuple[float, float] = (0.0, 0.0)
+    traced: bool = True
+    selected: int = 0
+    position: int = 0
+    direction: int = 1
+    playing: bool = True
+    speed: int = 4                     # index into EXPLORE_SPEEDS
+    typing: str | None = None          # the value typed so far
+    naming: str | None = None          # the file name typed so far (save)
+    confirm: str | None = None         # the file to overwrite, asked
+    save_to: str | None = None         # a scene to write (for the caller), then None
+    overwrite: bool = False            # save_to may be overwritten (the user said yes)
+    help: bool = False
+    status: str = ""
+    undo: tuple[Explorer, ...] = ()
+    done: bool = False
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """What can be selected: the dimensions, then u (and v) of a traced coupler point."""
+        point = (("u",) if PINS[self.kind].coupler == "line" else ("u", "v")) if self.traced \
+            else ()
+        return tuple(n for n, _ in self.dims) + point
+
+    @property
+    def linkage(self) -> Linkage:
+        return Linkage(self.kind, **dict(self.dims))
+
+    def value(self, name: str) -> float:
+        return dict(self.dims + (("u", self.coupler[0]), ("v", self.coupler[1])))[name]
+
+
+def _default_coupler(kind: str, dims: dict[str, float]) -> tuple[float, float]:
+    """A point of the coupler that shows its curve well: half along it, a quarter across."""
+    c = dims["c"]
+    return (0.5 * c, 0.0 if PINS[kind].coupler == "line" else 0.25 * c)
+
+
+def explorer_of(kind: str, dims: dict[str, float] | None = None, branch: int = 1,
+                follow: bool = False, coupler: tuple[float, float] | None = None) -> Explorer:
+    """The explorer's first state: the linkage given (its dimensions the kind's example's where
+    not given), coupler the point traced (None: one half along the coupler)."""
+    given = dict(MECHANISM_EXAMPLES[kind], **(dims or {}))
+    values = tuple((n, float(given[n])) for n in LINKAGE_DIMENSIONS[kind])
+    return Explorer(kind, values, branch, follow,
+                    coupler or _default_coupler(kind, dict(values)))
+
+
+class ExploreView(NamedTuple):
+    """What a linkage looks like: its analysis (None where it assembles nowhere, message then
+    says so), the drawing of its motion at the input angles phis, the transmission angle at
+    each, and whether the crank turns fully (else it rocks between dead centres)."""
+    analysis: Analysis | None
+    message: str
+    drawing: Drawing
+    phis: tuple[float, ...]
+    mus: tuple[float | None, ...]
+    turns: bool
+
+
+def _motion_angles(analysis: Analysis | None) -> tuple[list[float], bool]:
+    """The input angles drawn: a full turn, or the crank's first reachable range end to end."""
+    if analysis is None or analysis.crank_range is None:
+        return [360.0 * i / EXPLORE_POSITIONS for i in range(EXPLORE_POSITIONS)], True
+    lo, hi = analysis.crank_range[0]
+    hi += 360.0 if hi <= lo else 0.0
+    return [lo + (hi - lo) * i / EXPLORE_POSITIONS for i in range(EXPLORE_POSITIONS + 1)], False
+
+
+def explore_view(state: Explorer) -> ExploreView:
+    """The view of the state's linkage; a ValueError says why it cannot be drawn."""
+    linkage = state.linkage
+    coupler = state.coupler if state.traced else None
+    if coupler is not None:
+        check_coupler_point(linkage, *coupler)
+    branch: int | str = FOLLOW if state.follow else state.branch
+    try:
+        analysis: Analysis | None = analyse(linkage, branch, state.branch if state.follow
+                                            else None)
+        message = ""
+    except ValueError as e:
+        if "assembles at no" not in str(e):
+            raise
+        analysis, message = None, "does not assemble at any crank angle"
+    phis, turns = _motion_angles(analysis)
+    if not turns and analysis is not None:
+        lo, hi = phis[0], phis[-1]
+        message = f"the crank rocks from {lo % 360:.4g} to {hi % 360:.4g} (dead centres)"
+    traced = (FOLLOW,) if state.follow and coupler is not None else ()
+    name = MECHANISM_NAMES[state.kind]
+    drawing = mechanism_drawing(linkage, phis, state.branch,
+                                f"{name}: " + (message or "the crank turns fully"), None,
+                                coupler, traced)
+    mus = tuple(linkage.transmission(phis, state.branch))
+    return ExploreView(analysis, message, drawing, tuple(phis), mus, turns)
+
+
+class ExploreViews:
+    """explore_view's answers kept for the linkages seen lately (each key asks again)."""
+
+    def __init__(self, keep: int = 64) -> None:
+        self.kept: dict[tuple[Any, ...], ExploreView] = {}
+        self.keep = keep
+
+    def __call__(self, state: Explorer) -> ExploreView:
+        key = (state.kind, state.dims, state.branch, state.follow,
+               state.coupler if state.traced else None)
+        if key not in self.kept:
+            if len(self.kept) >= self.keep:
+                self.kept.clear()
+            self.kept[key] = explore_view(state)
+        return self.kept[key]
+
+
+def _steps(kind: str, name: str) -> tuple[float, float]:
+    """A dimension's small and large steps: degrees 1 and 10, lengths 0.1 and 1."""
+    degrees = name == "ksi" or (kind == SPHERICAL_FOUR_BAR and name in "abcduv")
+    return (1.0, 10.0) if degrees else (0.1, 1.0)
+
+
+def _changed(state: Explorer, views: Callable[[Explorer], ExploreView], **changes: Any
+             ) -> Explorer:
+    """The state with `changes` to its linkage or coupler point, undo-able, shown at the
+    position nearest the one shown; the state as it was, with the reason on the status line, if
+    the new one cannot be drawn."""
+    new = state._replace(**changes, status="", typing=None)
+    try:
+        new_view = views(new)
+    except ValueError as e:
+        return state._replace(status=f"refused: {e}", typing=None)
+    old_phi = views(state).phis[state.position]
+    position = min(range(len(new_view.phis)),
+                   key=lambda i: abs(wrap_degrees(new_view.phis[i] - old_phi)))
+    undo = (state._replace(undo=(), status="", typing=None),) + state.undo[:_UNDO_DEPTH - 1]
+    return new._replace(position=position, undo=undo,
+                        selected=min(new.selected, len(new.names) - 1),
+                        status=new_view.message)
+
+
+def _set_value(state: Explorer, name: str, value: float,
+               views: Callable[[Explorer], ExploreView]) -> Explorer:
+    value = round(value, 10) + 0.0                      # steps of 0.1 stay short decimals
+    if name in ("u", "v"):
+        u, v = state.coupler
+        return _changed(state, views, coupler=(value, v) if name == "u" else (u, value))
+    return _changed(state, views, dims=tuple((n, value if n == name else x)
+                                             for n, x in state.dims))
+
+
+def _typed_key(state: Explorer, key: str, views: Callable[[Explorer], ExploreView]
+               ) -> Explorer:
+    """A key while a value is typed: characters add, Backspace takes back, Enter takes the
+    value (or refuses it), Esc leaves it."""
+    typed = cast(str, state.typing)
+    name = state.names[state.selected]
+    if key == "Esc":
+        return state._replace(typing=None, status="")
+    if key == "Backspace":
+        return state._replace(typing=typed[:-1])
+    if key == "Enter":
+        if not _TYPED_NUMBER.fullmatch(typed) or not math.isfinite(float(typed)):
+            return state._replace(typing=None, status=f"refused: {name} = {typed!r} is not a "
+                                                      "number (e.g. 6.5, -2, 1e-3)")
+        return _set_value(state, name, float(typed), views)
+    if len(key) == 1 and key in "0123456789.-+eE" and len(typed) < 24:
+        return state._replace(typing=typed + key)
+    return state
+
+
+def _named_key(state: Explorer, key: str) -> Explorer:
+    """A key while the scene's file name is typed (save), or an overwrite answered."""
+    if state.confirm is not None:
+        if key in ("y", "Y"):
+            return state._replace(confirm=None, save_to=state.confirm, overwrite=True)
+        return state._replace(confirm=None, status="not saved")
+    typed = cast(str, state.naming)
+    if key == "Esc":
+        return state._replace(naming=None, status="not saved")
+    if key == "Backspace":
+        return state._replace(naming=typed[:-1])
+    if key == "Enter":
+        if not typed.strip():
+            return state._replace(naming=None, status="not saved: no file name")
+        return state._replace(naming=None, save_to=typed.strip())
+    if len(key) == 1 and key.isprintable() and len(typed) < 200:
+        return state._replace(naming=typed + key)
+    if key == "Space":
+        return state._replace(naming=typed + " ")
+    return state
+
+
+def _moved(state: Explorer, view: ExploreView, by: int) -> Explorer:
+    """The shown position moved by `by`: round a full turn, or up to a dead centre, where the
+    motion stops (and turns back at the next play)."""
+    count = len(view.phis)
+    if view.turns:
+        return state._replace(position=(state.position + by) % count)
+    position = state.position + by
+    if 0 <= position < count:
+        return state._replace(position=position)
+    end = 0 if position < 0 else count - 1
+    return state._replace(position=end, playing=False, direction=-state.direction,
+                          status=f"stopped at a dead centre, crank {view.phis[end] % 360:.4g} "
+                                 "deg (Space plays back)")
+
+
+def explore_key(state: Explorer, key: str, views: Callable[[Explorer], ExploreView]) -> Explorer:
+    """The state after `key` (a character, or a name of EXPLORE_KEY_NAMES); views(state) is the
+    state's view. A key that means nothing here changes nothing."""
+    state = state._replace(save_to=None)
+    if state.help:
+        return state._replace(help=False)
+    if state.typing is not None:
+        return _typed_key(state, key, views)
+    if state.naming is not None or state.confirm is not None:
+        return _named_key(state, key)
+    names = state.names
+    view = views(state)
+    if key == "Tick":
+        return _moved(state, view, state.direction) if state.playing else state
+    state = state._replace(status="" if view.turns or not view.message else view.message)
+    if key in ("q", "Q"):
+        return state._replace(done=True)
+    if key == "?":
+        return state._replace(help=True)
+    if key in ("Tab", "Down", "S-Tab", "Up"):
+        by = 1 if key in ("Tab", "Down") else -1
+        return state._replace(selected=(state.selected + by) % len(names))
+    letter = {"X": "ksi"}.get(key, key.lower())
+    if key.isupper() and letter in names:
+        return state._replace(selected=names.index(letter))
+    name = names[state.selected]
+    steps = {"Left": -1, "Right": 1, "S-Left": -10, "S-Right": 10, "[": -10, "]": 10}
+    if key in steps:
+        small, large = _steps(state.kind, name)
+        size = large if abs(steps[key]) == 10 else small
+        return _set_value(state, name, state.value(name) + math.copysign(size, steps[key]),
+                          views)
+    if key in ("=", "Enter"):
+        return state._replace(typing="")
+    if key == "b":
+        return _changed(state, views, branch=3 - state.branch)
+    if key == "f":
+        return _changed(state, views, follow=not state.follow)
+    if key == "c":
+        return _changed(state, views, traced=not state.traced)
+    if key == "k":
+        kinds = list(LINKAGE_DIMENSIONS)
+        first = explorer_of(kinds[(kinds.index(state.kind) + 1) % len(kinds)])
+        return _changed(state, views, kind=first.kind, dims=first.dims, coupler=first.coupler,
+                        selected=0)
+    if key == "u":
+        if not state.undo:
+            return state._replace(status="nothing to undo")
+        back = state.undo[0]
+        return back._replace(undo=state.undo[1:], status="undone", playing=state.playing,
+                             speed=state.speed, position=min(back.position,
+                                                             len(views(back).phis) - 1))
+    if key == "Space":
+        return state._replace(playing=not state.playing)
+    if key in (",", "."):
+        return _moved(state._replace(playing=False), view, 1 if key == "." else -1)
+    if key in ("+", "-"):
+        speed = max(0, min(len(EXPLORE_SPEEDS) - 1, state.speed + (1 if key == "+" else -1)))
+        return state._replace(speed=speed, status=f"{EXPLORE_SPEEDS[speed]} positions a second")
+    if key == "s":
+        return state._replace(naming=f"explore-{state.kind}.toml")
+    return state
+
+
+def _number(x: float | None, unit: str = "") -> str:
+    return "-" if x is None else f"{x:.6g}{unit}"
+
+
+def _analysis_rows(view: ExploreView, mu: float | None, unit: str) -> list[tuple[str, str]]:
+    """The side panel's answers of analyse: the type, crank range, swing, time ratio and the
+    transmission angle now, at its extremes and furthest from 90 degrees."""
+    a = view.analysis
+    if a is None:
+        return [("type", "none"), ("", view.message), ("mu now", "-")]
+    crank = "full" if a.crank_range is None else ", ".join(
+        f"{lo:.5g} to {hi:.5g}" for lo, hi in a.crank_range)
+    swing = ("full turn" if a.output_min is None or a.output_max is None
+             else _number(a.output_max.value - a.output_min.value, unit))
+    worst = a.mu_worst
+    rows = [("type", a.type), ("crank", crank)]
+    if len(a.circuits) > 1:
+        rows.append(("circuits", str(len(a.circuits))))
+    return rows + [("swing", swing), ("time ratio", _number(a.time_ratio)),
+                   ("mu now", _number(mu)),
+                   ("mu min", f"{_number(a.mu_min.value)} at {_number(a.mu_min.phi)}"),
+                   ("mu max", f"{_number(a.mu_max.value)} at {_number(a.mu_max.phi)}"),
+                   ("worst", f"{_number(abs(worst.value - 90.0))} off 90 at "
+                             f"{_number(worst.phi)}")]
+
+
+def _side_panel(state: Explorer, view: ExploreView, width: int) -> tuple[list[str], int]:
+    """The side panel's lines, and which one is the selected dimension's."""
+    unit = "" if state.kind in SLIDER_CRANKS else " deg"
+    lines = [MECHANISM_NAMES[state.kind],
+             f"branch {state.branch} ({'A+B' if state.branch == 1 else 'A-B'})"
+             + ("  follow" if state.follow else ""), ""]
+    selected = 0
+    for i, name in enumerate(state.names):
+        if i == state.selected:
+            selected = len(lines)
+        shown = "ξ" if name == "ksi" else name
+        what = "coupler point" if name in ("u", "v") else DIMENSION_NAMES[name].removeprefix(
+            "the ").replace(", degrees", "")
+        value = (state.typing + "_" if i == state.selected and state.typing is not None
+                 else f"{state.value(name):g}")
+        lines.append(f"{'>' if i == state.selected else ' '}{shown:>3} = {value:<9} {what}")
+    lines.append("")
+    phi = view.phis[state.position] % 360.0
+    mu = view.mus[state.position]
+    lines += [f"{name:<10} {value}" if name else f"  {value}"
+              for name, value in _analysis_rows(view, mu, unit)]
+    speed = EXPLORE_SPEEDS[state.speed]
+    lines += ["", f"crank {phi:.4g} deg  " + (f"playing {speed}/s" if state.playing
+                                              else "paused")]
+    return [line[:width] for line in lines], selected
+
+
+def _footer(width: int, unicode: bool) -> str:
+    """The keys line: the most used keys, all of them where the screen is wide enough."""
+    arrows = "←→" if unicode else "<>"
+    wide = (f"Tab/ABC select  {arrows} step  [] big  = type  b branch  f follow  Space play  "
+            ",. step  +- speed  c coupler  k kind  u undo  s save  ? help  q quit")
+    narrow = (f"Tab select {arrows} [] change = type b branch Space play c k u s ? help q quit")
+    return wide if len(wide) <= width else narrow[:width]
+
+
+def _help_lines() -> list[str]:
+    return ["The explorer's keys", ""] + [f"  {keys:<24} {what}" for keys, what in EXPLORE_HELP]
+
+
+def _status_line(state: Explorer) -> str:
+    if state.typing is not None:
+        return f"{state.names[state.selected]} = {state.typing}_   (Enter takes it, Esc leaves)"
+    if state.naming is not None:
+        return f"save as: {state.naming}_   (Enter saves, Esc leaves)"
+    if state.confirm is not None:
+        return f"{state.confirm} exists: overwrite it? (y/n)"
+    return state.status
+
+
+def explore_screen(state: Explorer, view: ExploreView, width: int = 80, height: int = 24,
+                   unicode: bool = True) -> tuple[list[str], int | None, int]:
+    """The screen of `height` lines of at most `width` characters: the linkage drawn at the
+    shown position on the left, the side panel on the right, then the keys and the status line;
+    with the row of the selected dimension (None on the help screen) and the side panel's
+    first column (for the terminal to highlight)."""
+    width, height = max(width, 40), max(height, 12)
+    side = 34 if width < 120 else 44
+    left = width - side - 1
+    if state.help:
+        body = _help_lines()
+        rows: int | None = None
+    else:
+        drawn = text_drawing(view.drawing, state.position, left, height - 2, unicode).split("\n")
+        panel, selected = _side_panel(state, view, side)
+        body = [f"{d:<{left}} {p}" for d, p in zip(drawn + [""] * (height - 2 - len(drawn)),
+                                                   panel + [""] * (height - 2 - len(panel)))]
+        rows = selected
+    body = (body + [""] * height)[:height - 2] + [_footer(width, unicode), _status_line(state)]
+    if not unicode:
+        body = [line.replace("μ", "mu").replace("ξ", "ksi") for line in body]
+    return [line[:width].rstrip() for line in body], rows, left + 1
+
+
+def explore_scene(state: Explorer, view: ExploreView, path: str) -> Scene:
+    """The state as a mechanism scene (scene_text writes it; explore SCENE reads it back): the
+    linkage, its branch, the motion drawn, the coupler point traced (and followed)."""
+    phis = view.phis
+    step = (phis[-1] - phis[0]) / max(1, len(phis) - 1)
+    branches: tuple[int | str, ...] = (state.branch,) + (
+        (FOLLOW,) if state.follow and state.traced else ())
+    return Scene(path, f"{MECHANISM_NAMES[state.kind]}, as explored", state.kind,
+                 dict(state.dims), phis[0], phis[-1], step, branches, ("double",),
+                 (PanelSpec((MECHANISM_PANEL,), None),),
+                 coupler=state.coupler if state.traced else None)
+
+
+def terminal_keys(data: bytes) -> list[str]:
+    """The keys in bytes read from a terminal: escape sequences as EXPLORE_KEY_NAMES' names,
+    other characters as themselves (Ctrl-C never reaches here: it interrupts)."""
+    keys = []
+    text = data
+    while text:
+        for sequence in sorted(_TERMINAL_SEQUENCES, key=len, reverse=True):
+            if text.startswith(sequence):
+                keys.append(_TERMINAL_SEQUENCES[sequence])
+                text = text[len(sequence):]
+                break
+        else:
+            if text[:1] == b"\x1b":         # an escape sequence of no key here: all of it
+                end = re.match(rb"\x1b(\[[0-9;]*[ -/]*[@-~]|O.|.)?", text)
+                text = text[end.end() if end else 1:]
+                continue
+            length = next((n for n in range(1, 5) if _decodes(text[:n])), 1)
+            char = text[:length].decode("utf-8", "replace")
+            if char.isprintable():
+                keys.append(char)
+            text = text[length:]
+    return keys
+
+
+def _decodes(data: bytes) -> bool:
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError:
+        return False
+    return True
+
+
+def key_file(text: str) -> list[str]:
+    """The keys of a key file: one a line, a name of EXPLORE_KEY_NAMES or one character; lines
+    empty or starting with "# " are skipped. A ValueError names a line that is neither."""
+    keys = []
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line or line.startswith("# "):
+            continue
+        if line in EXPLORE_KEY_NAMES or len(line) == 1:
+            keys.append(line)
+        else:
+            raise ValueError(f"line {number}: {line!r} is no key: one character, or one of "
+                             f"{', '.join(EXPLORE_KEY_NAMES)}")
+    return keys
+
+
+def _after(state: Explorer, views: Callable[[Explorer], ExploreView]) -> Explorer:
+    """The save a key asked for (save_to): the scene written whole (written_whole), or first
+    asked about where the file exists, or the reason it could not be written."""
+    path = state.save_to
+    if path is None:
+        return state
+    asked, state = state.overwrite, state._replace(save_to=None, overwrite=False)
+    if os.path.lexists(path) and not asked:
+        return state._replace(confirm=path)
+    try:
+        with written_whole(path) as fh:
+            fh.write(scene_text(explore_scene(state, views(state), path),
+                                "made by python3 linkage.py explore").encode("utf-8"))
+    except OSError as e:
+        return state._replace(status=f"not saved: {path}: {e.strerror or e}")
+    return state._replace(status=f"saved {path}")
+
+
+def explore_replay(state: Explorer, keys: Iterable[str], width: int = 80, height: int = 24,
+                   unicode: bool = True) -> tuple[Explorer, list[str]]:
+    """The state after each of `keys` in turn (as the terminal would take them, Tick for each
+    tick of the timer), until q; and the last screen, the selected dimension marked by '>'."""
+    views = ExploreViews()
+    for key in keys:
+        state = _after(explore_key(state, key, views), views)
+        if state.done:
+            break
+    lines, _, _ = explore_screen(state, views(state), width, height, unicode)
+    return state, lines
+
+
+def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
+    """The explorer on the terminal of standard input and output, until q (or Ctrl-C, or
+    SIGTERM: KeyboardInterrupt): single keys, the alternate screen, redrawn at each key, each
+    tick of the motion and each resize (SIGWINCH); the terminal is given back as it was."""
+    import select
+    import signal
+    import time
+    keys_fd, out = sys.stdin.fileno(), sys.stdout
+    views = ExploreViews()
+    woken, wake = os.pipe()
+    shown: list[str] = []
+
+    def draw(again: bool = False) -> None:
+        width, height = shutil.get_terminal_size()
+        lines, row, column = explore_screen(state, views(state), width, height, unicode)
+        if row is not None:
+            lines[row] = lines[row][:column] + "\x1b[7m" + lines[row][column:] + "\x1b[27m"
+        if lines != shown or again:
+            out.write("\x1b[H" + "\x1b[K\n".join(lines) + "\x1b[K\x1b[J")
+            out.flush()
+            shown[:] = lines
+
+    def resized(signum: int, frame: object) -> None:
+        with contextlib.suppress(OSError):
+            os.write(wake, b"r")
+
+    def enter() -> None:
+        out.write("\x1b[?1049h\x1b[?25l")
+        draw(again=True)
+
+    def leave() -> None:
+        out.write("\x1b[?25h\x1b[?1049l")
+        out.flush()
+
+    before = signal.signal(signal.SIGWINCH, resized)
+    try:
+        with single_keys(keys_fd, enter, leave):
+            due = time.monotonic()
+            while not state.done:
+                wait = max(0.0, due - time.monotonic()) if state.playing else None
+                ready = select.select([keys_fd, woken], [], [], wait)[0]
+                if woken in ready:
+                    os.read(woken, 64)
+                    draw(again=True)
+                    continue
+                if keys_fd in ready:
+                    data = os.read(keys_fd, 64)
+                    if not data:                            # the terminal is gone
+                        break
+                    for key in terminal_keys(data):
+                        state = _after(explore_key(state, key, views), views)
+                else:
+                    state = explore_key(state, "Tick", views)
+                    due = max(due + 1.0 / EXPLORE_SPEEDS[state.speed], time.monotonic())
+                if not state.playing:
+                    due = time.monotonic()
+                draw()
+    finally:
+        signal.signal(signal.SIGWINCH, before)
+        os.close(woken)
+        os.close(wake)
+    return state
+
+
+# ---- 21. Benchmarks of the program itself --------------------------------------------------------
 #
 # Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS. What
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
@@ -10077,18 +10666,18 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 21. The command line ------------------------------------------------------------------------
+# ---- 22. The command line ------------------------------------------------------------------------
 #
 # Holds: the shared parsers of what is typed on the command line (numbers in each precision, linkage
 # kinds, PNG sizes), one handler a sub-command, the design methods' help, and COMMANDS, the table of
 # every sub-command's help and options that build_parser turns into argparse; main() last.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14, 15, 17, 18, 19 and 20.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14, 15, 17, 18, 19, 20 and 21.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
 #   decimal_number, basic_answer, output_folder, run_command, CSV_CLIPPED, analyse_command,
 #   drawing_command, scene_command, plot_command, design_scene, design_command, ERRATUM, SCAN_LINE,
-#   scan_lines, annotated_listing, listing_command, bench_command, Option, option, Command,
-#   DIMENSION_HELP, PNG_OPTIONS, COMMANDS, CommandParser, build_parser, main.
+#   scan_lines, annotated_listing, listing_command, explore_command, bench_command, Option, option,
+#   Command, DIMENSION_HELP, PNG_OPTIONS, COMMANDS, CommandParser, build_parser, main.
 
 
 ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
@@ -10829,6 +11418,77 @@ def listing_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
     return _reported(show)
 
 
+def _screen_size(text: str) -> tuple[int, int]:
+    match = re.fullmatch(r"([0-9]{1,4})[xX]([0-9]{1,4})", text.strip())
+    if not match or not (40 <= int(match[1]) <= 1000 and 12 <= int(match[2]) <= 1000):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected COLUMNSxLINES, at least 40x12, "
+                                         "e.g. 80x24")
+    return int(match[1]), int(match[2])
+
+
+def _explorer_given(args: argparse.Namespace, parser: argparse.ArgumentParser) -> Explorer:
+    """The explorer's first state: the kind and dimensions given (the kind's example's where
+    not), or a scene's linkage, branch and coupler point, or the plane four-bar's example."""
+    given = [n for n in DIMENSION_HELP if getattr(args, n) is not None]
+    target = args.target or PLANE_FOUR_BAR
+    try:
+        kind = _mechanism_type(target)
+    except argparse.ArgumentTypeError:
+        if given:
+            parser.error(f"--{given[0]} goes with a kind ({', '.join(MECHANISM_TYPES)}), not "
+                         "with a scene")
+        scene = load_scene(scene_path(target))
+        branch = next((b for b in scene.branches if isinstance(b, int)), 1)
+        return explorer_of(scene.mechanism, scene.dimensions, branch,
+                           FOLLOW in scene.branches, scene.coupler)
+    unknown = [n for n in given if n not in LINKAGE_DIMENSIONS[kind]]
+    if unknown:
+        parser.error(f"--{unknown[0]}: the {MECHANISM_NAMES[kind]} takes "
+                     + ", ".join("--" + n for n in LINKAGE_DIMENSIONS[kind]))
+    try:
+        dims = {n: decimal_number(getattr(args, n), f"--{n}") for n in given}
+    except ValueError as e:
+        parser.error(str(e))
+    return explorer_of(kind, dims)
+
+
+def explore_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py explore [KIND --a ... | SCENE]`: the explorer on the terminal
+    (explore_terminal); with --keys FILE the keys of the file replayed instead and the last
+    screen printed (explore_replay)."""
+    try:
+        state = _explorer_given(args, parser)
+        ExploreViews()(state)                           # a linkage that can be drawn
+    except (SceneError, ValueError) as e:
+        return said(e, 1)
+    unicode = (getattr(sys.stdout, "encoding", None) or "").lower().replace("-", "") == "utf8"
+    if args.keys is not None:
+        try:
+            with open(args.keys, encoding="utf-8") as fh:
+                keys = key_file(fh.read())
+        except OSError as e:
+            return said(f"{args.keys}: cannot read the keys: {e.strerror}", 1)
+        except (ValueError, UnicodeDecodeError) as e:
+            return said(f"{args.keys}: {e}", 1)
+        width, height = args.size
+        _, lines = explore_replay(state, keys, width, height, unicode)
+        sys.stdout.write("".join(line + "\n" for line in lines))
+        sys.stdout.flush()
+        return 0
+    if args.size != (80, 24):
+        parser.error("--size sets the screen of a replay (--keys FILE); the terminal's is its own")
+    if (not (is_terminal(sys.stdin) and is_terminal(sys.stdout))
+            or os.environ.get("TERM", "dumb") in ("", "dumb")):
+        return said("explore needs a terminal: standard input and output a terminal whose TERM "
+                    "is not dumb (--keys FILE replays keys without one and prints the last "
+                    "screen)", 1)
+    state = explore_terminal(state, unicode)
+    print(f"{PROG} analyse {state.kind} "
+          + " ".join(f"--{n} {v:g}" for n, v in state.dims)
+          + ("" if state.branch == 1 else f" --branch {state.branch}"))
+    return 0
+
+
 def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py bench [NAME ...]`: print the benchmarks' numbers and how they ran."""
     print(f"$ python3 linkage.py bench {' '.join(args.names)}".rstrip())
@@ -11010,6 +11670,24 @@ COMMANDS = {
         (option("--ocr", action="store_true",
                 help="show the scan's text (legacy_basic/LINKAGE.OCR.txt) under each line it "
                      "prints otherwise (white space aside)"),)),
+    "explore": Command(
+        explore_command, "change a dimension and watch the linkage answer, in the terminal",
+        "A full-screen view of the linkage moving, its coupler curve traced, and beside it its "
+        "dimensions and what analyse answers (type, crank range, swing, time ratio, the "
+        "transmission angle now, at its extremes and furthest from 90 degrees), all following "
+        "each key: Tab or a capital letter selects a dimension, the arrows change it, = types "
+        "it; ? lists every key. Needs a terminal; --keys FILE replays keys without one.",
+        (option("target", nargs="?", metavar="KIND|SCENE",
+                help=f"{', '.join(MECHANISM_NAMES)} (or 1-5), with any of its dimensions (the "
+                     "rest the kind's example's); or a scene (a TOML file, or the name of one "
+                     "of scene --list); default: the plane four-bar"),
+         *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
+         option("--keys", metavar="FILE",
+                help="replay the keys of FILE and print the last screen, no terminal needed: "
+                     "one key a line, a character or one of " + ", ".join(EXPLORE_KEY_NAMES)
+                     + " (Tick: a tick of the motion's timer); lines starting '# ' are skipped"),
+         option("--size", type=_screen_size, default=(80, 24), metavar="COLSxLINES",
+                help="with --keys: the screen's size (default 80x24)"))),
     "bench": Command(
         bench_command, "measure speed, and what accuracy costs in time",
         "Run the benchmarks and print their numbers (port runs PC-BASIC for minutes). What "
