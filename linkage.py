@@ -10,6 +10,7 @@ Machine Theory, 1980s).
     python3 linkage.py plot [DIR]       the figure of DAT files already written
     python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
     python3 linkage.py listing [--ocr]  the BASIC listing as corrected, with its errata
+    python3 linkage.py explore [KIND]   change a dimension and watch the linkage answer
     python3 linkage.py bench            speed (what accuracy costs: tests/support/bench_accuracy.py)
 
 Fidelity: ANG.DAT, VEL.DAT and ACC.DAT are byte-identical to those legacy_basic/LINKAGE.BAS
@@ -29,7 +30,8 @@ derives (joints, coupler point, transmission angle); 8. the linkage analysed (an
 (Linkage, a method for each question); 12. DAT and CSV files; 13. the mechanism drawn; 14. the
 mechanism's renderers (terminal, SVG, PNG); 15. synthesis: what a design is; 16. synthesis: the
 review's methods; 17. synthesis: designs measured and checked; 18. scenes; 19. plots;
-20. benchmarks of the program itself; 21. the command line, last. The engine, the view and
+20. the explorer (a dimension changed, the linkage watched in the terminal); 21. benchmarks of
+the program itself; 22. the command line, last. The engine, the view and
 synthesis never use the original program.
 """
 
@@ -9670,23 +9672,23 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 #
 # Uses: sections 1, 2, 6, 7, 8, 11, 13, 14, 15, 18 and 19.
 # Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
-#   ExploreView, explore_view, ExploreViews, explore_key, explore_screen, explore_scene,
-#   terminal_keys, key_file, explore_replay, explore_terminal.
+#   ExploreView, explore_view, explore_glance, ExploreViews, explore_key, explore_screen,
+#   explore_scene, terminal_keys, key_file, explore_replay, explore_terminal.
 
 
 # The keys, as the help screen lists them (the footer shows the first words of each).
 EXPLORE_HELP = (
     ("Tab  S-Tab  Up  Down", "select the next or previous dimension"),
-    ("A B C D E F X U V", "select that dimension (X: the skew angle, U V: the coupler point)"),
+    ("A B C D E F X U V", "select that one (X: the skew angle ξ, U V: coupler)"),
     ("Left  Right", "change the selected dimension by a small step"),
     ("S-Left  S-Right  [  ]", "change it by a large step"),
-    ("=  Enter", "type an exact value (Enter takes it, Esc leaves it)"),
+    ("=  Enter", "type its value (Enter takes it, Esc leaves it)"),
     ("b", "the other branch (A+B or A-B)"),
-    ("f", "follow: analyse the motion followed through change points"),
+    ("f", "follow: analyse the motion through change points"),
     ("Space", "play or pause"),
     (",  .", "step back or forward one position"),
     ("+  -", "faster or slower"),
-    ("c", "the coupler point and its curve on or off (move it: U, V)"),
+    ("c", "the coupler point and its curve on or off"),
     ("k", "the next kind of linkage"),
     ("u", "undo the last change"),
     ("s", "save as a scene file (TOML): name it, Enter"),
@@ -9768,13 +9770,15 @@ def explorer_of(kind: str, dims: dict[str, float] | None = None, branch: int = 1
 class ExploreView(NamedTuple):
     """What a linkage looks like: its analysis (None where it assembles nowhere, message then
     says so), the drawing of its motion at the input angles phis, the transmission angle at
-    each, and whether the crank turns fully (else it rocks between dead centres)."""
+    each, and whether the crank turns fully (else it rocks between dead centres); settled False
+    for a glance (explore_glance: one position, not analysed yet)."""
     analysis: Analysis | None
     message: str
     drawing: Drawing
     phis: tuple[float, ...]
     mus: tuple[float | None, ...]
     turns: bool
+    settled: bool = True
 
 
 def _motion_angles(analysis: Analysis | None) -> tuple[list[float], bool]:
@@ -9814,21 +9818,72 @@ def explore_view(state: Explorer) -> ExploreView:
     return ExploreView(analysis, message, drawing, tuple(phis), mus, turns)
 
 
-class ExploreViews:
-    """explore_view's answers kept for the linkages seen lately (each key asks again)."""
+def explore_glance(state: Explorer, phi: float, bounds: Box) -> ExploreView:
+    """The state's linkage at the one input angle phi, not analysed, drawn over `bounds` and its
+    own: what a key shows at once while keys come faster than analyse answers. A ValueError
+    says why it cannot be drawn."""
+    linkage = state.linkage
+    coupler = state.coupler if state.traced else None
+    drawing = mechanism_drawing(linkage, [phi], state.branch,
+                                f"{MECHANISM_NAMES[state.kind]}: ...", None, coupler)
+    x0, y0, x1, y1 = drawing.bounds
+    drawing = drawing._replace(bounds=(min(x0, bounds[0]), min(y0, bounds[1]),
+                                       max(x1, bounds[2]), max(y1, bounds[3])))
+    mus = tuple(linkage.transmission([phi], state.branch))
+    return ExploreView(None, "", drawing, (phi,), mus, True, False)
 
-    def __init__(self, keep: int = 64) -> None:
+
+class ExploreViews:
+    """explore_view's answers kept for the linkages seen lately (each key asks again). quick:
+    a linkage not seen yet is first a glance (explore_glance), made whole by settled."""
+
+    def __init__(self, quick: bool = False, keep: int = 64) -> None:
         self.kept: dict[tuple[Any, ...], ExploreView] = {}
-        self.keep = keep
+        self.glances: dict[tuple[Any, ...], ExploreView] = {}
+        self.quick, self.keep = quick, keep
+
+    @staticmethod
+    def _key(state: Explorer) -> tuple[Any, ...]:
+        return (state.kind, state.dims, state.branch, state.follow,
+                state.coupler if state.traced else None)
 
     def __call__(self, state: Explorer) -> ExploreView:
-        key = (state.kind, state.dims, state.branch, state.follow,
-               state.coupler if state.traced else None)
-        if key not in self.kept:
-            if len(self.kept) >= self.keep:
-                self.kept.clear()
-            self.kept[key] = explore_view(state)
+        key = self._key(state)
+        if key in self.kept:
+            return self.kept[key]
+        if key in self.glances:
+            return self.glances[key]
+        if len(self.kept) >= self.keep:
+            self.kept.clear()
+        self.kept[key] = explore_view(state)
         return self.kept[key]
+
+    def changed(self, state: Explorer, phi: float, bounds: Box) -> ExploreView:
+        """The view of a state just changed to, shown near phi: a glance if quick."""
+        key = self._key(state)
+        if not self.quick or key in self.kept:
+            return self(state)
+        if key not in self.glances:
+            if len(self.glances) >= self.keep:
+                self.glances.clear()
+            self.glances[key] = explore_glance(state, phi, bounds)
+        return self.glances[key]
+
+    def settled(self, state: Explorer) -> Explorer:
+        """The state with its view whole (analysed, its motion drawn), at the position nearest
+        the one its glance showed; the state itself if its view was whole."""
+        glance = self(state)
+        if glance.settled:
+            return state
+        whole = self.kept[self._key(state)] = explore_view(state)
+        del self.glances[self._key(state)]
+        return state._replace(position=_nearest(whole.phis, glance.phis[state.position]),
+                              status=state.status or whole.message)
+
+
+def _nearest(phis: Sequence[float], phi: float) -> int:
+    """The index of the angle of phis nearest phi (modulo a turn)."""
+    return min(range(len(phis)), key=lambda i: abs(wrap_degrees(phis[i] - phi)))
 
 
 def _steps(kind: str, name: str) -> tuple[float, float]:
@@ -9837,19 +9892,18 @@ def _steps(kind: str, name: str) -> tuple[float, float]:
     return (1.0, 10.0) if degrees else (0.1, 1.0)
 
 
-def _changed(state: Explorer, views: Callable[[Explorer], ExploreView], **changes: Any
-             ) -> Explorer:
+def _changed(state: Explorer, views: ExploreViews, **changes: Any) -> Explorer:
     """The state with `changes` to its linkage or coupler point, undo-able, shown at the
     position nearest the one shown; the state as it was, with the reason on the status line, if
     the new one cannot be drawn."""
     new = state._replace(**changes, status="", typing=None)
+    old_view = views(state)
+    old_phi = old_view.phis[state.position]
     try:
-        new_view = views(new)
+        new_view = views.changed(new, old_phi, old_view.drawing.bounds)
     except ValueError as e:
         return state._replace(status=f"refused: {e}", typing=None)
-    old_phi = views(state).phis[state.position]
-    position = min(range(len(new_view.phis)),
-                   key=lambda i: abs(wrap_degrees(new_view.phis[i] - old_phi)))
+    position = _nearest(new_view.phis, old_phi)
     undo = (state._replace(undo=(), status="", typing=None),) + state.undo[:_UNDO_DEPTH - 1]
     return new._replace(position=position, undo=undo,
                         selected=min(new.selected, len(new.names) - 1),
@@ -9857,7 +9911,7 @@ def _changed(state: Explorer, views: Callable[[Explorer], ExploreView], **change
 
 
 def _set_value(state: Explorer, name: str, value: float,
-               views: Callable[[Explorer], ExploreView]) -> Explorer:
+               views: ExploreViews) -> Explorer:
     value = round(value, 10) + 0.0                      # steps of 0.1 stay short decimals
     if name in ("u", "v"):
         u, v = state.coupler
@@ -9866,7 +9920,7 @@ def _set_value(state: Explorer, name: str, value: float,
                                              for n, x in state.dims))
 
 
-def _typed_key(state: Explorer, key: str, views: Callable[[Explorer], ExploreView]
+def _typed_key(state: Explorer, key: str, views: ExploreViews
                ) -> Explorer:
     """A key while a value is typed: characters add, Backspace takes back, Enter takes the
     value (or refuses it), Esc leaves it."""
@@ -9923,7 +9977,7 @@ def _moved(state: Explorer, view: ExploreView, by: int) -> Explorer:
                                  "deg (Space plays back)")
 
 
-def explore_key(state: Explorer, key: str, views: Callable[[Explorer], ExploreView]) -> Explorer:
+def explore_key(state: Explorer, key: str, views: ExploreViews) -> Explorer:
     """The state after `key` (a character, or a name of EXPLORE_KEY_NAMES); views(state) is the
     state's view. A key that means nothing here changes nothing."""
     state = state._replace(save_to=None)
@@ -9995,6 +10049,8 @@ def _analysis_rows(view: ExploreView, mu: float | None, unit: str) -> list[tuple
     """The side panel's answers of analyse: the type, crank range, swing, time ratio and the
     transmission angle now, at its extremes and furthest from 90 degrees."""
     a = view.analysis
+    if not view.settled:
+        return [("type", "..."), ("mu now", _number(mu))]
     if a is None:
         return [("type", "none"), ("", view.message), ("mu now", "-")]
     crank = "full" if a.crank_range is None else ", ".join(
@@ -10147,12 +10203,13 @@ def key_file(text: str) -> list[str]:
     return keys
 
 
-def _after(state: Explorer, views: Callable[[Explorer], ExploreView]) -> Explorer:
+def _after(state: Explorer, views: ExploreViews) -> Explorer:
     """The save a key asked for (save_to): the scene written whole (written_whole), or first
     asked about where the file exists, or the reason it could not be written."""
     path = state.save_to
     if path is None:
         return state
+    state = views.settled(state)
     asked, state = state.overwrite, state._replace(save_to=None, overwrite=False)
     if os.path.lexists(path) and not asked:
         return state._replace(confirm=path)
@@ -10186,7 +10243,7 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
     import signal
     import time
     keys_fd, out = sys.stdin.fileno(), sys.stdout
-    views = ExploreViews()
+    views = ExploreViews(quick=True)
     woken, wake = os.pipe()
     shown: list[str] = []
 
@@ -10217,24 +10274,28 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
         with single_keys(keys_fd, enter, leave):
             due = time.monotonic()
             while not state.done:
+                settled = views(state).settled
                 wait = max(0.0, due - time.monotonic()) if state.playing else None
-                ready = select.select([keys_fd, woken], [], [], wait)[0]
+                ready = select.select([keys_fd, woken], [], [], wait if settled else 0.0)[0]
                 if woken in ready:
                     os.read(woken, 64)
                     draw(again=True)
-                    continue
-                if keys_fd in ready:
+                elif keys_fd in ready:
                     data = os.read(keys_fd, 64)
                     if not data:                            # the terminal is gone
                         break
                     for key in terminal_keys(data):
                         state = _after(explore_key(state, key, views), views)
+                    draw()
+                elif not settled:                           # no key waiting: analyse now
+                    state = views.settled(state)
+                    draw()
                 else:
                     state = explore_key(state, "Tick", views)
                     due = max(due + 1.0 / EXPLORE_SPEEDS[state.speed], time.monotonic())
+                    draw()
                 if not state.playing:
                     due = time.monotonic()
-                draw()
     finally:
         signal.signal(signal.SIGWINCH, before)
         os.close(woken)
@@ -10248,10 +10309,10 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 7, 9, 11, 12, 13, 14, 18 and 19.
+# Uses: sections 1, 2, 3, 4, 5, 7, 9, 11, 12, 13, 14, 18, 19 and 20.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
 #   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, FILES_TARGET,
-#   bench_files, BENCHMARKS, ELSEWHERE, machine.
+#   bench_files, EXPLORE_TARGET, bench_explore, BENCHMARKS, ELSEWHERE, machine.
 
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
@@ -10641,8 +10702,45 @@ def bench_files(out: TextIO, quick: bool = False) -> None:
               f"{'met' if rate >= FILES_TARGET else 'NOT MET'}, {rate:,.0f}", file=out)
 
 
+EXPLORE_TARGET = 0.050     # seconds from a key to the next frame (issue 32)
+
+
+def bench_explore(out: TextIO, quick: bool = False) -> None:
+    """The explorer's latency: a key to its frame, then the view made whole.
+
+    A key's frame is explore_key then explore_screen at 80 x 24, each key changing a dimension or the branch or the coupler
+    point (so that each is a linkage not seen yet: a glance), then the view made whole when the
+    keys stop (ExploreViews.settled: analyse and the motion drawn)."""
+    import time
+    keys = ["Right", "Left", "S-Right", "S-Left", "Tab"] * (1 if quick else 4) + ["b", "c"]
+    print(f"the explorer, {len(keys)} keys a kind (a dimension changed, the next one selected, "
+          "the branch, the coupler), the 80 x 24 frame drawn after each; milliseconds; target: "
+          f"a key to its frame under {1e3 * EXPLORE_TARGET:.0f} ms", file=out)
+    print(f"{'linkage':12} {'key median':>11} {'key worst':>10} {'whole median':>13} "
+          f"{'whole worst':>12}", file=out)
+    for kind in LINKAGE_DIMENSIONS:
+        views, state = ExploreViews(quick=True), explorer_of(kind)
+        views(state)
+        key_times, whole_times = [], []
+        for key in keys:
+            start = time.perf_counter()
+            state = explore_key(state, key, views)
+            explore_screen(state, views(state), 80, 24)
+            key_times.append(time.perf_counter() - start)
+            start = time.perf_counter()
+            state = views.settled(state)
+            explore_screen(state, views(state), 80, 24)
+            whole_times.append(time.perf_counter() - start)
+        key_times.sort()
+        whole_times.sort()
+        print(f"{kind:12} {1e3 * key_times[len(keys) // 2]:11.1f} {1e3 * key_times[-1]:10.1f} "
+              f"{1e3 * whole_times[len(keys) // 2]:13.1f} {1e3 * whole_times[-1]:12.1f}"
+              + ("" if key_times[-1] < EXPLORE_TARGET else "   over the target"), file=out)
+
+
 BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
-              "startup": bench_startup, "coupler": bench_coupler, "files": bench_files}
+              "startup": bench_startup, "coupler": bench_coupler, "files": bench_files,
+              "explore": bench_explore}
 ELSEWHERE = {"accuracy": "PYTHONPATH=tests python3 -m support.bench_accuracy (it measures "
                          "with the tests' "
                          "instruments: the 50-digit mpmath reference, the listing in double, "
