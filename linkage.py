@@ -9673,7 +9673,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 # Uses: sections 1, 2, 6, 7, 8, 11, 13, 14, 15, 18 and 19.
 # Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
 #   ExploreView, explore_view, explore_glance, ExploreViews, explore_key, explore_screen,
-#   explore_scene, terminal_keys, key_file, explore_replay, explore_terminal.
+#   explore_scene, terminal_keys, key_file, explore_saved, explore_replay, explore_terminal.
 
 
 # The keys, as the help screen lists them (the footer shows the first words of each).
@@ -9701,10 +9701,11 @@ EXPLORE_KEY_NAMES = ("Tab", "S-Tab", "Up", "Down", "Left", "Right", "S-Left", "S
 EXPLORE_POSITIONS = 36          # positions drawn over the crank's range (10 degrees, a full turn)
 EXPLORE_SPEEDS = (1, 2, 4, 8, 12, 24)       # positions a second
 _TERMINAL_SEQUENCES = {b"\x1b[A": "Up", b"\x1b[B": "Down", b"\x1b[C": "Right", b"\x1b[D": "Left",
-                       b"\x1b[1;2C": "S-Right", b"\x1b[1;2D": "S-Left", b"\x1b[Z": "S-Tab",
                        b"\x1bOA": "Up", b"\x1bOB": "Down", b"\x1bOC": "Right", b"\x1bOD": "Left",
+                       b"\x1b[1;2C": "S-Right", b"\x1b[1;2D": "S-Left", b"\x1b[Z": "S-Tab",
                        b"\t": "Tab", b"\r": "Enter", b"\n": "Enter", b"\x7f": "Backspace",
-                       b"\x08": "Backspace", b" ": "Space", b"\x1b": "Esc"}
+                       b"\x08": "Backspace", b" ": "Space"}     # a lone ESC is Esc
+_STEP_KEYS = ("Left", "Right", "S-Left", "S-Right", "[", "]")
 _UNDO_DEPTH = 100
 _TYPED_NUMBER = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
 
@@ -9875,8 +9876,16 @@ class ExploreViews:
         glance = self(state)
         if glance.settled:
             return state
-        whole = self.kept[self._key(state)] = explore_view(state)
-        del self.glances[self._key(state)]
+        key = self._key(state)
+        del self.glances[key]
+        try:
+            whole = self.kept[key] = explore_view(state)
+        except ValueError as e:         # drawn at one position but not over the motion: undone
+            if not state.undo:
+                raise
+            back = state.undo[0]._replace(undo=state.undo[1:], status=f"refused: {e}")
+            return self.settled(back._replace(position=min(back.position,
+                                                           len(self(back).phis) - 1)))
         return state._replace(position=_nearest(whole.phis, glance.phis[state.position]),
                               status=state.status or whole.message)
 
@@ -10050,9 +10059,9 @@ def _analysis_rows(view: ExploreView, mu: float | None, unit: str) -> list[tuple
     transmission angle now, at its extremes and furthest from 90 degrees."""
     a = view.analysis
     if not view.settled:
-        return [("type", "..."), ("mu now", _number(mu))]
+        return [("type", "..."), ("μ now", _number(mu))]
     if a is None:
-        return [("type", "none"), ("", view.message), ("mu now", "-")]
+        return [("type", "none"), ("", view.message), ("μ now", "-")]
     crank = "full" if a.crank_range is None else ", ".join(
         f"{lo:.5g} to {hi:.5g}" for lo, hi in a.crank_range)
     swing = ("full turn" if a.output_min is None or a.output_max is None
@@ -10062,11 +10071,11 @@ def _analysis_rows(view: ExploreView, mu: float | None, unit: str) -> list[tuple
     if len(a.circuits) > 1:
         rows.append(("circuits", str(len(a.circuits))))
     return rows + [("swing", swing), ("time ratio", _number(a.time_ratio)),
-                   ("mu now", _number(mu)),
-                   ("mu min", f"{_number(a.mu_min.value)} at {_number(a.mu_min.phi)}"),
-                   ("mu max", f"{_number(a.mu_max.value)} at {_number(a.mu_max.phi)}"),
-                   ("worst", f"{_number(abs(worst.value - 90.0))} off 90 at "
-                             f"{_number(worst.phi)}")]
+                   ("μ now", _number(mu)),
+                   ("μ min", f"{_number(a.mu_min.value)} at {_number(a.mu_min.phi)}"),
+                   ("μ max", f"{_number(a.mu_max.value)} at {_number(a.mu_max.phi)}"),
+                   ("worst |μ-90|", f"{_number(abs(worst.value - 90.0))} at "
+                                    f"{_number(worst.phi)}")]
 
 
 def _side_panel(state: Explorer, view: ExploreView, width: int) -> tuple[list[str], int]:
@@ -10088,11 +10097,11 @@ def _side_panel(state: Explorer, view: ExploreView, width: int) -> tuple[list[st
     lines.append("")
     phi = view.phis[state.position] % 360.0
     mu = view.mus[state.position]
-    lines += [f"{name:<10} {value}" if name else f"  {value}"
+    lines += [f"{name:<12} {value}" if name else f"  {value}"
               for name, value in _analysis_rows(view, mu, unit)]
     speed = EXPLORE_SPEEDS[state.speed]
-    lines += ["", f"crank {phi:.4g} deg  " + (f"playing {speed}/s" if state.playing
-                                              else "paused")]
+    lines += ["", f"φ = {phi:.4g} deg  " + (f"playing {speed}/s" if state.playing
+                                            else "paused")]
     return [line[:width] for line in lines], selected
 
 
@@ -10126,7 +10135,7 @@ def explore_screen(state: Explorer, view: ExploreView, width: int = 80, height: 
     with the row of the selected dimension (None on the help screen) and the side panel's
     first column (for the terminal to highlight)."""
     width, height = max(width, 40), max(height, 12)
-    side = 34 if width < 120 else 44
+    side = 36 if width < 120 else 44
     left = width - side - 1
     if state.help:
         body = _help_lines()
@@ -10162,21 +10171,22 @@ def terminal_keys(data: bytes) -> list[str]:
     keys = []
     text = data
     while text:
-        for sequence in sorted(_TERMINAL_SEQUENCES, key=len, reverse=True):
-            if text.startswith(sequence):
-                keys.append(_TERMINAL_SEQUENCES[sequence])
-                text = text[len(sequence):]
-                break
-        else:
-            if text[:1] == b"\x1b":         # an escape sequence of no key here: all of it
-                end = re.match(rb"\x1b(\[[0-9;]*[ -/]*[@-~]|O.|.)?", text)
-                text = text[end.end() if end else 1:]
-                continue
-            length = next((n for n in range(1, 5) if _decodes(text[:n])), 1)
-            char = text[:length].decode("utf-8", "replace")
-            if char.isprintable():
-                keys.append(char)
-            text = text[length:]
+        known = next((s for s in _TERMINAL_SEQUENCES if text.startswith(s)), None)
+        if known is not None:
+            keys.append(_TERMINAL_SEQUENCES[known])
+            text = text[len(known):]
+            continue
+        if text[:1] == b"\x1b":
+            other = re.match(rb"\x1b(\[[0-9;?]*[ -/]*[@-~]|O[@-~])", text)   # a key not used here
+            if other is None:
+                keys.append("Esc")
+            text = text[other.end() if other else 1:]
+            continue
+        length = next((n for n in range(1, 5) if _decodes(text[:n])), 1)
+        char = text[:length].decode("utf-8", "replace")
+        if char.isprintable():
+            keys.append(char)
+        text = text[length:]
     return keys
 
 
@@ -10203,7 +10213,7 @@ def key_file(text: str) -> list[str]:
     return keys
 
 
-def _after(state: Explorer, views: ExploreViews) -> Explorer:
+def explore_saved(state: Explorer, views: ExploreViews) -> Explorer:
     """The save a key asked for (save_to): the scene written whole (written_whole), or first
     asked about where the file exists, or the reason it could not be written."""
     path = state.save_to
@@ -10224,13 +10234,18 @@ def _after(state: Explorer, views: ExploreViews) -> Explorer:
 
 def explore_replay(state: Explorer, keys: Iterable[str], width: int = 80, height: int = 24,
                    unicode: bool = True) -> tuple[Explorer, list[str]]:
-    """The state after each of `keys` in turn (as the terminal would take them, Tick for each
-    tick of the timer), until q; and the last screen, the selected dimension marked by '>'."""
-    views = ExploreViews()
+    """The state after each of `keys` in turn, until q, and the last screen (the selected
+    dimension marked by '>'). The keys are taken as the terminal takes keys typed faster than
+    it analyses: steps of a dimension (the arrows, [ and ]) one after another as glances, the
+    view made whole before any other key (Tick: a tick of the timer) and at the end."""
+    views = ExploreViews(quick=True)
     for key in keys:
-        state = _after(explore_key(state, key, views), views)
+        if key not in _STEP_KEYS:
+            state = views.settled(state)
+        state = explore_saved(explore_key(state, key, views), views)
         if state.done:
             break
+    state = views.settled(state)
     lines, _, _ = explore_screen(state, views(state), width, height, unicode)
     return state, lines
 
@@ -10285,7 +10300,7 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
                     if not data:                            # the terminal is gone
                         break
                     for key in terminal_keys(data):
-                        state = _after(explore_key(state, key, views), views)
+                        state = explore_saved(explore_key(state, key, views), views)
                     draw()
                 elif not settled:                           # no key waiting: analyse now
                     state = views.settled(state)

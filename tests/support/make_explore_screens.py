@@ -34,7 +34,7 @@ def _each_dimension(kind: str) -> list[str]:
                                                       else ["u", "v"])
     keys = []
     for i, _ in enumerate(names):
-        keys += ["Right", "Right", "S-Right", "]", "Left", "S-Left", "["] + ["Tab"] * (i + 1 < len(names))
+        keys += ["Right", "Right", "S-Right", "Left", "["] + ["Tab"] * (i + 1 < len(names))
     return keys + ["Tab", "B", "=", "2", ".", "5", "Enter", "Tick", "Tick", "Tick"]
 
 
