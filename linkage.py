@@ -6198,13 +6198,14 @@ def _with_coupler_point(linkage: Linkage, pose: Pose, layer: Layer, point: Vecto
                  layer.marks + (Mark(project(kind, point), "point", "P"),), layer.labels)
 
 
-def _with_marked(linkage: Linkage, ground: Layer, phis: Sequence[float], branch: int,
-                 size: float) -> Layer:
-    """The ground with the linkage's moving links at each input angle of `phis` drawn faint
-    ("marked") and numbered 1, 2, ... beyond the output pin (or the slider's pin)."""
+def _with_marked(linkage: Linkage, ground: Layer, phis: Sequence[float],
+                 branches: Sequence[int], size: float) -> Layer:
+    """The ground with the linkage's moving links at each input angle of `phis` (on the branch
+    of `branches` beside it) drawn faint ("marked") and numbered 1, 2, ... beyond the output
+    pin (or the slider's pin)."""
     strokes, labels = list(ground.strokes), list(ground.labels)
     kind = linkage.kind
-    for number, phi in enumerate(phis, 1):
+    for number, (phi, branch) in enumerate(zip(phis, branches), 1):
         pose = joint_positions(linkage, phi, branch)
         links = _links(linkage, pose, size)
         strokes += [s._replace(style="marked") for s in links.strokes]
@@ -6417,7 +6418,8 @@ def _unmoved(p: Point, n: int) -> Point:
 def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
                       title: str | None = None, subtitle: str | None = None,
                       coupler: tuple[float, float] | None = None,
-                      traced: Sequence[int | str] = (), marked: Sequence[float] = ()) -> Drawing:
+                      traced: Sequence[int | str] = (), marked: Sequence[float] = (),
+                      marked_branches: Sequence[int] = ()) -> Drawing:
     """The linkage drawn at each input angle of `phis` (degrees) on `branch`: one Frame a pose
     over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS).
 
@@ -6425,7 +6427,8 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
     traced over the sweep on `branch` (solid) and on each branch of `traced` (dashed; FOLLOW:
     the motion followed from `branch`), and the transmission angle told in each caption and
     charted along the sweep (Drawing.chart). marked: input angles at which the linkage is drawn
-    faint under every frame, numbered 1, 2, ... at the output (a design's positions)."""
+    faint under every frame, numbered 1, 2, ... at the output (a design's positions), each on
+    its branch of marked_branches (`branch` where none is given)."""
     kind = linkage.kind
     if coupler is not None:
         coupler = check_coupler_point(linkage, *coupler)
@@ -6465,7 +6468,8 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
     links = [s for i in spread_indices(len(unplaced), 120) for s in unplaced[i].layer.strokes]
     ground = _GROUNDS[kind](linkage, poses, size, links)
     if marked:
-        ground = _with_marked(linkage, ground, marked, branch, size)
+        ground = _with_marked(linkage, ground, marked, list(marked_branches)
+                              + [branch] * (len(marked) - len(marked_branches)), size)
     ground = Layer(ground.strokes + tuple(curves), ground.marks, ground.labels)
     drawn = [p for layer in [ground] + [f.layer for f in unplaced]
              for p in [q for s in layer.strokes for q in s.points]
@@ -9672,8 +9676,9 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 #
 # Uses: sections 1, 2, 6, 7, 8, 11, 13, 14, 15, 18 and 19.
 # Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
-#   ExploreView, explore_view, explore_glance, ExploreViews, explore_key, explore_screen,
-#   explore_scene, terminal_keys, key_file, explore_saved, explore_replay, explore_terminal.
+#   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_key,
+#   explore_screen, explore_scene, terminal_keys, key_file, explore_saved, explore_replay,
+#   explore_terminal.
 
 
 # The keys, as the help screen lists them (the footer shows the first words of each).
@@ -9782,13 +9787,69 @@ class ExploreView(NamedTuple):
     settled: bool = True
 
 
-def _motion_angles(analysis: Analysis | None) -> tuple[list[float], bool]:
-    """The input angles drawn: a full turn, or the crank's first reachable range end to end."""
+def _motion_angles(analysis: Analysis | None, count: int = EXPLORE_POSITIONS
+                   ) -> tuple[list[float], bool]:
+    """`count` input angles over a full turn, or count + 1 over the crank's first reachable
+    range end to end (dead centre to dead centre); whether the crank turns fully."""
     if analysis is None or analysis.crank_range is None:
-        return [360.0 * i / EXPLORE_POSITIONS for i in range(EXPLORE_POSITIONS)], True
+        return [360.0 * i / count for i in range(count)], True
     lo, hi = analysis.crank_range[0]
     hi += 360.0 if hi <= lo else 0.0
-    return [lo + (hi - lo) * i / EXPLORE_POSITIONS for i in range(EXPLORE_POSITIONS + 1)], False
+    return [lo + (hi - lo) * i / count for i in range(count + 1)], False
+
+
+def analysis_drawing(analysis: Analysis, coupler: tuple[float, float] | None = None,
+                     positions: int = 72) -> Drawing:
+    """The linkage moving over its motion (a full turn of the crank, or its first reachable
+    range: `positions` poses), with the positions analyse finds drawn faint and numbered: the
+    output's extremes, the dead centres and the transmission angle furthest from 90 degrees
+    (the subtitle says which number is which); coupler (u, v): its curve traced and the
+    transmission angle charted. A ValueError says why it cannot be drawn."""
+    a = analysis
+    linkage = Linkage(a.linkage.kind, **a.linkage.dims)
+    branch = a.branch if isinstance(a.branch, int) else 1
+    worst = a.mu_worst
+    angular = not linkage.is_slider
+
+    def off(x: float | None, value: float, angle: bool) -> float:
+        if x is None:
+            return math.inf
+        return abs(wrap_degrees(x - value)) if angle else abs(x - value)
+
+    def output_on(b: int, phi: float) -> float | None:
+        return linkage.sweep([phi], b, 0)[0].output
+
+    def mu_on(b: int, phi: float) -> float | None:
+        return linkage.transmission([phi], b)[0]
+    named: list[tuple[Extreme, str, Callable[[int, float], float | None] | None, bool]] = (
+        [(e, "out min" if e is a.output_min else "out max", output_on, angular)
+         for e in (a.output_min, a.output_max)]
+        if a.output_min is not None and a.output_max is not None else [])
+    named += [(Extreme(phi, 0.0), "dead centre", None, False) for phi in a.dead_centres]
+    named.append((worst, f"μ {worst.value:.4g}° worst", mu_on, True))
+    marked: list[float] = []
+    branches: list[int] = []
+    texts: list[list[str]] = []
+    for extreme, text, value_on, angle in named:    # one number for what shares a position
+        phi = extreme.phi
+        on = branch if value_on is None else min(     # the branch where the value is
+            (branch, 3 - branch), key=lambda b: off(value_on(b, phi), extreme.value, angle))
+        same = next((i for i, (m, b) in enumerate(zip(marked, branches))
+                     if abs(wrap_degrees(m - phi)) < 1e-6 and (b == on or value_on is None)),
+                    None)
+        if same is None:
+            marked.append(phi)
+            branches.append(on)
+            texts.append([text + ("" if on == branch else f" (branch {on})")])
+        else:
+            texts[same].append(text)
+    subtitle = ", ".join(f"{n} {' + '.join(t)} φ={phi % 360.0:.4g}"
+                         for n, (t, phi) in enumerate(zip(texts, marked), 1))
+    phis, _ = _motion_angles(a, positions)
+    dims = " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in linkage.dims.items())
+    return mechanism_drawing(linkage, phis, branch, f"{MECHANISM_NAMES[linkage.kind]}: {dims}; "
+                             f"{a.type}, crank {'full' if a.crank_range is None else 'rocks'}",
+                             subtitle, coupler, (), marked, branches)
 
 
 def explore_view(state: Explorer) -> ExploreView:
@@ -9990,6 +10051,8 @@ def explore_key(state: Explorer, key: str, views: ExploreViews) -> Explorer:
     """The state after `key` (a character, or a name of EXPLORE_KEY_NAMES); views(state) is the
     state's view. A key that means nothing here changes nothing."""
     state = state._replace(save_to=None)
+    if key == "Tick":                       # the motion goes on under help and prompts
+        return _moved(state, views(state), state.direction) if state.playing else state
     if state.help:
         return state._replace(help=False)
     if state.typing is not None:
@@ -9998,8 +10061,6 @@ def explore_key(state: Explorer, key: str, views: ExploreViews) -> Explorer:
         return _named_key(state, key)
     names = state.names
     view = views(state)
-    if key == "Tick":
-        return _moved(state, view, state.direction) if state.playing else state
     state = state._replace(status="" if view.turns or not view.message else view.message)
     if key in ("q", "Q"):
         return state._replace(done=True)
@@ -10054,12 +10115,14 @@ def _number(x: float | None, unit: str = "") -> str:
     return "-" if x is None else f"{x:.6g}{unit}"
 
 
-def _analysis_rows(view: ExploreView, mu: float | None, unit: str) -> list[tuple[str, str]]:
+def _analysis_rows(view: ExploreView, mu: float | None, unit: str, more: bool
+                   ) -> list[tuple[str, str]]:
     """The side panel's answers of analyse: the type, crank range, swing, time ratio and the
-    transmission angle now, at its extremes and furthest from 90 degrees."""
+    transmission angle now, at its extremes and furthest from 90 degrees; more: the output's
+    range, the dead centres and change points too."""
     a = view.analysis
     if not view.settled:
-        return [("type", "..."), ("μ now", _number(mu))]
+        return [("type", "..."), ("μ now", _number(mu and round(mu, 6)))]
     if a is None:
         return [("type", "none"), ("", view.message), ("μ now", "-")]
     crank = "full" if a.crank_range is None else ", ".join(
@@ -10070,15 +10133,21 @@ def _analysis_rows(view: ExploreView, mu: float | None, unit: str) -> list[tuple
     rows = [("type", a.type), ("crank", crank)]
     if len(a.circuits) > 1:
         rows.append(("circuits", str(len(a.circuits))))
+    if more:
+        rows += [("output", "full turn" if a.output_min is None or a.output_max is None else
+                  f"{_number(a.output_min.value)} to {_number(a.output_max.value)}{unit}"),
+                 ("dead centres", ", ".join(f"{x:.6g}" for x in a.dead_centres) or "none"),
+                 ("change pts", ", ".join(f"{x:.6g}" for x in a.change_points) or "none")]
     return rows + [("swing", swing), ("time ratio", _number(a.time_ratio)),
-                   ("μ now", _number(mu)),
+                   ("μ now", _number(mu and round(mu, 6))),
                    ("μ min", f"{_number(a.mu_min.value)} at {_number(a.mu_min.phi)}"),
                    ("μ max", f"{_number(a.mu_max.value)} at {_number(a.mu_max.phi)}"),
                    ("worst |μ-90|", f"{_number(abs(worst.value - 90.0))} at "
                                     f"{_number(worst.phi)}")]
 
 
-def _side_panel(state: Explorer, view: ExploreView, width: int) -> tuple[list[str], int]:
+def _side_panel(state: Explorer, view: ExploreView, width: int, height: int
+                ) -> tuple[list[str], int]:
     """The side panel's lines, and which one is the selected dimension's."""
     unit = "" if state.kind in SLIDER_CRANKS else " deg"
     lines = [MECHANISM_NAMES[state.kind],
@@ -10098,7 +10167,7 @@ def _side_panel(state: Explorer, view: ExploreView, width: int) -> tuple[list[st
     phi = view.phis[state.position] % 360.0
     mu = view.mus[state.position]
     lines += [f"{name:<12} {value}" if name else f"  {value}"
-              for name, value in _analysis_rows(view, mu, unit)]
+              for name, value in _analysis_rows(view, mu, unit, height >= 32)]
     speed = EXPLORE_SPEEDS[state.speed]
     lines += ["", f"φ = {phi:.4g} deg  " + (f"playing {speed}/s" if state.playing
                                             else "paused")]
@@ -10142,7 +10211,7 @@ def explore_screen(state: Explorer, view: ExploreView, width: int = 80, height: 
         rows: int | None = None
     else:
         drawn = text_drawing(view.drawing, state.position, left, height - 2, unicode).split("\n")
-        panel, selected = _side_panel(state, view, side)
+        panel, selected = _side_panel(state, view, side, height)
         body = [f"{d:<{left}} {p}" for d, p in zip(drawn + [""] * (height - 2 - len(drawn)),
                                                    panel + [""] * (height - 2 - len(panel)))]
         rows = selected
@@ -11200,6 +11269,18 @@ def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
         parser.error("--start-branch goes with --branch follow")
     branch = args.branch if args.branch == FOLLOW else int(args.branch)
     start = None if args.start_branch is None else int(args.start_branch)
+    _check_outputs(parser, {"--svg": args.svg, "--png": args.png})
+    coupler = None
+    if args.coupler is not None:
+        if not (args.svg or args.png):
+            parser.error("--coupler goes with --svg or --png (it draws the coupler curve)")
+        if len(args.coupler) > 2:
+            parser.error("--coupler takes U, or U and V")
+        try:
+            coupler = check_coupler_point(Linkage(args.type, **dims), *(
+                decimal_number(text, "--coupler") for text in args.coupler))
+        except ValueError as e:
+            parser.error(str(e))
     try:
         analysis = analyse(Linkage(args.type, **dims), branch, start)
     except ValueError as e:
@@ -11207,7 +11288,10 @@ def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
                     if "assembles at no" in str(e) else e, 1)
     sys.stdout.write("".join(line + "\n" for line in analysis_lines(analysis)))
     sys.stdout.flush()
-    return 0
+    if not (args.svg or args.png):
+        return 0
+    args.frames, args.text = None, False
+    return drawing_command(args, lambda: analysis_drawing(analysis, coupler))
 
 
 def _dat_names(count: int) -> str:
@@ -11712,7 +11796,19 @@ COMMANDS = {
                 help="the assembly: 1 (A+B, the default), 2 (A-B), or follow (the motion "
                      "followed through change points from --start-branch)"),
          option("--start-branch", choices=("1", "2"), metavar="1|2",
-                help="with --branch follow: the branch the motion starts in (default 1)"))),
+                help="with --branch follow: the branch the motion starts in (default 1)"),
+         option("--svg", metavar="OUT",
+                help="also draw the linkage moving over its motion as an animated SVG, the "
+                     "output's extremes, the dead centres and the transmission angle furthest "
+                     "from 90 degrees drawn faint and numbered"),
+         option("--png", metavar="OUT",
+                help="the same as a PNG, the positions overlaid (needs matplotlib: python3 -m "
+                     "pip install matplotlib)"),
+         option("--coupler", nargs="+", metavar=("U", "V"),
+                help="with --svg or --png: the coupler point (U, V) drawn and its curve traced "
+                     "(as run --coupler)"),
+         option("--dpi", type=_png_dpi, metavar="N", help="the PNG's dots an inch"),
+         option("--size", type=_png_size, metavar="WxH", help="the PNG's size in pixels"))),
     "scene": Command(
         scene_command, "draw a scene of data/scenes: the paper's figures, the hard cases, the "
                        "linkage moving",

@@ -372,3 +372,82 @@ def test_the_readme_names_the_stored_sessions():
     assert names == set(SESSIONS) == {p.stem for p in SESSIONS_FOLDER.glob("*.keys")}
     with open(os.path.join(ROOT, "README.md"), encoding="utf-8") as fh:
         assert "data/explore/" in fh.read()
+
+
+# -- analyse --svg / --png: the linkage over its motion, analyse's positions marked ---------------
+
+def marked_angles(drawing):
+    """{what: [(crank angle, branch)]} from an analysis drawing's subtitle (`n what (branch 2) +
+    what φ=angle, ...`; the drawing's branch 1 where none is said)."""
+    found = {}
+    for n, what, phi in re.findall(r"(\d+) ([^φ]+?) φ=(\S+?)(?:,|;|$)", drawing.subtitle):
+        branch = 2 if "(branch 2)" in what else 1
+        for part in what.replace(" (branch 2)", "").split(" + "):
+            found.setdefault(part.split(" ")[0] if part.startswith("μ") else part, []).append(
+                (float(phi), branch))
+    return found
+
+
+@pytest.mark.parametrize("kind, dims", [("plane", dict(a=6, b=5, c=7, d=9)),
+                                        ("plane", dict(a=6, b=2, c=7, d=9)),
+                                        ("slider", dict(b=2, c=7, e=1.5)),
+                                        ("slider", dict(b=3, c=2.5, e=1))])
+def test_the_marked_positions_are_the_extremes_of_a_dense_sweep(kind, dims):
+    """The output's extremes and the worst transmission angle where the drawing marks them,
+    against the engine swept every 0.05 degrees on both branches (a crank that rocks goes on
+    along the other branch at a dead centre: its circuit is both); the dead centres assembled
+    on one side only."""
+    lk = linkage.Linkage(kind, **dims)
+    analysis = linkage.analyse(lk)
+    marked = marked_angles(linkage.analysis_drawing(analysis))
+    exact = {"out min": analysis.output_min.phi, "out max": analysis.output_max.phi,
+             "μ": analysis.mu_worst.phi}
+    for group, phi in exact.items():                    # the angle shown is analyse's
+        ((shown, branch),) = marked[group]
+        assert abs((shown - phi + 180.0) % 360.0 - 180.0) <= 0.05, group  # to 4 digits
+        marked[group] = [(phi, branch)]
+    phis = [i * 0.05 for i in range(7200)]
+    rocks = analysis.crank_range is not None
+    values, mus = [], []
+    for branch in (1, 2) if rocks else (1,):
+        outputs = [m.output for m in lk.sweep(phis, branch, 0) if m.output is not None]
+        mus += [mu for mu in lk.transmission(phis, branch) if mu is not None]
+        if kind == "plane":                             # measured from the first, continuous
+            outputs = [(o - outputs[0] + 180.0) % 360.0 - 180.0 + outputs[0] for o in outputs]
+        values += outputs
+
+    def apart(x, y):
+        return abs((x - y + 180.0) % 360.0 - 180.0) if kind == "plane" else abs(x - y)
+    for group, extreme in (("out min", min(values)), ("out max", max(values))):
+        ((phi, branch),) = marked[group]
+        assert apart(lk.sweep([phi], branch, 0)[0].output, extreme) < 1e-3, group
+    ((phi, branch),) = marked["μ"]
+    worst = max(abs(mu - 90.0) for mu in mus)
+    deviation = abs(lk.transmission([phi], branch)[0] - 90.0)
+    assert worst - 1e-9 <= deviation < worst + 0.5    # samples near a dead centre fall short
+    for phi in analysis.dead_centres:
+        assert any(abs(phi - shown) <= 0.05 for shown, _ in marked["dead centre"])
+        sides = [lk.sweep([phi + h], 1, 0)[0].output is not None for h in (-0.01, 0.01)]
+        assert sides.count(True) == 1, phi
+    assert len(marked.get("dead centre", [])) == (2 if rocks else 0)
+
+
+def test_analyse_draws_its_svg_and_png(tmp_path):
+    result = run(["analyse", "plane", "--a", "6", "--b", "5", "--c", "7", "--d", "9", "--svg",
+                  "a.svg", "--png", "a.png", "--coupler", "3.5", "1.75"], tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert b"type = double-rocker" in result.stdout
+    svg = (tmp_path / "a.svg").read_text(encoding="utf-8")
+    assert svg.count('class="marked"') > 0 and "dead centre" in svg and "P(3.5, 1.75)" in svg
+    assert (tmp_path / "a.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--coupler", "1"], b"--coupler goes with --svg or --png"),
+    (["--svg", "a.svg", "--coupler", "1", "2", "3"], b"--coupler takes U, or U and V"),
+    (["--svg", "a.svg", "--png", "a.svg"], b"the same file twice"),
+])
+def test_analyse_refuses_a_drawing_it_cannot_make(args, message, tmp_path):
+    result = run(["analyse", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9"] + args,
+                 tmp_path)
+    assert result.returncode == 2 and message in result.stderr and not list(tmp_path.iterdir())

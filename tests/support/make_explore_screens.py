@@ -42,6 +42,7 @@ SESSIONS: dict[str, tuple[list[str], list[str]]] = {
     **{f"change-{kind}": ([kind], _each_dimension(kind)) for kind in linkage.LINKAGE_DIMENSIONS},
     "help": (PLANE, ["?"]),
     "help-closed": (PLANE, ["?", "x"]),
+    "help-while-playing": (PLANE, ["?", "Tick", "Tick"]),
     "not-assembling": (PLANE, ["B", "=", "3", "0", "Enter", "Tick", "Tick"]),
     "not-assembling-and-back": (PLANE, ["B", "=", "3", "0", "Enter", "Tick", "u", "Tick"]),
     "stops-at-dead-centre": (PLANE, ["B", "=", "5", "Enter"] + ["Tick"] * 40),
