@@ -9710,6 +9710,7 @@ _TERMINAL_SEQUENCES = {b"\x1b[A": "Up", b"\x1b[B": "Down", b"\x1b[C": "Right", b
                        b"\x1b[1;2C": "S-Right", b"\x1b[1;2D": "S-Left", b"\x1b[Z": "S-Tab",
                        b"\t": "Tab", b"\r": "Enter", b"\n": "Enter", b"\x7f": "Backspace",
                        b"\x08": "Backspace", b" ": "Space"}     # a lone ESC is Esc
+_ASCII_PANEL = str.maketrans({"φ": "phi", "ψ": "psi", "ξ": "ksi", "μ": "mu", "°": " deg"})
 _STEP_KEYS = ("Left", "Right", "S-Left", "S-Right", "[", "]")
 _UNDO_DEPTH = 100
 _TYPED_NUMBER = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
@@ -10122,7 +10123,7 @@ def _analysis_rows(view: ExploreView, mu: float | None, unit: str, more: bool
     range, the dead centres and change points too."""
     a = view.analysis
     if not view.settled:
-        return [("type", "..."), ("μ now", _number(mu and round(mu, 6)))]
+        return [("type", "..."), ("μ now", _number(mu and round(mu, 4)))]
     if a is None:
         return [("type", "none"), ("", view.message), ("μ now", "-")]
     crank = "full" if a.crank_range is None else ", ".join(
@@ -10139,14 +10140,14 @@ def _analysis_rows(view: ExploreView, mu: float | None, unit: str, more: bool
                  ("dead centres", ", ".join(f"{x:.6g}" for x in a.dead_centres) or "none"),
                  ("change pts", ", ".join(f"{x:.6g}" for x in a.change_points) or "none")]
     return rows + [("swing", swing), ("time ratio", _number(a.time_ratio)),
-                   ("μ now", _number(mu and round(mu, 6))),
+                   ("μ now", _number(mu and round(mu, 4))),
                    ("μ min", f"{_number(a.mu_min.value)} at {_number(a.mu_min.phi)}"),
                    ("μ max", f"{_number(a.mu_max.value)} at {_number(a.mu_max.phi)}"),
                    ("worst |μ-90|", f"{_number(abs(worst.value - 90.0))} at "
                                     f"{_number(worst.phi)}")]
 
 
-def _side_panel(state: Explorer, view: ExploreView, width: int, height: int
+def _side_panel(state: Explorer, view: ExploreView, width: int, height: int, unicode: bool
                 ) -> tuple[list[str], int]:
     """The side panel's lines, and which one is the selected dimension's."""
     unit = "" if state.kind in SLIDER_CRANKS else " deg"
@@ -10157,7 +10158,7 @@ def _side_panel(state: Explorer, view: ExploreView, width: int, height: int
     for i, name in enumerate(state.names):
         if i == state.selected:
             selected = len(lines)
-        shown = "ξ" if name == "ksi" else name
+        shown = ("ξ" if unicode else "X") if name == "ksi" else name
         what = "coupler point" if name in ("u", "v") else DIMENSION_NAMES[name].removeprefix(
             "the ").replace(", degrees", "")
         value = (state.typing + "_" if i == state.selected and state.typing is not None
@@ -10166,8 +10167,8 @@ def _side_panel(state: Explorer, view: ExploreView, width: int, height: int
     lines.append("")
     phi = view.phis[state.position] % 360.0
     mu = view.mus[state.position]
-    lines += [f"{name:<12} {value}" if name else f"  {value}"
-              for name, value in _analysis_rows(view, mu, unit, height >= 32)]
+    lines += [f"{name if unicode else name.translate(_ASCII_PANEL):<12} {value}" if name
+              else f"  {value}" for name, value in _analysis_rows(view, mu, unit, height >= 32)]
     speed = EXPLORE_SPEEDS[state.speed]
     lines += ["", f"φ = {phi:.4g} deg  " + (f"playing {speed}/s" if state.playing
                                             else "paused")]
@@ -10211,13 +10212,14 @@ def explore_screen(state: Explorer, view: ExploreView, width: int = 80, height: 
         rows: int | None = None
     else:
         drawn = text_drawing(view.drawing, state.position, left, height - 2, unicode).split("\n")
-        panel, selected = _side_panel(state, view, side, height)
+        panel, selected = _side_panel(state, view, side, height, unicode)
         body = [f"{d:<{left}} {p}" for d, p in zip(drawn + [""] * (height - 2 - len(drawn)),
                                                    panel + [""] * (height - 2 - len(panel)))]
         rows = selected
     body = (body + [""] * height)[:height - 2] + [_footer(width, unicode), _status_line(state)]
-    if not unicode:
-        body = [line.replace("μ", "mu").replace("ξ", "ksi") for line in body]
+    if not unicode:                     # as text_drawing's lines: anything else a '?'
+        body = [line.translate(_ASCII_PANEL).encode("ascii", "replace").decode("ascii")
+                for line in body]
     return [line[:width].rstrip() for line in body], rows, left + 1
 
 

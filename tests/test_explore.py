@@ -451,3 +451,16 @@ def test_analyse_refuses_a_drawing_it_cannot_make(args, message, tmp_path):
     result = run(["analyse", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9"] + args,
                  tmp_path)
     assert result.returncode == 2 and message in result.stderr and not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("name", ["change-skew", "help", "save-named"])
+def test_an_ascii_output_gets_an_ascii_screen(name, tmp_path):
+    """Where standard output takes ASCII only, the screen is ASCII (μ as mu, ξ as X), never an
+    encoding error."""
+    args, _ = SESSIONS[name]
+    env = dict(os.environ, PYTHONIOENCODING="ascii")
+    result = run(["explore", *args, "--keys", str(SESSIONS_FOLDER / f"{name}.keys")], tmp_path,
+                 env=env)
+    assert result.returncode == 0, result.stderr
+    text = result.stdout.decode("ascii")
+    assert len(text.splitlines()) == 24 and "Traceback" not in text
