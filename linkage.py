@@ -10225,15 +10225,15 @@ def explore_screen(state: Explorer, view: ExploreView, width: int = 80, height: 
 
 def explore_scene(state: Explorer, view: ExploreView, path: str) -> Scene:
     """The state as a mechanism scene (scene_text writes it; explore SCENE reads it back): the
-    linkage, its branch, the motion drawn, the coupler point traced (and followed)."""
+    linkage, its branch, the motion drawn, the coupler point traced, and followed (a scene
+    follows the motion only with a coupler point: given where follow is on)."""
     phis = view.phis
     step = (phis[-1] - phis[0]) / max(1, len(phis) - 1)
-    branches: tuple[int | str, ...] = (state.branch,) + (
-        (FOLLOW,) if state.follow and state.traced else ())
+    branches: tuple[int | str, ...] = (state.branch,) + ((FOLLOW,) if state.follow else ())
     return Scene(path, f"{MECHANISM_NAMES[state.kind]}, as explored", state.kind,
                  dict(state.dims), phis[0], phis[-1], step, branches, ("double",),
                  (PanelSpec((MECHANISM_PANEL,), None),),
-                 coupler=state.coupler if state.traced else None)
+                 coupler=state.coupler if state.traced or state.follow else None)
 
 
 def terminal_keys(data: bytes) -> list[str]:
@@ -10334,7 +10334,10 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
     shown: list[str] = []
 
     def draw(again: bool = False) -> None:
-        width, height = shutil.get_terminal_size()
+        try:                                # the terminal's own size, whatever COLUMNS says
+            width, height = os.get_terminal_size(out.fileno())
+        except OSError:
+            width, height = shutil.get_terminal_size()
         lines, row, column = explore_screen(state, views(state), width, height, unicode)
         if row is not None:
             lines[row] = lines[row][:column] + "\x1b[7m" + lines[row][column:] + "\x1b[27m"

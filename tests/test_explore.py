@@ -234,7 +234,7 @@ def test_no_terminal_says_what_it_needs(tmp_path):
 
 # -- random keys ---------------------------------------------------------------------------------
 
-KEYS = list(linkage.EXPLORE_KEY_NAMES) + list("abcdfkuscq?=,.+-[]ABCDEFXUV0123456789.-eyn")
+KEYS = list(linkage.EXPLORE_KEY_NAMES) + list("abcdfkuscq?=,.+-[]ABCDEFXUV0123456789.-eynξé/")
 
 
 def random_keys(rng, count):
@@ -244,7 +244,8 @@ def random_keys(rng, count):
 
 def fuzz(streams, seed, tmp_path):
     """Random key streams through the terminal's path (glances, made whole now and then): no
-    exception, a screen of the size asked after every key, each stream within 20 s. The
+    exception, a screen of the size asked after every key (ASCII where the output is), each
+    stream within 20 s. The
     streams share one ExploreViews, as one long session would."""
     rng = random.Random(seed)
     here = os.getcwd()
@@ -256,15 +257,18 @@ def fuzz(streams, seed, tmp_path):
             kind = rng.choice(list(linkage.LINKAGE_DIMENSIONS))
             state = linkage.explorer_of(kind)
             width, height = rng.choice([(80, 24)] * 4 + [(40, 12), (160, 48)])
+            unicode = rng.random() < 0.8
             keys = random_keys(rng, rng.randint(2, 12))
             signal.alarm(20)
             for key in keys:
                 state = linkage.explore_saved(linkage.explore_key(state, key, views), views)
                 if rng.random() < 0.03:
                     state = views.settled(state)
-                lines, row, column = linkage.explore_screen(state, views(state), width, height)
+                lines, row, column = linkage.explore_screen(state, views(state), width, height,
+                                                            unicode)
                 assert len(lines) == height and all(len(line) <= width for line in lines), \
                     (n, kind, keys)
+                assert unicode or all(line.isascii() for line in lines), (n, kind, keys)
                 assert row is None or 0 <= row < height
             signal.alarm(0)
     finally:
@@ -464,3 +468,15 @@ def test_an_ascii_output_gets_an_ascii_screen(name, tmp_path):
     assert result.returncode == 0, result.stderr
     text = result.stdout.decode("ascii")
     assert len(text.splitlines()) == 24 and "Traceback" not in text
+
+
+def test_a_followed_motion_is_saved_and_read_back(tmp_path):
+    """A scene follows the motion only with a coupler point: one is written where follow is on,
+    so that the scene read back gives the same answers of analyse."""
+    args = ["plane", "--a", "6", "--b", "3", "--c", "6", "--d", "3"]
+    before = replayed(args, ["f", "c", "s", "Enter"], tmp_path)
+    assert before.split("\n")[-1] == "saved explore-plane.toml"
+    scene = linkage.load_scene(str(tmp_path / "explore-plane.toml"))
+    assert scene.branches == (1, "follow") and scene.coupler is not None
+    after = replayed([str(tmp_path / "explore-plane.toml")], [], tmp_path)
+    assert panel(after) == panel(before) and "follow" in after.split("\n")[1]
