@@ -10074,12 +10074,11 @@ def explore_key(state: Explorer, key: str, views: ExploreViews) -> Explorer:
     if key.isupper() and letter in names:
         return state._replace(selected=names.index(letter))
     name = names[state.selected]
-    steps = {"Left": -1, "Right": 1, "S-Left": -10, "S-Right": 10, "[": -10, "]": 10}
-    if key in steps:
+    if key in _STEP_KEYS:                   # Left, Right: small steps; the others large ones
         small, large = _steps(state.kind, name)
-        size = large if abs(steps[key]) == 10 else small
-        return _set_value(state, name, state.value(name) + math.copysign(size, steps[key]),
-                          views)
+        size = small if key in ("Left", "Right") else large
+        sign = 1.0 if key in ("Right", "S-Right", "]") else -1.0
+        return _set_value(state, name, state.value(name) + sign * size, views)
     if key in ("=", "Enter"):
         return state._replace(typing="")
     if key == "b":
