@@ -10269,14 +10269,15 @@ def _decodes(data: bytes) -> bool:
 
 
 def key_file(text: str) -> list[str]:
-    """The keys of a key file: one a line, a name of EXPLORE_KEY_NAMES or one character; lines
-    empty or starting with "# " are skipped. A ValueError names a line that is neither."""
+    """The keys of a key file: one a line, a name of EXPLORE_KEY_NAMES or one character (a space
+    or a tab as Space and Tab); lines empty or starting with "# " are skipped. A ValueError
+    names a line that is neither."""
     keys = []
     for number, line in enumerate(text.splitlines(), 1):
         if not line or line.startswith("# "):
             continue
         if line in EXPLORE_KEY_NAMES or len(line) == 1:
-            keys.append(line)
+            keys.append({" ": "Space", "\t": "Tab"}.get(line, line))
         else:
             raise ValueError(f"line {number}: {line!r} is no key: one character, or one of "
                              f"{', '.join(EXPLORE_KEY_NAMES)}")

@@ -201,6 +201,11 @@ def test_terminal_bytes_are_keys(text, expected):
     assert linkage.terminal_keys(text) == expected
 
 
+def test_a_key_file_is_a_key_a_line():
+    assert linkage.key_file("# a comment\n\nTab\n \n\t\nq\nξ\nTick\nS-Left\n") == [
+        "Tab", "Space", "Tab", "q", "ξ", "Tick", "S-Left"]
+
+
 def test_a_key_file_with_a_line_that_is_no_key_is_refused(tmp_path):
     (tmp_path / "keys.txt").write_text("Tab\nLeftt\n")
     result = run(["explore", "--keys", "keys.txt"], tmp_path)
