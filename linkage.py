@@ -10,6 +10,7 @@ Machine Theory, 1980s).
     python3 linkage.py plot [DIR]       the figure of DAT files already written
     python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
     python3 linkage.py listing [--ocr]  the BASIC listing as corrected, with its errata
+    python3 linkage.py explore [KIND]   change a dimension and watch the linkage answer
     python3 linkage.py bench            speed (what accuracy costs: tests/support/bench_accuracy.py)
 
 Fidelity: ANG.DAT, VEL.DAT and ACC.DAT are byte-identical to those legacy_basic/LINKAGE.BAS
@@ -29,7 +30,8 @@ derives (joints, coupler point, transmission angle); 8. the linkage analysed (an
 (Linkage, a method for each question); 12. DAT and CSV files; 13. the mechanism drawn; 14. the
 mechanism's renderers (terminal, SVG, PNG); 15. synthesis: what a design is; 16. synthesis: the
 review's methods; 17. synthesis: designs measured and checked; 18. scenes; 19. plots;
-20. benchmarks of the program itself; 21. the command line, last. The engine, the view and
+20. the explorer (a dimension changed, the linkage watched in the terminal); 21. benchmarks of
+the program itself; 22. the command line, last. The engine, the view and
 synthesis never use the original program.
 """
 
@@ -6399,13 +6401,14 @@ def _with_coupler_point(linkage: Linkage, pose: Pose, layer: Layer, point: Vecto
                  layer.marks + (Mark(project(kind, point), "point", "P"),), layer.labels)
 
 
-def _with_marked(linkage: Linkage, ground: Layer, phis: Sequence[float], branch: int,
-                 size: float) -> Layer:
-    """The ground with the linkage's moving links at each input angle of `phis` drawn faint
-    ("marked") and numbered 1, 2, ... beyond the output pin (or the slider's pin)."""
+def _with_marked(linkage: Linkage, ground: Layer, phis: Sequence[float],
+                 branches: Sequence[int], size: float) -> Layer:
+    """The ground with the linkage's moving links at each input angle of `phis` (on the branch
+    of `branches` beside it) drawn faint ("marked") and numbered 1, 2, ... beyond the output
+    pin (or the slider's pin)."""
     strokes, labels = list(ground.strokes), list(ground.labels)
     kind = linkage.kind
-    for number, phi in enumerate(phis, 1):
+    for number, (phi, branch) in enumerate(zip(phis, branches), 1):
         pose = joint_positions(linkage, phi, branch)
         links = _links(linkage, pose, size)
         strokes += [s._replace(style="marked") for s in links.strokes]
@@ -6618,7 +6621,8 @@ def _unmoved(p: Point, n: int) -> Point:
 def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
                       title: str | None = None, subtitle: str | None = None,
                       coupler: tuple[float, float] | None = None,
-                      traced: Sequence[int | str] = (), marked: Sequence[float] = ()) -> Drawing:
+                      traced: Sequence[int | str] = (), marked: Sequence[float] = (),
+                      marked_branches: Sequence[int] = ()) -> Drawing:
     """The linkage drawn at each input angle of `phis` (degrees) on `branch`: one Frame a pose
     over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS).
 
@@ -6626,7 +6630,8 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
     traced over the sweep on `branch` (solid) and on each branch of `traced` (dashed; FOLLOW:
     the motion followed from `branch`), and the transmission angle told in each caption and
     charted along the sweep (Drawing.chart). marked: input angles at which the linkage is drawn
-    faint under every frame, numbered 1, 2, ... at the output (a design's positions)."""
+    faint under every frame, numbered 1, 2, ... at the output (a design's positions), each on
+    its branch of marked_branches (`branch` where none is given)."""
     kind = linkage.kind
     if coupler is not None:
         coupler = check_coupler_point(linkage, *coupler)
@@ -6666,7 +6671,8 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
     links = [s for i in spread_indices(len(unplaced), 120) for s in unplaced[i].layer.strokes]
     ground = _GROUNDS[kind](linkage, poses, size, links)
     if marked:
-        ground = _with_marked(linkage, ground, marked, branch, size)
+        ground = _with_marked(linkage, ground, marked, list(marked_branches)
+                              + [branch] * (len(marked) - len(marked_branches)), size)
     ground = Layer(ground.strokes + tuple(curves), ground.marks, ground.labels)
     drawn = [p for layer in [ground] + [f.layer for f in unplaced]
              for p in [q for s in layer.strokes for q in s.points]
@@ -9865,17 +9871,750 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ---- 20. Benchmarks of the program itself --------------------------------------------------------
+# ---- 20. The explorer: a linkage changed and watched in the terminal -----------------------------
+#
+# Holds: `python3 linkage.py explore`: a full-screen view of the linkage moving, its coupler curve
+# traced, and beside it its dimensions and what analyse answers, all following each key. The
+# state is a value (Explorer) and each key makes the next one (explore_key); the screen is drawn
+# from the state alone (explore_screen). The terminal loop (explore_terminal) and a replayed key
+# file (explore_replay) run the same two functions, so that what the tests replay is what a user
+# sees. What a state shows (ExploreView: the analysis, the drawing of the motion, the
+# transmission angle at each position) is computed once for each linkage, by the caller's cache.
+#
+# A linkage that does not assemble at every crank angle is drawn over the crank's reachable range
+# only, and playing stops at its dead centres; one that assembles nowhere is drawn and said so.
+# A change that cannot be drawn (a length of 0, an arc of 180 degrees) is refused on the status
+# line, the state as it was.
+#
+# Uses: sections 1, 2, 6, 7, 8, 11, 13, 14, 15, 18 and 19.
+# Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
+#   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_key,
+#   explore_screen, explore_scene, terminal_keys, key_file, explore_saved, explore_replay,
+#   explore_terminal.
+
+
+# The keys, as the help screen lists them (the footer shows the first words of each).
+EXPLORE_HELP = (
+    ("Tab  S-Tab  Up  Down", "select the next or previous dimension"),
+    ("A B C D E F X U V", "select that one (X: the skew angle ξ, U V: coupler)"),
+    ("Left  Right", "change the selected dimension by a small step"),
+    ("S-Left  S-Right  [  ]", "change it by a large step"),
+    ("=  Enter", "type its value (Enter takes it, Esc leaves it)"),
+    ("b", "the other branch (A+B or A-B)"),
+    ("f", "follow: analyse the motion through change points"),
+    ("Space", "play or pause"),
+    (",  .", "step back or forward one position"),
+    ("+  -", "faster or slower"),
+    ("c", "the coupler point and its curve on or off"),
+    ("k", "the next kind of linkage"),
+    ("u", "undo the last change"),
+    ("s", "save as a scene file (TOML): name it, Enter"),
+    ("?", "this help (any key leaves it)"),
+    ("q", "quit (Ctrl-C too)"),
+)
+# The names of keys that are not a character (a key file's lines); Tick is the timer's.
+EXPLORE_KEY_NAMES = ("Tab", "S-Tab", "Up", "Down", "Left", "Right", "S-Left", "S-Right",
+                     "Enter", "Esc", "Backspace", "Space", "Tick")
+EXPLORE_POSITIONS = 36          # positions drawn over the crank's range (10 degrees, a full turn)
+EXPLORE_SPEEDS = (1, 2, 4, 8, 12, 24)       # positions a second
+_TERMINAL_SEQUENCES = {b"\x1b[A": "Up", b"\x1b[B": "Down", b"\x1b[C": "Right", b"\x1b[D": "Left",
+                       b"\x1bOA": "Up", b"\x1bOB": "Down", b"\x1bOC": "Right", b"\x1bOD": "Left",
+                       b"\x1b[1;2C": "S-Right", b"\x1b[1;2D": "S-Left", b"\x1b[Z": "S-Tab",
+                       b"\t": "Tab", b"\r": "Enter", b"\n": "Enter", b"\x7f": "Backspace",
+                       b"\x08": "Backspace", b" ": "Space"}     # a lone ESC is Esc
+_ASCII_PANEL = str.maketrans({"φ": "phi", "ψ": "psi", "ξ": "ksi", "μ": "mu", "°": " deg"})
+_STEP_KEYS = ("Left", "Right", "S-Left", "S-Right", "[", "]")
+_UNDO_DEPTH = 100
+_TYPED_NUMBER = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
+
+
+class Explorer(NamedTuple):
+    """What the explorer shows and where the user is: the linkage (kind, dims in
+    LINKAGE_DIMENSIONS' order, branch, follow), the coupler point (u, v) and whether it is
+    traced, the shown position (index into ExploreView.phis) and the motion, what is being
+    typed (a value, a file name, an answer), the status line, and the states undo goes back
+    to."""
+    kind: str
+    dims: tuple[tuple[str, float], ...]
+    branch: int = 1
+    follow: bool = False
+    coupler: tuple[float, float] = (0.0, 0.0)
+    traced: bool = True
+    selected: int = 0
+    position: int = 0
+    direction: int = 1
+    playing: bool = True
+    speed: int = 4                     # index into EXPLORE_SPEEDS
+    typing: str | None = None          # the value typed so far
+    naming: str | None = None          # the file name typed so far (save)
+    confirm: str | None = None         # the file to overwrite, asked
+    save_to: str | None = None         # a scene to write (for the caller), then None
+    overwrite: bool = False            # save_to may be overwritten (the user said yes)
+    help: bool = False
+    status: str = ""
+    undo: tuple[Explorer, ...] = ()
+    done: bool = False
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """What can be selected: the dimensions, then u (and v) of a traced coupler point."""
+        point = (("u",) if PINS[self.kind].coupler == "line" else ("u", "v")) if self.traced \
+            else ()
+        return tuple(n for n, _ in self.dims) + point
+
+    @property
+    def linkage(self) -> Linkage:
+        return Linkage(self.kind, **dict(self.dims))
+
+    def value(self, name: str) -> float:
+        return dict(self.dims + (("u", self.coupler[0]), ("v", self.coupler[1])))[name]
+
+
+def _default_coupler(kind: str, dims: dict[str, float]) -> tuple[float, float]:
+    """A point of the coupler that shows its curve well: half along it, a quarter across."""
+    c = dims["c"]
+    return (0.5 * c, 0.0 if PINS[kind].coupler == "line" else 0.25 * c)
+
+
+def explorer_of(kind: str, dims: dict[str, float] | None = None, branch: int = 1,
+                follow: bool = False, coupler: tuple[float, float] | None = None) -> Explorer:
+    """The explorer's first state: the linkage given (its dimensions the kind's example's where
+    not given), coupler the point traced (None: one half along the coupler)."""
+    given = dict(MECHANISM_EXAMPLES[kind], **(dims or {}))
+    values = tuple((n, float(given[n])) for n in LINKAGE_DIMENSIONS[kind])
+    return Explorer(kind, values, branch, follow,
+                    coupler or _default_coupler(kind, dict(values)))
+
+
+class ExploreView(NamedTuple):
+    """What a linkage looks like: its analysis (None where it assembles nowhere, message then
+    says so), the drawing of its motion at the input angles phis, the transmission angle at
+    each, and whether the crank turns fully (else it rocks between dead centres); settled False
+    for a glance (explore_glance: one position, not analysed yet)."""
+    analysis: Analysis | None
+    message: str
+    drawing: Drawing
+    phis: tuple[float, ...]
+    mus: tuple[float | None, ...]
+    turns: bool
+    settled: bool = True
+
+
+def _motion_angles(analysis: Analysis | None, count: int = EXPLORE_POSITIONS
+                   ) -> tuple[list[float], bool]:
+    """`count` input angles over a full turn, or count + 1 over the crank's first reachable
+    range end to end (dead centre to dead centre); whether the crank turns fully."""
+    if analysis is None or analysis.crank_range is None:
+        return [360.0 * i / count for i in range(count)], True
+    lo, hi = analysis.crank_range[0]
+    hi += 360.0 if hi <= lo else 0.0
+    return [lo + (hi - lo) * i / count for i in range(count + 1)], False
+
+
+def analysis_drawing(analysis: Analysis, coupler: tuple[float, float] | None = None,
+                     positions: int = 72) -> Drawing:
+    """The linkage moving over its motion (a full turn of the crank, or its first reachable
+    range: `positions` poses), with the positions analyse finds drawn faint and numbered: the
+    output's extremes, the dead centres and the transmission angle furthest from 90 degrees
+    (the subtitle says which number is which); coupler (u, v): its curve traced and the
+    transmission angle charted. A ValueError says why it cannot be drawn."""
+    a = analysis
+    linkage = Linkage(a.linkage.kind, **a.linkage.dims)
+    branch = a.branch if isinstance(a.branch, int) else 1
+    worst = a.mu_worst
+    angular = not linkage.is_slider
+
+    def off(x: float | None, value: float, angle: bool) -> float:
+        if x is None:
+            return math.inf
+        return abs(wrap_degrees(x - value)) if angle else abs(x - value)
+
+    def output_on(b: int, phi: float) -> float | None:
+        return linkage.sweep([phi], b, 0)[0].output
+
+    def mu_on(b: int, phi: float) -> float | None:
+        return linkage.transmission([phi], b)[0]
+    named: list[tuple[Extreme, str, Callable[[int, float], float | None] | None, bool]] = (
+        [(e, "out min" if e is a.output_min else "out max", output_on, angular)
+         for e in (a.output_min, a.output_max)]
+        if a.output_min is not None and a.output_max is not None else [])
+    named += [(Extreme(phi, 0.0), "dead centre", None, False) for phi in a.dead_centres]
+    named.append((worst, f"μ {worst.value:.4g}° worst", mu_on, True))
+    marked: list[float] = []
+    branches: list[int] = []
+    texts: list[list[str]] = []
+    for extreme, text, value_on, angle in named:    # one number for what shares a position
+        phi = extreme.phi
+        on = branch if value_on is None else min(     # the branch where the value is
+            (branch, 3 - branch), key=lambda b: off(value_on(b, phi), extreme.value, angle))
+        same = next((i for i, (m, b) in enumerate(zip(marked, branches))
+                     if abs(wrap_degrees(m - phi)) < 1e-6 and (b == on or value_on is None)),
+                    None)
+        if same is None:
+            marked.append(phi)
+            branches.append(on)
+            texts.append([text + ("" if on == branch else f" (branch {on})")])
+        else:
+            texts[same].append(text)
+    subtitle = ", ".join(f"{n} {' + '.join(t)} φ={phi % 360.0:.4g}"
+                         for n, (t, phi) in enumerate(zip(texts, marked), 1))
+    phis, _ = _motion_angles(a, positions)
+    dims = " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in linkage.dims.items())
+    return mechanism_drawing(linkage, phis, branch, f"{MECHANISM_NAMES[linkage.kind]}: {dims}; "
+                             f"{a.type}, crank {'full' if a.crank_range is None else 'rocks'}",
+                             subtitle, coupler, (), marked, branches)
+
+
+def explore_view(state: Explorer) -> ExploreView:
+    """The view of the state's linkage; a ValueError says why it cannot be drawn."""
+    linkage = state.linkage
+    coupler = state.coupler if state.traced else None
+    if coupler is not None:
+        check_coupler_point(linkage, *coupler)
+    branch: int | str = FOLLOW if state.follow else state.branch
+    try:
+        analysis: Analysis | None = analyse(linkage, branch, state.branch if state.follow
+                                            else None)
+        message = ""
+    except ValueError as e:
+        if "assembles at no" not in str(e):
+            raise
+        analysis, message = None, "does not assemble at any crank angle"
+    phis, turns = _motion_angles(analysis)
+    if not turns and analysis is not None:
+        lo, hi = phis[0], phis[-1]
+        message = f"the crank rocks from {lo % 360:.4g} to {hi % 360:.4g} (dead centres)"
+    traced = (FOLLOW,) if state.follow and coupler is not None else ()
+    name = MECHANISM_NAMES[state.kind]
+    drawing = mechanism_drawing(linkage, phis, state.branch,
+                                f"{name}: " + (message or "the crank turns fully"), None,
+                                coupler, traced)
+    mus = tuple(linkage.transmission(phis, state.branch))
+    return ExploreView(analysis, message, drawing, tuple(phis), mus, turns)
+
+
+def explore_glance(state: Explorer, phi: float, bounds: Box) -> ExploreView:
+    """The state's linkage at the one input angle phi, not analysed, drawn over `bounds` and its
+    own: what a key shows at once while keys come faster than analyse answers. A ValueError
+    says why it cannot be drawn."""
+    linkage = state.linkage
+    coupler = state.coupler if state.traced else None
+    drawing = mechanism_drawing(linkage, [phi], state.branch,
+                                f"{MECHANISM_NAMES[state.kind]}: ...", None, coupler)
+    x0, y0, x1, y1 = drawing.bounds
+    drawing = drawing._replace(bounds=(min(x0, bounds[0]), min(y0, bounds[1]),
+                                       max(x1, bounds[2]), max(y1, bounds[3])))
+    mus = tuple(linkage.transmission([phi], state.branch))
+    return ExploreView(None, "", drawing, (phi,), mus, True, False)
+
+
+class ExploreViews:
+    """explore_view's answers kept for the linkages seen lately (each key asks again). quick:
+    a linkage not seen yet is first a glance (explore_glance), made whole by settled."""
+
+    def __init__(self, quick: bool = False, keep: int = 64) -> None:
+        self.kept: dict[tuple[Any, ...], ExploreView] = {}
+        self.glances: dict[tuple[Any, ...], ExploreView] = {}
+        self.quick, self.keep = quick, keep
+
+    @staticmethod
+    def _key(state: Explorer) -> tuple[Any, ...]:
+        return (state.kind, state.dims, state.branch, state.follow,
+                state.coupler if state.traced else None)
+
+    def __call__(self, state: Explorer) -> ExploreView:
+        key = self._key(state)
+        if key in self.kept:
+            return self.kept[key]
+        if key in self.glances:
+            return self.glances[key]
+        if len(self.kept) >= self.keep:
+            self.kept.clear()
+        self.kept[key] = explore_view(state)
+        return self.kept[key]
+
+    def changed(self, state: Explorer, phi: float, bounds: Box) -> ExploreView:
+        """The view of a state just changed to, shown near phi: a glance if quick."""
+        key = self._key(state)
+        if not self.quick or key in self.kept:
+            return self(state)
+        if key not in self.glances:
+            if len(self.glances) >= self.keep:
+                self.glances.clear()
+            self.glances[key] = explore_glance(state, phi, bounds)
+        return self.glances[key]
+
+    def settled(self, state: Explorer) -> Explorer:
+        """The state with its view whole (analysed, its motion drawn), at the position nearest
+        the one its glance showed; the state itself if its view was whole."""
+        glance = self(state)
+        if glance.settled:
+            return state
+        key = self._key(state)
+        del self.glances[key]
+        try:
+            whole = self.kept[key] = explore_view(state)
+        except ValueError as e:         # drawn at one position but not over the motion: undone
+            if not state.undo:
+                raise
+            back = state.undo[0]._replace(undo=state.undo[1:], status=f"refused: {e}")
+            return self.settled(back._replace(position=min(back.position,
+                                                           len(self(back).phis) - 1)))
+        return state._replace(position=_nearest(whole.phis, glance.phis[state.position]),
+                              status=state.status or whole.message)
+
+
+def _nearest(phis: Sequence[float], phi: float) -> int:
+    """The index of the angle of phis nearest phi (modulo a turn)."""
+    return min(range(len(phis)), key=lambda i: abs(wrap_degrees(phis[i] - phi)))
+
+
+def _steps(kind: str, name: str) -> tuple[float, float]:
+    """A dimension's small and large steps: degrees 1 and 10, lengths 0.1 and 1."""
+    degrees = name == "ksi" or (kind == SPHERICAL_FOUR_BAR and name in "abcduv")
+    return (1.0, 10.0) if degrees else (0.1, 1.0)
+
+
+def _changed(state: Explorer, views: ExploreViews, **changes: Any) -> Explorer:
+    """The state with `changes` to its linkage or coupler point, undo-able, shown at the
+    position nearest the one shown; the state as it was, with the reason on the status line, if
+    the new one cannot be drawn."""
+    new = state._replace(**changes, status="", typing=None)
+    old_view = views(state)
+    old_phi = old_view.phis[state.position]
+    try:
+        new_view = views.changed(new, old_phi, old_view.drawing.bounds)
+    except ValueError as e:
+        return state._replace(status=f"refused: {e}", typing=None)
+    position = _nearest(new_view.phis, old_phi)
+    undo = (state._replace(undo=(), status="", typing=None),) + state.undo[:_UNDO_DEPTH - 1]
+    return new._replace(position=position, undo=undo,
+                        selected=min(new.selected, len(new.names) - 1),
+                        status=new_view.message)
+
+
+def _set_value(state: Explorer, name: str, value: float,
+               views: ExploreViews) -> Explorer:
+    value = round(value, 10) + 0.0                      # steps of 0.1 stay short decimals
+    if name in ("u", "v"):
+        u, v = state.coupler
+        return _changed(state, views, coupler=(value, v) if name == "u" else (u, value))
+    return _changed(state, views, dims=tuple((n, value if n == name else x)
+                                             for n, x in state.dims))
+
+
+def _typed_key(state: Explorer, key: str, views: ExploreViews
+               ) -> Explorer:
+    """A key while a value is typed: characters add, Backspace takes back, Enter takes the
+    value (or refuses it), Esc leaves it."""
+    typed = cast(str, state.typing)
+    name = state.names[state.selected]
+    if key == "Esc":
+        return state._replace(typing=None, status="")
+    if key == "Backspace":
+        return state._replace(typing=typed[:-1])
+    if key == "Enter":
+        if not _TYPED_NUMBER.fullmatch(typed) or not math.isfinite(float(typed)):
+            return state._replace(typing=None, status=f"refused: {name} = {typed!r} is not a "
+                                                      "number (e.g. 6.5, -2, 1e-3)")
+        return _set_value(state, name, float(typed), views)
+    if len(key) == 1 and key in "0123456789.-+eE" and len(typed) < 24:
+        return state._replace(typing=typed + key)
+    return state
+
+
+def _named_key(state: Explorer, key: str) -> Explorer:
+    """A key while the scene's file name is typed (save), or an overwrite answered."""
+    if state.confirm is not None:
+        if key in ("y", "Y"):
+            return state._replace(confirm=None, save_to=state.confirm, overwrite=True)
+        return state._replace(confirm=None, status="not saved")
+    typed = cast(str, state.naming)
+    if key == "Esc":
+        return state._replace(naming=None, status="not saved")
+    if key == "Backspace":
+        return state._replace(naming=typed[:-1])
+    if key == "Enter":
+        if not typed.strip():
+            return state._replace(naming=None, status="not saved: no file name")
+        return state._replace(naming=None, save_to=typed.strip())
+    if len(key) == 1 and key.isprintable() and len(typed) < 200:
+        return state._replace(naming=typed + key)
+    if key == "Space":
+        return state._replace(naming=typed + " ")
+    return state
+
+
+def _moved(state: Explorer, view: ExploreView, by: int) -> Explorer:
+    """The shown position moved by `by`: round a full turn, or up to a dead centre, where the
+    motion stops (and turns back at the next play)."""
+    count = len(view.phis)
+    if view.turns:
+        return state._replace(position=(state.position + by) % count)
+    position = state.position + by
+    if 0 <= position < count:
+        return state._replace(position=position)
+    end = 0 if position < 0 else count - 1
+    return state._replace(position=end, playing=False, direction=-state.direction,
+                          status=f"stopped at a dead centre, crank {view.phis[end] % 360:.4g} "
+                                 "deg (Space plays back)")
+
+
+def explore_key(state: Explorer, key: str, views: ExploreViews) -> Explorer:
+    """The state after `key` (a character, or a name of EXPLORE_KEY_NAMES); views(state) is the
+    state's view. A key that means nothing here changes nothing."""
+    state = state._replace(save_to=None)
+    if key == "Tick":                       # the motion goes on under help and prompts
+        return _moved(state, views(state), state.direction) if state.playing else state
+    if state.help:
+        return state._replace(help=False)
+    if state.typing is not None:
+        return _typed_key(state, key, views)
+    if state.naming is not None or state.confirm is not None:
+        return _named_key(state, key)
+    names = state.names
+    view = views(state)
+    state = state._replace(status="" if view.turns or not view.message else view.message)
+    if key in ("q", "Q"):
+        return state._replace(done=True)
+    if key == "?":
+        return state._replace(help=True)
+    if key in ("Tab", "Down", "S-Tab", "Up"):
+        by = 1 if key in ("Tab", "Down") else -1
+        return state._replace(selected=(state.selected + by) % len(names))
+    letter = {"X": "ksi"}.get(key, key.lower())
+    if key.isupper() and letter in names:
+        return state._replace(selected=names.index(letter))
+    name = names[state.selected]
+    if key in _STEP_KEYS:                   # Left, Right: small steps; the others large ones
+        small, large = _steps(state.kind, name)
+        size = small if key in ("Left", "Right") else large
+        sign = 1.0 if key in ("Right", "S-Right", "]") else -1.0
+        return _set_value(state, name, state.value(name) + sign * size, views)
+    if key in ("=", "Enter"):
+        return state._replace(typing="")
+    if key == "b":
+        return _changed(state, views, branch=3 - state.branch)
+    if key == "f":
+        return _changed(state, views, follow=not state.follow)
+    if key == "c":
+        return _changed(state, views, traced=not state.traced)
+    if key == "k":
+        kinds = list(LINKAGE_DIMENSIONS)
+        first = explorer_of(kinds[(kinds.index(state.kind) + 1) % len(kinds)])
+        return _changed(state, views, kind=first.kind, dims=first.dims, coupler=first.coupler,
+                        selected=0)
+    if key == "u":
+        if not state.undo:
+            return state._replace(status="nothing to undo")
+        back = state.undo[0]
+        return back._replace(undo=state.undo[1:], status="undone", playing=state.playing,
+                             speed=state.speed, position=min(back.position,
+                                                             len(views(back).phis) - 1))
+    if key == "Space":
+        return state._replace(playing=not state.playing)
+    if key in (",", "."):
+        return _moved(state._replace(playing=False), view, 1 if key == "." else -1)
+    if key in ("+", "-"):
+        speed = max(0, min(len(EXPLORE_SPEEDS) - 1, state.speed + (1 if key == "+" else -1)))
+        return state._replace(speed=speed, status=f"{EXPLORE_SPEEDS[speed]} positions a second")
+    if key == "s":
+        return state._replace(naming=f"explore-{state.kind}.toml")
+    return state
+
+
+def _number(x: float | None, unit: str = "") -> str:
+    return "-" if x is None else f"{x:.6g}{unit}"
+
+
+def _analysis_rows(view: ExploreView, mu: float | None, unit: str, more: bool
+                   ) -> list[tuple[str, str]]:
+    """The side panel's answers of analyse: the type, crank range, swing, time ratio and the
+    transmission angle now, at its extremes and furthest from 90 degrees; more: the output's
+    range, the dead centres and change points too."""
+    a = view.analysis
+    if not view.settled:
+        return [("type", "..."), ("μ now", _number(mu and round(mu, 4)))]
+    if a is None:
+        return [("type", "none"), ("", view.message), ("μ now", "-")]
+    crank = "full" if a.crank_range is None else ", ".join(
+        f"{lo:.5g} to {hi:.5g}" for lo, hi in a.crank_range)
+    swing = ("full turn" if a.output_min is None or a.output_max is None
+             else _number(a.output_max.value - a.output_min.value, unit))
+    worst = a.mu_worst
+    rows = [("type", a.type), ("crank", crank)]
+    if len(a.circuits) > 1:
+        rows.append(("circuits", str(len(a.circuits))))
+    if more:
+        rows += [("output", "full turn" if a.output_min is None or a.output_max is None else
+                  f"{_number(a.output_min.value)} to {_number(a.output_max.value)}{unit}"),
+                 ("dead centres", ", ".join(f"{x:.6g}" for x in a.dead_centres) or "none"),
+                 ("change pts", ", ".join(f"{x:.6g}" for x in a.change_points) or "none")]
+    return rows + [("swing", swing), ("time ratio", _number(a.time_ratio)),
+                   ("μ now", _number(mu and round(mu, 4))),
+                   ("μ min", f"{_number(a.mu_min.value)} at {_number(a.mu_min.phi)}"),
+                   ("μ max", f"{_number(a.mu_max.value)} at {_number(a.mu_max.phi)}"),
+                   ("worst |μ-90|", f"{_number(abs(worst.value - 90.0))} at "
+                                    f"{_number(worst.phi)}")]
+
+
+def _side_panel(state: Explorer, view: ExploreView, width: int, height: int, unicode: bool
+                ) -> tuple[list[str], int]:
+    """The side panel's lines, and which one is the selected dimension's."""
+    unit = "" if state.kind in SLIDER_CRANKS else " deg"
+    lines = [MECHANISM_NAMES[state.kind],
+             f"branch {state.branch} ({'A+B' if state.branch == 1 else 'A-B'})"
+             + ("  follow" if state.follow else ""), ""]
+    selected = 0
+    for i, name in enumerate(state.names):
+        if i == state.selected:
+            selected = len(lines)
+        shown = ("ξ" if unicode else "X") if name == "ksi" else name
+        what = "coupler point" if name in ("u", "v") else DIMENSION_NAMES[name].removeprefix(
+            "the ").replace(", degrees", "")
+        value = (state.typing + "_" if i == state.selected and state.typing is not None
+                 else f"{state.value(name):g}")
+        lines.append(f"{'>' if i == state.selected else ' '}{shown:>3} = {value:<9} {what}")
+    lines.append("")
+    phi = view.phis[state.position] % 360.0
+    mu = view.mus[state.position]
+    lines += [f"{name if unicode else name.translate(_ASCII_PANEL):<12} {value}" if name
+              else f"  {value}" for name, value in _analysis_rows(view, mu, unit, height >= 32)]
+    speed = EXPLORE_SPEEDS[state.speed]
+    lines += ["", f"φ = {phi:.4g} deg  " + (f"playing {speed}/s" if state.playing
+                                            else "paused")]
+    return [line[:width] for line in lines], selected
+
+
+def _footer(width: int, unicode: bool) -> str:
+    """The keys line: the most used keys, all of them where the screen is wide enough."""
+    arrows = "←→" if unicode else "<>"
+    wide = (f"Tab/ABC select  {arrows} step  [] big  = type  b branch  f follow  Space play  "
+            ",. step  +- speed  c coupler  k kind  u undo  s save  ? help  q quit")
+    narrow = (f"Tab select {arrows} [] change = type b branch Space play c k u s ? help q quit")
+    return wide if len(wide) <= width else narrow[:width]
+
+
+def _help_lines() -> list[str]:
+    return ["The explorer's keys", ""] + [f"  {keys:<24} {what}" for keys, what in EXPLORE_HELP]
+
+
+def _status_line(state: Explorer) -> str:
+    if state.typing is not None:
+        return f"{state.names[state.selected]} = {state.typing}_   (Enter takes it, Esc leaves)"
+    if state.naming is not None:
+        return f"save as: {state.naming}_   (Enter saves, Esc leaves)"
+    if state.confirm is not None:
+        return f"{state.confirm} exists: overwrite it? (y/n)"
+    return state.status
+
+
+def explore_screen(state: Explorer, view: ExploreView, width: int = 80, height: int = 24,
+                   unicode: bool = True) -> tuple[list[str], int | None, int]:
+    """The screen of `height` lines of at most `width` characters: the linkage drawn at the
+    shown position on the left, the side panel on the right, then the keys and the status line;
+    with the row of the selected dimension (None on the help screen) and the side panel's
+    first column (for the terminal to highlight)."""
+    width, height = max(width, 40), max(height, 12)
+    side = 36 if width < 120 else 44
+    left = width - side - 1
+    if state.help:
+        body = _help_lines()
+        rows: int | None = None
+    else:
+        drawn = text_drawing(view.drawing, state.position, left, height - 2, unicode).split("\n")
+        panel, selected = _side_panel(state, view, side, height, unicode)
+        body = [f"{d:<{left}} {p}" for d, p in zip(drawn + [""] * (height - 2 - len(drawn)),
+                                                   panel + [""] * (height - 2 - len(panel)))]
+        rows = selected
+    body = (body + [""] * height)[:height - 2] + [_footer(width, unicode), _status_line(state)]
+    if not unicode:                     # as text_drawing's lines: anything else a '?'
+        body = [line.translate(_ASCII_PANEL).encode("ascii", "replace").decode("ascii")
+                for line in body]
+    return [line[:width].rstrip() for line in body], rows, left + 1
+
+
+def explore_scene(state: Explorer, view: ExploreView, path: str) -> Scene:
+    """The state as a mechanism scene (scene_text writes it; explore SCENE reads it back): the
+    linkage, its branch, the motion drawn, the coupler point traced, and followed (a scene
+    follows the motion only with a coupler point: given where follow is on)."""
+    phis = view.phis
+    step = (phis[-1] - phis[0]) / max(1, len(phis) - 1)
+    branches: tuple[int | str, ...] = (state.branch,) + ((FOLLOW,) if state.follow else ())
+    return Scene(path, f"{MECHANISM_NAMES[state.kind]}, as explored", state.kind,
+                 dict(state.dims), phis[0], phis[-1], step, branches, ("double",),
+                 (PanelSpec((MECHANISM_PANEL,), None),),
+                 coupler=state.coupler if state.traced or state.follow else None)
+
+
+def terminal_keys(data: bytes) -> list[str]:
+    """The keys in bytes read from a terminal: escape sequences as EXPLORE_KEY_NAMES' names,
+    other characters as themselves (Ctrl-C never reaches here: it interrupts)."""
+    keys = []
+    text = data
+    while text:
+        known = next((s for s in _TERMINAL_SEQUENCES if text.startswith(s)), None)
+        if known is not None:
+            keys.append(_TERMINAL_SEQUENCES[known])
+            text = text[len(known):]
+            continue
+        if text[:1] == b"\x1b":
+            other = re.match(rb"\x1b(\[[0-9;?]*[ -/]*[@-~]|O[@-~])", text)   # a key not used here
+            if other is None:
+                keys.append("Esc")
+            text = text[other.end() if other else 1:]
+            continue
+        length = next((n for n in range(1, 5) if _decodes(text[:n])), 1)
+        char = text[:length].decode("utf-8", "replace")
+        if char.isprintable():
+            keys.append(char)
+        text = text[length:]
+    return keys
+
+
+def _decodes(data: bytes) -> bool:
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError:
+        return False
+    return True
+
+
+def key_file(text: str) -> list[str]:
+    """The keys of a key file: one a line, a name of EXPLORE_KEY_NAMES or one character (a space
+    or a tab as Space and Tab); lines empty or starting with "# " are skipped. A ValueError
+    names a line that is neither."""
+    keys = []
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line or line.startswith("# "):
+            continue
+        if line in EXPLORE_KEY_NAMES or len(line) == 1:
+            keys.append({" ": "Space", "\t": "Tab"}.get(line, line))
+        else:
+            raise ValueError(f"line {number}: {line!r} is no key: one character, or one of "
+                             f"{', '.join(EXPLORE_KEY_NAMES)}")
+    return keys
+
+
+def explore_saved(state: Explorer, views: ExploreViews) -> Explorer:
+    """The save a key asked for (save_to): the scene written whole (written_whole), or first
+    asked about where the file exists, or the reason it could not be written."""
+    path = state.save_to
+    if path is None:
+        return state
+    state = views.settled(state)
+    asked, state = state.overwrite, state._replace(save_to=None, overwrite=False)
+    if os.path.lexists(path) and not asked:
+        return state._replace(confirm=path)
+    try:
+        with written_whole(path) as fh:
+            fh.write(scene_text(explore_scene(state, views(state), path),
+                                "made by python3 linkage.py explore").encode("utf-8"))
+    except OSError as e:
+        return state._replace(status=f"not saved: {path}: {e.strerror or e}")
+    return state._replace(status=f"saved {path}")
+
+
+def explore_replay(state: Explorer, keys: Iterable[str], width: int = 80, height: int = 24,
+                   unicode: bool = True) -> tuple[Explorer, list[str]]:
+    """The state after each of `keys` in turn, until q, and the last screen (the selected
+    dimension marked by '>'). The keys are taken as the terminal takes keys typed faster than
+    it analyses: steps of a dimension (the arrows, [ and ]) one after another as glances, the
+    view made whole before any other key (Tick: a tick of the timer) and at the end."""
+    views = ExploreViews(quick=True)
+    for key in keys:
+        if key not in _STEP_KEYS:
+            state = views.settled(state)
+        state = explore_saved(explore_key(state, key, views), views)
+        if state.done:
+            break
+    state = views.settled(state)
+    lines, _, _ = explore_screen(state, views(state), width, height, unicode)
+    return state, lines
+
+
+def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
+    """The explorer on the terminal of standard input and output, until q (or Ctrl-C, or
+    SIGTERM: KeyboardInterrupt): single keys, the alternate screen, redrawn at each key, each
+    tick of the motion and each resize (SIGWINCH); the terminal is given back as it was."""
+    import select
+    import signal
+    import time
+    keys_fd, out = sys.stdin.fileno(), sys.stdout
+    views = ExploreViews(quick=True)
+    woken, wake = os.pipe()
+    shown: list[str] = []
+
+    def draw(again: bool = False) -> None:
+        try:                                # the terminal's own size, whatever COLUMNS says
+            width, height = os.get_terminal_size(out.fileno())
+        except OSError:
+            width, height = shutil.get_terminal_size()
+        lines, row, column = explore_screen(state, views(state), width, height, unicode)
+        if row is not None:
+            lines[row] = lines[row][:column] + "\x1b[7m" + lines[row][column:] + "\x1b[27m"
+        if lines != shown or again:
+            out.write("\x1b[H" + "\x1b[K\n".join(lines) + "\x1b[K\x1b[J")
+            out.flush()
+            shown[:] = lines
+
+    def resized(signum: int, frame: object) -> None:
+        with contextlib.suppress(OSError):
+            os.write(wake, b"r")
+
+    def enter() -> None:
+        out.write("\x1b[?1049h\x1b[?25l")
+        draw(again=True)
+
+    def leave() -> None:
+        out.write("\x1b[?25h\x1b[?1049l")
+        out.flush()
+
+    before = signal.signal(signal.SIGWINCH, resized)
+    try:
+        with single_keys(keys_fd, enter, leave):
+            due = time.monotonic()
+            while not state.done:
+                settled = views(state).settled
+                wait = max(0.0, due - time.monotonic()) if state.playing else None
+                ready = select.select([keys_fd, woken], [], [], wait if settled else 0.0)[0]
+                if woken in ready:
+                    os.read(woken, 64)
+                    draw(again=True)
+                elif keys_fd in ready:
+                    data = os.read(keys_fd, 64)
+                    if not data:                            # the terminal is gone
+                        break
+                    for key in terminal_keys(data):
+                        state = explore_saved(explore_key(state, key, views), views)
+                    draw()
+                elif not settled:                           # no key waiting: analyse now
+                    state = views.settled(state)
+                    draw()
+                else:
+                    state = explore_key(state, "Tick", views)
+                    due = max(due + 1.0 / EXPLORE_SPEEDS[state.speed], time.monotonic())
+                    draw()
+                if not state.playing:
+                    due = time.monotonic()
+    finally:
+        signal.signal(signal.SIGWINCH, before)
+        os.close(woken)
+        os.close(wake)
+    return state
+
+
+# ---- 21. Benchmarks of the program itself --------------------------------------------------------
 #
 # Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS. What
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 11, 12, 13, 14, 18 and 19.
+# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 11, 12, 13, 14, 18, 19 and 20.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
 #   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, FILES_TARGET,
 #   bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung, measure_accuracy,
-#   bench_accuracy, BENCHMARKS, machine.
+#   bench_accuracy, EXPLORE_TARGET, bench_explore, BENCHMARKS, machine.
 
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
@@ -10473,9 +11212,46 @@ def _accuracy_png(rungs: list[Rung], path: str) -> None:
         f.write(image.getvalue())
 
 
+EXPLORE_TARGET = 0.050     # seconds from a key to the next frame (issue 32)
+
+
+def bench_explore(out: TextIO, quick: bool = False) -> None:
+    """The explorer's latency: a key to its frame, then the view made whole.
+
+    A key's frame is explore_key then explore_screen at 80 x 24, each key changing a dimension
+    or the branch or the coupler point (so that each is a linkage not seen yet: a glance), then
+    the view made whole when the
+    keys stop (ExploreViews.settled: analyse and the motion drawn)."""
+    import time
+    keys = ["Right", "Left", "S-Right", "S-Left", "Tab"] * (1 if quick else 4) + ["b", "c"]
+    print(f"the explorer, {len(keys)} keys a kind (a dimension changed, the next one selected, "
+          "the branch, the coupler), the 80 x 24 frame drawn after each; milliseconds; target: "
+          f"a key to its frame under {1e3 * EXPLORE_TARGET:.0f} ms", file=out)
+    print(f"{'linkage':12} {'key median':>11} {'key worst':>10} {'whole median':>13} "
+          f"{'whole worst':>12}", file=out)
+    for kind in LINKAGE_DIMENSIONS:
+        views, state = ExploreViews(quick=True), explorer_of(kind)
+        views(state)
+        key_times, whole_times = [], []
+        for key in keys:
+            start = time.perf_counter()
+            state = explore_key(state, key, views)
+            explore_screen(state, views(state), 80, 24)
+            key_times.append(time.perf_counter() - start)
+            start = time.perf_counter()
+            state = views.settled(state)
+            explore_screen(state, views(state), 80, 24)
+            whole_times.append(time.perf_counter() - start)
+        key_times.sort()
+        whole_times.sort()
+        print(f"{kind:12} {1e3 * key_times[len(keys) // 2]:11.1f} {1e3 * key_times[-1]:10.1f} "
+              f"{1e3 * whole_times[len(keys) // 2]:13.1f} {1e3 * whole_times[-1]:12.1f}"
+              + ("" if key_times[-1] < EXPLORE_TARGET else "   over the target"), file=out)
+
+
 BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
               "startup": bench_startup, "coupler": bench_coupler, "files": bench_files,
-              "accuracy": bench_accuracy}
+              "accuracy": bench_accuracy, "explore": bench_explore}
 
 
 def machine() -> str:
@@ -10495,19 +11271,19 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 21. The command line ------------------------------------------------------------------------
+# ---- 22. The command line ------------------------------------------------------------------------
 #
 # Holds: the shared parsers of what is typed on the command line (numbers in each precision, linkage
 # kinds, PNG sizes), one handler a sub-command, the design methods' help, and COMMANDS, the table of
 # every sub-command's help and options that build_parser turns into argparse; main() last.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14, 15, 17, 18, 19 and 20.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14, 15, 17, 18, 19, 20 and 21.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
 #   decimal_number, basic_answer, MADE_FOLDERS, output_folder, unmake_folders, run_command,
 #   CSV_CLIPPED, analyse_command, drawing_command, scene_command, plot_command, design_scene,
 #   design_command, ERRATUM, SCAN_LINE, scan_lines, annotated_listing, listing_command,
-#   bench_command, Option, option, Command, DIMENSION_HELP, PNG_OPTIONS, COMMANDS, CommandParser,
-#   build_parser, main.
+#   explore_command, bench_command, Option, option, Command, DIMENSION_HELP, PNG_OPTIONS, COMMANDS,
+#   CommandParser, build_parser, main.
 
 
 ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
@@ -10938,6 +11714,18 @@ def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
         parser.error("--start-branch goes with --branch follow")
     branch = args.branch if args.branch == FOLLOW else int(args.branch)
     start = None if args.start_branch is None else int(args.start_branch)
+    _check_outputs(parser, {"--svg": args.svg, "--png": args.png})
+    coupler = None
+    if args.coupler is not None:
+        if not (args.svg or args.png):
+            parser.error("--coupler goes with --svg or --png (it draws the coupler curve)")
+        if len(args.coupler) > 2:
+            parser.error("--coupler takes U, or U and V")
+        try:
+            coupler = check_coupler_point(Linkage(args.type, **dims), *(
+                decimal_number(text, "--coupler") for text in args.coupler))
+        except ValueError as e:
+            parser.error(str(e))
     try:
         analysis = analyse(Linkage(args.type, **dims), branch, start)
     except ValueError as e:
@@ -10945,7 +11733,10 @@ def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
                     if "assembles at no" in str(e) else e, 1)
     sys.stdout.write("".join(line + "\n" for line in analysis_lines(analysis)))
     sys.stdout.flush()
-    return 0
+    if not (args.svg or args.png):
+        return 0
+    args.frames, args.text = None, False
+    return drawing_command(args, lambda: analysis_drawing(analysis, coupler))
 
 
 def _dat_names(count: int) -> str:
@@ -11295,6 +12086,77 @@ def listing_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
     return _reported(show)
 
 
+def _screen_size(text: str) -> tuple[int, int]:
+    match = re.fullmatch(r"([0-9]{1,4})[xX]([0-9]{1,4})", text.strip())
+    if not match or not (40 <= int(match[1]) <= 1000 and 12 <= int(match[2]) <= 1000):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected COLUMNSxLINES, at least 40x12, "
+                                         "e.g. 80x24")
+    return int(match[1]), int(match[2])
+
+
+def _explorer_given(args: argparse.Namespace, parser: argparse.ArgumentParser) -> Explorer:
+    """The explorer's first state: the kind and dimensions given (the kind's example's where
+    not), or a scene's linkage, branch and coupler point, or the plane four-bar's example."""
+    given = [n for n in DIMENSION_HELP if getattr(args, n) is not None]
+    target = args.target or PLANE_FOUR_BAR
+    try:
+        kind = _mechanism_type(target)
+    except argparse.ArgumentTypeError:
+        if given:
+            parser.error(f"--{given[0]} goes with a kind ({', '.join(MECHANISM_TYPES)}), not "
+                         "with a scene")
+        scene = load_scene(scene_path(target))
+        branch = next((b for b in scene.branches if isinstance(b, int)), 1)
+        return explorer_of(scene.mechanism, scene.dimensions, branch,
+                           FOLLOW in scene.branches, scene.coupler)
+    unknown = [n for n in given if n not in LINKAGE_DIMENSIONS[kind]]
+    if unknown:
+        parser.error(f"--{unknown[0]}: the {MECHANISM_NAMES[kind]} takes "
+                     + ", ".join("--" + n for n in LINKAGE_DIMENSIONS[kind]))
+    try:
+        dims = {n: decimal_number(getattr(args, n), f"--{n}") for n in given}
+    except ValueError as e:
+        parser.error(str(e))
+    return explorer_of(kind, dims)
+
+
+def explore_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py explore [KIND --a ... | SCENE]`: the explorer on the terminal
+    (explore_terminal); with --keys FILE the keys of the file replayed instead and the last
+    screen printed (explore_replay)."""
+    try:
+        state = _explorer_given(args, parser)
+        ExploreViews()(state)                           # a linkage that can be drawn
+    except (SceneError, ValueError) as e:
+        return said(e, 1)
+    unicode = (getattr(sys.stdout, "encoding", None) or "").lower().replace("-", "") == "utf8"
+    if args.keys is not None:
+        try:
+            with open(args.keys, encoding="utf-8") as fh:
+                keys = key_file(fh.read())
+        except OSError as e:
+            return said(f"{args.keys}: cannot read the keys: {e.strerror}", 1)
+        except (ValueError, UnicodeDecodeError) as e:
+            return said(f"{args.keys}: {e}", 1)
+        width, height = args.size
+        _, lines = explore_replay(state, keys, width, height, unicode)
+        sys.stdout.write("".join(line + "\n" for line in lines))
+        sys.stdout.flush()
+        return 0
+    if args.size != (80, 24):
+        parser.error("--size sets the screen of a replay (--keys FILE); the terminal's is its own")
+    if (not (is_terminal(sys.stdin) and is_terminal(sys.stdout))
+            or os.environ.get("TERM", "dumb") in ("", "dumb")):
+        return said("explore needs a terminal: standard input and output a terminal whose TERM "
+                    "is not dumb (--keys FILE replays keys without one and prints the last "
+                    "screen)", 1)
+    state = explore_terminal(state, unicode)
+    print(f"{PROG} analyse {state.kind} "
+          + " ".join(f"--{n} {v:g}" for n, v in state.dims)
+          + ("" if state.branch == 1 else f" --branch {state.branch}"))
+    return 0
+
+
 def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py bench [NAME ...]`: print the benchmarks' numbers and how they ran."""
     print(f"$ python3 linkage.py bench {' '.join(args.names)}".rstrip())
@@ -11413,7 +12275,19 @@ COMMANDS = {
                 help="the assembly: 1 (A+B, the default), 2 (A-B), or follow (the motion "
                      "followed through change points from --start-branch)"),
          option("--start-branch", choices=("1", "2"), metavar="1|2",
-                help="with --branch follow: the branch the motion starts in (default 1)"))),
+                help="with --branch follow: the branch the motion starts in (default 1)"),
+         option("--svg", metavar="OUT",
+                help="also draw the linkage moving over its motion as an animated SVG, the "
+                     "output's extremes, the dead centres and the transmission angle furthest "
+                     "from 90 degrees drawn faint and numbered"),
+         option("--png", metavar="OUT",
+                help="the same as a PNG, the positions overlaid (needs matplotlib: python3 -m "
+                     "pip install matplotlib)"),
+         option("--coupler", nargs="+", metavar=("U", "V"),
+                help="with --svg or --png: the coupler point (U, V) drawn and its curve traced "
+                     "(as run --coupler)"),
+         option("--dpi", type=_png_dpi, metavar="N", help="the PNG's dots an inch"),
+         option("--size", type=_png_size, metavar="WxH", help="the PNG's size in pixels"))),
     "scene": Command(
         scene_command, "draw a scene of data/scenes: the paper's figures, the hard cases, the "
                        "linkage moving",
@@ -11484,6 +12358,24 @@ COMMANDS = {
         (option("--ocr", action="store_true",
                 help="show the scan's text (legacy_basic/LINKAGE.OCR.txt) under each line it "
                      "prints otherwise (white space aside)"),)),
+    "explore": Command(
+        explore_command, "change a dimension and watch the linkage answer, in the terminal",
+        "A full-screen view of the linkage moving, its coupler curve traced, and beside it its "
+        "dimensions and what analyse answers (type, crank range, swing, time ratio, the "
+        "transmission angle now, at its extremes and furthest from 90 degrees), all following "
+        "each key: Tab or a capital letter selects a dimension, the arrows change it, = types "
+        "it; ? lists every key. Needs a terminal; --keys FILE replays keys without one.",
+        (option("target", nargs="?", metavar="KIND|SCENE",
+                help=f"{', '.join(MECHANISM_NAMES)} (or 1-5), with any of its dimensions (the "
+                     "rest the kind's example's); or a scene (a TOML file, or the name of one "
+                     "of scene --list); default: the plane four-bar"),
+         *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
+         option("--keys", metavar="FILE",
+                help="replay the keys of FILE and print the last screen, no terminal needed: "
+                     "one key a line, a character or one of " + ", ".join(EXPLORE_KEY_NAMES)
+                     + " (Tick: a tick of the motion's timer); lines starting '# ' are skipped"),
+         option("--size", type=_screen_size, default=(80, 24), metavar="COLSxLINES",
+                help="with --keys: the screen's size (default 80x24)"))),
     "bench": Command(
         bench_command, "measure speed, and what accuracy costs in time",
         "Run the benchmarks and print their numbers (port runs PC-BASIC for minutes; accuracy, "
