@@ -656,7 +656,7 @@ def single_keys(fd: int | None, enter: Callable[[], object] | None = None,
 # Uses: nothing.
 # Offers: PLANE_FOUR_BAR, SPHERICAL_FOUR_BAR, SKEW_FOUR_BAR, PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK,
 #   LINKAGE_DIMENSIONS, MECHANISM_NAMES, SLIDER_CRANKS, DIMENSION_NAMES, ASSEMBLED, DEAD_CENTRE,
-#   CHANGE_POINT, NOT_ASSEMBLED, INDETERMINATE, STOPPED, RAD, DEG, MECHANISM_TYPES.
+#   CHANGE_POINT, NOT_ASSEMBLED, INDETERMINATE, STOPPED, RAD, DEG, MECHANISM_TYPES, letters_defined.
 
 
 # The five kinds, named as tests/test_physics.py names them, with their dimensions: lengths as
@@ -679,7 +679,8 @@ MECHANISM_NAMES = {PLANE_FOUR_BAR: "plane four-bar", SPHERICAL_FOUR_BAR: "spheri
 SLIDER_CRANKS = (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK)     # the rest are four-bars
 DIMENSION_NAMES = {"a": "the fixed link", "b": "the input crank", "c": "the coupler",
                    "d": "the output crank", "e": "the slider offset",
-                   "f": "the vertical sector of the fixed link", "ksi": "the skew angle, degrees"}
+                   "f": "the vertical sector of the fixed link",
+                   "ksi": "the skew angle (degrees)"}
 
 # The status of a computed position (Motion.status).
 ASSEMBLED = "assembled"          # output, and the derivatives asked for, are given
@@ -712,6 +713,12 @@ MECHANISM_TYPES = {
     PLANE_SLIDER_CRANK: ("4", ("b", "c", "e")),
     SKEW_SLIDER_CRANK: ("5", ("b", "c", "a", "f", "ksi")),
 }
+
+
+def letters_defined(kind: str) -> str:
+    """The kind's dimension letters as options, each with what it is, in the menu's order:
+    "--b the input crank, --c the coupler, ..." (the command line's help says it per kind)."""
+    return ", ".join(f"--{n} {DIMENSION_NAMES[n]}" for n in MECHANISM_TYPES[kind][1])
 
 
 # ---- 3. GW-BASIC single precision ----------------------------------------------------------------
@@ -10088,7 +10095,8 @@ def machine() -> str:
 #   decimal_number, basic_answer, output_folder, run_command, CSV_CLIPPED, analyse_command,
 #   drawing_command, scene_command, plot_command, design_scene, design_command, ERRATUM, SCAN_LINE,
 #   scan_lines, annotated_listing, listing_command, bench_command, Option, option, Command,
-#   DIMENSION_HELP, PNG_OPTIONS, COMMANDS, CommandParser, build_parser, main.
+#   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, PNG_OPTIONS, COMMANDS, CommandParser, build_parser,
+#   main.
 
 
 ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
@@ -10864,11 +10872,22 @@ class Command(NamedTuple):
     options: tuple[Option, ...]
 
 
-DIMENSION_HELP = {
-    "a": "fixed link (skew linkages: its horizontal sector); degrees for the spherical linkage",
-    "b": "input crank", "c": "connecting rod (coupler)", "d": "output crank",
-    "e": "slider offset", "f": "vertical sector of the fixed link", "ksi": "skew angle, degrees",
+DIMENSION_HELP = {   # each letter's option: what it is, in the drawing's pivot names
+    "a": "a, the fixed link (ground): crank pivot A0 to output pivot B0 (the skew kinds: the "
+         "shafts' common perpendicular, the fixed link's horizontal sector); the spherical "
+         "kind: an arc, degrees",
+    "b": "b, the input crank: A0 to the crank pin A, at angle phi",
+    "c": "c, the coupler (connecting rod): A to the output pin B, or to the slider C",
+    "d": "d, the output crank: B0 to B, at angle psi",
+    "e": "e, the slider's offset: its guide is the line y = e",
+    "f": "f, the fixed link's vertical sector: along the crank's shaft, from the crank's plane "
+         "to the common perpendicular",
+    "ksi": "ksi, the skew angle between the two shafts, degrees",
 }
+KINDS_HELP = (f"the kind: {', '.join(MECHANISM_NAMES)} (or 1-5: "
+              f"{', '.join(MECHANISM_NAMES.values())})")
+DIMENSIONS_HELP = ("Each kind's dimensions, in the order the menu asks for them: " + "; ".join(
+    f"{kind}: {letters_defined(kind)}" for kind in MECHANISM_TYPES) + ".")
 PNG_OPTIONS = (
     option("--png", metavar="OUT",
            help="write the figure as a PNG (needs matplotlib: python3 -m pip install matplotlib)"),
@@ -10884,10 +10903,8 @@ COMMANDS = {
         run_command, "the original program driven by options",
         "The original program given these answers: writes ANG.DAT, VEL.DAT and ACC.DAT exactly "
         "as the menu would. Dimensions are typed as in the menu (degrees for the spherical "
-        "linkage's arcs). " + "; ".join(f"{name}: {' '.join('--' + d for d in dims)}"
-                                       for name, (_, dims) in MECHANISM_TYPES.items()) + ".",
-        (option("type", type=_mechanism_type, metavar="TYPE",
-                help=f"{', '.join(MECHANISM_NAMES)} (or 1-5)"),
+        "linkage's arcs). " + DIMENSIONS_HELP,
+        (option("type", type=_mechanism_type, metavar="TYPE", help=KINDS_HELP),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
          option("--skew", dest="old_skew", metavar="X", help=argparse.SUPPRESS),
          option("--from", dest="start", required=True, metavar="P1",
@@ -10931,9 +10948,8 @@ COMMANDS = {
         "(full, or between its dead centres), the output's range and swing, the time ratio "
         "(review eq. (5): the crank's turn while the output rises over its turn back), the "
         "transmission angle's extremes with the crank angles where they occur, and the dead "
-        "centres and change points: one `name = value` a line. Dimensions as for run.",
-        (option("type", type=_mechanism_type, metavar="TYPE",
-                help=f"{', '.join(MECHANISM_NAMES)} (or 1-5)"),
+        "centres and change points: one `name = value` a line. " + DIMENSIONS_HELP,
+        (option("type", type=_mechanism_type, metavar="TYPE", help=KINDS_HELP),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
          option("--branch", choices=("1", "2", FOLLOW), default="1",
                 help="the assembly: 1 (A+B, the default), 2 (A-B), or follow (the motion "
