@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import contextlib
 import io
+import math
+import random
 import re
 
 import pytest
@@ -49,3 +51,90 @@ def test_the_help_of_a_command_that_takes_dimensions_defines_each_kinds_letters(
     for letter in linkage.MECHANISM_TYPES[kind][1]:
         assert re.search(rf"--{letter} [^,]*{ROLES[letter]}", said.group(1)), (kind, letter)
         assert re.search(rf"--{letter} X {letter}, [^-]*{ROLES[letter]}", text), letter
+
+
+# -- the README's conventions, held to the engine by the geometry they state ---------------------
+
+def _sub(p, q):
+    return [x - y for x, y in zip(p, q)]
+
+
+def _dot(p, q):
+    return sum(x * y for x, y in zip(p, q))
+
+
+def _cross(p, q):
+    return [p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]]
+
+
+def _cs(degrees):
+    return math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+
+
+def conventions(kind, dims, phi, out):
+    """The pins as the README's Conventions table writes them: (A, the output pin, the loop's
+    error - |A P| - c, or cos of the arc AP - cos c - and the branch-1 side, > 0 on branch 1)."""
+    cp, sp = _cs(phi)
+    if kind == "spherical":
+        cb, sb = _cs(dims["b"])
+        ca, sa = _cs(dims["a"])
+        cd, sd = _cs(dims["d"])
+        cq, sq = _cs(out)
+        a = [sb * cp, sb * sp, cb]
+        u = [sd * cq, sd * sq, cd]                                   # then turned by a about y
+        b = [ca * u[0] + sa * u[2], u[1], -sa * u[0] + ca * u[2]]
+        b0 = [sa, 0.0, ca]
+        return _dot(a, b) - _cs(dims["c"])[0], -_dot(_cross(a, b0), b)
+    a = [dims["b"] * cp, dims["b"] * sp, 0.0]
+    if kind == "plane":
+        cq, sq = _cs(out)
+        b0, p, w = [dims["a"], 0.0, 0.0], [dims["a"] + dims["d"] * cq, dims["d"] * sq, 0.0], None
+        side = -_cross(_sub(b0, a), _sub(p, a))[2]                  # right of A -> B0
+    elif kind == "skew":
+        cq, sq = _cs(out)
+        cx, sx = _cs(dims["ksi"])
+        b0 = [dims["a"], dims["f"] * sx / cx, 0.0]
+        w = [0.0, -sx, cx]
+        p = [b0[0] + dims["d"] * cq, b0[1] + dims["d"] * sq * cx, dims["d"] * sq * sx]
+        side = _dot(_cross(_sub(b0, a), w), _sub(p, a))
+    elif kind == "slider":
+        p = [out, dims["e"], 0.0]
+        side = out - a[0]                                            # ahead of the crank pin
+    else:
+        cx, sx = _cs(dims["ksi"])
+        f1, g = [dims["a"], 0.0, dims["f"]], [0.0, sx, -cx]
+        p = [dims["a"], out * sx, dims["f"] - out * cx]
+        side = out - _dot(_sub(a, f1), g)                            # ahead of A's foot
+    return math.dist(a, p) - dims["c"], side
+
+
+@pytest.mark.parametrize("kind", list(linkage.MECHANISM_TYPES))
+def test_the_readmes_conventions_close_each_loop_and_name_its_branches(kind):
+    """With the output the engine gives, the pins placed as the Conventions table says close the
+    loop (to 1e-9), and branch 1 and 2 are the sides the table names, over random linkages and
+    angles: a sign or a zero of the table wrong fails here."""
+    rng = random.Random(34)
+    checked = 0
+    while checked < 200:
+        dims = {k: rng.uniform(1, 10) for k in "abcdf"} | {"e": rng.uniform(-3, 3),
+                                                         "ksi": rng.uniform(-70, 70)}
+        if kind == "spherical":
+            dims |= {k: rng.uniform(5, 175) for k in "abcd"}
+        link = linkage.Linkage(kind, **{k: dims[k] for k in linkage.LINKAGE_DIMENSIONS[kind]})
+        phi, branch = rng.uniform(0, 360), rng.choice((1, 2))
+        motion = link.motion(phi, branch)
+        if motion.status != linkage.ASSEMBLED:
+            continue
+        error, side = conventions(kind, dims, phi, motion.output)
+        assert abs(error) < 1e-9 * (1 + max(dims.values())), (kind, dims, phi, error)
+        if abs(side) > 1e-6:
+            assert (side > 0) == (branch == 1), (kind, dims, phi, branch, side)
+        checked += 1
+
+
+def test_the_conventions_table_has_a_row_a_kind_and_says_what_g_is():
+    table = README.split("## Conventions", 1)[1].split("\n## ", 1)[0]
+    for kind in linkage.MECHANISM_TYPES:
+        assert f"\n| `{kind}` |" in table, kind
+    assert "g = f / cos ξ" in table and "crossed" in table and "open" in table
+    assert "A = (sin b cos φ, sin b sin φ, cos b)" in table
