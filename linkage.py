@@ -4,8 +4,8 @@ efficient microcomputer kinematic analysis of the basic linkage mechanisms", Mec
 Machine Theory, 1980s).
 
     python3 linkage.py                  the original program: menu 1-6, prompts, ANG/VEL/ACC.DAT
-    python3 linkage.py run TYPE ...     the same program driven by options (see --help)
-    python3 linkage.py analyse TYPE ... the linkage's type, ranges and transmission angle
+    python3 linkage.py run KIND ...     the same program driven by options (see --help)
+    python3 linkage.py analyse KIND ... the linkage's class, ranges and transmission angle
     python3 linkage.py scene NAME|FILE  a figure: the paper's, a coupler curve (scene --list)
     python3 linkage.py plot [DIR]       the figure of DAT files already written
     python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
@@ -4108,9 +4108,9 @@ def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
     motion as circuit_N.name lines."""
     a, linkage = analysis, analysis.linkage
     unit = "" if linkage.is_slider else " deg"
-    rows = [("mechanism", linkage.kind)]
+    rows = [("kind", linkage.kind)]
     rows += [(n, value_text(v)) for n, v in linkage.dims.items()]
-    rows += [("branch", str(a.branch)), ("type", a.type), ("criterion", a.criterion),
+    rows += [("branch", str(a.branch)), ("class", a.type), ("criterion", a.criterion),
              ("crank_range", _range_text(a.crank_range)),
              ("circuits", str(max(1, len(a.circuits))))]
     rows += _motion_rows(a, unit)
@@ -7238,8 +7238,9 @@ DATA = {
             ("psij = phij (mod 360): sin(xi - epsilon) = 0",
              lambda d: _near(d["psij"], d["phij"])),)),
         Datum("phi0", "initial crank angle", **_ANGLE),
-        Datum("a", "crank a/d", **_LENGTH),
-        Datum("c", "output c/d", **_LENGTH)),
+        Datum("a", "the crank over the frame, the review's a/d (run's --b over --a)", **_LENGTH),
+        Datum("c", "the output crank over the frame, the review's c/d (run's --d over --a)",
+              **_LENGTH)),
     "FOURB-FG3-1": (
         Datum("phi", "three crank angles", **_ANGLE, count=3, excluded=(
             ("a repeated input angle: a four-bar's output is one function of its input",
@@ -10095,8 +10096,8 @@ def machine() -> str:
 #   decimal_number, basic_answer, output_folder, run_command, CSV_CLIPPED, analyse_command,
 #   drawing_command, scene_command, plot_command, design_scene, design_command, ERRATUM, SCAN_LINE,
 #   scan_lines, annotated_listing, listing_command, bench_command, Option, option, Command,
-#   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, PNG_OPTIONS, COMMANDS, CommandParser, build_parser,
-#   main.
+#   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, DATUM_FLAGS, PNG_OPTIONS, COMMANDS, CommandParser,
+#   build_parser, main.
 
 
 ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
@@ -10128,8 +10129,8 @@ METHOD_HELP = {  # each method's --help: what it designs from what (the data: DA
     "FOURB-FG2-1": "A four-bar function generator (Chiang): while the crank turns through phij "
                    "from phi0 the output turns through psij (signed, counter-clockwise positive: "
                    "the motion itself, not only the end position), for a given crank a and "
-                   "output c (frame 1); finds the coupler and the output's start psi0. Up to two "
-                   "linkages.",
+                   "output c, ratios to the frame d = 1 (--crank-ratio, --output-ratio); finds "
+                   "the coupler and the output's start psi0. Up to two linkages.",
     "FOURB-FG3-1": "A four-bar function generator (Freudenstein's equation) through three "
                    "positions: the output at psi1, psi2, psi3 when the crank is at phi1, phi2, "
                    "phi3. The output angles are the review's: measured from the opposite "
@@ -10149,7 +10150,7 @@ DESIGN_OUTPUT_HELP = (
     "slider's line y = e), its branch (run --branch), the design positions (phi the crank, psi "
     "the output, x the slider; angles as the data give them), the transmission angle's extremes "
     "mu_min and mu_max; then, labelled review, the review's own numbers in its letters. Exit 0, "
-    "1 for data no design meets, 2 for a usage error, 3 when --analyze finds a miss.")
+    "1 for data no design meets, 2 for a usage error, 3 when --analyse finds a miss.")
 
 
 def datum_help(datum: Datum) -> str:
@@ -10864,12 +10865,13 @@ def option(*names: str, **settings: Any) -> Option:
 
 class Command(NamedTuple):
     """A sub-command: handler(args, parser) gives the exit status; help is its line in the
-    program's --help, description its own --help."""
+    program's --help, description its own --help; aliases its other spellings."""
 
     handler: Callable[[argparse.Namespace, argparse.ArgumentParser], int]
     help: str
     description: str
     options: tuple[Option, ...]
+    aliases: tuple[str, ...] = ()
 
 
 DIMENSION_HELP = {   # each letter's option: what it is, in the drawing's pivot names
@@ -10888,6 +10890,11 @@ KINDS_HELP = (f"the kind: {', '.join(MECHANISM_NAMES)} (or 1-5: "
               f"{', '.join(MECHANISM_NAMES.values())})")
 DIMENSIONS_HELP = ("Each kind's dimensions, in the order the menu asks for them: " + "; ".join(
     f"{kind}: {letters_defined(kind)}" for kind in MECHANISM_TYPES) + ".")
+# The design data whose option is not --name: lambda (a word of Python), and the review's letters
+# that run takes for lengths (FOURB-FG2-1's a and c are ratios to the frame: --a there is not
+# run's fixed link), each under a name that says what it is, the letter still taken.
+DATUM_FLAGS = {"lam": ("--lambda",), "a": ("--crank-ratio", "--a"),
+               "c": ("--output-ratio", "--c")}
 PNG_OPTIONS = (
     option("--png", metavar="OUT",
            help="write the figure as a PNG (needs matplotlib: python3 -m pip install matplotlib)"),
@@ -10904,7 +10911,7 @@ COMMANDS = {
         "The original program given these answers: writes ANG.DAT, VEL.DAT and ACC.DAT exactly "
         "as the menu would. Dimensions are typed as in the menu (degrees for the spherical "
         "linkage's arcs). " + DIMENSIONS_HELP,
-        (option("type", type=_mechanism_type, metavar="TYPE", help=KINDS_HELP),
+        (option("type", type=_mechanism_type, metavar="KIND", help=KINDS_HELP),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
          option("--skew", dest="old_skew", metavar="X", help=argparse.SUPPRESS),
          option("--from", dest="start", required=True, metavar="P1",
@@ -10942,20 +10949,22 @@ COMMANDS = {
                 help="with --precision double: the same numbers by the vectorised engine (needs "
                      "numpy: python3 -m pip install numpy)"))),
     "analyse": Command(
-        analyse_command, "the linkage's type, range of motion and transmission angle",
-        "The linkage's type (Grashof's class for the plane four-bar, b + |e| against c for the "
+        analyse_command, "the linkage's class, range of motion and transmission angle",
+        "The linkage's class (Grashof's for the plane four-bar, b + |e| against c for the "
         "plane slider-crank, the class its motion shows for the other kinds), the crank's range "
         "(full, or between its dead centres), the output's range and swing, the time ratio "
-        "(review eq. (5): the crank's turn while the output rises over its turn back), the "
-        "transmission angle's extremes with the crank angles where they occur, and the dead "
-        "centres and change points: one `name = value` a line. " + DIMENSIONS_HELP,
-        (option("type", type=_mechanism_type, metavar="TYPE", help=KINDS_HELP),
+        "(the slower stroke's crank turn over the faster's, >= 1; time_ratio_review: the "
+        "review's eq. (5)), the transmission angle's extremes with the crank angles where they "
+        "occur and the worst (furthest from 90), and the dead centres and change points: one "
+        "`name = value` a line (also spelt analyze). " + DIMENSIONS_HELP,
+        (option("type", type=_mechanism_type, metavar="KIND", help=KINDS_HELP),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
          option("--branch", choices=("1", "2", FOLLOW), default="1",
                 help="the assembly: 1 (A+B, the default), 2 (A-B), or follow (the motion "
                      "followed through change points from --start-branch)"),
          option("--start-branch", choices=("1", "2"), metavar="1|2",
-                help="with --branch follow: the branch the motion starts in (default 1)"))),
+                help="with --branch follow: the branch the motion starts in (default 1)")),
+        ("analyze",)),
     "scene": Command(
         scene_command, "draw a scene of data/scenes: the paper's figures, the hard cases, the "
                        "linkage moving",
@@ -10991,16 +11000,18 @@ COMMANDS = {
         "data/scenes/fig1a-plane-four-bar.toml (scene --help).",
         (option("directory", nargs="?", default=".", metavar="DIR",
                 help="the folder of the DAT files, or of folders of them (default: here)"),
-         option("--mechanism", type=_mechanism_type, metavar="TYPE",
-                help=f"{', '.join(MECHANISM_NAMES)} (or 1-5): gives the axes their units"),
+         option("--kind", "--mechanism", dest="mechanism", type=_mechanism_type,
+                metavar="KIND", help=f"{KINDS_HELP}: gives the axes their units (--mechanism: "
+                                     "the old spelling, still taken)"),
          *PNG_OPTIONS)),
     "design": Command(
         design_command, "synthesise a linkage by one of the review's methods (python3 "
                         "linkage.py design --help)",
         "Synthesis of four-bar and slider-crank function generators (Pennestri & Valentini's "
         "review); angles in degrees.",
-        (option("--analyze", action="store_true",
-                help="run the design through the analysis and print what it does"),
+        (option("--analyse", "--analyze", dest="analyze", action="store_true",
+                help="run the design through the analysis and print what it does (--analyze "
+                     "too)"),
          option("--dat", metavar="DIR",
                 help="write ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution there (engine, 0 "
                      "to 360 by 1 degree)"),
@@ -11060,7 +11071,8 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", parser_class=CommandParser)
     for name, command in COMMANDS.items():
         if name != "design":
-            sub = commands.add_parser(name, help=command.help, description=command.description)
+            sub = commands.add_parser(name, help=command.help, description=command.description,
+                                      aliases=command.aliases)
             sub.add_options(command.options)
             sub.set_defaults(handler=command.handler, parser=sub)
             continue
@@ -11073,9 +11085,9 @@ def build_parser() -> argparse.ArgumentParser:
                                      description=f"{method}: {METHOD_HELP[method]} "
                                                  f"{ANGLES_HELP}.", epilog=DESIGN_OUTPUT_HELP)
             for datum in DATA[method]:
-                flag = "--lambda" if datum.name == "lam" else "--" + datum.name.replace("_", "-")
+                flags = DATUM_FLAGS.get(datum.name, ("--" + datum.name.replace("_", "-"),))
                 counted: dict[str, Any] = {"nargs": 3} if datum.count == 3 else {}
-                sub.add_argument(flag, dest=datum.name, type=_design_number(flag),
+                sub.add_argument(*flags, dest=datum.name, type=_design_number(flags[0]),
                                  required=not datum.optional, help=datum_help(datum), **counted)
             sub.add_options(command.options)
             sub.set_defaults(handler=command.handler, parser=sub)

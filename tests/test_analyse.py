@@ -494,7 +494,7 @@ def designed(capsys, *argv):
 
 def test_fourb_cr_4_psi_60_mu_40_is_analysed_as_designed(capsys):
     values = designed(capsys, "fourb-cr-4", "--psi", "60", "--mu-min", "40")
-    assert values["type"] == "crank-rocker" and values["crank_range"] == "full"
+    assert values["class"] == "crank-rocker" and values["crank_range"] == "full"
     assert number(values["swing"]) == pytest.approx(60, abs=1e-7)
     assert number(values["time_ratio"]) == pytest.approx(1, abs=1e-9)
     assert number(values["mu_min"]) == pytest.approx(40, abs=1e-7)
@@ -508,7 +508,7 @@ def test_fourb_cr_4_review_example_psi_50_mu_30(capsys):
     values = designed(capsys, "fourb-cr-4", "--psi", "50", "--mu-min", "30")
     assert [f"{number(values[k]):.6f}" for k in "abcd"] == [
         "1.000000", "0.407014", "0.487998", "0.963078"]
-    assert values["type"] == "crank-rocker"
+    assert values["class"] == "crank-rocker"
     assert number(values["swing"]) == pytest.approx(50, abs=1e-7)
     assert number(values["time_ratio"]) == pytest.approx(1, abs=1e-9)
     assert number(values["mu_min"]) == pytest.approx(30, abs=1e-7)
@@ -520,7 +520,7 @@ def test_fourb_cr_1_review_example_theta_10_psi_50_theta0_30(capsys):
     180 + theta = 190 (and back in 170: time ratio 19/17), from the extended dead centre at
     theta0 = 30; printed mu_min = 47.022 (truncated, erratum S2) and mu_max = 96.380."""
     values = designed(capsys, "fourb-cr-1", "--theta", "10", "--psi", "50", "--theta0", "30")
-    assert values["type"] == "crank-rocker" and values["crank_range"] == "full"
+    assert values["class"] == "crank-rocker" and values["crank_range"] == "full"
     assert f"{math.trunc(number(values['mu_min']) * 1000) / 1000:.3f}" == "47.022"
     assert f"{number(values['mu_max']):.3f}" == "96.380"
     assert number(values["swing"]) == pytest.approx(50, abs=1e-7), values
@@ -548,7 +548,7 @@ def test_analyse_prints_the_analysis_lines(capsys):
         "plane", a=3.0, b=1.0, c=2.5, d=2.2)))
     assert out.splitlines() == expected
     values = dict(line.split(" = ", 1) for line in out.splitlines())
-    assert values["type"] == "crank-rocker" and values["branch"] == "1"
+    assert values["class"] == "crank-rocker" and values["branch"] == "1"
     # eq. (2a) and (2b) again, through the printed text (10 significant digits)
     assert number(values["mu_min"]) == pytest.approx(mu_review(3, 1, 2.5, 2.2, 0), abs=1e-7)
     assert number(values["mu_max"]) == pytest.approx(mu_review(3, 1, 2.5, 2.2, 180), abs=1e-7)

@@ -138,3 +138,59 @@ def test_the_conventions_table_has_a_row_a_kind_and_says_what_g_is():
         assert f"\n| `{kind}` |" in table, kind
     assert "g = f / cos ξ" in table and "crossed" in table and "open" in table
     assert "A = (sin b cos φ, sin b sin φ, cos b)" in table
+
+
+# -- one vocabulary (issue 33): kind, class; the old spellings still taken -----------------------
+
+def output_of(argv, capsys):
+    status = linkage.main(argv)
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+FG2_1 = ["design", "fourb-fg2-1", "--phij", "60", "--psij", "30", "--phi0", "50"]
+
+
+def test_design_fg2_1_names_its_ratios_as_ratios_and_still_takes_the_letters(capsys):
+    """FOURB-FG2-1's crank and output ratios (the review's a/d, c/d) are --crank-ratio and
+    --output-ratio, which say what they are; --a and --c, which run takes for lengths, still
+    mean them here, with the same answer."""
+    new = output_of(FG2_1 + ["--crank-ratio", "4", "--output-ratio", "2"], capsys)
+    old = output_of(FG2_1 + ["--a", "4", "--c", "2"], capsys)
+    assert new[0] == old[0] == 0 and new[1] == old[1] and "solution" in new[1], new
+    text = help_text("design", "fourb-fg2-1")
+    assert re.search(r"--crank-ratio A, --a A the crank over the frame", text), text
+    assert re.search(r"--output-ratio C, --c C the output crank over the frame", text), text
+    usage = text.split(" options:")[0]
+    assert "--a " not in usage and "--c " not in usage, usage
+
+
+@pytest.mark.parametrize("new, old", [
+    (["analyse", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9"],
+     ["analyze", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9"]),
+    (["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--analyse"],
+     ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--analyze"]),
+    (["plot", str(ROOT / "data" / "golden" / "plane-b1"), "--kind", "plane"],
+     ["plot", str(ROOT / "data" / "golden" / "plane-b1"), "--mechanism", "plane"])])
+def test_one_spelling_shown_the_other_taken(new, old, capsys):
+    got, before = output_of(new, capsys), output_of(old, capsys)
+    assert got[0] == before[0] == 0 and got[1] == before[1] and got[1], (got, before)
+
+
+def test_analyse_says_kind_and_class(capsys):
+    status, out, _ = output_of(["analyse", "plane", "--a", "6", "--b", "2", "--c", "7", "--d",
+                                "9"], capsys)
+    names = [line.split(" = ")[0] for line in out.splitlines()]
+    assert status == 0 and names[0] == "kind" and "class" in names, names
+    assert "type" not in names and "mechanism" not in names
+
+
+@pytest.mark.parametrize("argv", [[], ["run"], ["analyse"], ["plot"], ["design"],
+                                  ["design", "fourb-fg2-1"], ["scene"], ["listing"]])
+def test_the_help_calls_the_five_linkages_kinds_never_types(argv):
+    """One word a thing: a linkage of the five is a kind (KIND), Grashof's is a class; `type`
+    and `TYPE` are nowhere in the help (the retired words)."""
+    text = help_text(*argv)
+    assert not re.search(r"\btype\b", text, re.IGNORECASE), text
+    if argv in (["run"], ["analyse"]):
+        assert "KIND" in text and "the kind:" in text
