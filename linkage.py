@@ -48,6 +48,7 @@ import re
 import shutil
 import struct
 import sys
+import textwrap
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from decimal import Decimal
 from fractions import Fraction
@@ -10094,10 +10095,10 @@ def machine() -> str:
 # Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14, 15, 17, 18, 19 and 20.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
 #   decimal_number, basic_answer, output_folder, run_command, CSV_CLIPPED, analyse_command,
-#   drawing_command, scene_command, plot_command, design_scene, design_command, ERRATUM, SCAN_LINE,
-#   scan_lines, annotated_listing, listing_command, bench_command, Option, option, Command,
-#   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, DATUM_FLAGS, PNG_OPTIONS, COMMANDS, CommandParser,
-#   build_parser, main.
+#   drawing_command, scene_command, plot_command, design_scene, design_command, ERRATUM, KEPT_BUG,
+#   SCAN_LINE, scan_lines, erratum_reason, kept_bug_lines, annotated_listing, listing_command,
+#   bench_command, Option, option, Command, DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP,
+#   DATUM_FLAGS, PNG_OPTIONS, COMMANDS, CommandParser, build_parser, main.
 
 
 ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
@@ -10770,6 +10771,8 @@ def _positions_drawing(result: Synthesis) -> Drawing:
 
 
 ERRATUM = re.compile(r"^### ([EL]\d+)\. Lines? ([0-9, ]+): `(.+)` → `(.+)`$", re.MULTILINE)
+KEPT_BUG = re.compile(r"^### (K\d+)\. (.+)$((?:\n(?!#).*)*?)^On lines? ([0-9, –]+)\.$",
+                      re.MULTILINE)
 SCAN_LINE = re.compile(r"^(\d+|B30)\s")   # a line of the scan starts so (ERRATA.md L3, E22)
 
 
@@ -10794,11 +10797,39 @@ def scan_lines(scan: str, renumbered: dict[str, int]) -> dict[int, str]:
     return {n: " ".join(t.replace("\t", " ").split()) for n, t in lines.items()}
 
 
-def annotated_listing(listing: str, errata: str, scan: str | None = None) -> list[str]:
+def erratum_reason(errata: str, name: str) -> str:
+    """The one-line reason for correction `name` (E1, L4): what the program would do with the
+    scan's text left in (its `Left in:` clause), else the entry's first sentence."""
+    entry = re.search(rf"^### {name}\. .*$((?:\n(?!#).*)*)", errata, re.MULTILINE)
+    body = " ".join((entry[1] if entry else "").split()).replace("*", "")
+    left_in = re.search(r"Left in: (.*?)(?: Caught by:|$)", body)
+    if left_in:
+        return "left in: " + left_in[1]
+    return body.split(". ")[0].removesuffix(".") + "." if body else ""
+
+
+def kept_bug_lines(errata: str, numbers: Iterable[int]) -> dict[int, list[str]]:
+    """{listing line: ["K6: its title", ...]}: the bugs of the original kept (ERRATA.md Part 2),
+    on the lines of `numbers` (the listing's) each entry's `On lines ...` names (N–M: every
+    line from N to M)."""
+    kept: dict[int, list[str]] = {}
+    numbers = sorted(numbers)
+    for name, title, _, where in KEPT_BUG.findall(errata):
+        for low, high in re.findall(r"(\d+)(?:–(\d+))?", where):
+            for n in numbers:
+                if int(low) <= n <= int(high or low):
+                    kept.setdefault(n, []).append(f"{name}: {title}")
+    return kept
+
+
+def annotated_listing(listing: str, errata: str, scan: str | None = None,
+                      errata_path: str = "legacy_basic/ERRATA.md") -> list[str]:
     """The corrected listing (LINKAGE.BAS), each line that corrects the scan marked `*` in the
-    margin and followed by its errata (ERRATA.md's headings, `### E1. Line 210: ...`); with
-    `scan` (LINKAGE.OCR.txt), each line whose text the scan prints otherwise (white space
-    aside) followed by the scan's text."""
+    margin and followed by its errata (ERRATA.md's headings, `### E1. Line 210: ...`) and each
+    one's reason (erratum_reason), each line of a bug of the original kept marked `K` and
+    followed by its name (kept_bug_lines); with `scan` (LINKAGE.OCR.txt), each line whose text
+    the scan prints otherwise (white space aside) followed by the scan's text. errata_path is
+    where the reader finds ERRATA.md."""
     numbered = [(int(line.split(" ", 1)[0]), line) for line in listing.splitlines()]
     corrections: dict[int, list[str]] = {}
     renumbered = {}
@@ -10807,22 +10838,33 @@ def annotated_listing(listing: str, errata: str, scan: str | None = None) -> lis
         lines = [n for n, text in numbered if _squeezed(corrected) in _squeezed(text)]
         on = [n for n in lines if n in numbers] or lines
         for n in on:
-            corrections.setdefault(n, []).append(f"{name}: the scan printed `{printed}`, "
-                                                 f"corrected `{corrected}`")
+            corrections.setdefault(n, []).extend([
+                f"{name}: the scan printed `{printed}`, corrected `{corrected}`",
+                *textwrap.wrap(erratum_reason(errata, name), 88, initial_indent="    ",
+                               subsequent_indent="    ")])
+    kept = kept_bug_lines(errata, (n for n, _ in numbered))
+    for name, where, printed, corrected in ERRATUM.findall(errata):
         if printed.split()[0] != corrected.split()[0] and corrected.split()[0].isdigit():
             renumbered[printed.split()[0]] = int(corrected.split()[0])
     scanned = scan_lines(scan, renumbered) if scan is not None else {}
-    out = ["LINKAGE.BAS as corrected; * marks a line that corrects the scan "
-           "(legacy_basic/ERRATA.md)" + ("; scan: the scan's text where it differs" if scan
-                                          is not None else ""), ""]
+    out = [f"LINKAGE.BAS as corrected; * marks a line that corrects the scan, K a bug of the "
+           f"original kept ({errata_path})" + ("; scan: the scan's text where it differs"
+                                                if scan is not None else ""), ""]
     for number, text in numbered:
-        out.append(f"{'*' if number in corrections else ' '} {text}")
+        mark = "*" if number in corrections else "K" if number in kept else " "
+        out.append(f"{mark} {text}")
         out += [f"        {note}" for note in corrections.get(number, ())]
+        out += [f"        kept, {note}" for note in kept.get(number, ())]
         if scan is not None and _squeezed(scanned.get(number, "")) != _squeezed(text):
             out.append(f"        scan: {scanned.get(number, '(not in the scan)')}")
-    count = len({note.split(":")[0] for notes in corrections.values() for note in notes})
-    out += ["", f"{count} corrections on {len(corrections)} lines. The bugs of the original kept "
-                "(K1-K14) and where this port deviates (P1-P7): legacy_basic/ERRATA.md."]
+    count = len({note.split(":")[0] for notes in corrections.values() for note in notes
+                 if not note.startswith(" ")})
+    bugs = sorted({note.split(":")[0] for notes in kept.values() for note in notes},
+                  key=lambda k: int(k[1:]))
+    out += ["", *textwrap.wrap(
+        f"{count} corrections on {len(corrections)} lines; the bugs of the original kept "
+        f"({bugs[0]}-{bugs[-1]}) marked K where they live. Each explained, and where this port "
+        f"deviates (P1-P7): {errata_path}", 100, break_on_hyphens=False, break_long_words=False)]
     return out
 
 
@@ -10833,8 +10875,9 @@ def listing_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
                            for name in ("LINKAGE.BAS", "ERRATA.md"))
         scan = (open(shipped_file("legacy_basic", "LINKAGE.OCR.txt"), encoding="utf-8").read()
                 if args.ocr else None)
-        sys.stdout.write("".join(f"{printable(line)}\n"
-                                 for line in annotated_listing(listing, errata, scan)))
+        shown = annotated_listing(listing, errata, scan,
+                                  os.path.abspath(shipped_file("legacy_basic", "ERRATA.md")))
+        sys.stdout.write("".join(f"{printable(line)}\n" for line in shown))
     return _reported(show)
 
 
@@ -11032,7 +11075,9 @@ COMMANDS = {
         listing_command, "the original BASIC listing as corrected, with its errata",
         "The program of the paper's appendix as it must have run (legacy_basic/LINKAGE.BAS): "
         "each line that corrects the scan of the printed listing is marked * and followed by "
-        "its erratum (legacy_basic/ERRATA.md explains each one); --ocr also shows the scan's "
+        "its erratum and the reason for it, each line where a bug of the original lives, kept "
+        "as it ran (K1-K14), marked K and followed by its name; the last line names the "
+        "ERRATA.md that explains each one, where it was installed. --ocr also shows the scan's "
         "own text of every line it prints otherwise.",
         (option("--ocr", action="store_true",
                 help="show the scan's text (legacy_basic/LINKAGE.OCR.txt) under each line it "

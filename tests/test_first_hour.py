@@ -8,6 +8,7 @@ from __future__ import annotations
 import contextlib
 import io
 import math
+import os
 import random
 import re
 
@@ -194,3 +195,61 @@ def test_the_help_calls_the_five_linkages_kinds_never_types(argv):
     assert not re.search(r"\btype\b", text, re.IGNORECASE), text
     if argv in (["run"], ["analyse"]):
         assert "KIND" in text and "the kind:" in text
+
+
+# -- the listing: why each correction, where each kept bug --------------------------------------
+
+ERRATA = (ROOT / "legacy_basic" / "ERRATA.md").read_text(encoding="utf-8")
+
+
+@pytest.fixture(scope="module")
+def listing_lines():
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert linkage.main(["listing"]) == 0
+    return out.getvalue().splitlines()
+
+
+def notes_under(lines, number):
+    """The lines printed under listing line `number`, up to the next line of the listing."""
+    start = next(i for i, line in enumerate(lines) if re.match(rf"^[ *K] {number} ", line))
+    notes = []
+    for line in lines[start + 1:]:
+        if not line.startswith("        "):
+            break
+        notes.append(line.strip())
+    return lines[start], " ".join(notes)
+
+
+@pytest.mark.parametrize("name, number", [
+    (m[1], int(m[2].split(",")[0])) for m in re.finditer(r"^### (E\d+)\. Lines? ([0-9, ]+):",
+                                                         ERRATA, re.M)])
+def test_the_listing_gives_each_corrections_reason_under_its_line(listing_lines, name, number):
+    """Under each corrected line: the erratum and why (ERRATA.md's "Left in:" clause, what the
+    scan's text would have done), not only the erratum's name."""
+    if name == "E30":                       # the scan's 1245 is line 1265 (the line moved)
+        number = 1265
+    line, notes = notes_under(listing_lines, number)
+    entry = re.search(rf"^### {name}\. .*$((?:\n(?!#).*)*)", ERRATA, re.M)[1]
+    left_in = " ".join(entry.split()).replace("*", "").split("Left in: ")[1].split(" Caught")[0]
+    assert line.startswith("*") and f"{name}: the scan printed" in notes, (line, notes)
+    assert f"left in: {left_in}" in notes, (name, notes)
+
+
+@pytest.mark.parametrize("name", [f"K{k}" for k in range(1, 15)])
+def test_the_listing_marks_each_kept_bug_on_its_lines(listing_lines, name):
+    where = re.search(rf"^### {name}\. (.+)$(?:\n(?!#).*)*?^On lines? ([0-9, –]+)\.$", ERRATA,
+                      re.M)
+    assert where, name
+    first = int(re.match(r"\d+", where[2])[0])
+    line, notes = notes_under(listing_lines, first)
+    assert line[0] in "*K" and f"kept, {name}: {where[1]}" in notes, (line, notes)
+
+
+def test_the_listing_names_the_errata_file_it_read(listing_lines):
+    """The path it names is the file itself (absolute: it need not be where the user is), not
+    `legacy_basic/ERRATA.md` relative to a folder the user is not in."""
+    text = " ".join(listing_lines)
+    named = re.findall(r"(/\S*ERRATA\.md)", text)
+    assert named and all(os.path.samefile(n, ROOT / "legacy_basic" / "ERRATA.md")
+                         for n in named), named
