@@ -8733,8 +8733,9 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
                 "\"follow\" (the motion followed from branch 1 through change points)",
     "precision": "basic, double or both",
     "fast": "true or false: the double-precision numbers by the vectorised engine (needs numpy)",
-    "panels": "a list of 1 to 3 tables [[panels]], each with quantities and optional limits; "
-              "or one [[panels]] with quantities = [\"mechanism\"] and optional angles",
+    "panels": "a list of 1 to 3 tables [[panels]], each with quantities and optional limits "
+              "and notes; or one [[panels]] with quantities = [\"mechanism\"] and optional "
+              "angles",
     "coupler": "[u] or [u, v], a mechanism scene's point of the coupler (as run --coupler): "
                "drawn on the coupler, its curve traced on each branch, the transmission angle "
                "charted",
@@ -8770,6 +8771,7 @@ class PanelSpec(NamedTuple):
     quantities: tuple[str, ...]
     limits: tuple[float, float] | None      # the y range, or None: from the data
     angles: tuple[float, ...] | None = None  # a mechanism panel's input angles (None: the sweep)
+    notes: tuple[tuple[float, float, str], ...] = ()    # (x, y, text): said on the PNG there
 
 
 class Scene(NamedTuple):
@@ -8992,7 +8994,7 @@ def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, .
     specs = []
     for i, panel in enumerate(panels, 1):
         key = f"panels[{i}]"
-        _unknown_keys(path, panel, ("quantities", "limits"), f"{key}.")
+        _unknown_keys(path, panel, ("quantities", "limits", "notes"), f"{key}.")
         quantities = panel.get("quantities")
         if (not isinstance(quantities, list) or not quantities
                 or not all(q in QUANTITIES for q in quantities)
@@ -9006,8 +9008,27 @@ def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, .
             raise scene_error(path, f"{key}.limits", "[low, high], two numbers, low < high",
                                limits)
         specs.append(PanelSpec(tuple(quantities),
-                               None if limits is None else (float(limits[0]), float(limits[1]))))
+                               None if limits is None else (float(limits[0]), float(limits[1])),
+                               notes=_panel_notes(path, f"{key}.notes", panel.get("notes", []))))
     return tuple(specs)
+
+
+def _panel_notes(path: str, key: str, notes: Any) -> tuple[tuple[float, float, str], ...]:
+    """A panel's notes: [{at = [x, y], text = "..."}, ...], each said on the PNG with an arrow
+    to the point (x, y) of the panel (e.g. what an artefact of the listing is)."""
+    expected = "a list of tables {at = [x, y], text = \"...\"}"
+    if not isinstance(notes, list) or len(notes) > 10:
+        raise scene_error(path, key, expected, notes)
+    out = []
+    for note in notes:
+        at = note.get("at") if isinstance(note, dict) else None
+        text = note.get("text") if isinstance(note, dict) else None
+        if (set(note) != {"at", "text"} or not isinstance(at, list) or len(at) != 2
+                or not all(_is_number(v) and math.isfinite(v) for v in at)
+                or not isinstance(text, str) or not text.strip()):
+            raise scene_error(path, key, expected, note)
+        out.append((float(at[0]), float(at[1]), printable(text)))
+    return tuple(out)
 
 
 def _scene_title(path: str, data: dict[str, Any]) -> str:
@@ -9258,6 +9279,7 @@ class Panel(NamedTuple):
     labels: tuple[tuple[str, str, str], ...]             # (name, symbol, unit) per quantity
     curves: tuple[Curve, ...]
     limits: tuple[float, float] | None
+    notes: tuple[tuple[float, float, str], ...] = ()       # (x, y, text): said on the PNG
 
 
 class Figure(NamedTuple):
@@ -9346,7 +9368,8 @@ def build_figure(title: str, subtitle: str, group: str, specs: Sequence[PanelSpe
                 reference = next((c for c in curves if c.quantity == quantity), None)
                 curves.append(_turned(curve, reference) if angles and reference else curve)
         labels = tuple(AXIS_LABELS[group][q] for q in spec.quantities)
-        panels.append(Panel(letter, spec.quantities, labels, tuple(curves), spec.limits))
+        panels.append(Panel(letter, spec.quantities, labels, tuple(curves), spec.limits,
+                            spec.notes))
     return Figure(title, subtitle, INPUT_AXIS, tuple(panels))
 
 
@@ -9600,6 +9623,12 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
         ax.tick_params(labelsize=8)
         if len(panel.curves) > 1:
             ax.legend(fontsize=7, loc="best")
+        for x, y, text in panel.notes:
+            ax.annotate(textwrap.fill(_pretty(text), 46), (x, y), xytext=(0.03, 0.06),
+                        textcoords="axes fraction", ha="left", va="bottom", fontsize=7.5,
+                        color="#8b0000",
+                        bbox=dict(boxstyle="round,pad=0.3", fc="#fff8e7", ec="#8b0000", lw=0.6),
+                        arrowprops=dict(arrowstyle="->", color="#8b0000", lw=0.8))
     import io
     image = io.BytesIO()
     mpl.savefig(image, format="png")

@@ -253,3 +253,24 @@ def test_the_listing_names_the_errata_file_it_read(listing_lines):
     named = re.findall(r"(/\S*ERRATA\.md)", text)
     assert named and all(os.path.samefile(n, ROOT / "legacy_basic" / "ERRATA.md")
                          for n in named), named
+
+
+# -- the pictures say what an engineer would otherwise misread ----------------------------------
+
+def test_fig3_says_on_its_panel_b_that_the_spike_is_the_listings_artefact():
+    """Fig. 3's panel (b) dips to -3 at 180 degrees: the scene puts the erratum on the figure, with
+    an arrow to that point (the PNG draws it), so that it is not read as the linkage's motion."""
+    scene = linkage.load_scene(linkage.scene_path("fig3"))
+    (x, y, text), = scene.panels[1].notes
+    assert (x, y) == (180.0, -3.0) and "K6" in text and "artefact" in text
+
+
+@pytest.mark.parametrize("notes", ['"x"', '[{ at = [180], text = "t" }]',
+                                   '[{ at = [1, 2], text = "" }]',
+                                   '[{ at = [1, 2], text = "t", colour = 1 }]'])
+def test_a_bad_note_is_refused_naming_its_key(notes, tmp_path, capsys):
+    text = (ROOT / "data" / "scenes" / "fig3-plane-four-bar.toml").read_text(encoding="utf-8")
+    bad = tmp_path / "bad.toml"
+    bad.write_text(re.sub(r"(?m)^notes = .*$", f"notes = {notes}", text), encoding="utf-8")
+    status, out, err = output_of(["scene", str(bad)], capsys)
+    assert status == 1 and "panels[2].notes" in err and "Traceback" not in err, err
