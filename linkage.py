@@ -5724,9 +5724,9 @@ def dat_precision(directory: str) -> str:
 #
 # Uses: sections 2, 6, 7 and 11.
 # Offers: Point, Box, Stroke, Mark, Label, Letters, Layer, Frame, Drawing, MECHANISM_EXAMPLES,
-#   STROKE_STYLES, VIEWS, project, Segment, stroke_segments, place_labels, mechanism_drawing,
-#   spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale, svg_radius,
-#   svg_letters.
+#   STROKE_STYLES, FAR_SIDE, VIEWS, project, Segment, stroke_segments, place_labels,
+#   mechanism_drawing, spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale,
+#   svg_radius, svg_letters.
 
 
 # -- the drawing: what every renderer draws ------------------------------------------------------
@@ -5811,10 +5811,15 @@ MECHANISM_EXAMPLES = {
 
 # link: a moving link; ground: the fixed link and the slider's guide; hatch: the ground's
 # hatching; axis: a shaft axis (dash-dot); path: a joint's traced path (dotted); hidden: a link
-# behind the sphere (dashed); outline: the sphere; dimension: a dimension line (thin).
+# behind the sphere (dashed); outline: the sphere; dimension: a dimension line (thin). A line
+# style means one thing: dashes are the far side of the sphere (a coupler curve's far side is
+# its colour dashed: FAR_SIDE), a curve's branch is its colour.
 STROKE_STYLES = ("link", "ground", "hatch", "axis", "path", "hidden", "outline", "dimension",
                  "coupler", "coupler-other", "coupler-follow",   # the coupler curve of the frames'
-                 "marked")      # branch, of the other, of the motion followed; a marked position
+                 "marked",      # branch, of the other, of the motion followed; a marked position
+                 "coupler-far", "coupler-other-far", "coupler-follow-far")   # behind the sphere
+FAR_SIDE = {"coupler": "coupler-far", "coupler-other": "coupler-other-far",
+            "coupler-follow": "coupler-follow-far"}     # a style behind the sphere; else hidden
 
 # Oblique views (azimuth, elevation in degrees) of the 3-D linkages: the input axis z upright on
 # the page, seen from a little above.
@@ -5967,8 +5972,8 @@ def _vector(components: Iterable[float]) -> Vector:
 
 
 def _sphere_strokes(kind: str, points: list[Vector], style: str) -> list[Stroke]:
-    """3-D points on the unit sphere as page strokes: `style` where they face the viewer, hidden
-    (dashed) behind the sphere."""
+    """3-D points on the unit sphere as page strokes: `style` where they face the viewer, behind
+    the sphere its FAR_SIDE style (a coupler curve's), else hidden."""
     view = _view(kind)
     assert view is not None                 # drawn in the spherical four-bar's view
     toward = view[2]
@@ -5979,12 +5984,13 @@ def _sphere_strokes(kind: str, points: list[Vector], style: str) -> list[Stroke]
         facing = dot(p, toward) >= 0.0
         if run and facing != front:
             if len(run) > 1:                    # a lone point is no stroke
-                strokes.append(Stroke(tuple(run), style if front else "hidden"))
+                strokes.append(Stroke(tuple(run), style if front
+                                      else FAR_SIDE.get(style, "hidden")))
             run = run[-1:]
         run.append(project(kind, p))
         front = facing
     if len(run) > 1:
-        strokes.append(Stroke(tuple(run), style if front else "hidden"))
+        strokes.append(Stroke(tuple(run), style if front else FAR_SIDE.get(style, "hidden")))
     return strokes
 
 
@@ -6264,7 +6270,7 @@ def _extent(points: Sequence[Point]) -> Box:
 
 # Strokes no letter may touch (with the marks and the other letters); the rest (axes, paths,
 # curves, the sphere) a letter keeps off where it can.
-_SOLID_STYLES = ("link", "ground", "hatch", "hidden")
+_SOLID_STYLES = ("link", "ground", "hatch", "hidden", *FAR_SIDE.values())
 _ALONG = (0.5, 0.38, 0.62, 0.26, 0.74, 0.14, 0.86)   # where along what it names a letter may go
 # The spots beside it, cheapest first: (cost, where along, how far out, other side or not).
 _BESIDE = sorted((step + 0.4 * other + 3.0 * abs(along - 0.5), along, step, other)
@@ -6428,10 +6434,11 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
     over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS).
 
     coupler (u, v): the point of Linkage.coupler drawn on the coupler in each frame, its curve
-    traced over the sweep on `branch` (solid) and on each branch of `traced` (dashed; FOLLOW:
-    the motion followed from `branch`), and the transmission angle told in each caption and
-    charted along the sweep (Drawing.chart). marked: input angles at which the linkage is drawn
-    faint under every frame, numbered 1, 2, ... at the output (a design's positions)."""
+    traced over the sweep on `branch` and on each branch of `traced` (FOLLOW: the motion
+    followed from `branch`), each in a style of its own, and the transmission angle told in each
+    caption and charted along the sweep (Drawing.chart). marked: input angles at which the
+    linkage is drawn faint under every frame, numbered 1, 2, ... at the output (a design's
+    positions)."""
     kind = linkage.kind
     if coupler is not None:
         coupler = check_coupler_point(linkage, *coupler)
@@ -6490,9 +6497,8 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
     if subtitle is None:
         subtitle = f"branch {branch} ({'A+B' if branch == 1 else 'A-B'})"
     if coupler is not None:
-        others = ", ".join("followed dotted" if b == FOLLOW else f"branch {b} dashed"
-                           for b in traced)
-        subtitle += f"; P({coupler[0]:g}, {coupler[1]:g})" + (f" solid, {others}" if others else "")
+        others = "".join(", followed" if b == FOLLOW else f", branch {b}" for b in traced)
+        subtitle += f"; P({coupler[0]:g}, {coupler[1]:g}) traced on branch {branch}{others}"
     return Drawing(title, subtitle, kind, ground, frames, bounds, size, letters, chart)
 
 
@@ -6542,7 +6548,7 @@ def svg_letters(bounds: Box, size: float) -> Letters:
 # key), an animated SVG, a PNG (matplotlib). The SVG's letters are those placed in the Drawing; the
 # terminal and the PNG place them again for the sizes they draw letters at.
 #
-# Uses: sections 1 and 13.
+# Uses: sections 1, 2, 8 and 13.
 # Offers: text_drawing, frame_seconds, show_drawing, svg_drawing, PlotUnavailable,
 #   matplotlib_canvas, png_drawing.
 
@@ -6556,6 +6562,12 @@ def svg_letters(bounds: Box, size: float) -> Letters:
 # pattern in dots along the stroke (on, off, ...); styles not listed are solid.
 _TEXT_ORDER = ("outline", "path", "axis", "dimension", "marked", "hidden", "coupler-follow",
                "coupler-other", "coupler", "hatch", "ground", "link")
+_FAR_STYLES = frozenset(FAR_SIDE.values())     # drawn as hidden in text: dots carry no colour
+
+
+def _text_style(style: str) -> str:
+    """The style a stroke is drawn in as text (and ordered by in every renderer)."""
+    return "hidden" if style in _FAR_STYLES else style
 _TEXT_DASHES = {"outline": (1, 1), "path": (1, 2), "axis": (4, 2, 1, 2), "dimension": (1, 1),
                 "coupler-other": (3, 3), "coupler-follow": (1, 2),
                 "hidden": (2, 2), "marked": (1, 1)}
@@ -6611,15 +6623,15 @@ class _DotGrid:
         return p[0] * self.scale + self.left, self.top - p[1] * self.scale / self.aspect
 
     def stroke(self, stroke: Stroke) -> None:
-        dashes = _TEXT_DASHES.get(stroke.style)
+        style = _text_style(stroke.style)
+        dashes = _TEXT_DASHES.get(style)
         travelled = 0.0
         for p, q in zip(stroke.points, stroke.points[1:]):
             (x0, y0), (x1, y1) = self.dot(p), self.dot(q)
             dx, dy = x1 - x0, (y1 - y0) * self.aspect
             length = math.hypot(dx, dy)
             char = {"path": ".", "outline": ".", "coupler": "*", "coupler-other": "+",
-                    "coupler-follow": ":"}.get(
-                stroke.style) or _ascii_line(dx, dy)
+                    "coupler-follow": ":"}.get(style) or _ascii_line(dx, dy)
             steps = max(1, math.ceil(2 * max(abs(x1 - x0), abs(y1 - y0))))
             for i in range(steps + 1):
                 if dashes is None or _dash_on(dashes, travelled + i / steps * length):
@@ -6675,7 +6687,7 @@ def text_drawing(drawing: Drawing, index: int = 0, width: int = 80, height: int 
     grid = _DotGrid(width, height - 3, drawing.bounds, unicode)
     strokes = [s for s in drawing.ground.strokes + frame.layer.strokes       # hatching too fine
                if s.style != "hatch" or math.dist(*s.points[:2]) * grid.scale >= 3.0]  # is a blot
-    for stroke in sorted(strokes, key=lambda s: _TEXT_ORDER.index(s.style)):
+    for stroke in sorted(strokes, key=lambda s: _TEXT_ORDER.index(_text_style(s.style))):
         grid.stroke(stroke)
     marks = drawing.ground.marks + frame.layer.marks
     labels = [label._replace(text=_plain(label.text, unicode)) for label in frame.layer.labels]
@@ -6795,9 +6807,12 @@ polyline.hidden{stroke:#6a6a6a;stroke-width:2;stroke-dasharray:6 4}
 polyline.outline{stroke:#b5b5b5;stroke-width:1.3}
 polyline.dimension{stroke:#7a7a7a;stroke-width:0.9}
 polyline.coupler{stroke:#c0392b;stroke-width:2}
-polyline.coupler-other{stroke:#e67e22;stroke-width:2;stroke-dasharray:8 5}
-polyline.coupler-follow{stroke:#8e44ad;stroke-width:2.4;stroke-dasharray:2 4}
-polyline.marked{stroke:#2e8b57;stroke-width:2;stroke-dasharray:5 3}
+polyline.coupler-other{stroke:#e67e22;stroke-width:1.6}
+polyline.coupler-follow{stroke:#8e44ad;stroke-width:2.4}
+polyline.coupler-far{stroke:#c0392b;stroke-width:1.4;stroke-dasharray:6 4}
+polyline.coupler-other-far{stroke:#e67e22;stroke-width:1.2;stroke-dasharray:6 4}
+polyline.coupler-follow-far{stroke:#8e44ad;stroke-width:1.6;stroke-dasharray:6 4}
+polyline.marked{stroke:#2e8b57;stroke-width:2;stroke-opacity:0.7}
 polyline.chart{stroke:#2f6db3;stroke-width:1.6}
 polyline.grid{stroke:#ccc;stroke-width:1}
 .joint,.pivot{fill:#fff;stroke:#1b1b1b;stroke-width:2}
@@ -6829,7 +6844,8 @@ class _SvgPage(NamedTuple):
 
 def _svg_layer(page: _SvgPage, layer: Layer, size: float) -> list[str]:
     out = [f'<polyline class="{s.style}" points="{" ".join(page.xy(p) for p in s.points)}"/>'
-           for s in sorted(layer.strokes, key=lambda s: _TEXT_ORDER.index(s.style))]
+           for s in sorted(layer.strokes,
+                           key=lambda s: _TEXT_ORDER.index(_text_style(s.style)))]
     radius = svg_radius(size, page.scale)
     out += [f'<circle class="{m.kind}" data-joint="{m.name}" {page.attrs(m.at, "cx", "cy")} '
             f'r="{radius:.1f}"/>' for m in layer.marks]
@@ -6955,23 +6971,41 @@ _PNG_STYLES: dict[str, dict[str, Any]] = {"link": dict(color="#1b1b1b", linewidt
                "outline": dict(color="#b5b5b5", linewidth=1.0),
                "dimension": dict(color="#7a7a7a", linewidth=0.7),
                "coupler": dict(color="#c0392b", linewidth=1.6),
-               "coupler-other": dict(color="#e67e22", linewidth=1.6, linestyle="--"),
-               "coupler-follow": dict(color="#8e44ad", linewidth=1.8, linestyle=":"),
-               "marked": dict(color="#2e8b57", linewidth=1.4, linestyle="--")}
+               "coupler-other": dict(color="#e67e22", linewidth=1.2),
+               "coupler-follow": dict(color="#8e44ad", linewidth=1.8),
+               "coupler-far": dict(color="#c0392b", linewidth=1.1, linestyle="--"),
+               "coupler-other-far": dict(color="#e67e22", linewidth=0.9, linestyle="--"),
+               "coupler-follow-far": dict(color="#8e44ad", linewidth=1.2, linestyle="--"),
+               "marked": dict(color="#7fbf9a", linewidth=1.4)}
 
 
 _PNG_LETTER, _PNG_MARK = 13, 6          # points: the letters' font size, the marks' size
 
 
-def _png_layer(ax: matplotlib.axes.Axes, layer: Layer, alpha: float, marks: bool) -> None:
+def _png_layer(ax: matplotlib.axes.Axes, layer: Layer, alpha: float, marks: bool,
+               zorder: float = 2.0) -> None:
     for stroke in layer.strokes:
         xs, ys = zip(*stroke.points)
-        ax.plot(xs, ys, alpha=alpha, solid_capstyle="round", **_PNG_STYLES[stroke.style])
+        ax.plot(xs, ys, alpha=alpha, solid_capstyle="round", zorder=zorder,
+                **_PNG_STYLES[stroke.style])
     if marks:
         for mark in layer.marks:
             ax.plot(*mark.at, marker="D" if mark.kind == "point" else "o",
-                    markersize=_PNG_MARK, markeredgewidth=1.4, zorder=5, color="#1b1b1b",
+                    markersize=_PNG_MARK, markeredgewidth=1.4, zorder=zorder + 4,
+                    color="#1b1b1b",
                     markerfacecolor={"pivot": "#d8d8d8", "point": "#c0392b"}.get(mark.kind, "w"))
+            if mark.kind == "point":
+                ax.annotate("P", mark.at, xytext=(7, 7), textcoords="offset points",
+                            fontsize=_PNG_LETTER - 2, fontweight="bold", color="#c0392b",
+                            zorder=zorder + 5)
+
+
+# What each curve's line means, for the PNG's legend: (style, words), shown where drawn.
+_PNG_LEGEND = (("coupler", "P's curve, the frames' branch"), ("coupler-other", "P's curve, "
+               "the other branch"), ("coupler-follow", "P's curve, the motion followed"),
+               ("hidden", "dashed: behind the sphere (a curve in its colour)"), ("path", "a joint's path (dotted)"),
+               ("axis", "a shaft's axis (dash-dot)"))
+_EXTREME_COLOUR = "#b0307a"
 
 
 def _png_letters(mpl: matplotlib.figure.Figure, ax: matplotlib.axes.Axes, drawing: Drawing,
@@ -6991,19 +7025,76 @@ def _png_letters(mpl: matplotlib.figure.Figure, ax: matplotlib.axes.Axes, drawin
 
 def _png_chart(ax: matplotlib.axes.Axes, chart: Sequence[tuple[float, float | None]],
                marked: Sequence[float]) -> None:
-    """The transmission angle along the sweep, the drawn positions marked."""
+    """The transmission angle along the sweep, the drawn positions marked: scaled to its range
+    and 90 degrees (the best), the worst (furthest from 90) of the points swept marked."""
     for run in _chart_runs(chart):
         ax.plot(*zip(*run), color="#2f6db3", linewidth=1.4)
     shown = dict(chart)
     dots = [(p, mu) for p in marked if (mu := shown.get(p)) is not None]
     ax.plot([p for p, _ in dots], [mu for _, mu in dots], "o", color="#2f6db3", markersize=3)
-    ax.axhline(90.0, color="#999999", linewidth=0.8, linestyle="--")
-    ax.set_ylim(0.0, 180.0)
-    ax.set_yticks([0, 30, 60, 90, 120, 150, 180])
-    ax.set_xlabel("input angle φ [deg]", fontsize=8)
+    values = [(mu, phi) for phi, mu in chart if mu is not None]
+    low = min([90.0] + [mu for mu, _ in values])
+    high = max([90.0] + [mu for mu, _ in values])
+    pad = max(2.0, 0.08 * (high - low))
+    ax.set_ylim(max(0.0, low - pad), min(180.0, high + pad))
+    ax.axhline(90.0, color="#1e7b45", linewidth=0.9, linestyle="-.")
+    ax.annotate("90° best", (1.0, 90.0), xycoords=("axes fraction", "data"), xytext=(-3, 3),
+                textcoords="offset points", ha="right", fontsize=7, color="#1e7b45")
+    worst = ""
+    if values:
+        mu, phi = max(values, key=lambda v: abs(v[0] - 90.0))
+        ax.plot([phi], [mu], "o", markersize=7, markerfacecolor="none", color="#c0392b",
+                markeredgewidth=1.5)
+        worst = f"\nworst μ (circled) {mu:.1f}° at {phi:g}°"
+    ax.set_xlabel("input angle φ [deg]" + worst, fontsize=8)
     ax.set_ylabel("transmission angle μ [deg]", fontsize=8)
     ax.tick_params(labelsize=7)
     ax.grid(True, linewidth=0.3)
+
+
+def _png_scale_bar(ax: matplotlib.axes.Axes, bounds: Box) -> None:
+    """A bar of a round length (1, 2 or 5 times a power of ten, about a fifth of the width) at
+    the drawing's lower left, in the linkage's lengths (the plane kinds, drawn as they lie)."""
+    x0, y0, x1, y1 = bounds
+    target = (x1 - x0) / 5.0
+    power = 10.0 ** math.floor(math.log10(target))
+    length = max((k * power for k in (1.0, 2.0, 5.0) if k * power <= target), default=power)
+    y = y0 + 0.03 * (y1 - y0)
+    ax.plot([x0, x0 + length], [y, y], color="#1b1b1b", linewidth=2.0, solid_capstyle="butt")
+    for x in (x0, x0 + length):
+        ax.plot([x, x], [y - 0.01 * (y1 - y0), y + 0.01 * (y1 - y0)], color="#1b1b1b",
+                linewidth=1.0)
+    ax.text(x0 + length / 2, y + 0.015 * (y1 - y0), f"{length:g} (the lengths' unit)",
+            ha="center", va="bottom", fontsize=7)
+
+
+def _png_extremes(ax: matplotlib.axes.Axes, drawing: Drawing) -> None:
+    """The output's extremes among the frames (sampled at the sweep's step): the output pin
+    there, and for a four-bar its crank from B0, green, each with its value and angle."""
+    kind = drawing.kind
+    slider = kind in SLIDER_CRANKS
+    posed = [f.pose for f in drawing.frames if f.message is None and f.pose.output is not None]
+    if len(posed) < 2:
+        return
+    name = "x" if slider else "ψ"
+    unit = "" if slider else "°"
+    along = unwrapped([p.output or 0.0 for p in posed], not slider)   # across +-180 as it moves
+    if not slider and max(along) - min(along) >= 359.0:
+        return                                  # the output turns fully: no extremes
+    low = min(along)
+    shift = 0.0 if slider else (low + 180.0) % 360.0 - 180.0 - low    # the min in [-180, 180)
+    for i, which in ((along.index(min(along)), "min"), (along.index(max(along)), "max")):
+        pose = posed[i]
+        pin = project(kind, pose.joints["C" if slider else "B"])
+        if not slider and "B0" in pose.joints and kind != SPHERICAL_FOUR_BAR:
+            b0 = project(kind, pose.joints["B0"])
+            ax.plot([b0[0], pin[0]], [b0[1], pin[1]], color=_EXTREME_COLOUR, linewidth=1.6,
+                    alpha=0.8, zorder=3)
+        ax.plot(*pin, marker="s", markersize=5, color=_EXTREME_COLOUR, zorder=7)
+        ax.annotate(f"{name} {which} {along[i] + shift:.4g}{unit}\n(φ = {pose.phi:g}°)", pin,
+                    xytext=(8, -14 if which == "min" else 6), textcoords="offset points",
+                    fontsize=7, color=_EXTREME_COLOUR, zorder=7,
+                    bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
 
 
 class PlotUnavailable(RuntimeError):
@@ -7043,10 +7134,12 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
         _png_chart(chart, drawing.chart, [f.pose.phi for f in chosen])
     else:
         ax = mpl.add_subplot()
-    _png_layer(ax, drawing.ground, 1.0, True)
-    for i, frame in enumerate(chosen):
-        last = i == len(chosen) - 1
-        _png_layer(ax, frame.layer, 1.0 if last else 0.12 + 0.5 * i / len(chosen), last)
+    for i, frame in enumerate(chosen[:-1]):      # the faint positions under the ground
+        _png_layer(ax, frame.layer, 0.12 + 0.5 * i / len(chosen), False, 1.0)
+    _png_layer(ax, drawing.ground, 1.0, True, 2.0)   # pivots and their hatching on top of them
+    _png_layer(ax, chosen[-1].layer, 1.0, True, 3.0)
+    if len(chosen) > 1:
+        _png_extremes(ax, drawing)
     caption = chosen[-1].message or chosen[-1].caption
     if len(chosen) > 1:
         caption = f"{len(chosen)} positions, faint to solid; the last at {caption}"
@@ -7055,6 +7148,16 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")
     ax.set_axis_off()
+    if drawing.kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
+        _png_scale_bar(ax, drawing.bounds)
+    drawn = {s.style for layer in [drawing.ground, chosen[-1].layer] for s in layer.strokes}
+    import matplotlib.lines
+    drawn |= {"hidden"} if drawn & set(FAR_SIDE.values()) else set()
+    handles = [matplotlib.lines.Line2D([], [], **_PNG_STYLES[style], label=words)
+               for style, words in _PNG_LEGEND if style in drawn or FAR_SIDE.get(style) in drawn]
+    if handles:
+        mpl.legend(handles=handles, fontsize=7, loc="outside lower center",
+                   ncols=min(3, len(handles)), frameon=False)
     _png_letters(mpl, ax, drawing, chosen[-1])
     out = io.BytesIO()
     mpl.savefig(out, format="png")

@@ -16,6 +16,7 @@ import pytest
 
 import linkage
 from support.basic_runner import ROOT
+from support.peers import need
 
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 # what each letter of run's dimensions is, in the words a definition must use
@@ -274,3 +275,28 @@ def test_a_bad_note_is_refused_naming_its_key(notes, tmp_path, capsys):
     bad.write_text(re.sub(r"(?m)^notes = .*$", f"notes = {notes}", text), encoding="utf-8")
     status, out, err = output_of(["scene", str(bad)], capsys)
     assert status == 1 and "panels[2].notes" in err and "Traceback" not in err, err
+
+
+def test_dashes_mean_the_far_side_of_the_sphere_and_nothing_else():
+    """In the PNG and the SVG a dashed line is behind the sphere (a link grey, a coupler curve in
+    its colour); the other branch's curve is its colour, solid (before: dashed, as the far side)."""
+    dashed = {style for style, look in linkage._PNG_STYLES.items() if look.get("linestyle") == "--"}
+    assert dashed == {"hidden", *linkage.FAR_SIDE.values()}
+    css = dict(re.findall(r"polyline\.([\w-]+)\{([^}]*)\}", linkage._SVG_STYLE))
+    svg_dashed = {style for style, rule in css.items()
+                  if re.search(r"dasharray:([2-9]|\d\d+) \d+(;|$)", rule)}   # not dots: 1 n
+    assert svg_dashed == dashed, svg_dashed
+    link = linkage.Linkage("spherical", a=80, b=20, c=75, d=60)
+    drawing = linkage.mechanism_drawing(link, [0.0, 90.0], 1, coupler=(60.0, 50.0), traced=[2])
+    styles = {s.style for s in drawing.ground.strokes}
+    assert "coupler-other-far" in styles and "coupler-other" not in styles, styles
+
+
+def test_the_mu_chart_spans_mus_range_and_90_and_circles_the_worst():
+    Figure = need("matplotlib.figure").Figure
+    chart = [(phi, 60.0 + 10.0 * math.cos(math.radians(phi))) for phi in range(0, 361, 10)]
+    ax = Figure().add_subplot()
+    linkage._png_chart(ax, chart, [])
+    low, high = ax.get_ylim()
+    assert 40 < low < 50 and 90 <= high < 100, (low, high)     # not 0 to 180
+    assert "worst μ (circled) 50.0° at 180°" in ax.get_xlabel()
