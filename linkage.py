@@ -5798,6 +5798,7 @@ class Drawing(NamedTuple):
     letters: Letters
     chart: tuple[tuple[float, float | None], ...] | None = None   # the transmission angle
     #                                                    along the sweep: ((phi, mu), ...)
+    coupler_points: tuple[Vector | None, ...] = ()   # the coupler point in 3-D, a frame each
 
 
 # One linkage of each kind that turns fully, as Figs. 1 and 2 draw them (data/scenes/fig1*, fig2*).
@@ -6499,7 +6500,8 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
     if coupler is not None:
         others = "".join(", followed" if b == FOLLOW else f", branch {b}" for b in traced)
         subtitle += f"; P({coupler[0]:g}, {coupler[1]:g}) traced on branch {branch}{others}"
-    return Drawing(title, subtitle, kind, ground, frames, bounds, size, letters, chart)
+    return Drawing(title, subtitle, kind, ground, frames, bounds, size, letters, chart,
+                   tuple(points) if coupler is not None else ())
 
 
 def spread_indices(count: int, wanted: int) -> list[int]:
@@ -6548,9 +6550,9 @@ def svg_letters(bounds: Box, size: float) -> Letters:
 # key), an animated SVG, a PNG (matplotlib). The SVG's letters are those placed in the Drawing; the
 # terminal and the PNG place them again for the sizes they draw letters at.
 #
-# Uses: sections 1, 2, 8 and 13.
+# Uses: sections 1, 2, 6, 7, 8 and 13.
 # Offers: text_drawing, frame_seconds, show_drawing, svg_drawing, PlotUnavailable,
-#   matplotlib_canvas, png_drawing.
+#   matplotlib_canvas, png_drawing, DXF_LINKS, DXF_POSITIONS, dxf_module, dxf_drawing.
 
 
 # -- the terminal view ---------------------------------------------------------------------------
@@ -7098,7 +7100,7 @@ def _png_extremes(ax: matplotlib.axes.Axes, drawing: Drawing) -> None:
 
 
 class PlotUnavailable(RuntimeError):
-    """--png without matplotlib."""
+    """--png without matplotlib (or --dxf without ezdxf)."""
 
 
 def matplotlib_canvas() -> tuple[type[matplotlib.figure.Figure],
@@ -7162,6 +7164,103 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
     out = io.BytesIO()
     mpl.savefig(out, format="png")
     return out.getvalue()
+
+
+# -- DXF: the linkage's true geometry for CAD -----------------------------------------------------
+#
+# Unlike the pictures, a DXF holds the linkage itself: the joints where joint_positions puts them
+# (3-D for the spherical and skew kinds, z = 0 for the plane ones), in the linkage's lengths (the
+# spherical four-bar on the unit sphere, its links great-circle arcs). Layers: GROUND (the fixed
+# links, once), POSITION_1, POSITION_2, ... (the moving links and a label "phi = ..." at the
+# crank pin, one layer a position drawn), COUPLER_CURVE (the coupler point's path over the sweep,
+# on the frames' branch, where the drawing has a coupler point).
+
+# Each kind's links as pairs of joint names: (fixed, moving).
+DXF_LINKS = {
+    PLANE_FOUR_BAR: ((("A0", "B0"),), (("A0", "A"), ("A", "B"), ("B0", "B"))),
+    SPHERICAL_FOUR_BAR: ((("A0", "B0"), ("O", "A0"), ("O", "B0")),
+                         (("A0", "A"), ("A", "B"), ("B0", "B"))),
+    SKEW_FOUR_BAR: ((("A0", "F0"), ("F0", "F1"), ("F1", "B0")),
+                    (("A0", "A"), ("A", "B"), ("B0", "B"))),
+    PLANE_SLIDER_CRANK: ((), (("A0", "A"), ("A", "C"))),
+    SKEW_SLIDER_CRANK: ((("A0", "F0"), ("F0", "F1")), (("A0", "A"), ("A", "C"))),
+}
+DXF_POSITIONS = 12          # positions written at most, spread over the drawing's frames
+
+
+def dxf_module() -> Any:
+    """ezdxf (an optional extra), or PlotUnavailable saying how to install it."""
+    try:
+        import ezdxf
+    except ImportError:
+        raise PlotUnavailable("--dxf needs ezdxf, which is not installed: "
+                              "python3 -m pip install ezdxf") from None
+    return ezdxf
+
+
+def _dxf_link(kind: str, p: Vector, q: Vector) -> list[Vector]:
+    """A link from joint p to joint q: a line, or on the sphere the great-circle arc."""
+    if kind != SPHERICAL_FOUR_BAR or p == (0.0, 0.0, 0.0) or q == (0.0, 0.0, 0.0):
+        return [p, q]
+    angle = math.acos(max(-1.0, min(1.0, dot(p, q))))
+    if angle < 1e-12:
+        return [p, q]
+    steps = max(2, math.ceil(math.degrees(angle) / 3.0))
+    arc = []
+    for t in (k / steps for k in range(steps + 1)):
+        wp, wq = math.sin((1 - t) * angle) / math.sin(angle), math.sin(t * angle) / math.sin(angle)
+        arc.append((wp * p[0] + wq * q[0], wp * p[1] + wq * q[1], wp * p[2] + wq * q[2]))
+    return arc
+
+
+def dxf_drawing(drawing: Drawing, positions: int = DXF_POSITIONS) -> bytes:
+    """The linkage of the drawing as a DXF (R2010, ezdxf): its fixed links, up to `positions` of
+    its frames spread over the sweep (each a layer), its coupler curve (see the notes above)."""
+    ezdxf = dxf_module()
+    import io
+    doc = ezdxf.new("R2010")
+    doc.header["$INSUNITS"] = 0                     # unitless: the lengths as typed
+    space = doc.modelspace()
+    kind = drawing.kind
+    fixed, moving = DXF_LINKS[kind]
+    placed = [f for f in drawing.frames if f.message is None]
+    chosen = [placed[i] for i in spread_indices(len(placed), positions)]
+
+    def polyline(points: list[Vector], layer: str) -> None:
+        if len(points) == 2:
+            space.add_line(points[0], points[1], dxfattribs={"layer": layer})
+        else:
+            space.add_polyline3d(points, dxfattribs={"layer": layer})
+
+    doc.layers.add("GROUND", color=7)
+    ground = (chosen or list(drawing.frames))[0].pose.joints
+    for p, q in fixed:
+        if p in ground and q in ground:
+            polyline(_dxf_link(kind, ground[p], ground[q]), "GROUND")
+    for i, frame in enumerate(chosen, 1):
+        layer = f"POSITION_{i}"
+        doc.layers.add(layer, color=1 + i % 6)
+        joints = frame.pose.joints
+        for p, q in moving:
+            if p in joints and q in joints:
+                polyline(_dxf_link(kind, joints[p], joints[q]), layer)
+        for name, at in joints.items():
+            space.add_point(at, dxfattribs={"layer": layer})
+        space.add_text(f"phi = {frame.pose.phi:g}", height=0.25 * drawing.size,
+                       dxfattribs={"layer": layer}).set_placement(joints["A"])
+    if drawing.coupler_points:
+        doc.layers.add("COUPLER_CURVE", color=1)
+        run: list[Vector] = []
+        for point in [*drawing.coupler_points, None]:
+            if point is not None:
+                run.append(point)
+                continue
+            if len(run) > 1:
+                space.add_polyline3d(run, dxfattribs={"layer": "COUPLER_CURVE"})
+            run = []
+    text = io.StringIO()
+    doc.write(text)
+    return text.getvalue().encode("utf-8")
 
 
 # ---- 15. Synthesis: what a design is, its data and its linkage -----------------------------------
@@ -10230,7 +10329,7 @@ def machine() -> str:
 #   drawing_command, scene_command, plot_command, design_scene, design_command, ERRATUM, KEPT_BUG,
 #   SCAN_LINE, scan_lines, erratum_reason, kept_bug_lines, annotated_listing, listing_command,
 #   bench_command, Option, option, Command, DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP,
-#   DATUM_FLAGS, PNG_OPTIONS, COMMANDS, CommandParser, build_parser, main.
+#   DATUM_FLAGS, DXF_HELP, PNG_OPTIONS, COMMANDS, CommandParser, build_parser, main.
 
 
 ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
@@ -10682,19 +10781,23 @@ def drawing_command(args: argparse.Namespace, make_drawing: Callable[[], Drawing
         _check_frames(args.frames)
         if args.png:
             matplotlib_canvas()                       # fail before any work
+        if args.dxf:
+            dxf_module()
         drawing = make_drawing()
         files = [(path, render) for path, render in (
             (args.svg, lambda: svg_drawing(drawing).encode("utf-8")),
             (args.png, lambda: png_drawing(drawing, dpi=getattr(args, "dpi", None),
-                                           size=getattr(args, "size", None)))) if path]
-        with WrittenSet() as outputs:                 # the SVG and the PNG: both or neither
+                                           size=getattr(args, "size", None))),
+            (args.dxf, lambda: dxf_drawing(drawing))) if path]
+        with WrittenSet() as outputs:                 # the SVG, PNG and DXF: all or none
             for path, render in files:
                 with outputs.opened(path) as fh:
                     fh.write(render())
         for path, _ in files:
-            say(f"wrote {path} ({len(drawing.frames)} position"
-                 f"{'s' * (len(drawing.frames) > 1)})")
-        if args.text or not (args.svg or args.png):
+            count = len(drawing.frames) if path != args.dxf else min(
+                DXF_POSITIONS, sum(f.message is None for f in drawing.frames))
+            say(f"wrote {path} ({count} position{'s' * (count != 1)})")
+        if args.text or not (args.svg or args.png or args.dxf):
             return show_drawing(drawing, frames=args.frames)
         return None
     return _reported(draw)
@@ -10720,11 +10823,11 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
         if args.csv or args.dir is not None:
             parser.error(f"--csv and --dir go with a scene of curves; {args.file} draws the "
                          "mechanism (--svg, --png, --text, --frames)")
-        _check_outputs(parser, {"--svg": args.svg, "--png": args.png})
+        _check_outputs(parser, {"--svg": args.svg, "--png": args.png, "--dxf": args.dxf})
         return drawing_command(args, lambda: scene_drawing(scene))
-    if args.svg or args.frames is not None:
-        parser.error(f"--svg and --frames draw a mechanism scene; {args.file} plots curves "
-                     "(--png, --text)")
+    if args.svg or args.dxf or args.frames is not None:
+        parser.error(f"--svg, --dxf and --frames draw a mechanism scene; {args.file} plots "
+                     "curves (--png, --text)")
     plan = [f"{p}-branch{b}" for b in scene.branches for p in scene.precisions]
     _check_outputs(parser, {"--csv": args.csv, "--png": args.png}, args.dir,
                    [os.path.join(d, n) for d in (plan if len(plan) > 1 else ["."])
@@ -10792,8 +10895,8 @@ def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
     """`python3 linkage.py design METHOD --name value ... [--analyze] [--dat DIR] [--svg OUT]
     [--png OUT] [--text] [--scene OUT]`: print the design, `name = value` a line, and draw it;
     exit 0, 1 bad data, 2 usage, 3 a miss."""
-    _check_outputs(parser, {"--scene": args.scene, "--svg": args.svg, "--png": args.png},
-                   args.dat, DatFiles.NAMES)
+    _check_outputs(parser, {"--scene": args.scene, "--svg": args.svg, "--png": args.png,
+                            "--dxf": args.dxf}, args.dat, DatFiles.NAMES)
     if args.dat is not None:
         output_folder(parser, "--dat", args.dat)
     function, method = METHODS[args.method]
@@ -10833,7 +10936,7 @@ def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
                 print(f"analysis = none  # {error}")
         for line in review_lines(design):
             print(line)
-    if args.dat is not None or args.scene or args.svg or args.png or args.text:
+    if args.dat is not None or args.scene or args.svg or args.png or args.dxf or args.text:
         sys.stdout.flush()
         status = _reported(lambda: _design_outputs(result, args))
         return status or code
@@ -10841,15 +10944,17 @@ def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
 
 
 def _design_outputs(result: Synthesis, args: argparse.Namespace) -> int:
-    """design's files - the DAT files (--dat), the scene (--scene), the drawings (--svg, --png) -
-    put in place as one set (WrittenSet: all or none), then --text's terminal drawing. The status
+    """design's files - the DAT files (--dat), the scene (--scene), the drawings (--svg, --png,
+    --dxf) - put in place as one set (WrittenSet: all or none), then --text's terminal drawing. The status
     (1: a DAT file that cannot be written)."""
     if args.png:
         matplotlib_canvas()                               # fail before any work
+    if args.dxf:
+        dxf_module()
     link = result.design.linkage
     kind, dims = kind_and_dimensions(link)
-    drawing = (scene_drawing(design_scene(result)) if args.svg or args.png or args.text
-               else None)
+    drawing = (scene_drawing(design_scene(result)) if args.svg or args.png or args.dxf
+               or args.text else None)
     with contextlib.ExitStack() as stack:
         outputs = WrittenSet()
         if args.dat is not None:
@@ -10874,16 +10979,21 @@ def _design_outputs(result: Synthesis, args: argparse.Namespace) -> int:
                 with outputs.opened(args.png) as fh:
                     fh.write(png_drawing(drawing, dpi=getattr(args, "dpi", None),
                                          size=getattr(args, "size", None)))
+            if drawing is not None and args.dxf:
+                with outputs.opened(args.dxf) as fh:
+                    fh.write(dxf_drawing(drawing))
     if args.dat is not None:
         print(f"dat = {args.dat}  # ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution, "
               f"0 to 360 by 1 degree, branch {link.branch}, double precision")
     if args.scene and args.scene != "-":
         say(f"wrote {args.scene} (a scene: python3 linkage.py scene {args.scene})")
-    if drawing is None:                                   # neither --svg, --png nor --text
+    if drawing is None:                                   # no --svg, --png, --dxf or --text
         return 0
-    for path in (args.svg, args.png):
+    for path in (args.svg, args.png, args.dxf):
         if path:
-            say(f"wrote {path} ({len(drawing.frames)} position{'s' * (len(drawing.frames) > 1)})")
+            count = len(drawing.frames) if path != args.dxf else min(
+                DXF_POSITIONS, sum(f.message is None for f in drawing.frames))
+            say(f"wrote {path} ({count} position{'s' * (count != 1)})")
     if args.text:
         if sys.stdout.isatty():
             return show_drawing(drawing)                  # the whole motion, until q
@@ -11070,6 +11180,10 @@ DIMENSIONS_HELP = ("Each kind's dimensions, in the order the menu asks for them:
 # run's fixed link), each under a name that says what it is, the letter still taken.
 DATUM_FLAGS = {"lam": ("--lambda",), "a": ("--crank-ratio", "--a"),
                "c": ("--output-ratio", "--c")}
+DXF_HELP = (f"write the linkage for CAD as a DXF: its true geometry in the lengths typed (3-D "
+            f"for the spherical and skew kinds), the fixed links, up to {DXF_POSITIONS} of the "
+            "positions drawn each on a layer of its own, the coupler point's curve (needs "
+            "ezdxf: python3 -m pip install ezdxf)")
 PNG_OPTIONS = (
     option("--png", metavar="OUT",
            help="write the figure as a PNG (needs matplotlib: python3 -m pip install matplotlib)"),
@@ -11156,6 +11270,7 @@ COMMANDS = {
          option("--list", action="store_true",
                 help="list the scenes that come with the program, with their titles"),
          option("--svg", metavar="OUT", help="a mechanism scene: write it as one animated SVG"),
+         option("--dxf", metavar="OUT", help=DXF_HELP),
          option("--frames", type=int, metavar="N",
                 help="a mechanism scene: print N still frames spread evenly over the sweep "
                      "instead of the animation (piped, the default is 1)"),
@@ -11197,6 +11312,7 @@ COMMANDS = {
          option("--png", metavar="OUT",
                 help="draw that motion as a PNG, the positions overlaid (needs matplotlib: "
                      "python3 -m pip install matplotlib)"),
+         option("--dxf", metavar="OUT", help=DXF_HELP),
          option("--text", action="store_true",
                 help="draw that motion in the terminal (animated until q; piped, the design "
                      "positions as still frames)"),
