@@ -7290,7 +7290,7 @@ def dxf_drawing(drawing: Drawing, positions: int = DXF_POSITIONS) -> bytes:
 # Bad data raise DesignError, naming the condition: data outside the method's valid range (DATA
 # below, stated once for the refusals, the command's help and the tests: the message names the
 # datum), a link length <= 0, degenerate or complex (a square root with no real value), a design
-# of the wrong type (not a crank-rocker, not a drag-link), a branch defect or a dead centre
+# of the wrong class (not a crank-rocker, not a drag-link), a branch defect or a dead centre
 # between the positions, and inconsistent dead-centre data (SLID-FG2-2). Where the review's
 # formulas cancel, the same quantities are computed by identities that do not (ERRATUM S14).
 #
@@ -7305,7 +7305,7 @@ def dxf_drawing(drawing: Drawing, positions: int = DXF_POSITIONS) -> bytes:
 # Offers: MU_MARGIN, DesignError, require, in_degrees, wrap_degrees, PSI_MIN, LENGTH_MIN,
 #   LENGTH_MAX, ANGLE_EPSILON, Data, Bound, Datum, DATA, number_text, range_text, check_data,
 #   FourBar, SliderCrank, Designed, four_bar_from_review, four_bar_to_review,
-#   slider_crank_from_review, grashof_type, cos_transmission, four_bar_transmission_angle,
+#   slider_crank_from_review, grashof_class, cos_transmission, four_bar_transmission_angle,
 #   four_bar_transmission_extremes, slider_transmission_angle, slider_transmission_extremes, Design,
 #   Synthesis.
 
@@ -7561,10 +7561,10 @@ def slider_crank_from_review(r: float, l: float, epsilon: float, branch: int = 1
     return SliderCrank(b=r, c=l, e=-epsilon, branch=branch)
 
 
-def grashof_type(link: FourBar) -> str:
+def grashof_class(link: FourBar) -> str:
     """'crank-rocker', 'drag-link', 'double-rocker' (Grashof, coupler shortest), 'rocker-crank',
     'change-point' (s + l = p + q) or 'triple-rocker' (non-Grashof), with the crank as input:
-    the review's names, to within 1e-12 of the longest link (analyse's type, exact in the typed
+    the review's names, to within 1e-12 of the longest link (analyse's class, exact in the typed
     lengths, calls a drag-link a double-crank and a triple-rocker a non-Grashof double-rocker)."""
     lengths = sorted((link.a, link.b, link.c, link.d))
     excess = lengths[0] + lengths[3] - lengths[1] - lengths[2]
@@ -7729,9 +7729,9 @@ def _crank_rocker(method: str, data: Data, a: float, b: float, c: float, d: floa
     _require_lengths(a_crank=a, b_coupler=b, c_rocker=c, d_frame=d)
     a, b, c = a / d, b / d, c / d
     link = four_bar_from_review(a, b, c, 1.0)
-    kind = grashof_type(link)
-    require(kind == "crank-rocker", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
-                                     f"c = {c:.6g}, d = 1 is a {kind}, not a crank-rocker")
+    found = grashof_class(link)
+    require(found == "crank-rocker", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
+                                      f"c = {c:.6g}, d = 1 is a {found}, not a crank-rocker")
     # ERRATUM S11: both dead centres must lie on one assembly branch: the sine rule also accepts
     # a folded position on the mirror branch, where this linkage's real folded dead centre is
     # elsewhere.
@@ -8004,9 +8004,9 @@ def _drag_link(method: str, data: Data, a: float, b: float, c: float, d: float,
     _require_lengths(a_crank=a, b_coupler=b, c_output=c, d_frame=d)
     a, b, c = a / d, b / d, c / d
     link = four_bar_from_review(a, b, c, 1.0)
-    kind = grashof_type(link)
-    require(kind == "drag-link", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
-                                  f"c = {c:.6g}, d = 1 is a {kind}, not a drag-link")
+    found = grashof_class(link)
+    require(found == "drag-link", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
+                                   f"c = {c:.6g}, d = 1 is a {found}, not a drag-link")
     mu_min, mu_max = four_bar_transmission_extremes(link)
     _require_margin(mu_min, mu_max)
     return link, dict(review, a=a, b=b, c=c, d=1.0, mu_min=mu_min, mu_max=mu_max)
@@ -8894,7 +8894,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     first = design.positions[0][0]
     limits = [] if isinstance(link, SliderCrank) else limit_angles(link)
     if not limits or (isinstance(link, FourBar)
-                      and grashof_type(link) in ("crank-rocker", "drag-link")):
+                      and grashof_class(link) in ("crank-rocker", "drag-link")):
         return first, first + 360.0 - step, step
     lo = min(phi for phi, _ in design.positions)
     below = max(lo - (lo - x) % 360.0 for x in limits)
