@@ -656,7 +656,7 @@ def single_keys(fd: int | None, enter: Callable[[], object] | None = None,
 #
 # Uses: nothing.
 # Offers: PLANE_FOUR_BAR, SPHERICAL_FOUR_BAR, SKEW_FOUR_BAR, PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK,
-#   LINKAGE_DIMENSIONS, MECHANISM_NAMES, SLIDER_CRANKS, DIMENSION_NAMES, ASSEMBLED, DEAD_CENTRE,
+#   LINKAGE_DIMENSIONS, KIND_NAMES, SLIDER_CRANKS, DIMENSION_NAMES, ASSEMBLED, DEAD_CENTRE,
 #   CHANGE_POINT, NOT_ASSEMBLED, INDETERMINATE, STOPPED, RAD, DEG, MECHANISM_TYPES, letters_defined.
 
 
@@ -674,7 +674,7 @@ LINKAGE_DIMENSIONS = {
     PLANE_SLIDER_CRANK: ("b", "c", "e"),
     SKEW_SLIDER_CRANK: ("a", "b", "c", "f", "ksi"),
 }
-MECHANISM_NAMES = {PLANE_FOUR_BAR: "plane four-bar", SPHERICAL_FOUR_BAR: "spherical four-bar",
+KIND_NAMES = {PLANE_FOUR_BAR: "plane four-bar", SPHERICAL_FOUR_BAR: "spherical four-bar",
                    SKEW_FOUR_BAR: "skew four-bar", PLANE_SLIDER_CRANK: "plane slider-crank",
                    SKEW_SLIDER_CRANK: "skew slider-crank"}
 SLIDER_CRANKS = (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK)     # the rest are four-bars
@@ -3196,7 +3196,7 @@ def check_coupler_point(linkage: Closure, u: float, v: float = 0.0) -> tuple[flo
         raise ValueError(f"coupler point ({u:g}, {v:g}): u and v must be finite")
     pins, dims = PINS[linkage.kind], linkage.dims
     if pins.coupler == "line" and v != 0.0:
-        raise ValueError(f"coupler point v = {v:g}: the {MECHANISM_NAMES[linkage.kind]}'s coupler "
+        raise ValueError(f"coupler point v = {v:g}: the {KIND_NAMES[linkage.kind]}'s coupler "
                          "has ball joints and may spin about the line from A to its output pin, "
                          "so only the points of that line are fixed to it: v must be 0")
     if pins.coupler == "sphere":
@@ -3601,7 +3601,7 @@ def crank_limits(linkage: Closure) -> tuple[list[float], list[float]]:
     changes.sort()
     signs = [(x, -1.0 if x in gaps else d(x)) for x in sorted(points)]
     if all(v < -_TOUCHING for _, v in signs):
-        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle")
+        raise ValueError(f"the {KIND_NAMES[linkage.kind]} assembles at no input angle")
     strict = [(x, v) for x, v in signs
               if abs(v) > _TOUCHING or x in changes or x in gaps or v == 0]
     dead = []
@@ -4046,7 +4046,7 @@ def analyse(linkage: Closure, branch: int | str = 1, start: int | None = None) -
         circuits.append(circuit)
         turns |= circuit_turns
     if not circuits:
-        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle on "
+        raise ValueError(f"the {KIND_NAMES[linkage.kind]} assembles at no input angle on "
                          f"branch {branch}")
     kind, criterion = _linkage_type(linkage, crank_range is None, turns, changes)
     first = circuits[0]
@@ -5088,11 +5088,11 @@ def _checked_body(kind: str, role: str, body: Body, rod: Callable[[float], _Mass
                          "of inertia about any axis)")
     if role == "coupler" and PINS[kind].coupler == "line":
         if centre[1] or centre[2]:
-            raise ValueError(f"the {MECHANISM_NAMES[kind]}'s coupler may spin about the line "
+            raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
                              "from A to its output pin, so its centre must lie on it: (u, 0, 0)")
         if any(rows[i][j] for i in range(3) for j in range(3) if i != j) or \
                 abs(rows[1][1] - rows[2][2]) > 1e-12 * scale:
-            raise ValueError(f"the {MECHANISM_NAMES[kind]}'s coupler may spin about the line "
+            raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
                              "from A to its output pin, so its inertia must be axisymmetric "
                              "about it: ((axial, 0, 0), (0, transverse, 0), (0, 0, transverse))")
     return _Mass(mass, centre, cast(Matrix, tuple(rows)))
@@ -5171,7 +5171,7 @@ def _setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float) ->
         force = cast(Vector, _checked_numbers(given, 3, "the coupler force (fx, fy, fz)"))
         form = PINS[kind].coupler
         if form == "line" and v:
-            raise ValueError(f"the {MECHANISM_NAMES[kind]}'s coupler may spin about the line "
+            raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
                              "from A to its output pin, so a force on it must act at a point of "
                              f"that line: v must be 0, not {v:g}")
         if form == "sphere":
@@ -6493,7 +6493,7 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
         ground.marks + f.layer.marks, letters, bounds))) for f in unplaced)
     ground = ground._replace(labels=())
     if title is None:
-        title = (MECHANISM_NAMES[kind] + ": "
+        title = (KIND_NAMES[kind] + ": "
                  + " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in linkage.dims.items()))
     if subtitle is None:
         subtitle = f"branch {branch} ({'A+B' if branch == 1 else 'A-B'})"
@@ -9234,7 +9234,7 @@ def _panel_notes(path: str, key: str, notes: Any) -> tuple[tuple[float, float, s
 
 
 def _scene_title(path: str, data: dict[str, Any]) -> str:
-    title = data.get("title", MECHANISM_NAMES[data["mechanism"]].capitalize())
+    title = data.get("title", KIND_NAMES[data["mechanism"]].capitalize())
     if not isinstance(title, str):
         raise scene_error(path, "title", SCENE_KEYS["title"], title)
     return printable(title)
@@ -9581,7 +9581,7 @@ def scene_figure(scene: Scene, series: list[Series]) -> Figure:
     precision = {("basic",): "basic (GW-BASIC single precision)",
                  ("double",): "double (the accurate engine)",
                  ("basic", "double"): "basic and double, overlaid"}[scene.precisions]
-    subtitle = (f"{MECHANISM_NAMES[scene.mechanism]}; "
+    subtitle = (f"{KIND_NAMES[scene.mechanism]}; "
                 f"branch{'es' * (len(scene.branches) > 1)} {branches}; precision {precision}")
     group = "slider" if scene.mechanism in SLIDER_CRANKS else "four-bar"
     return build_figure(f"{scene.title}: {dims}", subtitle, group, scene.panels, series)
@@ -9604,7 +9604,7 @@ def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
             + (f"; branch{'es' * (len(branches) > 1)} {', '.join(map(str, branches))}"
                if branches else ", branch not recorded"))
     if mechanism:
-        what = f"{MECHANISM_NAMES[mechanism]}; {what}"
+        what = f"{KIND_NAMES[mechanism]}; {what}"
     figure = build_figure(f"The DAT files in {directory}", what, group, specs, series)
     if not any(run for panel in figure.panels for curve in panel.curves for run in curve.runs):
         raise SceneError(f"{directory}: its DAT files hold no point to draw (no \"angle,value\" "
@@ -9849,7 +9849,7 @@ def scene_drawing(scene: Scene) -> Drawing:
     try:
         drawing = mechanism_drawing(
             Linkage(scene.mechanism, **scene.dimensions), scene.angles(), branch,
-            f"{scene.title}: {dims}", f"{MECHANISM_NAMES[scene.mechanism]}; branch {branch} "
+            f"{scene.title}: {dims}", f"{KIND_NAMES[scene.mechanism]}; branch {branch} "
             f"({'A+B' if branch == 1 else 'A-B'})"
             + ("" if scene.coupler else "; positions by the accurate engine")
             + (f"; marked: {len(scene.marked)} positions, faint and numbered" if scene.marked
@@ -11008,7 +11008,7 @@ def _positions_drawing(result: Synthesis) -> Drawing:
     branch = scene.branches[0]
     assert isinstance(branch, int)                        # a design's branch: 1 or 2
     return mechanism_drawing(Linkage(scene.mechanism, **scene.dimensions), scene.marked, branch,
-                             scene.title, f"{MECHANISM_NAMES[scene.mechanism]}; branch {branch}; "
+                             scene.title, f"{KIND_NAMES[scene.mechanism]}; branch {branch}; "
                              f"the {len(scene.marked)} design positions")
 
 
@@ -11171,8 +11171,8 @@ DIMENSION_HELP = {   # each letter's option: what it is, in the drawing's pivot 
          "to the common perpendicular",
     "ksi": "ksi, the skew angle between the two shafts, degrees",
 }
-KINDS_HELP = (f"the kind: {', '.join(MECHANISM_NAMES)} (or 1-5: "
-              f"{', '.join(MECHANISM_NAMES.values())})")
+KINDS_HELP = (f"the kind: {', '.join(KIND_NAMES)} (or 1-5: "
+              f"{', '.join(KIND_NAMES.values())})")
 DIMENSIONS_HELP = ("Each kind's dimensions, in the order the menu asks for them: " + "; ".join(
     f"{kind}: {letters_defined(kind)}" for kind in MECHANISM_TYPES) + ".")
 # The design data whose option is not --name: lambda (a word of Python), and the review's letters
