@@ -651,13 +651,13 @@ def single_keys(fd: int | None, enter: Callable[[], object] | None = None,
 #
 # Holds: the one table of the five kinds (plane, spherical and skew four-bar, plane and skew
 # slider-crank): their names, their dimensions in the engine's order and in the order the listing
-# asks for them (MECHANISM_TYPES, the menu's key), what each dimension is, the status a computed
+# asks for them (KIND_MENU, the menu's key), what each dimension is, the status a computed
 # position can have, and degrees against radians.
 #
 # Uses: nothing.
 # Offers: PLANE_FOUR_BAR, SPHERICAL_FOUR_BAR, SKEW_FOUR_BAR, PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK,
 #   LINKAGE_DIMENSIONS, KIND_NAMES, SLIDER_CRANKS, DIMENSION_NAMES, ASSEMBLED, DEAD_CENTRE,
-#   CHANGE_POINT, NOT_ASSEMBLED, INDETERMINATE, STOPPED, RAD, DEG, MECHANISM_TYPES, letters_defined.
+#   CHANGE_POINT, NOT_ASSEMBLED, INDETERMINATE, STOPPED, RAD, DEG, KIND_MENU, letters_defined.
 
 
 # The five kinds, named as tests/test_physics.py names them, with their dimensions: lengths as
@@ -707,7 +707,7 @@ DEG = 180.0 / math.pi            # degrees per radian
 
 # kind: (the original program's menu key, the dimensions in the order the listing asks for them:
 # the menu's order, against LINKAGE_DIMENSIONS' order of the paper's letters).
-MECHANISM_TYPES = {
+KIND_MENU = {
     PLANE_FOUR_BAR: ("1", ("b", "c", "d", "a")),
     SPHERICAL_FOUR_BAR: ("2", ("b", "c", "d", "a")),
     SKEW_FOUR_BAR: ("3", ("b", "c", "d", "a", "f", "ksi")),
@@ -719,7 +719,7 @@ MECHANISM_TYPES = {
 def letters_defined(kind: str) -> str:
     """The kind's dimension letters as options, each with what it is, in the menu's order:
     "--b the input crank, --c the coupler, ..." (the command line's help says it per kind)."""
-    return ", ".join(f"--{n} {DIMENSION_NAMES[n]}" for n in MECHANISM_TYPES[kind][1])
+    return ", ".join(f"--{n} {DIMENSION_NAMES[n]}" for n in KIND_MENU[kind][1])
 
 
 # ---- 3. GW-BASIC single precision ----------------------------------------------------------------
@@ -9290,7 +9290,7 @@ def _typed(x: float) -> str:
 
 def _typed_dimensions(mechanism: str, dims: dict[str, float]) -> tuple[str, list[str]]:
     """The menu key and the dimensions as typed, in the order the listing asks for them."""
-    key, asked = MECHANISM_TYPES[mechanism]
+    key, asked = KIND_MENU[mechanism]
     return key, [_typed(dims[n]) for n in asked]
 
 
@@ -10446,11 +10446,11 @@ def _design_number(flag: str) -> Callable[[str], float]:
 
 
 def _mechanism_type(text: str) -> str:
-    by_number = {key: name for name, (key, _) in MECHANISM_TYPES.items()}
+    by_number = {key: name for name, (key, _) in KIND_MENU.items()}
     name = by_number.get(text, text)
-    if name not in MECHANISM_TYPES:
+    if name not in KIND_MENU:
         raise argparse.ArgumentTypeError(
-            f"{text!r} is not one of {', '.join(MECHANISM_TYPES)} (or 1-5)")
+            f"{text!r} is not one of {', '.join(KIND_MENU)} (or 1-5)")
     return name
 
 
@@ -10543,7 +10543,7 @@ def output_folder(parser: argparse.ArgumentParser, option: str, path: str) -> No
 
 def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py run TYPE ...`: the menu program given these answers."""
-    key, needed = MECHANISM_TYPES[args.type]
+    key, needed = KIND_MENU[args.type]
     if args.old_skew is not None:               # the spelling before 0.2.0
         say("--skew is now --ksi (the skew angle's name in the paper, the API and the scenes)")
         if args.ksi is None:
@@ -10621,7 +10621,7 @@ def _basic_csv(args: argparse.Namespace, answers: list[str], where: str,
     whose VEL or ACC the original wrote as +-3, its clip (ERRATA K9), is `clipped`."""
     # every answer passed basic_answer: input_value gives a Single, never None
     dims = {n: input_value(a).v  # type: ignore[union-attr]
-            for n, a in zip(MECHANISM_TYPES[args.type][1], answers)}
+            for n, a in zip(KIND_MENU[args.type][1], answers)}
     ang, vel, acc = (read_dat(os.path.join(where, n)) for n in DatFiles.NAMES)
     try:
         statuses = [m.status for m in Linkage(args.type, **dims).sweep(
@@ -10639,7 +10639,7 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
     (the original writes zeros there, ERRATA K8), and so are those after a followed motion ended
     (--branch follow); the message counts them. --fast: the same numbers by the vectorised path
     (Linkage.sweep_arrays, numpy)."""
-    dims = {n: numbers[n] for n in MECHANISM_TYPES[args.type][1]}
+    dims = {n: numbers[n] for n in KIND_MENU[args.type][1]}
     start, stop, step = numbers["from"], numbers["to"], numbers["step"]
     try:
         linkage = Linkage(args.type, **dims)
@@ -10729,7 +10729,7 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
 def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py analyse TYPE ...`: the linkage's type and range of motion, one
     `name = value` a line (analysis_lines)."""
-    needed = MECHANISM_TYPES[args.type][1]
+    needed = KIND_MENU[args.type][1]
     _check_dimensions(args, parser, needed)
     try:
         dims = {n: decimal_number(getattr(args, n), f"--{n}") for n in needed}
@@ -11174,7 +11174,7 @@ DIMENSION_HELP = {   # each letter's option: what it is, in the drawing's pivot 
 KINDS_HELP = (f"the kind: {', '.join(KIND_NAMES)} (or 1-5: "
               f"{', '.join(KIND_NAMES.values())})")
 DIMENSIONS_HELP = ("Each kind's dimensions, in the order the menu asks for them: " + "; ".join(
-    f"{kind}: {letters_defined(kind)}" for kind in MECHANISM_TYPES) + ".")
+    f"{kind}: {letters_defined(kind)}" for kind in KIND_MENU) + ".")
 # The design data whose option is not --name: lambda (a word of Python), and the review's letters
 # that run takes for lengths (FOURB-FG2-1's a and c are ratios to the frame: --a there is not
 # run's fixed link), each under a name that says what it is, the letter still taken.

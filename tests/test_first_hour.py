@@ -43,14 +43,14 @@ def test_the_readme_defines_the_letters_of_its_first_example():
 
 
 @pytest.mark.parametrize("command", ["run", "analyse"])
-@pytest.mark.parametrize("kind", list(linkage.MECHANISM_TYPES))
+@pytest.mark.parametrize("kind", list(linkage.KIND_MENU))
 def test_the_help_of_a_command_that_takes_dimensions_defines_each_kinds_letters(command, kind):
     """`run --help` and `analyse --help` say, for each kind, which letters it takes and what each
     is (before: `plane: --b --c --d --a`, the letters alone), and each option defines its letter."""
     text = help_text(command)
     said = re.search(rf"\b{re.escape(kind)}: (.*?)[;.](?: |$)", text)
     assert said, (kind, text)
-    for letter in linkage.MECHANISM_TYPES[kind][1]:
+    for letter in linkage.KIND_MENU[kind][1]:
         assert re.search(rf"--{letter} [^,]*{ROLES[letter]}", said.group(1)), (kind, letter)
         assert re.search(rf"--{letter} X {letter}, [^-]*{ROLES[letter]}", text), letter
 
@@ -110,7 +110,7 @@ def conventions(kind, dims, phi, out):
     return math.dist(a, p) - dims["c"], side
 
 
-@pytest.mark.parametrize("kind", list(linkage.MECHANISM_TYPES))
+@pytest.mark.parametrize("kind", list(linkage.KIND_MENU))
 def test_the_readmes_conventions_close_each_loop_and_name_its_branches(kind):
     """With the output the engine gives, the pins placed as the Conventions table says close the
     loop (to 1e-9), and branch 1 and 2 are the sides the table names, over random linkages and
@@ -136,7 +136,7 @@ def test_the_readmes_conventions_close_each_loop_and_name_its_branches(kind):
 
 def test_the_conventions_table_has_a_row_a_kind_and_says_what_g_is():
     table = README.split("## Conventions", 1)[1].split("\n## ", 1)[0]
-    for kind in linkage.MECHANISM_TYPES:
+    for kind in linkage.KIND_MENU:
         assert f"\n| `{kind}` |" in table, kind
     assert "g = f / cos ξ" in table and "crossed" in table and "open" in table
     assert "A = (sin b cos φ, sin b sin φ, cos b)" in table

@@ -483,7 +483,7 @@ def test_the_basic_numbers_are_pc_basic_s(name, case, tmp_path):
     scene = linkage.load_scene(str(ROOT / "data" / "scenes" / f"{name}.toml"))
     keys = (GOLDEN / case / "keys.txt").read_bytes().decode("ascii")
     answers = keys[1:].split("\r")
-    menu = linkage.MECHANISM_TYPES[scene.mechanism]
+    menu = linkage.KIND_MENU[scene.mechanism]
     assert keys[0] == menu[0]
     asked = dict(zip(menu[1], map(float, answers)))
     assert {("ksi" if k == "skew" else k): v for k, v in asked.items()} == scene.dimensions
