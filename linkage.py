@@ -10445,7 +10445,7 @@ def _design_number(flag: str) -> Callable[[str], float]:
     return number
 
 
-def _mechanism_type(text: str) -> str:
+def _kind_argument(text: str) -> str:
     by_number = {key: name for name, (key, _) in KIND_MENU.items()}
     name = by_number.get(text, text)
     if name not in KIND_MENU:
@@ -10510,7 +10510,7 @@ def _check_dimensions(args: argparse.Namespace, parser: argparse.ArgumentParser,
     extra = [f"--{n}" for n in sorted(given - set(needed))]
     if missing or extra:
         what = ("missing " + " ".join(missing)) if missing else ("no use for " + " ".join(extra))
-        parser.error(f"{args.type} needs {' '.join('--' + n for n in needed)}: {what}")
+        parser.error(f"{args.kind} needs {' '.join('--' + n for n in needed)}: {what}")
 
 
 def _check_outputs(parser: argparse.ArgumentParser, files: dict[str, str | None],
@@ -10542,8 +10542,8 @@ def output_folder(parser: argparse.ArgumentParser, option: str, path: str) -> No
 
 
 def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py run TYPE ...`: the menu program given these answers."""
-    key, needed = KIND_MENU[args.type]
+    """`python3 linkage.py run KIND ...`: the menu program given these answers."""
+    key, needed = KIND_MENU[args.kind]
     if args.old_skew is not None:               # the spelling before 0.2.0
         say("--skew is now --ksi (the skew angle's name in the paper, the API and the scenes)")
         if args.ksi is None:
@@ -10621,10 +10621,10 @@ def _basic_csv(args: argparse.Namespace, answers: list[str], where: str,
     whose VEL or ACC the original wrote as +-3, its clip (ERRATA K9), is `clipped`."""
     # every answer passed basic_answer: input_value gives a Single, never None
     dims = {n: input_value(a).v  # type: ignore[union-attr]
-            for n, a in zip(KIND_MENU[args.type][1], answers)}
+            for n, a in zip(KIND_MENU[args.kind][1], answers)}
     ang, vel, acc = (read_dat(os.path.join(where, n)) for n in DatFiles.NAMES)
     try:
-        statuses = [m.status for m in Linkage(args.type, **dims).sweep(
+        statuses = [m.status for m in Linkage(args.kind, **dims).sweep(
             [phi for phi, _ in ang], int(args.branch), derivatives=0)]
     except ValueError:                          # dimensions the engine refuses (a 0 link)
         statuses = ["unknown"] * len(ang)
@@ -10639,10 +10639,10 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
     (the original writes zeros there, ERRATA K8), and so are those after a followed motion ended
     (--branch follow); the message counts them. --fast: the same numbers by the vectorised path
     (Linkage.sweep_arrays, numpy)."""
-    dims = {n: numbers[n] for n in KIND_MENU[args.type][1]}
+    dims = {n: numbers[n] for n in KIND_MENU[args.kind][1]}
     start, stop, step = numbers["from"], numbers["to"], numbers["step"]
     try:
-        linkage = Linkage(args.type, **dims)
+        linkage = Linkage(args.kind, **dims)
         count = angle_count(start, stop, step)
         if args.fast:
             numpy_module()                            # fail before any work
@@ -10727,9 +10727,9 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
 
 
 def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py analyse TYPE ...`: the linkage's type and range of motion, one
+    """`python3 linkage.py analyse KIND ...`: the linkage's class and range of motion, one
     `name = value` a line (analysis_lines)."""
-    needed = KIND_MENU[args.type][1]
+    needed = KIND_MENU[args.kind][1]
     _check_dimensions(args, parser, needed)
     try:
         dims = {n: decimal_number(getattr(args, n), f"--{n}") for n in needed}
@@ -10740,7 +10740,7 @@ def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
     branch = args.branch if args.branch == FOLLOW else int(args.branch)
     start = None if args.start_branch is None else int(args.start_branch)
     try:
-        analysis = analyse(Linkage(args.type, **dims), branch, start)
+        analysis = analyse(Linkage(args.kind, **dims), branch, start)
     except ValueError as e:
         return said(f"Illegal linkage (impossible to assemble): {e}"
                     if "assembles at no" in str(e) else e, 1)
@@ -10876,7 +10876,7 @@ def _scene_outputs(scene: Scene, args: argparse.Namespace) -> None:
 
 def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR."""
-    return _draw_command(args, lambda: dat_figure(args.directory, args.mechanism))
+    return _draw_command(args, lambda: dat_figure(args.directory, args.kind))
 
 
 def design_scene(result: Synthesis, path: str = "design") -> Scene:
@@ -11200,7 +11200,7 @@ COMMANDS = {
         "The original program given these answers: writes ANG.DAT, VEL.DAT and ACC.DAT exactly "
         "as the menu would. Dimensions are typed as in the menu (degrees for the spherical "
         "linkage's arcs). " + DIMENSIONS_HELP,
-        (option("type", type=_mechanism_type, metavar="KIND", help=KINDS_HELP),
+        (option("kind", type=_kind_argument, metavar="KIND", help=KINDS_HELP),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
          option("--skew", dest="old_skew", metavar="X", help=argparse.SUPPRESS),
          option("--from", dest="start", required=True, metavar="P1",
@@ -11246,7 +11246,7 @@ COMMANDS = {
         "review's eq. (5)), the transmission angle's extremes with the crank angles where they "
         "occur and the worst (furthest from 90), and the dead centres and change points: one "
         "`name = value` a line (also spelt analyze). " + DIMENSIONS_HELP,
-        (option("type", type=_mechanism_type, metavar="KIND", help=KINDS_HELP),
+        (option("kind", type=_kind_argument, metavar="KIND", help=KINDS_HELP),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
          option("--branch", choices=("1", "2", FOLLOW), default="1",
                 help="the assembly: 1 (A+B, the default), 2 (A-B), or follow (the motion "
@@ -11290,7 +11290,7 @@ COMMANDS = {
         "data/scenes/fig1a-plane-four-bar.toml (scene --help).",
         (option("directory", nargs="?", default=".", metavar="DIR",
                 help="the folder of the DAT files, or of folders of them (default: here)"),
-         option("--kind", "--mechanism", dest="mechanism", type=_mechanism_type,
+         option("--kind", "--mechanism", dest="kind", type=_kind_argument,
                 metavar="KIND", help=f"{KINDS_HELP}: gives the axes their units (--mechanism: "
                                      "the old spelling, still taken)"),
          *PNG_OPTIONS)),
