@@ -3423,9 +3423,9 @@ _GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _sph
                   SKEW_SLIDER_CRANK: _skew_slider_ground_joints}
 
 
-# ---- 8. The linkage analysed: type, ranges, dead centres, transmission extremes ------------------
+# ---- 8. The linkage analysed: class, ranges, dead centres, transmission extremes -----------------
 #
-# Holds: analyse, which says what a linkage does over its whole motion: its type (Grashof's class
+# Holds: analyse, which says what a linkage does over its whole motion: its class (Grashof's
 # for the plane four-bar), where the crank turns (crank_limits, the dead centres and change
 # points), each circuit's output range, strokes and time ratios, and the transmission angle's
 # extremes and the worst of them; analysis_lines, its `name = value` lines.
@@ -3435,7 +3435,7 @@ _GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _sph
 #   unwrapped, analyse, value_text, analysis_lines.
 
 
-# -- the linkage's type and range of motion (analyse) -------------------------------------------
+# -- the linkage's class and range of motion (analyse) ------------------------------------------
 #
 # Where the crank can turn is where the closure's discriminant D(phi) (P^2 + Q^2 - S^2 of the
 # four-bars, c^2 - u^2 - v^2 of the sliders: section notes above) is not negative. D is a
@@ -3451,7 +3451,7 @@ _GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _sph
 # each dead centre on both branches (_at_dead_centre). Along each: the output's extremes (every
 # zero of its velocity, _velocity_zeros, refined by bisection; and the dead centres) and whether
 # it turns fully, the strokes and time ratios, and the transmission angle's extremes (refined by
-# extreme_of, their angles rounded by _worth). The type is Grashof's class for the plane
+# extreme_of, their angles rounded by _worth). The class is Grashof's for the plane
 # four-bar (exact in the typed lengths), the offset slider-crank's b + |e| against c, and for the
 # other kinds the class the motion shows.
 
@@ -3693,7 +3693,7 @@ class Analysis(NamedTuple):
     fully."""
     linkage: Closure
     branch: int | str
-    type: str
+    linkage_class: str
     criterion: str
     crank_range: tuple[tuple[float, float], ...] | None
     output_min: Extreme | None
@@ -3942,9 +3942,9 @@ def _mu_extremes(linkage: Closure, run: _Run, maximum: bool) -> Extreme:
     return pick(candidates, key=lambda e: e.value)
 
 
-def _linkage_type(linkage: Closure, crank_turns: bool, output_turns: bool, changes: list[float]
+def _linkage_class(linkage: Closure, crank_turns: bool, output_turns: bool, changes: list[float]
                   ) -> tuple[str, str]:
-    """(type, criterion): Grashof's rule for the plane four-bar, b + |e| against c for the plane
+    """(class, criterion): Grashof's rule for the plane four-bar, b + |e| against c for the plane
     slider-crank, else the motion's class."""
     dims = linkage.dims
     if linkage.kind == PLANE_FOUR_BAR:
@@ -4007,7 +4007,7 @@ def _circuit(linkage: Closure, run: _Run, crank_range: tuple[tuple[float, float]
 
 
 def analyse(linkage: Closure, branch: int | str = 1, start: int | None = None) -> Analysis:
-    """The linkage's type and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
+    """The linkage's class and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
     Analysis (see the notes above). ValueError if it assembles at no input angle.
 
     Circuits: where the crank turns fully the motion analysed is the branch's, one circuit (the
@@ -4048,9 +4048,9 @@ def analyse(linkage: Closure, branch: int | str = 1, start: int | None = None) -
     if not circuits:
         raise ValueError(f"the {KIND_NAMES[linkage.kind]} assembles at no input angle on "
                          f"branch {branch}")
-    kind, criterion = _linkage_type(linkage, crank_range is None, turns, changes)
+    linkage_class, criterion = _linkage_class(linkage, crank_range is None, turns, changes)
     first = circuits[0]
-    return Analysis(linkage, branch, kind, criterion, crank_range, first.output_min,
+    return Analysis(linkage, branch, linkage_class, criterion, crank_range, first.output_min,
                     first.output_max, first.forward_stroke, first.return_stroke, first.mu_min,
                     first.mu_max, tuple(dead), tuple(changes), tuple(circuits))
 
@@ -4103,7 +4103,7 @@ def _range_text(crank_range: tuple[tuple[float, float], ...] | None) -> str:
 
 
 def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
-    """The `name = value` lines of an Analysis, each name after `prefix`: the linkage, its type,
+    """The `name = value` lines of an Analysis, each name after `prefix`: the linkage, its class,
     crank range and number of circuits, circuit 1's motion (see analyse), the dead centres and
     change points; then, where there are two circuits or more, each circuit's crank range and
     motion as circuit_N.name lines."""
@@ -4111,7 +4111,7 @@ def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
     unit = "" if linkage.is_slider else " deg"
     rows = [("kind", linkage.kind)]
     rows += [(n, value_text(v)) for n, v in linkage.dims.items()]
-    rows += [("branch", str(a.branch)), ("class", a.type), ("criterion", a.criterion),
+    rows += [("branch", str(a.branch)), ("class", a.linkage_class), ("criterion", a.criterion),
              ("crank_range", _range_text(a.crank_range)),
              ("circuits", str(max(1, len(a.circuits))))]
     rows += _motion_rows(a, unit)
