@@ -8928,7 +8928,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 
 SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "title": "a string (the figure's title)",
-    "mechanism": f"one of {', '.join(LINKAGE_DIMENSIONS)}",
+    "kind": f"one of {', '.join(LINKAGE_DIMENSIONS)}",
     "dimensions": "a table of the mechanism's dimensions",
     "input": "a table with from, to and step (degrees)",
     "branches": "a list of branches, 1 (A+B) and/or 2 (A-B), and with precision double "
@@ -8943,8 +8943,9 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
                "charted",
     "marked": "a list of input angles (degrees): a mechanism scene's positions drawn faint under "
               "every frame and numbered 1, 2, ... (design --scene writes the design positions)",
+    "mechanism": "the old name of kind, still taken",
 }
-REQUIRED_SCENE_KEYS = ("mechanism", "dimensions", "input", "branches", "panels")
+REQUIRED_SCENE_KEYS = ("kind", "dimensions", "input", "branches", "panels")
 QUANTITIES = ("displacement", "velocity", "acceleration", "transmission")
 QUANTITY_FILES = dict(zip(QUANTITIES, DatFiles.NAMES + (DatFiles.MU,)))
 MECHANISM_PANEL = "mechanism"    # the linkage drawn (a scene of its own, mechanism_drawing)
@@ -9051,14 +9052,18 @@ def load_scene(path: str) -> Scene:
     except tomllib.TOMLDecodeError as e:
         raise SceneError(f"{path}: not a TOML file: {e}") from None
     _unknown_keys(path, data, SCENE_KEYS)
+    if "kind" in data and "mechanism" in data:
+        raise SceneError(f"{path}: key 'mechanism' is the old name of 'kind': give one of them")
+    kind_key = "mechanism" if "mechanism" in data else "kind"     # as the file names it
+    data = {"kind" if key == "mechanism" else key: value for key, value in data.items()}
     for key in REQUIRED_SCENE_KEYS:
         if key not in data:
             raise SceneError(f"{path}: key '{key}' is missing: expected {SCENE_KEYS[key]}")
 
-    mechanism = data["mechanism"]
-    if not isinstance(mechanism, str) or mechanism not in LINKAGE_DIMENSIONS:
-        raise scene_error(path, "mechanism", SCENE_KEYS["mechanism"], mechanism)
-    dims = _scene_dimensions(path, mechanism, data["dimensions"])
+    kind = data["kind"]
+    if not isinstance(kind, str) or kind not in LINKAGE_DIMENSIONS:
+        raise scene_error(path, kind_key, SCENE_KEYS["kind"], kind)
+    dims = _scene_dimensions(path, kind, data["dimensions"])
     start, stop, step = _scene_sweep(path, data["input"])
 
     branches = data["branches"]
@@ -9108,7 +9113,7 @@ def load_scene(path: str) -> Scene:
         raise scene_error(path, "precision", "double or both with a transmission panel: the "
                            "transmission angle is the accurate engine's (the original program "
                            "computes the output link only)", precision)
-    return Scene(path, _scene_title(path, data), mechanism, dims, start, stop, step,
+    return Scene(path, _scene_title(path, data), kind, dims, start, stop, step,
                  tuple(branches), PRECISIONS[precision], specs, fast)
 
 
@@ -9234,7 +9239,7 @@ def _panel_notes(path: str, key: str, notes: Any) -> tuple[tuple[float, float, s
 
 
 def _scene_title(path: str, data: dict[str, Any]) -> str:
-    title = data.get("title", KIND_NAMES[data["mechanism"]].capitalize())
+    title = data.get("title", KIND_NAMES[data["kind"]].capitalize())
     if not isinstance(title, str):
         raise scene_error(path, "title", SCENE_KEYS["title"], title)
     return printable(title)
@@ -9268,7 +9273,7 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
                 and all(_is_number(v) for v in coupler)):
             raise scene_error(path, "coupler", SCENE_KEYS["coupler"], coupler)
         try:
-            coupler = check_coupler_point(Linkage(data["mechanism"], **dims), *coupler)
+            coupler = check_coupler_point(Linkage(data["kind"], **dims), *coupler)
         except ValueError as e:
             raise scene_error(path, "coupler", f"a point of this coupler: {e}", data["coupler"]) \
                 from None
@@ -9276,7 +9281,7 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
     if not (isinstance(marked, list) and len(marked) <= MAX_FRAMES
             and all(_is_number(v) for v in marked)):
         raise scene_error(path, "marked", SCENE_KEYS["marked"], marked)
-    return Scene(path, _scene_title(path, data), data["mechanism"], dims, start, stop, step,
+    return Scene(path, _scene_title(path, data), data["kind"], dims, start, stop, step,
                  branches, ("double",), (spec,), coupler=coupler,
                  marked=tuple(float(v) for v in marked))
 
@@ -9878,7 +9883,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
         return ", ".join(repr(float(v)) for v in values)
     dims = ", ".join(f"{k} = {float(v)!r}" for k, v in scene.dimensions.items())
     lines = [f"# {printable(comment)}"] if comment else []
-    lines += [f"title = {_toml_string(scene.title)}", f"mechanism = {_toml_string(scene.mechanism)}",
+    lines += [f"title = {_toml_string(scene.title)}", f"kind = {_toml_string(scene.mechanism)}",
               f"dimensions = {{ {dims} }}",
               f"input = {{ from = {scene.start!r}, to = {scene.stop!r}, step = {scene.step!r} }}",
               "branches = [" + ", ".join(_toml_string(b) if isinstance(b, str) else str(b)

@@ -300,3 +300,20 @@ def test_the_mu_chart_spans_mus_range_and_90_and_circles_the_worst():
     low, high = ax.get_ylim()
     assert 40 < low < 50 and 90 <= high < 100, (low, high)     # not 0 to 180
     assert "worst μ (circled) 50.0° at 180°" in ax.get_xlabel()
+
+
+def test_a_scene_says_kind_and_still_takes_mechanism(tmp_path, capsys):
+    """The scenes that come with the program say `kind = ...`; a file that says `mechanism = ...`
+    (its old name) draws the same; one that says both is refused."""
+    new = (ROOT / "data" / "scenes" / "fig1a-plane-four-bar.toml").read_text(encoding="utf-8")
+    assert re.search(r'(?m)^kind = "plane"$', new) and not re.search(r"(?m)^mechanism = ", new)
+    old = tmp_path / "old.toml"
+    old.write_text(new.replace('kind = "plane"', 'mechanism = "plane"'), encoding="utf-8")
+    both = tmp_path / "both.toml"
+    both.write_text(new.replace('kind = "plane"', 'kind = "plane"\nmechanism = "plane"'),
+                    encoding="utf-8")
+    got = [output_of(["scene", str(path), "--text"], capsys)
+           for path in (ROOT / "data" / "scenes" / "fig1a-plane-four-bar.toml", old)]
+    assert got[0][0] == got[1][0] == 0 and got[0][1] == got[1][1], got
+    status, _, err = output_of(["scene", str(both)], capsys)
+    assert status == 1 and "old name of 'kind'" in err, err
