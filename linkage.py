@@ -8980,7 +8980,7 @@ class PanelSpec(NamedTuple):
 class Scene(NamedTuple):
     path: str
     title: str
-    mechanism: str
+    kind: str
     dimensions: dict[str, float]
     start: float
     stop: float
@@ -9157,12 +9157,12 @@ def scene_list() -> list[tuple[str, str]]:
     return listed
 
 
-def _scene_dimensions(path: str, mechanism: str, given: object) -> dict[str, float]:
-    """The scene's `dimensions` table, checked against what the mechanism takes."""
-    names = LINKAGE_DIMENSIONS[mechanism]
+def _scene_dimensions(path: str, kind: str, given: object) -> dict[str, float]:
+    """The scene's `dimensions` table, checked against what the kind takes."""
+    names = LINKAGE_DIMENSIONS[kind]
     if not isinstance(given, dict):
         raise scene_error(path, "dimensions", SCENE_KEYS["dimensions"], given)
-    takes = f"a {mechanism} linkage takes {', '.join(names)}"
+    takes = f"a {kind} linkage takes {', '.join(names)}"
     for key in given:
         if key not in names:
             raise SceneError(f"{path}: unknown key 'dimensions.{key}': {takes}")
@@ -9293,16 +9293,16 @@ def _typed(x: float) -> str:
     return repr(float(x))
 
 
-def _typed_dimensions(mechanism: str, dims: dict[str, float]) -> tuple[str, list[str]]:
+def _typed_dimensions(kind: str, dims: dict[str, float]) -> tuple[str, list[str]]:
     """The menu key and the dimensions as typed, in the order the listing asks for them."""
-    key, asked = KIND_MENU[mechanism]
+    key, asked = KIND_MENU[kind]
     return key, [_typed(dims[n]) for n in asked]
 
 
 def _faithful_files(scene: Scene, branch: int | str, directory: str) -> list[str]:
     """The menu program's session with the scene's answers (as `run` gives them): it writes the
     DAT files the panels need in `directory`. Returns the soft errors it printed."""
-    key, answers = _typed_dimensions(scene.mechanism, scene.dimensions)
+    key, answers = _typed_dimensions(scene.kind, scene.dimensions)
     answers += [_typed(v) for v in (scene.start, scene.stop, scene.step)]
     soft_errors: list[str] = []
     screen = Screen(lambda s: None, terminal=False, soft_errors=soft_errors.append)
@@ -9320,7 +9320,7 @@ def _faithful_files(scene: Scene, branch: int | str, directory: str) -> list[str
 
 def _accurate_motions(scene: Scene, branch: int | str, derivatives: int) -> list[Motion]:
     try:
-        linkage = Linkage(scene.mechanism, **scene.dimensions)
+        linkage = Linkage(scene.kind, **scene.dimensions)
         angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
         if scene.fast:
             return linkage.sweep_arrays(angles, int(branch), derivatives).motions()
@@ -9339,7 +9339,7 @@ def check_assembles(scene: Scene, positions: Sequence[Motion | Pose]) -> None:
         dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
         raise scene_error(scene.path, "dimensions",
                            "a linkage that can be assembled somewhere from "
-                           f"{scene.start:g} to {scene.stop:g} degrees; the {scene.mechanism} "
+                           f"{scene.start:g} to {scene.stop:g} degrees; the {scene.kind} "
                            f"linkage {dims} assembles at none of those {len(positions)} input "
                            "angles")
 
@@ -9379,7 +9379,7 @@ def compute_scene(scene: Scene, directory: str, report: Callable[[str], None] | 
         if precision == "double":
             rows: Sequence[tuple] = accurate[branch]
             if scene.transmission:
-                linkage = Linkage(scene.mechanism, **scene.dimensions)
+                linkage = Linkage(scene.kind, **scene.dimensions)
                 rows = [m + (mu,) for m, mu in zip(accurate[branch],
                                                    transmission_of(linkage, accurate[branch]))]
             try:
@@ -9418,7 +9418,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
             for i, (phi, output) in enumerate(columns[0]):
                 values = [c[i][1] if i < len(c) else None for c in columns[1:]]
                 values += [None] * (2 - len(values))
-                status = statuses.get(phi) or Linkage(scene.mechanism, **scene.dimensions) \
+                status = statuses.get(phi) or Linkage(scene.kind, **scene.dimensions) \
                     .motion(phi, s.branch, 0).status
                 yield (s.name, phi, output, *values, status)
     return write_csv(path, rows(), ("series",) + CSV_HEADER, outputs)
@@ -9586,13 +9586,13 @@ def scene_figure(scene: Scene, series: list[Series]) -> Figure:
     precision = {("basic",): "basic (GW-BASIC single precision)",
                  ("double",): "double (the accurate engine)",
                  ("basic", "double"): "basic and double, overlaid"}[scene.precisions]
-    subtitle = (f"{KIND_NAMES[scene.mechanism]}; "
+    subtitle = (f"{KIND_NAMES[scene.kind]}; "
                 f"branch{'es' * (len(scene.branches) > 1)} {branches}; precision {precision}")
-    group = "slider" if scene.mechanism in SLIDER_CRANKS else "four-bar"
+    group = "slider" if scene.kind in SLIDER_CRANKS else "four-bar"
     return build_figure(f"{scene.title}: {dims}", subtitle, group, scene.panels, series)
 
 
-def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
+def dat_figure(directory: str, kind: str | None = None) -> Figure:
     """The figure of the DAT files in `directory` (see dat_series): (a) ANG.DAT, (b) VEL.DAT and
     ACC.DAT, the panels of the files there are."""
     series = dat_series(directory)
@@ -9601,15 +9601,15 @@ def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
     specs = [PanelSpec(tuple(q for q in qs if q in present), None)
              for qs in (("displacement",), ("velocity", "acceleration"), ("transmission",))
              if present & set(qs)]
-    group = ("unknown" if mechanism is None else
-             "slider" if mechanism in SLIDER_CRANKS else "four-bar")
+    group = ("unknown" if kind is None else
+             "slider" if kind in SLIDER_CRANKS else "four-bar")
     precisions = " and ".join(dict.fromkeys(s.precision or "unknown" for s in series))
     branches = sorted({s.branch for s in series if s.branch}, key=str)
     what = (f"precision {precisions}" + (" (from the number format)" if len(series) == 1 else "")
             + (f"; branch{'es' * (len(branches) > 1)} {', '.join(map(str, branches))}"
                if branches else ", branch not recorded"))
-    if mechanism:
-        what = f"{KIND_NAMES[mechanism]}; {what}"
+    if kind:
+        what = f"{KIND_NAMES[kind]}; {what}"
     figure = build_figure(f"The DAT files in {directory}", what, group, specs, series)
     if not any(run for panel in figure.panels for curve in panel.curves for run in curve.runs):
         raise SceneError(f"{directory}: its DAT files hold no point to draw (no \"angle,value\" "
@@ -9853,8 +9853,8 @@ def scene_drawing(scene: Scene) -> Drawing:
     assert isinstance(branch, int)      # load_scene: a mechanism scene draws branch 1 or 2
     try:
         drawing = mechanism_drawing(
-            Linkage(scene.mechanism, **scene.dimensions), scene.angles(), branch,
-            f"{scene.title}: {dims}", f"{KIND_NAMES[scene.mechanism]}; branch {branch} "
+            Linkage(scene.kind, **scene.dimensions), scene.angles(), branch,
+            f"{scene.title}: {dims}", f"{KIND_NAMES[scene.kind]}; branch {branch} "
             f"({'A+B' if branch == 1 else 'A-B'})"
             + ("" if scene.coupler else "; positions by the accurate engine")
             + (f"; marked: {len(scene.marked)} positions, faint and numbered" if scene.marked
@@ -9883,7 +9883,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
         return ", ".join(repr(float(v)) for v in values)
     dims = ", ".join(f"{k} = {float(v)!r}" for k, v in scene.dimensions.items())
     lines = [f"# {printable(comment)}"] if comment else []
-    lines += [f"title = {_toml_string(scene.title)}", f"kind = {_toml_string(scene.mechanism)}",
+    lines += [f"title = {_toml_string(scene.title)}", f"kind = {_toml_string(scene.kind)}",
               f"dimensions = {{ {dims} }}",
               f"input = {{ from = {scene.start!r}, to = {scene.stop!r}, step = {scene.step!r} }}",
               "branches = [" + ", ".join(_toml_string(b) if isinstance(b, str) else str(b)
@@ -9985,7 +9985,7 @@ def bench_scene(out: TextIO, quick: bool = False) -> None:
         scene = Scene("bench", "bench", PLANE_FOUR_BAR, dict(a=6.0, b=2.0, c=7.0, d=9.0),
                       0.0, 360.0, step, (1,), ("double",), specs)
         angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
-        linkage = Linkage(scene.mechanism, **scene.dimensions)
+        linkage = Linkage(scene.kind, **scene.dimensions)
         with tempfile.TemporaryDirectory() as directory:
             times[name] = (
                 _best_of(many, lambda: linkage.sweep(angles, 1, scene.derivatives)),
@@ -11012,8 +11012,8 @@ def _positions_drawing(result: Synthesis) -> Drawing:
     scene = design_scene(result)
     branch = scene.branches[0]
     assert isinstance(branch, int)                        # a design's branch: 1 or 2
-    return mechanism_drawing(Linkage(scene.mechanism, **scene.dimensions), scene.marked, branch,
-                             scene.title, f"{KIND_NAMES[scene.mechanism]}; branch {branch}; "
+    return mechanism_drawing(Linkage(scene.kind, **scene.dimensions), scene.marked, branch,
+                             scene.title, f"{KIND_NAMES[scene.kind]}; branch {branch}; "
                              f"the {len(scene.marked)} design positions")
 
 
