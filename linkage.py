@@ -8906,7 +8906,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 
 # ---- 18. Scenes: a figure's data, loaded and computed --------------------------------------------
 #
-# A scene (data/scenes/*.toml) is one figure: a mechanism and its dimensions, the input range,
+# A scene (data/scenes/*.toml) is one figure: a linkage's kind and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
 # DAT files, and draws the figure as the paper does - (a) displacement, (b) velocity and
 # acceleration against the input angle - as a plain-text plot (80 x 24, no dependency) or a PNG
@@ -8953,7 +8953,7 @@ MAX_FRAMES = 3600                # the most poses a mechanism scene draws
 PRECISIONS = {"basic": ("basic",), "double": ("double",), "both": ("basic", "double")}
 MAX_SCENE_POINTS = 100_000
 # Axis labels (name, symbol, unit) by quantity, for four-bars, slider-cranks and DAT files of an
-# unknown mechanism.
+# unknown kind.
 AXIS_LABELS = {
     "four-bar": {"displacement": ("output angle", "psi", "deg"),
                  "velocity": ("velocity", "dpsi/dphi", "rad/rad"),
@@ -10508,7 +10508,7 @@ def _reported(work: Callable[[], int | None]) -> int:
 
 def _check_dimensions(args: argparse.Namespace, parser: argparse.ArgumentParser,
                       needed: tuple[str, ...]) -> None:
-    """Refuse (parser.error) a command line that misses one of the type's dimensions or gives
+    """Refuse (parser.error) a command line that misses one of the kind's dimensions or gives
     one it has no use for."""
     given = {name for name in DIMENSION_HELP if getattr(args, name) is not None}
     missing = [f"--{n}" for n in needed if n not in given]
@@ -10827,7 +10827,7 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     if scene.draws_mechanism:
         if args.csv or args.dir is not None:
             parser.error(f"--csv and --dir go with a scene of curves; {args.file} draws the "
-                         "mechanism (--svg, --png, --text, --frames)")
+                         "mechanism (--svg, --png, --dxf, --text, --frames)")
         _check_outputs(parser, {"--svg": args.svg, "--png": args.png, "--dxf": args.dxf})
         return drawing_command(args, lambda: scene_drawing(scene))
     if args.svg or args.dxf or args.frames is not None:
