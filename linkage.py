@@ -6826,6 +6826,7 @@ dominant-baseline:central}
 .title{font:bold 16px 'DejaVu Sans',Arial,sans-serif;fill:#1b1b1b}
 .subtitle{font:13px 'DejaVu Sans',Arial,sans-serif;fill:#555}
 .caption{font:15px 'DejaVu Sans',Arial,sans-serif;fill:#1b1b1b;white-space:pre}
+.legend{font:12px 'DejaVu Sans',Arial,sans-serif}
 .message{font:bold 17px 'DejaVu Sans',Arial,sans-serif;fill:#b3001b}
 """ % SVG_LETTER
 
@@ -6924,6 +6925,10 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
     mus = [mu for _, mu in drawing.chart or ()]
     if chart:
         height += _SVG_CHART_HEIGHT
+    caption_y = height - 14
+    legend = _svg_legend(drawing)
+    if legend:
+        height += 22                              # a line of its own under the caption
     count = len(drawing.frames)
     shown = _still_frames(drawing, None)[0]
     period = (seconds_per_frame or frame_seconds(count)) * count
@@ -6936,6 +6941,11 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
            f'<text class="subtitle" x="{margin}" y="44">{_xml(drawing.subtitle)}</text>',
            '<g class="ground">', *_svg_layer(page, drawing.ground, drawing.size), "</g>",
            *(chart.lines if chart else ())]
+    if legend:
+        out.append(f'<text class="legend" x="{width - margin}" y="{height - 8}" '
+                   'text-anchor="end">' + " · ".join(
+                       f'<tspan fill="{colour}">━━ {_xml(words)}</tspan>'
+                       for colour, words in legend) + "</text>")
     for i, frame in enumerate(drawing.frames):
         out.append(f'<g class="frame" data-phi="{frame.pose.phi!r}" '
                    f'visibility="{"visible" if i == shown else "hidden"}">')
@@ -6950,7 +6960,7 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
         if chart and mu is not None:
             out.append(f'<circle class="point" cx="{chart.x(frame.pose.phi):.1f}" '
                        f'cy="{chart.y(mu):.1f}" r="4"/>')
-        out.append(f'<text class="caption" x="{margin}" y="{height - 14}">'
+        out.append(f'<text class="caption" x="{margin}" y="{caption_y}">'
                    f"{_xml(frame.caption)}</text>")
         if frame.message:
             out.append(f'<text class="message" x="{width / 2:.0f}" y="{head + 8}" '
@@ -6958,6 +6968,23 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
         out.append("</g>")
     out.append("</svg>")
     return "\n".join(out) + "\n"
+
+
+# What a coupler curve's colour and a dashed line mean, said where they are drawn: (style, its
+# colour, words); the SVG's legend (the PNG's is _PNG_LEGEND, with the lines themselves).
+_SVG_LEGEND = (("coupler", "#c0392b", "P's curve: this branch"),
+               ("coupler-other", "#e67e22", "the other branch"),
+               ("coupler-follow", "#8e44ad", "the motion followed"),
+               ("hidden", "#6a6a6a", "dashed: behind the sphere"))
+
+
+def _svg_legend(drawing: Drawing) -> list[tuple[str, str]]:
+    """The legend of the curves and line styles the drawing uses: (colour, words) each."""
+    styles = {s.style for layer in [drawing.ground, *(f.layer for f in drawing.frames[:1])]
+              for s in layer.strokes}
+    styles |= {"hidden"} if styles & set(FAR_SIDE.values()) else set()
+    return [(colour, words) for style, colour, words in _SVG_LEGEND
+            if style in styles or FAR_SIDE.get(style) in styles]
 
 
 # -- the PNG -------------------------------------------------------------------------------------

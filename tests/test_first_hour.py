@@ -317,3 +317,16 @@ def test_a_scene_says_kind_and_still_takes_mechanism(tmp_path, capsys):
     assert got[0][0] == got[1][0] == 0 and got[0][1] == got[1][1], got
     status, _, err = output_of(["scene", str(both)], capsys)
     assert status == 1 and "old name of 'kind'" in err, err
+
+
+def test_the_svg_says_what_its_curves_colours_and_dashes_mean():
+    """With the dashes gone from the other branch's curve, the SVG names each curve's colour and
+    the far side's dashes in a legend under the caption, where it draws them (none where not)."""
+    link = linkage.Linkage("spherical", a=80, b=20, c=75, d=60)
+    svg = linkage.svg_drawing(linkage.mechanism_drawing(link, [0.0, 90.0], 1,
+                                                        coupler=(60.0, 50.0), traced=[2]))
+    (legend,) = re.findall(r'<text class="legend"[^>]*>(.*?)</text>', svg)
+    assert "this branch" in legend and "the other branch" in legend
+    assert "behind the sphere" in legend and "followed" not in legend
+    plane = linkage.Linkage("plane", a=6, b=2, c=7, d=9)
+    assert 'class="legend"' not in linkage.svg_drawing(linkage.mechanism_drawing(plane, [0.0]))
