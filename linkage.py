@@ -27,8 +27,8 @@ session); 6. the accurate engine (the closure solved, swept and followed); 7. wh
 derives (joints, coupler point, transmission angle); 8. the linkage analysed (analyse);
 9. the numpy path; 10. forces (driving torque, joint reactions, shaking); 11. the linkage
 (Linkage, a method for each question); 12. DAT and CSV files; 13. the mechanism drawn; 14. the
-mechanism's renderers (terminal, SVG, PNG); 15. synthesis: what a design is; 16. synthesis: the
-review's methods; 17. synthesis: designs measured and checked; 18. scenes; 19. plots;
+mechanism's renderers (terminal, SVG, PNG, DXF); 15. synthesis: what a design is; 16. synthesis:
+the review's methods; 17. synthesis: designs measured and checked; 18. scenes; 19. plots;
 20. benchmarks of the program itself; 21. the command line, last. The engine, the view and
 synthesis never use the original program.
 """
@@ -6544,11 +6544,12 @@ def svg_letters(bounds: Box, size: float) -> Letters:
                    (svg_radius(size, scale) + 1.0) / scale, 1.6 / scale)
 
 
-# ---- 14. The mechanism's renderers: terminal, SVG and PNG ----------------------------------------
+# ---- 14. The mechanism's renderers: terminal, SVG, PNG and DXF -----------------------------------
 #
 # Holds: what draws a Drawing: the terminal (Unicode braille, or ASCII; still or animated until a
-# key), an animated SVG, a PNG (matplotlib). The SVG's letters are those placed in the Drawing; the
-# terminal and the PNG place them again for the sizes they draw letters at.
+# key), an animated SVG, a PNG (matplotlib); and the DXF of its linkage for CAD (ezdxf). The SVG's
+# letters are those placed in the Drawing; the terminal and the PNG place them again for the sizes
+# they draw letters at.
 #
 # Uses: sections 1, 2, 6, 7, 8 and 13.
 # Offers: text_drawing, frame_seconds, show_drawing, svg_drawing, PlotUnavailable,
