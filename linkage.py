@@ -4,8 +4,8 @@ efficient microcomputer kinematic analysis of the basic linkage mechanisms", Mec
 Machine Theory, 1980s).
 
     python3 linkage.py                  the original program: menu 1-6, prompts, ANG/VEL/ACC.DAT
-    python3 linkage.py run TYPE ...     the same program driven by options (see --help)
-    python3 linkage.py analyse TYPE ... the linkage's type, ranges and transmission angle
+    python3 linkage.py run KIND ...     the same program driven by options (see --help)
+    python3 linkage.py analyse KIND ... the linkage's class, ranges and transmission angle
     python3 linkage.py scene NAME|FILE  a figure: the paper's, a coupler curve (scene --list)
     python3 linkage.py plot [DIR]       the figure of DAT files already written
     python3 linkage.py design METHOD .. a linkage synthesised by one of the review's methods
@@ -28,8 +28,8 @@ session); 6. the accurate engine (the closure solved, swept and followed); 7. wh
 derives (joints, coupler point, transmission angle); 8. the linkage analysed (analyse);
 9. the numpy path; 10. forces (driving torque, joint reactions, shaking); 11. the linkage
 (Linkage, a method for each question); 12. DAT and CSV files; 13. the mechanism drawn; 14. the
-mechanism's renderers (terminal, SVG, PNG); 15. synthesis: what a design is; 16. synthesis: the
-review's methods; 17. synthesis: designs measured and checked; 18. scenes; 19. plots;
+mechanism's renderers (terminal, SVG, PNG, DXF); 15. synthesis: what a design is; 16. synthesis:
+the review's methods; 17. synthesis: designs measured and checked; 18. scenes; 19. plots;
 20. the explorer (a dimension changed, the linkage watched in the terminal); 21. benchmarks of
 the program itself; 22. the command line, last. The engine, the view and
 synthesis never use the original program.
@@ -51,6 +51,7 @@ import re
 import shutil
 import struct
 import sys
+import textwrap
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from decimal import Decimal
 from fractions import Fraction
@@ -789,14 +790,14 @@ def single_keys(fd: int | None, enter: Callable[[], object] | None = None,
 #
 # Holds: the one table of the five kinds (plane, spherical and skew four-bar, plane and skew
 # slider-crank): their names, their dimensions in the engine's order and in the order the listing
-# asks for them (MECHANISM_TYPES, the menu's key), what each dimension is, the status a computed
+# asks for them (KIND_MENU, the menu's key), what each dimension is, the status a computed
 # position can have, and degrees against radians.
 #
 # Uses: nothing.
 # Offers: PLANE_FOUR_BAR, SPHERICAL_FOUR_BAR, SKEW_FOUR_BAR, PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK,
-#   LINKAGE_DIMENSIONS, MECHANISM_NAMES, SLIDER_CRANKS, DIMENSION_NAMES, ASSEMBLED, DEAD_CENTRE,
-#   CHANGE_POINT, NOT_ASSEMBLED, INDETERMINATE, STOPPED, RAD, DEG, MECHANISM_TYPES, typed_number,
-#   typed_dimensions.
+#   LINKAGE_DIMENSIONS, KIND_NAMES, SLIDER_CRANKS, DIMENSION_NAMES, ASSEMBLED, DEAD_CENTRE,
+#   CHANGE_POINT, NOT_ASSEMBLED, INDETERMINATE, STOPPED, RAD, DEG, KIND_MENU, typed_number,
+#   typed_dimensions, letters_defined.
 
 
 # The five kinds, named as tests/test_physics.py names them, with their dimensions: lengths as
@@ -813,13 +814,14 @@ LINKAGE_DIMENSIONS = {
     PLANE_SLIDER_CRANK: ("b", "c", "e"),
     SKEW_SLIDER_CRANK: ("a", "b", "c", "f", "ksi"),
 }
-MECHANISM_NAMES = {PLANE_FOUR_BAR: "plane four-bar", SPHERICAL_FOUR_BAR: "spherical four-bar",
+KIND_NAMES = {PLANE_FOUR_BAR: "plane four-bar", SPHERICAL_FOUR_BAR: "spherical four-bar",
                    SKEW_FOUR_BAR: "skew four-bar", PLANE_SLIDER_CRANK: "plane slider-crank",
                    SKEW_SLIDER_CRANK: "skew slider-crank"}
 SLIDER_CRANKS = (PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK)     # the rest are four-bars
 DIMENSION_NAMES = {"a": "the fixed link", "b": "the input crank", "c": "the coupler",
                    "d": "the output crank", "e": "the slider offset",
-                   "f": "the vertical sector of the fixed link", "ksi": "the skew angle, degrees"}
+                   "f": "the vertical sector of the fixed link",
+                   "ksi": "the skew angle (degrees)"}
 
 # The status of a computed position (Motion.status).
 ASSEMBLED = "assembled"          # output, and the derivatives asked for, are given
@@ -845,7 +847,7 @@ DEG = 180.0 / math.pi            # degrees per radian
 
 # kind: (the original program's menu key, the dimensions in the order the listing asks for them:
 # the menu's order, against LINKAGE_DIMENSIONS' order of the paper's letters).
-MECHANISM_TYPES = {
+KIND_MENU = {
     PLANE_FOUR_BAR: ("1", ("b", "c", "d", "a")),
     SPHERICAL_FOUR_BAR: ("2", ("b", "c", "d", "a")),
     SKEW_FOUR_BAR: ("3", ("b", "c", "d", "a", "f", "ksi")),
@@ -861,8 +863,14 @@ def typed_number(x: float) -> str:
 
 def typed_dimensions(kind: str, dims: dict[str, float]) -> tuple[str, list[str]]:
     """The menu key and the dimensions as typed, in the order the listing asks for them."""
-    key, asked = MECHANISM_TYPES[kind]
+    key, asked = KIND_MENU[kind]
     return key, [typed_number(dims[n]) for n in asked]
+
+
+def letters_defined(kind: str) -> str:
+    """The kind's dimension letters as options, each with what it is, in the menu's order:
+    "--b the input crank, --c the coupler, ..." (the command line's help says it per kind)."""
+    return ", ".join(f"--{n} {DIMENSION_NAMES[n]}" for n in KIND_MENU[kind][1])
 
 
 # ---- 3. GW-BASIC single precision ----------------------------------------------------------------
@@ -3367,7 +3375,7 @@ def check_coupler_point(linkage: Closure, u: float, v: float = 0.0) -> tuple[flo
         raise ValueError(f"coupler point ({u:g}, {v:g}): u and v must be finite")
     pins, dims = PINS[linkage.kind], linkage.dims
     if pins.coupler == "line" and v != 0.0:
-        raise ValueError(f"coupler point v = {v:g}: the {MECHANISM_NAMES[linkage.kind]}'s coupler "
+        raise ValueError(f"coupler point v = {v:g}: the {KIND_NAMES[linkage.kind]}'s coupler "
                          "has ball joints and may spin about the line from A to its output pin, "
                          "so only the points of that line are fixed to it: v must be 0")
     if pins.coupler == "sphere":
@@ -3594,9 +3602,9 @@ _GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _sph
                   SKEW_SLIDER_CRANK: _skew_slider_ground_joints}
 
 
-# ---- 8. The linkage analysed: type, ranges, dead centres, transmission extremes ------------------
+# ---- 8. The linkage analysed: class, ranges, dead centres, transmission extremes -----------------
 #
-# Holds: analyse, which says what a linkage does over its whole motion: its type (Grashof's class
+# Holds: analyse, which says what a linkage does over its whole motion: its class (Grashof's
 # for the plane four-bar), where the crank turns (crank_limits, the dead centres and change
 # points), each circuit's output range, strokes and time ratios, and the transmission angle's
 # extremes and the worst of them; analysis_lines, its `name = value` lines.
@@ -3606,7 +3614,7 @@ _GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _sph
 #   unwrapped, LINKS, DEGENERATE_PROBES, degenerate, analyse, value_text, analysis_lines.
 
 
-# -- the linkage's type and range of motion (analyse) -------------------------------------------
+# -- the linkage's class and range of motion (analyse) ------------------------------------------
 #
 # Where the crank can turn is where the closure's discriminant D(phi) (P^2 + Q^2 - S^2 of the
 # four-bars, c^2 - u^2 - v^2 of the sliders: section notes above) is not negative. D is a
@@ -3622,7 +3630,7 @@ _GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _sph
 # each dead centre on both branches (_at_dead_centre). Along each: the output's extremes (every
 # zero of its velocity, _velocity_zeros, refined by bisection; and the dead centres) and whether
 # it turns fully, the strokes and time ratios, and the transmission angle's extremes (refined by
-# extreme_of, their angles rounded by _worth). The type is Grashof's class for the plane
+# extreme_of, their angles rounded by _worth). The class is Grashof's for the plane
 # four-bar (exact in the typed lengths), the offset slider-crank's b + |e| against c, and for the
 # other kinds the class the motion shows.
 
@@ -3772,7 +3780,7 @@ def crank_limits(linkage: Closure) -> tuple[list[float], list[float]]:
     changes.sort()
     signs = [(x, -1.0 if x in gaps else d(x)) for x in sorted(points)]
     if all(v < -_TOUCHING for _, v in signs):
-        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle")
+        raise ValueError(f"the {KIND_NAMES[linkage.kind]} assembles at no input angle")
     strict = [(x, v) for x, v in signs
               if abs(v) > _TOUCHING or x in changes or x in gaps or v == 0]
     dead = []
@@ -3861,7 +3869,7 @@ class _AnalysisFields(NamedTuple):
     """Analysis's fields."""
     linkage: Closure
     branch: int | str
-    type: str
+    linkage_class: str
     criterion: str
     crank_range: tuple[tuple[float, float], ...] | None
     output_min: Extreme | None
@@ -4099,9 +4107,9 @@ def _mu_extremes(linkage: Closure, run: _Run, maximum: bool) -> Extreme:
     return pick(candidates, key=lambda e: e.value)
 
 
-def _linkage_type(linkage: Closure, crank_turns: bool, output_turns: bool, changes: list[float]
+def _linkage_class(linkage: Closure, crank_turns: bool, output_turns: bool, changes: list[float]
                   ) -> tuple[str, str]:
-    """(type, criterion): Grashof's rule for the plane four-bar, b + |e| against c for the plane
+    """(class, criterion): Grashof's rule for the plane four-bar, b + |e| against c for the plane
     slider-crank, else the motion's class."""
     dims = linkage.dims
     if linkage.kind == PLANE_FOUR_BAR:
@@ -4192,7 +4200,7 @@ def _circuit(linkage: Closure, run: _Run, crank_range: tuple[tuple[float, float]
 
 
 def analyse(linkage: Closure, branch: int | str = 1, start: int | None = None) -> Analysis:
-    """The linkage's type and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
+    """The linkage's class and range of motion on `branch` (1, 2 or FOLLOW with `start`): an
     Analysis (see the notes above). ValueError if it assembles at no input angle, or if it is
     degenerate (degenerate(): a zero link, a dead centre at every angle).
 
@@ -4218,7 +4226,7 @@ def analyse(linkage: Closure, branch: int | str = 1, start: int | None = None) -
         raise ValueError('branch is 1, 2 or "follow"')
     reason = degenerate(linkage)
     if reason is not None:
-        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} is degenerate: {reason}; "
+        raise ValueError(f"the {KIND_NAMES[linkage.kind]} is degenerate: {reason}; "
                          "nothing to analyse")
     dead, changes = crank_limits(linkage)
     crank_range, runs = _circuits(linkage, branch, start, dead)
@@ -4236,11 +4244,11 @@ def analyse(linkage: Closure, branch: int | str = 1, start: int | None = None) -
         circuits.append(circuit)
         turns |= circuit_turns
     if not circuits:
-        raise ValueError(f"the {MECHANISM_NAMES[linkage.kind]} assembles at no input angle on "
+        raise ValueError(f"the {KIND_NAMES[linkage.kind]} assembles at no input angle on "
                          f"branch {branch}")
-    kind, criterion = _linkage_type(linkage, crank_range is None, turns, changes)
+    linkage_class, criterion = _linkage_class(linkage, crank_range is None, turns, changes)
     first = circuits[0]
-    return Analysis(linkage, branch, kind, criterion, crank_range, first.output_min,
+    return Analysis(linkage, branch, linkage_class, criterion, crank_range, first.output_min,
                     first.output_max, first.forward_stroke, first.return_stroke, first.mu_min,
                     first.mu_max, tuple(dead), tuple(changes), tuple(circuits))
 
@@ -4293,15 +4301,15 @@ def _range_text(crank_range: tuple[tuple[float, float], ...] | None) -> str:
 
 
 def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
-    """The `name = value` lines of an Analysis, each name after `prefix`: the linkage, its type,
+    """The `name = value` lines of an Analysis, each name after `prefix`: the linkage, its class,
     crank range and number of circuits, circuit 1's motion (see analyse), the dead centres and
     change points; then, where there are two circuits or more, each circuit's crank range and
     motion as circuit_N.name lines."""
     a, linkage = analysis, analysis.linkage
     unit = "" if linkage.is_slider else " deg"
-    rows = [("mechanism", linkage.kind)]
+    rows = [("kind", linkage.kind)]
     rows += [(n, value_text(v)) for n, v in linkage.dims.items()]
-    rows += [("branch", str(a.branch)), ("type", a.type), ("criterion", a.criterion),
+    rows += [("branch", str(a.branch)), ("class", a.linkage_class), ("criterion", a.criterion),
              ("crank_range", _range_text(a.crank_range)),
              ("circuits", str(max(1, len(a.circuits))))]
     rows += _motion_rows(a, unit)
@@ -5283,11 +5291,11 @@ def _checked_body(kind: str, role: str, body: Body, rod: Callable[[float], _Mass
                          "of inertia about any axis)")
     if role == "coupler" and PINS[kind].coupler == "line":
         if centre[1] or centre[2]:
-            raise ValueError(f"the {MECHANISM_NAMES[kind]}'s coupler may spin about the line "
+            raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
                              "from A to its output pin, so its centre must lie on it: (u, 0, 0)")
         if any(rows[i][j] for i in range(3) for j in range(3) if i != j) or \
                 abs(rows[1][1] - rows[2][2]) > 1e-12 * scale:
-            raise ValueError(f"the {MECHANISM_NAMES[kind]}'s coupler may spin about the line "
+            raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
                              "from A to its output pin, so its inertia must be axisymmetric "
                              "about it: ((axial, 0, 0), (0, transverse, 0), (0, 0, transverse))")
     return _Mass(mass, centre, cast(Matrix, tuple(rows)))
@@ -5366,7 +5374,7 @@ def _setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float) ->
         force = cast(Vector, _checked_numbers(given, 3, "the coupler force (fx, fy, fz)"))
         form = PINS[kind].coupler
         if form == "line" and v:
-            raise ValueError(f"the {MECHANISM_NAMES[kind]}'s coupler may spin about the line "
+            raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
                              "from A to its output pin, so a force on it must act at a point of "
                              f"that line: v must be 0, not {v:g}")
         if form == "sphere":
@@ -5921,9 +5929,9 @@ def dat_precision(directory: str) -> str:
 #
 # Uses: sections 2, 6, 7 and 11.
 # Offers: Point, Box, Stroke, Mark, Label, Letters, Layer, Frame, Drawing, MECHANISM_EXAMPLES,
-#   STROKE_STYLES, VIEWS, project, Segment, stroke_segments, place_labels, mechanism_drawing,
-#   spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale, svg_radius,
-#   svg_letters.
+#   STROKE_STYLES, FAR_SIDE, VIEWS, project, Segment, stroke_segments, place_labels,
+#   mechanism_drawing, spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale,
+#   svg_radius, svg_letters.
 
 
 # -- the drawing: what every renderer draws ------------------------------------------------------
@@ -5995,6 +6003,7 @@ class Drawing(NamedTuple):
     letters: Letters
     chart: tuple[tuple[float, float | None], ...] | None = None   # the transmission angle
     #                                                    along the sweep: ((phi, mu), ...)
+    coupler_points: tuple[Vector | None, ...] = ()   # the coupler point in 3-D, a frame each
 
 
 # One linkage of each kind that turns fully, as Figs. 1 and 2 draw them (data/scenes/fig1*, fig2*).
@@ -6008,10 +6017,15 @@ MECHANISM_EXAMPLES = {
 
 # link: a moving link; ground: the fixed link and the slider's guide; hatch: the ground's
 # hatching; axis: a shaft axis (dash-dot); path: a joint's traced path (dotted); hidden: a link
-# behind the sphere (dashed); outline: the sphere; dimension: a dimension line (thin).
+# behind the sphere (dashed); outline: the sphere; dimension: a dimension line (thin). A line
+# style means one thing: dashes are the far side of the sphere (a coupler curve's far side is
+# its colour dashed: FAR_SIDE), a curve's branch is its colour.
 STROKE_STYLES = ("link", "ground", "hatch", "axis", "path", "hidden", "outline", "dimension",
                  "coupler", "coupler-other", "coupler-follow",   # the coupler curve of the frames'
-                 "marked")      # branch, of the other, of the motion followed; a marked position
+                 "marked",      # branch, of the other, of the motion followed; a marked position
+                 "coupler-far", "coupler-other-far", "coupler-follow-far")   # behind the sphere
+FAR_SIDE = {"coupler": "coupler-far", "coupler-other": "coupler-other-far",
+            "coupler-follow": "coupler-follow-far"}     # a style behind the sphere; else hidden
 
 # Oblique views (azimuth, elevation in degrees) of the 3-D linkages: the input axis z upright on
 # the page, seen from a little above.
@@ -6164,8 +6178,8 @@ def _vector(components: Iterable[float]) -> Vector:
 
 
 def _sphere_strokes(kind: str, points: list[Vector], style: str) -> list[Stroke]:
-    """3-D points on the unit sphere as page strokes: `style` where they face the viewer, hidden
-    (dashed) behind the sphere."""
+    """3-D points on the unit sphere as page strokes: `style` where they face the viewer, behind
+    the sphere its FAR_SIDE style (a coupler curve's), else hidden."""
     view = _view(kind)
     assert view is not None                 # drawn in the spherical four-bar's view
     toward = view[2]
@@ -6176,12 +6190,13 @@ def _sphere_strokes(kind: str, points: list[Vector], style: str) -> list[Stroke]
         facing = dot(p, toward) >= 0.0
         if run and facing != front:
             if len(run) > 1:                    # a lone point is no stroke
-                strokes.append(Stroke(tuple(run), style if front else "hidden"))
+                strokes.append(Stroke(tuple(run), style if front
+                                      else FAR_SIDE.get(style, "hidden")))
             run = run[-1:]
         run.append(project(kind, p))
         front = facing
     if len(run) > 1:
-        strokes.append(Stroke(tuple(run), style if front else "hidden"))
+        strokes.append(Stroke(tuple(run), style if front else FAR_SIDE.get(style, "hidden")))
     return strokes
 
 
@@ -6462,7 +6477,7 @@ def _extent(points: Sequence[Point]) -> Box:
 
 # Strokes no letter may touch (with the marks and the other letters); the rest (axes, paths,
 # curves, the sphere) a letter keeps off where it can.
-_SOLID_STYLES = ("link", "ground", "hatch", "hidden")
+_SOLID_STYLES = ("link", "ground", "hatch", "hidden", *FAR_SIDE.values())
 _ALONG = (0.5, 0.38, 0.62, 0.26, 0.74, 0.14, 0.86)   # where along what it names a letter may go
 # The spots beside it, cheapest first: (cost, where along, how far out, other side or not).
 _BESIDE = sorted((step + 0.4 * other + 3.0 * abs(along - 0.5), along, step, other)
@@ -6627,11 +6642,11 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
     over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS).
 
     coupler (u, v): the point of Linkage.coupler drawn on the coupler in each frame, its curve
-    traced over the sweep on `branch` (solid) and on each branch of `traced` (dashed; FOLLOW:
-    the motion followed from `branch`), and the transmission angle told in each caption and
-    charted along the sweep (Drawing.chart). marked: input angles at which the linkage is drawn
-    faint under every frame, numbered 1, 2, ... at the output (a design's positions), each on
-    its branch of marked_branches (`branch` where none is given)."""
+    traced over the sweep on `branch` and on each branch of `traced` (FOLLOW: the motion
+    followed from `branch`), each in a style of its own, and the transmission angle told in each
+    caption and charted along the sweep (Drawing.chart). marked: input angles at which the
+    linkage is drawn faint under every frame, numbered 1, 2, ... at the output (a design's
+    positions), each on its branch of marked_branches (`branch` where none is given)."""
     kind = linkage.kind
     if coupler is not None:
         coupler = check_coupler_point(linkage, *coupler)
@@ -6686,15 +6701,15 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
         ground.marks + f.layer.marks, letters, bounds))) for f in unplaced)
     ground = ground._replace(labels=())
     if title is None:
-        title = (MECHANISM_NAMES[kind] + ": "
+        title = (KIND_NAMES[kind] + ": "
                  + " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in linkage.dims.items()))
     if subtitle is None:
         subtitle = f"branch {branch} ({'A+B' if branch == 1 else 'A-B'})"
     if coupler is not None:
-        others = ", ".join("followed dotted" if b == FOLLOW else f"branch {b} dashed"
-                           for b in traced)
-        subtitle += f"; P({coupler[0]:g}, {coupler[1]:g})" + (f" solid, {others}" if others else "")
-    return Drawing(title, subtitle, kind, ground, frames, bounds, size, letters, chart)
+        others = "".join(", followed" if b == FOLLOW else f", branch {b}" for b in traced)
+        subtitle += f"; P({coupler[0]:g}, {coupler[1]:g}) traced on branch {branch}{others}"
+    return Drawing(title, subtitle, kind, ground, frames, bounds, size, letters, chart,
+                   tuple(points) if coupler is not None else ())
 
 
 def spread_indices(count: int, wanted: int) -> list[int]:
@@ -6737,15 +6752,16 @@ def svg_letters(bounds: Box, size: float) -> Letters:
                    (svg_radius(size, scale) + 1.0) / scale, 1.6 / scale)
 
 
-# ---- 14. The mechanism's renderers: terminal, SVG and PNG ----------------------------------------
+# ---- 14. The mechanism's renderers: terminal, SVG, PNG and DXF -----------------------------------
 #
 # Holds: what draws a Drawing: the terminal (Unicode braille, or ASCII; still or animated until a
-# key), an animated SVG, a PNG (matplotlib). The SVG's letters are those placed in the Drawing; the
-# terminal and the PNG place them again for the sizes they draw letters at.
+# key), an animated SVG, a PNG (matplotlib); and the DXF of its linkage for CAD (ezdxf). The SVG's
+# letters are those placed in the Drawing; the terminal and the PNG place them again for the sizes
+# they draw letters at.
 #
-# Uses: sections 1 and 13.
+# Uses: sections 1, 2, 6, 7, 8 and 13.
 # Offers: text_drawing, frame_seconds, show_drawing, svg_drawing, PlotUnavailable,
-#   matplotlib_canvas, png_drawing.
+#   matplotlib_canvas, png_drawing, DXF_LINKS, DXF_POSITIONS, dxf_module, dxf_drawing.
 
 
 # -- the terminal view ---------------------------------------------------------------------------
@@ -6757,6 +6773,12 @@ def svg_letters(bounds: Box, size: float) -> Letters:
 # pattern in dots along the stroke (on, off, ...); styles not listed are solid.
 _TEXT_ORDER = ("outline", "path", "axis", "dimension", "marked", "hidden", "coupler-follow",
                "coupler-other", "coupler", "hatch", "ground", "link")
+_FAR_STYLES = frozenset(FAR_SIDE.values())     # drawn as hidden in text: dots carry no colour
+
+
+def _text_style(style: str) -> str:
+    """The style a stroke is drawn in as text (and ordered by in every renderer)."""
+    return "hidden" if style in _FAR_STYLES else style
 _TEXT_DASHES = {"outline": (1, 1), "path": (1, 2), "axis": (4, 2, 1, 2), "dimension": (1, 1),
                 "coupler-other": (3, 3), "coupler-follow": (1, 2),
                 "hidden": (2, 2), "marked": (1, 1)}
@@ -6812,15 +6834,15 @@ class _DotGrid:
         return p[0] * self.scale + self.left, self.top - p[1] * self.scale / self.aspect
 
     def stroke(self, stroke: Stroke) -> None:
-        dashes = _TEXT_DASHES.get(stroke.style)
+        style = _text_style(stroke.style)
+        dashes = _TEXT_DASHES.get(style)
         travelled = 0.0
         for p, q in zip(stroke.points, stroke.points[1:]):
             (x0, y0), (x1, y1) = self.dot(p), self.dot(q)
             dx, dy = x1 - x0, (y1 - y0) * self.aspect
             length = math.hypot(dx, dy)
             char = {"path": ".", "outline": ".", "coupler": "*", "coupler-other": "+",
-                    "coupler-follow": ":"}.get(
-                stroke.style) or _ascii_line(dx, dy)
+                    "coupler-follow": ":"}.get(style) or _ascii_line(dx, dy)
             steps = max(1, math.ceil(2 * max(abs(x1 - x0), abs(y1 - y0))))
             for i in range(steps + 1):
                 if dashes is None or _dash_on(dashes, travelled + i / steps * length):
@@ -6876,7 +6898,7 @@ def text_drawing(drawing: Drawing, index: int = 0, width: int = 80, height: int 
     grid = _DotGrid(width, height - 3, drawing.bounds, unicode)
     strokes = [s for s in drawing.ground.strokes + frame.layer.strokes       # hatching too fine
                if s.style != "hatch" or math.dist(*s.points[:2]) * grid.scale >= 3.0]  # is a blot
-    for stroke in sorted(strokes, key=lambda s: _TEXT_ORDER.index(s.style)):
+    for stroke in sorted(strokes, key=lambda s: _TEXT_ORDER.index(_text_style(s.style))):
         grid.stroke(stroke)
     marks = drawing.ground.marks + frame.layer.marks
     labels = [label._replace(text=_plain(label.text, unicode)) for label in frame.layer.labels]
@@ -6996,9 +7018,12 @@ polyline.hidden{stroke:#6a6a6a;stroke-width:2;stroke-dasharray:6 4}
 polyline.outline{stroke:#b5b5b5;stroke-width:1.3}
 polyline.dimension{stroke:#7a7a7a;stroke-width:0.9}
 polyline.coupler{stroke:#c0392b;stroke-width:2}
-polyline.coupler-other{stroke:#e67e22;stroke-width:2;stroke-dasharray:8 5}
-polyline.coupler-follow{stroke:#8e44ad;stroke-width:2.4;stroke-dasharray:2 4}
-polyline.marked{stroke:#2e8b57;stroke-width:2;stroke-dasharray:5 3}
+polyline.coupler-other{stroke:#e67e22;stroke-width:1.6}
+polyline.coupler-follow{stroke:#8e44ad;stroke-width:2.4}
+polyline.coupler-far{stroke:#c0392b;stroke-width:1.4;stroke-dasharray:6 4}
+polyline.coupler-other-far{stroke:#e67e22;stroke-width:1.2;stroke-dasharray:6 4}
+polyline.coupler-follow-far{stroke:#8e44ad;stroke-width:1.6;stroke-dasharray:6 4}
+polyline.marked{stroke:#2e8b57;stroke-width:2;stroke-opacity:0.7}
 polyline.chart{stroke:#2f6db3;stroke-width:1.6}
 polyline.grid{stroke:#ccc;stroke-width:1}
 .joint,.pivot{fill:#fff;stroke:#1b1b1b;stroke-width:2}
@@ -7010,6 +7035,7 @@ dominant-baseline:central}
 .title{font:bold 16px 'DejaVu Sans',Arial,sans-serif;fill:#1b1b1b}
 .subtitle{font:13px 'DejaVu Sans',Arial,sans-serif;fill:#555}
 .caption{font:15px 'DejaVu Sans',Arial,sans-serif;fill:#1b1b1b;white-space:pre}
+.legend{font:12px 'DejaVu Sans',Arial,sans-serif}
 .message{font:bold 17px 'DejaVu Sans',Arial,sans-serif;fill:#b3001b}
 """ % SVG_LETTER
 
@@ -7030,7 +7056,8 @@ class _SvgPage(NamedTuple):
 
 def _svg_layer(page: _SvgPage, layer: Layer, size: float) -> list[str]:
     out = [f'<polyline class="{s.style}" points="{" ".join(page.xy(p) for p in s.points)}"/>'
-           for s in sorted(layer.strokes, key=lambda s: _TEXT_ORDER.index(s.style))]
+           for s in sorted(layer.strokes,
+                           key=lambda s: _TEXT_ORDER.index(_text_style(s.style)))]
     radius = svg_radius(size, page.scale)
     out += [f'<circle class="{m.kind}" data-joint="{m.name}" {page.attrs(m.at, "cx", "cy")} '
             f'r="{radius:.1f}"/>' for m in layer.marks]
@@ -7107,6 +7134,10 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
     mus = [mu for _, mu in drawing.chart or ()]
     if chart:
         height += _SVG_CHART_HEIGHT
+    caption_y = height - 14
+    legend = _svg_legend(drawing)
+    if legend:
+        height += 22                              # a line of its own under the caption
     count = len(drawing.frames)
     shown = _still_frames(drawing, None)[0]
     period = (seconds_per_frame or frame_seconds(count)) * count
@@ -7119,6 +7150,11 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
            f'<text class="subtitle" x="{margin}" y="44">{_xml(drawing.subtitle)}</text>',
            '<g class="ground">', *_svg_layer(page, drawing.ground, drawing.size), "</g>",
            *(chart.lines if chart else ())]
+    if legend:
+        out.append(f'<text class="legend" x="{width - margin}" y="{height - 8}" '
+                   'text-anchor="end">' + " · ".join(
+                       f'<tspan fill="{colour}">━━ {_xml(words)}</tspan>'
+                       for colour, words in legend) + "</text>")
     for i, frame in enumerate(drawing.frames):
         out.append(f'<g class="frame" data-phi="{frame.pose.phi!r}" '
                    f'visibility="{"visible" if i == shown else "hidden"}">')
@@ -7133,7 +7169,7 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
         if chart and mu is not None:
             out.append(f'<circle class="point" cx="{chart.x(frame.pose.phi):.1f}" '
                        f'cy="{chart.y(mu):.1f}" r="4"/>')
-        out.append(f'<text class="caption" x="{margin}" y="{height - 14}">'
+        out.append(f'<text class="caption" x="{margin}" y="{caption_y}">'
                    f"{_xml(frame.caption)}</text>")
         if frame.message:
             out.append(f'<text class="message" x="{width / 2:.0f}" y="{head + 8}" '
@@ -7141,6 +7177,23 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
         out.append("</g>")
     out.append("</svg>")
     return "\n".join(out) + "\n"
+
+
+# What a coupler curve's colour and a dashed line mean, said where they are drawn: (style, its
+# colour, words); the SVG's legend (the PNG's is _PNG_LEGEND, with the lines themselves).
+_SVG_LEGEND = (("coupler", "#c0392b", "P's curve: this branch"),
+               ("coupler-other", "#e67e22", "the other branch"),
+               ("coupler-follow", "#8e44ad", "the motion followed"),
+               ("hidden", "#6a6a6a", "dashed: behind the sphere"))
+
+
+def _svg_legend(drawing: Drawing) -> list[tuple[str, str]]:
+    """The legend of the curves and line styles the drawing uses: (colour, words) each."""
+    styles = {s.style for layer in [drawing.ground, *(f.layer for f in drawing.frames[:1])]
+              for s in layer.strokes}
+    styles |= {"hidden"} if styles & set(FAR_SIDE.values()) else set()
+    return [(colour, words) for style, colour, words in _SVG_LEGEND
+            if style in styles or FAR_SIDE.get(style) in styles]
 
 
 # -- the PNG -------------------------------------------------------------------------------------
@@ -7156,23 +7209,41 @@ _PNG_STYLES: dict[str, dict[str, Any]] = {"link": dict(color="#1b1b1b", linewidt
                "outline": dict(color="#b5b5b5", linewidth=1.0),
                "dimension": dict(color="#7a7a7a", linewidth=0.7),
                "coupler": dict(color="#c0392b", linewidth=1.6),
-               "coupler-other": dict(color="#e67e22", linewidth=1.6, linestyle="--"),
-               "coupler-follow": dict(color="#8e44ad", linewidth=1.8, linestyle=":"),
-               "marked": dict(color="#2e8b57", linewidth=1.4, linestyle="--")}
+               "coupler-other": dict(color="#e67e22", linewidth=1.2),
+               "coupler-follow": dict(color="#8e44ad", linewidth=1.8),
+               "coupler-far": dict(color="#c0392b", linewidth=1.1, linestyle="--"),
+               "coupler-other-far": dict(color="#e67e22", linewidth=0.9, linestyle="--"),
+               "coupler-follow-far": dict(color="#8e44ad", linewidth=1.2, linestyle="--"),
+               "marked": dict(color="#7fbf9a", linewidth=1.4)}
 
 
 _PNG_LETTER, _PNG_MARK = 13, 6          # points: the letters' font size, the marks' size
 
 
-def _png_layer(ax: matplotlib.axes.Axes, layer: Layer, alpha: float, marks: bool) -> None:
+def _png_layer(ax: matplotlib.axes.Axes, layer: Layer, alpha: float, marks: bool,
+               zorder: float = 2.0) -> None:
     for stroke in layer.strokes:
         xs, ys = zip(*stroke.points)
-        ax.plot(xs, ys, alpha=alpha, solid_capstyle="round", **_PNG_STYLES[stroke.style])
+        ax.plot(xs, ys, alpha=alpha, solid_capstyle="round", zorder=zorder,
+                **_PNG_STYLES[stroke.style])
     if marks:
         for mark in layer.marks:
             ax.plot(*mark.at, marker="D" if mark.kind == "point" else "o",
-                    markersize=_PNG_MARK, markeredgewidth=1.4, zorder=5, color="#1b1b1b",
+                    markersize=_PNG_MARK, markeredgewidth=1.4, zorder=zorder + 4,
+                    color="#1b1b1b",
                     markerfacecolor={"pivot": "#d8d8d8", "point": "#c0392b"}.get(mark.kind, "w"))
+            if mark.kind == "point":
+                ax.annotate("P", mark.at, xytext=(7, 7), textcoords="offset points",
+                            fontsize=_PNG_LETTER - 2, fontweight="bold", color="#c0392b",
+                            zorder=zorder + 5)
+
+
+# What each curve's line means, for the PNG's legend: (style, words), shown where drawn.
+_PNG_LEGEND = (("coupler", "P's curve, the frames' branch"), ("coupler-other", "P's curve, "
+               "the other branch"), ("coupler-follow", "P's curve, the motion followed"),
+               ("hidden", "dashed: behind the sphere (a curve in its colour)"), ("path", "a joint's path (dotted)"),
+               ("axis", "a shaft's axis (dash-dot)"))
+_EXTREME_COLOUR = "#b0307a"
 
 
 def _png_letters(mpl: matplotlib.figure.Figure, ax: matplotlib.axes.Axes, drawing: Drawing,
@@ -7192,23 +7263,80 @@ def _png_letters(mpl: matplotlib.figure.Figure, ax: matplotlib.axes.Axes, drawin
 
 def _png_chart(ax: matplotlib.axes.Axes, chart: Sequence[tuple[float, float | None]],
                marked: Sequence[float]) -> None:
-    """The transmission angle along the sweep, the drawn positions marked."""
+    """The transmission angle along the sweep, the drawn positions marked: scaled to its range
+    and 90 degrees (the best), the worst (furthest from 90) of the points swept marked."""
     for run in _chart_runs(chart):
         ax.plot(*zip(*run), color="#2f6db3", linewidth=1.4)
     shown = dict(chart)
     dots = [(p, mu) for p in marked if (mu := shown.get(p)) is not None]
     ax.plot([p for p, _ in dots], [mu for _, mu in dots], "o", color="#2f6db3", markersize=3)
-    ax.axhline(90.0, color="#999999", linewidth=0.8, linestyle="--")
-    ax.set_ylim(0.0, 180.0)
-    ax.set_yticks([0, 30, 60, 90, 120, 150, 180])
-    ax.set_xlabel("input angle φ [deg]", fontsize=8)
+    values = [(mu, phi) for phi, mu in chart if mu is not None]
+    low = min([90.0] + [mu for mu, _ in values])
+    high = max([90.0] + [mu for mu, _ in values])
+    pad = max(2.0, 0.08 * (high - low))
+    ax.set_ylim(max(0.0, low - pad), min(180.0, high + pad))
+    ax.axhline(90.0, color="#1e7b45", linewidth=0.9, linestyle="-.")
+    ax.annotate("90° best", (1.0, 90.0), xycoords=("axes fraction", "data"), xytext=(-3, 3),
+                textcoords="offset points", ha="right", fontsize=7, color="#1e7b45")
+    worst = ""
+    if values:
+        mu, phi = max(values, key=lambda v: abs(v[0] - 90.0))
+        ax.plot([phi], [mu], "o", markersize=7, markerfacecolor="none", color="#c0392b",
+                markeredgewidth=1.5)
+        worst = f"\nworst μ (circled) {mu:.1f}° at {phi:g}°"
+    ax.set_xlabel("input angle φ [deg]" + worst, fontsize=8)
     ax.set_ylabel("transmission angle μ [deg]", fontsize=8)
     ax.tick_params(labelsize=7)
     ax.grid(True, linewidth=0.3)
 
 
+def _png_scale_bar(ax: matplotlib.axes.Axes, bounds: Box) -> None:
+    """A bar of a round length (1, 2 or 5 times a power of ten, about a fifth of the width) at
+    the drawing's lower left, in the linkage's lengths (the plane kinds, drawn as they lie)."""
+    x0, y0, x1, y1 = bounds
+    target = (x1 - x0) / 5.0
+    power = 10.0 ** math.floor(math.log10(target))
+    length = max((k * power for k in (1.0, 2.0, 5.0) if k * power <= target), default=power)
+    y = y0 + 0.03 * (y1 - y0)
+    ax.plot([x0, x0 + length], [y, y], color="#1b1b1b", linewidth=2.0, solid_capstyle="butt")
+    for x in (x0, x0 + length):
+        ax.plot([x, x], [y - 0.01 * (y1 - y0), y + 0.01 * (y1 - y0)], color="#1b1b1b",
+                linewidth=1.0)
+    ax.text(x0 + length / 2, y + 0.015 * (y1 - y0), f"{length:g} (the lengths' unit)",
+            ha="center", va="bottom", fontsize=7)
+
+
+def _png_extremes(ax: matplotlib.axes.Axes, drawing: Drawing) -> None:
+    """The output's extremes among the frames (sampled at the sweep's step): the output pin
+    there, and for a four-bar its crank from B0, green, each with its value and angle."""
+    kind = drawing.kind
+    slider = kind in SLIDER_CRANKS
+    posed = [f.pose for f in drawing.frames if f.message is None and f.pose.output is not None]
+    if len(posed) < 2:
+        return
+    name = "x" if slider else "ψ"
+    unit = "" if slider else "°"
+    along = unwrapped([p.output or 0.0 for p in posed], not slider)   # across +-180 as it moves
+    if not slider and max(along) - min(along) >= 359.0:
+        return                                  # the output turns fully: no extremes
+    low = min(along)
+    shift = 0.0 if slider else (low + 180.0) % 360.0 - 180.0 - low    # the min in [-180, 180)
+    for i, which in ((along.index(min(along)), "min"), (along.index(max(along)), "max")):
+        pose = posed[i]
+        pin = project(kind, pose.joints["C" if slider else "B"])
+        if not slider and "B0" in pose.joints and kind != SPHERICAL_FOUR_BAR:
+            b0 = project(kind, pose.joints["B0"])
+            ax.plot([b0[0], pin[0]], [b0[1], pin[1]], color=_EXTREME_COLOUR, linewidth=1.6,
+                    alpha=0.8, zorder=3)
+        ax.plot(*pin, marker="s", markersize=5, color=_EXTREME_COLOUR, zorder=7)
+        ax.annotate(f"{name} {which} {along[i] + shift:.4g}{unit}\n(φ = {pose.phi:g}°)", pin,
+                    xytext=(8, -14 if which == "min" else 6), textcoords="offset points",
+                    fontsize=7, color=_EXTREME_COLOUR, zorder=7,
+                    bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
+
+
 class PlotUnavailable(RuntimeError):
-    """--png without matplotlib."""
+    """--png without matplotlib (or --dxf without ezdxf)."""
 
 
 def matplotlib_canvas() -> tuple[type[matplotlib.figure.Figure],
@@ -7245,10 +7373,12 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
         _png_chart(chart, drawing.chart, [f.pose.phi for f in chosen])
     else:
         ax = mpl.add_subplot()
-    _png_layer(ax, drawing.ground, 1.0, True)
-    for i, frame in enumerate(chosen):
-        last = i == len(chosen) - 1
-        _png_layer(ax, frame.layer, 1.0 if last else 0.12 + 0.5 * i / len(chosen), last)
+    for i, frame in enumerate(chosen[:-1]):      # the faint positions under the ground
+        _png_layer(ax, frame.layer, 0.12 + 0.5 * i / len(chosen), False, 1.0)
+    _png_layer(ax, drawing.ground, 1.0, True, 2.0)   # pivots and their hatching on top of them
+    _png_layer(ax, chosen[-1].layer, 1.0, True, 3.0)
+    if len(chosen) > 1:
+        _png_extremes(ax, drawing)
     caption = chosen[-1].message or chosen[-1].caption
     if len(chosen) > 1:
         caption = f"{len(chosen)} positions, faint to solid; the last at {caption}"
@@ -7257,10 +7387,117 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")
     ax.set_axis_off()
+    if drawing.kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
+        _png_scale_bar(ax, drawing.bounds)
+    drawn = {s.style for layer in [drawing.ground, chosen[-1].layer] for s in layer.strokes}
+    import matplotlib.lines
+    drawn |= {"hidden"} if drawn & set(FAR_SIDE.values()) else set()
+    handles = [matplotlib.lines.Line2D([], [], **_PNG_STYLES[style], label=words)
+               for style, words in _PNG_LEGEND if style in drawn or FAR_SIDE.get(style) in drawn]
+    if handles:
+        mpl.legend(handles=handles, fontsize=7, loc="outside lower center",
+                   ncols=min(3, len(handles)), frameon=False)
     _png_letters(mpl, ax, drawing, chosen[-1])
     out = io.BytesIO()
     mpl.savefig(out, format="png")
     return out.getvalue()
+
+
+# -- DXF: the linkage's true geometry for CAD -----------------------------------------------------
+#
+# Unlike the pictures, a DXF holds the linkage itself: the joints where joint_positions puts them
+# (3-D for the spherical and skew kinds, z = 0 for the plane ones), in the linkage's lengths (the
+# spherical four-bar on the unit sphere, its links great-circle arcs). Layers: GROUND (the fixed
+# links, once), POSITION_1, POSITION_2, ... (the moving links and a label "phi = ..." at the
+# crank pin, one layer a position drawn), COUPLER_CURVE (the coupler point's path over the sweep,
+# on the frames' branch, where the drawing has a coupler point).
+
+# Each kind's links as pairs of joint names: (fixed, moving).
+DXF_LINKS = {
+    PLANE_FOUR_BAR: ((("A0", "B0"),), (("A0", "A"), ("A", "B"), ("B0", "B"))),
+    SPHERICAL_FOUR_BAR: ((("A0", "B0"), ("O", "A0"), ("O", "B0")),
+                         (("A0", "A"), ("A", "B"), ("B0", "B"))),
+    SKEW_FOUR_BAR: ((("A0", "F0"), ("F0", "F1"), ("F1", "B0")),
+                    (("A0", "A"), ("A", "B"), ("B0", "B"))),
+    PLANE_SLIDER_CRANK: ((), (("A0", "A"), ("A", "C"))),
+    SKEW_SLIDER_CRANK: ((("A0", "F0"), ("F0", "F1")), (("A0", "A"), ("A", "C"))),
+}
+DXF_POSITIONS = 12          # positions written at most, spread over the drawing's frames
+
+
+def dxf_module() -> Any:
+    """ezdxf (an optional extra), or PlotUnavailable saying how to install it."""
+    try:
+        import ezdxf
+    except ImportError:
+        raise PlotUnavailable("--dxf needs ezdxf, which is not installed: "
+                              "python3 -m pip install ezdxf") from None
+    return ezdxf
+
+
+def _dxf_link(kind: str, p: Vector, q: Vector) -> list[Vector]:
+    """A link from joint p to joint q: a line, or on the sphere the great-circle arc."""
+    if kind != SPHERICAL_FOUR_BAR or p == (0.0, 0.0, 0.0) or q == (0.0, 0.0, 0.0):
+        return [p, q]
+    angle = math.acos(max(-1.0, min(1.0, dot(p, q))))
+    if angle < 1e-12:
+        return [p, q]
+    steps = max(2, math.ceil(math.degrees(angle) / 3.0))
+    arc = []
+    for t in (k / steps for k in range(steps + 1)):
+        wp, wq = math.sin((1 - t) * angle) / math.sin(angle), math.sin(t * angle) / math.sin(angle)
+        arc.append((wp * p[0] + wq * q[0], wp * p[1] + wq * q[1], wp * p[2] + wq * q[2]))
+    return arc
+
+
+def dxf_drawing(drawing: Drawing, positions: int = DXF_POSITIONS) -> bytes:
+    """The linkage of the drawing as a DXF (R2010, ezdxf): its fixed links, up to `positions` of
+    its frames spread over the sweep (each a layer), its coupler curve (see the notes above)."""
+    ezdxf = dxf_module()
+    import io
+    doc = ezdxf.new("R2010")
+    doc.header["$INSUNITS"] = 0                     # unitless: the lengths as typed
+    space = doc.modelspace()
+    kind = drawing.kind
+    fixed, moving = DXF_LINKS[kind]
+    placed = [f for f in drawing.frames if f.message is None]
+    chosen = [placed[i] for i in spread_indices(len(placed), positions)]
+
+    def polyline(points: list[Vector], layer: str) -> None:
+        if len(points) == 2:
+            space.add_line(points[0], points[1], dxfattribs={"layer": layer})
+        else:
+            space.add_polyline3d(points, dxfattribs={"layer": layer})
+
+    doc.layers.add("GROUND", color=7)
+    ground = (chosen or list(drawing.frames))[0].pose.joints
+    for p, q in fixed:
+        if p in ground and q in ground:
+            polyline(_dxf_link(kind, ground[p], ground[q]), "GROUND")
+    for i, frame in enumerate(chosen, 1):
+        layer = f"POSITION_{i}"
+        doc.layers.add(layer, color=1 + i % 6)
+        joints = frame.pose.joints
+        for p, q in moving:
+            if p in joints and q in joints:
+                polyline(_dxf_link(kind, joints[p], joints[q]), layer)
+        for name, at in joints.items():
+            space.add_point(at, dxfattribs={"layer": layer})
+        space.add_text(f"phi = {frame.pose.phi:g}", height=0.25 * drawing.size,
+                       dxfattribs={"layer": layer}).set_placement(joints["A"])
+    if drawing.coupler_points:
+        doc.layers.add("COUPLER_CURVE", color=1)
+        run: list[Vector] = []
+        for point in [*drawing.coupler_points, None]:
+            if point is not None:
+                run.append(point)
+                continue
+            if len(run) > 1:
+                space.add_polyline3d(run, dxfattribs={"layer": "COUPLER_CURVE"})
+            run = []
+    text = io.StringIO()
+    doc.write(text)
+    return text.getvalue().encode("utf-8")
 
 
 # ---- 15. Synthesis: what a design is, its data and its linkage -----------------------------------
@@ -7290,7 +7527,7 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
 # Bad data raise DesignError, naming the condition: data outside the method's valid range (DATA
 # below, stated once for the refusals, the command's help and the tests: the message names the
 # datum), a link length <= 0, degenerate or complex (a square root with no real value), a design
-# of the wrong type (not a crank-rocker, not a drag-link), a branch defect or a dead centre
+# of the wrong class (not a crank-rocker, not a drag-link), a branch defect or a dead centre
 # between the positions, and inconsistent dead-centre data (SLID-FG2-2). Where the review's
 # formulas cancel, the same quantities are computed by identities that do not (ERRATUM S14).
 #
@@ -7305,7 +7542,7 @@ def png_drawing(drawing: Drawing, positions: int = 12, dpi: float | None = None,
 # Offers: MU_MARGIN, DesignError, require, in_degrees, wrap_degrees, PSI_MIN, LENGTH_MIN,
 #   LENGTH_MAX, ANGLE_EPSILON, Data, Bound, Datum, DATA, number_text, range_text, check_data,
 #   FourBar, SliderCrank, Designed, four_bar_from_review, four_bar_to_review,
-#   slider_crank_from_review, grashof_type, cos_transmission, four_bar_transmission_angle,
+#   slider_crank_from_review, grashof_class, cos_transmission, four_bar_transmission_angle,
 #   four_bar_transmission_extremes, slider_transmission_angle, slider_transmission_extremes, Design,
 #   Synthesis.
 
@@ -7441,8 +7678,9 @@ DATA = {
             ("psij = phij (mod 360): sin(xi - epsilon) = 0",
              lambda d: _near(d["psij"], d["phij"])),)),
         Datum("phi0", "initial crank angle", **_ANGLE),
-        Datum("a", "crank a/d", **_LENGTH),
-        Datum("c", "output c/d", **_LENGTH)),
+        Datum("a", "the crank over the frame, the review's a/d (run's --b over --a)", **_LENGTH),
+        Datum("c", "the output crank over the frame, the review's c/d (run's --d over --a)",
+              **_LENGTH)),
     "FOURB-FG3-1": (
         Datum("phi", "three crank angles", **_ANGLE, count=3, excluded=(
             ("a repeated input angle: a four-bar's output is one function of its input",
@@ -7561,10 +7799,10 @@ def slider_crank_from_review(r: float, l: float, epsilon: float, branch: int = 1
     return SliderCrank(b=r, c=l, e=-epsilon, branch=branch)
 
 
-def grashof_type(link: FourBar) -> str:
+def grashof_class(link: FourBar) -> str:
     """'crank-rocker', 'drag-link', 'double-rocker' (Grashof, coupler shortest), 'rocker-crank',
     'change-point' (s + l = p + q) or 'triple-rocker' (non-Grashof), with the crank as input:
-    the review's names, to within 1e-12 of the longest link (analyse's type, exact in the typed
+    the review's names, to within 1e-12 of the longest link (analyse's class, exact in the typed
     lengths, calls a drag-link a double-crank and a triple-rocker a non-Grashof double-rocker)."""
     lengths = sorted((link.a, link.b, link.c, link.d))
     excess = lengths[0] + lengths[3] - lengths[1] - lengths[2]
@@ -7729,9 +7967,9 @@ def _crank_rocker(method: str, data: Data, a: float, b: float, c: float, d: floa
     _require_lengths(a_crank=a, b_coupler=b, c_rocker=c, d_frame=d)
     a, b, c = a / d, b / d, c / d
     link = four_bar_from_review(a, b, c, 1.0)
-    kind = grashof_type(link)
-    require(kind == "crank-rocker", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
-                                     f"c = {c:.6g}, d = 1 is a {kind}, not a crank-rocker")
+    found = grashof_class(link)
+    require(found == "crank-rocker", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
+                                      f"c = {c:.6g}, d = 1 is a {found}, not a crank-rocker")
     # ERRATUM S11: both dead centres must lie on one assembly branch: the sine rule also accepts
     # a folded position on the mirror branch, where this linkage's real folded dead centre is
     # elsewhere.
@@ -8004,9 +8242,9 @@ def _drag_link(method: str, data: Data, a: float, b: float, c: float, d: float,
     _require_lengths(a_crank=a, b_coupler=b, c_output=c, d_frame=d)
     a, b, c = a / d, b / d, c / d
     link = four_bar_from_review(a, b, c, 1.0)
-    kind = grashof_type(link)
-    require(kind == "drag-link", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
-                                  f"c = {c:.6g}, d = 1 is a {kind}, not a drag-link")
+    found = grashof_class(link)
+    require(found == "drag-link", f"{method}: the linkage a = {a:.6g}, b = {b:.6g}, "
+                                   f"c = {c:.6g}, d = 1 is a {found}, not a drag-link")
     mu_min, mu_max = four_bar_transmission_extremes(link)
     _require_margin(mu_min, mu_max)
     return link, dict(review, a=a, b=b, c=c, d=1.0, mu_min=mu_min, mu_max=mu_max)
@@ -8894,7 +9132,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     first = design.positions[0][0]
     limits = [] if isinstance(link, SliderCrank) else limit_angles(link)
     if not limits or (isinstance(link, FourBar)
-                      and grashof_type(link) in ("crank-rocker", "drag-link")):
+                      and grashof_class(link) in ("crank-rocker", "drag-link")):
         return first, first + 360.0 - step, step
     lo = min(phi for phi, _ in design.positions)
     below = max(lo - (lo - x) % 360.0 for x in limits)
@@ -8906,7 +9144,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 
 # ---- 18. Scenes: a figure's data, loaded and computed --------------------------------------------
 #
-# A scene (data/scenes/*.toml) is one figure: a mechanism and its dimensions, the input range,
+# A scene (data/scenes/*.toml) is one figure: a linkage's kind and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
 # DAT files, and draws the figure as the paper does - (a) displacement, (b) velocity and
 # acceleration against the input angle - as a plain-text plot (80 x 24, no dependency) or a PNG
@@ -8928,22 +9166,24 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 
 SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "title": "a string (the figure's title)",
-    "mechanism": f"one of {', '.join(LINKAGE_DIMENSIONS)}",
+    "kind": f"one of {', '.join(LINKAGE_DIMENSIONS)}",
     "dimensions": "a table of the mechanism's dimensions",
     "input": "a table with from, to and step (degrees)",
     "branches": "a list of branches, 1 (A+B) and/or 2 (A-B), and with precision double "
                 "\"follow\" (the motion followed from branch 1 through change points)",
     "precision": "basic, double or both",
     "fast": "true or false: the double-precision numbers by the vectorised engine (needs numpy)",
-    "panels": "a list of 1 to 3 tables [[panels]], each with quantities and optional limits; "
-              "or one [[panels]] with quantities = [\"mechanism\"] and optional angles",
+    "panels": "a list of 1 to 3 tables [[panels]], each with quantities and optional limits "
+              "and notes; or one [[panels]] with quantities = [\"mechanism\"] and optional "
+              "angles",
     "coupler": "[u] or [u, v], a mechanism scene's point of the coupler (as run --coupler): "
                "drawn on the coupler, its curve traced on each branch, the transmission angle "
                "charted",
     "marked": "a list of input angles (degrees): a mechanism scene's positions drawn faint under "
               "every frame and numbered 1, 2, ... (design --scene writes the design positions)",
+    "mechanism": "the old name of kind, still taken",
 }
-REQUIRED_SCENE_KEYS = ("mechanism", "dimensions", "input", "branches", "panels")
+REQUIRED_SCENE_KEYS = ("kind", "dimensions", "input", "branches", "panels")
 QUANTITIES = ("displacement", "velocity", "acceleration", "transmission")
 QUANTITY_FILES = dict(zip(QUANTITIES, DatFiles.NAMES + (DatFiles.MU,)))
 MECHANISM_PANEL = "mechanism"    # the linkage drawn (a scene of its own, mechanism_drawing)
@@ -8951,7 +9191,7 @@ MAX_FRAMES = 3600                # the most poses a mechanism scene draws
 PRECISIONS = {"basic": ("basic",), "double": ("double",), "both": ("basic", "double")}
 MAX_SCENE_POINTS = 100_000
 # Axis labels (name, symbol, unit) by quantity, for four-bars, slider-cranks and DAT files of an
-# unknown mechanism.
+# unknown kind.
 AXIS_LABELS = {
     "four-bar": {"displacement": ("output angle", "psi", "deg"),
                  "velocity": ("velocity", "dpsi/dphi", "rad/rad"),
@@ -8984,12 +9224,13 @@ class PanelSpec(NamedTuple):
     quantities: tuple[str, ...]
     limits: tuple[float, float] | None      # the y range, or None: from the data
     angles: tuple[float, ...] | None = None  # a mechanism panel's input angles (None: the sweep)
+    notes: tuple[tuple[float, float, str], ...] = ()    # (x, y, text): said on the PNG there
 
 
 class Scene(NamedTuple):
     path: str
     title: str
-    mechanism: str
+    kind: str
     dimensions: dict[str, float]
     start: float
     stop: float
@@ -9061,14 +9302,18 @@ def load_scene(path: str) -> Scene:
     except tomllib.TOMLDecodeError as e:
         raise SceneError(f"{path}: not a TOML file: {e}") from None
     _unknown_keys(path, data, SCENE_KEYS)
+    if "kind" in data and "mechanism" in data:
+        raise SceneError(f"{path}: key 'mechanism' is the old name of 'kind': give one of them")
+    kind_key = "mechanism" if "mechanism" in data else "kind"     # as the file names it
+    data = {"kind" if key == "mechanism" else key: value for key, value in data.items()}
     for key in REQUIRED_SCENE_KEYS:
         if key not in data:
             raise SceneError(f"{path}: key '{key}' is missing: expected {SCENE_KEYS[key]}")
 
-    mechanism = data["mechanism"]
-    if not isinstance(mechanism, str) or mechanism not in LINKAGE_DIMENSIONS:
-        raise scene_error(path, "mechanism", SCENE_KEYS["mechanism"], mechanism)
-    dims = _scene_dimensions(path, mechanism, data["dimensions"])
+    kind = data["kind"]
+    if not isinstance(kind, str) or kind not in LINKAGE_DIMENSIONS:
+        raise scene_error(path, kind_key, SCENE_KEYS["kind"], kind)
+    dims = _scene_dimensions(path, kind, data["dimensions"])
     start, stop, step = _scene_sweep(path, data["input"])
 
     branches = data["branches"]
@@ -9119,7 +9364,7 @@ def load_scene(path: str) -> Scene:
         raise scene_error(path, "precision", "double or both with a transmission panel: the "
                            "transmission angle is the accurate engine's (the original program "
                            "computes the output link only)", precision)
-    return Scene(path, _scene_title(path, data), mechanism, dims, start, stop, step,
+    return Scene(path, _scene_title(path, data), kind, dims, start, stop, step,
                  tuple(branches), PRECISIONS[precision], specs, fast)
 
 
@@ -9163,12 +9408,12 @@ def scene_list() -> list[tuple[str, str]]:
     return listed
 
 
-def _scene_dimensions(path: str, mechanism: str, given: object) -> dict[str, float]:
-    """The scene's `dimensions` table, checked against what the mechanism takes."""
-    names = LINKAGE_DIMENSIONS[mechanism]
+def _scene_dimensions(path: str, kind: str, given: object) -> dict[str, float]:
+    """The scene's `dimensions` table, checked against what the kind takes."""
+    names = LINKAGE_DIMENSIONS[kind]
     if not isinstance(given, dict):
         raise scene_error(path, "dimensions", SCENE_KEYS["dimensions"], given)
-    takes = f"a {mechanism} linkage takes {', '.join(names)}"
+    takes = f"a {kind} linkage takes {', '.join(names)}"
     for key in given:
         if key not in names:
             raise SceneError(f"{path}: unknown key 'dimensions.{key}': {takes}")
@@ -9207,7 +9452,7 @@ def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, .
     specs = []
     for i, panel in enumerate(panels, 1):
         key = f"panels[{i}]"
-        _unknown_keys(path, panel, ("quantities", "limits"), f"{key}.")
+        _unknown_keys(path, panel, ("quantities", "limits", "notes"), f"{key}.")
         quantities = panel.get("quantities")
         if (not isinstance(quantities, list) or not quantities
                 or not all(q in QUANTITIES for q in quantities)
@@ -9224,12 +9469,31 @@ def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, .
             raise SceneError(f"{path}: key '{key}.limits': expected {expected}, got "
                              f"[{limits[0]:g}, {limits[1]:g}]")
         specs.append(PanelSpec(tuple(quantities),
-                               None if limits is None else (float(limits[0]), float(limits[1]))))
+                               None if limits is None else (float(limits[0]), float(limits[1])),
+                               notes=_panel_notes(path, f"{key}.notes", panel.get("notes", []))))
     return tuple(specs)
 
 
+def _panel_notes(path: str, key: str, notes: Any) -> tuple[tuple[float, float, str], ...]:
+    """A panel's notes: [{at = [x, y], text = "..."}, ...], each said on the PNG with an arrow
+    to the point (x, y) of the panel (e.g. what an artefact of the listing is)."""
+    expected = "a list of tables {at = [x, y], text = \"...\"}"
+    if not isinstance(notes, list) or len(notes) > 10:
+        raise scene_error(path, key, expected, notes)
+    out = []
+    for note in notes:
+        at = note.get("at") if isinstance(note, dict) else None
+        text = note.get("text") if isinstance(note, dict) else None
+        if (set(note) != {"at", "text"} or not isinstance(at, list) or len(at) != 2
+                or not all(_is_number(v) and math.isfinite(v) for v in at)
+                or not isinstance(text, str) or not text.strip()):
+            raise scene_error(path, key, expected, note)
+        out.append((float(at[0]), float(at[1]), printable(text)))
+    return tuple(out)
+
+
 def _scene_title(path: str, data: dict[str, Any]) -> str:
-    title = data.get("title", MECHANISM_NAMES[data["mechanism"]].capitalize())
+    title = data.get("title", KIND_NAMES[data["kind"]].capitalize())
     if not isinstance(title, str):
         raise scene_error(path, "title", SCENE_KEYS["title"], title)
     return printable(title)
@@ -9263,7 +9527,7 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
                 and all(_is_number(v) for v in coupler)):
             raise scene_error(path, "coupler", SCENE_KEYS["coupler"], coupler)
         try:
-            coupler = check_coupler_point(Linkage(data["mechanism"], **dims), *coupler)
+            coupler = check_coupler_point(Linkage(data["kind"], **dims), *coupler)
         except ValueError as e:
             raise scene_error(path, "coupler", f"a point of this coupler: {e}", data["coupler"]) \
                 from None
@@ -9271,7 +9535,7 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
     if not (isinstance(marked, list) and len(marked) <= MAX_FRAMES
             and all(_is_number(v) for v in marked)):
         raise scene_error(path, "marked", SCENE_KEYS["marked"], marked)
-    return Scene(path, _scene_title(path, data), data["mechanism"], dims, start, stop, step,
+    return Scene(path, _scene_title(path, data), data["kind"], dims, start, stop, step,
                  branches, ("double",), (spec,), coupler=coupler,
                  marked=tuple(float(v) for v in marked))
 
@@ -9281,7 +9545,7 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
 def _faithful_files(scene: Scene, branch: int | str, directory: str) -> list[str]:
     """The menu program's session with the scene's answers (as `run` gives them): it writes the
     DAT files the panels need in `directory`. Returns the soft errors it printed."""
-    key, answers = typed_dimensions(scene.mechanism, scene.dimensions)
+    key, answers = typed_dimensions(scene.kind, scene.dimensions)
     answers += [typed_number(v) for v in (scene.start, scene.stop, scene.step)]
     soft_errors: list[str] = []
     screen = Screen(lambda s: None, terminal=False, soft_errors=soft_errors.append)
@@ -9299,7 +9563,7 @@ def _faithful_files(scene: Scene, branch: int | str, directory: str) -> list[str
 
 def _accurate_motions(scene: Scene, branch: int | str, derivatives: int) -> list[Motion]:
     try:
-        linkage = Linkage(scene.mechanism, **scene.dimensions)
+        linkage = Linkage(scene.kind, **scene.dimensions)
         angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
         if scene.fast:
             return linkage.sweep_arrays(angles, int(branch), derivatives).motions()
@@ -9318,7 +9582,7 @@ def check_assembles(scene: Scene, positions: Sequence[Motion | Pose]) -> None:
         dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
         raise scene_error(scene.path, "dimensions",
                            "a linkage that can be assembled somewhere from "
-                           f"{scene.start:g} to {scene.stop:g} degrees; the {scene.mechanism} "
+                           f"{scene.start:g} to {scene.stop:g} degrees; the {scene.kind} "
                            f"linkage {dims} assembles at none of those {len(positions)} input "
                            "angles")
 
@@ -9358,7 +9622,7 @@ def compute_scene(scene: Scene, directory: str, report: Callable[[str], None] | 
         if precision == "double":
             rows: Sequence[tuple] = accurate[branch]
             if scene.transmission:
-                linkage = Linkage(scene.mechanism, **scene.dimensions)
+                linkage = Linkage(scene.kind, **scene.dimensions)
                 rows = [m + (mu,) for m, mu in zip(accurate[branch],
                                                    transmission_of(linkage, accurate[branch]))]
             try:
@@ -9397,7 +9661,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
             for i, (phi, output) in enumerate(columns[0]):
                 values = [c[i][1] if i < len(c) else None for c in columns[1:]]
                 values += [None] * (2 - len(values))
-                status = statuses.get(phi) or Linkage(scene.mechanism, **scene.dimensions) \
+                status = statuses.get(phi) or Linkage(scene.kind, **scene.dimensions) \
                     .motion(phi, s.branch, 0).status
                 yield (s.name, phi, output, *values, status)
     return write_csv(path, rows(), ("series",) + CSV_HEADER, outputs)
@@ -9465,6 +9729,7 @@ class Panel(NamedTuple):
     labels: tuple[tuple[str, str, str], ...]             # (name, symbol, unit) per quantity
     curves: tuple[Curve, ...]
     limits: tuple[float, float] | None
+    notes: tuple[tuple[float, float, str], ...] = ()       # (x, y, text): said on the PNG
 
 
 class Figure(NamedTuple):
@@ -9552,7 +9817,8 @@ def build_figure(title: str, subtitle: str, group: str, specs: Sequence[PanelSpe
                 reference = next((c for c in curves if c.quantity == quantity), None)
                 curves.append(_turned(curve, reference) if angles and reference else curve)
         labels = tuple(AXIS_LABELS[group][q] for q in spec.quantities)
-        panels.append(Panel(letter, spec.quantities, labels, tuple(curves), spec.limits))
+        panels.append(Panel(letter, spec.quantities, labels, tuple(curves), spec.limits,
+                            spec.notes))
     return Figure(title, subtitle, INPUT_AXIS, tuple(panels))
 
 
@@ -9562,13 +9828,13 @@ def scene_figure(scene: Scene, series: list[Series]) -> Figure:
     precision = {("basic",): "basic (GW-BASIC single precision)",
                  ("double",): "double (the accurate engine)",
                  ("basic", "double"): "basic and double, overlaid"}[scene.precisions]
-    subtitle = (f"{MECHANISM_NAMES[scene.mechanism]}; "
+    subtitle = (f"{KIND_NAMES[scene.kind]}; "
                 f"branch{'es' * (len(scene.branches) > 1)} {branches}; precision {precision}")
-    group = "slider" if scene.mechanism in SLIDER_CRANKS else "four-bar"
+    group = "slider" if scene.kind in SLIDER_CRANKS else "four-bar"
     return build_figure(f"{scene.title}: {dims}", subtitle, group, scene.panels, series)
 
 
-def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
+def dat_figure(directory: str, kind: str | None = None) -> Figure:
     """The figure of the DAT files in `directory` (see dat_series): (a) ANG.DAT, (b) VEL.DAT and
     ACC.DAT, the panels of the files there are."""
     series = dat_series(directory)
@@ -9577,15 +9843,15 @@ def dat_figure(directory: str, mechanism: str | None = None) -> Figure:
     specs = [PanelSpec(tuple(q for q in qs if q in present), None)
              for qs in (("displacement",), ("velocity", "acceleration"), ("transmission",))
              if present & set(qs)]
-    group = ("unknown" if mechanism is None else
-             "slider" if mechanism in SLIDER_CRANKS else "four-bar")
+    group = ("unknown" if kind is None else
+             "slider" if kind in SLIDER_CRANKS else "four-bar")
     precisions = " and ".join(dict.fromkeys(s.precision or "unknown" for s in series))
     branches = sorted({s.branch for s in series if s.branch}, key=str)
     what = (f"precision {precisions}" + (" (from the number format)" if len(series) == 1 else "")
             + (f"; branch{'es' * (len(branches) > 1)} {', '.join(map(str, branches))}"
                if branches else ", branch not recorded"))
-    if mechanism:
-        what = f"{MECHANISM_NAMES[mechanism]}; {what}"
+    if kind:
+        what = f"{KIND_NAMES[kind]}; {what}"
     figure = build_figure(f"The DAT files in {directory}", what, group, specs, series)
     if not any(run for panel in figure.panels for curve in panel.curves for run in curve.runs):
         raise SceneError(f"{directory}: its DAT files hold no point to draw (no \"angle,value\" "
@@ -9809,6 +10075,12 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
         ax.tick_params(labelsize=8)
         if len(panel.curves) > 1:
             ax.legend(fontsize=7, loc="best")
+        for x, y, text in panel.notes:
+            ax.annotate(textwrap.fill(_pretty(text), 46), (x, y), xytext=(0.03, 0.06),
+                        textcoords="axes fraction", ha="left", va="bottom", fontsize=7.5,
+                        color="#8b0000",
+                        bbox=dict(boxstyle="round,pad=0.3", fc="#fff8e7", ec="#8b0000", lw=0.6),
+                        arrowprops=dict(arrowstyle="->", color="#8b0000", lw=0.8))
     import io
     image = io.BytesIO()
     mpl.savefig(image, format="png")
@@ -9826,8 +10098,8 @@ def scene_drawing(scene: Scene) -> Drawing:
     assert isinstance(branch, int)      # load_scene: a mechanism scene draws branch 1 or 2
     try:
         drawing = mechanism_drawing(
-            Linkage(scene.mechanism, **scene.dimensions), scene.angles(), branch,
-            f"{scene.title}: {dims}", f"{MECHANISM_NAMES[scene.mechanism]}; branch {branch} "
+            Linkage(scene.kind, **scene.dimensions), scene.angles(), branch,
+            f"{scene.title}: {dims}", f"{KIND_NAMES[scene.kind]}; branch {branch} "
             f"({'A+B' if branch == 1 else 'A-B'})"
             + ("" if scene.coupler else "; positions by the accurate engine")
             + (f"; marked: {len(scene.marked)} positions, faint and numbered" if scene.marked
@@ -9856,7 +10128,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
         return ", ".join(repr(float(v)) for v in values)
     dims = ", ".join(f"{k} = {float(v)!r}" for k, v in scene.dimensions.items())
     lines = [f"# {printable(comment)}"] if comment else []
-    lines += [f"title = {_toml_string(scene.title)}", f"mechanism = {_toml_string(scene.mechanism)}",
+    lines += [f"title = {_toml_string(scene.title)}", f"kind = {_toml_string(scene.kind)}",
               f"dimensions = {{ {dims} }}",
               f"input = {{ from = {scene.start!r}, to = {scene.stop!r}, step = {scene.step!r} }}",
               "branches = [" + ", ".join(_toml_string(b) if isinstance(b, str) else str(b)
@@ -10060,8 +10332,8 @@ def analysis_drawing(analysis: Analysis, coupler: tuple[float, float] | None = N
                          for n, (t, phi) in enumerate(zip(texts, marked), 1))
     phis, _ = _motion_angles(a, positions)
     dims = " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in linkage.dims.items())
-    return mechanism_drawing(linkage, phis, branch, f"{MECHANISM_NAMES[linkage.kind]}: {dims}; "
-                             f"{a.type}, crank {'full' if a.crank_range is None else 'rocks'}",
+    return mechanism_drawing(linkage, phis, branch, f"{KIND_NAMES[linkage.kind]}: {dims}; "
+                             f"{a.linkage_class}, crank {'full' if a.crank_range is None else 'rocks'}",
                              subtitle, coupler, (), marked, branches)
 
 
@@ -10085,7 +10357,7 @@ def explore_view(state: Explorer) -> ExploreView:
         lo, hi = phis[0], phis[-1]
         message = f"the crank rocks from {lo % 360:.4g} to {hi % 360:.4g} (dead centres)"
     traced = (FOLLOW,) if state.follow and coupler is not None else ()
-    name = MECHANISM_NAMES[state.kind]
+    name = KIND_NAMES[state.kind]
     drawing = mechanism_drawing(linkage, phis, state.branch,
                                 f"{name}: " + (message or "the crank turns fully"), None,
                                 coupler, traced)
@@ -10100,7 +10372,7 @@ def explore_glance(state: Explorer, phi: float, bounds: Box) -> ExploreView:
     linkage = state.linkage
     coupler = state.coupler if state.traced else None
     drawing = mechanism_drawing(linkage, [phi], state.branch,
-                                f"{MECHANISM_NAMES[state.kind]}: ...", None, coupler)
+                                f"{KIND_NAMES[state.kind]}: ...", None, coupler)
     x0, y0, x1, y1 = drawing.bounds
     drawing = drawing._replace(bounds=(min(x0, bounds[0]), min(y0, bounds[1]),
                                        max(x1, bounds[2]), max(y1, bounds[3])))
@@ -10342,7 +10614,7 @@ def _analysis_rows(view: ExploreView, mu: float | None, unit: str, more: bool
     swing = ("full turn" if a.output_min is None or a.output_max is None
              else _number(a.output_max.value - a.output_min.value, unit))
     worst = a.mu_worst
-    rows = [("type", a.type), ("crank", crank)]
+    rows = [("class", a.linkage_class), ("crank", crank)]
     if len(a.circuits) > 1:
         rows.append(("circuits", str(len(a.circuits))))
     if more:
@@ -10362,7 +10634,7 @@ def _side_panel(state: Explorer, view: ExploreView, width: int, height: int, uni
                 ) -> tuple[list[str], int]:
     """The side panel's lines, and which one is the selected dimension's."""
     unit = "" if state.kind in SLIDER_CRANKS else " deg"
-    lines = [MECHANISM_NAMES[state.kind],
+    lines = [KIND_NAMES[state.kind],
              f"branch {state.branch} ({'A+B' if state.branch == 1 else 'A-B'})"
              + ("  follow" if state.follow else ""), ""]
     selected = 0
@@ -10441,7 +10713,7 @@ def explore_scene(state: Explorer, view: ExploreView, path: str) -> Scene:
     phis = view.phis
     step = (phis[-1] - phis[0]) / max(1, len(phis) - 1)
     branches: tuple[int | str, ...] = (state.branch,) + ((FOLLOW,) if state.follow else ())
-    return Scene(path, f"{MECHANISM_NAMES[state.kind]}, as explored", state.kind,
+    return Scene(path, f"{KIND_NAMES[state.kind]}, as explored", state.kind,
                  dict(state.dims), phis[0], phis[-1], step, branches, ("double",),
                  (PanelSpec((MECHANISM_PANEL,), None),),
                  coupler=state.coupler if state.traced or state.follow else None)
@@ -10692,7 +10964,7 @@ def bench_scene(out: TextIO, quick: bool = False) -> None:
         scene = Scene("bench", "bench", PLANE_FOUR_BAR, dict(a=6.0, b=2.0, c=7.0, d=9.0),
                       0.0, 360.0, step, (1,), ("double",), specs)
         angles = evenly_spaced_angles(scene.start, scene.stop, scene.step)
-        linkage = Linkage(scene.mechanism, **scene.dimensions)
+        linkage = Linkage(scene.kind, **scene.dimensions)
         with tempfile.TemporaryDirectory() as directory:
             times[name] = (
                 _best_of(many, lambda: linkage.sweep(angles, 1, scene.derivatives)),
@@ -11281,8 +11553,9 @@ def machine() -> str:
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
 #   decimal_number, basic_answer, MADE_FOLDERS, output_folder, unmake_folders, run_command,
 #   CSV_CLIPPED, analyse_command, drawing_command, scene_command, plot_command, design_scene,
-#   design_command, ERRATUM, SCAN_LINE, scan_lines, annotated_listing, listing_command,
-#   explore_command, bench_command, Option, option, Command, DIMENSION_HELP, PNG_OPTIONS, COMMANDS,
+#   design_command, ERRATUM, KEPT_BUG, SCAN_LINE, scan_lines, erratum_reason, kept_bug_lines,
+#   annotated_listing, listing_command, explore_command, bench_command, Option, option, Command,
+#   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, DATUM_FLAGS, DXF_HELP, PNG_OPTIONS, COMMANDS,
 #   CommandParser, build_parser, main.
 
 
@@ -11315,8 +11588,8 @@ METHOD_HELP = {  # each method's --help: what it designs from what (the data: DA
     "FOURB-FG2-1": "A four-bar function generator (Chiang): while the crank turns through phij "
                    "from phi0 the output turns through psij (signed, counter-clockwise positive: "
                    "the motion itself, not only the end position), for a given crank a and "
-                   "output c (frame 1); finds the coupler and the output's start psi0. Up to two "
-                   "linkages.",
+                   "output c, ratios to the frame d = 1 (--crank-ratio, --output-ratio); finds "
+                   "the coupler and the output's start psi0. Up to two linkages.",
     "FOURB-FG3-1": "A four-bar function generator (Freudenstein's equation) through three "
                    "positions: the output at psi1, psi2, psi3 when the crank is at phi1, phi2, "
                    "phi3. The output angles are the review's: measured from the opposite "
@@ -11336,7 +11609,7 @@ DESIGN_OUTPUT_HELP = (
     "slider's line y = e), its branch (run --branch), the design positions (phi the crank, psi "
     "the output, x the slider; angles as the data give them), the transmission angle's extremes "
     "mu_min and mu_max; then, labelled review, the review's own numbers in its letters. Exit 0, "
-    "1 for data no design meets, 2 for a usage error, 3 when --analyze finds a miss.")
+    "1 for data no design meets, 2 for a usage error, 3 when --analyse finds a miss.")
 
 
 def datum_help(datum: Datum) -> str:
@@ -11399,12 +11672,12 @@ def _design_number(flag: str) -> Callable[[str], float]:
     return number
 
 
-def _mechanism_type(text: str) -> str:
-    by_number = {key: name for name, (key, _) in MECHANISM_TYPES.items()}
+def _kind_argument(text: str) -> str:
+    by_number = {key: name for name, (key, _) in KIND_MENU.items()}
     name = by_number.get(text, text)
-    if name not in MECHANISM_TYPES:
+    if name not in KIND_MENU:
         raise argparse.ArgumentTypeError(
-            f"{text!r} is not one of {', '.join(MECHANISM_TYPES)} (or 1-5)")
+            f"{text!r} is not one of {', '.join(KIND_MENU)} (or 1-5)")
     return name
 
 
@@ -11457,14 +11730,14 @@ def _reported(work: Callable[[], int | None]) -> int:
 
 def _check_dimensions(args: argparse.Namespace, parser: argparse.ArgumentParser,
                       needed: tuple[str, ...]) -> None:
-    """Refuse (parser.error) a command line that misses one of the type's dimensions or gives
+    """Refuse (parser.error) a command line that misses one of the kind's dimensions or gives
     one it has no use for."""
     given = {name for name in DIMENSION_HELP if getattr(args, name) is not None}
     missing = [f"--{n}" for n in needed if n not in given]
     extra = [f"--{n}" for n in sorted(given - set(needed))]
     if missing or extra:
         what = ("missing " + " ".join(missing)) if missing else ("no use for " + " ".join(extra))
-        parser.error(f"{args.type} needs {' '.join('--' + n for n in needed)}: {what}")
+        parser.error(f"{args.kind} needs {' '.join('--' + n for n in needed)}: {what}")
 
 
 def _check_outputs(parser: argparse.ArgumentParser, files: dict[str, str | None],
@@ -11514,8 +11787,8 @@ def unmake_folders() -> None:
 
 
 def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py run TYPE ...`: the menu program given these answers."""
-    key, needed = MECHANISM_TYPES[args.type]
+    """`python3 linkage.py run KIND ...`: the menu program given these answers."""
+    key, needed = KIND_MENU[args.kind]
     if args.old_skew is not None:               # the spelling before 0.2.0
         say("--skew is now --ksi (the skew angle's name in the paper, the API and the scenes)")
         if args.ksi is None:
@@ -11595,10 +11868,10 @@ def _basic_csv(args: argparse.Namespace, answers: list[str], where: str,
     whose VEL or ACC the original wrote as +-3, its clip (ERRATA K9), is `clipped`."""
     # every answer passed basic_answer: input_value gives a Single, never None
     dims = {n: input_value(a).v  # type: ignore[union-attr]
-            for n, a in zip(MECHANISM_TYPES[args.type][1], answers)}
+            for n, a in zip(KIND_MENU[args.kind][1], answers)}
     ang, vel, acc = (read_dat(os.path.join(where, n)) for n in DatFiles.NAMES)
     try:
-        statuses = [m.status for m in Linkage(args.type, **dims).sweep(
+        statuses = [m.status for m in Linkage(args.kind, **dims).sweep(
             [phi for phi, _ in ang], int(args.branch), derivatives=0)]
     except ValueError:                          # dimensions the engine refuses (a 0 link)
         statuses = ["unknown"] * len(ang)
@@ -11613,10 +11886,10 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
     (the original writes zeros there, ERRATA K8), and so are those after a followed motion ended
     (--branch follow); the message counts them. --fast: the same numbers by the vectorised path
     (Linkage.sweep_arrays, numpy)."""
-    dims = {n: numbers[n] for n in MECHANISM_TYPES[args.type][1]}
+    dims = {n: numbers[n] for n in KIND_MENU[args.kind][1]}
     start, stop, step = numbers["from"], numbers["to"], numbers["step"]
     try:
-        linkage = Linkage(args.type, **dims)
+        linkage = Linkage(args.kind, **dims)
         count = angle_count(start, stop, step)
         if args.fast:
             numpy_module()                            # fail before any work
@@ -11702,9 +11975,9 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
 
 
 def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py analyse TYPE ...`: the linkage's type and range of motion, one
+    """`python3 linkage.py analyse KIND ...`: the linkage's class and range of motion, one
     `name = value` a line (analysis_lines)."""
-    needed = MECHANISM_TYPES[args.type][1]
+    needed = KIND_MENU[args.kind][1]
     _check_dimensions(args, parser, needed)
     try:
         dims = {n: decimal_number(getattr(args, n), f"--{n}") for n in needed}
@@ -11714,26 +11987,26 @@ def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
         parser.error("--start-branch goes with --branch follow")
     branch = args.branch if args.branch == FOLLOW else int(args.branch)
     start = None if args.start_branch is None else int(args.start_branch)
-    _check_outputs(parser, {"--svg": args.svg, "--png": args.png})
+    _check_outputs(parser, {"--svg": args.svg, "--png": args.png, "--dxf": args.dxf})
     coupler = None
     if args.coupler is not None:
-        if not (args.svg or args.png):
-            parser.error("--coupler goes with --svg or --png (it draws the coupler curve)")
+        if not (args.svg or args.png or args.dxf):
+            parser.error("--coupler goes with --svg, --png or --dxf (it draws the coupler curve)")
         if len(args.coupler) > 2:
             parser.error("--coupler takes U, or U and V")
         try:
-            coupler = check_coupler_point(Linkage(args.type, **dims), *(
+            coupler = check_coupler_point(Linkage(args.kind, **dims), *(
                 decimal_number(text, "--coupler") for text in args.coupler))
         except ValueError as e:
             parser.error(str(e))
     try:
-        analysis = analyse(Linkage(args.type, **dims), branch, start)
+        analysis = analyse(Linkage(args.kind, **dims), branch, start)
     except ValueError as e:
         return said(f"Illegal linkage (impossible to assemble): {e}"
                     if "assembles at no" in str(e) else e, 1)
     sys.stdout.write("".join(line + "\n" for line in analysis_lines(analysis)))
     sys.stdout.flush()
-    if not (args.svg or args.png):
+    if not (args.svg or args.png or args.dxf):
         return 0
     args.frames, args.text = None, False
     return drawing_command(args, lambda: analysis_drawing(analysis, coupler))
@@ -11771,19 +12044,23 @@ def drawing_command(args: argparse.Namespace, make_drawing: Callable[[], Drawing
         _check_frames(args.frames)
         if args.png:
             matplotlib_canvas()                       # fail before any work
+        if args.dxf:
+            dxf_module()
         drawing = make_drawing()
         files = [(path, render) for path, render in (
             (args.svg, lambda: svg_drawing(drawing).encode("utf-8")),
             (args.png, lambda: png_drawing(drawing, dpi=getattr(args, "dpi", None),
-                                           size=getattr(args, "size", None)))) if path]
-        with WrittenSet() as outputs:                 # the SVG and the PNG: both or neither
+                                           size=getattr(args, "size", None))),
+            (args.dxf, lambda: dxf_drawing(drawing))) if path]
+        with WrittenSet() as outputs:                 # the SVG, PNG and DXF: all or none
             for path, render in files:
                 with outputs.opened(path) as fh:
                     fh.write(render())
         for path, _ in files:
-            say(f"wrote {path} ({len(drawing.frames)} position"
-                 f"{'s' * (len(drawing.frames) > 1)})")
-        if args.text or not (args.svg or args.png):
+            count = len(drawing.frames) if path != args.dxf else min(
+                DXF_POSITIONS, sum(f.message is None for f in drawing.frames))
+            say(f"wrote {path} ({count} position{'s' * (count != 1)})")
+        if args.text or not (args.svg or args.png or args.dxf):
             return show_drawing(drawing, frames=args.frames)
         return None
     return _reported(draw)
@@ -11814,12 +12091,12 @@ def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     if scene.draws_mechanism:
         if args.csv or args.dir is not None:
             parser.error(f"--csv and --dir go with a scene of curves; {args.file} draws the "
-                         "mechanism (--svg, --png, --text, --frames)")
-        _check_outputs(parser, {"--svg": args.svg, "--png": args.png})
+                         "mechanism (--svg, --png, --dxf, --text, --frames)")
+        _check_outputs(parser, {"--svg": args.svg, "--png": args.png, "--dxf": args.dxf})
         return drawing_command(args, lambda: scene_drawing(scene))
-    if args.svg or args.frames is not None:
-        parser.error(f"--svg and --frames draw a mechanism scene; {args.file} plots curves "
-                     "(--png, --text)")
+    if args.svg or args.dxf or args.frames is not None:
+        parser.error(f"--svg, --dxf and --frames draw a mechanism scene; {args.file} plots "
+                     "curves (--png, --text)")
     plan = [f"{p}-branch{b}" for b in scene.branches for p in scene.precisions]
     _check_outputs(parser, {"--csv": args.csv, "--png": args.png}, args.dir,
                    [os.path.join(d, n) for d in (plan if len(plan) > 1 else ["."])
@@ -11872,7 +12149,7 @@ def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> i
         _check_not_inputs(parser, {"--png": args.png}, [
             os.path.join(s.directory, name) for s in dat_series(args.directory)
             for name in QUANTITY_FILES.values()])
-    return _draw_command(args, lambda: dat_figure(args.directory, args.mechanism))
+    return _draw_command(args, lambda: dat_figure(args.directory, args.kind))
 
 
 def _check_not_inputs(parser: argparse.ArgumentParser, files: dict[str, str | None],
@@ -11903,8 +12180,8 @@ def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
     """`python3 linkage.py design METHOD --name value ... [--analyze] [--dat DIR] [--svg OUT]
     [--png OUT] [--text] [--scene OUT]`: print the design, `name = value` a line, and draw it;
     exit 0, 1 bad data, 2 usage, 3 a miss."""
-    _check_outputs(parser, {"--scene": args.scene, "--svg": args.svg, "--png": args.png},
-                   args.dat, DatFiles.NAMES)
+    _check_outputs(parser, {"--scene": args.scene, "--svg": args.svg, "--png": args.png,
+                            "--dxf": args.dxf}, args.dat, DatFiles.NAMES)
     if args.dat is not None:
         output_folder(parser, "--dat", args.dat)
     function, method = METHODS[args.method]
@@ -11948,7 +12225,7 @@ def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
                 print(f"analysis = none  # {error}")
         for line in review_lines(design):
             print(line)
-    if args.dat is not None or args.scene or args.svg or args.png or args.text:
+    if args.dat is not None or args.scene or args.svg or args.png or args.dxf or args.text:
         sys.stdout.flush()
         status = _reported(lambda: _design_outputs(result, args))
         return status or code
@@ -11956,15 +12233,17 @@ def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
 
 
 def _design_outputs(result: Synthesis, args: argparse.Namespace) -> int:
-    """design's files - the DAT files (--dat), the scene (--scene), the drawings (--svg, --png) -
-    put in place as one set (WrittenSet: all or none), then --text's terminal drawing. The status
+    """design's files - the DAT files (--dat), the scene (--scene), the drawings (--svg, --png,
+    --dxf) - put in place as one set (WrittenSet: all or none), then --text's terminal drawing. The status
     (1: a DAT file that cannot be written)."""
     if args.png:
         matplotlib_canvas()                               # fail before any work
+    if args.dxf:
+        dxf_module()
     link = result.design.linkage
     kind, dims = kind_and_dimensions(link)
-    drawing = (scene_drawing(design_scene(result)) if args.svg or args.png or args.text
-               else None)
+    drawing = (scene_drawing(design_scene(result)) if args.svg or args.png or args.dxf
+               or args.text else None)
     with contextlib.ExitStack() as stack:
         outputs = WrittenSet()
         if args.dat is not None:
@@ -11989,16 +12268,21 @@ def _design_outputs(result: Synthesis, args: argparse.Namespace) -> int:
                 with outputs.opened(args.png) as fh:
                     fh.write(png_drawing(drawing, dpi=getattr(args, "dpi", None),
                                          size=getattr(args, "size", None)))
+            if drawing is not None and args.dxf:
+                with outputs.opened(args.dxf) as fh:
+                    fh.write(dxf_drawing(drawing))
     if args.dat is not None:
         print(f"dat = {args.dat}  # ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution, "
               f"0 to 360 by 1 degree, branch {link.branch}, double precision")
     if args.scene and args.scene != "-":
         say(f"wrote {args.scene} (a scene: python3 linkage.py scene {args.scene})")
-    if drawing is None:                                   # neither --svg, --png nor --text
+    if drawing is None:                                   # no --svg, --png, --dxf or --text
         return 0
-    for path in (args.svg, args.png):
+    for path in (args.svg, args.png, args.dxf):
         if path:
-            say(f"wrote {path} ({len(drawing.frames)} position{'s' * (len(drawing.frames) > 1)})")
+            count = len(drawing.frames) if path != args.dxf else min(
+                DXF_POSITIONS, sum(f.message is None for f in drawing.frames))
+            say(f"wrote {path} ({count} position{'s' * (count != 1)})")
     if args.text:
         if sys.stdout.isatty():
             return show_drawing(drawing)                  # the whole motion, until q
@@ -12012,12 +12296,14 @@ def _positions_drawing(result: Synthesis) -> Drawing:
     scene = design_scene(result)
     branch = scene.branches[0]
     assert isinstance(branch, int)                        # a design's branch: 1 or 2
-    return mechanism_drawing(Linkage(scene.mechanism, **scene.dimensions), scene.marked, branch,
-                             scene.title, f"{MECHANISM_NAMES[scene.mechanism]}; branch {branch}; "
+    return mechanism_drawing(Linkage(scene.kind, **scene.dimensions), scene.marked, branch,
+                             scene.title, f"{KIND_NAMES[scene.kind]}; branch {branch}; "
                              f"the {len(scene.marked)} design positions")
 
 
 ERRATUM = re.compile(r"^### ([EL]\d+)\. Lines? ([0-9, ]+): `(.+)` → `(.+)`$", re.MULTILINE)
+KEPT_BUG = re.compile(r"^### (K\d+)\. (.+)$((?:\n(?!#).*)*?)^On lines? ([0-9, –]+)\.$",
+                      re.MULTILINE)
 SCAN_LINE = re.compile(r"^(\d+|B30)\s")   # a line of the scan starts so (ERRATA.md L3, E22)
 
 
@@ -12042,11 +12328,39 @@ def scan_lines(scan: str, renumbered: dict[str, int]) -> dict[int, str]:
     return {n: " ".join(t.replace("\t", " ").split()) for n, t in lines.items()}
 
 
-def annotated_listing(listing: str, errata: str, scan: str | None = None) -> list[str]:
+def erratum_reason(errata: str, name: str) -> str:
+    """The one-line reason for correction `name` (E1, L4): what the program would do with the
+    scan's text left in (its `Left in:` clause), else the entry's first sentence."""
+    entry = re.search(rf"^### {name}\. .*$((?:\n(?!#).*)*)", errata, re.MULTILINE)
+    body = " ".join((entry[1] if entry else "").split()).replace("*", "")
+    left_in = re.search(r"Left in: (.*?)(?: Caught by:|$)", body)
+    if left_in:
+        return "left in: " + left_in[1]
+    return body.split(". ")[0].removesuffix(".") + "." if body else ""
+
+
+def kept_bug_lines(errata: str, numbers: Iterable[int]) -> dict[int, list[str]]:
+    """{listing line: ["K6: its title", ...]}: the bugs of the original kept (ERRATA.md Part 2),
+    on the lines of `numbers` (the listing's) each entry's `On lines ...` names (N–M: every
+    line from N to M)."""
+    kept: dict[int, list[str]] = {}
+    numbers = sorted(numbers)
+    for name, title, _, where in KEPT_BUG.findall(errata):
+        for low, high in re.findall(r"(\d+)(?:–(\d+))?", where):
+            for n in numbers:
+                if int(low) <= n <= int(high or low):
+                    kept.setdefault(n, []).append(f"{name}: {title}")
+    return kept
+
+
+def annotated_listing(listing: str, errata: str, scan: str | None = None,
+                      errata_path: str = "legacy_basic/ERRATA.md") -> list[str]:
     """The corrected listing (LINKAGE.BAS), each line that corrects the scan marked `*` in the
-    margin and followed by its errata (ERRATA.md's headings, `### E1. Line 210: ...`); with
-    `scan` (LINKAGE.OCR.txt), each line whose text the scan prints otherwise (white space
-    aside) followed by the scan's text."""
+    margin and followed by its errata (ERRATA.md's headings, `### E1. Line 210: ...`) and each
+    one's reason (erratum_reason), each line of a bug of the original kept marked `K` and
+    followed by its name (kept_bug_lines); with `scan` (LINKAGE.OCR.txt), each line whose text
+    the scan prints otherwise (white space aside) followed by the scan's text. errata_path is
+    where the reader finds ERRATA.md."""
     numbered = [(int(line.split(" ", 1)[0]), line) for line in listing.splitlines()]
     corrections: dict[int, list[str]] = {}
     renumbered = {}
@@ -12055,22 +12369,33 @@ def annotated_listing(listing: str, errata: str, scan: str | None = None) -> lis
         lines = [n for n, text in numbered if _squeezed(corrected) in _squeezed(text)]
         on = [n for n in lines if n in numbers] or lines
         for n in on:
-            corrections.setdefault(n, []).append(f"{name}: the scan printed `{printed}`, "
-                                                 f"corrected `{corrected}`")
+            corrections.setdefault(n, []).extend([
+                f"{name}: the scan printed `{printed}`, corrected `{corrected}`",
+                *textwrap.wrap(erratum_reason(errata, name), 88, initial_indent="    ",
+                               subsequent_indent="    ")])
+    kept = kept_bug_lines(errata, (n for n, _ in numbered))
+    for name, where, printed, corrected in ERRATUM.findall(errata):
         if printed.split()[0] != corrected.split()[0] and corrected.split()[0].isdigit():
             renumbered[printed.split()[0]] = int(corrected.split()[0])
     scanned = scan_lines(scan, renumbered) if scan is not None else {}
-    out = ["LINKAGE.BAS as corrected; * marks a line that corrects the scan "
-           "(legacy_basic/ERRATA.md)" + ("; scan: the scan's text where it differs" if scan
-                                          is not None else ""), ""]
+    out = [f"LINKAGE.BAS as corrected; * marks a line that corrects the scan, K a bug of the "
+           f"original kept ({errata_path})" + ("; scan: the scan's text where it differs"
+                                                if scan is not None else ""), ""]
     for number, text in numbered:
-        out.append(f"{'*' if number in corrections else ' '} {text}")
+        mark = "*" if number in corrections else "K" if number in kept else " "
+        out.append(f"{mark} {text}")
         out += [f"        {note}" for note in corrections.get(number, ())]
+        out += [f"        kept, {note}" for note in kept.get(number, ())]
         if scan is not None and _squeezed(scanned.get(number, "")) != _squeezed(text):
             out.append(f"        scan: {scanned.get(number, '(not in the scan)')}")
-    count = len({note.split(":")[0] for notes in corrections.values() for note in notes})
-    out += ["", f"{count} corrections on {len(corrections)} lines. The bugs of the original kept "
-                "(K1-K14) and where this port deviates (P1-P7): legacy_basic/ERRATA.md."]
+    count = len({note.split(":")[0] for notes in corrections.values() for note in notes
+                 if not note.startswith(" ")})
+    bugs = sorted({note.split(":")[0] for notes in kept.values() for note in notes},
+                  key=lambda k: int(k[1:]))
+    out += ["", *textwrap.wrap(
+        f"{count} corrections on {len(corrections)} lines; the bugs of the original kept "
+        f"({bugs[0]}-{bugs[-1]}) marked K where they live. Each explained, and where this port "
+        f"deviates (P1-P7): {errata_path}", 100, break_on_hyphens=False, break_long_words=False)]
     return out
 
 
@@ -12081,8 +12406,9 @@ def listing_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
                            for name in ("LINKAGE.BAS", "ERRATA.md"))
         scan = (open(shipped_file("legacy_basic", "LINKAGE.OCR.txt"), encoding="utf-8").read()
                 if args.ocr else None)
-        sys.stdout.write("".join(f"{printable(line)}\n"
-                                 for line in annotated_listing(listing, errata, scan)))
+        shown = annotated_listing(listing, errata, scan,
+                                  os.path.abspath(shipped_file("legacy_basic", "ERRATA.md")))
+        sys.stdout.write("".join(f"{printable(line)}\n" for line in shown))
     return _reported(show)
 
 
@@ -12100,18 +12426,18 @@ def _explorer_given(args: argparse.Namespace, parser: argparse.ArgumentParser) -
     given = [n for n in DIMENSION_HELP if getattr(args, n) is not None]
     target = args.target or PLANE_FOUR_BAR
     try:
-        kind = _mechanism_type(target)
+        kind = _kind_argument(target)
     except argparse.ArgumentTypeError:
         if given:
-            parser.error(f"--{given[0]} goes with a kind ({', '.join(MECHANISM_TYPES)}), not "
+            parser.error(f"--{given[0]} goes with a kind ({', '.join(KIND_MENU)}), not "
                          "with a scene")
         scene = load_scene(scene_path(target))
         branch = next((b for b in scene.branches if isinstance(b, int)), 1)
-        return explorer_of(scene.mechanism, scene.dimensions, branch,
+        return explorer_of(scene.kind, scene.dimensions, branch,
                            FOLLOW in scene.branches, scene.coupler)
     unknown = [n for n in given if n not in LINKAGE_DIMENSIONS[kind]]
     if unknown:
-        parser.error(f"--{unknown[0]}: the {MECHANISM_NAMES[kind]} takes "
+        parser.error(f"--{unknown[0]}: the {KIND_NAMES[kind]} takes "
                      + ", ".join("--" + n for n in LINKAGE_DIMENSIONS[kind]))
     try:
         dims = {n: decimal_number(getattr(args, n), f"--{n}") for n in given}
@@ -12192,19 +12518,40 @@ def option(*names: str, **settings: Any) -> Option:
 
 class Command(NamedTuple):
     """A sub-command: handler(args, parser) gives the exit status; help is its line in the
-    program's --help, description its own --help."""
+    program's --help, description its own --help; aliases its other spellings."""
 
     handler: Callable[[argparse.Namespace, argparse.ArgumentParser], int]
     help: str
     description: str
     options: tuple[Option, ...]
+    aliases: tuple[str, ...] = ()
 
 
-DIMENSION_HELP = {
-    "a": "fixed link (skew linkages: its horizontal sector); degrees for the spherical linkage",
-    "b": "input crank", "c": "connecting rod (coupler)", "d": "output crank",
-    "e": "slider offset", "f": "vertical sector of the fixed link", "ksi": "skew angle, degrees",
+DIMENSION_HELP = {   # each letter's option: what it is, in the drawing's pivot names
+    "a": "a, the fixed link (ground): crank pivot A0 to output pivot B0 (the skew kinds: the "
+         "shafts' common perpendicular, the fixed link's horizontal sector); the spherical "
+         "kind: an arc, degrees",
+    "b": "b, the input crank: A0 to the crank pin A, at angle phi",
+    "c": "c, the coupler (connecting rod): A to the output pin B, or to the slider C",
+    "d": "d, the output crank: B0 to B, at angle psi",
+    "e": "e, the slider's offset: its guide is the line y = e",
+    "f": "f, the fixed link's vertical sector: along the crank's shaft, from the crank's plane "
+         "to the common perpendicular",
+    "ksi": "ksi, the skew angle between the two shafts, degrees",
 }
+KINDS_HELP = (f"the kind: {', '.join(KIND_NAMES)} (or 1-5: "
+              f"{', '.join(KIND_NAMES.values())})")
+DIMENSIONS_HELP = ("Each kind's dimensions, in the order the menu asks for them: " + "; ".join(
+    f"{kind}: {letters_defined(kind)}" for kind in KIND_MENU) + ".")
+# The design data whose option is not --name: lambda (a word of Python), and the review's letters
+# that run takes for lengths (FOURB-FG2-1's a and c are ratios to the frame: --a there is not
+# run's fixed link), each under a name that says what it is, the letter still taken.
+DATUM_FLAGS = {"lam": ("--lambda",), "a": ("--crank-ratio", "--a"),
+               "c": ("--output-ratio", "--c")}
+DXF_HELP = (f"write the linkage for CAD as a DXF: its true geometry in the lengths typed (3-D "
+            f"for the spherical and skew kinds), the fixed links, up to {DXF_POSITIONS} of the "
+            "positions drawn each on a layer of its own, the coupler point's curve (needs "
+            "ezdxf: python3 -m pip install ezdxf)")
 PNG_OPTIONS = (
     option("--png", metavar="OUT",
            help="write the figure as a PNG (needs matplotlib: python3 -m pip install matplotlib)"),
@@ -12220,10 +12567,8 @@ COMMANDS = {
         run_command, "the original program driven by options",
         "The original program given these answers: writes ANG.DAT, VEL.DAT and ACC.DAT exactly "
         "as the menu would. Dimensions are typed as in the menu (degrees for the spherical "
-        "linkage's arcs). " + "; ".join(f"{name}: {' '.join('--' + d for d in dims)}"
-                                       for name, (_, dims) in MECHANISM_TYPES.items()) + ".",
-        (option("type", type=_mechanism_type, metavar="TYPE",
-                help=f"{', '.join(MECHANISM_NAMES)} (or 1-5)"),
+        "linkage's arcs). " + DIMENSIONS_HELP,
+        (option("kind", type=_kind_argument, metavar="KIND", help=KINDS_HELP),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
          option("--skew", dest="old_skew", metavar="X", help=argparse.SUPPRESS),
          option("--from", dest="start", required=True, metavar="P1",
@@ -12261,15 +12606,15 @@ COMMANDS = {
                 help="with --precision double: the same numbers by the vectorised engine (needs "
                      "numpy: python3 -m pip install numpy)"))),
     "analyse": Command(
-        analyse_command, "the linkage's type, range of motion and transmission angle",
-        "The linkage's type (Grashof's class for the plane four-bar, b + |e| against c for the "
+        analyse_command, "the linkage's class, range of motion and transmission angle",
+        "The linkage's class (Grashof's for the plane four-bar, b + |e| against c for the "
         "plane slider-crank, the class its motion shows for the other kinds), the crank's range "
         "(full, or between its dead centres), the output's range and swing, the time ratio "
-        "(review eq. (5): the crank's turn while the output rises over its turn back), the "
-        "transmission angle's extremes with the crank angles where they occur, and the dead "
-        "centres and change points: one `name = value` a line. Dimensions as for run.",
-        (option("type", type=_mechanism_type, metavar="TYPE",
-                help=f"{', '.join(MECHANISM_NAMES)} (or 1-5)"),
+        "(the slower stroke's crank turn over the faster's, >= 1; time_ratio_review: the "
+        "review's eq. (5)), the transmission angle's extremes with the crank angles where they "
+        "occur and the worst (furthest from 90), and the dead centres and change points: one "
+        "`name = value` a line (also spelt analyze). " + DIMENSIONS_HELP,
+        (option("kind", type=_kind_argument, metavar="KIND", help=KINDS_HELP),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
          option("--branch", choices=("1", "2", FOLLOW), default="1",
                 help="the assembly: 1 (A+B, the default), 2 (A-B), or follow (the motion "
@@ -12283,11 +12628,13 @@ COMMANDS = {
          option("--png", metavar="OUT",
                 help="the same as a PNG, the positions overlaid (needs matplotlib: python3 -m "
                      "pip install matplotlib)"),
+         option("--dxf", metavar="OUT", help=DXF_HELP),
          option("--coupler", nargs="+", metavar=("U", "V"),
-                help="with --svg or --png: the coupler point (U, V) drawn and its curve traced "
-                     "(as run --coupler)"),
+                help="with --svg, --png or --dxf: the coupler point (U, V) drawn and its curve "
+                     "traced (as run --coupler)"),
          option("--dpi", type=_png_dpi, metavar="N", help="the PNG's dots an inch"),
-         option("--size", type=_png_size, metavar="WxH", help="the PNG's size in pixels"))),
+         option("--size", type=_png_size, metavar="WxH", help="the PNG's size in pixels")),
+        ("analyze",)),
     "scene": Command(
         scene_command, "draw a scene of data/scenes: the paper's figures, the hard cases, the "
                        "linkage moving",
@@ -12304,6 +12651,7 @@ COMMANDS = {
          option("--list", action="store_true",
                 help="list the scenes that come with the program, with their titles"),
          option("--svg", metavar="OUT", help="a mechanism scene: write it as one animated SVG"),
+         option("--dxf", metavar="OUT", help=DXF_HELP),
          option("--frames", type=int, metavar="N",
                 help="a mechanism scene: print N still frames spread evenly over the sweep "
                      "instead of the animation (piped, the default is 1)"),
@@ -12323,16 +12671,18 @@ COMMANDS = {
         "data/scenes/fig1a-plane-four-bar.toml (scene --help).",
         (option("directory", nargs="?", default=".", metavar="DIR",
                 help="the folder of the DAT files, or of folders of them (default: here)"),
-         option("--mechanism", type=_mechanism_type, metavar="TYPE",
-                help=f"{', '.join(MECHANISM_NAMES)} (or 1-5): gives the axes their units"),
+         option("--kind", "--mechanism", dest="kind", type=_kind_argument,
+                metavar="KIND", help=f"{KINDS_HELP}: gives the axes their units (--mechanism: "
+                                     "the old spelling, still taken)"),
          *PNG_OPTIONS)),
     "design": Command(
         design_command, "synthesise a linkage by one of the review's methods (python3 "
                         "linkage.py design --help)",
         "Synthesis of four-bar and slider-crank function generators (Pennestri & Valentini's "
         "review); angles in degrees.",
-        (option("--analyze", action="store_true",
-                help="run the design through the analysis and print what it does"),
+        (option("--analyse", "--analyze", dest="analyze", action="store_true",
+                help="run the design through the analysis and print what it does (--analyze "
+                     "too)"),
          option("--dat", metavar="DIR",
                 help="write ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution there (engine, 0 "
                      "to 360 by 1 degree)"),
@@ -12343,6 +12693,7 @@ COMMANDS = {
          option("--png", metavar="OUT",
                 help="draw that motion as a PNG, the positions overlaid (needs matplotlib: "
                      "python3 -m pip install matplotlib)"),
+         option("--dxf", metavar="OUT", help=DXF_HELP),
          option("--text", action="store_true",
                 help="draw that motion in the terminal (animated until q; piped, the design "
                      "positions as still frames)"),
@@ -12353,7 +12704,9 @@ COMMANDS = {
         listing_command, "the original BASIC listing as corrected, with its errata",
         "The program of the paper's appendix as it must have run (legacy_basic/LINKAGE.BAS): "
         "each line that corrects the scan of the printed listing is marked * and followed by "
-        "its erratum (legacy_basic/ERRATA.md explains each one); --ocr also shows the scan's "
+        "its erratum and the reason for it, each line where a bug of the original lives, kept "
+        "as it ran (K1-K14), marked K and followed by its name; the last line names the "
+        "ERRATA.md that explains each one, where it was installed. --ocr also shows the scan's "
         "own text of every line it prints otherwise.",
         (option("--ocr", action="store_true",
                 help="show the scan's text (legacy_basic/LINKAGE.OCR.txt) under each line it "
@@ -12366,7 +12719,7 @@ COMMANDS = {
         "each key: Tab or a capital letter selects a dimension, the arrows change it, = types "
         "it; ? lists every key. Needs a terminal; --keys FILE replays keys without one.",
         (option("target", nargs="?", metavar="KIND|SCENE",
-                help=f"{', '.join(MECHANISM_NAMES)} (or 1-5), with any of its dimensions (the "
+                help=f"{', '.join(KIND_NAMES)} (or 1-5), with any of its dimensions (the "
                      "rest the kind's example's); or a scene (a TOML file, or the name of one "
                      "of scene --list); default: the plane four-bar"),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
@@ -12424,7 +12777,8 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", parser_class=CommandParser)
     for name, command in COMMANDS.items():
         if name != "design":
-            sub = commands.add_parser(name, help=command.help, description=command.description)
+            sub = commands.add_parser(name, help=command.help, description=command.description,
+                                      aliases=command.aliases)
             sub.add_options(command.options)
             sub.set_defaults(handler=command.handler, parser=sub)
             continue
@@ -12437,9 +12791,9 @@ def build_parser() -> argparse.ArgumentParser:
                                      description=f"{method}: {METHOD_HELP[method]} "
                                                  f"{ANGLES_HELP}.", epilog=DESIGN_OUTPUT_HELP)
             for datum in DATA[method]:
-                flag = "--lambda" if datum.name == "lam" else "--" + datum.name.replace("_", "-")
+                flags = DATUM_FLAGS.get(datum.name, ("--" + datum.name.replace("_", "-"),))
                 counted: dict[str, Any] = {"nargs": 3} if datum.count == 3 else {}
-                sub.add_argument(flag, dest=datum.name, type=_design_number(flag),
+                sub.add_argument(*flags, dest=datum.name, type=_design_number(flags[0]),
                                  required=not datum.optional, help=datum_help(datum), **counted)
             sub.add_options(command.options)
             sub.set_defaults(handler=command.handler, parser=sub)

@@ -125,7 +125,7 @@ def test_grashof_says_what_the_sampled_motion_does(a, b, c, d, branch):
         return
     analysis = linkage.analyse(link, branch)
     assert (analysis.crank_range is None) == sampled_full, (a, b, c, d, analysis.crank_range)
-    assert analysis.type == expected, (a, b, c, d, analysis.criterion)
+    assert analysis.linkage_class == expected, (a, b, c, d, analysis.criterion)
     assert analysis.change_points == ()
 
 
@@ -308,7 +308,7 @@ def check_extremes_against_brute_force(link, branch):
         assert abs(wrapped(got_low - low)) <= tol, (where, low, high)
         assert abs(wrapped(got_high - high)) <= tol, (where, low, high)
     assert abs((got_high - got_low) - (high - low)) <= 2 * tol, (where, high - low)
-    assert analysis.type == ("crank-slider" if link.is_slider else "crank-rocker"), where
+    assert analysis.linkage_class == ("crank-slider" if link.is_slider else "crank-rocker"), where
     if low_phi is None or high_phi is None:
         return True                               # two extremes alike: where is not defined
     assert abs(wrapped(analysis.output_min.phi - low_phi)) <= 1e-3, (where, low_phi)
@@ -378,7 +378,7 @@ def test_a_plane_four_bar_with_s_plus_l_equal_to_p_plus_q_has_a_change_point_at_
     """a = 3, b = 1, c = 2, d = 2: at phi = 180 the crank tip is 4 = c + d from the output
     pivot, all four links on one line (D touches zero there and nowhere else)."""
     analysis = linkage.analyse(linkage.Linkage("plane", a=3, b=1, c=2, d=2))
-    assert analysis.type == "change-point"
+    assert analysis.linkage_class == "change-point"
     assert len(analysis.change_points) == 1 and abs(analysis.change_points[0] - 180.0) <= 1e-9
     assert analysis.dead_centres == () and analysis.crank_range is None
     dead, changes = linkage.crank_limits(linkage.Linkage("plane", a=3, b=1, c=2, d=2))
@@ -389,7 +389,7 @@ def test_a_slider_crank_with_b_plus_e_equal_to_c_has_a_change_point():
     """b = 2, e = 1, c = 3: the crank tip (2 cos phi, 2 sin phi) is 1 - 2 sin phi from the
     slider's line y = 1, which is c = 3 at phi = 270 only."""
     analysis = linkage.analyse(linkage.Linkage("slider", b=2, c=3, e=1))
-    assert analysis.type == "change-point"
+    assert analysis.linkage_class == "change-point"
     assert len(analysis.change_points) == 1 and abs(analysis.change_points[0] - 270.0) <= 1e-9
     assert analysis.dead_centres == () and analysis.crank_range is None
 
@@ -423,7 +423,7 @@ def test_a_change_point_at_phi_0_is_no_dead_centre(kind, dims, changes, dead):
     for phi in (-1e-6, 1e-6):
         assert link.motion(phi, 1, 0).output is not None
     analysis = linkage.analyse(link)
-    assert analysis.type == "change-point", analysis
+    assert analysis.linkage_class == "change-point", analysis
     got = (list(analysis.change_points), list(analysis.dead_centres))
     assert len(got[0]) == len(changes) and len(got[1]) == len(dead), (got, changes, dead)
     assert all(abs(x - y) <= 1e-9 for x, y in zip(got[0] + got[1], changes + dead)), got
@@ -446,7 +446,7 @@ def test_a_linkage_at_the_edge_of_a_change_point_is_analysed(kind, dims, expecte
     line no traceback."""
     analysis = linkage.analyse(linkage.Linkage(kind, **dims))
     if expected:
-        assert analysis.type == expected
+        assert analysis.linkage_class == expected
     if kind == "slider":
         # x = cos phi +- |cos phi| (b = c = 1, e ~ 0): 2 at phi = 0 and 0 at 180 on branch 1
         # (and -2 at 0 on branch 2, if the circuit comes back on it): the output moves by 2 at
@@ -466,7 +466,7 @@ def test_a_linkage_at_the_edge_of_a_change_point_is_analysed(kind, dims, expecte
 ])
 def test_near_a_change_point_is_not_one(kind, dims, expected):
     analysis = linkage.analyse(linkage.Linkage(kind, **dims))
-    assert analysis.type == expected
+    assert analysis.linkage_class == expected
     assert analysis.change_points == ()
     assert (analysis.crank_range is None) == expected.startswith("crank-")
     assert len(analysis.dead_centres) == (0 if expected.startswith("crank-") else 2)
@@ -494,7 +494,7 @@ def designed(capsys, *argv):
 
 def test_fourb_cr_4_psi_60_mu_40_is_analysed_as_designed(capsys):
     values = designed(capsys, "fourb-cr-4", "--psi", "60", "--mu-min", "40")
-    assert values["type"] == "crank-rocker" and values["crank_range"] == "full"
+    assert values["class"] == "crank-rocker" and values["crank_range"] == "full"
     assert number(values["swing"]) == pytest.approx(60, abs=1e-7)
     assert number(values["time_ratio"]) == pytest.approx(1, abs=1e-9)
     assert number(values["mu_min"]) == pytest.approx(40, abs=1e-7)
@@ -508,7 +508,7 @@ def test_fourb_cr_4_review_example_psi_50_mu_30(capsys):
     values = designed(capsys, "fourb-cr-4", "--psi", "50", "--mu-min", "30")
     assert [f"{number(values[k]):.6f}" for k in "abcd"] == [
         "1.000000", "0.407014", "0.487998", "0.963078"]
-    assert values["type"] == "crank-rocker"
+    assert values["class"] == "crank-rocker"
     assert number(values["swing"]) == pytest.approx(50, abs=1e-7)
     assert number(values["time_ratio"]) == pytest.approx(1, abs=1e-9)
     assert number(values["mu_min"]) == pytest.approx(30, abs=1e-7)
@@ -520,7 +520,7 @@ def test_fourb_cr_1_review_example_theta_10_psi_50_theta0_30(capsys):
     180 + theta = 190 (and back in 170: time ratio 19/17), from the extended dead centre at
     theta0 = 30; printed mu_min = 47.022 (truncated, erratum S2) and mu_max = 96.380."""
     values = designed(capsys, "fourb-cr-1", "--theta", "10", "--psi", "50", "--theta0", "30")
-    assert values["type"] == "crank-rocker" and values["crank_range"] == "full"
+    assert values["class"] == "crank-rocker" and values["crank_range"] == "full"
     assert f"{math.trunc(number(values['mu_min']) * 1000) / 1000:.3f}" == "47.022"
     assert f"{number(values['mu_max']):.3f}" == "96.380"
     assert number(values["swing"]) == pytest.approx(50, abs=1e-7), values
@@ -548,7 +548,7 @@ def test_analyse_prints_the_analysis_lines(capsys):
         "plane", a=3.0, b=1.0, c=2.5, d=2.2)))
     assert out.splitlines() == expected
     values = dict(line.split(" = ", 1) for line in out.splitlines())
-    assert values["type"] == "crank-rocker" and values["branch"] == "1"
+    assert values["class"] == "crank-rocker" and values["branch"] == "1"
     # eq. (2a) and (2b) again, through the printed text (10 significant digits)
     assert number(values["mu_min"]) == pytest.approx(mu_review(3, 1, 2.5, 2.2, 0), abs=1e-7)
     assert number(values["mu_max"]) == pytest.approx(mu_review(3, 1, 2.5, 2.2, 180), abs=1e-7)

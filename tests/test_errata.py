@@ -211,7 +211,7 @@ def _listing(*options):
 
 def test_the_listing_is_linkage_bas_with_each_correction_marked_under_its_line():
     out = _listing()
-    program = [line[2:] for line in out if line[:2] in ("  ", "* ") and line[2:3].isdigit()]
+    program = [line[2:] for line in out if line[:2] in ("  ", "* ", "K ") and line[2:3].isdigit()]
     assert program == (LEGACY / "LINKAGE.BAS").read_text().splitlines()
     notes = {}                                 # erratum name: the program line it is under
     for i, line in enumerate(out):
@@ -231,13 +231,12 @@ def test_the_scan_shows_under_exactly_the_lines_that_differ_from_it_beyond_layou
     out = _listing("--ocr")
     differs, marked = set(), set()
     for i, line in enumerate(out):
-        if line[:2] in ("  ", "* ") and line[2:3].isdigit():
+        if line[:2] in ("  ", "* ", "K ") and line[2:3].isdigit():
             number = int(line[2:].split()[0])
             marked.update([number] if line.startswith("*") else [])
-            following = out[i + 1:i + 6]
-            scan = next((f for f in following if f.startswith("        scan: ")), None)
-            ends = next((k for k, f in enumerate(following) if not f.startswith("    ")), 5)
-            if scan is not None and following.index(scan) < ends:
+            following = out[i + 1:]
+            ends = next((k for k, f in enumerate(following) if not f.startswith("    ")), 0)
+            if any(f.startswith("        scan: ") for f in following[:ends]):
                 differs.add(number)
     assert marked - differs == set()
     assert differs - marked == set(COMMENT_LINES)

@@ -49,7 +49,7 @@ def panel(text, column=44):
     """The side panel's `name value` rows of a screen (80 wide: the panel from column 44)."""
     rows = {}
     for line in text.split("\n")[:-2]:                          # not the keys and status lines
-        match = re.match(r"(type|crank|swing|time ratio|μ now|μ min|μ max|worst \|μ-90\|) +(.+)$",
+        match = re.match(r"(class|crank|swing|time ratio|μ now|μ min|μ max|worst \|μ-90\|) +(.+)$",
                          line[column:])
         if match:
             rows[match[1]] = match[2].strip()
@@ -85,7 +85,7 @@ def test_the_numbers_on_screen_are_analyses(kind, dims, tmp_path):
     args = [kind] + [w for n, v in dims.items() for w in (f"--{n}", repr(v))]
     shown = panel(replayed(args, [], tmp_path))
     a = analysed(kind, dims)
-    assert shown["type"] == a["type"]
+    assert shown["class"] == a["class"]
     if a["crank_range"] == "full":
         assert shown["crank"] == "full"
     else:
@@ -167,7 +167,7 @@ def test_a_linkage_that_stops_assembling_says_so_and_comes_back(tmp_path):
     gone = replayed(["plane"], ["B", "=", "3", "0", "Enter"], tmp_path)
     assert "does not assemble at any crank angle" in gone
     back = replayed(["plane"], ["B", "=", "3", "0", "Enter", "u"], tmp_path)
-    assert panel(back)["type"] == "crank-rocker" and "b = 2 " in back
+    assert panel(back)["class"] == "crank-rocker" and "b = 2 " in back
 
 
 def test_playing_stops_at_a_dead_centre(tmp_path):
@@ -445,14 +445,14 @@ def test_analyse_draws_its_svg_and_png(tmp_path):
     result = run(["analyse", "plane", "--a", "6", "--b", "5", "--c", "7", "--d", "9", "--svg",
                   "a.svg", "--png", "a.png", "--coupler", "3.5", "1.75"], tmp_path)
     assert result.returncode == 0, result.stderr
-    assert b"type = double-rocker" in result.stdout
+    assert b"class = double-rocker" in result.stdout
     svg = (tmp_path / "a.svg").read_text(encoding="utf-8")
     assert svg.count('class="marked"') > 0 and "dead centre" in svg and "P(3.5, 1.75)" in svg
     assert (tmp_path / "a.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--coupler", "1"], b"--coupler goes with --svg or --png"),
+    (["--coupler", "1"], b"--coupler goes with --svg, --png or --dxf"),
     (["--svg", "a.svg", "--coupler", "1", "2", "3"], b"--coupler takes U, or U and V"),
     (["--svg", "a.svg", "--png", "a.svg"], b"the same file twice"),
 ])

@@ -82,3 +82,19 @@ def test_the_installed_command_prints_the_listing_with_the_scan(installed):
     got = _run(linkage, empty, "listing", "--ocr")
     assert got.returncode == 0, got.stderr
     assert "* 1265 IF S=1 THEN" in got.stdout and "        scan: 1245 IF S=1 THEN" in got.stdout
+
+
+def test_the_installed_listing_names_the_installed_errata(installed):
+    """`linkage listing` names the ERRATA.md it read, installed under the prefix's
+    share/fmb-linkage/legacy_basic (pyproject's data-files), by a path that holds from anywhere:
+    not `legacy_basic/ERRATA.md`, relative to a clone the user is not in."""
+    python, linkage, empty = installed
+    got = _run(linkage, empty, "listing")
+    assert got.returncode == 0, got.stderr
+    text = " ".join(got.stdout.split())
+    named = re.findall(r"([^\s()]*ERRATA\.md)", text)
+    assert named, got.stdout[-500:]
+    expected = python.parent.parent / "share" / "fmb-linkage" / "legacy_basic" / "ERRATA.md"
+    for path in named:
+        assert os.path.isabs(path) and os.path.samefile(path, expected), (path, expected)
+    assert "kept, K6: The spike at φ = 180°" in got.stdout

@@ -467,9 +467,9 @@ def test_no_module_level_name_is_bound_twice():
 
 
 def test_the_menus_linkages_are_the_engines_kinds():
-    """MECHANISM_TYPES (the original program's menu: its keys and the order it asks for the
+    """KIND_MENU (the original program's menu: its keys and the order it asks for the
     dimensions) has the five kinds, in the menu's order."""
-    assert list(linkage.MECHANISM_TYPES) == list(linkage.MECHANISM_NAMES) == [
+    assert list(linkage.KIND_MENU) == list(linkage.KIND_NAMES) == [
         linkage.PLANE_FOUR_BAR, linkage.SPHERICAL_FOUR_BAR, linkage.SKEW_FOUR_BAR,
         linkage.PLANE_SLIDER_CRANK, linkage.SKEW_SLIDER_CRANK]
 

@@ -121,7 +121,7 @@ def test_the_terminal_snapshots_have_every_letter(scene):
     the paper gives the linkage."""
     from support import make_scene_snapshots
     letters = {"plane": "abcd", "spherical": "abcd", "skew": "abcdfgξ", "slider": "be",
-               "skew-slider": "abcfξ"}[linkage.load_scene(str(scene)).mechanism]
+               "skew-slider": "abcfξ"}[linkage.load_scene(str(scene)).kind]
     for encoding in ("utf-8", "ascii"):
         area = drawn_area(make_scene_snapshots.snapshot_path(scene, encoding).read_text(
             encoding=encoding))

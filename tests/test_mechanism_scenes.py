@@ -38,7 +38,7 @@ def frames_of(svg_path):
 
 def test_figures_1_and_2_are_the_five_linkages_lettered_as_the_paper_letters_them():
     scenes = [linkage.load_scene(str(p)) for p in FIGURES_1_2]
-    assert [s.mechanism for s in scenes] == ["plane", "spherical", "skew", "slider",
+    assert [s.kind for s in scenes] == ["plane", "spherical", "skew", "slider",
                                              "skew-slider"]
     letters = {"plane": {"a", "b", "c", "d"}, "spherical": {"a", "b", "c", "d"},
                "skew": {"a", "b", "c", "d", "f", "ξ"}, "slider": {"b", "c*", "e"},
@@ -48,7 +48,7 @@ def test_figures_1_and_2_are_the_five_linkages_lettered_as_the_paper_letters_the
         drawing = linkage.scene_drawing(scene)
         shown = {label.text for label in drawing.ground.labels}
         shown |= {label.text for label in drawing.frames[0].layer.labels}
-        assert letters[scene.mechanism] <= shown, (scene.path, shown)
+        assert letters[scene.kind] <= shown, (scene.path, shown)
         assert all(f.message is None for f in drawing.frames), scene.path   # they turn fully
 
 

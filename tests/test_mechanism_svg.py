@@ -1,15 +1,21 @@
-"""The mechanism as an animated SVG and as a PNG. The SVG is read back with
+"""The mechanism as an animated SVG, as a PNG and as a DXF. The SVG is read back with
 xml.etree: its frames, which one shows without animation, the SMIL that plays them, and the
-joints of two frames against joint_positions; the PNG is decoded and its pixels counted."""
+joints of two frames against joint_positions; the PNG is decoded and its pixels counted; the DXF
+is read back with ezdxf and its links measured against the linkage's lengths."""
 
 from __future__ import annotations
 
+import math
+import sys
 import xml.etree.ElementTree as ET
 
 import pytest
 
 import linkage
+from support.peers import Peer
 from test_scenes import png_pixels
+
+ezdxf = Peer("ezdxf")
 
 SVG = "{http://www.w3.org/2000/svg}"
 ANGLES = [float(a) for a in range(0, 360, 30)]
@@ -125,3 +131,77 @@ def test_the_png_overlays_the_positions(kind, count, positions):
         return sum(150 < p[0] == p[1] == p[2] < 235 for p in pixels)
     assert light(pixels) > light(grey_pixels(alone)[0]) + 1000 * (min(count, positions) - 1), \
         "no faint positions"
+
+
+# -- the DXF, read back ---------------------------------------------------------------------------
+
+def dxf_of(tmp_path, *argv):
+    out = tmp_path / "out.dxf"
+    assert linkage.main([*argv, "--dxf", str(out)]) == 0
+    doc = ezdxf.readfile(str(out))
+    by_layer = {}
+    for entity in doc.modelspace():
+        by_layer.setdefault(entity.dxf.layer, []).append(entity)
+    return by_layer
+
+
+def runs(entity):
+    """An entity's vertices (a LINE's two ends, a 3-D POLYLINE's points)."""
+    if entity.dxftype() == "LINE":
+        return [tuple(entity.dxf.start), tuple(entity.dxf.end)]
+    return [tuple(v.dxf.location) for v in entity.vertices]
+
+
+def length(points, sphere=False):
+    """A link's length: the distance between its ends, or on the unit sphere its arc in degrees
+    (the polyline's own length, which is the arc's chord sum, near the great circle's)."""
+    if sphere:
+        return math.degrees(sum(math.dist(p, q) for p, q in zip(points, points[1:])))
+    return math.dist(points[0], points[-1])
+
+
+@pytest.mark.parametrize("scene, kind, links, tolerance", [
+    ("coupler-plane-four-bar", "plane", {"b": 2, "c": 7, "d": 9}, 1e-9),
+    ("coupler-skew-four-bar", "skew", {"b": 1.5, "c": 4, "d": 2.5}, 1e-9),
+    ("coupler-spherical-four-bar", "spherical", {"b": 20, "c": 75, "d": 60}, 0.02),
+    ("coupler-plane-slider-crank", "slider", {"b": 2, "c": 7}, 1e-9)])
+def test_the_dxf_holds_the_linkage_at_its_true_lengths(scene, kind, links, tolerance, tmp_path):
+    """Every position's moving links, measured in the file ezdxf reads back, have the linkage's
+    lengths (the spherical one's arcs, in degrees, on the unit sphere: every vertex at radius 1);
+    12 positions a layer each; the fixed link; the coupler curve's points in the plane kinds'
+    plane z = 0."""
+    layers = dxf_of(tmp_path, "scene", scene)
+    positions = sorted(name for name in layers if name.startswith("POSITION_"))
+    assert len(positions) == 12, sorted(layers)
+    sphere = kind == "spherical"
+    for name in positions:
+        measured = sorted(length(runs(e), sphere) for e in layers[name]
+                          if e.dxftype() in ("LINE", "POLYLINE"))
+        assert measured == pytest.approx(sorted(links.values()), abs=tolerance), (name, measured)
+        texts = [e.dxf.text for e in layers[name] if e.dxftype() == "TEXT"]
+        assert len(texts) == 1 and texts[0].startswith("phi = ")
+        if sphere:
+            for e in layers[name]:
+                if e.dxftype() == "POLYLINE":
+                    assert all(abs(math.dist(p, (0, 0, 0)) - 1) < 1e-9 for p in runs(e))
+    assert "GROUND" in layers or kind == "slider"
+    curve = [p for e in layers.get("COUPLER_CURVE", []) for p in runs(e)]
+    assert len(curve) > 50
+    if kind in ("plane", "slider"):
+        assert all(p[2] == 0 for p in curve)
+
+
+def test_the_plane_ground_is_a_from_a0_to_b0(tmp_path):
+    layers = dxf_of(tmp_path, "design", "fourb-cr-4", "--psi", "60", "--mu-min", "40")
+    (ground,) = layers["GROUND"]
+    start, end = runs(ground)
+    assert start == (0, 0, 0) and end[1:] == (0, 0) and end[0] > 0
+
+
+def test_without_ezdxf_dxf_says_how_to_install_it_and_writes_nothing(tmp_path, monkeypatch,
+                                                                     capsys):
+    monkeypatch.setitem(sys.modules, "ezdxf", None)          # import ezdxf fails
+    out = tmp_path / "x.dxf"
+    assert linkage.main(["scene", "fig1a", "--dxf", str(out)]) == 1
+    assert "python3 -m pip install ezdxf" in capsys.readouterr().err
+    assert not out.exists()

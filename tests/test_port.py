@@ -104,7 +104,7 @@ def run_options(keys: bytes) -> list[str] | None:
     if not match:
         return None
     key, answers, branch = match[1].decode(), match[2].decode().split("\r")[:-1], match[3]
-    name, (_, dims) = next((n, m) for n, m in linkage.MECHANISM_TYPES.items() if m[0] == key)
+    name, (_, dims) = next((n, m) for n, m in linkage.KIND_MENU.items() if m[0] == key)
     if len(answers) != len(dims) + 3:
         return None
     options = [name]
@@ -135,7 +135,7 @@ def test_run_writes_what_the_menu_writes(golden_run, tmp_path):
 def test_run_covers_every_mechanism():
     kinds = {run_options((make_golden.GOLDEN / c["name"] / "keys.txt").read_bytes())[0]
              for c in RUN_CASES}
-    assert kinds == set(linkage.MECHANISM_TYPES)
+    assert kinds == set(linkage.KIND_MENU)
 
 
 @pytest.mark.parametrize("options, message", [

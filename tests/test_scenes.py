@@ -188,7 +188,7 @@ def test_the_figure_is_labelled(drawn):
     assert {"basic": "precision basic", "double": "precision double"}[scene.precisions[0]] in head
     headers = [line for line in text.splitlines() if re.match(r"\([abc]\) ", line)]
     assert len(headers) == len(scene.panels)
-    slider = scene.mechanism in ("slider", "skew-slider")
+    slider = scene.kind in ("slider", "skew-slider")
     units = {"displacement": "[length]" if slider else "[deg]",
              "velocity": "[length/rad]" if slider else "[rad/rad]",
              "acceleration": "[length/rad^2]" if slider else "[rad/rad^2]",
@@ -483,7 +483,7 @@ def test_the_basic_numbers_are_pc_basic_s(name, case, tmp_path):
     scene = linkage.load_scene(str(ROOT / "data" / "scenes" / f"{name}.toml"))
     keys = (GOLDEN / case / "keys.txt").read_bytes().decode("ascii")
     answers = keys[1:].split("\r")
-    menu = linkage.MECHANISM_TYPES[scene.mechanism]
+    menu = linkage.KIND_MENU[scene.kind]
     assert keys[0] == menu[0]
     asked = dict(zip(menu[1], map(float, answers)))
     assert {("ksi" if k == "skew" else k): v for k, v in asked.items()} == scene.dimensions

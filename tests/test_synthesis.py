@@ -441,7 +441,7 @@ def crank_rocker_data(u1, u2, u3):
     coupler = 0.4 + 2.0 * u2
     rocker = 0.2 + 1.8 * u3
     link = s.FourBar(1.0, crank, coupler, rocker)
-    if s.grashof_type(link) != "crank-rocker":
+    if s.grashof_class(link) != "crank-rocker":
         return None
     for branch in (1, 2):
         link = link._replace(branch=branch)
@@ -487,7 +487,7 @@ def drag_link_data(u1, u2, u3):
     """A random drag-link (frame 1 shortest) and its two unit-velocity-ratio positions measured
     by the analysis: the data (dphi, dpsi, lambda) of DRAGLINK-2, or None."""
     link = s.FourBar(1.0, 1.3 + 3 * u1, 1.3 + 3 * u2, 1.3 + 3 * u3)
-    if s.grashof_type(link) != "drag-link":
+    if s.grashof_class(link) != "drag-link":
         return None
     m = s.measure(link)
     if not (5 < m.mu_min.value and m.mu_max.value < 175):
@@ -1369,7 +1369,7 @@ def test_a_crank_that_does_not_turn_fully_is_drawn_from_limit_to_limit():
     """A FOURB-FG3-1 design of a double-rocker: every frame assembled, the design positions
     inside the motion, its ends within a step of the input's limits."""
     link = s.FourBar(1.0, 1.6, 0.5, 1.4, 1)               # input from 30.75 to 90.90
-    assert s.grashof_type(link) == "double-rocker"
+    assert s.grashof_class(link) == "double-rocker"
     phis = [40.0, 55.0, 70.0]
     result = s.fourb_fg3_1(phis, [s._output(link, p) + 180 for p in phis])
     start, stop, step = s.whole_motion(result.design)

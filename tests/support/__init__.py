@@ -11,6 +11,7 @@ listing_model.py         the listing's formulas in double precision (or mpmath)
 mbf_reference.py         GW-BASIC's arithmetic and number text step by step (test_mbf_fast's reference)
 make_golden.py           generator: data/golden/ from PC-BASIC
 make_scene_snapshots.py  generator: data/scenes/snapshots/
+make_sketches.py         generator: data/sketches/, the README's drawings of the five kinds
 make_text_table.py       generator: data/mbf/text_table.tsv from PC-BASIC
 bench_accuracy.py        study: what accuracy costs in time, six methods against the reference
 bench_peers.py           study: the engine beside a C loop of the same formulas and pylinkage

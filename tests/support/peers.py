@@ -1,5 +1,6 @@
-"""The tests' optional peers - pylinkage, mpmath, numpy, matplotlib, PC-BASIC - imported where a
-test uses them, so that the quick subset collects and runs with pytest and hypothesis alone.
+"""The tests' optional peers - pylinkage, mpmath, numpy, matplotlib, ezdxf, PC-BASIC - imported
+where a test uses them, so that the quick subset collects and runs with pytest and hypothesis
+alone.
 
 need("mpmath") imports it; where it is missing, a running test is skipped saying what to install
 (locally), or failed (where the environment's CI is set: in CI no test is skipped because a
