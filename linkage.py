@@ -8708,11 +8708,12 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
 # those files are written.
 #
-# Uses: sections 1, 2, 5, 6, 7, 9, 11 and 12.
-# Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, QUANTITY_FILES, MECHANISM_PANEL, MAX_FRAMES,
-#   PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, PanelSpec, Scene, scene_error,
-#   load_scene, known_scenes, scene_path, scene_list, check_assembles, Series, branch_text,
-#   compute_scene, scene_csv.
+# Uses: sections 1, 2, 5, 6, 7, 9, 10, 11 and 12.
+# Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, FORCE_QUANTITIES, QUANTITY_FILES,
+#   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, PanelSpec,
+#   Scene, scene_error, load_scene, known_scenes, scene_path, scene_list, DYNAMICS_KEYS, BODY_KEYS,
+#   Dynamics, scene_dynamics, check_assembles, Series, branch_text, compute_scene, scene_forces,
+#   forces_columns, FORCES_COLUMNS, forces_row, scene_csv.
 
 
 SCENE_KEYS = {  # key: what is expected (the error messages quote it)
@@ -8731,9 +8732,12 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
                "charted",
     "marked": "a list of input angles (degrees): a mechanism scene's positions drawn faint under "
               "every frame and numbered 1, 2, ... (design --scene writes the design positions)",
+    "dynamics": "a table [dynamics]: the speed, the bodies' masses, gravity and the loads, for "
+                "the forces (the panels torque, joint_forces and shaking; the CSV's columns)",
 }
 REQUIRED_SCENE_KEYS = ("mechanism", "dimensions", "input", "branches", "panels")
 QUANTITIES = ("displacement", "velocity", "acceleration", "transmission")
+FORCE_QUANTITIES = ("torque", "joint_forces", "shaking")     # a scene with [dynamics]: forces()
 QUANTITY_FILES = dict(zip(QUANTITIES, DatFiles.NAMES + (DatFiles.MU,)))
 MECHANISM_PANEL = "mechanism"    # the linkage drawn (a scene of its own, mechanism_drawing)
 MAX_FRAMES = 3600                # the most poses a mechanism scene draws
@@ -8777,6 +8781,7 @@ class Scene(NamedTuple):
     fast: bool = False               # the double series by Linkage.sweep_arrays
     coupler: tuple[float, float] | None = None   # a mechanism scene's coupler point (u, v)
     marked: tuple[float, ...] = ()   # a mechanism scene's input angles drawn faint and numbered
+    dynamics: Dynamics | None = None     # the [dynamics] table: forces computed, else none
 
     @property
     def transmission(self) -> bool:
@@ -8895,8 +8900,21 @@ def load_scene(path: str) -> Scene:
         raise scene_error(path, "precision", "double or both with a transmission panel: the "
                            "transmission angle is the accurate engine's (the original program "
                            "computes the output link only)", precision)
+    dynamics = None
+    if "dynamics" in data:
+        if precision == "basic":
+            raise scene_error(path, "precision", "double or both with [dynamics]: the forces "
+                               "are the accurate engine's (the original program computes the "
+                               "motion only)", precision)
+        if fast:
+            raise scene_error(path, "fast", "false with [dynamics]: the forces are computed "
+                               "one position at a time", fast)
+        dynamics = scene_dynamics(path, mechanism, dims, data["dynamics"])
+    if dynamics is None and any(set(spec.quantities) & set(FORCE_QUANTITIES) for spec in specs):
+        raise SceneError(f"{path}: key 'dynamics' is missing: expected {SCENE_KEYS['dynamics']} "
+                         "with a panel of " + ", ".join(FORCE_QUANTITIES))
     return Scene(path, _scene_title(path, data), mechanism, dims, start, stop, step,
-                 tuple(branches), PRECISIONS[precision], specs, fast)
+                 tuple(branches), PRECISIONS[precision], specs, fast, dynamics=dynamics)
 
 
 def known_scenes() -> dict[str, str]:
@@ -8986,16 +9004,19 @@ def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, .
         _unknown_keys(path, panel, ("quantities", "limits"), f"{key}.")
         quantities = panel.get("quantities")
         if (not isinstance(quantities, list) or not quantities
-                or not all(q in QUANTITIES for q in quantities)
+                or not all(q in QUANTITIES + FORCE_QUANTITIES for q in quantities)
                 or len(set(quantities)) != len(quantities)):
-            raise scene_error(path, f"{key}.quantities",
-                               f"a list of one or more of {', '.join(QUANTITIES)}", quantities)
+            raise scene_error(path, f"{key}.quantities", "a list of one or more of "
+                               f"{', '.join(QUANTITIES + FORCE_QUANTITIES)}", quantities)
         limits = panel.get("limits")
         if limits is not None and not (isinstance(limits, list) and len(limits) == 2
                                        and all(_is_number(v) for v in limits)
                                        and limits[0] < limits[1]):
             raise scene_error(path, f"{key}.limits", "[low, high], two numbers, low < high",
                                limits)
+        if "joint_forces" in quantities and len(quantities) > 1:
+            raise scene_error(path, f"{key}.quantities", "joint_forces in a panel of its own "
+                               "(a polar diagram: the joints' forces, y against x)", quantities)
         specs.append(PanelSpec(tuple(quantities),
                                None if limits is None else (float(limits[0]), float(limits[1]))))
     return tuple(specs)
@@ -9012,6 +9033,10 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
                      stop: float, step: float, branches: tuple[int | str, ...]) -> Scene:
     """The rest of a mechanism scene: one panel, quantities = ["mechanism"], optional angles; the
     positions are the accurate engine's (precision double, or no precision key)."""
+    if "dynamics" in data:
+        raise scene_error(path, "dynamics", "no [dynamics] in a mechanism scene: the forces "
+                           "are drawn by a scene of curves (panels of torque, joint_forces, "
+                           "shaking)", data["dynamics"])
     if len(data["panels"]) != 1:
         raise scene_error(path, "panels", "one [[panels]] only: a mechanism panel is a scene "
                            "of its own", data["panels"])
@@ -9047,6 +9072,117 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
     return Scene(path, _scene_title(path, data), data["mechanism"], dims, start, stop, step,
                  branches, ("double",), (spec,), coupler=coupler,
                  marked=tuple(float(v) for v in marked))
+
+
+# -- a scene's [dynamics]: the bodies and effects that forces() takes ------------------------------
+
+DYNAMICS_KEYS = {  # key: what is expected (the error messages quote it)
+    "speed": "a number, the crank's speed (rpm)",
+    "crank_acceleration": "a number, the crank's angular acceleration (rad/s^2)",
+    "gravity": "a number, m/s^2 along the kind's down (-y for the plane kinds, -z for the "
+               "spatial ones), or [gx, gy, gz]",
+    "radius": "a positive number, the spherical four-bar's sphere (metres)",
+    "output_torque": "a number, the load on the output about its axis (N m, four-bars)",
+    "output_force": "a number, the load on the slider along its guide (N, slider-cranks)",
+    "coupler_force": "a table { at = [u, v], force = [fx, fy, fz] }: a force (N) at the coupler "
+                     "point (u, v)",
+}
+BODY_KEYS = {  # a body's table { mass, centre, inertia }: what is expected
+    "mass": "a number, kg (not negative)",
+    "centre": "the centre of mass in the body's frame: a number (the plane kinds' crank, output "
+              "and slider), [u, v] (the plane coupler) or [x, y, z] (the spatial kinds)",
+    "inertia": "the inertia about the centre, kg m^2: a number (the plane kinds) or a 3 x 3 "
+               "tensor [[..], [..], [..]] (the spatial kinds)",
+}
+
+
+class Dynamics(NamedTuple):
+    """A scene's [dynamics]: what forces() takes besides the linkage and the angles."""
+    bodies: Bodies
+    effects: Effects
+    radius: float
+
+
+def _numbers(x: object, count: int) -> bool:
+    return isinstance(x, list) and len(x) == count and all(_is_number(v) for v in x)
+
+
+def _body_of(path: str, key: str, table: object) -> Body:
+    """The body table at `key`, its values' shapes checked (forces() checks what they mean)."""
+    if not isinstance(table, dict):
+        raise scene_error(path, key, "a table { mass, centre, inertia } (centre and inertia "
+                          "both, or neither: a uniform rod between its joints)", table)
+    _unknown_keys(path, table, BODY_KEYS, f"{key}.")
+    if not _is_number(table.get("mass", 0.0)):
+        raise scene_error(path, f"{key}.mass", BODY_KEYS["mass"], table["mass"])
+    centre, inertia = table.get("centre"), table.get("inertia")
+    if centre is not None and not (_is_number(centre) or _numbers(centre, 2)
+                                   or _numbers(centre, 3)):
+        raise scene_error(path, f"{key}.centre", BODY_KEYS["centre"], centre)
+    if inertia is not None and not (_is_number(inertia) or (
+            isinstance(inertia, list) and len(inertia) == 3
+            and all(_numbers(row, 3) for row in inertia))):
+        raise scene_error(path, f"{key}.inertia", BODY_KEYS["inertia"], inertia)
+    return Body(float(table.get("mass", 0.0)), centre, inertia)
+
+
+def scene_dynamics(path: str, mechanism: str, dims: dict[str, float], table: object
+                   ) -> Dynamics:
+    """The [dynamics] table of a scene as (Bodies, Effects, radius), every value checked by
+    forces() itself; a SceneError names the file, the key and what it expects. Keys left out
+    are effects left out (a massless body, no load, no gravity, the crank at rest)."""
+    if not isinstance(table, dict):
+        raise scene_error(path, "dynamics", "a table [dynamics] (data/scenes/forces-*.toml "
+                          "show one)", table)
+    output = "slider" if mechanism in SLIDER_CRANKS else "output"
+    _unknown_keys(path, table, (*DYNAMICS_KEYS, "crank", "coupler", output), "dynamics.")
+    for key in ("speed", "crank_acceleration", "radius", "output_torque", "output_force"):
+        if key in table and not _is_number(table[key]):
+            raise scene_error(path, f"dynamics.{key}", DYNAMICS_KEYS[key], table[key])
+    gravity = table.get("gravity")
+    if gravity is not None and not (_is_number(gravity) or _numbers(gravity, 3)):
+        raise scene_error(path, "dynamics.gravity", DYNAMICS_KEYS["gravity"], gravity)
+    load = table.get("coupler_force")
+    coupler_force = None
+    if load is not None:
+        if not isinstance(load, dict):
+            raise scene_error(path, "dynamics.coupler_force", DYNAMICS_KEYS["coupler_force"],
+                              load)
+        _unknown_keys(path, load, ("at", "force"), "dynamics.coupler_force.")
+        if not _numbers(load.get("at"), 2):
+            raise scene_error(path, "dynamics.coupler_force.at", "[u, v], the coupler point "
+                              "(as Linkage.coupler's)", load.get("at"))
+        if not _numbers(load.get("force"), 3):
+            raise scene_error(path, "dynamics.coupler_force.force", "[fx, fy, fz], newtons",
+                              load.get("force"))
+        coupler_force = (tuple(load["at"]), tuple(load["force"]))
+    bodies = {role: _body_of(path, f"dynamics.{key}", table[key])
+              for role, key in (("crank", "crank"), ("coupler", "coupler"), ("output", output))
+              if key in table}
+    dynamics = Dynamics(Bodies(**bodies), Effects(
+        float(table.get("speed", 0.0)), float(table.get("crank_acceleration", 0.0)), gravity,
+        float(table.get("output_torque", 0.0)), float(table.get("output_force", 0.0)),
+        coupler_force), float(table.get("radius", 1.0)))
+    try:
+        linkage = Linkage(mechanism, **dims)
+    except ValueError as e:
+        raise scene_error(path, "dimensions", f"dimensions the engine accepts: {e}") from None
+    checks = [(key, Bodies(**{role: bodies[role]}), Effects(), 1.0)
+              for role, key in (("crank", "crank"), ("coupler", "coupler"), ("output", output))
+              if role in bodies]
+    checks += [(key, Bodies(), Effects(**{field: dynamics.effects._asdict()[field]}), 1.0)
+               for key, field in (("gravity", "gravity"), ("output_torque", "output_torque"),
+                                  ("output_force", "output_force"),
+                                  ("coupler_force", "coupler_force")) if key in table]
+    checks += [("radius", Bodies(), Effects(), dynamics.radius)] * ("radius" in table)
+    checks.append(("dynamics", dynamics.bodies, dynamics.effects, dynamics.radius))
+    for key, bodies_, effects, radius in checks:
+        try:
+            forces(linkage, [], 1, bodies_, effects, radius=radius)
+        except ValueError as e:
+            where = key if key == "dynamics" else f"dynamics.{key}"
+            raise scene_error(path, where, f"what the forces can take: {e}") from None
+    return dynamics
 
 
 # -- computing a scene: the DAT files ----------------------------------------------------------
@@ -9114,6 +9250,7 @@ class Series(NamedTuple):
     precision: str
     branch: int | str | None
     directory: str
+    forces: tuple[Forces, ...] = ()      # a double series of a scene with [dynamics]
 
 
 def branch_text(branch: int | str) -> str:
@@ -9157,22 +9294,74 @@ def compute_scene(scene: Scene, directory: str, report: Callable[[str], None] | 
                 report("the original printed " + ", ".join(f'"{e}" {n} time{"s" * (n > 1)}'
                                                            for e, n in counts.items())
                        + f" ({name})")
-        series.append(Series(name, precision, branch, where))
+        series.append(Series(name, precision, branch, where, scene_forces(scene, branch)
+                             if precision == "double" else ()))
     return series
+
+
+def scene_forces(scene: Scene, branch: int | str) -> tuple[Forces, ...]:
+    """forces() along the scene's sweep on `branch`, for its [dynamics]; () without one (and
+    then forces() is not called)."""
+    if scene.dynamics is None:
+        return ()
+    bodies, effects, radius = scene.dynamics
+    return tuple(forces(Linkage(scene.mechanism, **scene.dimensions),
+                        evenly_spaced_angles(scene.start, scene.stop, scene.step), branch,
+                        bodies, effects, radius=radius))
+
+
+def forces_columns(results: Sequence[Forces]) -> tuple[str, ...]:
+    """The CSV's columns of forces (FORCES_COLUMNS, then each joint's components it carries:
+    A0_fx, A0_fy, A0_fz where it carries a force, A0_mx, ... where a moment), from the first
+    position whose forces are bounded; FORCES_COLUMNS alone if none is."""
+    known = next((r for r in results if r.joints is not None), None)
+    joints = [] if known is None else [
+        f"{name}_{q}{axis}" for name, reaction in cast(dict, known.joints).items()
+        for q, part in (("f", reaction.force), ("m", reaction.moment)) if part is not None
+        for axis in "xyz"]
+    return FORCES_COLUMNS + tuple(joints)
+
+
+FORCES_COLUMNS = ("torque", "power", "shaking_fx", "shaking_fy", "shaking_fz", "shaking_mx",
+                  "shaking_my", "shaking_mz", "forces_status")
+
+
+def forces_row(result: Forces | None, columns: Sequence[str]) -> tuple:
+    """A position's values for `columns` (forces_columns): None (nan) where its forces are
+    not known, and then forces_status says why (unbounded, or the position's status)."""
+    if result is None:
+        return (None,) * 8 + ("no forces (precision basic)",) + (None,) * (len(columns) - 9)
+    values: list[Any] = [result.torque, result.power]
+    values += list(result.shaking_force or (None,) * 3) + list(result.shaking_moment
+                                                               or (None,) * 3)
+    values.append(result.status)
+    for column in columns[9:]:
+        name, part = column.rsplit("_", 1)
+        reaction = (result.joints or {}).get(name)
+        vector = None if reaction is None else reaction.force if part[0] == "f" \
+            else reaction.moment
+        values.append(None if vector is None else vector["xyz".index(part[1])])
+    return tuple(values)
 
 
 def scene_csv(scene: Scene, series: list[Series], path: str,
               outputs: WrittenSet | None = None) -> int:
     """The scene's numbers as one CSV file, a row a point of each series (header: series, then
     CSV_HEADER): the engine's motions for a double series, every point with its status; the
-    original's numbers for a basic one, with the engine's status of each position. Returns the
-    rows written."""
+    original's numbers for a basic one, with the engine's status of each position. A scene with
+    [dynamics] adds forces_columns (a basic series' rows: nan, and forces_status says so).
+    Returns the rows written."""
+    joint_columns = forces_columns([f for s in series for f in s.forces]) \
+        if scene.dynamics is not None else ()
+
     def rows() -> Iterator[tuple]:
         for s in series:
             assert s.branch is not None         # compute_scene's series know their branch
             if s.precision == "double":
-                for m in _accurate_motions(scene, s.branch, scene.derivatives):
-                    yield (s.name,) + tuple(m)
+                motions = _accurate_motions(scene, s.branch, scene.derivatives)
+                for i, m in enumerate(motions):
+                    extra = forces_row(s.forces[i], joint_columns) if joint_columns else ()
+                    yield (s.name,) + tuple(m) + extra
                 continue
             columns = [read_dat(os.path.join(s.directory, n))
                        for n in DatFiles.NAMES[:1 + scene.derivatives]]
@@ -9183,8 +9372,9 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
                 values += [None] * (2 - len(values))
                 status = statuses.get(phi) or Linkage(scene.mechanism, **scene.dimensions) \
                     .motion(phi, s.branch, 0).status
-                yield (s.name, phi, output, *values, status)
-    return write_csv(path, rows(), ("series",) + CSV_HEADER, outputs)
+                yield (s.name, phi, output, *values, status) + (forces_row(None, joint_columns)
+                                                                 if joint_columns else ())
+    return write_csv(path, rows(), ("series",) + CSV_HEADER + joint_columns, outputs)
 
 
 # ---- 19. Plots: a figure drawn as text or PNG ----------------------------------------------------
@@ -9200,10 +9390,10 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 # added so that a curve is continuous across +-180 degrees, and so that the curves of a panel lie
 # within half a turn of the first one.
 #
-# Uses: sections 1, 2, 6, 11, 12, 13, 14 and 18.
-# Offers: dat_series, Curve, Panel, Figure, DRAWN_UP_TO, CLIPPED, build_figure, scene_figure,
-#   dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure, png_figure,
-#   scene_drawing, scene_text.
+# Uses: sections 1, 2, 6, 7, 10, 11, 12, 13, 14 and 18.
+# Offers: dat_series, Curve, Panel, Figure, FORCE_LABELS, POLAR_MOMENTS, DRAWN_UP_TO, CLIPPED,
+#   build_figure, scene_figure, dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS,
+#   text_figure, png_figure, scene_drawing, scene_text.
 
 
 def dat_series(directory: str) -> list[Series]:
@@ -9280,6 +9470,55 @@ def _runs(points: Sequence[tuple[float, float]], angles: bool
     return tuple(runs)
 
 
+FORCE_LABELS = {  # (name, symbol, unit) of a force quantity's panel
+    "torque": ("driving torque", "T", "N m"),
+    "shaking": ("shaking force", "|F|", "N"),
+    "joint_forces": ("joint forces, polar", "Fy against Fx", "N"),
+}
+POLAR_MOMENTS = ("joint moments about O, polar", "My against Mx", "N m")   # spherical
+
+
+def _pieces(values: Iterable[tuple[float, float] | None]
+            ) -> tuple[tuple[tuple[float, float], ...], ...]:
+    """The unbroken runs of points, broken where a value is None (forces unbounded)."""
+    runs: list[tuple[tuple[float, float], ...]] = []
+    run: list[tuple[float, float]] = []
+    for point in list(values) + [None]:
+        if point is None:
+            if run:
+                runs.append(tuple(run))
+            run = []
+        else:
+            run.append(point)
+    return tuple(runs)
+
+
+def _force_curves(quantity: str, s: Series, label: str) -> list[Curve]:
+    """A force quantity's curves of the series: the torque and the shaking force's size
+    against phi; each joint's force (the spherical kind's: its moment about O) as the polar
+    diagram of its tip (x, y) as the crank turns, a curve a joint."""
+    if quantity == "torque":
+        return [Curve(label or "torque", quantity, s.precision, s.branch, _pieces(
+            None if f.torque is None else (f.phi, f.torque) for f in s.forces))]
+    if quantity == "shaking":
+        return [Curve(label or "shaking", quantity, s.precision, s.branch, _pieces(
+            None if f.shaking_force is None else (f.phi, math.sqrt(dot(f.shaking_force,
+                                                                       f.shaking_force)))
+            for f in s.forces))]
+    names = next((list(f.joints) for f in s.forces if f.joints), [])
+    curves = []
+    for name in names:
+        def tip(f: Forces) -> tuple[float, float] | None:
+            if f.joints is None:
+                return None
+            reaction = f.joints[name]
+            vector = reaction.force if reaction.force is not None else reaction.moment
+            return None if vector is None else (vector[0], vector[1])
+        curves.append(Curve(f"{name}, {label}" if label else name, quantity, s.precision,
+                            s.branch, _pieces(tip(f) for f in s.forces)))
+    return curves
+
+
 def _turned(curve: Curve, reference: Curve) -> Curve:
     """The angle curve moved by whole turns to lie nearest `reference` (so that two branches
     that meet at psi = 180 are drawn meeting, not one at +180 and the other at -180)."""
@@ -9315,6 +9554,12 @@ def build_figure(title: str, subtitle: str, group: str, specs: Sequence[PanelSpe
     for letter, spec in zip("abc", specs):
         curves: list[Curve] = []
         for quantity in spec.quantities:
+            if quantity in FORCE_QUANTITIES:
+                for s in series:
+                    if s.forces:
+                        label = _series_label(s, several_precisions, several_branches)
+                        curves += _force_curves(quantity, s, label)
+                continue
             name = QUANTITY_FILES[quantity]
             for s in series:
                 path = os.path.join(s.directory, name)
@@ -9336,7 +9581,10 @@ def build_figure(title: str, subtitle: str, group: str, specs: Sequence[PanelSpe
                 curve = Curve(label, quantity, s.precision, s.branch, runs)
                 reference = next((c for c in curves if c.quantity == quantity), None)
                 curves.append(_turned(curve, reference) if angles and reference else curve)
-        labels = tuple(AXIS_LABELS[group][q] for q in spec.quantities)
+        moments = any(f.joints and next(iter(f.joints.values())).force is None
+                      for s in series for f in s.forces)
+        labels = tuple(POLAR_MOMENTS if q == "joint_forces" and moments else FORCE_LABELS[q]
+                       if q in FORCE_LABELS else AXIS_LABELS[group][q] for q in spec.quantities)
         panels.append(Panel(letter, spec.quantities, labels, tuple(curves), spec.limits))
     return Figure(title, subtitle, INPUT_AXIS, tuple(panels))
 
@@ -9485,7 +9733,8 @@ def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIG
     name, symbol, unit = figure.xlabel
     bottom = [f"x axes: {name} {symbol} [{unit}]"[:width]]
     headers = [_panel_lines(panel, width) for panel in figure.panels]
-    fixed = len(top) + sum(len(h) + 1 for h in headers) + 1 + len(bottom)
+    polar = [panel.quantities == ("joint_forces",) for panel in figure.panels]
+    fixed = len(top) + sum(len(h) + 1 + p for h, p in zip(headers, polar)) + 1 + len(bottom)
     rows = (height - fixed) // len(figure.panels)
     if rows < 3:
         raise SceneError(f"the text plot does not fit in {width} x {height} characters: show "
@@ -9498,38 +9747,51 @@ def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIG
         y_axes.append(_nice_axis(lo, hi, rows, 2 if rows >= 5 else 1))
     y_texts = [[_tick_text(v, a.step) for v in a.tick_values()] for a in y_axes]
     margin = max(len(t) for texts in y_texts for t in texts) + 1   # the y axis's column
-    xs = [x for p in figure.panels for c in p.curves for r in c.runs for x, _ in r] or [0.0]
-    spacing, right = 6, 4                  # cells between x ticks; room for the last tick value
-    while True:
-        x_axis = _nice_axis(min(xs), max(xs), width - margin - right, spacing, angles=True)
-        x_texts = [_tick_text(v, x_axis.step) for v in x_axis.tick_values()]
-        longest = max(len(t) for t in x_texts)
-        if x_axis.per > longest and (longest - 1) // 2 < right or spacing > width:
-            break
-        spacing, right = longest + 2, max(right, longest // 2 + 1)
+    def x_axis_of(xs: list[float], angles: bool) -> tuple[_Axis, list[str]]:
+        spacing, right = 6, 4              # cells between x ticks; room for the last tick value
+        while True:
+            axis = _nice_axis(min(xs), max(xs), width - margin - right, spacing, angles)
+            texts = [_tick_text(v, axis.step) for v in axis.tick_values()]
+            longest = max(len(t) for t in texts)
+            if axis.per > longest and (longest - 1) // 2 < right or spacing > width:
+                return axis, texts
+            spacing, right = longest + 2, max(right, longest // 2 + 1)
+
+    def tick_row(axis: _Axis, texts: list[str]) -> str:
+        labels = [" "] * (width + 8)
+        for i, text in enumerate(texts):
+            start = max(0, margin + i * axis.per - (len(text) - 1) // 2)
+            labels[start:start + len(text)] = text
+        return "".join(labels).rstrip()
+
+    x_axis, x_texts = x_axis_of([x for p, po in zip(figure.panels, polar) if not po
+                                 for c in p.curves for r in c.runs for x, _ in r] or [0.0], True)
 
     out, overlaps = list(top), False
     for k, (panel, header, y_axis, texts) in enumerate(zip(figure.panels, headers, y_axes,
                                                           y_texts)):
         out += header
-        grid = [[" "] * x_axis.cells for _ in range(y_axis.cells)]
+        own_x = x_axis
+        if polar[k]:
+            own_x, own_texts = x_axis_of([x for c in panel.curves for r in c.runs for x, _ in r]
+                                         or [0.0], False)
+        grid = [[" "] * own_x.cells for _ in range(y_axis.cells)]
         for r, row in enumerate(grid):
             row[0] = "+" if (y_axis.cells - 1 - r) % y_axis.per == 0 else "|"
         drawn: dict = {}
         for i, curve in enumerate(panel.curves):
-            _draw(grid, x_axis, y_axis, curve.runs, MARKERS[i % len(MARKERS)], drawn,
-                  (curve.quantity, curve.branch))
+            _draw(grid, own_x, y_axis, curve.runs, MARKERS[i % len(MARKERS)], drawn,
+                  (curve.quantity, curve.branch)
+                  + ((curve.label,) if curve.quantity in FORCE_QUANTITIES else ()))
         overlaps = overlaps or OVERLAP in drawn.values()
         for r, row in enumerate(grid):
             tick, off = divmod(y_axis.cells - 1 - r, y_axis.per)
             out.append(f"{texts[tick] if off == 0 else '':>{margin - 1}} " + "".join(row).rstrip())
-        out.append(" " * margin + "".join("+" if c % x_axis.per == 0 else "-"
-                                          for c in range(x_axis.cells)))
-    labels = [" "] * (width + 8)
-    for i, text in enumerate(x_texts):
-        start = max(0, margin + i * x_axis.per - (len(text) - 1) // 2)
-        labels[start:start + len(text)] = text
-    out.append("".join(labels).rstrip())
+        out.append(" " * margin + "".join("+" if c % own_x.per == 0 else "-"
+                                          for c in range(own_x.cells)))
+        if polar[k]:
+            out.append(tick_row(own_x, own_texts))
+    out.append(tick_row(x_axis, x_texts))
     clipped = any(CLIPPED in c.label for p in figure.panels for c in p.curves)  # ERRATA K9
     notes = [f"{OVERLAP} = two curves"] * overlaps + ["basic clipped at +-3"] * clipped
     if notes and len(bottom[0]) + 2 + len("  ".join(notes)) <= width:
@@ -9554,7 +9816,9 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
     inch (`dpi`), 648 pixels wide unless `size` (width, height in pixels) says otherwise."""
     MplFigure, FigureCanvasAgg = matplotlib_canvas()
     from matplotlib.ticker import MultipleLocator
-    xs_all = [x for p in figure.panels for c in p.curves for r in c.runs for x, _ in r]
+    polar = [panel.quantities == ("joint_forces",) for panel in figure.panels]
+    xs_all = [x for p, po in zip(figure.panels, polar) if not po for c in p.curves
+              for r in c.runs for x, _ in r]
     x_step = _nice_axis(min(xs_all), max(xs_all), 73, 8, angles=True).step if xs_all else 1.0
     colours: dict[tuple[str, int | str], str] = {
                ("displacement", 1): "black", ("displacement", 2): "tab:gray",
@@ -9576,8 +9840,27 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
                 ys += [y for _, y in run] + [math.nan]
             style = (dict(linewidth=0.8, marker="o", markersize=2.2, zorder=3)
                      if curve.precision == "basic" else dict(linewidth=1.6, zorder=2))
-            ax.plot(xs, ys, color=colours.get((curve.quantity, curve.branch or 1), "black"),
-                    label=_pretty(curve.label), **style)
+            if curve.quantity in FORCE_QUANTITIES:
+                line, = ax.plot(xs, ys, label=_pretty(curve.label), **style)
+                if polar[i] and curve.runs:             # where the crank starts: phi = from
+                    ax.plot(*curve.runs[0][0], "o", color=line.get_color(), markersize=4)
+            else:
+                ax.plot(xs, ys, color=colours.get((curve.quantity, curve.branch or 1),
+                                                  "black"), label=_pretty(curve.label), **style)
+        if polar[i]:
+            _, symbol_, unit_ = panel.labels[0]
+            y_symbol, _, x_symbol = symbol_.split()
+            ax.set_title(f"({panel.letter}) {panel.labels[0][0]} as the crank turns (a dot: "
+                         "the first angle)", loc="left", fontsize=10)
+            ax.set_xlabel(f"{x_symbol} [{unit_}]", fontsize=9)
+            ax.set_ylabel(f"{y_symbol} [{unit_}]", fontsize=9)
+            ax.axhline(0.0, color="grey", linewidth=0.5)
+            ax.axvline(0.0, color="grey", linewidth=0.5)
+            ax.set_aspect("equal", adjustable="datalim")
+            ax.grid(True, linewidth=0.4, alpha=0.5)
+            ax.tick_params(labelsize=8)
+            ax.legend(fontsize=7, loc="best")
+            continue
         ax.set_title(f"({panel.letter}) " + " and ".join(n_ for n_, _, _ in panel.labels)
                      + " vs input angle", loc="left", fontsize=10)
         ax.set_ylabel(_pretty(", ".join(f"{s} [{u}]" for _, s, u in panel.labels)), fontsize=9)

@@ -1,0 +1,242 @@
+"""The forces where a user meets them: a scene's [dynamics] table (one parser, scene_dynamics),
+the panels torque, joint_forces and shaking, the CSV's force columns, the `forces` command, and
+the transmission angle of the skew kinds as the forces decide it. Physics is checked by physics
+(virtual work against the motion's own velocity column, a two-force coupler), the plumbing by
+what a user sees (one line on stderr, nothing written)."""
+
+from __future__ import annotations
+
+import csv
+import math
+
+import pytest
+
+import linkage
+from linkage import Bodies, Body, Effects
+
+HEAD = """title = "t"
+mechanism = "{mechanism}"
+dimensions = {dims}
+input = {{ from = 0, to = 360, step = 10 }}
+branches = [1]
+precision = "{precision}"
+"""
+PANELS = """
+[[panels]]
+quantities = ["displacement", "velocity"]
+
+[[panels]]
+quantities = ["torque"]
+"""
+PLANE = "{ a = 0.3, b = 0.1, c = 0.35, d = 0.45 }"
+
+
+def scene_file(tmp_path, dynamics, mechanism="plane", dims=PLANE, precision="double",
+               panels=PANELS):
+    path = tmp_path / "scene.toml"
+    path.write_text(HEAD.format(mechanism=mechanism, dims=dims, precision=precision)
+                    + ("\n[dynamics]\n" + dynamics if dynamics is not None else "") + panels)
+    return path
+
+
+def run(argv, capsys):
+    status = linkage.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def read_csv(path):
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+# ---- 1. the [dynamics] table --------------------------------------------------------------
+
+def test_every_key_of_the_table_reaches_forces(tmp_path):
+    table = {"speed": 120, "crank_acceleration": 2.5, "gravity": [0.0, -9.0, 0.0],
+             "crank": {"mass": 0.5, "centre": 0.04, "inertia": 0.001},
+             "coupler": {"mass": 1.0, "centre": [0.1, 0.02], "inertia": 0.01},
+             "output": {"mass": 2.0},
+             "output_torque": -3.0,
+             "coupler_force": {"at": [0.1, 0.05], "force": [1.0, 2.0, 0.0]}}
+    got = linkage.scene_dynamics("x.toml", "plane", dict(a=0.3, b=0.1, c=0.35, d=0.45), table)
+    assert got == linkage.Dynamics(
+        Bodies(Body(0.5, 0.04, 0.001), Body(1.0, [0.1, 0.02], 0.01), Body(2.0)),
+        Effects(120.0, 2.5, [0.0, -9.0, 0.0], -3.0, 0.0, ((0.1, 0.05), (1.0, 2.0, 0.0))), 1.0)
+
+
+def test_a_slider_crank_names_its_output_slider_and_the_sphere_its_radius():
+    slider = linkage.scene_dynamics("x.toml", "slider", dict(b=0.05, c=0.2, e=0.01),
+                                    {"slider": {"mass": 0.4}, "output_force": -100})
+    assert slider.bodies.output == Body(0.4) and slider.effects.output_force == -100.0
+    sphere = linkage.scene_dynamics("x.toml", "spherical", dict(a=80, b=20, c=75, d=60),
+                                    {"radius": 0.2})
+    assert sphere.radius == 0.2 and sphere.bodies == Bodies() and sphere.effects == Effects()
+
+
+@pytest.fixture
+def forces_calls(monkeypatch):
+    """The calls to linkage.forces (the scenes' only way to the forces), counted."""
+    calls = []
+    real = linkage.forces
+
+    def counted(*args, **kwargs):
+        calls.append(args)
+        return real(*args, **kwargs)
+    monkeypatch.setattr(linkage, "forces", counted)
+    return calls
+
+
+def test_a_scene_without_dynamics_computes_no_force(forces_calls, tmp_path, capsys):
+    """No [dynamics]: forces() is never called, and the CSV has the columns it had before."""
+    path = scene_file(tmp_path, None, panels=PANELS.split("[[panels]]\nquantities = "
+                                                          "[\"torque\"]")[0])
+    status, _, err = run(["scene", path, "--csv", tmp_path / "out.csv"], capsys)
+    assert status == 0, err
+    assert forces_calls == []
+    assert list(read_csv(tmp_path / "out.csv")[0]) == ["series", *linkage.CSV_HEADER]
+    status, _, err = run(["scene", scene_file(tmp_path, "speed = 60\n"), "--csv",
+                          tmp_path / "out.csv"], capsys)
+    assert status == 0 and forces_calls, "with [dynamics] the forces are computed"
+
+
+NAN = "nan"
+BAD = [
+    ("crank = { mass = -1 }", "dynamics.crank", "must not be negative"),
+    ("crank = { mass = nan }", "dynamics.crank.mass", "a number, kg"),
+    ("speed = nan", "dynamics.speed", "the crank's speed"),
+    ("speed = \"fast\"", "dynamics.speed", "the crank's speed"),
+    ("gravity = [0, 9.8]", "dynamics.gravity", "[gx, gy, gz]"),
+    ("output_force = 5", "dynamics.output_force", "load it with output_torque"),
+    ("slider = { mass = 1 }", "dynamics.slider", "unknown key"),
+    ("wind = 3", "dynamics.wind", "unknown key"),
+    ("coupler = { mass = 1, centre = [0.1, 0], inertia = -0.1 }", "dynamics.coupler",
+     "must not be negative"),
+    ("coupler = { mass = 1, centre = [0.1, 0] }", "dynamics.coupler", "give both"),
+    ("coupler_force = { at = [0.1], force = [1, 0, 0] }", "dynamics.coupler_force.at", "[u, v]"),
+    ("coupler_force = { at = [0.1, 0], force = [0, 0, 1] }", "dynamics.coupler_force",
+     "no z component"),
+]
+SKEW = "{ a = 0.3, b = 0.1, c = 0.35, d = 0.45, f = 0.05, ksi = 30 }"
+BAD_SPATIAL = [
+    ("coupler_force = { at = [0.1, 0.02], force = [1, 0, 0] }", "dynamics.coupler_force",
+     "v must be 0"),
+    ("crank = { mass = 1, centre = [0, 0, 0], inertia = [[1, 0, 0], [0, -1, 0], [0, 0, 1]] }",
+     "dynamics.crank", "positive semi-definite"),
+    ("coupler = { mass = 1, centre = [0.1, 0.01, 0], inertia = [[0, 0, 0], [0, 1, 0], "
+     "[0, 0, 1]] }", "dynamics.coupler", "centre must lie on it"),
+    ("radius = 2", "dynamics.radius", "the spherical four-bar's"),
+]
+
+
+@pytest.mark.parametrize("dynamics, key, fragment",
+                         [(d, k, f) for d, k, f in BAD]
+                         + [(d, k, f) for d, k, f in BAD_SPATIAL])
+def test_a_bad_value_is_one_line_naming_the_key_and_nothing_is_written(dynamics, key, fragment,
+                                                                       tmp_path, capsys):
+    spatial = (dynamics, key, fragment) in BAD_SPATIAL
+    path = scene_file(tmp_path, dynamics + "\n", "skew" if spatial else "plane",
+                      SKEW if spatial else PLANE)
+    out_csv, out_png = tmp_path / "out.csv", tmp_path / "out.png"
+    status, out, err = run(["scene", path, "--csv", out_csv, "--png", out_png], capsys)
+    assert status == 1 and out == ""
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+    assert str(path) in err and f"key '{key}'" in err and fragment in err, err
+    assert not out_csv.exists() and not out_png.exists()
+
+
+@pytest.mark.parametrize("text, key, fragment", [
+    ("precision = \"basic\"", "precision", "with [dynamics]"),
+    ("fast = true", "fast", "with [dynamics]"),
+])
+def test_dynamics_are_the_engine_s(text, key, fragment, tmp_path, capsys):
+    path = scene_file(tmp_path, "speed = 60\n", precision="basic" if "basic" in text else
+                      "double")
+    if "fast" in text:
+        path.write_text(text + "\n" + path.read_text())
+    status, _, err = run(["scene", path], capsys)
+    assert status == 1 and f"key '{key}'" in err and fragment in err, err
+
+
+def test_a_force_panel_needs_the_dynamics(tmp_path, capsys):
+    status, _, err = run(["scene", scene_file(tmp_path, None)], capsys)
+    assert status == 1 and "key 'dynamics' is missing" in err, err
+
+
+def test_joint_forces_are_a_panel_of_their_own(tmp_path, capsys):
+    path = scene_file(tmp_path, "speed = 60\n",
+                      panels="\n[[panels]]\nquantities = [\"torque\", \"joint_forces\"]\n")
+    status, _, err = run(["scene", path], capsys)
+    assert status == 1 and "joint_forces in a panel of its own" in err, err
+
+
+# ---- 2. what comes out: the CSV's columns and the panels ---------------------------------------
+
+def test_the_csv_s_torque_is_what_virtual_work_says(tmp_path, capsys):
+    """Massless links, no gravity, a load T_out on the output: the driver's power balances the
+    load's, T omega = -T_out psi' omega, psi' = the CSV's own velocity column (the engine's
+    motion, not the forces' system); power is T omega; the joints are the kind's four, each a
+    force in the plane; every position assembles, so every status is the motion's."""
+    path = scene_file(tmp_path, "speed = 90\noutput_torque = 7.5\n")
+    status, _, err = run(["scene", path, "--csv", tmp_path / "out.csv"], capsys)
+    assert status == 0, err
+    rows = read_csv(tmp_path / "out.csv")
+    assert list(rows[0])[6:] == [*linkage.FORCES_COLUMNS] + [
+        f"{joint}_f{axis}" for joint in ("A0", "A", "B", "B0") for axis in "xyz"]
+    omega = 2 * math.pi * 90 / 60
+    for row in rows:
+        torque, velocity = float(row["torque"]), float(row["velocity"])
+        assert torque == pytest.approx(-7.5 * velocity, rel=1e-9, abs=1e-12), row["phi"]
+        assert float(row["power"]) == pytest.approx(torque * omega, rel=1e-12)
+        assert row["forces_status"] == row["status"] == "assembled"
+        # the massless coupler is a two-force member: A's force lies along A->B
+        assert float(row["A_fx"]) ** 2 + float(row["A_fy"]) ** 2 == pytest.approx(
+            float(row["B_fx"]) ** 2 + float(row["B_fy"]) ** 2, rel=1e-9)
+
+
+def test_an_unbounded_position_says_so_and_has_no_number(tmp_path, capsys):
+    """Through the change point of a = 5, b = 2, c = 4, d = 3 (Grashof's boundary) at phi = 180
+    the forces are unbounded: forces_status says so, and its numbers are nan, not inf."""
+    path = scene_file(tmp_path, "speed = 60\noutput_torque = 1\n",
+                      dims="{ a = 5, b = 2, c = 4, d = 3 }")
+    status, _, err = run(["scene", path, "--csv", tmp_path / "out.csv"], capsys)
+    assert status == 0, err
+    rows = {float(r["phi"]): r for r in read_csv(tmp_path / "out.csv")}
+    at = rows[180.0]
+    assert at["forces_status"] == linkage.UNBOUNDED
+    assert all(at[c] == "nan" for c in ("torque", "power", "shaking_fx", "A0_fx"))
+    assert all("inf" not in value for row in rows.values() for value in row.values())
+    assert rows[170.0]["forces_status"] == "assembled" and rows[170.0]["torque"] != "nan"
+
+
+def test_both_precisions_give_the_basic_rows_a_reason_for_no_forces(tmp_path, capsys):
+    path = scene_file(tmp_path, "speed = 60\n", precision="both",
+                      panels="\n[[panels]]\nquantities = [\"displacement\"]\n")
+    status, _, err = run(["scene", path, "--csv", tmp_path / "out.csv"], capsys)
+    assert status == 0, err
+    rows = read_csv(tmp_path / "out.csv")
+    basic = [r for r in rows if r["series"].startswith("basic")]
+    assert basic and all(r["forces_status"] == "no forces (precision basic)"
+                         and r["torque"] == "nan" for r in basic)
+    assert all(r["torque"] != "nan" for r in rows if r["series"].startswith("double"))
+
+
+def test_the_text_plot_shows_torque_shaking_and_the_polar_diagram(tmp_path, capsys):
+    """The panels are labelled with their units; the polar panel has an x axis of its own (force
+    tick values, with zero among them), and one marker a joint in its legend."""
+    path = scene_file(tmp_path, "speed = 300\ngravity = 9.81\noutput_torque = 5\n"
+                      "crank = { mass = 0.5 }\ncoupler = { mass = 1.2 }\noutput = { mass = 1.5 }\n",
+                      panels="\n[[panels]]\nquantities = [\"torque\"]\n[[panels]]\nquantities = "
+                             "[\"shaking\"]\n[[panels]]\nquantities = [\"joint_forces\"]\n")
+    status, out, err = run(["scene", path, "--text"], capsys)
+    assert status == 0, err
+    lines = out.splitlines()
+    assert any(line.startswith("(a) driving torque T [N m]") for line in lines)
+    assert any(line.startswith("(b) shaking force |F| [N]") for line in lines)
+    polar = next(i for i, line in enumerate(lines) if line.startswith("(c) joint forces, polar"))
+    assert all(f"{m} {j}" in lines[polar] for m, j in zip("*o+x", ("A0", "A", "B", "B0")))
+    ticks = lines[-3].split()                # the polar panel's own x tick values
+    assert "0" in ticks and float(ticks[0]) < 0 < float(ticks[-1])
+    assert lines[-2].split()[0] == "0" and lines[-2].split()[-1] == "360"
+    assert lines[-1].startswith("x axes: input angle phi [deg]")
+    assert len(lines) <= linkage.TEXT_HEIGHT and max(map(len, lines)) <= linkage.TEXT_WIDTH
