@@ -4864,9 +4864,9 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # shaking force is the whole linkage's Newton: sum of (m g - m a_G) plus the loads' forces.
 #
 #
-# Uses: sections 2, 6 and 7.
+# Uses: sections 2, 6, 7 and 8.
 # Offers: STANDARD_GRAVITY, UNBOUNDED, Matrix, Body, Bodies, Effects, Reaction, Forces, forces,
-#   ForcesSummary, forces_summary.
+#   ForcesSummary, forces_summary, forces_lines.
 
 
 STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
@@ -5436,6 +5436,41 @@ def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
         peak((t, r.phi) for t, r in zip(torques, known)), rms, mean * omega, joints,
         peak((size(r.shaking_force), r.phi) for r in known),
         peak((size(r.shaking_moment), r.phi) for r in known), flywheel)
+
+
+def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
+                 prefix: str = "") -> list[str]:
+    """The `name = value` lines of a swept list of Forces (forces_summary's figures), each name
+    after `prefix`: peak and RMS torque with their angles, mean power, each joint's peak force
+    (the spherical kind's: its moment about O), the peak shaking force and moment, the flywheel
+    for the speed fluctuation cs, and the angles where the forces are unbounded."""
+    s = forces_summary(results, speed_rpm, cs)
+    rows: list[tuple[str, str]] = []
+
+    def peak(name: str, value: tuple[float, float] | None, unit: str) -> None:
+        if value is None:
+            rows.append((name, "none (no position with bounded forces)"))
+        else:
+            rows.extend([(name, f"{value_text(value[0])} {unit}"),
+                         (f"{name}_phi", value_text(value[1]))])
+    peak("torque_peak", s.peak_torque, "N m")
+    rows.append(("torque_rms", "none" if s.rms_torque is None
+                 else f"{value_text(s.rms_torque)} N m"))
+    rows.append(("power_mean", "none" if s.mean_power is None
+                 else f"{value_text(s.mean_power)} W"))
+    for name, value in s.peak_joints.items():
+        moment = any(r.joints and r.joints[name].force is None for r in results)
+        peak(f"joint_{name}_{'moment' if moment else 'force'}_peak", value,
+             "N m" if moment else "N")
+    peak("shaking_force_peak", s.peak_shaking_force, "N")
+    peak("shaking_moment_peak", s.peak_shaking_moment, "N m")
+    rows.append(("fluctuation", value_text(cs)))
+    rows.append(("flywheel_inertia", f"{value_text(s.flywheel_inertia)} kg m^2"
+                 if s.flywheel_inertia is not None else
+                 "none (it needs the speed, and the forces bounded at every angle of the sweep)"))
+    unbounded = [r.phi for r in results if r.status == UNBOUNDED]
+    rows.append(("unbounded", ", ".join(map(value_text, unbounded)) or "none"))
+    return [f"{prefix}{name} = {value}" for name, value in rows]
 
 
 # ---- 11. The linkage: one class for all that can be asked of it ----------------------------------
@@ -10366,12 +10401,13 @@ def machine() -> str:
 # kinds, PNG sizes), one handler a sub-command, the design methods' help, and COMMANDS, the table of
 # every sub-command's help and options that build_parser turns into argparse; main() last.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14, 15, 17, 18, 19 and 20.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 17, 18, 19 and 20.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
 #   decimal_number, basic_answer, output_folder, run_command, CSV_CLIPPED, analyse_command,
-#   drawing_command, scene_command, plot_command, design_scene, design_command, ERRATUM, SCAN_LINE,
-#   scan_lines, annotated_listing, listing_command, bench_command, Option, option, Command,
-#   DIMENSION_HELP, PNG_OPTIONS, COMMANDS, CommandParser, build_parser, main.
+#   forces_command, FORCES_OPTIONS, drawing_command, scene_command, plot_command, design_scene,
+#   design_command, ERRATUM, SCAN_LINE, scan_lines, annotated_listing, listing_command,
+#   bench_command, Option, option, Command, DIMENSION_HELP, PNG_OPTIONS, COMMANDS, CommandParser,
+#   build_parser, main.
 
 
 ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
@@ -10789,6 +10825,99 @@ def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
     sys.stdout.write("".join(line + "\n" for line in analysis_lines(analysis)))
     sys.stdout.flush()
     return 0
+
+
+def forces_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py forces SCENE` (a scene with [dynamics]) or `forces KIND --a ...
+    --speed RPM ...`: what it takes to drive the linkage, one `name = value` a line
+    (forces_lines), for each of the scene's branches the engine computes."""
+    if not 0.0 < args.fluctuation < 2.0:
+        parser.error(f"--fluctuation {args.fluctuation:g}: expected a speed fluctuation Cs "
+                     "between 0 and 2 ((max - min) / mean speed, e.g. 0.05)")
+    kind = None
+    try:
+        kind = _mechanism_type(args.target)
+    except argparse.ArgumentTypeError:
+        pass
+    options = {name: getattr(args, dest) for name, dest in FORCES_OPTIONS.items()
+               if getattr(args, dest) is not None}
+    sweep = {"--from": args.start, "--to": args.stop, "--step": args.step}
+    if kind is None:
+        given = sorted(f"--{n}" for n in DIMENSION_HELP if getattr(args, n) is not None)
+        given += [n for n, v in (*options.items(), *sweep.items(), ("--branch", args.branch))
+                  if v is not None]
+        if given:
+            parser.error(f"{' '.join(given)}: a scene gives its dimensions, sweep, branches "
+                         "and [dynamics]; these options go with a KIND")
+        try:
+            scene = load_scene(scene_path(args.target))
+        except SceneError as e:
+            return said(e, 1)
+        if scene.dynamics is None:
+            return said(f"{scene.path}: key 'dynamics' is missing: expected "
+                        f"{SCENE_KEYS['dynamics']}", 1)
+        branches = [b for b in scene.branches if "double" in scene.precisions]
+        speed = scene.dynamics.effects.speed_rpm
+    else:
+        args.type = kind
+        needed = MECHANISM_TYPES[kind][1]
+        _check_dimensions(args, parser, needed)
+        try:
+            dims = {n: decimal_number(getattr(args, n), f"--{n}")
+                    for n in LINKAGE_DIMENSIONS[kind]}
+            numbers = {name: decimal_number(v, name) for name, v in options.items()}
+            start, stop, step = (decimal_number(v if v is not None else default, flag)
+                                 for (flag, v), default in zip(sweep.items(), ("0", "360", "1")))
+        except ValueError as e:
+            parser.error(str(e))
+        table: dict[str, Any] = {"speed": numbers.get("--speed", 0.0)}
+        for name, key in (("--gravity", "gravity"), ("--output-torque", "output_torque"),
+                          ("--output-force", "output_force")):
+            if name in numbers:
+                table[key] = numbers[name]
+        output = "slider" if kind in SLIDER_CRANKS else "output"
+        for role, key in (("crank", "crank"), ("coupler", "coupler"), ("output", output)):
+            if f"--mass-{role}" in numbers:
+                table[key] = {"mass": numbers[f"--mass-{role}"]}
+        if step == 0 or (stop - start) / step < 0 or (stop - start) / step >= MAX_SCENE_POINTS:
+            parser.error(f"--step {step:g}: expected a step that goes from {start:g} to "
+                         f"{stop:g} in at most {MAX_SCENE_POINTS:,} points")
+        try:
+            Linkage(kind, **dims)
+            dynamics = scene_dynamics("the options", kind, dims, table)
+        except (SceneError, ValueError) as e:
+            named = re.fullmatch(r"the options: key 'dynamics\.(\w+)': expected (.*)", str(e))
+            if named is None:
+                return said(e, 1)
+            flag = next(f for f, dest in FORCES_OPTIONS.items()
+                        if dest in (named[1], "mass_" + named[1].replace("slider", "output")))
+            return said(f"{flag}: {named[2]}", 1)
+        branch = FOLLOW if args.branch == FOLLOW else int(args.branch or 1)
+        scene = Scene("the options", "", kind, dims, start, stop, step, (branch,), ("double",),
+                      (), dynamics=dynamics)
+        branches, speed = [branch], numbers.get("--speed", 0.0)
+    lines = [f"mechanism = {scene.mechanism}"]
+    lines += [f"{n} = {value_text(v)}" for n, v in scene.dimensions.items()]
+    lines += [f"speed = {value_text(speed)} rpm",
+              f"sweep = {value_text(scene.start)} to {value_text(scene.stop)} by "
+              f"{value_text(scene.step)}"]
+    for branch in branches:
+        results = scene_forces(scene, branch)
+        if not any(r.status in (ASSEMBLED, DEAD_CENTRE, CHANGE_POINT, UNBOUNDED)
+                   for r in results):
+            return said(f"{scene.path}: the {scene.mechanism} linkage assembles at none of "
+                        "the sweep's input angles", 1)
+        prefix = f"branch_{branch}." if len(branches) > 1 else ""
+        lines += [f"{prefix}branch = {branch}"] + forces_lines(results, speed,
+                                                               args.fluctuation, prefix)
+    sys.stdout.write("".join(line + "\n" for line in lines))
+    sys.stdout.flush()
+    return 0
+
+
+FORCES_OPTIONS = {"--speed": "speed", "--gravity": "gravity", "--mass-crank": "mass_crank",
+                  "--mass-coupler": "mass_coupler", "--mass-output": "mass_output",
+                  "--output-torque": "output_torque", "--output-force": "output_force"}
 
 
 def _dat_names(count: int) -> str:
@@ -11223,6 +11352,49 @@ COMMANDS = {
                      "followed through change points from --start-branch)"),
          option("--start-branch", choices=("1", "2"), metavar="1|2",
                 help="with --branch follow: the branch the motion starts in (default 1)"))),
+    "forces": Command(
+        forces_command, "what it takes to drive the linkage: torque, power, joint forces, "
+                        "shaking, flywheel",
+        "The forces along a sweep (SI units: lengths in metres, masses in kg; the spherical "
+        "four-bar's arcs in degrees on a sphere of the scene's radius): the driving torque T "
+        "on the crank (N m) at its peak and RMS with their input angles, the mean power "
+        "(T omega, W), each joint's peak force (N; the spherical four-bar's joints: their "
+        "moment about the sphere's centre O, N m), the frame's peak shaking force and moment, "
+        "and the flywheel inertia (kg m^2) that holds the speed within +-Cs/2 of its mean "
+        "(the largest swing of the crank's energy over Cs omega^2, over a sweep of one turn). "
+        "Given a scene (data/scenes/forces-*.toml), its [dynamics] table; given a KIND, its "
+        "dimensions as for run and the options below, each link a uniform rod of its mass. "
+        "One `name = value` a line, as analyse prints.",
+        (option("target", metavar="SCENE|KIND",
+                help="a scene with [dynamics] (a file, or the name of one that comes with the "
+                     "program), or a kind: " + ", ".join(MECHANISM_NAMES) + " (or 1-5)"),
+         *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
+         option("--speed", metavar="RPM",
+                help="a KIND: the crank's speed, revolutions a minute (default 0: static)"),
+         option("--mass-crank", metavar="KG", help="a KIND: the crank's mass, kg"),
+         option("--mass-coupler", metavar="KG", help="a KIND: the coupler's mass, kg"),
+         option("--mass-output", metavar="KG",
+                help="a KIND: the output crank's mass (a slider-crank: the slider's), kg"),
+         option("--gravity", metavar="G",
+                help="a KIND: gravity, m/s^2 along the kind's down (-y for the plane kinds, -z "
+                     "for the spatial ones), e.g. 9.80665 (default none)"),
+         option("--output-torque", metavar="N_M",
+                help="a KIND (four-bars): a load on the output about its axis, N m, in the "
+                     "sense of psi"),
+         option("--output-force", metavar="N",
+                help="a KIND (slider-cranks): a load on the slider along its guide, N, in the "
+                     "sense of x"),
+         option("--branch", choices=("1", "2", FOLLOW),
+                help="a KIND: the assembly, 1 (A+B, the default), 2 (A-B) or follow"),
+         option("--from", dest="start", metavar="P1",
+                help="a KIND: the first input angle, degrees (default 0)"),
+         option("--to", dest="stop", metavar="P2",
+                help="a KIND: the last input angle, degrees (default 360)"),
+         option("--step", metavar="INC",
+                help="a KIND: the step, degrees (default 1)"),
+         option("--fluctuation", type=float, default=0.05, metavar="CS",
+                help="the speed fluctuation Cs = (max - min) / mean speed the flywheel holds "
+                     "(default 0.05)"))),
     "scene": Command(
         scene_command, "draw a scene of data/scenes: the paper's figures, the hard cases, the "
                        "linkage moving",
@@ -11245,7 +11417,11 @@ COMMANDS = {
          option("--csv", metavar="OUT",
                 help="also write the scene's numbers as one CSV file: a header row series,phi,"
                      "output,velocity,acceleration,status and a row a point of each series, "
-                     "every point (one without a position: its status)"),
+                     "every point (one without a position: its status); a scene with "
+                     "[dynamics] adds torque (N m), power (W), shaking_fx .. shaking_fz (N), "
+                     "shaking_mx .. shaking_mz (N m), forces_status (unbounded where the "
+                     "forces are: their values nan) and each joint's force A0_fx .. (N) and "
+                     "moment A0_mx .. (N m) where it carries one"),
          option("--dir", metavar="DIR",
                 help="also keep the scene's DAT files, in DIR (without it none is written); a "
                      "scene that overlays several series writes one folder each"),

@@ -6,6 +6,7 @@ what a user sees (one line on stderr, nothing written)."""
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import math
 
@@ -240,3 +241,89 @@ def test_the_text_plot_shows_torque_shaking_and_the_polar_diagram(tmp_path, caps
     assert lines[-2].split()[0] == "0" and lines[-2].split()[-1] == "360"
     assert lines[-1].startswith("x axes: input angle phi [deg]")
     assert len(lines) <= linkage.TEXT_HEIGHT and max(map(len, lines)) <= linkage.TEXT_WIDTH
+
+
+# ---- 3. the forces command ------------------------------------------------------------------
+
+KIND_ARGS = ["forces", "plane", "--a", "0.3", "--b", "0.1", "--c", "0.35", "--d", "0.45",
+             "--speed", "300", "--mass-crank", "0.5", "--mass-coupler", "1.2", "--mass-output",
+             "1.5", "--gravity", "9.80665", "--output-torque", "5", "--step", "10"]
+
+
+def lines_of(out):
+    return dict(line.split(" = ", 1) for line in out.splitlines())
+
+
+def test_the_command_s_kind_form_and_scene_form_agree(tmp_path, capsys):
+    """The options are the scene's [dynamics] by another road (each link a rod of its mass):
+    the same lines, read by the one parser."""
+    path = scene_file(tmp_path, "speed = 300\ngravity = 9.80665\noutput_torque = 5\n"
+                      "crank = { mass = 0.5 }\ncoupler = { mass = 1.2 }\noutput = { mass = 1.5 }\n")
+    status, from_scene, err = run(["forces", path], capsys)
+    assert status == 0, err
+    status, from_options, err = run(KIND_ARGS, capsys)
+    assert status == 0, err
+    assert from_scene == from_options
+
+
+def test_the_command_s_numbers_are_the_forces_summary_s(capsys):
+    """Every figure is there with its unit; the flywheel is the energy swing over Cs omega^2,
+    recomputed here from the torque curve by the trapezoid rule (and halves when Cs doubles)."""
+    status, out, err = run(KIND_ARGS, capsys)
+    assert status == 0, err
+    got = lines_of(out)
+    for name, unit in (("torque_peak", "N m"), ("torque_rms", "N m"), ("power_mean", "W"),
+                       ("joint_A0_force_peak", "N"), ("joint_B0_force_peak", "N"),
+                       ("shaking_force_peak", "N"), ("shaking_moment_peak", "N m"),
+                       ("flywheel_inertia", "kg m^2")):
+        assert got[name].endswith(" " + unit), name
+    results = swept_forces()
+    torques = [r.torque for r in results]
+    peak = max(torques, key=abs)
+    assert float(got["torque_peak"].split()[0]) == pytest.approx(peak, rel=1e-9)
+    assert float(got["torque_peak_phi"]) == results[torques.index(peak)].phi
+    mean = sum((a + b) / 2 for a, b in zip(torques, torques[1:])) / (len(torques) - 1)
+    energy, swing = [0.0], math.radians(10)
+    for a, b in zip(torques, torques[1:]):
+        energy.append(energy[-1] + ((a + b) / 2 - mean) * swing)
+    omega = 2 * math.pi * 300 / 60
+    assert float(got["flywheel_inertia"].split()[0]) == pytest.approx(
+        (max(energy) - min(energy)) / (0.05 * omega ** 2), rel=1e-9)
+    status, out, _ = run(KIND_ARGS + ["--fluctuation", "0.1"], capsys)
+    assert float(lines_of(out)["flywheel_inertia"].split()[0]) == pytest.approx(
+        float(got["flywheel_inertia"].split()[0]) / 2, rel=1e-9)
+
+
+def swept_forces():
+    return linkage.Linkage("plane", a=0.3, b=0.1, c=0.35, d=0.45).forces(
+        range(0, 361, 10), 1, Bodies(Body(0.5), Body(1.2), Body(1.5)),
+        Effects(300, gravity=9.80665, output_torque=5))
+
+
+@pytest.mark.parametrize("argv, status, fragment", [
+    (["forces", "plane", "--a", "0.3", "--b", "0.1", "--c", "0.35", "--d", "0.45",
+      "--mass-crank", "-1"], 1, "--mass-crank: what the forces can take"),
+    (["forces", "slider", "--b", "0.1", "--c", "0.35", "--e", "0", "--output-torque", "3"], 1,
+     "--output-torque: what the forces can take"),
+    (["forces", "fig3"], 1, "key 'dynamics' is missing"),
+    (["forces", "fig3", "--speed", "10"], 2, "these options go with a KIND"),
+    (["forces", "plane", "--a", "0.3", "--b", "0.1", "--c", "0.35"], 2, "missing --d"),
+    (["forces", "plane", "--a", "0.3", "--b", "0.1", "--c", "0.35", "--d", "0.45",
+      "--fluctuation", "0"], 2, "--fluctuation 0"),
+    (["forces", "plane", "--a", "0.3", "--b", "0.1", "--c", "0.35", "--d", "0.45",
+      "--step", "0"], 2, "--step 0"),
+])
+def test_the_command_refuses_with_one_line(argv, status, fragment, capsys):
+    with pytest.raises(SystemExit) if status == 2 else contextlib.nullcontext():
+        assert linkage.main(argv) == status
+    out, err = capsys.readouterr()
+    assert fragment in err and "Traceback" not in err and out == "", err
+
+
+def test_unbounded_angles_are_named_and_the_flywheel_refused(capsys):
+    status, out, err = run(["forces", "plane", "--a", "5", "--b", "2", "--c", "4", "--d", "3",
+                            "--speed", "60", "--output-torque", "1", "--step", "10"], capsys)
+    assert status == 0, err
+    got = lines_of(out)
+    assert got["unbounded"] == "180"          # a + b = c + d: the change point at phi = 180
+    assert got["flywheel_inertia"].startswith("none")
