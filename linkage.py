@@ -9051,7 +9051,8 @@ def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, .
                                limits)
         if "joint_forces" in quantities and len(quantities) > 1:
             raise scene_error(path, f"{key}.quantities", "joint_forces in a panel of its own "
-                               "(a polar diagram: the joints' forces, y against x)", quantities)
+                               "(a polar diagram: the joints' forces, y against x; its limits "
+                               "bound both axes)", quantities)
         specs.append(PanelSpec(tuple(quantities),
                                None if limits is None else (float(limits[0]), float(limits[1]))))
     return tuple(specs)
@@ -9807,9 +9808,9 @@ def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIG
                                                           y_texts)):
         out += header
         own_x = x_axis
-        if polar[k]:
-            own_x, own_texts = x_axis_of([x for c in panel.curves for r in c.runs for x, _ in r]
-                                         or [0.0], False)
+        if polar[k]:                # its own x axis, and its limits bound both axes
+            own_x, own_texts = x_axis_of(list(panel.limits or ()) or [
+                x for c in panel.curves for r in c.runs for x, _ in r] or [0.0], False)
         grid = [[" "] * own_x.cells for _ in range(y_axis.cells)]
         for r, row in enumerate(grid):
             row[0] = "+" if (y_axis.cells - 1 - r) % y_axis.per == 0 else "|"
@@ -9891,7 +9892,10 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
             ax.set_ylabel(f"{y_symbol} [{unit_}]", fontsize=9)
             ax.axhline(0.0, color="grey", linewidth=0.5)
             ax.axvline(0.0, color="grey", linewidth=0.5)
-            ax.set_aspect("equal", adjustable="datalim")
+            if panel.limits:
+                ax.set_xlim(*panel.limits)
+                ax.set_ylim(*panel.limits)
+            ax.set_aspect("equal", adjustable="box" if panel.limits else "datalim")
             ax.grid(True, linewidth=0.4, alpha=0.5)
             ax.tick_params(labelsize=8)
             ax.legend(fontsize=7, loc="best")

@@ -327,3 +327,23 @@ def test_unbounded_angles_are_named_and_the_flywheel_refused(capsys):
     got = lines_of(out)
     assert got["unbounded"] == "180"          # a + b = c + d: the change point at phi = 180
     assert got["flywheel_inertia"].startswith("none")
+
+
+def test_the_engine_shakes_its_frame_as_the_textbook_says(tmp_path, capsys):
+    """An in-line engine (e = 0) at top dead centre (phi = 0): the piston's acceleration is
+    r w^2 (1 + r/l), the crank pin's r w^2, a point of the rod a fraction k of the way from the
+    pin is (1 - k) and k of them (a rigid body's accelerations are affine in position); with the
+    crank balanced the frame is shaken by m a of the rod and the piston alone."""
+    r, l, k, rpm, rod, piston = 0.04, 0.14, 0.045 / 0.14, 3000, 0.5, 0.4
+    path = scene_file(tmp_path, f"speed = {rpm}\ncrank = {{ mass = 2, centre = 0, inertia = "
+                      f"0.004 }}\ncoupler = {{ mass = {rod}, centre = [{k * l}, 0], inertia = "
+                      f"0.0012 }}\nslider = {{ mass = {piston} }}\n", "slider",
+                      f"{{ b = {r}, c = {l}, e = 0 }}")
+    status, _, err = run(["scene", path, "--csv", tmp_path / "out.csv"], capsys)
+    assert status == 0, err
+    at_tdc = read_csv(tmp_path / "out.csv")[0]
+    assert float(at_tdc["phi"]) == 0.0
+    w2 = (2 * math.pi * rpm / 60) ** 2
+    textbook = (rod * ((1 - k) + k * (1 + r / l)) + piston * (1 + r / l)) * r * w2
+    got = math.hypot(float(at_tdc["shaking_fx"]), float(at_tdc["shaking_fy"]))
+    assert got == pytest.approx(textbook, rel=1e-9)
