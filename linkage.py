@@ -3033,7 +3033,10 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 #
 # The transmission angle mu is the angle between the output pin's velocity and its velocity relative
 # to the crank pin A (the review's section 2): for the plane four-bar the angle between coupler and
-# output, eq. (1); for the skew kinds it is taken about the input shaft's direction, so that a skew
+# output, eq. (1). For the skew kinds it is what the forces decide: their ball-jointed coupler, if
+# massless, pushes along its line A->P only, and the output takes the part of that push along its
+# pin's path, so mu is the complement of the pressure angle between the line A->P and the pin's
+# path P_q: sin mu = |e . P_q| / |P_q| (tests/test_forces_scenes.py holds it to the forces); a skew
 # linkage made plane gives eq. (1).
 #
 # Uses: sections 2 and 6.
@@ -3061,11 +3064,14 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 # The transmission angle mu (the review's section 2) is the angle between t_a, the output pin's
 # velocity when the output turns (slides) in its positive sense, P_q, and t_r, the pin's velocity
 # relative to A when the coupler turns about its joint at A in the positive sense: axis x (P - A),
-# the axis z (plane kinds; the skew kinds' ball joints, taken about the input shaft's direction
-# so that a skew linkage made plane, f = 0 and ksi = 0, is the plane four-bar) or OA (the
-# spherical four-bar, whose joint axes meet at the centre). In degrees in [0, 180]: the review's
-# eq. (1) for the plane four-bar (the inner angle between coupler and output crank), its eq. (3)
-# for the slider-crank (data/SYNTHESIS_ERRATA.md, S9), the spherical inner angle at B.
+# the axis z (plane kinds) or OA (the spherical four-bar, whose joint axes meet at the centre).
+# In degrees in [0, 180]: the review's eq. (1) for the plane four-bar (the inner angle between
+# coupler and output crank), its eq. (3) for the slider-crank (data/SYNTHESIS_ERRATA.md, S9), the
+# spherical inner angle at B. The skew kinds' ball joints leave no axis at A: there the size of mu
+# is the forces' (90 degrees less the angle between the line A->P and P_q, so sin mu =
+# |e . P_q| / |P_q|, e the unit vector A->P) and its side of 90 degrees the sign of P_q . t_r with
+# t_r about the input shaft's direction z, so that a skew linkage made plane, f = 0 and ksi = 0,
+# is the plane four-bar, mu and all.
 
 # The pins' and the coupler's formulas serve the scalar engine and the numpy path alike: their
 # numbers are floats, or numpy arrays of floats (Any: mypy cannot follow one formula over both,
@@ -3277,6 +3283,11 @@ def transmission_form(kind: str, a: Vec3, p: Vec3, p_q: Vec3, atan2: Callable[[A
                        ) -> Real:
     """mu in degrees from the pins' positions and the output pin's P_q (see the notes above)."""
     t_r = cross(a if PINS[kind].joint_at_a == "OA" else (0.0, 0.0, 1.0), _sub(p, a))
+    if PINS[kind].coupler == "line":        # the skew kinds: the size from the coupler's line
+        line = _sub(p, a)
+        across = cross(p_q, line)
+        sense = (dot(p_q, t_r) >= 0.0) * 2 - 1
+        return atan2(abs(dot(p_q, line)), sense * dot(across, across) ** 0.5) * DEG
     normal = cross(p_q, t_r)
     return atan2(dot(normal, normal) ** 0.5, dot(p_q, t_r)) * DEG
 

@@ -13,7 +13,7 @@ import math
 import pytest
 
 import linkage
-from linkage import Bodies, Body, Effects
+from linkage import Bodies, Body, Effects, Linkage
 
 HEAD = """title = "t"
 mechanism = "{mechanism}"
@@ -347,3 +347,64 @@ def test_the_engine_shakes_its_frame_as_the_textbook_says(tmp_path, capsys):
     textbook = (rod * ((1 - k) + k * (1 + r / l)) + piston * (1 + r / l)) * r * w2
     got = math.hypot(float(at_tdc["shaking_fx"]), float(at_tdc["shaking_fy"]))
     assert got == pytest.approx(textbook, rel=1e-9)
+
+
+# ---- 5. the skew kinds' transmission angle, decided by the forces ------------------------------
+
+def norm(v):
+    return math.sqrt(sum(x * x for x in v))
+
+
+def angle(u, v):
+    return math.degrees(math.acos(max(-1.0, min(1.0, sum(a * b for a, b in zip(u, v))
+                                                 / (norm(u) * norm(v))))))
+
+
+SKEW_CASES = [
+    ("skew-slider", dict(a=3, b=1.5, c=4, f=1, ksi=30)),           # issue 30's example
+    ("skew-slider", dict(a=6, b=1, c=7.5, f=3, ksi=45)),
+    ("skew", dict(a=4, b=1.5, c=4, d=2.5, f=2, ksi=40)),
+    ("skew", dict(a=0.2, b=0.075, c=0.2, d=0.125, f=0.1, ksi=-25)),
+]
+
+
+@pytest.mark.parametrize("kind, dims", SKEW_CASES, ids=[f"{k}-{d['ksi']}" for k, d in SKEW_CASES])
+def test_the_skew_transmission_angle_is_what_the_forces_transmit(kind, dims):
+    """Massless links and a unit load on the output (1 N m about its axis; 1 N along a slider's
+    guide): the coupler is a two-force member, so the reaction at the output pin lies along
+    A->P, and the load it balances is |F| |P_q| sin mu, |P_q| = d (the output crank) or 1 (the
+    guide). mu = linkage.transmission's, at every assembled angle of a turn on both branches.
+    Neither other reading predicts it: mu taken about the input shaft's direction (the
+    program's before), nor the angle between the pin's path and B's velocity relative to A
+    (the review's, from the motion) - each misses by degrees somewhere along the turn."""
+    link = Linkage(kind, **dims)
+    slider = kind == "skew-slider"
+    load = Effects(0.0, output_force=1.0) if slider else Effects(0.0, output_torque=1.0)
+    pin, arm = ("C", 1.0) if slider else ("B", dims["d"])
+    misses = {"about the input shaft": 0.0, "from the motion": 0.0}
+    checked = 0
+    for branch in (1, 2):
+        phis = [float(p) for p in range(0, 360, 7)]
+        for f, m, mu in zip(link.forces(phis, branch, Bodies(), load),
+                            link.sweep(phis, branch, 1), link.transmission(phis, branch)):
+            if f.torque is None or mu is None:
+                continue
+            pose = linkage.joint_positions(link, m.phi, branch)
+            line = [p - a for p, a in zip(pose.joints[pin], pose.joints["A"])]
+            force = f.joints[pin].force
+            assert norm(linkage.cross(force, line)) <= 1e-9 * norm(force) * norm(line)
+            predicted = 1.0 / (norm(force) * arm)           # sin mu, from the forces alone
+            assert math.sin(math.radians(mu)) == pytest.approx(predicted, rel=1e-9, abs=1e-12), \
+                (kind, dims, branch, m.phi, mu)
+            checked += 1
+            dims_ = linkage.pin_dimensions(link._scaled)
+            c, s = linkage.cos_sin_degrees(m.phi)
+            a, p, p_q = linkage.joint_kinematics(link, dims_, c, s, m.output, 1, m.velocity,
+                                                 None, linkage.cos_sin_degrees)
+            about_z = angle(p_q, linkage.cross((0.0, 0.0, 1.0), line))
+            relative = angle(p_q, [x - y for x, y in zip(p[1], a[1])])
+            for name, other in (("about the input shaft", about_z), ("from the motion",
+                                                                        relative)):
+                misses[name] = max(misses[name], abs(math.sin(math.radians(other)) - predicted))
+    assert checked > 20
+    assert min(misses.values()) > 0.01, misses
