@@ -9992,10 +9992,10 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 7, 9, 11, 12, 13, 14, 18 and 19.
+# Uses: sections 1, 2, 3, 4, 5, 7, 9, 10, 11, 12, 13, 14, 18 and 19.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
-#   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, FILES_TARGET,
-#   bench_files, BENCHMARKS, ELSEWHERE, machine.
+#   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, bench_forces,
+#   FILES_TARGET, bench_files, BENCHMARKS, ELSEWHERE, machine.
 
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
@@ -10343,6 +10343,27 @@ def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> No
         print(text, file=out)
 
 
+def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601) -> None:
+    """What the forces add to a sweep: forces() over the sweep alone, per kind.
+
+    The torque, every joint's reaction and the shaking at each angle of a sweep with velocity and
+    acceleration, each link a rod of 1 kg, at 100 rpm under gravity."""
+    if quick:
+        points = 37
+    angles, _ = _bench_angles(points)
+    bodies, effects = Bodies(Body(1.0), Body(1.0), Body(1.0)), Effects(100.0, gravity=9.80665)
+    print(f"{points:,} input angles, 0 to 360 degrees, branch 1, velocity and acceleration; "
+          "forces() (the sweep, then one linear system a position) over the sweep alone; best "
+          "of 3, one run", file=out)
+    print(f"{'linkage':12} {'sweep':>12} {'forces':>12} {'ratio':>7}", file=out)
+    for kind, dims in BENCH_LINKAGES:
+        linkage = Linkage(kind, **dims)
+        base = _best_of(3, lambda: linkage.sweep(angles))
+        with_forces = _best_of(3, lambda: forces(linkage, angles, 1, bodies, effects))
+        print(f"{kind:12} {len(angles) / base:10,.0f}/s {len(angles) / with_forces:10,.0f}/s "
+              f"{with_forces / base:6.1f}x", file=out)
+
+
 FILES_TARGET = 1_000_000   # points a second of CPU: run --precision double --fast, DAT and CSV
 
 
@@ -10386,7 +10407,8 @@ def bench_files(out: TextIO, quick: bool = False) -> None:
 
 
 BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
-              "startup": bench_startup, "coupler": bench_coupler, "files": bench_files}
+              "startup": bench_startup, "coupler": bench_coupler, "forces": bench_forces,
+              "files": bench_files}
 ELSEWHERE = {"accuracy": "PYTHONPATH=tests python3 -m support.bench_accuracy (it measures "
                          "with the tests' "
                          "instruments: the 50-digit mpmath reference, the listing in double, "
