@@ -408,3 +408,19 @@ def test_the_skew_transmission_angle_is_what_the_forces_transmit(kind, dims):
                 misses[name] = max(misses[name], abs(math.sin(math.radians(other)) - predicted))
     assert checked > 20
     assert min(misses.values()) > 0.01, misses
+
+
+def test_the_sphere_s_radius_reaches_the_forces(tmp_path, capsys):
+    """The spherical four-bar's arcs are angles; its sphere's radius scales every length, so
+    without gravity or loads the inertia torque goes as mass x length^2: twice the radius, four
+    times the torque at every angle."""
+    torques = []
+    for radius in (0.1, 0.2):
+        path = scene_file(tmp_path, f"speed = 120\nradius = {radius}\ncrank = {{ mass = 0.2 }}\n"
+                          "coupler = { mass = 0.4 }\noutput = { mass = 0.3 }\n", "spherical",
+                          "{ a = 80, b = 20, c = 75, d = 60 }")
+        status, _, err = run(["scene", path, "--csv", tmp_path / "out.csv"], capsys)
+        assert status == 0, err
+        torques.append([float(r["torque"]) for r in read_csv(tmp_path / "out.csv")])
+    assert max(map(abs, torques[0])) > 1e-3
+    assert torques[1] == pytest.approx([4 * t for t in torques[0]], rel=1e-9, abs=1e-12)
