@@ -5852,7 +5852,8 @@ MECHANISM_EXAMPLES = {
 # behind the sphere (dashed); outline: the sphere; dimension: a dimension line (thin).
 STROKE_STYLES = ("link", "ground", "hatch", "axis", "path", "hidden", "outline", "dimension",
                  "coupler", "coupler-other", "coupler-follow",   # the coupler curve of the frames'
-                 "marked")      # branch, of the other, of the motion followed; a marked position
+                 "marked",      # branch, of the other, of the motion followed; a marked position
+                 "force")       # a joint's force, an arrow (mechanism_drawing's forces_at)
 
 # Oblique views (azimuth, elevation in degrees) of the 3-D linkages: the input axis z upright on
 # the page, seen from a little above.
@@ -6461,7 +6462,8 @@ def _unmoved(p: Point, n: int) -> Point:
 def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
                       title: str | None = None, subtitle: str | None = None,
                       coupler: tuple[float, float] | None = None,
-                      traced: Sequence[int | str] = (), marked: Sequence[float] = ()) -> Drawing:
+                      traced: Sequence[int | str] = (), marked: Sequence[float] = (),
+                      extra: Sequence[tuple[Stroke, ...]] = ()) -> Drawing:
     """The linkage drawn at each input angle of `phis` (degrees) on `branch`: one Frame a pose
     over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS).
 
@@ -6469,7 +6471,9 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
     traced over the sweep on `branch` (solid) and on each branch of `traced` (dashed; FOLLOW:
     the motion followed from `branch`), and the transmission angle told in each caption and
     charted along the sweep (Drawing.chart). marked: input angles at which the linkage is drawn
-    faint under every frame, numbered 1, 2, ... at the output (a design's positions)."""
+    faint under every frame, numbered 1, 2, ... at the output (a design's positions). extra:
+    strokes drawn on each frame, a tuple a pose (force_arrows'), its letters placed clear of
+    them."""
     kind = linkage.kind
     if coupler is not None:
         coupler = check_coupler_point(linkage, *coupler)
@@ -6511,6 +6515,8 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
     if marked:
         ground = _with_marked(linkage, ground, marked, branch, size)
     ground = Layer(ground.strokes + tuple(curves), ground.marks, ground.labels)
+    unplaced = [f._replace(layer=f.layer._replace(strokes=f.layer.strokes + more))
+                for f, more in zip(unplaced, [*extra, *[()] * len(unplaced)])]
     drawn = [p for layer in [ground] + [f.layer for f in unplaced]
              for p in [q for s in layer.strokes for q in s.points]
              + [m.at for m in layer.marks] + [label.at for label in layer.labels]]
@@ -6593,7 +6599,7 @@ def svg_letters(bounds: Box, size: float) -> Letters:
 # Strokes drawn first to last (later ones win a shared ASCII cell), and each style's dash
 # pattern in dots along the stroke (on, off, ...); styles not listed are solid.
 _TEXT_ORDER = ("outline", "path", "axis", "dimension", "marked", "hidden", "coupler-follow",
-               "coupler-other", "coupler", "hatch", "ground", "link")
+               "coupler-other", "coupler", "hatch", "ground", "link", "force")
 _TEXT_DASHES = {"outline": (1, 1), "path": (1, 2), "axis": (4, 2, 1, 2), "dimension": (1, 1),
                 "coupler-other": (3, 3), "coupler-follow": (1, 2),
                 "hidden": (2, 2), "marked": (1, 1)}
@@ -6836,6 +6842,7 @@ polyline.coupler{stroke:#c0392b;stroke-width:2}
 polyline.coupler-other{stroke:#e67e22;stroke-width:2;stroke-dasharray:8 5}
 polyline.coupler-follow{stroke:#8e44ad;stroke-width:2.4;stroke-dasharray:2 4}
 polyline.marked{stroke:#2e8b57;stroke-width:2;stroke-dasharray:5 3}
+polyline.force{stroke:#d35400;stroke-width:2.2}
 polyline.chart{stroke:#2f6db3;stroke-width:1.6}
 polyline.grid{stroke:#ccc;stroke-width:1}
 .joint,.pivot{fill:#fff;stroke:#1b1b1b;stroke-width:2}
@@ -6995,7 +7002,8 @@ _PNG_STYLES: dict[str, dict[str, Any]] = {"link": dict(color="#1b1b1b", linewidt
                "coupler": dict(color="#c0392b", linewidth=1.6),
                "coupler-other": dict(color="#e67e22", linewidth=1.6, linestyle="--"),
                "coupler-follow": dict(color="#8e44ad", linewidth=1.8, linestyle=":"),
-               "marked": dict(color="#2e8b57", linewidth=1.4, linestyle="--")}
+               "marked": dict(color="#2e8b57", linewidth=1.4, linestyle="--"),
+               "force": dict(color="#d35400", linewidth=1.8)}
 
 
 _PNG_LETTER, _PNG_MARK = 13, 6          # points: the letters' font size, the marks' size
@@ -8779,7 +8787,11 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "marked": "a list of input angles (degrees): a mechanism scene's positions drawn faint under "
               "every frame and numbered 1, 2, ... (design --scene writes the design positions)",
     "dynamics": "a table [dynamics]: the speed, the bodies' masses, gravity and the loads, for "
-                "the forces (the panels torque, joint_forces and shaking; the CSV's columns)",
+                "the forces (the panels torque, joint_forces and shaking; the CSV's columns; a "
+                "mechanism scene's arrows, with forces = true)",
+    "forces": "true or false: a mechanism scene draws each joint's force as an arrow (needs "
+              "[dynamics]; not the spherical four-bar, whose joints' forces rigid bodies leave "
+              "undetermined)",
 }
 REQUIRED_SCENE_KEYS = ("mechanism", "dimensions", "input", "branches", "panels")
 QUANTITIES = ("displacement", "velocity", "acceleration", "transmission")
@@ -8922,7 +8934,8 @@ def load_scene(path: str) -> Scene:
                                "coupler curve of the others given, \"follow\" among them)",
                                branches)
         return _mechanism_scene(path, data, dims, start, stop, step, tuple(branches))
-    for key, what in (("coupler", "a coupler point is"), ("marked", "marked positions are")):
+    for key, what in (("coupler", "a coupler point is"), ("marked", "marked positions are"),
+                      ("forces", "joint forces as arrows are")):
         if key in data:
             raise scene_error(path, key, f"no {key}: {what} drawn by a mechanism scene "
                                "(panels = [{quantities = [\"mechanism\"]}])", data[key])
@@ -9080,10 +9093,19 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
                      stop: float, step: float, branches: tuple[int | str, ...]) -> Scene:
     """The rest of a mechanism scene: one panel, quantities = ["mechanism"], optional angles; the
     positions are the accurate engine's (precision double, or no precision key)."""
-    if "dynamics" in data:
-        raise scene_error(path, "dynamics", "no [dynamics] in a mechanism scene: the forces "
-                           "are drawn by a scene of curves (panels of torque, joint_forces, "
-                           "shaking)", data["dynamics"])
+    arrows = data.get("forces", False)
+    if not isinstance(arrows, bool):
+        raise scene_error(path, "forces", SCENE_KEYS["forces"], arrows)
+    if arrows != ("dynamics" in data):
+        raise scene_error(path, "forces", "forces = true with a [dynamics] table, and neither "
+                           "without the other: a mechanism scene uses [dynamics] only to draw "
+                           "the joints' forces", arrows)
+    if arrows and data["mechanism"] == SPHERICAL_FOUR_BAR:
+        raise scene_error(path, "forces", "false for the spherical four-bar: its joints' forces "
+                           "are not determined by rigid bodies (its joints' moments about the "
+                           "centre are: a scene of curves draws them)", arrows)
+    dynamics = scene_dynamics(path, data["mechanism"], dims, data["dynamics"]) if arrows \
+        else None
     if len(data["panels"]) != 1:
         raise scene_error(path, "panels", "one [[panels]] only: a mechanism panel is a scene "
                            "of its own", data["panels"])
@@ -9118,7 +9140,7 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
         raise scene_error(path, "marked", SCENE_KEYS["marked"], marked)
     return Scene(path, _scene_title(path, data), data["mechanism"], dims, start, stop, step,
                  branches, ("double",), (spec,), coupler=coupler,
-                 marked=tuple(float(v) for v in marked))
+                 marked=tuple(float(v) for v in marked), dynamics=dynamics)
 
 
 # -- a scene's [dynamics]: the bodies and effects that forces() takes ------------------------------
@@ -9440,7 +9462,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 # Uses: sections 1, 2, 6, 7, 10, 11, 12, 13, 14 and 18.
 # Offers: dat_series, Curve, Panel, Figure, FORCE_LABELS, POLAR_MOMENTS, DRAWN_UP_TO, CLIPPED,
 #   build_figure, scene_figure, dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS,
-#   text_figure, png_figure, scene_drawing, scene_text.
+#   text_figure, png_figure, force_arrows, scene_drawing, scene_text.
 
 
 def dat_series(directory: str) -> list[Series]:
@@ -9934,11 +9956,56 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
 # -- the commands ------------------------------------------------------------------------------
 
 
+def force_arrows(linkage: Linkage, phis: Sequence[float], branch: int | str,
+                 results: Sequence[Forces]) -> tuple[list[tuple[Stroke, ...]], float]:
+    """Each joint's force at each of `phis` as an arrow from the joint ("force" strokes on the
+    page of mechanism_drawing: the force on the body after it, the frame's on the crank at A0,
+    the crank's on the coupler at A, the coupler's on the output at B or C, the frame's on the
+    output at B0 and the guide), to one scale: the largest a quarter of the linkage's span long;
+    and that largest force (N)."""
+    kind = linkage.kind
+    poses = [joint_positions(linkage, phi, branch) for phi in phis]
+    page = [project(kind, p) for pose in poses for p in pose.joints.values()]
+    span = max(max(p[i] for p in page) - min(p[i] for p in page) for i in (0, 1))
+    biggest = max((math.sqrt(dot(r.force, r.force)) for f in results
+                   for r in (f.joints or {}).values() if r.force is not None), default=0.0)
+    arrows: list[tuple[Stroke, ...]] = []
+    for pose, f in zip(poses, results):
+        strokes: list[Stroke] = []
+        for name, reaction in (f.joints or {}).items():
+            at = pose.joints.get("C" if name == "guide" else name)
+            if reaction.force is None or at is None or not biggest:
+                continue
+            tail = project(kind, at)
+            step = project(kind, cast(Vector, tuple(0.25 * span / biggest * x
+                                                    for x in reaction.force)))
+            length = math.hypot(*step)
+            if length < 1e-9 * span:
+                continue
+            tip = (tail[0] + step[0], tail[1] + step[1])
+            head = min(0.35 * length, 0.04 * span) / length
+            ux, uy = step[0] * head, step[1] * head
+            c, s = 0.906, 0.423                 # the head's sides 25 degrees off the shaft
+            strokes += [Stroke((tail, tip), "force"), Stroke((
+                (tip[0] - ux * c + uy * s, tip[1] - uy * c - ux * s), tip,
+                (tip[0] - ux * c - uy * s, tip[1] - uy * c + ux * s)), "force")]
+        arrows.append(tuple(strokes))
+    return arrows, biggest
+
+
 def scene_drawing(scene: Scene) -> Drawing:
     """A mechanism scene's drawing: the linkage at each of its angles on its first branch."""
     dims = " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in scene.dimensions.items())
     branch = scene.branches[0]
     assert isinstance(branch, int)      # load_scene: a mechanism scene draws branch 1 or 2
+    arrows: list[tuple[Stroke, ...]] = []
+    note = ""
+    if scene.dynamics is not None:
+        linkage, (bodies, effects, radius) = (Linkage(scene.mechanism, **scene.dimensions),
+                                              scene.dynamics)
+        arrows, biggest = force_arrows(linkage, scene.angles(), branch, forces(
+            linkage, scene.angles(), branch, bodies, effects, radius=radius))
+        note = f"; arrows: joint forces, the longest {biggest:.4g} N"
     try:
         drawing = mechanism_drawing(
             Linkage(scene.mechanism, **scene.dimensions), scene.angles(), branch,
@@ -9946,8 +10013,8 @@ def scene_drawing(scene: Scene) -> Drawing:
             f"({'A+B' if branch == 1 else 'A-B'})"
             + ("" if scene.coupler else "; positions by the accurate engine")
             + (f"; marked: {len(scene.marked)} positions, faint and numbered" if scene.marked
-               else ""),
-            scene.coupler, scene.branches[1:], scene.marked)
+               else "") + note,
+            scene.coupler, scene.branches[1:], scene.marked, arrows)
     except ValueError as e:
         raise scene_error(scene.path, "dimensions", f"dimensions that can be drawn: {e}") \
             from None
@@ -9964,8 +10031,8 @@ def _toml_string(text: str) -> str:
 def scene_text(scene: Scene, comment: str = "") -> str:
     """A mechanism scene as the TOML that load_scene reads back into the same scene: the file
     a user can edit and run (`scene FILE`); `comment` (one line) heads it."""
-    if not scene.draws_mechanism:
-        raise ValueError("scene_text writes mechanism scenes")
+    if not scene.draws_mechanism or scene.dynamics is not None:
+        raise ValueError("scene_text writes mechanism scenes without [dynamics]")
 
     def numbers(values: Iterable[float]) -> str:
         return ", ".join(repr(float(v)) for v in values)

@@ -424,3 +424,65 @@ def test_the_sphere_s_radius_reaches_the_forces(tmp_path, capsys):
         torques.append([float(r["torque"]) for r in read_csv(tmp_path / "out.csv")])
     assert max(map(abs, torques[0])) > 1e-3
     assert torques[1] == pytest.approx([4 * t for t in torques[0]], rel=1e-9, abs=1e-12)
+
+
+# ---- 6. the mechanism drawn with its joints' forces as arrows ----------------------------------
+
+ARROWS = """title = "t"
+mechanism = "{mechanism}"
+dimensions = {dims}
+input = {{ from = 0, to = 360, step = 45 }}
+branches = [1]
+{forces}
+{dynamics}
+[[panels]]
+quantities = ["mechanism"]
+"""
+
+
+def test_a_massless_coupler_s_arrows_lie_along_it(tmp_path):
+    """Massless links and a load on the output: the coupler is a two-force member, so the arrows
+    at A (the crank's force on it) and at B (its force on the output, which a massless body
+    passes on whole) are one and the same vector along A->B; the longest arrow of the sweep is a
+    quarter of the drawing's span."""
+    path = tmp_path / "arrows.toml"
+    path.write_text(ARROWS.format(mechanism="plane", dims=PLANE, forces="forces = true",
+                                  dynamics="[dynamics]\nspeed = 60\noutput_torque = -5\n"))
+    scene = linkage.load_scene(str(path))
+    drawing = linkage.scene_drawing(scene)
+    longest = 0.0
+    for frame in drawing.frames:
+        shafts = {s.points[0]: s.points[1] for s in frame.layer.strokes
+                  if s.style == "force" and len(s.points) == 2}
+        a, b = frame.pose.joints["A"][:2], frame.pose.joints["B"][:2]
+        line = (b[0] - a[0], b[1] - a[1])
+        at_a = next(tip for tail, tip in shafts.items() if math.dist(tail, a) < 1e-12)
+        at_b = next(tip for tail, tip in shafts.items() if math.dist(tail, b) < 1e-12)
+        arrows = [(tip[0] - tail[0], tip[1] - tail[1]) for tail, tip in ((a, at_a), (b, at_b))]
+        for x, y in arrows:
+            assert abs(x * line[1] - y * line[0]) <= 1e-9 * norm((x, y)) * norm(line)
+        assert math.dist(*arrows) <= 1e-9 * norm(arrows[0])
+        longest = max([longest] + [math.dist(tail, tip) for tail, tip in shafts.items()])
+    joints = [q for f in drawing.frames for q in f.pose.joints.values()]
+    span = max(max(q[i] for q in joints) - min(q[i] for q in joints) for i in (0, 1))
+    assert longest == pytest.approx(0.25 * span, rel=1e-9)
+    assert "arrows: joint forces, the longest" in drawing.subtitle
+
+
+@pytest.mark.parametrize("mechanism, dims, forces, dynamics, fragment", [
+    ("plane", PLANE, "forces = true", "", "forces = true with a [dynamics] table"),
+    ("plane", PLANE, "", "[dynamics]\nspeed = 60\n", "forces = true with a [dynamics] table"),
+    ("plane", PLANE, "forces = 1", "[dynamics]\nspeed = 60\n", "true or false"),
+    ("spherical", "{ a = 80, b = 20, c = 75, d = 60 }", "forces = true",
+     "[dynamics]\nspeed = 60\n", "false for the spherical four-bar"),
+    ("plane", PLANE, "forces = true", "[dynamics]\ncrank = { mass = -2 }\n",
+     "must not be negative"),
+])
+def test_arrows_need_their_dynamics(mechanism, dims, forces, dynamics, fragment, tmp_path,
+                                    capsys):
+    path = tmp_path / "arrows.toml"
+    path.write_text(ARROWS.format(mechanism=mechanism, dims=dims, forces=forces,
+                                  dynamics=dynamics))
+    status, out, err = run(["scene", path, "--svg", tmp_path / "out.svg"], capsys)
+    assert status == 1 and fragment in err and len(err.strip().splitlines()) == 1, err
+    assert not (tmp_path / "out.svg").exists()
