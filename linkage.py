@@ -10976,7 +10976,7 @@ def forces_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
             parser.error(str(e))
         table: dict[str, Any] = {"speed": numbers.get("--speed", 0.0)}
         for name, key in (("--gravity", "gravity"), ("--output-torque", "output_torque"),
-                          ("--output-force", "output_force")):
+                          ("--output-force", "output_force"), ("--radius", "radius")):
             if name in numbers:
                 table[key] = numbers[name]
         output = "slider" if kind in SLIDER_CRANKS else "output"
@@ -11019,7 +11019,8 @@ def forces_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
     return 0
 
 
-FORCES_OPTIONS = {"--speed": "speed", "--gravity": "gravity", "--mass-crank": "mass_crank",
+FORCES_OPTIONS = {"--speed": "speed", "--gravity": "gravity", "--radius": "radius",
+                  "--mass-crank": "mass_crank",
                   "--mass-coupler": "mass_coupler", "--mass-output": "mass_output",
                   "--output-torque": "output_torque", "--output-force": "output_force"}
 
@@ -11460,15 +11461,16 @@ COMMANDS = {
         forces_command, "what it takes to drive the linkage: torque, power, joint forces, "
                         "shaking, flywheel",
         "The forces along a sweep (SI units: lengths in metres, masses in kg; the spherical "
-        "four-bar's arcs in degrees on a sphere of the scene's radius): the driving torque T "
-        "on the crank (N m) at its peak and RMS with their input angles, the mean power "
-        "(T omega, W), each joint's peak force (N; the spherical four-bar's joints: their "
-        "moment about the sphere's centre O, N m), the frame's peak shaking force and moment, "
-        "and the flywheel inertia (kg m^2) that holds the speed within +-Cs/2 of its mean "
-        "(the largest swing of the crank's energy over Cs omega^2, over a sweep of one turn). "
-        "Given a scene (data/scenes/forces-*.toml), its [dynamics] table; given a KIND, its "
-        "dimensions as for run and the options below, each link a uniform rod of its mass. "
-        "One `name = value` a line, as analyse prints.",
+        "four-bar's arcs in degrees on a sphere of the scene's radius, or --radius): the "
+        "driving torque T on the crank (N m) at its peak and RMS with their input angles, the "
+        "mean power (T omega, W; omega = 2 pi rpm / 60, rad/s), each joint's peak force (N; the"
+        " spherical four-bar's joints: their moment about the sphere's centre O, N m), the "
+        "frame's peak shaking force and moment, and the flywheel inertia (kg m^2) that holds "
+        "the speed within +-Cs/2 of its mean, Cs the speed fluctuation (max - min) / mean "
+        "(--fluctuation): the largest swing of the crank's energy over Cs omega^2, over a sweep"
+        " of one turn. Given a scene (data/scenes/forces-*.toml), its [dynamics] table; given a"
+        " KIND, its dimensions as for run and the options below, each link a uniform rod of its"
+        " mass. One `name = value` a line, as analyse prints.",
         (option("target", metavar="SCENE|KIND",
                 help="a scene with [dynamics] (a file, or the name of one that comes with the "
                      "program), or a kind: " + ", ".join(MECHANISM_NAMES) + " (or 1-5)"),
@@ -11482,6 +11484,8 @@ COMMANDS = {
          option("--gravity", metavar="G",
                 help="a KIND: gravity, m/s^2 along the kind's down (-y for the plane kinds, -z "
                      "for the spatial ones), e.g. 9.80665 (default none)"),
+         option("--radius", metavar="M",
+                help="a KIND (spherical): the sphere's radius, metres (default 1)"),
          option("--output-torque", metavar="N_M",
                 help="a KIND (four-bars): a load on the output about its axis, N m, in the "
                      "sense of psi"),

@@ -486,3 +486,17 @@ def test_arrows_need_their_dynamics(mechanism, dims, forces, dynamics, fragment,
     status, out, err = run(["scene", path, "--svg", tmp_path / "out.svg"], capsys)
     assert status == 1 and fragment in err and len(err.strip().splitlines()) == 1, err
     assert not (tmp_path / "out.svg").exists()
+
+
+def test_the_spherical_kind_s_radius_is_an_option_too(capsys):
+    """forces spherical ... --radius 0.1 says what the bundled scene forces-spherical-four-bar
+    (radius = 0.1 in its [dynamics]) says: the sphere's radius reaches the forces both ways."""
+    status, from_scene, err = run(["forces", "forces-spherical-four-bar"], capsys)
+    assert status == 0, err
+    status, from_options, err = run([
+        "forces", "spherical", "--a", "80", "--b", "20", "--c", "75", "--d", "60", "--speed",
+        "120", "--gravity", "9.80665", "--radius", "0.1", "--mass-crank", "0.2", "--mass-coupler",
+        "0.4", "--mass-output", "0.3", "--output-torque", "-0.5", "--step", "2"], capsys)
+    assert status == 0, err
+    assert from_options == from_scene
+    assert lines_of(from_scene)["joint_A0_moment_peak"].endswith(" N m")
