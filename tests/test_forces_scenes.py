@@ -9,6 +9,7 @@ from __future__ import annotations
 import contextlib
 import csv
 import math
+from pathlib import Path
 
 import pytest
 
@@ -500,3 +501,12 @@ def test_the_spherical_kind_s_radius_is_an_option_too(capsys):
     assert status == 0, err
     assert from_options == from_scene
     assert lines_of(from_scene)["joint_A0_moment_peak"].endswith(" N m")
+
+
+def test_the_readme_shows_the_command_s_current_output(capsys):
+    """README's "What it takes to drive it" shows `forces forces-plane` with what it prints."""
+    readme = (Path(linkage.__file__).parent / "README.md").read_text(encoding="utf-8")
+    status, out, err = run(["forces", "forces-plane"], capsys)
+    assert status == 0, err
+    assert "    python3 linkage.py forces forces-plane\n\n" + "".join(
+        "    " + line for line in out.splitlines(True)) in readme
