@@ -4821,7 +4821,8 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # and columns scaled to a largest entry of 1 first. At the engine's DEAD_CENTRE (the output's
 # dead centre, mu = 0) and CHANGE_POINT, and wherever that system is singular (a pivot under
 # 1e-12), the forces are unbounded: status UNBOUNDED and None, never an inf or a NaN (approaching
-# a dead centre they are finite and grow as psi' psi''). Nothing here runs unless forces() is
+# a dead centre they are finite and grow as psi' psi''); where masses or a speed too large for
+# floating point would make one, status OVERFLOW and None. Nothing here runs unless forces() is
 # called.
 #
 # Units SI: lengths in metres (the dimensions as given; the spherical four-bar's arcs stay in
@@ -4875,13 +4876,14 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # shaking force is the whole linkage's Newton: sum of (m g - m a_G) plus the loads' forces.
 #
 #
-# Uses: sections 2, 6, 7 and 8.
+# Uses: sections 2, 3, 6, 7 and 8.
 # Offers: STANDARD_GRAVITY, UNBOUNDED, Matrix, Body, Bodies, Effects, Reaction, Forces, forces,
 #   ForcesSummary, forces_summary, forces_lines.
 
 
 STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
 UNBOUNDED = "unbounded"         # Forces.status where the force system is singular
+OVERFLOW = "overflow"           # Forces.status where a number would pass the floats' range
 _SINGULAR_BELOW = 1e-12         # a pivot of the scaled system under this: singular
 Matrix = tuple[Vector, Vector, Vector]      # a 3 x 3 matrix, by rows
 _X, _Y, _Z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
@@ -5378,6 +5380,10 @@ def _forces_at(setup: _Setup, m: Motion) -> Forces:
                 shaking_moment = _comb((1.0, shaking_moment), (-1.0, moment))
     if kind == SPHERICAL_FOUR_BAR:     # the whole linkage's Newton: the loads less m a_G
         shaking_force = _comb(*((-1.0, net) for net, _ in needed))
+    numbers = [torque, torque * setup.omega, *shaking_force, *shaking_moment] + [
+        v for r in reactions.values() for part in r if part is not None for v in part]
+    if not all(map(math.isfinite, numbers)):     # masses or a speed past the floats' range
+        return none._replace(status=OVERFLOW)
     return Forces(m.phi, torque, torque * setup.omega, reactions, shaking_force, shaking_moment,
                   m.status)
 
@@ -5454,13 +5460,13 @@ def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
     """The `name = value` lines of a swept list of Forces (forces_summary's figures), each name
     after `prefix`: peak and RMS torque with their angles, mean power, each joint's peak force
     (the spherical kind's: its moment about O), the peak shaking force and moment, the flywheel
-    for the speed fluctuation cs, and the angles where the forces are unbounded."""
+    for the speed fluctuation cs, and the angles where the forces are unbounded or overflow."""
     s = forces_summary(results, speed_rpm, cs)
     rows: list[tuple[str, str]] = []
 
     def peak(name: str, value: tuple[float, float] | None, unit: str) -> None:
         if value is None:
-            rows.append((name, "none (no position with bounded forces)"))
+            rows.append((name, "none (no position whose forces are known)"))
         else:
             rows.extend([(name, f"{value_text(value[0])} {unit}"),
                          (f"{name}_phi", value_text(value[1]))])
@@ -5479,8 +5485,9 @@ def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
     rows.append(("flywheel_inertia", f"{value_text(s.flywheel_inertia)} kg m^2"
                  if s.flywheel_inertia is not None else
                  "none (it needs the speed, and the forces bounded at every angle of the sweep)"))
-    unbounded = [r.phi for r in results if r.status == UNBOUNDED]
-    rows.append(("unbounded", ", ".join(map(value_text, unbounded)) or "none"))
+    for status in (UNBOUNDED, OVERFLOW):
+        rows.append((status, ", ".join(value_text(r.phi) for r in results
+                                       if r.status == status) or "none"))
     return [f"{prefix}{name} = {value}" for name, value in rows]
 
 
@@ -11007,8 +11014,7 @@ def forces_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
               f"{value_text(scene.step)}"]
     for branch in branches:
         results = scene_forces(scene, branch)
-        if not any(r.status in (ASSEMBLED, DEAD_CENTRE, CHANGE_POINT, UNBOUNDED)
-                   for r in results):
+        if all(r.status in (NOT_ASSEMBLED, INDETERMINATE, STOPPED) for r in results):
             return said(f"{scene.path}: the {scene.mechanism} linkage assembles at none of "
                         "the sweep's input angles", 1)
         prefix = f"branch_{branch}." if len(branches) > 1 else ""

@@ -510,3 +510,21 @@ def test_the_readme_shows_the_command_s_current_output(capsys):
     assert status == 0, err
     assert "    python3 linkage.py forces forces-plane\n\n" + "".join(
         "    " + line for line in out.splitlines(True)) in readme
+
+
+def test_numbers_past_the_floats_range_are_named_not_printed(tmp_path, capsys):
+    """A speed of 1e200 rpm squares past the largest float: no inf or nan reaches the user, the
+    angles are listed as overflow (the CSV's forces_status says so)."""
+    status, out, err = run(["forces", "plane", "--a", "0.3", "--b", "0.1", "--c", "0.35", "--d",
+                            "0.45", "--speed", "1e200", "--mass-crank", "1", "--step", "90"],
+                           capsys)
+    assert status == 0, err
+    got = lines_of(out)
+    assert got["overflow"] == "0, 90, 180, 270, 360" and got["unbounded"] == "none"
+    assert "inf" not in out and "nan" not in out
+    path = scene_file(tmp_path, "speed = 1e200\ncrank = { mass = 1 }\n")
+    status, _, err = run(["scene", path, "--csv", tmp_path / "out.csv"], capsys)
+    assert status == 0, err
+    rows = read_csv(tmp_path / "out.csv")
+    assert all(r["forces_status"] == linkage.OVERFLOW and r["torque"] == "nan" for r in rows)
+    assert not any("inf" in v for r in rows for v in r.values())
