@@ -4822,8 +4822,8 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # dead centre, mu = 0) and CHANGE_POINT, and wherever that system is singular (a pivot under
 # 1e-12), the forces are unbounded: status UNBOUNDED and None, never an inf or a NaN (approaching
 # a dead centre they are finite and grow as psi' psi''); where masses or a speed too large for
-# floating point would make one, status OVERFLOW and None. Nothing here runs unless forces() is
-# called.
+# floating point would make one, status OUT_OF_RANGE ("overflow") and None. Nothing here runs
+# unless forces() is called.
 #
 # Units SI: lengths in metres (the dimensions as given; the spherical four-bar's arcs stay in
 # degrees, on a sphere of `radius` metres), kg, N, N m; the speed in rpm, omega = 2 pi rpm / 60;
@@ -4876,14 +4876,14 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # shaking force is the whole linkage's Newton: sum of (m g - m a_G) plus the loads' forces.
 #
 #
-# Uses: sections 2, 3, 6, 7 and 8.
-# Offers: STANDARD_GRAVITY, UNBOUNDED, Matrix, Body, Bodies, Effects, Reaction, Forces, forces,
-#   ForcesSummary, forces_summary, forces_lines.
+# Uses: sections 2, 6, 7 and 8.
+# Offers: STANDARD_GRAVITY, UNBOUNDED, OUT_OF_RANGE, Matrix, Body, Bodies, Effects, Reaction,
+#   Forces, forces, ForcesSummary, forces_summary, forces_lines.
 
 
 STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
 UNBOUNDED = "unbounded"         # Forces.status where the force system is singular
-OVERFLOW = "overflow"           # Forces.status where a number would pass the floats' range
+OUT_OF_RANGE = "overflow"       # Forces.status where a number would pass the floats' range
 _SINGULAR_BELOW = 1e-12         # a pivot of the scaled system under this: singular
 Matrix = tuple[Vector, Vector, Vector]      # a 3 x 3 matrix, by rows
 _X, _Y, _Z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
@@ -5383,7 +5383,7 @@ def _forces_at(setup: _Setup, m: Motion) -> Forces:
     numbers = [torque, torque * setup.omega, *shaking_force, *shaking_moment] + [
         v for r in reactions.values() for part in r if part is not None for v in part]
     if not all(map(math.isfinite, numbers)):     # masses or a speed past the floats' range
-        return none._replace(status=OVERFLOW)
+        return none._replace(status=OUT_OF_RANGE)
     return Forces(m.phi, torque, torque * setup.omega, reactions, shaking_force, shaking_moment,
                   m.status)
 
@@ -5485,7 +5485,7 @@ def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
     rows.append(("flywheel_inertia", f"{value_text(s.flywheel_inertia)} kg m^2"
                  if s.flywheel_inertia is not None else
                  "none (it needs the speed, and the forces bounded at every angle of the sweep)"))
-    for status in (UNBOUNDED, OVERFLOW):
+    for status in (UNBOUNDED, OUT_OF_RANGE):
         rows.append((status, ", ".join(value_text(r.phi) for r in results
                                        if r.status == status) or "none"))
     return [f"{prefix}{name} = {value}" for name, value in rows]

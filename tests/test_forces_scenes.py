@@ -526,5 +526,5 @@ def test_numbers_past_the_floats_range_are_named_not_printed(tmp_path, capsys):
     status, _, err = run(["scene", path, "--csv", tmp_path / "out.csv"], capsys)
     assert status == 0, err
     rows = read_csv(tmp_path / "out.csv")
-    assert all(r["forces_status"] == linkage.OVERFLOW and r["torque"] == "nan" for r in rows)
+    assert all(r["forces_status"] == linkage.OUT_OF_RANGE and r["torque"] == "nan" for r in rows)
     assert not any("inf" in v for r in rows for v in r.values())
