@@ -3220,7 +3220,10 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 #
 # The transmission angle mu is the angle between the output pin's velocity and its velocity relative
 # to the crank pin A (the review's section 2): for the plane four-bar the angle between coupler and
-# output, eq. (1); for the skew kinds it is taken about the input shaft's direction, so that a skew
+# output, eq. (1). For the skew kinds it is what the forces decide: their ball-jointed coupler, if
+# massless, pushes along its line A->P only, and the output takes the part of that push along its
+# pin's path, so mu is the complement of the pressure angle between the line A->P and the pin's
+# path P_q: sin mu = |e . P_q| / |P_q| (tests/test_forces_scenes.py holds it to the forces); a skew
 # linkage made plane gives eq. (1).
 #
 # Uses: sections 2 and 6.
@@ -3248,11 +3251,14 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 # The transmission angle mu (the review's section 2) is the angle between t_a, the output pin's
 # velocity when the output turns (slides) in its positive sense, P_q, and t_r, the pin's velocity
 # relative to A when the coupler turns about its joint at A in the positive sense: axis x (P - A),
-# the axis z (plane kinds; the skew kinds' ball joints, taken about the input shaft's direction
-# so that a skew linkage made plane, f = 0 and ksi = 0, is the plane four-bar) or OA (the
-# spherical four-bar, whose joint axes meet at the centre). In degrees in [0, 180]: the review's
-# eq. (1) for the plane four-bar (the inner angle between coupler and output crank), its eq. (3)
-# for the slider-crank (data/SYNTHESIS_ERRATA.md, S9), the spherical inner angle at B.
+# the axis z (plane kinds) or OA (the spherical four-bar, whose joint axes meet at the centre).
+# In degrees in [0, 180]: the review's eq. (1) for the plane four-bar (the inner angle between
+# coupler and output crank), its eq. (3) for the slider-crank (data/SYNTHESIS_ERRATA.md, S9), the
+# spherical inner angle at B. The skew kinds' ball joints leave no axis at A: there the size of mu
+# is the forces' (90 degrees less the angle between the line A->P and P_q, so sin mu =
+# |e . P_q| / |P_q|, e the unit vector A->P) and its side of 90 degrees the sign of P_q . t_r with
+# t_r about the input shaft's direction z, so that a skew linkage made plane, f = 0 and ksi = 0,
+# is the plane four-bar, mu and all.
 
 # The pins' and the coupler's formulas serve the scalar engine and the numpy path alike: their
 # numbers are floats, or numpy arrays of floats (Any: mypy cannot follow one formula over both,
@@ -3464,6 +3470,11 @@ def transmission_form(kind: str, a: Vec3, p: Vec3, p_q: Vec3, atan2: Callable[[A
                        ) -> Real:
     """mu in degrees from the pins' positions and the output pin's P_q (see the notes above)."""
     t_r = cross(a if PINS[kind].joint_at_a == "OA" else (0.0, 0.0, 1.0), _sub(p, a))
+    if PINS[kind].coupler == "line":        # the skew kinds: the size from the coupler's line
+        line = _sub(p, a)
+        across = cross(p_q, line)
+        sense = (dot(p_q, t_r) >= 0.0) * 2 - 1
+        return atan2(abs(dot(p_q, line)), sense * dot(across, across) ** 0.5) * DEG
     normal = cross(p_q, t_r)
     return atan2(dot(normal, normal) ** 0.5, dot(p_q, t_r)) * DEG
 
@@ -5018,8 +5029,9 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # and columns scaled to a largest entry of 1 first. At the engine's DEAD_CENTRE (the output's
 # dead centre, mu = 0 or 180) and CHANGE_POINT, and wherever that system is singular (a pivot under
 # 1e-12), the forces are unbounded: status UNBOUNDED and None, never an inf or a NaN (approaching
-# a dead centre they are finite and grow as psi' psi''). Nothing here runs unless forces() is
-# called.
+# a dead centre they are finite and grow as psi' psi''); where masses or a speed too large for
+# floating point would make one, status OUT_OF_RANGE ("overflow") and None. Nothing here runs
+# unless forces() is called.
 #
 # Units SI: lengths in metres (the dimensions as given; the spherical four-bar's arcs stay in
 # degrees, on a sphere of `radius` metres), kg, N, N m; the speed in rpm, omega = 2 pi rpm / 60;
@@ -5074,13 +5086,14 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # shaking force is the whole linkage's Newton: sum of (m g - m a_G) plus the loads' forces.
 #
 #
-# Uses: sections 2, 6 and 7.
-# Offers: STANDARD_GRAVITY, UNBOUNDED, Matrix, Body, Bodies, Effects, Reaction, Forces, forces,
-#   ForcesSummary, forces_summary.
+# Uses: sections 2, 6, 7 and 8.
+# Offers: STANDARD_GRAVITY, UNBOUNDED, OUT_OF_RANGE, Matrix, Body, Bodies, Effects, Reaction,
+#   Forces, forces, ForcesSummary, forces_summary, forces_lines.
 
 
 STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
 UNBOUNDED = "unbounded"         # Forces.status where the force system is singular
+OUT_OF_RANGE = "overflow"       # Forces.status where a number would pass the floats' range
 _SINGULAR_BELOW = 1e-12         # a pivot of the scaled system under this: singular
 Matrix = tuple[Vector, Vector, Vector]      # a 3 x 3 matrix, by rows
 _X, _Y, _Z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
@@ -5578,6 +5591,10 @@ def _forces_at(setup: _Setup, m: Motion) -> Forces:
                 shaking_moment = _comb((1.0, shaking_moment), (-1.0, moment))
     if kind == SPHERICAL_FOUR_BAR:     # the whole linkage's Newton: the loads less m a_G
         shaking_force = _comb(*((-1.0, net) for net, _ in needed))
+    numbers = [torque, torque * setup.omega, *shaking_force, *shaking_moment] + [
+        v for r in reactions.values() for part in r if part is not None for v in part]
+    if not all(map(math.isfinite, numbers)):     # masses or a speed past the floats' range
+        return none._replace(status=OUT_OF_RANGE)
     return Forces(m.phi, torque, torque * setup.omega, reactions, shaking_force, shaking_moment,
                   m.status)
 
@@ -5649,6 +5666,42 @@ def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
         peak((t, r.phi) for t, r in zip(torques, known)), rms, mean * omega, joints,
         peak((size(r.shaking_force), r.phi) for r in known),
         peak((size(r.shaking_moment), r.phi) for r in known), flywheel)
+
+
+def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
+                 prefix: str = "") -> list[str]:
+    """The `name = value` lines of a swept list of Forces (forces_summary's figures), each name
+    after `prefix`: peak and RMS torque with their angles, mean power, each joint's peak force
+    (the spherical kind's: its moment about O), the peak shaking force and moment, the flywheel
+    for the speed fluctuation cs, and the angles where the forces are unbounded or overflow."""
+    s = forces_summary(results, speed_rpm, cs)
+    rows: list[tuple[str, str]] = []
+
+    def peak(name: str, value: tuple[float, float] | None, unit: str) -> None:
+        if value is None:
+            rows.append((name, "none (no position whose forces are known)"))
+        else:
+            rows.extend([(name, f"{value_text(value[0])} {unit}"),
+                         (f"{name}_phi", value_text(value[1]))])
+    peak("torque_peak", s.peak_torque, "N m")
+    rows.append(("torque_rms", "none" if s.rms_torque is None
+                 else f"{value_text(s.rms_torque)} N m"))
+    rows.append(("power_mean", "none" if s.mean_power is None
+                 else f"{value_text(s.mean_power)} W"))
+    for name, value in s.peak_joints.items():
+        moment = any(r.joints and r.joints[name].force is None for r in results)
+        peak(f"joint_{name}_{'moment' if moment else 'force'}_peak", value,
+             "N m" if moment else "N")
+    peak("shaking_force_peak", s.peak_shaking_force, "N")
+    peak("shaking_moment_peak", s.peak_shaking_moment, "N m")
+    rows.append(("fluctuation", value_text(cs)))
+    rows.append(("flywheel_inertia", f"{value_text(s.flywheel_inertia)} kg m^2"
+                 if s.flywheel_inertia is not None else
+                 "none (it needs the speed, and the forces bounded at every angle of the sweep)"))
+    for status in (UNBOUNDED, OUT_OF_RANGE):
+        rows.append((status, ", ".join(value_text(r.phi) for r in results
+                                       if r.status == status) or "none"))
+    return [f"{prefix}{name} = {value}" for name, value in rows]
 
 
 # ---- 11. The linkage: one class for all that can be asked of it ----------------------------------
@@ -6023,7 +6076,8 @@ MECHANISM_EXAMPLES = {
 STROKE_STYLES = ("link", "ground", "hatch", "axis", "path", "hidden", "outline", "dimension",
                  "coupler", "coupler-other", "coupler-follow",   # the coupler curve of the frames'
                  "marked",      # branch, of the other, of the motion followed; a marked position
-                 "coupler-far", "coupler-other-far", "coupler-follow-far")   # behind the sphere
+                 "coupler-far", "coupler-other-far", "coupler-follow-far",   # behind the sphere
+                 "force")       # a joint's force, an arrow (mechanism_drawing's forces_at)
 FAR_SIDE = {"coupler": "coupler-far", "coupler-other": "coupler-other-far",
             "coupler-follow": "coupler-follow-far"}     # a style behind the sphere; else hidden
 
@@ -6637,7 +6691,8 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
                       title: str | None = None, subtitle: str | None = None,
                       coupler: tuple[float, float] | None = None,
                       traced: Sequence[int | str] = (), marked: Sequence[float] = (),
-                      marked_branches: Sequence[int] = ()) -> Drawing:
+                      marked_branches: Sequence[int] = (),
+                      extra: Sequence[tuple[Stroke, ...]] = ()) -> Drawing:
     """The linkage drawn at each input angle of `phis` (degrees) on `branch`: one Frame a pose
     over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS).
 
@@ -6646,7 +6701,9 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
     followed from `branch`), each in a style of its own, and the transmission angle told in each
     caption and charted along the sweep (Drawing.chart). marked: input angles at which the
     linkage is drawn faint under every frame, numbered 1, 2, ... at the output (a design's
-    positions), each on its branch of marked_branches (`branch` where none is given)."""
+    positions), each on its branch of marked_branches (`branch` where none is given). extra:
+    strokes drawn on each frame, a tuple a pose (force_arrows'), its letters placed clear of
+    them."""
     kind = linkage.kind
     if coupler is not None:
         coupler = check_coupler_point(linkage, *coupler)
@@ -6689,6 +6746,8 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
         ground = _with_marked(linkage, ground, marked, list(marked_branches)
                               + [branch] * (len(marked) - len(marked_branches)), size)
     ground = Layer(ground.strokes + tuple(curves), ground.marks, ground.labels)
+    unplaced = [f._replace(layer=f.layer._replace(strokes=f.layer.strokes + more))
+                for f, more in zip(unplaced, [*extra, *[()] * len(unplaced)])]
     drawn = [p for layer in [ground] + [f.layer for f in unplaced]
              for p in [q for s in layer.strokes for q in s.points]
              + [m.at for m in layer.marks] + [label.at for label in layer.labels]]
@@ -6772,7 +6831,7 @@ def svg_letters(bounds: Box, size: float) -> Letters:
 # Strokes drawn first to last (later ones win a shared ASCII cell), and each style's dash
 # pattern in dots along the stroke (on, off, ...); styles not listed are solid.
 _TEXT_ORDER = ("outline", "path", "axis", "dimension", "marked", "hidden", "coupler-follow",
-               "coupler-other", "coupler", "hatch", "ground", "link")
+               "coupler-other", "coupler", "hatch", "ground", "link", "force")
 _FAR_STYLES = frozenset(FAR_SIDE.values())     # drawn as hidden in text: dots carry no colour
 
 
@@ -7024,6 +7083,7 @@ polyline.coupler-far{stroke:#c0392b;stroke-width:1.4;stroke-dasharray:6 4}
 polyline.coupler-other-far{stroke:#e67e22;stroke-width:1.2;stroke-dasharray:6 4}
 polyline.coupler-follow-far{stroke:#8e44ad;stroke-width:1.6;stroke-dasharray:6 4}
 polyline.marked{stroke:#2e8b57;stroke-width:2;stroke-opacity:0.7}
+polyline.force{stroke:#d35400;stroke-width:2.2}
 polyline.chart{stroke:#2f6db3;stroke-width:1.6}
 polyline.grid{stroke:#ccc;stroke-width:1}
 .joint,.pivot{fill:#fff;stroke:#1b1b1b;stroke-width:2}
@@ -7214,7 +7274,8 @@ _PNG_STYLES: dict[str, dict[str, Any]] = {"link": dict(color="#1b1b1b", linewidt
                "coupler-far": dict(color="#c0392b", linewidth=1.1, linestyle="--"),
                "coupler-other-far": dict(color="#e67e22", linewidth=0.9, linestyle="--"),
                "coupler-follow-far": dict(color="#8e44ad", linewidth=1.2, linestyle="--"),
-               "marked": dict(color="#7fbf9a", linewidth=1.4)}
+               "marked": dict(color="#7fbf9a", linewidth=1.4),
+               "force": dict(color="#d35400", linewidth=1.8)}
 
 
 _PNG_LETTER, _PNG_MARK = 13, 6          # points: the letters' font size, the marks' size
@@ -9157,11 +9218,13 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
 # those files are written.
 #
-# Uses: sections 1, 2, 5, 6, 7, 9, 11 and 12.
-# Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, QUANTITY_FILES, MECHANISM_PANEL, MAX_FRAMES,
-#   PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, DRAWN_UP_TO, DRAWN_DOWN_TO,
-#   DRAWN_CLOSEST, drawable_range, PanelSpec, Scene, scene_error, load_scene, known_scenes,
-#   scene_path, scene_list, check_assembles, Series, branch_text, compute_scene, scene_csv.
+# Uses: sections 1, 2, 5, 6, 7, 9, 10, 11 and 12.
+# Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, FORCE_QUANTITIES, QUANTITY_FILES,
+#   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, DRAWN_UP_TO,
+#   DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene, scene_error, load_scene,
+#   known_scenes, scene_path, scene_list, DYNAMICS_KEYS, BODY_KEYS, Dynamics, scene_dynamics,
+#   check_assembles, Series, branch_text, compute_scene, scene_forces, forces_columns,
+#   FORCES_COLUMNS, forces_row, scene_csv.
 
 
 SCENE_KEYS = {  # key: what is expected (the error messages quote it)
@@ -9182,9 +9245,16 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "marked": "a list of input angles (degrees): a mechanism scene's positions drawn faint under "
               "every frame and numbered 1, 2, ... (design --scene writes the design positions)",
     "mechanism": "the old name of kind, still taken",
+    "dynamics": "a table [dynamics]: the speed, the bodies' masses, gravity and the loads, for "
+                "the forces (the panels torque, joint_forces and shaking; the CSV's columns; a "
+                "mechanism scene's arrows, with forces = true)",
+    "forces": "true or false: a mechanism scene draws each joint's force as an arrow (needs "
+              "[dynamics]; not the spherical four-bar, whose joints' forces rigid bodies leave "
+              "undetermined)",
 }
 REQUIRED_SCENE_KEYS = ("kind", "dimensions", "input", "branches", "panels")
 QUANTITIES = ("displacement", "velocity", "acceleration", "transmission")
+FORCE_QUANTITIES = ("torque", "joint_forces", "shaking")     # a scene with [dynamics]: forces()
 QUANTITY_FILES = dict(zip(QUANTITIES, DatFiles.NAMES + (DatFiles.MU,)))
 MECHANISM_PANEL = "mechanism"    # the linkage drawn (a scene of its own, mechanism_drawing)
 MAX_FRAMES = 3600                # the most poses a mechanism scene draws
@@ -9241,6 +9311,7 @@ class Scene(NamedTuple):
     fast: bool = False               # the double series by Linkage.sweep_arrays
     coupler: tuple[float, float] | None = None   # a mechanism scene's coupler point (u, v)
     marked: tuple[float, ...] = ()   # a mechanism scene's input angles drawn faint and numbered
+    dynamics: Dynamics | None = None     # the [dynamics] table: forces computed, else none
 
     @property
     def transmission(self) -> bool:
@@ -9340,7 +9411,8 @@ def load_scene(path: str) -> Scene:
                                "coupler curve of the others given, \"follow\" among them)",
                                branches)
         return _mechanism_scene(path, data, dims, start, stop, step, tuple(branches))
-    for key, what in (("coupler", "a coupler point is"), ("marked", "marked positions are")):
+    for key, what in (("coupler", "a coupler point is"), ("marked", "marked positions are"),
+                      ("forces", "joint forces as arrows are")):
         if key in data:
             raise scene_error(path, key, f"no {key}: {what} drawn by a mechanism scene "
                                "(panels = [{quantities = [\"mechanism\"]}])", data[key])
@@ -9364,8 +9436,21 @@ def load_scene(path: str) -> Scene:
         raise scene_error(path, "precision", "double or both with a transmission panel: the "
                            "transmission angle is the accurate engine's (the original program "
                            "computes the output link only)", precision)
+    dynamics = None
+    if "dynamics" in data:
+        if precision == "basic":
+            raise scene_error(path, "precision", "double or both with [dynamics]: the forces "
+                               "are the accurate engine's (the original program computes the "
+                               "motion only)", precision)
+        if fast:
+            raise scene_error(path, "fast", "false with [dynamics]: the forces are computed "
+                               "one position at a time", fast)
+        dynamics = scene_dynamics(path, kind, dims, data["dynamics"])
+    if dynamics is None and any(set(spec.quantities) & set(FORCE_QUANTITIES) for spec in specs):
+        raise SceneError(f"{path}: key 'dynamics' is missing: expected {SCENE_KEYS['dynamics']} "
+                         "with a panel of " + ", ".join(FORCE_QUANTITIES))
     return Scene(path, _scene_title(path, data), kind, dims, start, stop, step,
-                 tuple(branches), PRECISIONS[precision], specs, fast)
+                 tuple(branches), PRECISIONS[precision], specs, fast, dynamics=dynamics)
 
 
 def known_scenes() -> dict[str, str]:
@@ -9455,10 +9540,10 @@ def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, .
         _unknown_keys(path, panel, ("quantities", "limits", "notes"), f"{key}.")
         quantities = panel.get("quantities")
         if (not isinstance(quantities, list) or not quantities
-                or not all(q in QUANTITIES for q in quantities)
+                or not all(q in QUANTITIES + FORCE_QUANTITIES for q in quantities)
                 or len(set(quantities)) != len(quantities)):
-            raise scene_error(path, f"{key}.quantities",
-                               f"a list of one or more of {', '.join(QUANTITIES)}", quantities)
+            raise scene_error(path, f"{key}.quantities", "a list of one or more of "
+                               f"{', '.join(QUANTITIES + FORCE_QUANTITIES)}", quantities)
         limits = panel.get("limits")
         expected = (f"[low, high], two numbers, low < high, each within +-{DRAWN_UP_TO:g}, at "
                     f"least {DRAWN_DOWN_TO:g} (and {DRAWN_CLOSEST:g} of the larger) apart")
@@ -9468,6 +9553,10 @@ def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, .
         if limits is not None and not drawable_range(float(limits[0]), float(limits[1])):
             raise SceneError(f"{path}: key '{key}.limits': expected {expected}, got "
                              f"[{limits[0]:g}, {limits[1]:g}]")
+        if "joint_forces" in quantities and len(quantities) > 1:
+            raise scene_error(path, f"{key}.quantities", "joint_forces in a panel of its own "
+                               "(a polar diagram: the joints' forces, y against x; its limits "
+                               "bound both axes)", quantities)
         specs.append(PanelSpec(tuple(quantities),
                                None if limits is None else (float(limits[0]), float(limits[1])),
                                notes=_panel_notes(path, f"{key}.notes", panel.get("notes", []))))
@@ -9503,6 +9592,20 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
                      stop: float, step: float, branches: tuple[int | str, ...]) -> Scene:
     """The rest of a mechanism scene: one panel, quantities = ["mechanism"], optional angles; the
     positions are the accurate engine's (precision double, or no precision key)."""
+    arrows = data.get("forces", False)
+    if not isinstance(arrows, bool):
+        raise scene_error(path, "forces", SCENE_KEYS["forces"], arrows)
+    if arrows != ("dynamics" in data):
+        raise scene_error(path, "forces", "forces = true with a [dynamics] table, and neither "
+                           "without the other: a mechanism scene uses [dynamics] only to draw "
+                           "the joints' forces", arrows)
+    kind = str(data.get("kind", data.get("mechanism")))     # the old name still taken
+    if arrows and kind == SPHERICAL_FOUR_BAR:
+        raise scene_error(path, "forces", "false for the spherical four-bar: its joints' forces "
+                           "are not determined by rigid bodies (its joints' moments about the "
+                           "centre are: a scene of curves draws them)", arrows)
+    dynamics = scene_dynamics(path, kind, dims, data["dynamics"]) if arrows \
+        else None
     if len(data["panels"]) != 1:
         raise scene_error(path, "panels", "one [[panels]] only: a mechanism panel is a scene "
                            "of its own", data["panels"])
@@ -9537,7 +9640,118 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
         raise scene_error(path, "marked", SCENE_KEYS["marked"], marked)
     return Scene(path, _scene_title(path, data), data["kind"], dims, start, stop, step,
                  branches, ("double",), (spec,), coupler=coupler,
-                 marked=tuple(float(v) for v in marked))
+                 marked=tuple(float(v) for v in marked), dynamics=dynamics)
+
+
+# -- a scene's [dynamics]: the bodies and effects that forces() takes ------------------------------
+
+DYNAMICS_KEYS = {  # key: what is expected (the error messages quote it)
+    "speed": "a number, the crank's speed (rpm)",
+    "crank_acceleration": "a number, the crank's angular acceleration (rad/s^2)",
+    "gravity": "a number, m/s^2 along the kind's down (-y for the plane kinds, -z for the "
+               "spatial ones), or [gx, gy, gz]",
+    "radius": "a positive number, the spherical four-bar's sphere (metres)",
+    "output_torque": "a number, the load on the output about its axis (N m, four-bars)",
+    "output_force": "a number, the load on the slider along its guide (N, slider-cranks)",
+    "coupler_force": "a table { at = [u, v], force = [fx, fy, fz] }: a force (N) at the coupler "
+                     "point (u, v)",
+}
+BODY_KEYS = {  # a body's table { mass, centre, inertia }: what is expected
+    "mass": "a number, kg (not negative)",
+    "centre": "the centre of mass in the body's frame: a number (the plane kinds' crank, output "
+              "and slider), [u, v] (the plane coupler) or [x, y, z] (the spatial kinds)",
+    "inertia": "the inertia about the centre, kg m^2: a number (the plane kinds) or a 3 x 3 "
+               "tensor [[..], [..], [..]] (the spatial kinds)",
+}
+
+
+class Dynamics(NamedTuple):
+    """A scene's [dynamics]: what forces() takes besides the linkage and the angles."""
+    bodies: Bodies
+    effects: Effects
+    radius: float
+
+
+def _numbers(x: object, count: int) -> bool:
+    return isinstance(x, list) and len(x) == count and all(_is_number(v) for v in x)
+
+
+def _body_of(path: str, key: str, table: object) -> Body:
+    """The body table at `key`, its values' shapes checked (forces() checks what they mean)."""
+    if not isinstance(table, dict):
+        raise scene_error(path, key, "a table { mass, centre, inertia } (centre and inertia "
+                          "both, or neither: a uniform rod between its joints)", table)
+    _unknown_keys(path, table, BODY_KEYS, f"{key}.")
+    if not _is_number(table.get("mass", 0.0)):
+        raise scene_error(path, f"{key}.mass", BODY_KEYS["mass"], table["mass"])
+    centre, inertia = table.get("centre"), table.get("inertia")
+    if centre is not None and not (_is_number(centre) or _numbers(centre, 2)
+                                   or _numbers(centre, 3)):
+        raise scene_error(path, f"{key}.centre", BODY_KEYS["centre"], centre)
+    if inertia is not None and not (_is_number(inertia) or (
+            isinstance(inertia, list) and len(inertia) == 3
+            and all(_numbers(row, 3) for row in inertia))):
+        raise scene_error(path, f"{key}.inertia", BODY_KEYS["inertia"], inertia)
+    return Body(float(table.get("mass", 0.0)), centre, inertia)
+
+
+def scene_dynamics(path: str, mechanism: str, dims: dict[str, float], table: object
+                   ) -> Dynamics:
+    """The [dynamics] table of a scene as (Bodies, Effects, radius), every value checked by
+    forces() itself; a SceneError names the file, the key and what it expects. Keys left out
+    are effects left out (a massless body, no load, no gravity, the crank at rest)."""
+    if not isinstance(table, dict):
+        raise scene_error(path, "dynamics", "a table [dynamics] (data/scenes/forces-*.toml "
+                          "show one)", table)
+    output = "slider" if mechanism in SLIDER_CRANKS else "output"
+    _unknown_keys(path, table, (*DYNAMICS_KEYS, "crank", "coupler", output), "dynamics.")
+    for key in ("speed", "crank_acceleration", "radius", "output_torque", "output_force"):
+        if key in table and not _is_number(table[key]):
+            raise scene_error(path, f"dynamics.{key}", DYNAMICS_KEYS[key], table[key])
+    gravity = table.get("gravity")
+    if gravity is not None and not (_is_number(gravity) or _numbers(gravity, 3)):
+        raise scene_error(path, "dynamics.gravity", DYNAMICS_KEYS["gravity"], gravity)
+    load = table.get("coupler_force")
+    coupler_force = None
+    if load is not None:
+        if not isinstance(load, dict):
+            raise scene_error(path, "dynamics.coupler_force", DYNAMICS_KEYS["coupler_force"],
+                              load)
+        _unknown_keys(path, load, ("at", "force"), "dynamics.coupler_force.")
+        if not _numbers(load.get("at"), 2):
+            raise scene_error(path, "dynamics.coupler_force.at", "[u, v], the coupler point "
+                              "(as Linkage.coupler's)", load.get("at"))
+        if not _numbers(load.get("force"), 3):
+            raise scene_error(path, "dynamics.coupler_force.force", "[fx, fy, fz], newtons",
+                              load.get("force"))
+        coupler_force = (tuple(load["at"]), tuple(load["force"]))
+    bodies = {role: _body_of(path, f"dynamics.{key}", table[key])
+              for role, key in (("crank", "crank"), ("coupler", "coupler"), ("output", output))
+              if key in table}
+    dynamics = Dynamics(Bodies(**bodies), Effects(
+        float(table.get("speed", 0.0)), float(table.get("crank_acceleration", 0.0)), gravity,
+        float(table.get("output_torque", 0.0)), float(table.get("output_force", 0.0)),
+        coupler_force), float(table.get("radius", 1.0)))
+    try:
+        linkage = Linkage(mechanism, **dims)
+    except ValueError as e:
+        raise scene_error(path, "dimensions", f"dimensions the engine accepts: {e}") from None
+    checks = [(key, Bodies(**{role: bodies[role]}), Effects(), 1.0)
+              for role, key in (("crank", "crank"), ("coupler", "coupler"), ("output", output))
+              if role in bodies]
+    checks += [(key, Bodies(), Effects(**{field: dynamics.effects._asdict()[field]}), 1.0)
+               for key, field in (("gravity", "gravity"), ("output_torque", "output_torque"),
+                                  ("output_force", "output_force"),
+                                  ("coupler_force", "coupler_force")) if key in table]
+    checks += [("radius", Bodies(), Effects(), dynamics.radius)] * ("radius" in table)
+    checks.append(("dynamics", dynamics.bodies, dynamics.effects, dynamics.radius))
+    for key, bodies_, effects, radius in checks:
+        try:
+            forces(linkage, [], 1, bodies_, effects, radius=radius)
+        except ValueError as e:
+            where = key if key == "dynamics" else f"dynamics.{key}"
+            raise scene_error(path, where, f"what the forces can take: {e}") from None
+    return dynamics
 
 
 # -- computing a scene: the DAT files ----------------------------------------------------------
@@ -9594,6 +9808,7 @@ class Series(NamedTuple):
     precision: str
     branch: int | str | None
     directory: str
+    forces: tuple[Forces, ...] = ()      # a double series of a scene with [dynamics]
 
 
 def branch_text(branch: int | str) -> str:
@@ -9637,22 +9852,74 @@ def compute_scene(scene: Scene, directory: str, report: Callable[[str], None] | 
                 report("the original printed " + ", ".join(f'"{e}" {n} time{"s" * (n > 1)}'
                                                            for e, n in counts.items())
                        + f" ({name})")
-        series.append(Series(name, precision, branch, where))
+        series.append(Series(name, precision, branch, where, scene_forces(scene, branch)
+                             if precision == "double" else ()))
     return series
+
+
+def scene_forces(scene: Scene, branch: int | str) -> tuple[Forces, ...]:
+    """forces() along the scene's sweep on `branch`, for its [dynamics]; () without one (and
+    then forces() is not called)."""
+    if scene.dynamics is None:
+        return ()
+    bodies, effects, radius = scene.dynamics
+    return tuple(forces(Linkage(scene.kind, **scene.dimensions),
+                        evenly_spaced_angles(scene.start, scene.stop, scene.step), branch,
+                        bodies, effects, radius=radius))
+
+
+def forces_columns(results: Sequence[Forces]) -> tuple[str, ...]:
+    """The CSV's columns of forces (FORCES_COLUMNS, then each joint's components it carries:
+    A0_fx, A0_fy, A0_fz where it carries a force, A0_mx, ... where a moment), from the first
+    position whose forces are bounded; FORCES_COLUMNS alone if none is."""
+    known = next((r for r in results if r.joints is not None), None)
+    joints = [] if known is None else [
+        f"{name}_{q}{axis}" for name, reaction in cast(dict, known.joints).items()
+        for q, part in (("f", reaction.force), ("m", reaction.moment)) if part is not None
+        for axis in "xyz"]
+    return FORCES_COLUMNS + tuple(joints)
+
+
+FORCES_COLUMNS = ("torque", "power", "shaking_fx", "shaking_fy", "shaking_fz", "shaking_mx",
+                  "shaking_my", "shaking_mz", "forces_status")
+
+
+def forces_row(result: Forces | None, columns: Sequence[str]) -> tuple:
+    """A position's values for `columns` (forces_columns): None (nan) where its forces are
+    not known, and then forces_status says why (unbounded, or the position's status)."""
+    if result is None:
+        return (None,) * 8 + ("no forces (precision basic)",) + (None,) * (len(columns) - 9)
+    values: list[Any] = [result.torque, result.power]
+    values += list(result.shaking_force or (None,) * 3) + list(result.shaking_moment
+                                                               or (None,) * 3)
+    values.append(result.status)
+    for column in columns[9:]:
+        name, part = column.rsplit("_", 1)
+        reaction = (result.joints or {}).get(name)
+        vector = None if reaction is None else reaction.force if part[0] == "f" \
+            else reaction.moment
+        values.append(None if vector is None else vector["xyz".index(part[1])])
+    return tuple(values)
 
 
 def scene_csv(scene: Scene, series: list[Series], path: str,
               outputs: WrittenSet | None = None) -> int:
     """The scene's numbers as one CSV file, a row a point of each series (header: series, then
     CSV_HEADER): the engine's motions for a double series, every point with its status; the
-    original's numbers for a basic one, with the engine's status of each position. Returns the
-    rows written."""
+    original's numbers for a basic one, with the engine's status of each position. A scene with
+    [dynamics] adds forces_columns (a basic series' rows: nan, and forces_status says so).
+    Returns the rows written."""
+    joint_columns = forces_columns([f for s in series for f in s.forces]) \
+        if scene.dynamics is not None else ()
+
     def rows() -> Iterator[tuple]:
         for s in series:
             assert s.branch is not None         # compute_scene's series know their branch
             if s.precision == "double":
-                for m in _accurate_motions(scene, s.branch, scene.derivatives):
-                    yield (s.name,) + tuple(m)
+                motions = _accurate_motions(scene, s.branch, scene.derivatives)
+                for i, m in enumerate(motions):
+                    extra = forces_row(s.forces[i], joint_columns) if joint_columns else ()
+                    yield (s.name,) + tuple(m) + extra
                 continue
             columns = [read_dat(os.path.join(s.directory, n))
                        for n in DatFiles.NAMES[:1 + scene.derivatives]]
@@ -9663,8 +9930,9 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
                 values += [None] * (2 - len(values))
                 status = statuses.get(phi) or Linkage(scene.kind, **scene.dimensions) \
                     .motion(phi, s.branch, 0).status
-                yield (s.name, phi, output, *values, status)
-    return write_csv(path, rows(), ("series",) + CSV_HEADER, outputs)
+                yield (s.name, phi, output, *values, status) + (forces_row(None, joint_columns)
+                                                                 if joint_columns else ())
+    return write_csv(path, rows(), ("series",) + CSV_HEADER + joint_columns, outputs)
 
 
 # ---- 19. Plots: a figure drawn as text or PNG ----------------------------------------------------
@@ -9680,10 +9948,10 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 # added so that a curve is continuous across +-180 degrees, and so that the curves of a panel lie
 # within half a turn of the first one.
 #
-# Uses: sections 1, 2, 6, 11, 12, 13, 14 and 18.
-# Offers: dat_series, Curve, Panel, Figure, CLIPPED, build_figure, scene_figure, dat_figure,
-#   TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure, png_figure, scene_drawing,
-#   scene_text.
+# Uses: sections 1, 2, 6, 7, 10, 11, 12, 13, 14 and 18.
+# Offers: dat_series, Curve, Panel, Figure, FORCE_LABELS, POLAR_MOMENTS, CLIPPED, build_figure,
+#   scene_figure, dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure,
+#   png_figure, force_arrows, scene_drawing, scene_text.
 
 
 def dat_series(directory: str) -> list[Series]:
@@ -9761,6 +10029,55 @@ def _runs(points: Sequence[tuple[float, float]], angles: bool
     return tuple(runs)
 
 
+FORCE_LABELS = {  # (name, symbol, unit) of a force quantity's panel
+    "torque": ("driving torque", "T", "N m"),
+    "shaking": ("shaking force", "|F|", "N"),
+    "joint_forces": ("joint forces, polar", "Fy against Fx", "N"),
+}
+POLAR_MOMENTS = ("joint moments about O, polar", "My against Mx", "N m")   # spherical
+
+
+def _pieces(values: Iterable[tuple[float, float] | None]
+            ) -> tuple[tuple[tuple[float, float], ...], ...]:
+    """The unbroken runs of points, broken where a value is None (forces unbounded)."""
+    runs: list[tuple[tuple[float, float], ...]] = []
+    run: list[tuple[float, float]] = []
+    for point in list(values) + [None]:
+        if point is None:
+            if run:
+                runs.append(tuple(run))
+            run = []
+        else:
+            run.append(point)
+    return tuple(runs)
+
+
+def _force_curves(quantity: str, s: Series, label: str) -> list[Curve]:
+    """A force quantity's curves of the series: the torque and the shaking force's size
+    against phi; each joint's force (the spherical kind's: its moment about O) as the polar
+    diagram of its tip (x, y) as the crank turns, a curve a joint."""
+    if quantity == "torque":
+        return [Curve(label or "torque", quantity, s.precision, s.branch, _pieces(
+            None if f.torque is None else (f.phi, f.torque) for f in s.forces))]
+    if quantity == "shaking":
+        return [Curve(label or "shaking", quantity, s.precision, s.branch, _pieces(
+            None if f.shaking_force is None else (f.phi, math.sqrt(dot(f.shaking_force,
+                                                                       f.shaking_force)))
+            for f in s.forces))]
+    names = next((list(f.joints) for f in s.forces if f.joints), [])
+    curves = []
+    for name in names:
+        def tip(f: Forces) -> tuple[float, float] | None:
+            if f.joints is None:
+                return None
+            reaction = f.joints[name]
+            vector = reaction.force if reaction.force is not None else reaction.moment
+            return None if vector is None else (vector[0], vector[1])
+        curves.append(Curve(f"{name}, {label}" if label else name, quantity, s.precision,
+                            s.branch, _pieces(tip(f) for f in s.forces)))
+    return curves
+
+
 def _turned(curve: Curve, reference: Curve) -> Curve:
     """The angle curve moved by whole turns to lie nearest `reference` (so that two branches
     that meet at psi = 180 are drawn meeting, not one at +180 and the other at -180)."""
@@ -9795,6 +10112,12 @@ def build_figure(title: str, subtitle: str, group: str, specs: Sequence[PanelSpe
     for letter, spec in zip("abc", specs):
         curves: list[Curve] = []
         for quantity in spec.quantities:
+            if quantity in FORCE_QUANTITIES:
+                for s in series:
+                    if s.forces:
+                        label = _series_label(s, several_precisions, several_branches)
+                        curves += _force_curves(quantity, s, label)
+                continue
             name = QUANTITY_FILES[quantity]
             for s in series:
                 path = os.path.join(s.directory, name)
@@ -9816,7 +10139,10 @@ def build_figure(title: str, subtitle: str, group: str, specs: Sequence[PanelSpe
                 curve = Curve(label, quantity, s.precision, s.branch, runs)
                 reference = next((c for c in curves if c.quantity == quantity), None)
                 curves.append(_turned(curve, reference) if angles and reference else curve)
-        labels = tuple(AXIS_LABELS[group][q] for q in spec.quantities)
+        moments = any(f.joints and next(iter(f.joints.values())).force is None
+                      for s in series for f in s.forces)
+        labels = tuple(POLAR_MOMENTS if q == "joint_forces" and moments else FORCE_LABELS[q]
+                       if q in FORCE_LABELS else AXIS_LABELS[group][q] for q in spec.quantities)
         panels.append(Panel(letter, spec.quantities, labels, tuple(curves), spec.limits,
                             spec.notes))
     return Figure(title, subtitle, INPUT_AXIS, tuple(panels))
@@ -9966,7 +10292,8 @@ def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIG
     name, symbol, unit = figure.xlabel
     bottom = [f"x axes: {name} {symbol} [{unit}]"[:width]]
     headers = [_panel_lines(panel, width) for panel in figure.panels]
-    fixed = len(top) + sum(len(h) + 1 for h in headers) + 1 + len(bottom)
+    polar = [panel.quantities == ("joint_forces",) for panel in figure.panels]
+    fixed = len(top) + sum(len(h) + 1 + p for h, p in zip(headers, polar)) + 1 + len(bottom)
     rows = (height - fixed) // len(figure.panels)
     if rows < 3:
         raise SceneError(f"the text plot does not fit in {width} x {height} characters: show "
@@ -9979,38 +10306,51 @@ def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIG
         y_axes.append(_nice_axis(lo, hi, rows, 2 if rows >= 5 else 1))
     y_texts = [[_tick_text(v, a.step) for v in a.tick_values()] for a in y_axes]
     margin = max(len(t) for texts in y_texts for t in texts) + 1   # the y axis's column
-    xs = [x for p in figure.panels for c in p.curves for r in c.runs for x, _ in r] or [0.0]
-    spacing, right = 6, 4                  # cells between x ticks; room for the last tick value
-    while True:
-        x_axis = _nice_axis(min(xs), max(xs), width - margin - right, spacing, angles=True)
-        x_texts = [_tick_text(v, x_axis.step) for v in x_axis.tick_values()]
-        longest = max(len(t) for t in x_texts)
-        if x_axis.per > longest and (longest - 1) // 2 < right or spacing > width:
-            break
-        spacing, right = longest + 2, max(right, longest // 2 + 1)
+    def x_axis_of(xs: list[float], angles: bool) -> tuple[_Axis, list[str]]:
+        spacing, right = 6, 4              # cells between x ticks; room for the last tick value
+        while True:
+            axis = _nice_axis(min(xs), max(xs), width - margin - right, spacing, angles)
+            texts = [_tick_text(v, axis.step) for v in axis.tick_values()]
+            longest = max(len(t) for t in texts)
+            if axis.per > longest and (longest - 1) // 2 < right or spacing > width:
+                return axis, texts
+            spacing, right = longest + 2, max(right, longest // 2 + 1)
+
+    def tick_row(axis: _Axis, texts: list[str]) -> str:
+        labels = [" "] * (width + 8)
+        for i, text in enumerate(texts):
+            start = max(0, margin + i * axis.per - (len(text) - 1) // 2)
+            labels[start:start + len(text)] = text
+        return "".join(labels).rstrip()
+
+    x_axis, x_texts = x_axis_of([x for p, po in zip(figure.panels, polar) if not po
+                                 for c in p.curves for r in c.runs for x, _ in r] or [0.0], True)
 
     out, overlaps = list(top), False
     for k, (panel, header, y_axis, texts) in enumerate(zip(figure.panels, headers, y_axes,
                                                           y_texts)):
         out += header
-        grid = [[" "] * x_axis.cells for _ in range(y_axis.cells)]
+        own_x = x_axis
+        if polar[k]:                # its own x axis, and its limits bound both axes
+            own_x, own_texts = x_axis_of(list(panel.limits or ()) or [
+                x for c in panel.curves for r in c.runs for x, _ in r] or [0.0], False)
+        grid = [[" "] * own_x.cells for _ in range(y_axis.cells)]
         for r, row in enumerate(grid):
             row[0] = "+" if (y_axis.cells - 1 - r) % y_axis.per == 0 else "|"
         drawn: dict = {}
         for i, curve in enumerate(panel.curves):
-            _draw(grid, x_axis, y_axis, curve.runs, MARKERS[i % len(MARKERS)], drawn,
-                  (curve.quantity, curve.branch))
+            _draw(grid, own_x, y_axis, curve.runs, MARKERS[i % len(MARKERS)], drawn,
+                  (curve.quantity, curve.branch)
+                  + ((curve.label,) if curve.quantity in FORCE_QUANTITIES else ()))
         overlaps = overlaps or OVERLAP in drawn.values()
         for r, row in enumerate(grid):
             tick, off = divmod(y_axis.cells - 1 - r, y_axis.per)
             out.append(f"{texts[tick] if off == 0 else '':>{margin - 1}} " + "".join(row).rstrip())
-        out.append(" " * margin + "".join("+" if c % x_axis.per == 0 else "-"
-                                          for c in range(x_axis.cells)))
-    labels = [" "] * (width + 8)
-    for i, text in enumerate(x_texts):
-        start = max(0, margin + i * x_axis.per - (len(text) - 1) // 2)
-        labels[start:start + len(text)] = text
-    out.append("".join(labels).rstrip())
+        out.append(" " * margin + "".join("+" if c % own_x.per == 0 else "-"
+                                          for c in range(own_x.cells)))
+        if polar[k]:
+            out.append(tick_row(own_x, own_texts))
+    out.append(tick_row(x_axis, x_texts))
     clipped = any(CLIPPED in c.label for p in figure.panels for c in p.curves)  # ERRATA K9
     notes = [f"{OVERLAP} = two curves"] * overlaps + ["basic clipped at +-3"] * clipped
     if notes and len(bottom[0]) + 2 + len("  ".join(notes)) <= width:
@@ -10035,7 +10375,9 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
     inch (`dpi`), 648 pixels wide unless `size` (width, height in pixels) says otherwise."""
     MplFigure, FigureCanvasAgg = matplotlib_canvas()
     from matplotlib.ticker import MultipleLocator
-    xs_all = [x for p in figure.panels for c in p.curves for r in c.runs for x, _ in r]
+    polar = [panel.quantities == ("joint_forces",) for panel in figure.panels]
+    xs_all = [x for p, po in zip(figure.panels, polar) if not po for c in p.curves
+              for r in c.runs for x, _ in r]
     x_step = _nice_axis(min(xs_all), max(xs_all), 73, 8, angles=True).step if xs_all else 1.0
     colours: dict[tuple[str, int | str], str] = {
                ("displacement", 1): "black", ("displacement", 2): "tab:gray",
@@ -10057,8 +10399,30 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
                 ys += [y for _, y in run] + [math.nan]
             style = (dict(linewidth=0.8, marker="o", markersize=2.2, zorder=3)
                      if curve.precision == "basic" else dict(linewidth=1.6, zorder=2))
-            ax.plot(xs, ys, color=colours.get((curve.quantity, curve.branch or 1), "black"),
-                    label=_pretty(curve.label), **style)
+            if curve.quantity in FORCE_QUANTITIES:
+                line, = ax.plot(xs, ys, label=_pretty(curve.label), **style)
+                if polar[i] and curve.runs:             # where the crank starts: phi = from
+                    ax.plot(*curve.runs[0][0], "o", color=line.get_color(), markersize=4)
+            else:
+                ax.plot(xs, ys, color=colours.get((curve.quantity, curve.branch or 1),
+                                                  "black"), label=_pretty(curve.label), **style)
+        if polar[i]:
+            _, symbol_, unit_ = panel.labels[0]
+            y_symbol, _, x_symbol = symbol_.split()
+            ax.set_title(f"({panel.letter}) {panel.labels[0][0]} as the crank turns (a dot: "
+                         "the first angle)", loc="left", fontsize=10)
+            ax.set_xlabel(f"{x_symbol} [{unit_}]", fontsize=9)
+            ax.set_ylabel(f"{y_symbol} [{unit_}]", fontsize=9)
+            ax.axhline(0.0, color="grey", linewidth=0.5)
+            ax.axvline(0.0, color="grey", linewidth=0.5)
+            if panel.limits:
+                ax.set_xlim(*panel.limits)
+                ax.set_ylim(*panel.limits)
+            ax.set_aspect("equal", adjustable="box" if panel.limits else "datalim")
+            ax.grid(True, linewidth=0.4, alpha=0.5)
+            ax.tick_params(labelsize=8)
+            ax.legend(fontsize=7, loc="best")
+            continue
         ax.set_title(f"({panel.letter}) " + " and ".join(n_ for n_, _, _ in panel.labels)
                      + " vs input angle", loc="left", fontsize=10)
         ax.set_ylabel(_pretty(", ".join(f"{s} [{u}]" for _, s, u in panel.labels)), fontsize=9)
@@ -10091,11 +10455,56 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
 # -- the commands ------------------------------------------------------------------------------
 
 
+def force_arrows(linkage: Linkage, phis: Sequence[float], branch: int | str,
+                 results: Sequence[Forces]) -> tuple[list[tuple[Stroke, ...]], float]:
+    """Each joint's force at each of `phis` as an arrow from the joint ("force" strokes on the
+    page of mechanism_drawing: the force on the body after it, the frame's on the crank at A0,
+    the crank's on the coupler at A, the coupler's on the output at B or C, the frame's on the
+    output at B0 and the guide), to one scale: the largest a quarter of the linkage's span long;
+    and that largest force (N)."""
+    kind = linkage.kind
+    poses = [joint_positions(linkage, phi, branch) for phi in phis]
+    page = [project(kind, p) for pose in poses for p in pose.joints.values()]
+    span = max(max(p[i] for p in page) - min(p[i] for p in page) for i in (0, 1))
+    biggest = max((math.sqrt(dot(r.force, r.force)) for f in results
+                   for r in (f.joints or {}).values() if r.force is not None), default=0.0)
+    arrows: list[tuple[Stroke, ...]] = []
+    for pose, f in zip(poses, results):
+        strokes: list[Stroke] = []
+        for name, reaction in (f.joints or {}).items():
+            at = pose.joints.get("C" if name == "guide" else name)
+            if reaction.force is None or at is None or not biggest:
+                continue
+            tail = project(kind, at)
+            step = project(kind, cast(Vector, tuple(0.25 * span / biggest * x
+                                                    for x in reaction.force)))
+            length = math.hypot(*step)
+            if length < 1e-9 * span:
+                continue
+            tip = (tail[0] + step[0], tail[1] + step[1])
+            head = min(0.35 * length, 0.04 * span) / length
+            ux, uy = step[0] * head, step[1] * head
+            c, s = 0.906, 0.423                 # the head's sides 25 degrees off the shaft
+            strokes += [Stroke((tail, tip), "force"), Stroke((
+                (tip[0] - ux * c + uy * s, tip[1] - uy * c - ux * s), tip,
+                (tip[0] - ux * c - uy * s, tip[1] - uy * c + ux * s)), "force")]
+        arrows.append(tuple(strokes))
+    return arrows, biggest
+
+
 def scene_drawing(scene: Scene) -> Drawing:
     """A mechanism scene's drawing: the linkage at each of its angles on its first branch."""
     dims = " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in scene.dimensions.items())
     branch = scene.branches[0]
     assert isinstance(branch, int)      # load_scene: a mechanism scene draws branch 1 or 2
+    arrows: list[tuple[Stroke, ...]] = []
+    note = ""
+    if scene.dynamics is not None:
+        linkage, (bodies, effects, radius) = (Linkage(scene.kind, **scene.dimensions),
+                                              scene.dynamics)
+        arrows, biggest = force_arrows(linkage, scene.angles(), branch, forces(
+            linkage, scene.angles(), branch, bodies, effects, radius=radius))
+        note = f"; arrows: joint forces, the longest {biggest:.4g} N"
     try:
         drawing = mechanism_drawing(
             Linkage(scene.kind, **scene.dimensions), scene.angles(), branch,
@@ -10103,8 +10512,8 @@ def scene_drawing(scene: Scene) -> Drawing:
             f"({'A+B' if branch == 1 else 'A-B'})"
             + ("" if scene.coupler else "; positions by the accurate engine")
             + (f"; marked: {len(scene.marked)} positions, faint and numbered" if scene.marked
-               else ""),
-            scene.coupler, scene.branches[1:], scene.marked)
+               else "") + note,
+            scene.coupler, scene.branches[1:], scene.marked, extra=arrows)
     except ValueError as e:
         raise scene_error(scene.path, "dimensions", f"dimensions that can be drawn: {e}") \
             from None
@@ -10121,8 +10530,8 @@ def _toml_string(text: str) -> str:
 def scene_text(scene: Scene, comment: str = "") -> str:
     """A mechanism scene as the TOML that load_scene reads back into the same scene: the file
     a user can edit and run (`scene FILE`); `comment` (one line) heads it."""
-    if not scene.draws_mechanism:
-        raise ValueError("scene_text writes mechanism scenes")
+    if not scene.draws_mechanism or scene.dynamics is not None:
+        raise ValueError("scene_text writes mechanism scenes without [dynamics]")
 
     def numbers(values: Iterable[float]) -> str:
         return ", ".join(repr(float(v)) for v in values)
@@ -10882,11 +11291,11 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 11, 12, 13, 14, 18, 19 and 20.
+# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 11, 12, 13, 14, 18, 19 and 20.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
-#   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, FILES_TARGET,
-#   bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung, measure_accuracy,
-#   bench_accuracy, EXPLORE_TARGET, bench_explore, BENCHMARKS, machine.
+#   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, bench_forces,
+#   FILES_TARGET, bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung,
+#   measure_accuracy, bench_accuracy, EXPLORE_TARGET, bench_explore, BENCHMARKS, machine.
 
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
@@ -11234,6 +11643,27 @@ def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> No
         print(text, file=out)
 
 
+def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601) -> None:
+    """What the forces add to a sweep: forces() over the sweep alone, per kind.
+
+    The torque, every joint's reaction and the shaking at each angle of a sweep with velocity and
+    acceleration, each link a rod of 1 kg, at 100 rpm under gravity."""
+    if quick:
+        points = 37
+    angles, _ = _bench_angles(points)
+    bodies, effects = Bodies(Body(1.0), Body(1.0), Body(1.0)), Effects(100.0, gravity=9.80665)
+    print(f"{points:,} input angles, 0 to 360 degrees, branch 1, velocity and acceleration; "
+          "forces() (the sweep, then one linear system a position) over the sweep alone; best "
+          "of 3, one run", file=out)
+    print(f"{'linkage':12} {'sweep':>12} {'forces':>12} {'ratio':>7}", file=out)
+    for kind, dims in BENCH_LINKAGES:
+        linkage = Linkage(kind, **dims)
+        base = _best_of(3, lambda: linkage.sweep(angles))
+        with_forces = _best_of(3, lambda: forces(linkage, angles, 1, bodies, effects))
+        print(f"{kind:12} {len(angles) / base:10,.0f}/s {len(angles) / with_forces:10,.0f}/s "
+              f"{with_forces / base:6.1f}x", file=out)
+
+
 FILES_TARGET = 1_000_000   # points a second of CPU: run --precision double --fast, DAT and CSV
 
 
@@ -11522,8 +11952,8 @@ def bench_explore(out: TextIO, quick: bool = False) -> None:
 
 
 BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
-              "startup": bench_startup, "coupler": bench_coupler, "files": bench_files,
-              "accuracy": bench_accuracy, "explore": bench_explore}
+              "startup": bench_startup, "coupler": bench_coupler, "forces": bench_forces,
+              "files": bench_files, "accuracy": bench_accuracy, "explore": bench_explore}
 
 
 def machine() -> str:
@@ -11549,14 +11979,14 @@ def machine() -> str:
 # kinds, PNG sizes), one handler a sub-command, the design methods' help, and COMMANDS, the table of
 # every sub-command's help and options that build_parser turns into argparse; main() last.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14, 15, 17, 18, 19, 20 and 21.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 17, 18, 19, 20 and 21.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
 #   decimal_number, basic_answer, MADE_FOLDERS, output_folder, unmake_folders, run_command,
-#   CSV_CLIPPED, analyse_command, drawing_command, scene_command, plot_command, design_scene,
-#   design_command, ERRATUM, KEPT_BUG, SCAN_LINE, scan_lines, erratum_reason, kept_bug_lines,
-#   annotated_listing, listing_command, explore_command, bench_command, Option, option, Command,
-#   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, DATUM_FLAGS, DXF_HELP, PNG_OPTIONS, COMMANDS,
-#   CommandParser, build_parser, main.
+#   CSV_CLIPPED, analyse_command, forces_command, FORCES_OPTIONS, drawing_command, scene_command,
+#   plot_command, design_scene, design_command, ERRATUM, KEPT_BUG, SCAN_LINE, scan_lines,
+#   erratum_reason, kept_bug_lines, annotated_listing, listing_command, explore_command,
+#   bench_command, Option, option, Command, DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP,
+#   DATUM_FLAGS, DXF_HELP, PNG_OPTIONS, COMMANDS, CommandParser, build_parser, main.
 
 
 ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
@@ -12010,6 +12440,99 @@ def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
         return 0
     args.frames, args.text = None, False
     return drawing_command(args, lambda: analysis_drawing(analysis, coupler))
+
+
+def forces_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+    """`python3 linkage.py forces SCENE` (a scene with [dynamics]) or `forces KIND --a ...
+    --speed RPM ...`: what it takes to drive the linkage, one `name = value` a line
+    (forces_lines), for each of the scene's branches the engine computes."""
+    if not 0.0 < args.fluctuation < 2.0:
+        parser.error(f"--fluctuation {args.fluctuation:g}: expected a speed fluctuation Cs "
+                     "between 0 and 2 ((max - min) / mean speed, e.g. 0.05)")
+    kind = None
+    try:
+        kind = _kind_argument(args.target)
+    except argparse.ArgumentTypeError:
+        pass
+    options = {name: getattr(args, dest) for name, dest in FORCES_OPTIONS.items()
+               if getattr(args, dest) is not None}
+    sweep = {"--from": args.start, "--to": args.stop, "--step": args.step}
+    if kind is None:
+        given = sorted(f"--{n}" for n in DIMENSION_HELP if getattr(args, n) is not None)
+        given += [n for n, v in (*options.items(), *sweep.items(), ("--branch", args.branch))
+                  if v is not None]
+        if given:
+            parser.error(f"{' '.join(given)}: a scene gives its dimensions, sweep, branches "
+                         "and [dynamics]; these options go with a KIND")
+        try:
+            scene = load_scene(scene_path(args.target))
+        except SceneError as e:
+            return said(e, 1)
+        if scene.dynamics is None:
+            return said(f"{scene.path}: key 'dynamics' is missing: expected "
+                        f"{SCENE_KEYS['dynamics']}", 1)
+        branches = [b for b in scene.branches if "double" in scene.precisions]
+        speed = scene.dynamics.effects.speed_rpm
+    else:
+        args.kind = kind
+        needed = KIND_MENU[kind][1]
+        _check_dimensions(args, parser, needed)
+        try:
+            dims = {n: decimal_number(getattr(args, n), f"--{n}")
+                    for n in LINKAGE_DIMENSIONS[kind]}
+            numbers = {name: decimal_number(v, name) for name, v in options.items()}
+            start, stop, step = (decimal_number(v if v is not None else default, flag)
+                                 for (flag, v), default in zip(sweep.items(), ("0", "360", "1")))
+        except ValueError as e:
+            parser.error(str(e))
+        table: dict[str, Any] = {"speed": numbers.get("--speed", 0.0)}
+        for name, key in (("--gravity", "gravity"), ("--output-torque", "output_torque"),
+                          ("--output-force", "output_force"), ("--radius", "radius")):
+            if name in numbers:
+                table[key] = numbers[name]
+        output = "slider" if kind in SLIDER_CRANKS else "output"
+        for role, key in (("crank", "crank"), ("coupler", "coupler"), ("output", output)):
+            if f"--mass-{role}" in numbers:
+                table[key] = {"mass": numbers[f"--mass-{role}"]}
+        if step == 0 or (stop - start) / step < 0 or (stop - start) / step >= MAX_SCENE_POINTS:
+            parser.error(f"--step {step:g}: expected a step that goes from {start:g} to "
+                         f"{stop:g} in at most {MAX_SCENE_POINTS:,} points")
+        try:
+            Linkage(kind, **dims)
+            dynamics = scene_dynamics("the options", kind, dims, table)
+        except (SceneError, ValueError) as e:
+            named = re.fullmatch(r"the options: key 'dynamics\.(\w+)': expected (.*)", str(e))
+            if named is None:
+                return said(e, 1)
+            flag = next(f for f, dest in FORCES_OPTIONS.items()
+                        if dest in (named[1], "mass_" + named[1].replace("slider", "output")))
+            return said(f"{flag}: {named[2]}", 1)
+        branch = FOLLOW if args.branch == FOLLOW else int(args.branch or 1)
+        scene = Scene("the options", "", kind, dims, start, stop, step, (branch,), ("double",),
+                      (), dynamics=dynamics)
+        branches, speed = [branch], numbers.get("--speed", 0.0)
+    lines = [f"kind = {scene.kind}"]
+    lines += [f"{n} = {value_text(v)}" for n, v in scene.dimensions.items()]
+    lines += [f"speed = {value_text(speed)} rpm",
+              f"sweep = {value_text(scene.start)} to {value_text(scene.stop)} by "
+              f"{value_text(scene.step)}"]
+    for branch in branches:
+        results = scene_forces(scene, branch)
+        if all(r.status in (NOT_ASSEMBLED, INDETERMINATE, STOPPED) for r in results):
+            return said(f"{scene.path}: the {scene.kind} linkage assembles at none of "
+                        "the sweep's input angles", 1)
+        prefix = f"branch_{branch}." if len(branches) > 1 else ""
+        lines += [f"{prefix}branch = {branch}"] + forces_lines(results, speed,
+                                                               args.fluctuation, prefix)
+    sys.stdout.write("".join(line + "\n" for line in lines))
+    sys.stdout.flush()
+    return 0
+
+
+FORCES_OPTIONS = {"--speed": "speed", "--gravity": "gravity", "--radius": "radius",
+                  "--mass-crank": "mass_crank",
+                  "--mass-coupler": "mass_coupler", "--mass-output": "mass_output",
+                  "--output-torque": "output_torque", "--output-force": "output_force"}
 
 
 def _dat_names(count: int) -> str:
@@ -12635,6 +13158,52 @@ COMMANDS = {
          option("--dpi", type=_png_dpi, metavar="N", help="the PNG's dots an inch"),
          option("--size", type=_png_size, metavar="WxH", help="the PNG's size in pixels")),
         ("analyze",)),
+    "forces": Command(
+        forces_command, "what it takes to drive the linkage: torque, power, joint forces, "
+                        "shaking, flywheel",
+        "The forces along a sweep (SI units: lengths in metres, masses in kg; the spherical "
+        "four-bar's arcs in degrees on a sphere of the scene's radius, or --radius): the "
+        "driving torque T on the crank (N m) at its peak and RMS with their input angles, the "
+        "mean power (T omega, W; omega = 2 pi rpm / 60, rad/s), each joint's peak force (N; the"
+        " spherical four-bar's joints: their moment about the sphere's centre O, N m), the "
+        "frame's peak shaking force and moment, and the flywheel inertia (kg m^2) that holds "
+        "the speed within +-Cs/2 of its mean, Cs the speed fluctuation (max - min) / mean "
+        "(--fluctuation): the largest swing of the crank's energy over Cs omega^2, over a sweep"
+        " of one turn. Given a scene (data/scenes/forces-*.toml), its [dynamics] table; given a"
+        " KIND, its dimensions as for run and the options below, each link a uniform rod of its"
+        " mass. One `name = value` a line, as analyse prints.",
+        (option("target", metavar="SCENE|KIND",
+                help="a scene with [dynamics] (a file, or the name of one that comes with the "
+                     "program), or a kind: " + ", ".join(KIND_NAMES) + " (or 1-5)"),
+         *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
+         option("--speed", metavar="RPM",
+                help="a KIND: the crank's speed, revolutions a minute (default 0: static)"),
+         option("--mass-crank", metavar="KG", help="a KIND: the crank's mass, kg"),
+         option("--mass-coupler", metavar="KG", help="a KIND: the coupler's mass, kg"),
+         option("--mass-output", metavar="KG",
+                help="a KIND: the output crank's mass (a slider-crank: the slider's), kg"),
+         option("--gravity", metavar="G",
+                help="a KIND: gravity, m/s^2 along the kind's down (-y for the plane kinds, -z "
+                     "for the spatial ones), e.g. 9.80665 (default none)"),
+         option("--radius", metavar="M",
+                help="a KIND (spherical): the sphere's radius, metres (default 1)"),
+         option("--output-torque", metavar="N_M",
+                help="a KIND (four-bars): a load on the output about its axis, N m, in the "
+                     "sense of psi"),
+         option("--output-force", metavar="N",
+                help="a KIND (slider-cranks): a load on the slider along its guide, N, in the "
+                     "sense of x"),
+         option("--branch", choices=("1", "2", FOLLOW),
+                help="a KIND: the assembly, 1 (A+B, the default), 2 (A-B) or follow"),
+         option("--from", dest="start", metavar="P1",
+                help="a KIND: the first input angle, degrees (default 0)"),
+         option("--to", dest="stop", metavar="P2",
+                help="a KIND: the last input angle, degrees (default 360)"),
+         option("--step", metavar="INC",
+                help="a KIND: the step, degrees (default 1)"),
+         option("--fluctuation", type=float, default=0.05, metavar="CS",
+                help="the speed fluctuation Cs = (max - min) / mean speed the flywheel holds "
+                     "(default 0.05)"))),
     "scene": Command(
         scene_command, "draw a scene of data/scenes: the paper's figures, the hard cases, the "
                        "linkage moving",
@@ -12658,7 +13227,11 @@ COMMANDS = {
          option("--csv", metavar="OUT",
                 help="also write the scene's numbers as one CSV file: a header row series,phi,"
                      "output,velocity,acceleration,status and a row a point of each series, "
-                     "every point (one without a position: its status)"),
+                     "every point (one without a position: its status); a scene with "
+                     "[dynamics] adds torque (N m), power (W), shaking_fx .. shaking_fz (N), "
+                     "shaking_mx .. shaking_mz (N m), forces_status (unbounded where the "
+                     "forces are: their values nan) and each joint's force A0_fx .. (N) and "
+                     "moment A0_mx .. (N m) where it carries one"),
          option("--dir", metavar="DIR",
                 help="also keep the scene's DAT files, in DIR (without it none is written); a "
                      "scene that overlays several series writes one folder each"),

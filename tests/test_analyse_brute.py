@@ -487,13 +487,12 @@ def test_a_linkage_with_two_circuits_is_analysed_a_circuit_at_a_time(kind, dims,
 
 
 def test_the_skew_scenes_worst_transmission_angle():
-    """Issue 34: for the skew four-bar of data/scenes/coupler-skew-four-bar.toml the transmission
-    angle furthest from 90 degrees is mu = 133 at phi = 222.1 (43 from 90), not mu_min = 60.7:
-    against the engine's mu at every 0.01 degree (Linkage.transmission), refined every 1e-6
-    degree about the worst."""
-    scene = tomllib.loads((Path(linkage.__file__).parent / "data" / "scenes"
-                           / "coupler-skew-four-bar.toml").read_text(encoding="utf-8"))
-    link = linkage.Linkage(scene["mechanism"], **scene["dimensions"])
+    """Issue 34: for the skew four-bar a = 4, b = 1.5, c = 3, d = 3, f = 1, ksi = 40 the
+    transmission angle furthest from 90 degrees is mu = 141.6 at phi = 202.4 (51.6 from 90), not
+    mu_min = 50.1: against the engine's mu at every 0.01 degree (Linkage.transmission), refined
+    every 1e-6 degree about the worst. (Before issue 30 decided the skew kinds' mu by the forces,
+    coupler-skew-four-bar.toml's linkage was this case; its mu_min is now the worst.)"""
+    link = linkage.Linkage("skew", a=4, b=1.5, c=3, d=3, f=1, ksi=40)
     analysis = linkage.analyse(link, 1)
     phis = [0.01 * i for i in range(36000)]
     mus = link.transmission(phis, 1)
@@ -502,10 +501,10 @@ def test_the_skew_scenes_worst_transmission_angle():
     fine_mus = link.transmission(fine, 1)
     j = max(range(len(fine)), key=lambda k: abs(fine_mus[k] - 90.0))
     worst, at = fine_mus[j], fine[j]
-    assert worst == pytest.approx(133.0, abs=0.1) and at == pytest.approx(222.1, abs=0.05)
+    assert worst == pytest.approx(141.6, abs=0.1) and at == pytest.approx(202.4, abs=0.05)
     got = analysis.mu_worst
     assert abs(got.value - worst) <= 1e-9 and abs(got.phi - at) <= 1e-4, (got, worst, at)
-    assert got != analysis.mu_min and analysis.mu_min.value == pytest.approx(60.7, abs=0.05)
+    assert got != analysis.mu_min and analysis.mu_min.value == pytest.approx(50.1, abs=0.05)
     values = dict(line.split(" = ", 1) for line in linkage.analysis_lines(analysis))
     assert float(values["mu_worst"]) == pytest.approx(worst, abs=1e-7)
     assert float(values["mu_worst_deviation"]) == pytest.approx(worst - 90.0, abs=1e-7)

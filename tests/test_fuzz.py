@@ -191,6 +191,23 @@ def analyse_argv(draw):
 
 
 @st.composite
+def forces_argv(draw):
+    """forces SCENE or forces KIND with dimensions and the dynamics' options, good and bad."""
+    if draw(st.booleans()):
+        return ["forces", draw(st.sampled_from(["forces-plane", "forces-spherical", "fig3",
+                                                "nosuch", "forces", ""]))] + draw(
+            st.sampled_from([[], ["--fluctuation", "0.1"], ["--speed", "10"], ["--step", "5"]]))
+    argv = ["forces", draw(st.sampled_from(MECHANISMS))]
+    for name in draw(st.lists(st.sampled_from(["a", "b", "c", "d", "e", "f", "ksi"]), max_size=7)):
+        argv += [f"--{name}", draw(st.sampled_from(VALUES))]
+    for option in draw(st.lists(st.sampled_from(
+            ["--speed", "--gravity", "--radius", "--mass-crank", "--mass-coupler", "--mass-output",
+             "--output-torque", "--output-force", "--step", "--fluctuation"]), max_size=4)):
+        argv += [option, draw(st.sampled_from(VALUES))]
+    return argv
+
+
+@st.composite
 def other_argv(draw):
     command = draw(st.sampled_from(["bench", "listing", "x", "--help", "--version", "-v", ""]))
     argv = [command]
@@ -234,7 +251,8 @@ def _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang):
 # N new command lines of each).
 COMMAND_LINES = {"run": (run_argv(), 400), "design": (design_argv(), 250),
                  "scene": (scene_argv(), 150), "plot": (plot_argv(), 100),
-                 "analyse": (analyse_argv(), 150), "other": (other_argv(), 50)}
+                 "analyse": (analyse_argv(), 150), "forces": (forces_argv(), 150),
+                 "other": (other_argv(), 50)}
 
 
 @pytest.mark.parametrize("command", list(COMMAND_LINES))

@@ -533,6 +533,7 @@ def test_an_output_that_is_no_regular_file_is_written_through(tmp_path):
 
 @pytest.mark.parametrize("argv", [
     ["analyse", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9"],
+    ["forces", "{scenes}/forces-plane-crank-rocker.toml"],
     ["scene", "{scenes}/fig3-plane-four-bar.toml"],
     ["scene", "{scenes}/fig1a-plane-four-bar.toml", "--frames", "2"],
     ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--analyze"],

@@ -46,7 +46,8 @@ COMMANDS = readme_commands(README)
 
 def test_the_readme_shows_the_commands_of_every_sub_command():
     shown = {c.split()[2] if len(c.split()) > 2 else "" for c in COMMANDS}
-    assert {"", "run", "analyse", "scene", "plot", "design", "listing", "bench"} <= shown, shown
+    assert {"", "run", "analyse", "scene", "plot", "design", "listing", "bench",
+            "forces"} <= shown, shown
 
 
 @pytest.mark.parametrize("command", COMMANDS)

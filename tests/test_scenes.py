@@ -183,8 +183,8 @@ def test_the_figure_is_labelled(drawn):
     """Title with the branch and the precision; each panel names its quantities with units; the
     x axis is the input angle in degrees."""
     scene, text, _, _, _ = drawn
-    head = " ".join(text.splitlines()[:3])
-    assert re.search(r"branch(es)? 1 \(A\+B\)|branch(es)? 2 \(A-B\)", head)
+    head = " ".join(" ".join(text.splitlines()[:3]).split())      # a wrapped line rejoined
+    assert re.search(r"branch(es)? 1 \(A\+B\)|branch(es)? 2 \(A-B\)|branch follow \(the", head)
     assert {"basic": "precision basic", "double": "precision double"}[scene.precisions[0]] in head
     headers = [line for line in text.splitlines() if re.match(r"\([abc]\) ", line)]
     assert len(headers) == len(scene.panels)
@@ -192,7 +192,8 @@ def test_the_figure_is_labelled(drawn):
     units = {"displacement": "[length]" if slider else "[deg]",
              "velocity": "[length/rad]" if slider else "[rad/rad]",
              "acceleration": "[length/rad^2]" if slider else "[rad/rad^2]",
-             "transmission": "mu [deg]"}
+             "transmission": "mu [deg]", "torque": "T [N m]", "shaking": "|F| [N]",
+             "joint_forces": "against"}
     for header, panel in zip(headers, scene.panels):
         for quantity in panel.quantities:
             assert units[quantity] in header, header
