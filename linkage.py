@@ -5483,7 +5483,7 @@ def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
 #
 # Uses: sections 2, 6, 7 and 10.
 # Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, Driver, Spring, Torsion, SimRow, SimEvent,
-#   Simulation, simulate.
+#   Simulation, Reduced, reduced, simulate.
 
 
 REST = "rest"                        # SimEvent.kind: every point at rest (q_dot = 0)
@@ -5585,10 +5585,9 @@ class Simulation(NamedTuple):
 
 class _View(NamedTuple):
     """The linkage as the run solves it in one coordinate: the closure whose input angle is q,
-    the bodies and effects forces() is given, and how its frame maps to the linkage's."""
+    its bodies, and how its frame maps to the linkage's."""
     closure: Closure
     bodies: Bodies
-    effects: Effects            # gravity only
     swapped: bool               # the inverse four-bar: q = psi + pi, its output phi + pi
     gravity: Vector
     names: dict[str, str]       # the linkage's joint names as this view's
@@ -5634,14 +5633,10 @@ def _less(p: Sequence[float], q: Sequence[float]) -> Vector:
     return p[0] - q[0], p[1] - q[1], p[2] - q[2]
 
 
-def _rpm(omega: float) -> float:
-    return omega * 60.0 / (2.0 * math.pi)
-
-
 def _views(linkage: Closure, bodies: Bodies, gravity: Vector) -> tuple[_View, ...]:
     """The linkage as itself and (plane four-bar) as its inverse, turned half a turn."""
     same = {n: n for n in ("A0", "A", "B", "B0", "C")}
-    own = _View(linkage, bodies, Effects(gravity=gravity), False, gravity, same,
+    own = _View(linkage, bodies, False, gravity, same,
                 lambda p: (float(p[0]), float(p[1]), 0.0), joint_positions(linkage, 0.0).joints)
     if linkage.kind != PLANE_FOUR_BAR:
         return (own,)
@@ -5652,8 +5647,7 @@ def _views(linkage: Closure, bodies: Bodies, gravity: Vector) -> tuple[_View, ..
         coupler = coupler._replace(centre=(abs(c) - u, -v))
     turned = (-gravity[0], -gravity[1], gravity[2])
     closure = Closure(PLANE_FOUR_BAR, a=a, b=d, c=c, d=b)
-    inverse = _View(closure, Bodies(bodies.output, coupler, bodies.crank), Effects(gravity=turned),
-                    True, turned, {"A0": "B0", "B0": "A0", "A": "B", "B": "A"},
+    inverse = _View(closure, Bodies(bodies.output, coupler, bodies.crank), True, turned, {"A0": "B0", "B0": "A0", "A": "B", "B": "A"},
                     lambda p: (a - float(p[0]), -float(p[1]), 0.0),
                     joint_positions(closure, 0.0).joints)
     return own, inverse
@@ -5688,6 +5682,105 @@ def _root(view: _View, q: float, near: tuple[float, float, float, float] | None,
     return None if best is None else best[1:]
 
 
+class Reduced(NamedTuple):
+    """The linkage's dynamics reduced to its input angle phi (radians): the reduced inertia J
+    (kg m^2; the kinetic energy is 1/2 J phi_dot^2), dJ/dphi, gravity's generalised force
+    Q = -dV/dphi (N m) and potential V (J)."""
+    inertia: float
+    slope: float
+    gravity_force: float
+    potential: float
+
+
+def reduced(linkage: Closure, phi: float, branch: int | str = 1, bodies: Bodies = Bodies(),
+            gravity: float | Sequence[float] | None = None) -> Reduced | None:
+    """J, dJ/dphi, gravity's generalised force and potential at input angle phi (degrees) of a
+    plane kind (see the section's notes; bodies and gravity as forces'); None where there is no
+    velocity (no position, a dead centre, a change point)."""
+    if linkage.kind not in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
+        raise ValueError("reduced takes the plane kinds (plane four-bar, plane slider-crank)")
+    m = linkage.motion(phi, branch)
+    g = _gravity(gravity)
+    view = _views(linkage, bodies, g)[0]
+    return None if m.velocity is None else _reduced(view, m)
+
+
+def _gravity(gravity: float | Sequence[float] | None) -> Vector:
+    if gravity is None:
+        return (0.0, 0.0, 0.0)
+    if isinstance(gravity, (int, float)):
+        return (0.0, -_number(gravity, "gravity"), 0.0)
+    g = _numbers(gravity, 3, "gravity (gx, gy, gz)")
+    if g[2]:
+        raise ValueError("the plane kinds are simulated in their plane: gravity must have no z "
+                         "component")
+    return g[0], g[1], 0.0
+
+
+def _reduced(view: _View, m: Motion) -> Reduced:
+    """Reduced at the engine's position m (with its derivatives) in `view`: each body's centre
+    and angle, and their first and second derivatives by q, by the chain rule from the pins'
+    (a body of a mass only is a uniform rod, as forces' bodies; the plane's inertia about z)."""
+    assert m.output is not None and m.velocity is not None and m.acceleration is not None
+    y1, y2 = m.velocity, m.acceleration
+    closure = view.closure
+    dims = pin_dimensions(closure.dims)
+    a = PINS[closure.kind].crank_pin(dims, *cos_sin_degrees(m.phi))
+    out = output_pin_at(closure, dims, m.output, cos_sin_degrees)
+    p = (out[0], _mix((y1, out[1])), _mix((y1 * y1, out[2]), (y2, out[1])))
+    g = view.gravity
+    crank, coupler, output = view.bodies
+    inertia = slope = force = potential = 0.0
+
+    def body(mass: float, moment: float, centre: Sequence[Vector], turn: tuple[float, float]
+             ) -> None:
+        """Add a body of `mass` and `moment` about its centre (position, d/dq, d2/dq2) turning
+        at turn = (theta', theta'')."""
+        nonlocal inertia, slope, force, potential
+        inertia += mass * dot(centre[1], centre[1]) + moment * turn[0] ** 2
+        slope += 2.0 * (mass * dot(centre[1], centre[2]) + moment * turn[0] * turn[1])
+        force += mass * dot(g, centre[1])
+        potential -= mass * dot(g, centre[0])
+
+    length = math.sqrt(dot(a[0], a[0]))
+    r, moment = _mass_of(crank, length)
+    body(crank.mass, moment, [_mix((r / length, x)) for x in a], (1.0, 0.0))
+    along = [_less(x, z) for x, z in zip(p, a)]
+    span = dot(along[0], along[0])
+    e = _mix((1.0 / math.sqrt(span), along[0]))
+    n = (-e[1], e[0], 0.0)
+    w1 = cross(along[0], along[1])[2] / span
+    w2 = cross(along[0], along[2])[2] / span
+    if coupler.centre is None:
+        u, v, moment = 0.5 * math.sqrt(span), 0.0, coupler.mass * span / 12.0
+    else:
+        u, v = cast(Sequence[float], coupler.centre)
+        moment = float(cast(float, coupler.inertia))
+    side = _mix((u, n), (-v, e))                 # d(u e + v n)/dtheta
+    body(coupler.mass, moment,
+         (_mix((1.0, a[0]), (u, e), (v, n)), _mix((1.0, a[1]), (w1, side)),
+          _mix((1.0, a[2]), (w2, side), (-w1 * w1 * u, e), (-w1 * w1 * v, n))), (w1, w2))
+    if closure.is_slider:
+        body(output.mass, 0.0, (_mix((1.0, p[0]), (float(cast(float, output.centre or 0.0)),
+                                                     (1.0, 0.0, 0.0))), p[1], p[2]), (0.0, 0.0))
+    else:
+        pivot = view.ground["B0"]
+        arm = _less(p[0], pivot)
+        length = math.sqrt(dot(arm, arm))
+        r, moment = _mass_of(output, length)
+        body(output.mass, moment, (_mix((1.0, pivot), (r / length, arm)),
+                                   _mix((r / length, p[1])), _mix((r / length, p[2]))), (y1, y2))
+    return Reduced(inertia, slope, force, potential)
+
+
+def _mass_of(body: Body, length: float) -> tuple[float, float]:
+    """A crank's centre (its distance from the pivot toward the pin) and moment of inertia
+    about it: as given, or a uniform rod's of `length`."""
+    if body.centre is None:
+        return 0.5 * length, body.mass * length * length / 12.0
+    return float(cast(float, body.centre)), float(cast(float, body.inertia))
+
+
 def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, float, float, float]
         | None, label: int) -> _Point | None:
     """The state (q, rate) in `view`, or None where it cannot be evaluated."""
@@ -5698,11 +5791,8 @@ def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, floa
     assert m.velocity is not None and m.acceleration is not None
     y1, y2 = m.velocity, m.acceleration
     closure, swapped = view.closure, view.swapped
-    inertia = forces(closure, [m.phi], branch, view.bodies,
-                     Effects(crank_acceleration=1.0))[0].torque
-    rest = forces(closure, [m.phi], branch, view.bodies,
-                  view.effects._replace(speed_rpm=_rpm(rate)))[0].torque
-    if inertia is None or rest is None or not inertia > 0.0:
+    dynamics = _reduced(view, m)
+    if not dynamics.inertia > 0.0:
         return None
     # the linkage's angles by q: the crank's phi and the output's psi (or x)
     phi, phi1 = (y - math.pi, y1) if swapped else (q, 1.0)
@@ -5714,13 +5804,13 @@ def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, floa
     still = (0.0, 0.0, 0.0)
     points = {name: (at, still) for name, at in view.ground.items()}
     points.update({"A": (crank[0], crank[1]), pins.output_joint: (out[0], _mix((y1, out[1])))})
-    applied = 0.0                   # the generalised force by q (gravity's aside)
-    potential = 0.0
+    applied = dynamics.gravity_force - 0.5 * dynamics.slope * rate * rate
+    potential = dynamics.potential
     omega = phi1 * rate
     driver = run.driver
     torque = driver.torque
     if driver.free_speed_rpm:
-        torque += driver.stall_torque * (1.0 - omega / (driver.free_speed_rpm * 2 * math.pi / 60))
+        torque += driver.stall_torque * (1.0 - omega * 30.0 / math.pi / driver.free_speed_rpm)
     free = torque * phi1 + run.output_torque * psi1 + run.output_force * psi1
     for t in run.torsions:
         angle, angle1 = (phi, phi1) if t.pivot == "A0" else (psi, psi1)
@@ -5729,8 +5819,7 @@ def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, floa
         free -= t.damping * angle1 * angle1 * rate
     for s in run.springs:
         (pa, va), (pb, vb) = (points[view.names[p]] if isinstance(p, str)
-                              else (view.frame(p), (0.0, 0.0, 0.0))
-                              for p in (s.point_a, s.point_b))
+                              else (view.frame(p), still) for p in (s.point_a, s.point_b))
         gap = _less(pa, pb)
         length = math.sqrt(dot(gap, gap))
         stretch = length - s.free_length
@@ -5744,43 +5833,10 @@ def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, floa
         point = coupler_of(closure, [m], u, v)[0].velocity
         assert point is not None
         free += dot(f, point)
-    # gravity's potential from the bodies' centres (forces' frames, section 10)
-    a_pin, p_pin = crank[0], out[0]
-    g = view.gravity
-    for body, centre in _centres(view, a_pin, p_pin, points):
-        potential -= body.mass * dot(g, centre)
     applied += free
-    energy = 0.5 * inertia * rate * rate + potential
-    return _Point(q, rate, y, y1, y2, branch, inertia, (applied - rest) / inertia, energy,
-                  free * rate)
-
-
-def _centres(view: _View, a: Vector, p: Vector, points: dict[str, tuple[Vector, Vector]]
-             ) -> Iterator[tuple[Body, Vector]]:
-    """Each body with its centre of mass (forces' frames: a body of a mass only is a rod)."""
-    crank, coupler, output = view.bodies
-    along = _less(p, a)
-    length = math.sqrt(dot(along, along))
-    if crank.centre is None:
-        yield crank, _mix((0.5, a))
-    else:
-        yield crank, _mix((cast(float, crank.centre) / math.sqrt(dot(a, a)), a))
-    if coupler.centre is None:
-        yield coupler, _mix((0.5, a), (0.5, p))
-    else:
-        u, v = cast(Sequence[float], coupler.centre)
-        e = _mix((1.0 / length, along))
-        yield coupler, _mix((1.0, a), (u, e), (v, (-e[1], e[0], 0.0)))
-    if view.closure.is_slider:
-        yield output, _mix((1.0, p), (float(cast(float, output.centre or 0.0)), (1.0, 0.0, 0.0)))
-        return
-    pivot = points["B0"][0]
-    arm = _less(p, pivot)
-    if output.centre is None:
-        yield output, _mix((0.5, pivot), (0.5, p))
-    else:
-        yield output, _mix((1.0, pivot), (cast(float, output.centre) / math.sqrt(dot(arm, arm)),
-                                          arm))
+    energy = 0.5 * dynamics.inertia * rate * rate + potential
+    return _Point(q, rate, y, y1, y2, branch, dynamics.inertia, applied / dynamics.inertia,
+                  energy, free * rate)
 
 
 _Phase: TypeAlias = tuple[float, float, float]         # q, q_dot and the work W
@@ -5931,30 +5987,26 @@ def simulate(linkage: Closure, bodies: Bodies, effects: Effects = Effects(), *,
                              f"not {tz.pivot!r}")
         for value, what in zip(tz[1:], ("stiffness", "free angle", "damping")):
             _number(value, f"a torsion's {what}")
-    probe = forces(linkage, [angle], branch, bodies, effects)[0]     # checks bodies, effects
-    gravity: Vector = (0.0, 0.0, 0.0)
-    if effects.gravity is not None:
-        gravity = ((0.0, -float(cast(float, effects.gravity)), 0.0)
-                   if isinstance(effects.gravity, (int, float))
-                   else cast(Vector, tuple(float(g) for g in effects.gravity)))
+    forces(linkage, [angle], branch, bodies, effects)        # its ValueError: bodies, effects
     load = None
     if effects.coupler_force is not None:
         at, f = effects.coupler_force
         load = ((float(at[0]), float(at[1])), cast(Vector, tuple(float(x) for x in f)))
-    run = _Model(linkage, _views(linkage, bodies, gravity), driver, tuple(springs),
+    run = _Model(linkage, _views(linkage, bodies, _gravity(effects.gravity)), driver, tuple(springs),
                tuple(torsions), float(effects.output_torque), float(effects.output_force), load)
     view = run.views[0]
-    start = _root(view, angle * RAD, None, branch)
-    if start is None or probe.status not in (ASSEMBLED, CHANGE_POINT, UNBOUNDED):
+    start = linkage.motion(angle, branch)
+    if start.status == DEAD_CENTRE:
+        raise ValueError(f"the initial angle {angle:g} degrees is a dead centre of the input: "
+                         "start beside it")
+    if start.velocity is None:
         raise ValueError(f"the linkage does not assemble at the initial angle {angle:g} "
                          f"degrees on branch {branch}")
-    inertia = forces(linkage, [angle], branch, bodies, Effects(crank_acceleration=1.0))[0].torque
-    if inertia is None or not inertia > 0.0:
+    if not _reduced(view, start).inertia > 0.0:
         raise ValueError("the reduced inertia at the initial angle is zero: give the crank, "
-                         "coupler or output a mass (or the initial angle is a dead centre)")
+                         "coupler or output a mass")
     first = _at(run, view, angle * RAD, omega, None, branch)
-    if first is None:
-        raise ValueError(f"the motion cannot start at {angle:g} degrees (a dead centre)")
+    assert first is not None            # it assembles and J > 0
     return _integrate(run, first, time, step, tolerance, target, stop_at_rest)
 
 
