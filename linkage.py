@@ -25,11 +25,12 @@ them): 1. files, messages and the terminal (the one writer of files, say, signal
 precision; 4. the listing's computation; 5. the original program (screen, keys, INPUT, the menu
 session); 6. the accurate engine (the closure solved, swept and followed); 7. what the engine
 derives (joints, coupler point, transmission angle); 8. the linkage analysed (analyse);
-9. the numpy path; 10. forces (driving torque, joint reactions, shaking); 11. the linkage
-(Linkage, a method for each question); 12. DAT and CSV files; 13. the mechanism drawn; 14. the
-mechanism's renderers (terminal, SVG, PNG); 15. synthesis: what a design is; 16. synthesis: the
-review's methods; 17. synthesis: designs measured and checked; 18. scenes; 19. plots;
-20. benchmarks of the program itself; 21. the command line, last. The engine, the view and
+9. the numpy path; 10. forces (driving torque, joint reactions, shaking); 11. simulation (the
+motion in time under forces, through dead centres and change points); 12. the linkage
+(Linkage, a method for each question); 13. DAT and CSV files; 14. the mechanism drawn; 15. the
+mechanism's renderers (terminal, SVG, PNG); 16. synthesis: what a design is; 17. synthesis: the
+review's methods; 18. synthesis: designs measured and checked; 19. scenes; 20. plots;
+21. benchmarks of the program itself; 22. the command line, last. The engine, the view and
 synthesis never use the original program.
 """
 
