@@ -5446,16 +5446,19 @@ def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
 #
 #   J(q) q_ddot + 1/2 J'(q) q_dot^2 = Q(q, q_dot, t),   J = sum m |G'|^2 + I theta'^2,
 #
-# the reduced inertia J and its derivative J' the same bodies' (and frames') as forces(): the
-# torque forces() finds is affine in the crank's acceleration, T(phi, omega, alpha) = J alpha +
-# 1/2 J' omega^2 - Q_gravity, so one call at alpha = 1 without speed or gravity gives J, and one
-# at the speed without acceleration gives the rest, each from the engine's exact psi, psi' and
-# psi''. The other generalised forces come by virtual work, each force times its point's (each
-# torque times its body's angle's) derivative by q: the driver's torque on the crank (a given
-# torque, or a motor line T_stall (1 - omega / omega_free)), the output's torque or the slider's
-# force, a force at a coupler point, linear springs between two named points (Spring: the joints
-# A0, A, B, B0, C or a point of the frame (x, y)) and torsional springs and dampers at a pivot
-# (Torsion: A0 about the crank's angle, B0 about the output's).
+# J the reduced inertia, with the same bodies (and frames) as forces(): reduced() sums each body's
+# centre velocity G' and angular rate theta' per unit q_dot, and their derivatives by q, by the
+# chain rule from the pins' exact derivatives and the engine's psi' and psi''. The torque
+# forces() finds is affine in the crank's acceleration and quadratic in its speed, T(phi, omega,
+# alpha) = J alpha + 1/2 J' omega^2 - Q_gravity, so forces() at alpha = 1 gives J, at a speed
+# gives J', and under gravity alone gives Q_gravity: tests/test_simulate.py holds reduced() to it
+# (two forces() calls an evaluation would cost 3.5 to 7 times as much). The other generalised
+# forces come by virtual work, each force times its point's (each torque times its body's
+# angle's) derivative by q: the driver's torque on the crank (a given torque, or a motor line
+# T_stall (1 - omega / omega_free)), the output's torque or the slider's force, a force at a
+# coupler point, linear springs between two named points (Spring: the joints A0, A, B, B0, C or a
+# point of the frame (x, y)) and torsional springs and dampers at a pivot (Torsion: A0 about the
+# crank's angle, B0 about the output's).
 #
 # The coordinate: the crank's angle phi, except near a dead centre of the input (the crank stops
 # and turns back: psi' = d psi / d phi is infinite there, and J with it). There the plane four-bar
@@ -5471,13 +5474,13 @@ def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
 # The integrator: Dormand and Prince's embedded Runge-Kutta 5(4) with its 4th-order dense output
 # (Hairer, Norsett and Wanner, Solving ODE I, II.5 and II.6), on (q, q_dot, W), W the work of the
 # driver, the loads and the dampers, the error of q held to `tolerance` radians and q_dot's to
-# `tolerance` of its size (at least 1/s) each step. Events, located on the dense output to 1e-12
-# s: the input's dead centre (phi_dot changes sign while psi_dot does not), a change point (the
-# engine's labels of the followed branch swap), rest (q_dot = 0: every point stops), an angle
-# reached (until_angle). A step whose evaluation fails (no position, forces unbounded, J = 0) is
-# retried at a quarter of its length. The total energy E = 1/2 J q_dot^2 + potential of gravity
-# and springs, from the positions, is written along the run with W: E - W stays E(0) to the
-# tolerance, a check (Simulation.energy_error), not an assumption.
+# `tolerance` of its size (at least 1/s) each step. Events, located on the dense output by bisection
+# to 2^-60 of a step: the input's dead centre (phi_dot changes sign while psi_dot does not), a
+# change point (the engine's labels of the followed branch swap), rest (q_dot = 0: every point
+# stops), an angle reached (until_angle). A step whose evaluation fails (no position, J = 0) is
+# retried at a quarter of its length. The total energy E = 1/2 J q_dot^2 + potential of gravity and
+# springs, from the positions, is written along the run with W: E - W stays E(0) to the tolerance, a
+# check (Simulation.energy_error), not an assumption.
 #
 # The plane kinds only (plane four-bar, plane slider-crank; the slider-crank in phi only), SI
 # units as the forces section's.
@@ -5549,8 +5552,8 @@ class Torsion(NamedTuple):
 class SimRow(NamedTuple):
     """One instant of a run: t (s), the crank's phi (degrees, unwrapped), omega (rad/s) and
     alpha (rad/s^2); the output (degrees unwrapped, or the slider's x in m) and its rate and
-    acceleration (per s); the total energy (J), the work W done on it so far (J), and the
-    coordinate it was computed in ("input" phi, or "output" psi)."""
+    acceleration (rad/s and rad/s^2, or m/s and m/s^2); the total energy (J), the work W done
+    on it so far (J), and the coordinate it was computed in ("input" phi, or "output" psi)."""
     t: float
     phi: float
     omega: float
@@ -5648,7 +5651,8 @@ def _views(linkage: Closure, bodies: Bodies, gravity: Vector) -> tuple[_View, ..
         coupler = coupler._replace(centre=(abs(c) - u, -v))
     turned = (-gravity[0], -gravity[1], gravity[2])
     closure = Closure(PLANE_FOUR_BAR, a=a, b=d, c=c, d=b)
-    inverse = _View(closure, Bodies(bodies.output, coupler, bodies.crank), True, turned, {"A0": "B0", "B0": "A0", "A": "B", "B": "A"},
+    inverse = _View(closure, Bodies(bodies.output, coupler, bodies.crank), True, turned,
+                    {"A0": "B0", "B0": "A0", "A": "B", "B": "A"},
                     lambda p: (a - float(p[0]), -float(p[1]), 0.0),
                     joint_positions(closure, 0.0).joints)
     return own, inverse
@@ -5693,13 +5697,15 @@ class Reduced(NamedTuple):
     potential: float
 
 
-def reduced(linkage: Closure, phi: float, branch: int | str = 1, bodies: Bodies = Bodies(),
+def reduced(linkage: Closure, phi: float, branch: int = 1, bodies: Bodies = Bodies(),
             gravity: float | Sequence[float] | None = None) -> Reduced | None:
-    """J, dJ/dphi, gravity's generalised force and potential at input angle phi (degrees) of a
-    plane kind (see the section's notes; bodies and gravity as forces'); None where there is no
-    velocity (no position, a dead centre, a change point)."""
+    """J, dJ/dphi, gravity's generalised force and potential at input angle phi (degrees) on
+    the listing's `branch` of a plane kind (see the section's notes; bodies and gravity as
+    forces'; at a change point the branch's limits); None where there is no velocity (no
+    position, a dead centre)."""
     if linkage.kind not in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
         raise ValueError("reduced takes the plane kinds (plane four-bar, plane slider-crank)")
+    forces(linkage, [], branch, bodies, Effects(gravity=gravity))   # its ValueError: the bodies
     m = linkage.motion(phi, branch)
     g = _gravity(gravity)
     view = _views(linkage, bodies, g)[0]
@@ -5889,9 +5895,8 @@ def _row(view: _View, t: float, p: _Point) -> SimRow:
         phi, phi1, phi2, psi, psi1, psi2 = p.q, 1.0, 0.0, p.other, p.other1, p.other2
     r, a = p.rate, p.acceleration
     return SimRow(t, phi * DEG, phi1 * r, phi1 * a + phi2 * r * r,
-                  psi if view.closure.is_slider else psi * DEG,
-                  psi1 * r if view.closure.is_slider else psi1 * r * DEG,
-                  (psi1 * a + psi2 * r * r) * (1.0 if view.closure.is_slider else DEG), p.energy, 0.0, "output" if view.swapped else "input")
+                  psi if view.closure.is_slider else psi * DEG, psi1 * r, psi1 * a + psi2 * r * r,
+                  p.energy, 0.0, "output" if view.swapped else "input")
 
 
 def _bisected(within: Callable[[float], bool]) -> float:
@@ -5988,13 +5993,14 @@ def simulate(linkage: Closure, bodies: Bodies, effects: Effects = Effects(), *,
                              f"not {tz.pivot!r}")
         for value, what in zip(tz[1:], ("stiffness", "free angle", "damping")):
             _number(value, f"a torsion's {what}")
-    forces(linkage, [angle], branch, bodies, effects)        # its ValueError: bodies, effects
+    forces(linkage, [], branch, bodies, effects)      # its ValueError: the bodies, the effects
     load = None
     if effects.coupler_force is not None:
         at, f = effects.coupler_force
         load = ((float(at[0]), float(at[1])), cast(Vector, tuple(float(x) for x in f)))
-    run = _Model(linkage, _views(linkage, bodies, _gravity(effects.gravity)), driver, tuple(springs),
-               tuple(torsions), float(effects.output_torque), float(effects.output_force), load)
+    run = _Model(linkage, _views(linkage, bodies, _gravity(effects.gravity)), driver,
+                 tuple(springs), tuple(torsions), float(effects.output_torque),
+                 float(effects.output_force), load)
     view = run.views[0]
     start = linkage.motion(angle, branch)
     if start.status == DEAD_CENTRE:
@@ -10352,10 +10358,10 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 7, 9, 12, 13, 14, 15, 19 and 20.
+# Uses: sections 1, 2, 3, 4, 5, 7, 9, 10, 11, 12, 13, 14, 15, 19 and 20.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
 #   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, FILES_TARGET,
-#   bench_files, BENCHMARKS, ELSEWHERE, machine.
+#   bench_files, SIMULATION_TOLERANCES, bench_simulate, BENCHMARKS, ELSEWHERE, machine.
 
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
@@ -10745,8 +10751,54 @@ def bench_files(out: TextIO, quick: bool = False) -> None:
               f"{'met' if rate >= FILES_TARGET else 'NOT MET'}, {rate:,.0f}", file=out)
 
 
+SIMULATION_TOLERANCES = (1e-6, 1e-8, 1e-10, 1e-12)
+
+
+def bench_simulate(out: TextIO, quick: bool = False) -> None:
+    """simulate's cost: steps a second, as the tolerance falls, and a motor's run-up.
+
+    The double-rocker released from rest at 320 degrees swings across its input's dead centres
+    (the energy's error beside each tolerance); the crank-rocker runs up from rest."""
+    seconds, run_up = (2.0, 5.0) if quick else (20.0, 600.0)
+    tolerances = SIMULATION_TOLERANCES[1:3] if quick else SIMULATION_TOLERANCES
+    rods = Bodies(Body(1.0), Body(0.5), Body(1.0))
+    rocker = Linkage(PLANE_FOUR_BAR, a=3.0, b=2.5, c=1.0, d=2.0)
+    print(f"the double-rocker a=3 b=2.5 c=1 d=2, 1/0.5/1 kg rods, g = 9.81, released at 320 "
+          f"degrees on branch 1, {seconds:g} s simulated (about {seconds / 1.9:.0f} swings, "
+          "each across two dead centres); one core", file=out)
+    print(f"{'tolerance':>10} {'steps':>8} {'rejected':>9} {'evaluations':>12} {'CPU s':>8} "
+          f"{'steps/s':>9} {'energy error / E':>17}", file=out)
+    for tolerance in tolerances:
+        cpu, sim = _cpu_timed(lambda: simulate(
+            rocker, rods, Effects(gravity=9.81), initial=(320.0, 0.0), time=seconds,
+            step=seconds, tolerance=tolerance, branch=1))
+        drift = sim.energy_error / abs(sim.rows[0].energy)
+        print(f"{tolerance:10.0e} {sim.steps:8,} {sim.rejected:9,} {sim.evaluations:12,} "
+              f"{cpu:8.2f} {sim.steps / cpu:9,.0f} {drift:17.2e}", file=out)
+    crank_rocker = Linkage(PLANE_FOUR_BAR, a=4.0, b=1.0, c=4.0, d=3.0)
+    motor = Driver(stall_torque=40.0, free_speed_rpm=120.0)
+    cpu, sim = _cpu_timed(lambda: simulate(
+        crank_rocker, Bodies(Body(2.0), Body(3.0), Body(2.5)), Effects(gravity=9.81),
+        driver=motor, initial=(0.0, 0.0), time=run_up, step=run_up / 10.0, tolerance=1e-8))
+    last = sim.rows[-1]
+    balance = abs(last.energy - sim.rows[0].energy - last.work) / last.work
+    print(f"a motor's run-up (40 N m stall, 120 rpm free) of the crank-rocker a=4 b=1 c=4 d=3 "
+          f"with 2/3/2.5 kg rods, {run_up:g} s simulated at tolerance 1e-8: "
+          f"{last.phi / 360.0:,.0f} turns, {sim.steps:,} steps in {cpu:.2f} s CPU "
+          f"({sim.steps / cpu:,.0f} steps/s), |E - E(0) - W| / W = {balance:.1e}", file=out)
+
+
+def _cpu_timed(function: Callable[[], Simulation]) -> tuple[float, Simulation]:
+    """The process's CPU time of one call, and its result."""
+    import time
+    start = time.process_time()
+    result = function()
+    return time.process_time() - start, result
+
+
 BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
-              "startup": bench_startup, "coupler": bench_coupler, "files": bench_files}
+              "startup": bench_startup, "coupler": bench_coupler, "files": bench_files,
+              "simulate": bench_simulate}
 ELSEWHERE = {"accuracy": "PYTHONPATH=tests python3 -m support.bench_accuracy (it measures "
                          "with the tests' "
                          "instruments: the 50-digit mpmath reference, the listing in double, "
