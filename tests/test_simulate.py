@@ -91,7 +91,8 @@ def test_energy_kept_across_dead_centres_with_springs():
     at A0: no driver, no damping, the total energy stays."""
     sim = simulate(Linkage("plane", **DOUBLE_ROCKER), RODS, Effects(gravity=G),
                    springs=[Spring("B", (3.0, 3.0), 40.0, 1.0)],
-                   torsions=[Torsion("A0", 3.0, 320.0)], initial=(320.0, 0.0), time=3.0,
+                   torsions=[Torsion("A0", 3.0, 320.0), Torsion("B0", 2.0, -120.0)],
+                   initial=(320.0, 0.0), time=3.0,
                    step=0.01, tolerance=1e-9, branch=1)
     assert len(events(sim, linkage.DEAD_CENTRE)) >= 2
     assert len(events(sim, linkage.COORDINATE)) >= 4
@@ -116,8 +117,10 @@ def test_energy_kept_over_ten_thousand_periods():
     assert len(events(sim, linkage.DEAD_CENTRE)) >= 2 * 10 ** 4 - 2
 
 
-def test_motor_work_equals_the_energy_gained():
-    lk = Linkage("plane", **CRANK_ROCKER)
+@pytest.mark.parametrize("kind, dims", [("plane", CRANK_ROCKER),
+                                        ("slider", dict(b=1.0, c=3.0, e=0.5))])
+def test_motor_work_equals_the_energy_gained(kind, dims):
+    lk = Linkage(kind, **dims)
     bodies = Bodies(Body(2.0), Body(3.0), Body(2.5))
     motor = Driver(stall_torque=40.0, free_speed_rpm=120.0)
     sim = simulate(lk, bodies, Effects(gravity=G), driver=motor, initial=(0.0, 0.0), time=4.0,
@@ -132,6 +135,17 @@ def test_motor_work_equals_the_energy_gained():
     last = [r for r in sim.rows if r.t >= 3.0]
     mean = (last[-1].phi - last[0].phi) / (last[-1].t - last[0].t) * math.pi / 180.0
     assert 0.5 * 4.0 * math.pi < mean < 4.0 * math.pi
+
+
+def test_a_run_ends_where_the_crank_reaches_until_angle():
+    lk = Linkage("plane", **CRANK_ROCKER)
+    sim = simulate(lk, RODS, Effects(gravity=G), driver=Driver(torque=30.0),
+                   initial=(0.0, 0.0), time=10.0, step=0.01, tolerance=1e-10, until_angle=720.0)
+    (reached,) = events(sim, linkage.ANGLE_REACHED)
+    assert abs(reached.phi - 720.0) < 1e-9 and abs(sim.rows[-1].phi - 720.0) < 1e-9
+    assert sim.rows[-1].t == reached.t < 10.0
+    # a constant torque's work is the torque times the angle turned
+    assert abs(sim.rows[-1].work - 30.0 * 4.0 * math.pi) < 1e-7
 
 
 # -- the rhombus through its change points ---------------------------------------------------------
