@@ -5482,8 +5482,9 @@ def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
 # springs, from the positions, is written along the run with W: E - W stays E(0) to the tolerance, a
 # check (Simulation.energy_error), not an assumption.
 #
-# The plane kinds only (plane four-bar, plane slider-crank; the slider-crank in phi only), SI
-# units as the forces section's.
+# The plane kinds only (plane four-bar, plane slider-crank), SI units as the forces section's. The
+# slider-crank is solved in phi alone: a rocking crank's run ends (STUCK) where |x'| passes 100
+# times the crank's length, its input's dead centre ahead, where phi cannot turn back.
 #
 # Uses: sections 2, 6, 7 and 10.
 # Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, Driver, Spring, Torsion, SimRow, SimEvent,
@@ -5496,6 +5497,9 @@ COORDINATE = "coordinate"            # the run changed its coordinate (text: to 
 STUCK = "stuck"                      # no step could be taken: the run ends
 END = "end"                          # the run's time is over
 _SWITCH_ABOVE = 2.0                  # |d other / d q| over which the coordinate changes
+_ALONE_ABOVE = 20.0                 # |x'| over the crank's length where a slider-crank's run
+#                                      ends, its input's dead centre ahead (in phi alone, the
+#                                      crank could not turn back there)
 _SHORTEST = 1e-13                    # a step shorter than this (times 1 + t) fails: STUCK
 _LONGEST_RUN = 1e7                   # seconds: a longer run is refused
 _ROWS_AT_MOST = 1_000_000            # rows a run may write (time / step)
@@ -6116,6 +6120,12 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
                 t, y, p = t + h, new, p1
                 worst = max(worst, abs(p.energy - y[2] - energy0))
                 h *= min(5.0, max(0.2, 0.9 * max(error, 1e-10) ** -0.2))
+                if len(run.views) == 1 and abs(p.other1) > _ALONE_ABOVE * abs(
+                        run.linkage.dims["b"]):
+                    events.append(SimEvent(t, STUCK, phi_of(view, p), "the input's dead centre "
+                                           "is ahead, and the slider-crank has no other "
+                                           "coordinate there yet: the run ends"))
+                    break
                 if len(run.views) > 1 and abs(p.other1) > _SWITCH_ABOVE:
                     index, moved = _switched(run, index, p)
                     if moved is None:
@@ -6132,8 +6142,8 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
             break
     else:
         events.append(SimEvent(t, END, phi_of(view, p), "the run's time is over"))
-        if rows[-1].t < t:
-            rows.append(_row(view, t, p)._replace(work=y[2]))
+    if rows[-1].t < t:
+        rows.append(_row(view, t, p)._replace(work=y[2]))
     return Simulation(rows, events, steps, rejected, evaluations, worst)
 
 

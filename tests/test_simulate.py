@@ -284,6 +284,20 @@ def check_dead_centre(dims, sim, psi0, times):
     assert {r.coordinate for r in rows} == {"input", "output"}
 
 
+def test_a_rocking_slider_crank_ends_before_its_input_dead_centre():
+    """The slider-crank is solved in phi alone: a crank that cannot turn (b > c, e = 0: it
+    stops where sin phi = -c / b) ends its run, said, before the dead centre, the energy kept."""
+    b, c = 2.0, 1.5
+    lk = Linkage("slider", b=b, c=c, e=0.0)
+    sim = simulate(lk, Bodies(Body(1.0), Body(1.0), Body(1.0)), Effects(gravity=G),
+                   initial=(30.0, 0.0), time=3.0, step=0.1, tolerance=1e-10)
+    dead = -math.degrees(math.asin(c / b))
+    assert [e.kind for e in sim.events] == [linkage.STUCK]
+    assert dead < sim.events[0].phi < dead + 0.1
+    assert sim.rows[-1].t == sim.events[0].t < 3.0
+    assert energy_drift(sim) < 1e-7
+
+
 # -- reduced() against forces(): T(phi, omega, alpha) = J alpha + 1/2 J' omega^2 - Q ---------------
 
 @settings(max_examples=40, deadline=None)
