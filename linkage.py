@@ -5500,6 +5500,7 @@ _SWITCH_ABOVE = 2.0                  # |d other / d q| over which the coordinate
 _ALONE_ABOVE = 20.0                 # |x'| over the crank's length where a slider-crank's run
 #                                      ends, its input's dead centre ahead (in phi alone, the
 #                                      crank could not turn back there)
+_CRAWL, _CRAWL_STEPS = 1e-9, 10_000  # so many steps in a row, each under this of the run: STUCK
 _SHORTEST = 1e-13                    # a step shorter than this (times 1 + t) fails: STUCK
 _LONGEST_RUN = 1e7                   # seconds: a longer run is refused
 _ROWS_AT_MOST = 1_000_000            # rows a run may write (time / step)
@@ -6049,7 +6050,7 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
     rows = [_row(view, 0.0, first)]
     next_row = 1
     h = min(time, 0.01 / max(1.0, abs(first.rate)), step)
-    steps = rejected = 0
+    steps = rejected = crawl = 0
     evaluations = 1
     worst = 0.0
     while t < time:
@@ -6139,6 +6140,11 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
                                            else "the crank's angle"))
         if h < _SHORTEST * (1.0 + t):
             events.append(SimEvent(t, STUCK, phi_of(view, p), "no step could be taken"))
+            break
+        crawl = crawl + 1 if h < _CRAWL * time else 0
+        if crawl > _CRAWL_STEPS:
+            events.append(SimEvent(t, STUCK, phi_of(view, p), f"{_CRAWL_STEPS:,} steps in a "
+                                   f"row each under {_CRAWL:g} of the run: it stalls"))
             break
     else:
         events.append(SimEvent(t, END, phi_of(view, p), "the run's time is over"))
