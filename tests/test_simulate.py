@@ -1,8 +1,8 @@
 """linkage.simulate held to physics, never to its own formulas: the crank alone is a physical
 pendulum (its period at 150 degrees against the complete elliptic integral, a small swing's
 against 2 pi sqrt(I / m g d)); a damped torsion against the damped oscillator's closed form; the
-energy kept (the double-rocker across its dead centres, with springs), and a motor's work against
-the energy gained; the rhombus through its change points against the pendulum it reduces to
+energy kept (the double-rocker across its dead centres, with springs), a motor's and a coupler
+force's work against the energy gained and the point moved; the rhombus through its change points against the pendulum it reduces to
 (Jacobi's sn); the double-rocker released from rest across its input's dead centre against the
 motion written in the output's angle from energy alone (a quadrature in mpmath on positions this
 file solves); reduced() against forces() (the torque is affine in the acceleration); bad input."""
@@ -146,6 +146,32 @@ def test_a_run_ends_where_the_crank_reaches_until_angle():
     assert sim.rows[-1].t == reached.t < 10.0
     # a constant torque's work is the torque times the angle turned
     assert abs(sim.rows[-1].work - 30.0 * 4.0 * math.pi) < 1e-7
+
+
+def test_a_coupler_force_does_the_work_of_its_point_moved():
+    """A constant force F at the coupler point (u, v) does the work F . (P(t) - P(0)), P placed
+    here from each row's phi and output (P = A + u e + v n), across the changes of coordinate
+    (where the force and its point are turned with the inverse four-bar)."""
+    a, b, c, d = (DOUBLE_ROCKER[k] for k in "abcd")
+    (u, v), force = (0.4, 0.3), (2.0, -20.0, 0.0)
+    sim = simulate(Linkage("plane", **DOUBLE_ROCKER), RODS,
+                   Effects(coupler_force=((u, v), force)), initial=(320.0, 0.0), time=2.0,
+                   step=0.05, tolerance=1e-10, branch=1)
+
+    def point(r):
+        phi, psi = math.radians(r.phi), math.radians(r.output)
+        pa = (b * math.cos(phi), b * math.sin(phi))
+        pb = (a + d * math.cos(psi), d * math.sin(psi))
+        e = ((pb[0] - pa[0]) / c, (pb[1] - pa[1]) / c)
+        return pa[0] + u * e[0] - v * e[1], pa[1] + u * e[1] + v * e[0]
+
+    p0 = point(sim.rows[0])
+    assert {r.coordinate for r in sim.rows} == {"input", "output"}
+    for r in sim.rows:
+        p = point(r)
+        work = force[0] * (p[0] - p0[0]) + force[1] * (p[1] - p0[1])
+        assert abs(r.work - work) < 1e-8, (r, work)
+        assert abs(r.energy - r.work - sim.rows[0].energy) < 1e-8
 
 
 # -- the rhombus through its change points ---------------------------------------------------------
