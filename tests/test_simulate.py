@@ -1,12 +1,12 @@
-"""linkage.simulate held to physics, never to its own formulas: the crank alone is a physical pendulum
-(its period at 150 degrees against the complete elliptic integral, a small swing's against 2 pi
-sqrt(I / m g d)); a damped torsion against the damped oscillator's closed form; the energy kept
+"""linkage.simulate held to physics, never to its own formulas: the crank alone is a physical
+pendulum (its period at 150 degrees against the complete elliptic integral, a small swing's against
+2 pi sqrt(I / m g d)); a damped torsion against the damped oscillator's closed form; the energy kept
 (the double-rocker across its dead centres, with springs), a motor's and a coupler force's work
 against the energy gained and the point moved; the rhombus through its change points against the
 pendulum it reduces to (Jacobi's sn); the double-rocker released from rest across its input's dead
-centre against the motion written in the output's angle from energy alone (a quadrature in mpmath
-on positions this file solves); reduced() against forces() (the torque is affine in the
-acceleration); bad input."""
+centre against the motion written in the output's angle from energy alone (a quadrature in mpmath on
+positions this file solves); reduced() against forces() (the torque is affine in the acceleration);
+bad input."""
 
 from __future__ import annotations
 
