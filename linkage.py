@@ -6148,7 +6148,7 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
             break
     else:
         events.append(SimEvent(t, END, phi_of(view, p), "the run's time is over"))
-    if rows[-1].t < t:
+    if t - rows[-1].t > 1e-9 * step:        # the last state, unless a row is there already
         rows.append(_row(view, t, p)._replace(work=y[2]))
     return Simulation(rows, events, steps, rejected, evaluations, worst)
 
