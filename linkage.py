@@ -26,12 +26,13 @@ them): 1. files, messages and the terminal (the one writer of files, say, signal
 precision; 4. the listing's computation; 5. the original program (screen, keys, INPUT, the menu
 session); 6. the accurate engine (the closure solved, swept and followed); 7. what the engine
 derives (joints, coupler point, transmission angle); 8. the linkage analysed (analyse);
-9. the numpy path; 10. forces (driving torque, joint reactions, shaking); 11. the linkage
-(Linkage, a method for each question); 12. DAT and CSV files; 13. the mechanism drawn; 14. the
-mechanism's renderers (terminal, SVG, PNG, DXF); 15. synthesis: what a design is; 16. synthesis:
-the review's methods; 17. synthesis: designs measured and checked; 18. scenes; 19. plots;
-20. the explorer (a dimension changed, the linkage watched in the terminal); 21. benchmarks of
-the program itself; 22. the command line, last. The engine, the view and
+9. the numpy path; 10. forces (driving torque, joint reactions, shaking); 11. simulation (the
+motion in time under forces, through dead centres and change points); 12. the linkage
+(Linkage, a method for each question); 13. DAT and CSV files; 14. the mechanism drawn; 15. the
+mechanism's renderers (terminal, SVG, PNG, DXF); 16. synthesis: what a design is; 17. synthesis:
+the review's methods; 18. synthesis: designs measured and checked; 19. scenes; 20. plots;
+21. the explorer (a dimension changed, the linkage watched in the terminal); 22. benchmarks of
+the program itself; 23. the command line, last. The engine, the view and
 synthesis never use the original program.
 """
 
@@ -5704,7 +5705,721 @@ def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
     return [f"{prefix}{name} = {value}" for name, value in rows]
 
 
-# ---- 11. The linkage: one class for all that can be asked of it ----------------------------------
+# ---- 11. Simulation: the motion in time under the scene's effects --------------------------------
+#
+# The linkage has one degree of freedom; in a coordinate q (an angle, radians) every point moves
+# with X'(q) q_dot, and Lagrange's equation is
+#
+#   J(q) q_ddot + 1/2 J'(q) q_dot^2 = Q(q, q_dot, t),   J = sum m |G'|^2 + I theta'^2,
+#
+# J the reduced inertia, with the same bodies (and frames) as forces(): reduced() sums each body's
+# centre velocity G' and angular rate theta' per unit q_dot, and their derivatives by q, by the
+# chain rule from the pins' exact derivatives and the engine's psi' and psi''. The torque
+# forces() finds is affine in the crank's acceleration and quadratic in its speed, T(phi, omega,
+# alpha) = J alpha + 1/2 J' omega^2 - Q_gravity, so forces() at alpha = 1 gives J, at a speed
+# gives J', and under gravity alone gives Q_gravity: tests/test_simulate.py holds reduced() to it
+# (two forces() calls an evaluation would cost 3.5 to 7 times as much). The other generalised
+# forces come by virtual work, each force times its point's (each torque times its body's
+# angle's) derivative by q: the driver's torque on the crank (a given torque, or a motor line
+# T_stall (1 - omega / omega_free)), the output's torque or the slider's force, a force at a
+# coupler point, linear springs between two named points (Spring: the joints A0, A, B, B0, C or a
+# point of the frame (x, y)) and torsional springs and dampers at a pivot (Torsion: A0 about the
+# crank's angle, B0 about the output's).
+#
+# The coordinate: the crank's angle phi, except near a dead centre of the input (the crank stops
+# and turns back: psi' = d psi / d phi is infinite there, and J with it). There the plane four-bar
+# is solved as its inverse, the four-bar with input and output swapped: the plane turned half a
+# turn about the frame line's middle maps A0 to B0, its input angle is psi + 180 degrees and its
+# output phi + 180, gravity and the coupler's frame turned with it; its crank is the output body.
+# The run changes to the other coordinate after a step whose end has |d other / d q| > 2, so the
+# new coordinate's is under 1/2 and the change cannot flap. At each evaluation the output (or phi)
+# is the engine's root nearest the prediction (output, velocity) from the step's start by Taylor,
+# so that at a change point the motion keeps to the branch it follows (as sweep's "follow"),
+# never jumping: the branches cross there with different velocities.
+#
+# The integrator: Dormand and Prince's embedded Runge-Kutta 5(4) with its 4th-order dense output
+# (Hairer, Norsett and Wanner, Solving ODE I, II.5 and II.6), on (q, q_dot, W), W the work of the
+# driver, the loads and the dampers, the error of q held to `tolerance` radians and q_dot's to
+# `tolerance` of its size (at least 1/s) each step. Events, located on the dense output by bisection
+# to 2^-60 of a step: the input's dead centre (phi_dot changes sign while psi_dot does not), a
+# change point (the engine's labels of the followed branch swap), rest (q_dot = 0: every point
+# stops), an angle reached (until_angle). A step whose evaluation fails (no position, J = 0) is
+# retried at a quarter of its length. The total energy E = 1/2 J q_dot^2 + potential of gravity and
+# springs, from the positions, is written along the run with W: E - W stays E(0) to the tolerance, a
+# check (Simulation.energy_error), not an assumption.
+#
+# The plane kinds only (plane four-bar, plane slider-crank), SI units as the forces section's. The
+# slider-crank is solved in phi alone: a rocking crank's run ends (STUCK) where |x'| passes 100
+# times the crank's length, its input's dead centre ahead, where phi cannot turn back.
+#
+# Uses: sections 2, 6, 7 and 10.
+# Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, Driver, Spring, Torsion, SimRow, SimEvent,
+#   Simulation, Reduced, reduced, simulate.
+
+
+REST = "rest"                        # SimEvent.kind: every point at rest (q_dot = 0)
+ANGLE_REACHED = "angle"              # the crank reached until_angle: the run ends
+COORDINATE = "coordinate"            # the run changed its coordinate (text: to which)
+STUCK = "stuck"                      # no step could be taken: the run ends
+END = "end"                          # the run's time is over
+_SWITCH_ABOVE = 2.0                  # |d other / d q| over which the coordinate changes
+_ALONE_ABOVE = 20.0                 # |x'| over the crank's length where a slider-crank's run
+#                                      ends, its input's dead centre ahead (in phi alone, the
+#                                      crank could not turn back there)
+_CRAWL, _CRAWL_STEPS = 1e-9, 10_000  # so many steps in a row, each under this of the run: STUCK
+_SHORTEST = 1e-13                    # a step shorter than this (times 1 + t) fails: STUCK
+_LONGEST_RUN = 1e7                   # seconds: a longer run is refused
+_ROWS_AT_MOST = 1_000_000            # rows a run may write (time / step)
+_EVENT_DIGITS = 60                   # bisections that place an event (to 2^-60 of a step)
+
+# Dormand-Prince 5(4): nodes, the stages' coefficients, the 5th-order weights, the error's
+# weights (5th less 4th order), and the dense output's polynomials in theta (rows by stage).
+_DP_C = (0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0, 1.0)
+_DP_A = ((), (1 / 5,), (3 / 40, 9 / 40), (44 / 45, -56 / 15, 32 / 9),
+         (19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729),
+         (9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656),
+         (35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84))
+_DP_E = (71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40)
+_DP_DENSE = ((1.0, -8048581381 / 2820520608, 8663915743 / 2820520608,
+              -12715105075 / 11282082432),
+             (0.0, 0.0, 0.0, 0.0),
+             (0.0, 131558114200 / 32700410799, -68118460800 / 10900136933,
+              87487479700 / 32700410799),
+             (0.0, -1754552775 / 470086768, 14199869525 / 1410260304,
+              -10690763975 / 1880347072),
+             (0.0, 127303824393 / 49829197408, -318862633887 / 49829197408,
+              701980252875 / 199316789632),
+             (0.0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844),
+             (0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423))
+
+
+class Driver(NamedTuple):
+    """What drives the crank: a torque (N m, in the sense of phi), and a motor line that adds
+    stall_torque (1 - omega / omega_free) (N m; free_speed_rpm 0: no motor line)."""
+    torque: float = 0.0
+    stall_torque: float = 0.0
+    free_speed_rpm: float = 0.0
+
+
+class Spring(NamedTuple):
+    """A linear spring between two points, each a joint's name (A0, A, B, B0; C the slider) or a
+    point (x, y) of the frame (m): stiffness (N/m), free length (m)."""
+    point_a: str | tuple[float, float]
+    point_b: str | tuple[float, float]
+    stiffness: float
+    free_length: float
+
+
+class Torsion(NamedTuple):
+    """A torsional spring and damper at a pivot: A0 on the crank's angle phi, B0 on the output's
+    psi: the torque -stiffness (angle - free_angle) - damping angle_rate (N m/rad, degrees,
+    N m s/rad)."""
+    pivot: str
+    stiffness: float = 0.0
+    free_angle: float = 0.0
+    damping: float = 0.0
+
+
+class SimRow(NamedTuple):
+    """One instant of a run: t (s), the crank's phi (degrees, unwrapped), omega (rad/s) and
+    alpha (rad/s^2); the output (degrees unwrapped, or the slider's x in m) and its rate and
+    acceleration (rad/s and rad/s^2, or m/s and m/s^2); the total energy (J), the work W done
+    on it so far (J), and the coordinate it was computed in ("input" phi, or "output" psi)."""
+    t: float
+    phi: float
+    omega: float
+    alpha: float
+    output: float
+    output_rate: float
+    output_acceleration: float
+    energy: float
+    work: float
+    coordinate: str
+
+
+class SimEvent(NamedTuple):
+    """What happened at time t (s) with the crank at phi (degrees): kind DEAD_CENTRE,
+    CHANGE_POINT, REST, ANGLE_REACHED, COORDINATE, STUCK or END; text says more."""
+    t: float
+    kind: str
+    phi: float
+    text: str
+
+
+class Simulation(NamedTuple):
+    """A run: its rows (every `step` seconds and at each event), its events, the steps taken
+    and rejected, the model's evaluations, and energy_error: the largest |E - W - E(0)| along
+    the accepted steps (J)."""
+    rows: list[SimRow]
+    events: list[SimEvent]
+    steps: int
+    rejected: int
+    evaluations: int
+    energy_error: float
+
+
+class _View(NamedTuple):
+    """The linkage as the run solves it in one coordinate: the closure whose input angle is q,
+    its bodies, and how its frame maps to the linkage's."""
+    closure: Closure
+    bodies: Bodies
+    swapped: bool               # the inverse four-bar: q = psi + pi, its output phi + pi
+    gravity: Vector
+    names: dict[str, str]       # the linkage's joint names as this view's
+    frame: Callable[[Sequence[float]], Vector]     # a point of the linkage's frame in the view's
+    ground: dict[str, Vector]   # the view's fixed joints
+
+
+class _Point(NamedTuple):
+    """The state at one instant in a view: q, q_dot, the other angle (radians unwrapped, or the
+    slider's x) and its derivatives by q, its engine label, J, q_ddot, the energy and the power
+    of the non-conservative forces."""
+    q: float
+    rate: float
+    other: float
+    other1: float
+    other2: float
+    label: int
+    inertia: float
+    acceleration: float
+    energy: float
+    power: float
+
+
+class _Model(NamedTuple):
+    """What a run keeps fixed: the linkage, its two views, the bodies' centres, the loads."""
+    linkage: Closure
+    views: tuple[_View, ...]
+    driver: Driver
+    springs: tuple[Spring, ...]
+    torsions: tuple[Torsion, ...]
+    output_torque: float
+    output_force: float
+    coupler_force: tuple[tuple[float, float], Vector] | None
+
+
+def _mix(*terms: tuple[float, Sequence[float]]) -> Vector:
+    """The sum of (coefficient, 3-vector) terms."""
+    return (sum(k * v[0] for k, v in terms), sum(k * v[1] for k, v in terms),
+            sum(k * v[2] for k, v in terms))
+
+
+def _less(p: Sequence[float], q: Sequence[float]) -> Vector:
+    return p[0] - q[0], p[1] - q[1], p[2] - q[2]
+
+
+def _views(linkage: Closure, bodies: Bodies, gravity: Vector) -> tuple[_View, ...]:
+    """The linkage as itself and (plane four-bar) as its inverse, turned half a turn."""
+    same = {n: n for n in ("A0", "A", "B", "B0", "C")}
+    own = _View(linkage, bodies, False, gravity, same,
+                lambda p: (float(p[0]), float(p[1]), 0.0), joint_positions(linkage, 0.0).joints)
+    if linkage.kind != PLANE_FOUR_BAR:
+        return (own,)
+    a, b, c, d = (linkage.dims[n] for n in "abcd")
+    coupler = bodies.coupler
+    if coupler.centre is not None:
+        u, v = cast(Sequence[float], coupler.centre)
+        coupler = coupler._replace(centre=(abs(c) - u, -v))
+    turned = (-gravity[0], -gravity[1], gravity[2])
+    closure = Closure(PLANE_FOUR_BAR, a=a, b=d, c=c, d=b)
+    inverse = _View(closure, Bodies(bodies.output, coupler, bodies.crank), True, turned,
+                    {"A0": "B0", "B0": "A0", "A": "B", "B": "A"},
+                    lambda p: (a - float(p[0]), -float(p[1]), 0.0),
+                    joint_positions(closure, 0.0).joints)
+    return own, inverse
+
+
+def _root(view: _View, q: float, near: tuple[float, float, float, float] | None,
+          label: int) -> tuple[Motion, float, int] | None:
+    """The engine's position at q on the branch the motion follows: the root nearest the
+    prediction from near = (q0, other, other', other'') (None: the branch `label`); with the
+    other coordinate unwrapped (radians, or the slider's x) and its label. None where the
+    linkage does not assemble (or its output is free)."""
+    closure = view.closure
+    best = None
+    for branch in (1, 2):
+        if near is None and branch != label:
+            continue
+        m = closure.motion(q * DEG, branch)
+        if m.status not in (ASSEMBLED, CHANGE_POINT) or m.output is None:
+            continue
+        assert m.velocity is not None and m.acceleration is not None
+        if near is None:
+            y = m.output if closure.is_slider else m.output * RAD
+            return m, y, branch
+        q0, y0, v0, a0 = near
+        h = q - q0
+        guess, slope = y0 + h * v0 + 0.5 * h * h * a0, v0 + h * a0
+        y = m.output if closure.is_slider else guess + math.remainder(m.output * RAD - guess,
+                                                                      2.0 * math.pi)
+        misfit = abs(y - guess) + abs(h) * abs(m.velocity - slope)
+        if best is None or misfit < best[0]:
+            best = (misfit, m, y, branch)
+    return None if best is None else best[1:]
+
+
+class Reduced(NamedTuple):
+    """The linkage's dynamics reduced to its input angle phi (radians): the reduced inertia J
+    (kg m^2; the kinetic energy is 1/2 J phi_dot^2), dJ/dphi, gravity's generalised force
+    Q = -dV/dphi (N m) and potential V (J)."""
+    inertia: float
+    slope: float
+    gravity_force: float
+    potential: float
+
+
+def reduced(linkage: Closure, phi: float, branch: int = 1, bodies: Bodies = Bodies(),
+            gravity: float | Sequence[float] | None = None) -> Reduced | None:
+    """J, dJ/dphi, gravity's generalised force and potential at input angle phi (degrees) on
+    the listing's `branch` of a plane kind (see the section's notes; bodies and gravity as
+    forces'; at a change point the branch's limits); None where there is no velocity (no
+    position, a dead centre)."""
+    if linkage.kind not in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
+        raise ValueError("reduced takes the plane kinds (plane four-bar, plane slider-crank)")
+    forces(linkage, [], branch, bodies, Effects(gravity=gravity))   # its ValueError: the bodies
+    m = linkage.motion(phi, branch)
+    g = _gravity(gravity)
+    view = _views(linkage, bodies, g)[0]
+    return None if m.velocity is None else _reduced_at(view, m)
+
+
+def _gravity(gravity: float | Sequence[float] | None) -> Vector:
+    if gravity is None:
+        return (0.0, 0.0, 0.0)
+    if isinstance(gravity, (int, float)):
+        return (0.0, -_finite_number(gravity, "gravity"), 0.0)
+    g = _finite_numbers(gravity, 3, "gravity (gx, gy, gz)")
+    if g[2]:
+        raise ValueError("the plane kinds are simulated in their plane: gravity must have no z "
+                         "component")
+    return g[0], g[1], 0.0
+
+
+def _reduced_at(view: _View, m: Motion) -> Reduced:
+    """Reduced at the engine's position m (with its derivatives) in `view`: each body's centre
+    and angle, and their first and second derivatives by q, by the chain rule from the pins'
+    (a body of a mass only is a uniform rod, as forces' bodies; the plane's inertia about z)."""
+    assert m.output is not None and m.velocity is not None and m.acceleration is not None
+    y1, y2 = m.velocity, m.acceleration
+    closure = view.closure
+    dims = pin_dimensions(closure.dims)
+    a = PINS[closure.kind].crank_pin(dims, *cos_sin_degrees(m.phi))
+    out = output_pin_at(closure, dims, m.output, cos_sin_degrees)
+    p = (out[0], _mix((y1, out[1])), _mix((y1 * y1, out[2]), (y2, out[1])))
+    g = view.gravity
+    crank, coupler, output = view.bodies
+    inertia = slope = force = potential = 0.0
+
+    def body(mass: float, moment: float, centre: Sequence[Vector], turn: tuple[float, float]
+             ) -> None:
+        """Add a body of `mass` and `moment` about its centre (position, d/dq, d2/dq2) turning
+        at turn = (theta', theta'')."""
+        nonlocal inertia, slope, force, potential
+        inertia += mass * dot(centre[1], centre[1]) + moment * turn[0] ** 2
+        slope += 2.0 * (mass * dot(centre[1], centre[2]) + moment * turn[0] * turn[1])
+        force += mass * dot(g, centre[1])
+        potential -= mass * dot(g, centre[0])
+
+    length = math.sqrt(dot(a[0], a[0]))
+    r, moment = _mass_of(crank, length)
+    body(crank.mass, moment, [_mix((r / length, x)) for x in a], (1.0, 0.0))
+    along = [_less(x, z) for x, z in zip(p, a)]
+    span = dot(along[0], along[0])
+    e = _mix((1.0 / math.sqrt(span), along[0]))
+    n = (-e[1], e[0], 0.0)
+    w1 = cross(along[0], along[1])[2] / span
+    w2 = cross(along[0], along[2])[2] / span
+    if coupler.centre is None:
+        u, v, moment = 0.5 * math.sqrt(span), 0.0, coupler.mass * span / 12.0
+    else:
+        u, v = cast(Sequence[float], coupler.centre)
+        moment = float(cast(float, coupler.inertia))
+    side = _mix((u, n), (-v, e))                 # d(u e + v n)/dtheta
+    body(coupler.mass, moment,
+         (_mix((1.0, a[0]), (u, e), (v, n)), _mix((1.0, a[1]), (w1, side)),
+          _mix((1.0, a[2]), (w2, side), (-w1 * w1 * u, e), (-w1 * w1 * v, n))), (w1, w2))
+    if closure.is_slider:
+        body(output.mass, 0.0, (_mix((1.0, p[0]), (float(cast(float, output.centre or 0.0)),
+                                                     (1.0, 0.0, 0.0))), p[1], p[2]), (0.0, 0.0))
+    else:
+        pivot = view.ground["B0"]
+        arm = _less(p[0], pivot)
+        length = math.sqrt(dot(arm, arm))
+        r, moment = _mass_of(output, length)
+        body(output.mass, moment, (_mix((1.0, pivot), (r / length, arm)),
+                                   _mix((r / length, p[1])), _mix((r / length, p[2]))), (y1, y2))
+    return Reduced(inertia, slope, force, potential)
+
+
+def _mass_of(body: Body, length: float) -> tuple[float, float]:
+    """A crank's centre (its distance from the pivot toward the pin) and moment of inertia
+    about it: as given, or a uniform rod's of `length`."""
+    if body.centre is None:
+        return 0.5 * length, body.mass * length * length / 12.0
+    return float(cast(float, body.centre)), float(cast(float, body.inertia))
+
+
+def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, float, float, float]
+        | None, label: int) -> _Point | None:
+    """The state (q, rate) in `view`, or None where it cannot be evaluated."""
+    found = _root(view, q, near, label)
+    if found is None:
+        return None
+    m, y, branch = found
+    assert m.velocity is not None and m.acceleration is not None
+    y1, y2 = m.velocity, m.acceleration
+    closure, swapped = view.closure, view.swapped
+    dynamics = _reduced_at(view, m)
+    if not dynamics.inertia > 0.0:
+        return None
+    # the linkage's angles by q: the crank's phi and the output's psi (or x)
+    phi, phi1 = (y - math.pi, y1) if swapped else (q, 1.0)
+    psi, psi1 = (q - math.pi, 1.0) if swapped else (y, y1)
+    dims = pin_dimensions(closure.dims)
+    pins = PINS[closure.kind]
+    crank = pins.crank_pin(dims, *cos_sin_degrees(m.phi))
+    out = output_pin_at(closure, dims, cast(float, m.output), cos_sin_degrees)
+    still = (0.0, 0.0, 0.0)
+    points = {name: (at, still) for name, at in view.ground.items()}
+    points.update({"A": (crank[0], crank[1]), pins.output_joint: (out[0], _mix((y1, out[1])))})
+    applied = dynamics.gravity_force - 0.5 * dynamics.slope * rate * rate
+    potential = dynamics.potential
+    omega = phi1 * rate
+    driver = run.driver
+    torque = driver.torque
+    if driver.free_speed_rpm:
+        torque += driver.stall_torque * (1.0 - omega * 30.0 / math.pi / driver.free_speed_rpm)
+    free = torque * phi1 + run.output_torque * psi1 + run.output_force * psi1
+    for t in run.torsions:
+        angle, angle1 = (phi, phi1) if t.pivot == "A0" else (psi, psi1)
+        potential += 0.5 * t.stiffness * (angle - t.free_angle * RAD) ** 2
+        applied -= t.stiffness * (angle - t.free_angle * RAD) * angle1
+        free -= t.damping * angle1 * angle1 * rate
+    for s in run.springs:
+        (pa, va), (pb, vb) = (points[view.names[p]] if isinstance(p, str)
+                              else (view.frame(p), still) for p in (s.point_a, s.point_b))
+        gap = _less(pa, pb)
+        length = math.sqrt(dot(gap, gap))
+        stretch = length - s.free_length
+        potential += 0.5 * s.stiffness * stretch * stretch
+        if length:
+            applied -= s.stiffness * stretch * dot(gap, _less(va, vb)) / length
+    if run.coupler_force is not None:
+        (u, v), f = run.coupler_force
+        if swapped:
+            u, v, f = abs(closure.dims["c"]) - u, -v, (-f[0], -f[1], f[2])
+        point = coupler_of(closure, [m], u, v)[0].velocity
+        assert point is not None
+        free += dot(f, point)
+    applied += free
+    energy = 0.5 * dynamics.inertia * rate * rate + potential
+    return _Point(q, rate, y, y1, y2, branch, dynamics.inertia, applied / dynamics.inertia,
+                  energy, free * rate)
+
+
+_Phase: TypeAlias = tuple[float, float, float]         # q, q_dot and the work W
+_Slopes: TypeAlias = list[_Phase]
+
+
+def _reference(p: _Point) -> tuple[float, float, float, float]:
+    return p.q, p.other, p.other1, p.other2
+
+
+def _slope(p: _Point) -> _Phase:
+    return p.rate, p.acceleration, p.power
+
+
+def _dp_step(run: _Model, view: _View, y: _Phase, first: _Point, h: float
+             ) -> tuple[_Phase, _Slopes, _Point, float, float] | None:
+    """One Dormand-Prince step of length h from y (at the point `first`): the new state, the
+    stages' slopes, the new point, and the error estimates of q and q_dot; None where a stage
+    cannot be evaluated."""
+    slopes = [_slope(first)]
+    point = first
+    new = y
+    for a in _DP_A[1:]:
+        new = cast(_Phase, tuple(y[j] + h * sum(ai * k[j] for ai, k in zip(a, slopes))
+                                 for j in range(3)))
+        found = _at(run, view, new[0], new[1], _reference(first), first.label)
+        if found is None:
+            return None
+        point = found
+        slopes.append(_slope(point))
+    errors = [h * sum(e * k[j] for e, k in zip(_DP_E, slopes)) for j in range(2)]
+    return new, slopes, point, errors[0], errors[1]
+
+
+def _dense(y: _Phase, slopes: _Slopes, h: float, theta: float) -> _Phase:
+    """The state at theta (0 to 1) of the step from y, by the 4th-order dense output."""
+    powers = (theta, theta ** 2, theta ** 3, theta ** 4)
+    weights = [sum(p * x for p, x in zip(row, powers)) for row in _DP_DENSE]
+    return cast(_Phase, tuple(y[j] + h * sum(w * k[j] for w, k in zip(weights, slopes))
+                              for j in range(3)))
+
+
+def _row(view: _View, t: float, p: _Point) -> SimRow:
+    """A SimRow of the point p in `view` at time t."""
+    if view.swapped:
+        phi, phi1, phi2, psi, psi1, psi2 = p.other - math.pi, p.other1, p.other2, \
+            p.q - math.pi, 1.0, 0.0
+    else:
+        phi, phi1, phi2, psi, psi1, psi2 = p.q, 1.0, 0.0, p.other, p.other1, p.other2
+    r, a = p.rate, p.acceleration
+    return SimRow(t, phi * DEG, phi1 * r, phi1 * a + phi2 * r * r,
+                  psi if view.closure.is_slider else psi * DEG, psi1 * r, psi1 * a + psi2 * r * r,
+                  p.energy, 0.0, "output" if view.swapped else "input")
+
+
+def _bisected(within: Callable[[float], bool]) -> float:
+    """The theta in [0, 1] where within(theta) turns from True (at 0) to False (at 1)."""
+    lo, hi = 0.0, 1.0
+    for _ in range(_EVENT_DIGITS):
+        middle = 0.5 * (lo + hi)
+        if within(middle):
+            lo = middle
+        else:
+            hi = middle
+    return hi
+
+
+def _finite_number(value: Any, what: str) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what} must be a number, not {value!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{what} must be finite, not {x!r}")
+    return x
+
+
+def _finite_numbers(values: Any, count: int, what: str) -> tuple[float, ...]:
+    try:
+        items = list(values)
+    except TypeError:
+        items = []
+    if len(items) != count:
+        raise ValueError(f"{what} must be {count} numbers, not {values!r}")
+    return tuple(_finite_number(v, what) for v in items)
+
+
+def _checked_positive(value: Any, what: str, most: float) -> float:
+    x = _finite_number(value, what)
+    if not 0.0 < x <= most:
+        raise ValueError(f"{what} must be above 0 and at most {most:g}, not {x:g}")
+    return x
+
+
+def simulate(linkage: Closure, bodies: Bodies, effects: Effects = Effects(), *,
+             driver: Driver | None = None, springs: Sequence[Spring] = (),
+             torsions: Sequence[Torsion] = (), initial: tuple[float, float] = (0.0, 0.0),
+             time: float = 1.0, step: float = 0.01, tolerance: float = 1e-8, branch: int = 1,
+             until_angle: float | None = None, stop_at_rest: bool = False) -> Simulation:
+    """The linkage's motion in time from the crank's initial (angle in degrees, speed in rpm)
+    on the listing's `branch` there, for `time` seconds, under gravity and the loads of
+    `effects` (its speed and acceleration are not used), the driver, springs and torsions:
+    rows every `step` seconds, the events, and the energy check (see the section's notes). The
+    run ends early at until_angle (degrees, the crank's) or at rest (stop_at_rest). A
+    ValueError says in one sentence what is wrong with the input."""
+    if linkage.kind not in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
+        raise ValueError("simulate takes the plane kinds (plane four-bar, plane slider-crank), "
+                         f"not the {KIND_NAMES[linkage.kind]}")
+    time = _checked_positive(time, "the run's time (s)", _LONGEST_RUN)
+    step = _checked_positive(step, "the rows' step (s)", time)
+    if time / step > _ROWS_AT_MOST:
+        raise ValueError(f"time / step asks for {time / step:.3g} rows, more than "
+                         f"{_ROWS_AT_MOST:,}: take a longer step")
+    tolerance = _checked_positive(tolerance, "the tolerance", 1e-2)
+    if tolerance < 1e-14:
+        raise ValueError(f"the tolerance must be at least 1e-14, not {tolerance:g}")
+    if branch not in (1, 2):
+        raise ValueError("branch is the listing's branch the motion starts on: 1 or 2")
+    try:
+        angle, speed = initial
+    except (TypeError, ValueError):
+        raise ValueError("initial is (angle in degrees, speed in rpm)") from None
+    angle = _finite_number(angle, "the initial angle")
+    omega = 2.0 * math.pi * _finite_number(speed, "the initial speed (rpm)") / 60.0
+    target = None if until_angle is None else _finite_number(until_angle, "until_angle")
+    driver = driver or Driver()
+    for value, what in zip(driver, ("the driver's torque", "the stall torque",
+                                    "the free speed (rpm)")):
+        _finite_number(value, what)
+    if driver.stall_torque and not driver.free_speed_rpm:
+        raise ValueError("a motor line needs its free speed (free_speed_rpm, not 0)")
+    for s in springs:
+        for p in (s.point_a, s.point_b):
+            if isinstance(p, str):
+                if p not in ("A0", "A", PINS[linkage.kind].output_joint) + (
+                        ("B0",) if linkage.kind == PLANE_FOUR_BAR else ()):
+                    raise ValueError(f"a spring's point is a joint (A0, A, B, B0; C the "
+                                     f"slider's) or (x, y), not {p!r}")
+            else:
+                _finite_numbers(p, 2, "a spring's point (x, y)")
+        if _finite_number(s.stiffness, "a spring's stiffness") < 0.0 or \
+                _finite_number(s.free_length, "a spring's free length") < 0.0:
+            raise ValueError("a spring's stiffness and free length must not be negative")
+    for tz in torsions:
+        if tz.pivot not in ("A0", "B0") or (tz.pivot == "B0" and linkage.is_slider):
+            raise ValueError(f"a torsion's pivot is A0 (the crank) or B0 (the output crank), "
+                             f"not {tz.pivot!r}")
+        for value, what in zip(tz[1:], ("stiffness", "free angle", "damping")):
+            _finite_number(value, f"a torsion's {what}")
+    forces(linkage, [], branch, bodies, effects)      # its ValueError: the bodies, the effects
+    load = None
+    if effects.coupler_force is not None:
+        at, f = effects.coupler_force
+        load = ((float(at[0]), float(at[1])), cast(Vector, tuple(float(x) for x in f)))
+    run = _Model(linkage, _views(linkage, bodies, _gravity(effects.gravity)), driver,
+                 tuple(springs), tuple(torsions), float(effects.output_torque),
+                 float(effects.output_force), load)
+    view = run.views[0]
+    start = linkage.motion(angle, branch)
+    if start.status == DEAD_CENTRE:
+        raise ValueError(f"the initial angle {angle:g} degrees is a dead centre of the input: "
+                         "start beside it")
+    if start.velocity is None:
+        raise ValueError(f"the linkage does not assemble at the initial angle {angle:g} "
+                         f"degrees on branch {branch}")
+    if not _reduced_at(view, start).inertia > 0.0:
+        raise ValueError("the reduced inertia at the initial angle is zero: give the crank, "
+                         "coupler or output a mass")
+    first = _at(run, view, angle * RAD, omega, None, branch)
+    assert first is not None            # it assembles and J > 0
+    return _integrate(run, first, time, step, tolerance, target, stop_at_rest)
+
+
+def _switched(run: _Model, index: int, p: _Point) -> tuple[int, _Point | None]:
+    """The point p of view `index` in the other view (the other coordinate)."""
+    to = 1 - index
+    shift = math.pi if to == 1 else -math.pi
+    near = (p.other + shift, p.q + shift, 1.0 / p.other1, -p.other2 / p.other1 ** 3)
+    return to, _at(run, run.views[to], p.other + shift, p.other1 * p.rate, near, 1)
+
+
+def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: float,
+               target: float | None, stop_at_rest: bool) -> Simulation:
+    """simulate's run from the point `first` (see there)."""
+    index = 0
+    events: list[SimEvent] = []
+
+    def phi_of(v: _View, p: _Point) -> float:
+        return (p.other - math.pi if v.swapped else p.q) * DEG
+
+    if len(run.views) > 1 and abs(first.other1) > _SWITCH_ABOVE:
+        index, moved = _switched(run, index, first)
+        if moved is None:
+            raise ValueError("the motion cannot start there (a dead centre)")
+        first = moved
+    view = run.views[index]
+    t, y, p = 0.0, (first.q, first.rate, 0.0), first
+    energy0 = first.energy
+    rows = [_row(view, 0.0, first)]
+    next_row = 1
+    h = min(time, 0.01 / max(1.0, abs(first.rate)), step)
+    steps = rejected = crawl = 0
+    evaluations = 1
+    worst = 0.0
+    while t < time:
+        h = min(h, time - t)
+        taken = _dp_step(run, view, y, p, h)
+        evaluations += 6
+        if taken is None:
+            rejected += 1
+            h *= 0.25
+        else:
+            new, slopes, p1, eq, ev = taken
+            error = max(abs(eq) / tolerance,
+                        abs(ev) / (tolerance * max(1.0, abs(y[1]), abs(new[1]))))
+            if error > 1.0:
+                rejected += 1
+                h *= max(0.2, 0.9 * error ** -0.2)
+            else:
+                steps += 1
+                end, stop = 1.0, False
+                near, label0 = _reference(p), p.label
+
+                def at(theta: float) -> _Point | None:
+                    s = _dense(y, slopes, h, theta)
+                    return _at(run, view, s[0], s[1], near, label0)
+
+                def other_at(theta: float) -> tuple[Motion, float, int] | None:
+                    return _root(view, _dense(y, slopes, h, theta)[0], near, label0)
+
+                found: list[tuple[float, str, str]] = []
+                if p1.label != p.label:
+                    found.append((_bisected(lambda th: (lambda r: r is None or r[2] == label0)(
+                        other_at(th))), CHANGE_POINT, "the branches cross: kept to the one "
+                                                      "followed"))
+                if view.swapped and (p.other1 > 0.0) != (p1.other1 > 0.0):
+                    sign = p.other1 > 0.0
+                    found.append((_bisected(lambda th: (lambda r: r is None or (
+                        (r[0].velocity or 0.0) > 0.0) == sign)(other_at(th))), DEAD_CENTRE,
+                        "the crank stops and turns back"))
+                if (y[1] > 0.0) != (new[1] > 0.0) and y[1] != 0.0:
+                    found.append((_bisected(lambda th: (_dense(y, slopes, h, th)[1] > 0.0) ==
+                                            (y[1] > 0.0)), REST, "every point at rest"))
+                if target is not None:
+                    before, after = phi_of(view, p) - target, phi_of(view, p1) - target
+                    if before == 0.0 or (before > 0.0) != (after > 0.0):
+                        theta = _bisected(lambda th: (lambda q: q is not None and (
+                            phi_of(view, q) - target > 0.0) == (before > 0.0))(at(th)))
+                        found.append((theta, ANGLE_REACHED, f"the crank at {target:g} degrees"))
+                for theta, kind, text in sorted(found):
+                    here = at(theta)
+                    events.append(SimEvent(t + theta * h, kind,
+                                           phi_of(view, here) if here else math.nan, text))
+                    if kind == ANGLE_REACHED or (kind == REST and stop_at_rest):
+                        end, stop = theta, True
+                        break
+                while next_row * step <= t + end * h * (1 + 1e-15) and next_row * step <= time:
+                    theta = min(1.0, (next_row * step - t) / h)
+                    here = at(theta)
+                    if here is not None:
+                        w = _dense(y, slopes, h, theta)[2]
+                        rows.append(_row(view, next_row * step, here)._replace(work=w))
+                    next_row += 1
+                if stop:
+                    last = at(end)
+                    w = _dense(y, slopes, h, end)[2]
+                    if last is not None:
+                        rows.append(_row(view, t + end * h, last)._replace(work=w))
+                    break
+                t, y, p = t + h, new, p1
+                worst = max(worst, abs(p.energy - y[2] - energy0))
+                h *= min(5.0, max(0.2, 0.9 * max(error, 1e-10) ** -0.2))
+                if len(run.views) == 1 and abs(p.other1) > _ALONE_ABOVE * abs(
+                        run.linkage.dims["b"]):
+                    events.append(SimEvent(t, STUCK, phi_of(view, p), "the input's dead centre "
+                                           "is ahead, and the slider-crank has no other "
+                                           "coordinate there yet: the run ends"))
+                    break
+                if len(run.views) > 1 and abs(p.other1) > _SWITCH_ABOVE:
+                    index, moved = _switched(run, index, p)
+                    if moved is None:
+                        events.append(SimEvent(t, STUCK, phi_of(view, p), "cannot change "
+                                               "coordinate here"))
+                        break
+                    view, p = run.views[index], moved
+                    y = (p.q, p.rate, y[2])
+                    events.append(SimEvent(t, COORDINATE, phi_of(view, p),
+                                           "the output's angle" if view.swapped
+                                           else "the crank's angle"))
+        if h < _SHORTEST * (1.0 + t):
+            events.append(SimEvent(t, STUCK, phi_of(view, p), "no step could be taken"))
+            break
+        crawl = crawl + 1 if h < _CRAWL * time else 0
+        if crawl > _CRAWL_STEPS:
+            events.append(SimEvent(t, STUCK, phi_of(view, p), f"{_CRAWL_STEPS:,} steps in a "
+                                   f"row each under {_CRAWL:g} of the run: it stalls"))
+            break
+    else:
+        events.append(SimEvent(t, END, phi_of(view, p), "the run's time is over"))
+    if t - rows[-1].t > 1e-9 * step:        # the last state, unless a row is there already
+        rows.append(_row(view, t, p)._replace(work=y[2]))
+    return Simulation(rows, events, steps, rejected, evaluations, worst)
+
+
+# ---- 12. The linkage: one class for all that can be asked of it ----------------------------------
 #
 # Holds: Linkage, the engine's Closure with a method for each question the sections before answer:
 # motion and sweep (the engine), coupler and transmission (what it derives), the same on numpy
@@ -5770,7 +6485,7 @@ class Linkage(Closure):
         return forces(self, phis, branch, bodies, effects, radius=radius, start=start)
 
 
-# ---- 12. DAT and CSV files: the sweep's formats, written and read --------------------------------
+# ---- 13. DAT and CSV files: the sweep's formats, written and read --------------------------------
 #
 # Holds: the accurate engine's files: ANG.DAT, VEL.DAT, ACC.DAT (and MU.DAT) in the listing's format
 # ("phi,value" CR LF lines, the end byte 1A) at full precision, the CSV's columns, a sweep's angles,
@@ -5972,7 +6687,7 @@ def dat_precision(directory: str) -> str:
     return ""
 
 
-# ---- 13. The mechanism drawn: poses projected onto the page --------------------------------------
+# ---- 14. The mechanism drawn: poses projected onto the page --------------------------------------
 #
 # Holds: mechanism_drawing(), which projects the poses of a sweep onto the page - plane linkages as
 # they are, the spherical linkage on its sphere seen obliquely, the skew linkages in a fixed
@@ -5980,7 +6695,7 @@ def dat_precision(directory: str) -> str:
 # on the side the links cross least, axes), drawn once, and one Frame a pose with its letters. The
 # letters go where no mark, link, hatching or other letter covers them (place_labels).
 #
-# Uses: sections 2, 6, 7 and 11.
+# Uses: sections 2, 6, 7 and 12.
 # Offers: Point, Box, Stroke, Mark, Label, Letters, Layer, Frame, Drawing, MECHANISM_EXAMPLES,
 #   STROKE_STYLES, FAR_SIDE, VIEWS, project, Segment, stroke_segments, place_labels,
 #   mechanism_drawing, spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale,
@@ -6811,14 +7526,14 @@ def svg_letters(bounds: Box, size: float) -> Letters:
                    (svg_radius(size, scale) + 1.0) / scale, 1.6 / scale)
 
 
-# ---- 14. The mechanism's renderers: terminal, SVG, PNG and DXF -----------------------------------
+# ---- 15. The mechanism's renderers: terminal, SVG, PNG and DXF -----------------------------------
 #
 # Holds: what draws a Drawing: the terminal (Unicode braille, or ASCII; still or animated until a
 # key), an animated SVG, a PNG (matplotlib); and the DXF of its linkage for CAD (ezdxf). The SVG's
 # letters are those placed in the Drawing; the terminal and the PNG place them again for the sizes
 # they draw letters at.
 #
-# Uses: sections 1, 2, 6, 7, 8 and 13.
+# Uses: sections 1, 2, 6, 7, 8 and 14.
 # Offers: text_drawing, frame_seconds, show_drawing, svg_drawing, PlotUnavailable,
 #   matplotlib_canvas, png_drawing, DXF_LINKS, DXF_POSITIONS, dxf_module, dxf_drawing.
 
@@ -7561,7 +8276,7 @@ def dxf_drawing(drawing: Drawing, positions: int = DXF_POSITIONS) -> bytes:
     return text.getvalue().encode("utf-8")
 
 
-# ---- 15. Synthesis: what a design is, its data and its linkage -----------------------------------
+# ---- 16. Synthesis: what a design is, its data and its linkage -----------------------------------
 #
 # The classical analytical synthesis methods collected by E. Pennestrì and P. P. Valentini, "A
 # review of simple analytical methods for the kinematic synthesis of four-bar and slider-crank
@@ -7952,14 +8667,14 @@ class Synthesis(NamedTuple):
         return self.solutions[self.preferred]
 
 
-# ---- 16. Synthesis: the review's methods ---------------------------------------------------------
+# ---- 17. Synthesis: the review's methods ---------------------------------------------------------
 #
 # Holds: the review's methods, each a function of its data returning a Synthesis: the crank-rockers
 # FOURB-CR-1..4 and Volmer's, the drag-links DRAGLINK-1 and -2, the function generators FOURB-FG2-1,
 # FOURB-FG3-1, SLID-FG2-1 and SLID-FG2-2. Corrections to the review are marked `# ERRATUM Sn` and
 # justified in data/SYNTHESIS_ERRATA.md.
 #
-# Uses: sections 2 and 15.
+# Uses: sections 2 and 16.
 # Offers: fourb_cr_1, fourb_cr_2, fourb_cr_3, fourb_cr_4, volmer_crank_rocker, draglink_1,
 #   draglink_2, limit_angles, fourb_fg2_1, fourb_fg3_1, slid_fg2_1, slid_fg2_2.
 
@@ -8700,7 +9415,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
     return _one(design)
 
 
-# ---- 17. Synthesis: designs measured and checked by the engine -----------------------------------
+# ---- 18. Synthesis: designs measured and checked by the engine -----------------------------------
 #
 # Holds: every design run through engine_outputs, the one adapter to the analysis (the accurate
 # engine, never the synthesis formulas); analyze_design measures on the analysed linkage what it
@@ -8708,7 +9423,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
 # or missed, the transmission-angle extremes. METHODS, the table of the methods, and a design's
 # lines of text.
 #
-# Uses: sections 2, 8, 11, 15 and 16.
+# Uses: sections 2, 8, 12, 16 and 17.
 # Offers: engine_outputs, kind_and_dimensions, measured_transmission_angle, Measured, measure,
 #   output_change, velocity_ratio, Check, analyze_design, ANGLE_TOLERANCE, LENGTH_TOLERANCE,
 #   RATIO_TOLERANCE, conditioning, rounding_floor, misses, METHODS, ASKED_ANGLES, REVIEW_LETTERS,
@@ -9203,7 +9918,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     return below + step / 2, above - step / 2, step
 
 
-# ---- 18. Scenes: a figure's data, loaded and computed --------------------------------------------
+# ---- 19. Scenes: a figure's data, loaded and computed --------------------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a linkage's kind and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -9218,7 +9933,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
 # those files are written.
 #
-# Uses: sections 1, 2, 5, 6, 7, 9, 10, 11 and 12.
+# Uses: sections 1, 2, 5, 6, 7, 9, 10, 12 and 13.
 # Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, FORCE_QUANTITIES, QUANTITY_FILES,
 #   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, DRAWN_UP_TO,
 #   DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene, scene_error, load_scene,
@@ -9935,7 +10650,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
     return write_csv(path, rows(), ("series",) + CSV_HEADER + joint_columns, outputs)
 
 
-# ---- 19. Plots: a figure drawn as text or PNG ----------------------------------------------------
+# ---- 20. Plots: a figure drawn as text or PNG ----------------------------------------------------
 #
 # Holds: a figure built from DAT files (scene_figure, dat_figure: its panels and curves) and drawn
 # as a plain-text plot (80 x 24, no dependency) or a PNG (matplotlib, the `plot` extra); a mechanism
@@ -9948,7 +10663,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 # added so that a curve is continuous across +-180 degrees, and so that the curves of a panel lie
 # within half a turn of the first one.
 #
-# Uses: sections 1, 2, 6, 7, 10, 11, 12, 13, 14 and 18.
+# Uses: sections 1, 2, 6, 7, 10, 12, 13, 14, 15 and 19.
 # Offers: dat_series, Curve, Panel, Figure, FORCE_LABELS, POLAR_MOMENTS, CLIPPED, build_figure,
 #   scene_figure, dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure,
 #   png_figure, force_arrows, scene_drawing, scene_text.
@@ -10552,7 +11267,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ---- 20. The explorer: a linkage changed and watched in the terminal -----------------------------
+# ---- 21. The explorer: a linkage changed and watched in the terminal -----------------------------
 #
 # Holds: `python3 linkage.py explore`: a full-screen view of the linkage moving, its coupler curve
 # traced, and beside it its dimensions and what analyse answers, all following each key. The
@@ -10567,7 +11282,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 # A change that cannot be drawn (a length of 0, an arc of 180 degrees) is refused on the status
 # line, the state as it was.
 #
-# Uses: sections 1, 2, 6, 7, 8, 11, 13, 14, 15, 18 and 19.
+# Uses: sections 1, 2, 6, 7, 8, 12, 14, 15, 16, 19 and 20.
 # Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
 #   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_key,
 #   explore_screen, explore_scene, terminal_keys, key_file, explore_saved, explore_replay,
@@ -11285,17 +12000,18 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
     return state
 
 
-# ---- 21. Benchmarks of the program itself --------------------------------------------------------
+# ---- 22. Benchmarks of the program itself --------------------------------------------------------
 #
 # Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS. What
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 11, 12, 13, 14, 18, 19 and 20.
+# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 11, 12, 13, 14, 15, 19, 20 and 21.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
 #   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, bench_forces,
 #   FILES_TARGET, bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung,
-#   measure_accuracy, bench_accuracy, EXPLORE_TARGET, bench_explore, BENCHMARKS, machine.
+#   measure_accuracy, bench_accuracy, EXPLORE_TARGET, bench_explore, SIMULATION_TOLERANCES,
+#   bench_simulate, BENCHMARKS, machine.
 
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
@@ -11951,9 +12667,55 @@ def bench_explore(out: TextIO, quick: bool = False) -> None:
               + ("" if key_times[-1] < EXPLORE_TARGET else "   over the target"), file=out)
 
 
+SIMULATION_TOLERANCES = (1e-6, 1e-8, 1e-10, 1e-12)
+
+
+def bench_simulate(out: TextIO, quick: bool = False) -> None:
+    """simulate's cost: steps a second, as the tolerance falls, and a motor's run-up.
+
+    The double-rocker released from rest at 320 degrees swings across its input's dead centres
+    (the energy's error beside each tolerance); the crank-rocker runs up from rest."""
+    seconds, run_up = (2.0, 5.0) if quick else (20.0, 600.0)
+    tolerances = SIMULATION_TOLERANCES[1:3] if quick else SIMULATION_TOLERANCES
+    rods = Bodies(Body(1.0), Body(0.5), Body(1.0))
+    rocker = Linkage(PLANE_FOUR_BAR, a=3.0, b=2.5, c=1.0, d=2.0)
+    print(f"the double-rocker a=3 b=2.5 c=1 d=2, 1/0.5/1 kg rods, g = 9.81, released at 320 "
+          f"degrees on branch 1, {seconds:g} s simulated (about {seconds / 1.9:.0f} swings, "
+          "each across two dead centres); one core", file=out)
+    print(f"{'tolerance':>10} {'steps':>8} {'rejected':>9} {'evaluations':>12} {'CPU s':>8} "
+          f"{'steps/s':>9} {'energy error / E':>17}", file=out)
+    for tolerance in tolerances:
+        cpu, sim = _cpu_timed(lambda: simulate(
+            rocker, rods, Effects(gravity=9.81), initial=(320.0, 0.0), time=seconds,
+            step=seconds, tolerance=tolerance, branch=1))
+        drift = sim.energy_error / abs(sim.rows[0].energy)
+        print(f"{tolerance:10.0e} {sim.steps:8,} {sim.rejected:9,} {sim.evaluations:12,} "
+              f"{cpu:8.2f} {sim.steps / cpu:9,.0f} {drift:17.2e}", file=out)
+    crank_rocker = Linkage(PLANE_FOUR_BAR, a=4.0, b=1.0, c=4.0, d=3.0)
+    motor = Driver(stall_torque=40.0, free_speed_rpm=120.0)
+    cpu, sim = _cpu_timed(lambda: simulate(
+        crank_rocker, Bodies(Body(2.0), Body(3.0), Body(2.5)), Effects(gravity=9.81),
+        driver=motor, initial=(0.0, 0.0), time=run_up, step=run_up / 10.0, tolerance=1e-8))
+    last = sim.rows[-1]
+    balance = abs(last.energy - sim.rows[0].energy - last.work) / last.work
+    print(f"a motor's run-up (40 N m stall, 120 rpm free) of the crank-rocker a=4 b=1 c=4 d=3 "
+          f"with 2/3/2.5 kg rods, {run_up:g} s simulated at tolerance 1e-8: "
+          f"{last.phi / 360.0:,.0f} turns, {sim.steps:,} steps in {cpu:.2f} s CPU "
+          f"({sim.steps / cpu:,.0f} steps/s), |E - E(0) - W| / W = {balance:.1e}", file=out)
+
+
+def _cpu_timed(function: Callable[[], Simulation]) -> tuple[float, Simulation]:
+    """The process's CPU time of one call, and its result."""
+    import time
+    start = time.process_time()
+    result = function()
+    return time.process_time() - start, result
+
+
 BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "scene": bench_scene,
               "startup": bench_startup, "coupler": bench_coupler, "forces": bench_forces,
-              "files": bench_files, "accuracy": bench_accuracy, "explore": bench_explore}
+              "files": bench_files, "accuracy": bench_accuracy, "simulate": bench_simulate,
+              "explore": bench_explore}
 
 
 def machine() -> str:
@@ -11973,13 +12735,13 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 22. The command line ------------------------------------------------------------------------
+# ---- 23. The command line ------------------------------------------------------------------------
 #
 # Holds: the shared parsers of what is typed on the command line (numbers in each precision, linkage
 # kinds, PNG sizes), one handler a sub-command, the design methods' help, and COMMANDS, the table of
 # every sub-command's help and options that build_parser turns into argparse; main() last.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 17, 18, 19, 20 and 21.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 12, 13, 14, 15, 16, 18, 19, 20, 21 and 22.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
 #   decimal_number, basic_answer, MADE_FOLDERS, output_folder, unmake_folders, run_command,
 #   CSV_CLIPPED, analyse_command, forces_command, FORCES_OPTIONS, drawing_command, scene_command,

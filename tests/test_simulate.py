@@ -1,0 +1,421 @@
+"""linkage.simulate held to physics, never to its own formulas: the crank alone is a physical
+pendulum (its period at 150 degrees against the complete elliptic integral, a small swing's against
+2 pi sqrt(I / m g d)); a damped torsion against the damped oscillator's closed form; the energy kept
+(the double-rocker across its dead centres, with springs; random four-bars, a third with change
+points), a motor's and a coupler force's work against the energy gained and the point moved; the
+rhombus through its change points against the pendulum it reduces to (Jacobi's sn); the double-
+rocker released from rest across its input's dead centre against the motion written in the output's
+angle from energy alone (a quadrature in mpmath on positions this file solves); reduced() against
+forces() (the torque is affine in the acceleration); bad input."""
+
+from __future__ import annotations
+
+import math
+
+import mpmath
+import pytest
+from hypothesis import assume, given, settings, strategies as st
+
+import linkage
+from linkage import Bodies, Body, Driver, Effects, Linkage, Spring, Torsion, simulate
+
+G = 9.81
+CRANK_ROCKER = dict(a=4.0, b=1.0, c=4.0, d=3.0)
+DOUBLE_ROCKER = dict(a=3.0, b=2.5, c=1.0, d=2.0)        # Grashof, the coupler shortest
+RODS = Bodies(Body(1.0), Body(0.5), Body(1.0))
+
+
+def events(sim, kind):
+    return [e for e in sim.events if e.kind == kind]
+
+
+# -- the crank alone: a physical pendulum ----------------------------------------------------------
+
+def test_pendulum_period_at_150_degrees_against_the_elliptic_integral():
+    m, b = 2.0, 1.0
+    amplitude = math.radians(150.0)                       # from hanging (phi = -90)
+    sim = simulate(Linkage("plane", **CRANK_ROCKER), Bodies(Body(m)), Effects(gravity=G),
+                   initial=(-90.0 + 150.0, 0.0), time=1.6, step=0.1, tolerance=1e-10)
+    inertia, arm = m * b * b / 3.0, b / 2.0
+    period = 4.0 * math.sqrt(inertia / (m * G * arm)) * float(
+        mpmath.ellipk(math.sin(amplitude / 2.0) ** 2))
+    rest = events(sim, linkage.REST)
+    assert len(rest) == 1
+    assert abs(rest[0].t - period / 2.0) < 1e-8, (rest[0].t, period / 2.0)
+    assert abs(rest[0].phi - (-90.0 - 150.0)) < 1e-6       # swung to the other side, as high
+
+
+def test_small_swing_of_a_uniform_rod_against_the_linear_period():
+    m, b = 3.0, 0.8
+    lk = Linkage("plane", a=4.0, b=b, c=4.0, d=3.0)
+    sim = simulate(lk, Bodies(Body(m)), Effects(gravity=G), initial=(-90.1, 0.0), time=1.5,
+                   step=0.1, tolerance=1e-11)
+    period = 2.0 * math.pi * math.sqrt((m * b * b / 3.0) / (m * G * b / 2.0))
+    rest = events(sim, linkage.REST)
+    # at 0.1 degree the period is longer than the linear one by 1 + theta^2 / 16: 1.9e-7
+    assert abs(2.0 * rest[0].t / period - 1.0) < 1e-6, (rest[0].t, period)
+
+
+def test_damped_torsion_against_the_damped_oscillator():
+    """No gravity; a torsion spring k and damper c at A0 on a crank of inertia I: successive
+    rests pi / omega_d apart, each swing smaller by exp(-pi zeta / sqrt(1 - zeta^2))."""
+    m, b, k, c = 2.0, 1.0, 5.0, 0.4
+    inertia = m * b * b / 3.0
+    sim = simulate(Linkage("plane", **CRANK_ROCKER), Bodies(Body(m)),
+                   torsions=[Torsion("A0", k, 30.0, c)], initial=(50.0, 0.0), time=4.0,
+                   step=0.1, tolerance=1e-10)
+    omega_n = math.sqrt(k / inertia)
+    zeta = c / (2.0 * math.sqrt(k * inertia))
+    omega_d = omega_n * math.sqrt(1.0 - zeta * zeta)
+    rest = events(sim, linkage.REST)
+    assert len(rest) >= 3
+    for one, two in zip(rest, rest[1:]):
+        assert abs(two.t - one.t - math.pi / omega_d) < 1e-8
+    ratio = math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta))
+    swings = [abs(e.phi - 30.0) for e in [linkage.SimEvent(0.0, "", 50.0, "")] + rest]
+    for one, two in zip(swings, swings[1:]):
+        assert abs(two / one - ratio) < 1e-8
+    assert all(abs(r.energy - r.work - sim.rows[0].energy) < 1e-8 for r in sim.rows)
+
+
+# -- energy ----------------------------------------------------------------------------------------
+
+def energy_drift(sim):
+    """The largest |E - W - E(0)| along the rows, over E(0)'s scale (at least 1 J)."""
+    e0 = sim.rows[0].energy
+    return max(abs(r.energy - r.work - e0) for r in sim.rows) / max(1.0, abs(e0))
+
+
+def test_energy_kept_across_dead_centres_with_springs():
+    """The double-rocker swinging through its input's dead centres (the coordinate changing to
+    the output's angle and back), a spring from B to a point of the frame and a torsion spring
+    at A0: no driver, no damping, the total energy stays."""
+    sim = simulate(Linkage("plane", **DOUBLE_ROCKER), RODS, Effects(gravity=G),
+                   springs=[Spring("B", (3.0, 3.0), 40.0, 1.0)],
+                   torsions=[Torsion("A0", 3.0, 320.0), Torsion("B0", 2.0, -120.0)],
+                   initial=(320.0, 0.0), time=3.0,
+                   step=0.01, tolerance=1e-9, branch=1)
+    assert len(events(sim, linkage.DEAD_CENTRE)) >= 2
+    assert len(events(sim, linkage.COORDINATE)) >= 4
+    assert energy_drift(sim) < 1e-7, energy_drift(sim)
+    assert sim.energy_error / sim.rows[0].energy < 1e-7
+
+
+@st.composite
+def released(draw):
+    """A plane four-bar (a third of them with change points: the parallelogram, the kite, the
+    deltoid), three rods, an assembled start on a branch, a speed."""
+    x, y = draw(st.floats(0.5, 3.0)), draw(st.floats(0.5, 3.0))
+    family = draw(st.sampled_from(["any", "parallelogram", "kite", "deltoid"]))
+    dims = {"any": dict(a=x, b=y, c=draw(st.floats(0.5, 3.0)), d=draw(st.floats(0.5, 3.0))),
+            "parallelogram": dict(a=x, b=y, c=x, d=y), "kite": dict(a=x, b=x, c=y, d=y),
+            "deltoid": dict(a=x, b=y, c=y, d=x)}[family]
+    lk = Linkage("plane", **dims)
+    phi, branch = draw(st.floats(0.0, 360.0)), draw(st.sampled_from([1, 2]))
+    assume(lk.motion(phi, branch).status == linkage.ASSEMBLED)
+    bodies = Bodies(*(Body(draw(st.floats(0.1, 3.0))) for _ in range(3)))
+    return family, lk, phi, branch, bodies, draw(st.floats(-30.0, 30.0))
+
+
+@settings(max_examples=15, deadline=None)
+@given(released())
+def test_energy_kept_on_random_four_bars(case):
+    """Released under gravity: no run stalls, the energy stays to 1e-6 of its size, and a
+    parallelogram started on its parallelogram branch keeps psi - phi (it never jumps)."""
+    family, lk, phi, branch, bodies, rpm = case
+    sim = simulate(lk, bodies, Effects(gravity=G), initial=(phi, rpm), time=2.0, step=0.1,
+                   tolerance=1e-9, branch=branch)
+    assert linkage.STUCK not in [e.kind for e in sim.events]
+    assert energy_drift(sim) < 1e-6
+    gap = math.remainder(sim.rows[0].output - sim.rows[0].phi, 360.0)
+    if family == "parallelogram" and abs(gap) < 1e-9:
+        assert max(abs(math.remainder(r.output - r.phi, 360.0)) for r in sim.rows) < 1e-8
+
+
+@pytest.mark.slow
+def test_energy_kept_over_ten_thousand_periods():
+    """The double-rocker released at 320 degrees swings back to rest there every 1.9 s or so:
+    10^4 periods across two dead centres each, the energy drift over them reported."""
+    lk = Linkage("plane", **DOUBLE_ROCKER)
+    first = simulate(lk, RODS, Effects(gravity=G), initial=(320.0, 0.0), time=5.0, step=0.01,
+                     tolerance=1e-9, branch=1)
+    period = [e.t for e in events(first, linkage.REST)][1]
+    sim = simulate(lk, RODS, Effects(gravity=G), initial=(320.0, 0.0), time=1e4 * period,
+                   step=period, tolerance=1e-8, branch=1)
+    drift = energy_drift(sim)
+    print(f"10^4 periods of {period:.6f} s: {sim.steps} steps, energy drift {drift:.3g} "
+          f"of E(0) = {sim.rows[0].energy:.6f} J")
+    assert drift < 1e-4
+    assert len(events(sim, linkage.DEAD_CENTRE)) >= 2 * 10 ** 4 - 2
+
+
+@pytest.mark.parametrize("kind, dims", [("plane", CRANK_ROCKER),
+                                        ("slider", dict(b=1.0, c=3.0, e=0.5))])
+def test_motor_work_equals_the_energy_gained(kind, dims):
+    lk = Linkage(kind, **dims)
+    bodies = Bodies(Body(2.0), Body(3.0), Body(2.5))
+    motor = Driver(stall_torque=40.0, free_speed_rpm=120.0)
+    sim = simulate(lk, bodies, Effects(gravity=G), driver=motor, initial=(0.0, 0.0), time=4.0,
+                   step=0.02, tolerance=1e-9)
+    e0 = sim.rows[0].energy
+    assert sim.rows[-1].work > 100.0                 # the motor did work: the crank turns
+    assert sim.rows[-1].phi > 720.0
+    for r in sim.rows:
+        assert abs(r.energy - e0 - r.work) < 1e-7 * max(1.0, r.work), r
+    # the motor's line: the mean speed of the last second is under its free speed (the
+    # loads take torque), though gravity may carry the crank past it within a turn
+    last = [r for r in sim.rows if r.t >= 3.0]
+    mean = (last[-1].phi - last[0].phi) / (last[-1].t - last[0].t) * math.pi / 180.0
+    assert 0.5 * 4.0 * math.pi < mean < 4.0 * math.pi
+
+
+def test_a_run_ends_where_the_crank_reaches_until_angle():
+    lk = Linkage("plane", **CRANK_ROCKER)
+    sim = simulate(lk, RODS, Effects(gravity=G), driver=Driver(torque=30.0),
+                   initial=(0.0, 0.0), time=10.0, step=0.01, tolerance=1e-10, until_angle=720.0)
+    (reached,) = events(sim, linkage.ANGLE_REACHED)
+    assert abs(reached.phi - 720.0) < 1e-9 and abs(sim.rows[-1].phi - 720.0) < 1e-9
+    assert sim.rows[-1].t == reached.t < 10.0
+    # a constant torque's work is the torque times the angle turned
+    assert abs(sim.rows[-1].work - 30.0 * 4.0 * math.pi) < 1e-7
+
+
+def test_a_coupler_force_does_the_work_of_its_point_moved():
+    """A constant force F at the coupler point (u, v) does the work F . (P(t) - P(0)), P placed
+    here from each row's phi and output (P = A + u e + v n), across the changes of coordinate
+    (where the force and its point are turned with the inverse four-bar)."""
+    a, b, c, d = (DOUBLE_ROCKER[k] for k in "abcd")
+    (u, v), force = (0.4, 0.3), (2.0, -20.0, 0.0)
+    sim = simulate(Linkage("plane", **DOUBLE_ROCKER), RODS,
+                   Effects(coupler_force=((u, v), force)), initial=(320.0, 0.0), time=2.0,
+                   step=0.05, tolerance=1e-10, branch=1)
+
+    def point(r):
+        phi, psi = math.radians(r.phi), math.radians(r.output)
+        pa = (b * math.cos(phi), b * math.sin(phi))
+        pb = (a + d * math.cos(psi), d * math.sin(psi))
+        e = ((pb[0] - pa[0]) / c, (pb[1] - pa[1]) / c)
+        return pa[0] + u * e[0] - v * e[1], pa[1] + u * e[1] + v * e[0]
+
+    p0 = point(sim.rows[0])
+    assert {r.coordinate for r in sim.rows} == {"input", "output"}
+    for r in sim.rows:
+        p = point(r)
+        work = force[0] * (p[0] - p0[0]) + force[1] * (p[1] - p0[1])
+        assert abs(r.work - work) < 1e-8, (r, work)
+        assert abs(r.energy - r.work - sim.rows[0].energy) < 1e-8
+
+
+# -- the rhombus through its change points ---------------------------------------------------------
+
+def test_rhombus_keeps_its_parallelogram_through_its_change_points():
+    """All links 1 m, 1 kg rods: the parallelogram's coupler translates, so J = 1/3 + 1 + 1/3 and
+    the potential is 2 g sin phi: a pendulum theta = phi + 90 with J theta'' = -2 g sin theta,
+    solved by Jacobi's sn. Started at 150 degrees with the coupler's pins at 1 m/s, it swings
+    through phi = 180 (the change point, folded) and phi = 0 (A on B0) on each side."""
+    lk = Linkage("plane", a=1.0, b=1.0, c=1.0, d=1.0)
+    branch = next(k for k in (1, 2) if abs(lk.motion(150.0, k).output - 150.0) < 1e-9)
+    sim = simulate(lk, Bodies(Body(1.0), Body(1.0), Body(1.0)), Effects(gravity=G),
+                   initial=(150.0, 30.0 / math.pi), time=5.0, step=0.05, tolerance=1e-10,
+                   branch=branch)
+    crossings = events(sim, linkage.CHANGE_POINT)
+    assert len(crossings) >= 6
+    assert all(abs(math.sin(math.radians(e.phi))) < 1e-9 for e in crossings)
+    assert {round(math.cos(math.radians(e.phi))) for e in crossings} == {-1, 1}
+    assert max(abs(math.remainder(r.output - r.phi, 360.0)) for r in sim.rows) < 1e-9
+    inertia = 1.0 / 3.0 + 1.0 + 1.0 / 3.0
+    energy = 0.5 * inertia * 1.0 + 2.0 * G * math.sin(math.radians(150.0))
+    top = math.acos(-energy / (2.0 * G))
+    m = math.sin(top / 2.0) ** 2
+    w0 = math.sqrt(2.0 * G / inertia)
+    u0 = mpmath.ellipf(mpmath.asin(math.sin(math.radians(-120.0) / 2.0) / math.sqrt(m)), m)
+    worst = 0.0
+    for r in sim.rows:
+        theta = 2.0 * float(mpmath.asin(math.sqrt(m) * mpmath.ellipfun("sn", w0 * r.t + u0, m)))
+        pin = (math.cos(theta - math.pi / 2.0), math.sin(theta - math.pi / 2.0))
+        got = (math.cos(math.radians(r.phi)), math.sin(math.radians(r.phi)))
+        worst = max(worst, math.dist(pin, got))
+    assert worst < 1e-7, worst
+
+
+# -- the input's dead centre, against the motion in the output's angle -----------------------------
+
+def output_angle_motion(dims, masses, phi0, psi_near):
+    """The double-rocker from rest at phi0 written in its output's angle psi: its joints solved
+    here (B on its circle, A where the circles about A0 and B meet), J(psi) from each rod's
+    centre and angle differentiated by psi, the potential, and the time to reach psi from
+    energy alone, t = integral of sqrt(J / 2 (V0 - V)) dpsi, all in 30 digits (released from
+    rest, the time goes as the square root of the start's error: V0 and psi0 to 1e-16 would cost
+    1e-8 s). Returns (psi0, times(psis))."""
+    mpmath.mp.dps = 30
+    a, b, c, d = (mpmath.mpf(dims[k]) for k in "abcd")
+    m1, m2, m3 = (mpmath.mpf(x) for x in masses)
+    a0 = mpmath.matrix([mpmath.cos(mpmath.radians(phi0)) * b,
+                        mpmath.sin(mpmath.radians(phi0)) * b])
+    # psi0: B on the circle about B0 at c from A, the root nearest psi_near
+    roots = []
+    for s in (1, -1):
+        v = mpmath.matrix([a0[0] - a, a0[1]])
+        length = mpmath.norm(v)
+        x = (d * d - c * c + length * length) / (2 * length)
+        h = mpmath.sqrt(d * d - x * x)
+        u = v / length
+        p = u * x + s * h * mpmath.matrix([-u[1], u[0]])
+        roots.append(mpmath.atan2(p[1], p[0]))
+    psi0 = min(roots, key=lambda r: abs(mpmath.degrees(r) - psi_near))
+
+    def joints(psi, side):
+        bb = mpmath.matrix([a + d * mpmath.cos(psi), d * mpmath.sin(psi)])
+        length = mpmath.norm(bb)
+        x = (b * b - c * c + length * length) / (2 * length)
+        h = mpmath.sqrt(b * b - x * x)
+        u = bb / length
+        return u * x + side * h * mpmath.matrix([-u[1], u[0]]), bb
+
+    side = min((1, -1), key=lambda s: mpmath.norm(joints(psi0, s)[0] - a0))
+
+    def potential(psi):
+        pa, pb = joints(psi, side)
+        return G * (m1 * pa[1] / 2 + m2 * (pa[1] + pb[1]) / 2 + m3 * pb[1] / 2)
+
+    def inertia(psi):
+        def crank(x):
+            pa, _ = joints(x, side)
+            return mpmath.atan2(pa[1], pa[0])
+
+        def coupler(x):
+            pa, pb = joints(x, side)
+            return mpmath.atan2(pb[1] - pa[1], pb[0] - pa[0])
+
+        def centre(x, i):
+            pa, pb = joints(x, side)
+            return (pa[i] + pb[i]) / 2
+
+        gx, gy = mpmath.diff(lambda x: centre(x, 0), psi), mpmath.diff(lambda x: centre(x, 1), psi)
+        return (m1 * b * b / 3 * mpmath.diff(crank, psi) ** 2 + m2 * (gx * gx + gy * gy)
+                + m2 * c * c / 12 * mpmath.diff(coupler, psi) ** 2 + m3 * d * d / 3)
+
+    v0 = potential(psi0)
+
+    def times(psis):
+        """The times at psis, in the order the motion reaches them (one piece at a time)."""
+        out, t, last = [], mpmath.mpf(0), psi0
+        for psi in psis:
+            t += abs(mpmath.quad(lambda x: mpmath.sqrt(inertia(x) / (2 * (v0 - potential(x)))),
+                                 [last, psi]))
+            out.append(float(t))
+            last = mpmath.mpf(psi)
+        return out
+
+    return float(psi0), times
+
+
+def test_double_rocker_across_its_input_dead_centre_against_the_output_angle_motion():
+    dims, masses = DOUBLE_ROCKER, (1.0, 0.5, 1.0)
+    lk = Linkage("plane", **dims)
+    sim = simulate(lk, Bodies(*(Body(m) for m in masses)), Effects(gravity=G),
+                   initial=(320.0, 0.0), time=0.9, step=0.3, tolerance=1e-10, branch=1)
+    try:
+        psi0, times = output_angle_motion(dims, masses, 320.0, sim.rows[0].output)
+        check_dead_centre(dims, sim, psi0, times)
+    finally:
+        mpmath.mp.dps = 15
+
+
+def check_dead_centre(dims, sim, psi0, times):
+    assert abs(math.degrees(psi0) - sim.rows[0].output) < 1e-9
+    (dead,) = events(sim, linkage.DEAD_CENTRE)
+    # the dead centre, solved here: coupler and output in line, |A - B0| = d -+ c
+    a, b, c, d = (dims[k] for k in "abcd")
+    phi_dc, length = min(((math.degrees(2 * math.pi - math.acos((a * a + b * b - r * r)
+                                                                / (2 * a * b))), r)
+                          for r in (d - c, d + c)), key=lambda x: abs(x[0] - dead.phi))
+    assert abs(dead.phi - phi_dc) < 1e-9, (dead.phi, phi_dc)
+    pa = (b * math.cos(math.radians(phi_dc)), b * math.sin(math.radians(phi_dc)))
+    psi_dc = math.atan2(d * pa[1] / length, d * (pa[0] - a) / length)
+    # the rows before and after it (the run changes to the output's angle between), in order
+    rows = [r for r in sim.rows[1:] if r.t in (0.3, 0.6) or r is sim.rows[-1]]
+    wanted = sorted([(r.t, math.radians(r.output)) for r in rows] + [(dead.t, psi_dc)])
+    got = times([psi for _, psi in wanted])
+    for (t, psi), quadrature in zip(wanted, got):
+        assert abs(t - quadrature) < 1e-8, (t, psi, quadrature)
+    assert {r.coordinate for r in rows} == {"input", "output"}
+
+
+def test_a_rocking_slider_crank_ends_before_its_input_dead_centre():
+    """The slider-crank is solved in phi alone: a crank that cannot turn (b > c, e = 0: it
+    stops where sin phi = -c / b) ends its run, said, before the dead centre, the energy kept."""
+    b, c = 2.0, 1.5
+    lk = Linkage("slider", b=b, c=c, e=0.0)
+    sim = simulate(lk, Bodies(Body(1.0), Body(1.0), Body(1.0)), Effects(gravity=G),
+                   initial=(30.0, 0.0), time=3.0, step=0.1, tolerance=1e-10)
+    dead = -math.degrees(math.asin(c / b))
+    assert [e.kind for e in sim.events] == [linkage.STUCK]
+    assert dead < sim.events[0].phi < dead + 0.1
+    assert sim.rows[-1].t == sim.events[0].t < 3.0
+    assert energy_drift(sim) < 1e-7
+
+
+# -- reduced() against forces(): T(phi, omega, alpha) = J alpha + 1/2 J' omega^2 - Q ---------------
+
+@settings(max_examples=40, deadline=None)
+@given(kind=st.sampled_from(["plane", "slider"]), phi=st.floats(0.0, 360.0),
+       masses=st.tuples(*[st.floats(0.0, 5.0)] * 3), omega=st.floats(-20.0, 20.0))
+def test_reduced_against_forces(kind, phi, masses, omega):
+    lk = Linkage(kind, **(CRANK_ROCKER if kind == "plane" else dict(b=1.0, c=3.0, e=0.5)))
+    bodies = Bodies(*(Body(m) for m in masses))
+    r = linkage.reduced(lk, phi, 1, bodies, G)
+    assert r is not None
+
+    def torque(speed, alpha, gravity):
+        return linkage.forces(lk, [phi], 1, bodies, Effects(
+            speed_rpm=speed * 30.0 / math.pi, crank_acceleration=alpha,
+            gravity=gravity))[0].torque
+
+    scale = 1.0 + sum(masses) * (1.0 + omega * omega + G)
+    assert abs(torque(0.0, 1.0, None) - r.inertia) < 1e-12 * scale
+    assert abs(torque(omega, 0.0, None) - 0.5 * r.slope * omega * omega) < 1e-12 * scale
+    assert abs(torque(0.0, 0.0, G) + r.gravity_force) < 1e-12 * scale
+    assert abs(torque(omega, 2.0, G) - (2.0 * r.inertia + 0.5 * r.slope * omega * omega
+                                         - r.gravity_force)) < 1e-12 * scale
+    # gravity's force is minus the potential's slope (central difference, step 1e-4 rad)
+    h = 1e-4
+    up, down = (linkage.reduced(lk, phi + s * math.degrees(h), 1, bodies, G) for s in (1, -1))
+    assert abs(-(up.potential - down.potential) / (2 * h) - r.gravity_force) < 1e-6 * scale
+
+
+# -- bad input -------------------------------------------------------------------------------------
+
+BAD = [
+    (dict(initial=(10.0, 0.0)), "does not assemble"),
+    (dict(initial=(float("nan"), 0.0)), "must be finite"),
+    (dict(initial=(320.0, 0.0), time=float("nan")), "must be finite"),
+    (dict(initial=(320.0, 0.0), time=-1.0), "time"),
+    (dict(initial=(320.0, 0.0), time=1e9), "at most"),
+    (dict(initial=(320.0, 0.0), tolerance=-1e-6), "tolerance"),
+    (dict(initial=(320.0, 0.0), tolerance=1e-20), "tolerance"),
+    (dict(initial=(320.0, 0.0), time=100.0, step=1e-5), "rows"),
+    (dict(initial=(320.0, 0.0), step=0.0), "step"),
+    (dict(initial=(320.0, 0.0), branch=3), "branch"),
+    (dict(initial=(320.0, 0.0), springs=[Spring("Q", "A", 1.0, 1.0)]), "spring's point"),
+    (dict(initial=(320.0, 0.0), torsions=[Torsion("A", 1.0)]), "pivot"),
+    (dict(initial=(320.0, 0.0), driver=Driver(stall_torque=3.0)), "free speed"),
+    (dict(initial=(320.0, 0.0), bodies=Bodies()), "reduced inertia"),
+    (dict(initial=(90.0, 0.0), dims=dict(a=4.0, b=3.0, c=2.0, d=3.0)), "dead centre"),
+]
+
+
+@pytest.mark.parametrize("given_, message", BAD)
+def test_bad_input_is_refused_in_one_sentence(given_, message):
+    arguments = dict(bodies=RODS, effects=Effects(gravity=G), time=1.0, step=0.1)
+    arguments.update(given_)
+    with pytest.raises(ValueError, match=message) as caught:
+        simulate(Linkage("plane", **arguments.pop("dims", DOUBLE_ROCKER)), arguments.pop("bodies"),
+                 arguments.pop("effects"), **arguments)
+    text = str(caught.value)
+    assert "\n" not in text and text.count(". ") == 0
+
+
+def test_spatial_kinds_are_refused():
+    with pytest.raises(ValueError, match="plane kinds"):
+        simulate(Linkage("spherical", a=60, b=20, c=70, d=50), Bodies(Body(1.0)))
