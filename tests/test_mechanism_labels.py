@@ -187,8 +187,9 @@ DRAWS = 200
 def test_no_letter_is_covered_on_random_linkages(kind):
     """DRAWS linkages of the kind, each drawn at 12 angles 30 degrees apart from a random start,
     one in two with a coupler point; each frame's letters uncovered, and on the terminal (one
-    frame a linkage, 80 x 24) every letter shown. At least half the draws must be
-    drawn with the linkage assembled in some frame, so that the check is not empty."""
+    frame a linkage, 80 x 24) every letter shown. At least a third of the draws must be
+    drawn with the linkage assembled in some frame, so that the check is not empty (random
+    spherical linkages assemble about half the time: 88 to 112 of 200 as hypothesis draws them)."""
     drawn = []
 
     @settings(max_examples=DRAWS, derandomize=True, deadline=None,
@@ -211,4 +212,4 @@ def test_no_letter_is_covered_on_random_linkages(kind):
             check_terminal(drawing, shown[len(shown) // 2], where)
 
     check()
-    assert len(drawn) >= DRAWS // 2, len(drawn)
+    assert len(drawn) >= DRAWS // 3, len(drawn)
