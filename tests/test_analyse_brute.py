@@ -518,7 +518,7 @@ def test_the_time_ratio_is_the_slower_stroke_over_the_faster():
     every 0.01 degree."""
     scene = tomllib.loads((Path(linkage.__file__).parent / "data" / "scenes"
                            / "coupler-skew-four-bar.toml").read_text(encoding="utf-8"))
-    link = linkage.Linkage(scene["mechanism"], **scene["dimensions"])
+    link = linkage.Linkage(scene["kind"], **scene["dimensions"])
     phis = [0.01 * i for i in range(36000)]
     psi = numpy.unwrap(numpy.array([m.output for m in link.sweep(phis, 1, 0)]), period=360.0)
     forward = (phis[int(numpy.argmax(psi))] - phis[int(numpy.argmin(psi))]) % 360.0
