@@ -5089,7 +5089,7 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #
 # Uses: sections 2, 6, 7 and 8.
 # Offers: STANDARD_GRAVITY, UNBOUNDED, OUT_OF_RANGE, Matrix, Body, Bodies, Effects, Reaction,
-#   Forces, forces, ForcesSummary, forces_summary, forces_lines.
+#   Forces, checked_number, checked_numbers, forces, ForcesSummary, forces_summary, forces_lines.
 
 
 STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
@@ -5217,7 +5217,8 @@ def _spin_about_centre(a: Vector, b: Vector, va: Vector, vb: Vector) -> Vector:
     return _comb((dot(vb, n) / nn, a), (-dot(va, n) / nn, b), (dot(va, b) / nn, n))
 
 
-def _checked_number(value: Any, what: str) -> float:
+def checked_number(value: Any, what: str) -> float:
+    """value as a finite float, or a ValueError that names `what` and says why not."""
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -5227,14 +5228,15 @@ def _checked_number(value: Any, what: str) -> float:
     return x
 
 
-def _checked_numbers(values: Any, count: int, what: str) -> tuple[float, ...]:
+def checked_numbers(values: Any, count: int, what: str) -> tuple[float, ...]:
+    """`count` finite floats from values, or a ValueError that names `what`."""
     try:
         items = list(values)
     except TypeError:
         items = []
     if len(items) != count:
         raise ValueError(f"{what} must be {count} numbers, not {values!r}")
-    return tuple(_checked_number(v, what) for v in items)
+    return tuple(checked_number(v, what) for v in items)
 
 
 def _rod(mass: float, length: float) -> _Mass:
@@ -5267,7 +5269,7 @@ def _checked_body(kind: str, role: str, body: Body, rod: Callable[[float], _Mass
     """body as a _Mass in its frame, or a ValueError that says what is wrong with it; rod(mass)
     the uniform rod it is when its centre and inertia are None."""
     name = f"the {role}"
-    mass = _checked_number(body.mass, f"{name}'s mass")
+    mass = checked_number(body.mass, f"{name}'s mass")
     if mass < 0.0:
         raise ValueError(f"{name}'s mass must not be negative, not {mass:g}")
     if body.centre is None and body.inertia is None:
@@ -5277,17 +5279,17 @@ def _checked_body(kind: str, role: str, body: Body, rod: Callable[[float], _Mass
     plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
     if plane:
         if role == "coupler":
-            u, v = _checked_numbers(body.centre, 2, f"{name}'s centre (u, v)")
+            u, v = checked_numbers(body.centre, 2, f"{name}'s centre (u, v)")
             centre = (u, v, 0.0)
         else:
-            centre = (_checked_number(body.centre, f"{name}'s centre"), 0.0, 0.0)
-        inertia = _checked_number(body.inertia, f"{name}'s inertia")
+            centre = (checked_number(body.centre, f"{name}'s centre"), 0.0, 0.0)
+        inertia = checked_number(body.inertia, f"{name}'s inertia")
         if inertia < 0.0:
             raise ValueError(f"{name}'s inertia must not be negative, not {inertia:g}")
         return _Mass(mass, centre, ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, inertia)))
-    centre = cast(Vector, _checked_numbers(body.centre, 3, f"{name}'s centre (x, y, z)"))
+    centre = cast(Vector, checked_numbers(body.centre, 3, f"{name}'s centre (x, y, z)"))
     try:
-        rows = [_checked_numbers(row, 3, f"{name}'s inertia") for row in cast(Any, body.inertia)]
+        rows = [checked_numbers(row, 3, f"{name}'s inertia") for row in cast(Any, body.inertia)]
     except TypeError:
         rows = []
     if len(rows) != 3:
@@ -5336,7 +5338,7 @@ def _setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float) ->
     """The checked bodies and effects of a forces() call (a ValueError says what is wrong)."""
     kind = linkage.kind
     spherical, plane = kind == SPHERICAL_FOUR_BAR, kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
-    radius = _checked_number(radius, "the sphere's radius")
+    radius = checked_number(radius, "the sphere's radius")
     if radius <= 0.0:
         raise ValueError(f"the sphere's radius must be positive, not {radius:g}")
     if radius != 1.0 and not spherical:
@@ -5368,12 +5370,12 @@ def _setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float) ->
     if effects.gravity is None:
         gravity = _NOUGHT
     elif isinstance(effects.gravity, (int, float)):
-        g = _checked_number(effects.gravity, "gravity")
+        g = checked_number(effects.gravity, "gravity")
         gravity = (0.0, -g, 0.0) if plane else (0.0, 0.0, -g)
     else:
-        gravity = cast(Vector, _checked_numbers(effects.gravity, 3, "gravity (gx, gy, gz)"))
-    output_torque = _checked_number(effects.output_torque, "the output torque")
-    output_force = _checked_number(effects.output_force, "the output force")
+        gravity = cast(Vector, checked_numbers(effects.gravity, 3, "gravity (gx, gy, gz)"))
+    output_torque = checked_number(effects.output_torque, "the output torque")
+    output_force = checked_number(effects.output_force, "the output force")
     if output_torque and linkage.is_slider:
         raise ValueError("a slider-crank's output is its slider: load it with output_force")
     if output_force and not linkage.is_slider:
@@ -5384,8 +5386,8 @@ def _setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float) ->
             at, given = effects.coupler_force
         except (TypeError, ValueError):
             raise ValueError("coupler_force is ((u, v), (fx, fy, fz))") from None
-        u, v = _checked_numbers(at, 2, "the coupler force's point (u, v)")
-        force = cast(Vector, _checked_numbers(given, 3, "the coupler force (fx, fy, fz)"))
+        u, v = checked_numbers(at, 2, "the coupler force's point (u, v)")
+        force = cast(Vector, checked_numbers(given, 3, "the coupler force (fx, fy, fz)"))
         form = PINS[kind].coupler
         if form == "line" and v:
             raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
@@ -5399,8 +5401,8 @@ def _setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float) ->
     if plane and (gravity[2] or force[2]):
         raise ValueError("the plane kinds are analysed in their plane: gravity and the coupler "
                          "force must have no z component")
-    omega = 2.0 * math.pi * _checked_number(effects.speed_rpm, "the speed (rpm)") / 60.0
-    alpha = _checked_number(effects.crank_acceleration, "the crank's acceleration")
+    omega = 2.0 * math.pi * checked_number(effects.speed_rpm, "the speed (rpm)") / 60.0
+    alpha = checked_number(effects.crank_acceleration, "the crank's acceleration")
     ground = joint_positions(linkage, 0.0)
     return _Setup(linkage, dims, radius, masses, omega, alpha, gravity, output_torque,
                   output_force, point, force, ground.joints, ground.axes)
@@ -5655,7 +5657,7 @@ def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
         weights = [1.0 / len(known)] * len(known)
     mean = sum(w * t for w, t in zip(weights, torques))
     rms = math.sqrt(sum(w * t * t for w, t in zip(weights, torques)))
-    omega = 2.0 * math.pi * _checked_number(speed_rpm, "the speed (rpm)") / 60.0
+    omega = 2.0 * math.pi * checked_number(speed_rpm, "the speed (rpm)") / 60.0
     flywheel = None
     if len(known) == len(results) and len(known) > 1 and span and omega and cs > 0.0:
         energy, low, high = 0.0, 0.0, 0.0
@@ -5987,8 +5989,8 @@ def _gravity(gravity: float | Sequence[float] | None) -> Vector:
     if gravity is None:
         return (0.0, 0.0, 0.0)
     if isinstance(gravity, (int, float)):
-        return (0.0, -_finite_number(gravity, "gravity"), 0.0)
-    g = _finite_numbers(gravity, 3, "gravity (gx, gy, gz)")
+        return (0.0, -checked_number(gravity, "gravity"), 0.0)
+    g = checked_numbers(gravity, 3, "gravity (gx, gy, gz)")
     if g[2]:
         raise ValueError("the plane kinds are simulated in their plane: gravity must have no z "
                          "component")
@@ -6182,28 +6184,8 @@ def _bisected(within: Callable[[float], bool]) -> float:
     return hi
 
 
-def _finite_number(value: Any, what: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{what} must be a number, not {value!r}") from None
-    if not math.isfinite(x):
-        raise ValueError(f"{what} must be finite, not {x!r}")
-    return x
-
-
-def _finite_numbers(values: Any, count: int, what: str) -> tuple[float, ...]:
-    try:
-        items = list(values)
-    except TypeError:
-        items = []
-    if len(items) != count:
-        raise ValueError(f"{what} must be {count} numbers, not {values!r}")
-    return tuple(_finite_number(v, what) for v in items)
-
-
 def _checked_positive(value: Any, what: str, most: float) -> float:
-    x = _finite_number(value, what)
+    x = checked_number(value, what)
     if not 0.0 < x <= most:
         raise ValueError(f"{what} must be above 0 and at most {most:g}, not {x:g}")
     return x
@@ -6237,13 +6219,13 @@ def simulate(linkage: Closure, bodies: Bodies, effects: Effects = Effects(), *,
         angle, speed = initial
     except (TypeError, ValueError):
         raise ValueError("initial is (angle in degrees, speed in rpm)") from None
-    angle = _finite_number(angle, "the initial angle")
-    omega = 2.0 * math.pi * _finite_number(speed, "the initial speed (rpm)") / 60.0
-    target = None if until_angle is None else _finite_number(until_angle, "until_angle")
+    angle = checked_number(angle, "the initial angle")
+    omega = 2.0 * math.pi * checked_number(speed, "the initial speed (rpm)") / 60.0
+    target = None if until_angle is None else checked_number(until_angle, "until_angle")
     driver = driver or Driver()
     for value, what in zip(driver, ("the driver's torque", "the stall torque",
                                     "the free speed (rpm)")):
-        _finite_number(value, what)
+        checked_number(value, what)
     if driver.stall_torque and not driver.free_speed_rpm:
         raise ValueError("a motor line needs its free speed (free_speed_rpm, not 0)")
     for s in springs:
@@ -6254,16 +6236,16 @@ def simulate(linkage: Closure, bodies: Bodies, effects: Effects = Effects(), *,
                     raise ValueError(f"a spring's point is a joint (A0, A, B, B0; C the "
                                      f"slider's) or (x, y), not {p!r}")
             else:
-                _finite_numbers(p, 2, "a spring's point (x, y)")
-        if _finite_number(s.stiffness, "a spring's stiffness") < 0.0 or \
-                _finite_number(s.free_length, "a spring's free length") < 0.0:
+                checked_numbers(p, 2, "a spring's point (x, y)")
+        if checked_number(s.stiffness, "a spring's stiffness") < 0.0 or \
+                checked_number(s.free_length, "a spring's free length") < 0.0:
             raise ValueError("a spring's stiffness and free length must not be negative")
     for tz in torsions:
         if tz.pivot not in ("A0", "B0") or (tz.pivot == "B0" and linkage.is_slider):
             raise ValueError(f"a torsion's pivot is A0 (the crank) or B0 (the output crank), "
                              f"not {tz.pivot!r}")
         for value, what in zip(tz[1:], ("stiffness", "free angle", "damping")):
-            _finite_number(value, f"a torsion's {what}")
+            checked_number(value, f"a torsion's {what}")
     forces(linkage, [], branch, bodies, effects)      # its ValueError: the bodies, the effects
     load = None
     if effects.coupler_force is not None:
