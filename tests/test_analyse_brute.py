@@ -22,13 +22,12 @@ A circuit is the whole turn on the branch asked where the crank turns fully, els
 interval between two dead centres, out on branch 1 and back on branch 2 (a circuit has both).
 
 The default run checks 60 linkages (stratified over the classes, one branch each, the two
-explicit cases of the issue besides); LINKAGE_SLOW=1 runs the slow one, 300 more on both branches
-(`LINKAGE_SLOW=1 python3 -m pytest -p no:xdist -m slow tests/test_analyse_brute.py`)."""
+explicit cases of the issue besides), and 304 more, 152 linkages on both branches; the module is
+marked slow (the full run's, not --quick's)."""
 
 from __future__ import annotations
 
 import math
-import os
 import random
 import tomllib
 from pathlib import Path
@@ -401,8 +400,8 @@ def drawn(seed, per_class, both_branches):
 
 
 DEFAULT = drawn("analyse-brute", 8, False)[:60]       # 8 classes, 60 linkages
-# 152 linkages, both branches (drawn only when asked for: LINKAGE_SLOW=1)
-SLOW = drawn("analyse-brute-slow", 19, True) if os.environ.get("LINKAGE_SLOW") else []
+# 152 linkages, both branches (the full run's; --quick leaves the module out)
+SLOW = drawn("analyse-brute-slow", 19, True)
 
 
 def test_analyse_against_brute_force():
@@ -416,8 +415,6 @@ def test_analyse_against_brute_force():
     print(f"\n{len(DEFAULT)} linkages: worst differences {worst}")
 
 
-@pytest.mark.slow
-@pytest.mark.skipif(not os.environ.get("LINKAGE_SLOW"), reason="LINKAGE_SLOW=1 runs it")
 @pytest.mark.parametrize("kind, dims, branch, kind_class", SLOW,
                          ids=[f"{k}-{c}-{i // 2}-b{b}" for i, (k, _, b, c) in enumerate(SLOW)])
 def test_analyse_against_brute_force_slow(kind, dims, branch, kind_class):
