@@ -11707,14 +11707,14 @@ def _number(x: float | None, unit: str = "") -> str:
 
 def _analysis_rows(view: ExploreView, mu: float | None, unit: str, more: bool
                    ) -> list[tuple[str, str]]:
-    """The side panel's answers of analyse: the type, crank range, swing, time ratio and the
+    """The side panel's answers of analyse: the class, crank range, swing, time ratio and the
     transmission angle now, at its extremes and furthest from 90 degrees; more: the output's
     range, the dead centres and change points too."""
     a = view.analysis
     if not view.settled:
-        return [("type", "..."), ("μ now", _number(mu and round(mu, 4)))]
+        return [("class", "..."), ("μ now", _number(mu and round(mu, 4)))]
     if a is None:
-        return [("type", "none"), ("", view.message), ("μ now", "-")]
+        return [("class", "none"), ("", view.message), ("μ now", "-")]
     crank = "full" if a.crank_range is None else ", ".join(
         f"{lo:.5g} to {hi:.5g}" for lo, hi in a.crank_range)
     swing = ("full turn" if a.output_min is None or a.output_max is None
