@@ -150,7 +150,7 @@ def test_the_readmes_layout_matches_the_file():
     """README's "Layout": a row for each section (its line count within 15 %) and each file of
     tests/ and tests/support/, by its path."""
     readme = (Path(linkage.__file__).parent / "README.md").read_text(encoding="utf-8")
-    layout = readme[readme.index("## Layout"):readme.index("## How the listing is checked")]
+    layout = readme[readme.index("\n## Layout\n"):].split("\n## ", 2)[1]
     banners = sections()
     ends = [first for _, first, _ in banners[1:]] + [len(LINES) + 1]
     for (number, first, title), end in zip(banners, ends):

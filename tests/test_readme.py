@@ -1,6 +1,6 @@
 """The README as a newcomer uses it: every `python3 linkage.py …` command it shows - in its code
 blocks (continued lines joined) and in its tables - runs from a fresh folder and exits 0, as
-shown. The folder has the repository's data/ and legacy_basic/ beside it (the README's paths
+shown; so does every one of data/PROOFS.md, where the README's claims are proven. The folder has the repository's data/ and legacy_basic/ beside it (the README's paths
 are relative to the clone); the bare menu program is given the key 6 (Exit)."""
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from support.basic_runner import ROOT
 pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
 README = (ROOT / "README.md").read_text(encoding="utf-8")
+PROOFS = (ROOT / "data" / "PROOFS.md").read_text(encoding="utf-8")
 COMMAND = re.compile(r"^python3 linkage\.py(?: |$)")
 TIMING = re.compile(r"^python3 linkage\.py\s+[0-9.]+\s*$")      # a row of a table of times
 
@@ -41,11 +42,11 @@ def readme_commands(text: str) -> list[str]:
     return list(dict.fromkeys(commands))
 
 
-COMMANDS = readme_commands(README)
+COMMANDS = list(dict.fromkeys(readme_commands(README) + readme_commands(PROOFS)))
 
 
 def test_the_readme_shows_the_commands_of_every_sub_command():
-    shown = {c.split()[2] if len(c.split()) > 2 else "" for c in COMMANDS}
+    shown = {c.split()[2] if len(c.split()) > 2 else "" for c in readme_commands(README)}
     assert {"", "run", "analyse", "scene", "plot", "design", "listing", "bench",
             "forces"} <= shown, shown
 
