@@ -32,7 +32,9 @@ motion in time under forces, through dead centres and change points); 12. the li
 mechanism's renderers (terminal, SVG, PNG, DXF); 16. synthesis: what a design is; 17. synthesis:
 the review's methods; 18. synthesis: designs measured and checked; 19. scenes; 20. plots;
 21. the explorer (a dimension changed, the linkage watched in the terminal); 22. benchmarks of
-the program itself; 23. the command line, last. The engine, the view and
+the program itself; 23. commands run, analyse and forces (each command's one typed value,
+validated once, and its handler); 24. commands scene, plot, design, listing, explore and bench;
+25. the command line (argparse, from the table of commands), last. The engine, the view and
 synthesis never use the original program.
 """
 
@@ -12717,79 +12719,21 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 23. The command line ------------------------------------------------------------------------
+# ---- 23. Commands run, analyse and forces: each one's typed value, validated once, and its work ----
 #
-# Holds: the shared parsers of what is typed on the command line (numbers in each precision, linkage
-# kinds, PNG sizes), one handler a sub-command, the design methods' help, and COMMANDS, the table of
-# every sub-command's help and options that build_parser turns into argparse; main() last.
+# Holds: the parsers of what is typed (numbers in each precision, kinds); what every command is
+# given (its one typed value, made of the parsed options once its "goes with" rules hold: Rule,
+# broken_rule) and the refusals (UsageError, CommandError); the output checks and folders every
+# command shares; then run, analyse and forces, each its typed value, the function that makes it
+# (run_options, ...) and its handler (run_command, ...), and the drawing every command shares.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 12, 13, 14, 15, 16, 18, 19, 20, 21 and 22.
-# Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
-#   decimal_number, basic_answer, MADE_FOLDERS, output_folder, unmake_folders, run_command,
-#   CSV_CLIPPED, analyse_command, forces_command, FORCES_OPTIONS, drawing_command, scene_command,
-#   plot_command, design_scene, design_command, ERRATUM, KEPT_BUG, SCAN_LINE, scan_lines,
-#   erratum_reason, kept_bug_lines, annotated_listing, listing_command, explore_command,
-#   bench_command, Option, option, Command, DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP,
-#   DATUM_FLAGS, DXF_HELP, PNG_OPTIONS, COMMANDS, CommandParser, build_parser, main.
-
-
-ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
-               "towards the output pivot B0)")
-METHOD_HELP = {  # each method's --help: what it designs from what (the data: DATA)
-    "FOURB-CR-1": "A crank-rocker (Chen; Pamidi) whose rocker swings through psi while the crank "
-                  "turns 180 + theta from the extended dead centre (crank and coupler in line) to "
-                  "the folded one, the crank at theta0 at the extended one.",
-    "FOURB-CR-2": "A crank-rocker (Chen; Pamidi) whose rocker swings through psi while the crank "
-                  "turns 180 + theta from the extended dead centre (crank and coupler in line) to "
-                  "the folded one, the rocker at psi0 at the extended one; up to two linkages.",
-    "FOURB-CR-3": "A crank-rocker (Freudenstein & Primrose) whose rocker swings through psi "
-                  "while the crank turns 180 + theta from the extended dead centre to the folded "
-                  "one, with the least greatest deviation of the transmission angle from 90 "
-                  "degrees.",
-    "FOURB-CR-4": "A centric crank-rocker (Brodell & Soni: theta = 0, the crank turning 180 "
-                  "degrees each way) whose rocker swings through psi, with least transmission "
-                  "angle mu_min.",
-    "FOURB-CR-4 (Volmer)": "The centric crank-rocker of FOURB-CR-4 by Volmer's equations (6a-c): "
-                           "rocker swing psi, least transmission angle mu_min.",
-    "DRAGLINK-1": "A drag-link (Bagci: frame shortest, crank and output turning fully) whose "
-                  "output turns dpsi0 while the crank turns 180 degrees from the frame line "
-                  "(phi = 0) to its extension (phi = 180), with transmission angle mu_min at "
-                  "phi = 0 and 180 - mu_min at phi = 180.",
-    "DRAGLINK-2": "A drag-link (Tsai: frame shortest) with unit velocity ratio (output as fast as "
-                  "the crank) at two positions dphi apart on the crank and dpsi on the output; "
-                  "lambda = coupler / frame given, or chosen for the transmission angle closest "
-                  "to 90 degrees.",
-    "FOURB-FG2-1": "A four-bar function generator (Chiang): while the crank turns through phij "
-                   "from phi0 the output turns through psij (signed, counter-clockwise positive: "
-                   "the motion itself, not only the end position), for a given crank a and "
-                   "output c, ratios to the frame d = 1 (--crank-ratio, --output-ratio); finds "
-                   "the coupler and the output's start psi0. Up to two linkages.",
-    "FOURB-FG3-1": "A four-bar function generator (Freudenstein's equation) through three "
-                   "positions: the output at psi1, psi2, psi3 when the crank is at phi1, phi2, "
-                   "phi3. The output angles are the review's: measured from the opposite "
-                   "direction to the program's, which are 180 less.",
-    "SLID-FG2-1": "A slider-crank (Chen) whose slider moves ds between its dead centres while the "
-                  "crank turns dtheta from the outer to the inner one, for a chosen offset "
-                  "epsilon (the slider's line is y = -epsilon: the program's e = -epsilon).",
-    "SLID-FG2-2": "A slider-crank (Chen) through its two dead centres: the crank at theta1 with "
-                  "the slider at s1 (outer), the crank pin in the direction theta2 with the "
-                  "slider at s2 (inner; the crank itself at theta2 - 180). The two must agree: "
-                  "s1 tan(theta1) = s2 tan(theta2).",
-}
-DESIGN_OUTPUT_HELP = (
-    "Prints, a `name = value` line each: the data; per solution the linkage in the program's "
-    "letters, as `run` takes them (four-bars: a the fixed link = 1, b the input crank, c the "
-    "coupler, d the output crank; slider-cranks: b the crank, c the rod, e the offset of the "
-    "slider's line y = e), its branch (run --branch), the design positions (phi the crank, psi "
-    "the output, x the slider; angles as the data give them), the transmission angle's extremes "
-    "mu_min and mu_max; then, labelled review, the review's own numbers in its letters. Exit 0, "
-    "1 for data no design meets, 2 for a usage error, 3 when --analyse finds a miss.")
-
-
-def datum_help(datum: Datum) -> str:
-    """The help of a datum: what it is, its valid range, the values refused in it (DATA)."""
-    refused = "".join(f"; refused: {reason}" for reason, _ in datum.excluded)
-    return f"{datum.meaning}; in {range_text(datum)}{refused}"
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 12, 13, 14, 15, 19, 20 and 21.
+# Offers: DECIMAL, LONGEST_NUMBER, decimal_number, basic_answer, kind_named, UsageError,
+#   CommandError, Rule, goes_with, broken_rule, Pictures, pictures_typed, unwritten, reported,
+#   dimensions_typed, typed_value, check_outputs, MADE_FOLDERS, output_folder, unmake_folders,
+#   RunOptions, run_options, run_command, CSV_CLIPPED, AnalyseOptions, analyse_options,
+#   analyse_command, ForcesOptions, forces_options, forces_command, FORCES_OPTIONS, figure_command,
+#   drawing_command.
 
 
 # -- what is typed: one parser a kind of value, shared by every command -------------------------
@@ -12834,60 +12778,98 @@ def basic_answer(text: str, what: str) -> str:
     return text
 
 
-def _design_number(flag: str) -> Callable[[str], float]:
-    """The argparse type of a datum: an ordinary decimal (decimal_number), its refusal naming
-    the option."""
-    def number(text: str) -> float:
-        try:
-            return decimal_number(text, flag, basic_hint=False)
-        except ValueError as e:
-            raise argparse.ArgumentTypeError(str(e).removeprefix(f"{flag}: ")) from None
-    number.__name__ = "number"
-    return number
+def kind_named(text: str) -> str | None:
+    """The kind `text` names (one of KIND_MENU, or its menu key 1-5), or None."""
+    name = {key: name for name, (key, _) in KIND_MENU.items()}.get(text, text)
+    return name if name in KIND_MENU else None
 
 
-def _kind_argument(text: str) -> str:
-    by_number = {key: name for name, (key, _) in KIND_MENU.items()}
-    name = by_number.get(text, text)
-    if name not in KIND_MENU:
-        raise argparse.ArgumentTypeError(
-            f"{text!r} is not one of {', '.join(KIND_MENU)} (or 1-5)")
-    return name
+# -- what a command is given: one typed value, validated once ------------------------------------
+#
+# The command line parsed (argparse, in the last section) is a dict of what each option holds;
+# each command's rules ("goes with" rows of its COMMANDS entry: broken_rule) are checked on it,
+# then its typed function (run_options, ...) makes of it the one value its handler takes, every
+# number converted and every refusal said (UsageError: exit 2, with the command's usage;
+# CommandError: exit 1) before the handler does any work. The values are NamedTuples: no field
+# is rebound on the way.
+
+class UsageError(Exception):
+    """A command line the command cannot take: said as argparse says its own (the command's
+    usage, then the message), exit status 2."""
 
 
-def _png_dpi(text: str) -> float:
-    try:
-        dpi = decimal_number(text, "--dpi")
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(str(e)) from None
-    if not 10 <= dpi <= 1200:
-        raise argparse.ArgumentTypeError(f"{text} dots an inch: expected 10 to 1200")
-    return dpi
+class CommandError(Exception):
+    """A command given what it cannot work on (a scene without what it needs, a linkage that
+    cannot be built): the message, exit status 1."""
 
 
-def _png_size(text: str) -> tuple[int, int]:
-    match = re.fullmatch(r"([0-9]{1,5})[xX]([0-9]{1,5})", text.strip())
-    if not match or not all(100 <= int(v) <= 20000 for v in match.groups()):
-        raise argparse.ArgumentTypeError(f"{text!r}: expected WIDTHxHEIGHT in pixels, each 100 "
-                                         "to 20000, e.g. 1600x1200")
-    return int(match[1]), int(match[2])
+class Rule(NamedTuple):
+    """A "goes with" row of a command: where option `given` is typed (with one of the values
+    after its flag, if the row names any: "--branch follow", "--fast"), one of `needs` must hold
+    ("--precision double": the option holds that value, its default counting; "--csv": the
+    option is typed); else the command line is refused, "GIVEN goes with NEEDS (why)"."""
+
+    given: str
+    needs: tuple[str, ...]
+    why: str = ""
 
 
-def _benchmark_name(text: str) -> str:
-    if text not in BENCHMARKS:
-        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(BENCHMARKS)}")
-    return text
+def goes_with(given: str, *needs: str, why: str = "") -> Rule:
+    return Rule(given, needs, why)
 
 
-# -- the sub-commands: each takes its parsed arguments and gives the exit status ---------------
+def _rule_part(text: str) -> tuple[str, tuple[str, ...]]:
+    """A side of a Rule: its flag, and the values named after it ("--branch 1 or 2")."""
+    flag, _, values = text.partition(" ")
+    return flag, tuple(values.split(" or ")) if values else ()
 
-def _unwritten(e: OSError) -> str:
+
+def broken_rule(rules: Iterable[Rule], values: dict[str, Any], typed: set[str]) -> str | None:
+    """The message of the first of `rules` the command line breaks, or None: `values` {flag:
+    what the option holds, its default if not typed}, `typed` the flags typed (holding other
+    than their default)."""
+    def holds(text: str, given: bool) -> bool:
+        flag, named = _rule_part(text)
+        if named:
+            return str(values.get(flag)) in named and (flag in typed or not given)
+        return flag in typed
+    for rule in rules:
+        if holds(rule.given, True) and not any(holds(n, False) for n in rule.needs):
+            needs = (", ".join(rule.needs[:-1]) + " or " if len(rule.needs) > 1 else "") \
+                + rule.needs[-1]
+            return f"{rule.given} goes with {needs}" + (f" ({rule.why})" if rule.why else "")
+    return None
+
+
+class Pictures(NamedTuple):
+    """Where a command's pictures go: the files (None: not written), the terminal's view or text
+    plot (text), the still frames of a piped view, the PNG's scale."""
+
+    svg: str | None = None
+    png: str | None = None
+    dxf: str | None = None
+    text: bool = False
+    frames: int | None = None
+    dpi: float | None = None
+    size: tuple[int, int] | None = None
+
+
+def pictures_typed(given: dict[str, Any]) -> Pictures:
+    """The Pictures of a command line (its options of them that the command has)."""
+    return Pictures(given.get("svg"), given.get("png"), given.get("dxf"),
+                    bool(given.get("text")), given.get("frames"), given.get("dpi"),
+                    given.get("size"))
+
+
+# -- the sub-commands: each takes its typed value and gives the exit status ------------------------
+
+def unwritten(e: OSError) -> str:
     """The message of a write that failed: the file it names, or else standard output (the one
     output the program writes without naming it)."""
     return f"{e.filename or 'standard output'}: {e.strerror}"
 
 
-def _reported(work: Callable[[], int | None]) -> int:
+def reported(work: Callable[[], int | None]) -> int:
     """work()'s exit status (0 for None), or, where it fails, a message on standard error and
     status 1 (130 for Ctrl-C)."""
     try:
@@ -12897,26 +12879,47 @@ def _reported(work: Callable[[], int | None]) -> int:
     except OSError as e:
         if reader_gone(e):
             raise                               # main's to end quietly (141)
-        return said(_unwritten(e), 1)
+        return said(unwritten(e), 1)
     except KeyboardInterrupt as e:
         return said("interrupted", interrupted_status(e))
 
 
-def _check_dimensions(args: argparse.Namespace, parser: argparse.ArgumentParser,
-                      needed: tuple[str, ...]) -> None:
-    """Refuse (parser.error) a command line that misses one of the kind's dimensions or gives
-    one it has no use for."""
-    given = {name for name in DIMENSION_HELP if getattr(args, name) is not None}
+def _check_dimensions(kind: str, given: dict[str, Any]) -> None:
+    """Refuse (UsageError) a command line that misses one of the kind's dimensions or gives one
+    it has no use for; `given`: the dimension options typed, by letter."""
+    needed = KIND_MENU[kind][1]
     missing = [f"--{n}" for n in needed if n not in given]
-    extra = [f"--{n}" for n in sorted(given - set(needed))]
+    extra = [f"--{n}" for n in sorted(set(given) - set(needed))]
     if missing or extra:
         what = ("missing " + " ".join(missing)) if missing else ("no use for " + " ".join(extra))
-        parser.error(f"{args.kind} needs {' '.join('--' + n for n in needed)}: {what}")
+        raise UsageError(f"{kind} needs {' '.join('--' + n for n in needed)}: {what}")
 
 
-def _check_outputs(parser: argparse.ArgumentParser, files: dict[str, str | None],
-                   folder: str | None = None, names: Iterable[str] = ()) -> None:
-    """Refuse (parser.error), before anything is written, a command whose outputs name one file
+def dimensions_typed(given: dict[str, Any]) -> dict[str, str]:
+    """The dimension options of a command line (--a ... --ksi) typed, by letter, as typed."""
+    return {n: given[n] for n in DIMENSION_NAMES if given.get(n) is not None}
+
+
+def _coupler_typed(texts: Sequence[str] | None, most: int = 2) -> tuple[float, ...]:
+    """--coupler's U (and V) as numbers: () where not given."""
+    if texts is None:
+        return ()
+    if not 1 <= len(texts) <= most:
+        raise UsageError("--coupler takes U, or U and V")
+    return tuple(typed_value(decimal_number, text, "--coupler") for text in texts)
+
+
+def typed_value(convert: Callable[[str, str], Any], text: str, what: str) -> Any:
+    """convert(text, what), its ValueError a UsageError (the command line's to refuse)."""
+    try:
+        return convert(text, what)
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+
+
+def check_outputs(files: dict[str, str | None], folder: str | None = None,
+                   names: Iterable[str] = ()) -> None:
+    """Refuse (UsageError), before anything is written, a command whose outputs name one file
     twice: `files` {option: path} given, and `names` the files it writes in `folder` (one would
     overwrite the other, exit 0: `--csv cf/ANG.DAT` with `--dir cf`)."""
     seen: dict[str, str] = {}             # a real path: the option (or --dir's file) naming it
@@ -12928,17 +12931,17 @@ def _check_outputs(parser: argparse.ArgumentParser, files: dict[str, str | None]
             continue
         real = os.path.realpath(path)
         if real in seen:
-            parser.error(f"{option} {path!r} is {seen[real]}: the same file twice")
+            raise UsageError(f"{option} {path!r} is {seen[real]}: the same file twice")
         seen[real] = option
 
 
 MADE_FOLDERS: list[str] = []     # the folders this command made (output_folder), deepest first
 
 
-def output_folder(parser: argparse.ArgumentParser, option: str, path: str) -> None:
+def output_folder(option: str, path: str) -> None:
     """The one rule of every command's output folder (run's and scene's --dir, design's --dat):
-    made if missing, with its parents, before any work; refused (parser.error, exit status 2)
-    where it cannot be, e.g. a file in the way. Those it makes are in MADE_FOLDERS: a command
+    made if missing, with its parents, before any work; refused (exit status 2)
+    where it cannot be, e.g. a file in the way (UsageError). Those it makes are in MADE_FOLDERS: a command
     that fails leaves none of them behind (unmake_folders)."""
     missing, head = [], os.path.abspath(path)
     while not os.path.lexists(head) and os.path.dirname(head) != head:
@@ -12948,7 +12951,7 @@ def output_folder(parser: argparse.ArgumentParser, option: str, path: str) -> No
         os.makedirs(path, exist_ok=True)
     except OSError as e:
         MADE_FOLDERS.extend(m for m in missing if os.path.isdir(m))
-        parser.error(f"{option} {path!r}: cannot make the folder: {e.strerror}")
+        raise UsageError(f"{option} {path!r}: cannot make the folder: {e.strerror}") from None
     MADE_FOLDERS.extend(missing)
 
 
@@ -12960,61 +12963,59 @@ def unmake_folders() -> None:
             os.rmdir(MADE_FOLDERS.pop(0))
 
 
-def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py run KIND ...`: the menu program given these answers."""
-    key, needed = KIND_MENU[args.kind]
-    if args.old_skew is not None:               # the spelling before 0.2.0
+class RunOptions(NamedTuple):
+    """run's command line, validated: the kind; its dimensions and the sweep (from, to, step) by
+    name, as numbers (double precision) or as the answers the menu takes (basic: basic_answer's
+    text); the branch (1, 2 or follow, with start_branch); where the files go; the options."""
+
+    kind: str
+    answers: dict[str, Any]
+    branch: str
+    start_branch: int
+    folder: str
+    precision: str
+    csv: str | None
+    coupler: tuple[float, ...]
+    clip: bool
+    fast: bool
+
+
+def run_options(given: dict[str, Any]) -> RunOptions:
+    """run's typed value (see RunOptions), or UsageError."""
+    kind = given["kind"]
+    dims = dimensions_typed(given)
+    if given["old_skew"] is not None:           # the spelling before 0.2.0
         say("--skew is now --ksi (the skew angle's name in the paper, the API and the scenes)")
-        if args.ksi is None:
-            args.ksi = args.old_skew
-    _check_dimensions(args, parser, needed)
-    names = list(needed) + ["from", "to", "step"]
-    answers = [getattr(args, n) for n in needed] + [args.start, args.stop, args.step]
-    number = decimal_number if args.precision == "double" else basic_answer
-    try:
-        answers = [number(text, f"--{name}") for name, text in zip(names, answers)]
-    except ValueError as e:
-        parser.error(str(e))
-    _check_outputs(parser, {"--csv": args.csv}, args.dir, DatFiles.NAMES)
-    if args.branch == FOLLOW and args.precision != "double":
-        parser.error("--branch follow goes with --precision double (the original program has "
-                     "branches 1 and 2 only)")
-    if args.start_branch is not None and args.branch != FOLLOW:
-        parser.error("--start-branch goes with --branch follow")
-    if args.fast and args.branch == FOLLOW:
-        parser.error("--fast goes with --branch 1 or 2 (the vectorised path computes the "
-                     "listing's branches)")
-    if args.coupler is not None:
-        if args.precision != "double":
-            parser.error("--coupler goes with --precision double (the original program computes "
-                         "the output link only)")
-        if not args.csv:
-            parser.error("--coupler adds columns to --csv: give --csv OUT too")
-        if len(args.coupler) not in (1, 2):
-            parser.error("--coupler takes U, or U and V")
-        try:
-            args.coupler = [decimal_number(text, "--coupler") for text in args.coupler]
-        except ValueError as e:
-            parser.error(str(e))
-    if args.precision == "basic" and args.clip:
-        parser.error("--clip goes with --precision double (the original always clips VEL and ACC)")
-    if args.precision == "basic" and args.fast:
-        parser.error("--fast goes with --precision double (the original's numbers are "
-                     "computed one point at a time)")
-    output_folder(parser, "--dir", args.dir)
+        dims.setdefault("ksi", given["old_skew"])
+    _check_dimensions(kind, dims)
+    number = decimal_number if given["precision"] == "double" else basic_answer
+    texts = {**{n: dims[n] for n in KIND_MENU[kind][1]},
+             "from": given["start"], "to": given["stop"], "step": given["step"]}
+    answers = {name: typed_value(number, text, f"--{name}") for name, text in texts.items()}
+    check_outputs({"--csv": given["csv"]}, given["dir"], DatFiles.NAMES)
+    return RunOptions(kind, answers, given["branch"], int(given["start_branch"] or 1),
+                      given["dir"], given["precision"], given["csv"],
+                      _coupler_typed(given["coupler"]), given["clip"], given["fast"])
+
+
+def run_command(args: RunOptions) -> int:
+    """`python3 linkage.py run KIND ...`: the menu program given these answers."""
+    key = KIND_MENU[args.kind][0]
+    output_folder("--dir", args.folder)
     if args.precision == "double":
-        return _run_double(args, dict(zip(names, answers)))
+        return _run_double(args)
+    answers = list(args.answers.values())
     screen = Screen(lambda s: None, terminal=False,
                     soft_errors=lambda s: sys.stderr.write(s.replace("\r\n", "\n")))
     try:
         if not args.csv:
-            points = answered_session(screen, key, answers, args.branch, args.dir)
+            points = answered_session(screen, key, answers, args.branch, args.folder)
         else:                                   # the DAT files and the CSV as one set
-            with staging_folder(args.dir) as where, WrittenSet() as outputs:
+            with staging_folder(args.folder) as where, WrittenSet() as outputs:
                 points = answered_session(screen, key, answers, args.branch, where)
                 for name in DatFiles.NAMES:
-                    outputs.adopt(os.path.join(where, name), os.path.join(args.dir, name))
-                rows = _basic_csv(args, answers, where, outputs)
+                    outputs.adopt(os.path.join(where, name), os.path.join(args.folder, name))
+                rows = _basic_csv(args, args.csv, answers, where, outputs)
     except ProgramStop as stop:
         return said(stop, 1)
     except KeyboardInterrupt as e:
@@ -13022,9 +13023,9 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
     except OSError as e:
         if reader_gone(e):
             raise                               # --csv -: main's to end quietly (141)
-        return said(f"{_unwritten(e)}; the DAT files there are as they were", 1)
+        return said(f"{unwritten(e)}; the DAT files there are as they were", 1)
     screen.show_soft_errors()
-    say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)})")
+    say(f"wrote {_dat_names(3)} in {args.folder} ({points:,} point{'s' * (points != 1)})")
     if args.csv:
         say(f"wrote {args.csv} ({rows:,} rows)")
     return 0
@@ -13033,10 +13034,10 @@ def run_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> in
 CSV_CLIPPED = "clipped"     # run --csv in basic precision: VEL or ACC written as +-3 (ERRATA K9)
 
 
-def _basic_csv(args: argparse.Namespace, answers: list[str], where: str,
+def _basic_csv(args: RunOptions, path: str, answers: list[str], where: str,
                outputs: WrittenSet) -> int:
-    """run --csv, basic precision: the rows of the DAT files just written in `where`, as a file of
-    the set `outputs`; the rows written. The original's numbers (zeros where it finds no
+    """run --csv, basic precision: the rows of the DAT files just written in `where`, as the file
+    `path` of the set `outputs`; the rows written. The original's numbers (zeros where it finds no
     position, VEL and ACC clipped to +-3), each with the accurate engine's status of that
     position, so that a written zero that is no position can be told apart; an assembled row
     whose VEL or ACC the original wrote as +-3, its clip (ERRATA K9), is `clipped`."""
@@ -13051,24 +13052,23 @@ def _basic_csv(args: argparse.Namespace, answers: list[str], where: str,
         statuses = ["unknown"] * len(ang)
     rows = ((phi, psi, v, a, CSV_CLIPPED if status == ASSEMBLED and 3.0 in (abs(v), abs(a))
              else status) for (phi, psi), (_, v), (_, a), status in zip(ang, vel, acc, statuses))
-    return write_csv(args.csv, rows, outputs=outputs)
+    return write_csv(path, rows, outputs=outputs)
 
 
-def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
+def _run_double(args: RunOptions) -> int:
     """`run ... --precision double`: the accurate engine's numbers in the same three files,
     shortest round-trip text, unclipped unless --clip; positions that do not exist are left out
     (the original writes zeros there, ERRATA K8), and so are those after a followed motion ended
     (--branch follow); the message counts them. --fast: the same numbers by the vectorised path
     (Linkage.sweep_arrays, numpy)."""
-    dims = {n: numbers[n] for n in KIND_MENU[args.kind][1]}
-    start, stop, step = numbers["from"], numbers["to"], numbers["step"]
+    dims = {n: args.answers[n] for n in KIND_MENU[args.kind][1]}
+    start, stop, step = args.answers["from"], args.answers["to"], args.answers["step"]
     try:
         linkage = Linkage(args.kind, **dims)
         count = angle_count(start, stop, step)
         if args.fast:
             numpy_module()                            # fail before any work
-        if args.coupler:
-            args.coupler = check_coupler_point(linkage, *args.coupler)
+        coupler = check_coupler_point(linkage, *args.coupler) if args.coupler else None
     except (ValueError, FastUnavailable) as e:
         return said(e, 1)
     # in blocks, to keep a long sweep out of memory; a followed motion in one, as it goes on
@@ -13079,7 +13079,6 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
     if count > 10**8:
         return said(f"{count:,} points is more than 100 million: choose a larger step", 1)
     assembled, points = 0, None
-    coupler = args.coupler
 
     def extra_columns(swept, arrays):
         """The CSV's columns after the Motion's: mu, and the coupler point's if asked; for the
@@ -13115,7 +13114,7 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
                                        extra_columns(None, arrays) if table else ())
                 else:
                     angles = [start + i * step for i in range(first, last)]
-                    swept = (linkage.sweep(angles, FOLLOW, start=int(args.start_branch or 1))
+                    swept = (linkage.sweep(angles, FOLLOW, start=args.start_branch)
                              if args.branch == FOLLOW else linkage.sweep(angles, int(args.branch)))
                     assembled += sum(m.output is not None for m in swept)
                     yield from (map(tuple.__add__, swept, extra_columns(swept, None)) if table
@@ -13127,7 +13126,7 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
     try:                            # the CSV file, if asked, is on the disk before the DATs are
         #                             renamed into place, and renamed after them
         with written_whole(args.csv) if args.csv else contextlib.nullcontext() as table:
-            points = write_dat_files(motions(table), args.dir, clip=args.clip,
+            points = write_dat_files(motions(table), args.folder, clip=args.clip,
                                      before_rename=getattr(table, "finish", None), csv=table)
     except ProgramStop as stop:
         return said(stop, 1)
@@ -13141,131 +13140,144 @@ def _run_double(args: argparse.Namespace, numbers: dict[str, float]) -> int:
         return said("interrupted; the DAT files there are as they were", interrupted_status(e))
     left_out = (f"; {points - assembled:,} without a position, left out"
                 if points > assembled else "")
-    say(f"wrote {_dat_names(3)} in {args.dir} ({points:,} point{'s' * (points != 1)}"
+    say(f"wrote {_dat_names(3)} in {args.folder} ({points:,} point{'s' * (points != 1)}"
          f"{left_out})")
     if args.csv:
         say(f"wrote {args.csv} ({points:,} rows)")
     return 0
 
 
-def analyse_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+class AnalyseOptions(NamedTuple):
+    """analyse's command line, validated: the linkage, its branch (1, 2 or follow, from
+    start_branch), the coupler point to trace ((U, V) checked, or None) and the pictures."""
+
+    kind: str
+    dims: dict[str, float]
+    branch: int | str
+    start_branch: int | None
+    coupler: tuple[float, float] | None
+    pictures: Pictures
+
+
+def analyse_options(given: dict[str, Any]) -> AnalyseOptions:
+    """analyse's typed value (see AnalyseOptions), or UsageError."""
+    kind, typed = given["kind"], dimensions_typed(given)
+    _check_dimensions(kind, typed)
+    dims = {n: typed_value(decimal_number, text, f"--{n}") for n, text in typed.items()}
+    pictures = pictures_typed(given)
+    check_outputs({"--svg": pictures.svg, "--png": pictures.png, "--dxf": pictures.dxf})
+    coupler = None
+    if given["coupler"] is not None:
+        u_v = _coupler_typed(given["coupler"])
+        try:
+            coupler = check_coupler_point(Linkage(kind, **dims), *u_v)
+        except ValueError as e:
+            raise UsageError(str(e)) from None
+    branch = given["branch"]
+    return AnalyseOptions(kind, dims, branch if branch == FOLLOW else int(branch),
+                          None if given["start_branch"] is None else int(given["start_branch"]),
+                          coupler, pictures)
+
+
+def analyse_command(args: AnalyseOptions) -> int:
     """`python3 linkage.py analyse KIND ...`: the linkage's class and range of motion, one
     `name = value` a line (analysis_lines)."""
-    needed = KIND_MENU[args.kind][1]
-    _check_dimensions(args, parser, needed)
     try:
-        dims = {n: decimal_number(getattr(args, n), f"--{n}") for n in needed}
-    except ValueError as e:
-        parser.error(str(e))
-    if args.start_branch is not None and args.branch != FOLLOW:
-        parser.error("--start-branch goes with --branch follow")
-    branch = args.branch if args.branch == FOLLOW else int(args.branch)
-    start = None if args.start_branch is None else int(args.start_branch)
-    _check_outputs(parser, {"--svg": args.svg, "--png": args.png, "--dxf": args.dxf})
-    coupler = None
-    if args.coupler is not None:
-        if not (args.svg or args.png or args.dxf):
-            parser.error("--coupler goes with --svg, --png or --dxf (it draws the coupler curve)")
-        if len(args.coupler) > 2:
-            parser.error("--coupler takes U, or U and V")
-        try:
-            coupler = check_coupler_point(Linkage(args.kind, **dims), *(
-                decimal_number(text, "--coupler") for text in args.coupler))
-        except ValueError as e:
-            parser.error(str(e))
-    try:
-        analysis = analyse(Linkage(args.kind, **dims), branch, start)
+        analysis = analyse(Linkage(args.kind, **args.dims), args.branch, args.start_branch)
     except ValueError as e:
         return said(f"Illegal linkage (impossible to assemble): {e}"
                     if "assembles at no" in str(e) else e, 1)
     sys.stdout.write("".join(line + "\n" for line in analysis_lines(analysis)))
     sys.stdout.flush()
-    if not (args.svg or args.png or args.dxf):
+    if not (args.pictures.svg or args.pictures.png or args.pictures.dxf):
         return 0
-    args.frames, args.text = None, False
-    return drawing_command(args, lambda: analysis_drawing(analysis, coupler))
+    return drawing_command(args.pictures, lambda: analysis_drawing(analysis, args.coupler))
 
 
-def forces_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+class ForcesOptions(NamedTuple):
+    """forces' command line, validated: the scene (a file's, or one made of a KIND's options),
+    the branches computed, the speed the forces are at (rpm) and the speed fluctuation Cs."""
+
+    scene: Scene
+    branches: tuple[int | str, ...]
+    speed: float
+    fluctuation: float
+
+
+def forces_options(given: dict[str, Any]) -> ForcesOptions:
+    """forces' typed value (see ForcesOptions): UsageError for a command line it cannot take,
+    CommandError (or SceneError) for a scene or linkage it cannot compute."""
+    if not 0.0 < given["fluctuation"] < 2.0:
+        raise UsageError(f"--fluctuation {given['fluctuation']:g}: expected a speed fluctuation "
+                         "Cs between 0 and 2 ((max - min) / mean speed, e.g. 0.05)")
+    kind = kind_named(given["target"])
+    options = {name: given[dest] for name, dest in FORCES_OPTIONS.items()
+               if given[dest] is not None}
+    sweep = {"--from": given["start"], "--to": given["stop"], "--step": given["step"]}
+    typed = dimensions_typed(given)
+    if kind is None:
+        named = sorted(f"--{n}" for n in typed)
+        named += [n for n, v in (*options.items(), *sweep.items(), ("--branch", given["branch"]))
+                  if v is not None]
+        if named:
+            raise UsageError(f"{' '.join(named)}: a scene gives its dimensions, sweep, branches "
+                             "and [dynamics]; these options go with a KIND")
+        scene = load_scene(scene_path(given["target"]))
+        if scene.dynamics is None:
+            raise CommandError(f"{scene.path}: key 'dynamics' is missing: expected "
+                               f"{SCENE_KEYS['dynamics']}")
+        return ForcesOptions(scene, tuple(b for b in scene.branches if "double" in
+                                          scene.precisions),
+                             scene.dynamics.effects.speed_rpm, given["fluctuation"])
+    _check_dimensions(kind, typed)
+    dims = {n: typed_value(decimal_number, typed[n], f"--{n}") for n in LINKAGE_DIMENSIONS[kind]}
+    numbers = {name: typed_value(decimal_number, v, name) for name, v in options.items()}
+    start, stop, step = (typed_value(decimal_number, v if v is not None else default, flag)
+                         for (flag, v), default in zip(sweep.items(), ("0", "360", "1")))
+    table: dict[str, Any] = {"speed": numbers.get("--speed", 0.0)}
+    for name, key in (("--gravity", "gravity"), ("--output-torque", "output_torque"),
+                      ("--output-force", "output_force"), ("--radius", "radius")):
+        if name in numbers:
+            table[key] = numbers[name]
+    output = "slider" if kind in SLIDER_CRANKS else "output"
+    for role, key in (("crank", "crank"), ("coupler", "coupler"), ("output", output)):
+        if f"--mass-{role}" in numbers:
+            table[key] = {"mass": numbers[f"--mass-{role}"]}
+    if step == 0 or (stop - start) / step < 0 or (stop - start) / step >= MAX_SCENE_POINTS:
+        raise UsageError(f"--step {step:g}: expected a step that goes from {start:g} to "
+                         f"{stop:g} in at most {MAX_SCENE_POINTS:,} points")
+    try:
+        Linkage(kind, **dims)
+        dynamics = scene_dynamics("the options", kind, dims, table)
+    except (SceneError, ValueError) as e:
+        named_key = re.fullmatch(r"the options: key 'dynamics\.(\w+)': expected (.*)", str(e))
+        if named_key is None:
+            raise CommandError(str(e)) from None
+        flag = next(f for f, dest in FORCES_OPTIONS.items()
+                    if dest in (named_key[1], "mass_" + named_key[1].replace("slider", "output")))
+        raise CommandError(f"{flag}: {named_key[2]}") from None
+    branch = FOLLOW if given["branch"] == FOLLOW else int(given["branch"] or 1)
+    scene = Scene("the options", "", kind, dims, start, stop, step, (branch,), ("double",),
+                  (), dynamics=dynamics)
+    return ForcesOptions(scene, (branch,), numbers.get("--speed", 0.0), given["fluctuation"])
+
+
+def forces_command(args: ForcesOptions) -> int:
     """`python3 linkage.py forces SCENE` (a scene with [dynamics]) or `forces KIND --a ...
     --speed RPM ...`: what it takes to drive the linkage, one `name = value` a line
     (forces_lines), for each of the scene's branches the engine computes."""
-    if not 0.0 < args.fluctuation < 2.0:
-        parser.error(f"--fluctuation {args.fluctuation:g}: expected a speed fluctuation Cs "
-                     "between 0 and 2 ((max - min) / mean speed, e.g. 0.05)")
-    kind = None
-    try:
-        kind = _kind_argument(args.target)
-    except argparse.ArgumentTypeError:
-        pass
-    options = {name: getattr(args, dest) for name, dest in FORCES_OPTIONS.items()
-               if getattr(args, dest) is not None}
-    sweep = {"--from": args.start, "--to": args.stop, "--step": args.step}
-    if kind is None:
-        given = sorted(f"--{n}" for n in DIMENSION_HELP if getattr(args, n) is not None)
-        given += [n for n, v in (*options.items(), *sweep.items(), ("--branch", args.branch))
-                  if v is not None]
-        if given:
-            parser.error(f"{' '.join(given)}: a scene gives its dimensions, sweep, branches "
-                         "and [dynamics]; these options go with a KIND")
-        try:
-            scene = load_scene(scene_path(args.target))
-        except SceneError as e:
-            return said(e, 1)
-        if scene.dynamics is None:
-            return said(f"{scene.path}: key 'dynamics' is missing: expected "
-                        f"{SCENE_KEYS['dynamics']}", 1)
-        branches = [b for b in scene.branches if "double" in scene.precisions]
-        speed = scene.dynamics.effects.speed_rpm
-    else:
-        args.kind = kind
-        needed = KIND_MENU[kind][1]
-        _check_dimensions(args, parser, needed)
-        try:
-            dims = {n: decimal_number(getattr(args, n), f"--{n}")
-                    for n in LINKAGE_DIMENSIONS[kind]}
-            numbers = {name: decimal_number(v, name) for name, v in options.items()}
-            start, stop, step = (decimal_number(v if v is not None else default, flag)
-                                 for (flag, v), default in zip(sweep.items(), ("0", "360", "1")))
-        except ValueError as e:
-            parser.error(str(e))
-        table: dict[str, Any] = {"speed": numbers.get("--speed", 0.0)}
-        for name, key in (("--gravity", "gravity"), ("--output-torque", "output_torque"),
-                          ("--output-force", "output_force"), ("--radius", "radius")):
-            if name in numbers:
-                table[key] = numbers[name]
-        output = "slider" if kind in SLIDER_CRANKS else "output"
-        for role, key in (("crank", "crank"), ("coupler", "coupler"), ("output", output)):
-            if f"--mass-{role}" in numbers:
-                table[key] = {"mass": numbers[f"--mass-{role}"]}
-        if step == 0 or (stop - start) / step < 0 or (stop - start) / step >= MAX_SCENE_POINTS:
-            parser.error(f"--step {step:g}: expected a step that goes from {start:g} to "
-                         f"{stop:g} in at most {MAX_SCENE_POINTS:,} points")
-        try:
-            Linkage(kind, **dims)
-            dynamics = scene_dynamics("the options", kind, dims, table)
-        except (SceneError, ValueError) as e:
-            named = re.fullmatch(r"the options: key 'dynamics\.(\w+)': expected (.*)", str(e))
-            if named is None:
-                return said(e, 1)
-            flag = next(f for f, dest in FORCES_OPTIONS.items()
-                        if dest in (named[1], "mass_" + named[1].replace("slider", "output")))
-            return said(f"{flag}: {named[2]}", 1)
-        branch = FOLLOW if args.branch == FOLLOW else int(args.branch or 1)
-        scene = Scene("the options", "", kind, dims, start, stop, step, (branch,), ("double",),
-                      (), dynamics=dynamics)
-        branches, speed = [branch], numbers.get("--speed", 0.0)
+    scene, speed = args.scene, args.speed
     lines = [f"kind = {scene.kind}"]
     lines += [f"{n} = {value_text(v)}" for n, v in scene.dimensions.items()]
     lines += [f"speed = {value_text(speed)} rpm",
               f"sweep = {value_text(scene.start)} to {value_text(scene.stop)} by "
               f"{value_text(scene.step)}"]
-    for branch in branches:
+    for branch in args.branches:
         results = scene_forces(scene, branch)
         if all(r.status in (NOT_ASSEMBLED, INDETERMINATE, STOPPED) for r in results):
             return said(f"{scene.path}: the {scene.kind} linkage assembles at none of "
                         "the sweep's input angles", 1)
-        prefix = f"branch_{branch}." if len(branches) > 1 else ""
+        prefix = f"branch_{branch}." if len(args.branches) > 1 else ""
         lines += [f"{prefix}branch = {branch}"] + forces_lines(results, speed,
                                                                args.fluctuation, prefix)
     sys.stdout.write("".join(line + "\n" for line in lines))
@@ -13283,9 +13295,9 @@ def _dat_names(count: int) -> str:
     return ", ".join(DatFiles.NAMES[:count])
 
 
-def _draw_command(args: argparse.Namespace, make_figure: Callable[[], Figure]) -> int:
+def figure_command(args: Pictures, make_figure: Callable[[], Figure]) -> int:
     """Make the figure and draw it: the PNG with --png, the text plot with --text or without
-    --png (_reported: every way it can fail is a message and a non-zero status)."""
+    --png (reported: every way it can fail is a message and a non-zero status)."""
     def draw() -> None:
         if args.png:
             matplotlib_canvas()                       # fail before any work
@@ -13295,7 +13307,7 @@ def _draw_command(args: argparse.Namespace, make_figure: Callable[[], Figure]) -
             say(f"wrote {args.png}")
         if args.text or not args.png:
             sys.stdout.write(text_figure(figure))
-    return _reported(draw)
+    return reported(draw)
 
 
 def _check_frames(frames: int | None) -> None:
@@ -13303,10 +13315,10 @@ def _check_frames(frames: int | None) -> None:
         raise SceneError(f"--frames {frames}: expected 1 to {MAX_FRAMES:,} frames")
 
 
-def drawing_command(args: argparse.Namespace, make_drawing: Callable[[], Drawing]) -> int:
+def drawing_command(args: Pictures, make_drawing: Callable[[], Drawing]) -> int:
     """Draw the mechanism: an animated SVG with --svg, a PNG with --png, the terminal view with
     --text or neither (animated on a terminal; piped, --frames N stills). Files are written
-    whole or not at all (_reported: every way it can fail is a message and a non-zero status)."""
+    whole or not at all (reported: every way it can fail is a message and a non-zero status)."""
     def draw() -> int | None:
         _check_frames(args.frames)
         if args.png:
@@ -13316,8 +13328,7 @@ def drawing_command(args: argparse.Namespace, make_drawing: Callable[[], Drawing
         drawing = make_drawing()
         files = [(path, render) for path, render in (
             (args.svg, lambda: svg_drawing(drawing).encode("utf-8")),
-            (args.png, lambda: png_drawing(drawing, dpi=getattr(args, "dpi", None),
-                                           size=getattr(args, "size", None))),
+            (args.png, lambda: png_drawing(drawing, dpi=args.dpi, size=args.size)),
             (args.dxf, lambda: dxf_drawing(drawing))) if path]
         with WrittenSet() as outputs:                 # the SVG, PNG and DXF: all or none
             for path, render in files:
@@ -13330,68 +13341,103 @@ def drawing_command(args: argparse.Namespace, make_drawing: Callable[[], Drawing
         if args.text or not (args.svg or args.png or args.dxf):
             return show_drawing(drawing, frames=args.frames)
         return None
-    return _reported(draw)
+    return reported(draw)
 
 
-def scene_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+# ---- 24. Commands scene, plot, design, listing, explore and bench --------------------------------
+#
+# Holds: the other commands, each as the last section's: its typed value, the function that makes
+# it, its handler.
+#
+# Uses: sections 1, 2, 6, 8, 12, 13, 14, 15, 16, 18, 19, 20, 21, 22 and 23.
+# Offers: SceneOptions, scene_options, scene_command, PlotOptions, plot_options, plot_command,
+#   design_scene, DesignOptions, design_options, design_command, ERRATUM, KEPT_BUG, SCAN_LINE,
+#   scan_lines, erratum_reason, kept_bug_lines, annotated_listing, ListingOptions, listing_command,
+#   ExploreOptions, explore_options, explore_command, BenchOptions, bench_options, bench_command.
+
+
+class SceneOptions(NamedTuple):
+    """scene's command line, validated: --list, or the scene (loaded from `path`) with its CSV,
+    its folder for the DAT files and its pictures."""
+
+    listing: bool
+    path: str
+    scene: Scene | None
+    csv: str | None
+    folder: str | None
+    pictures: Pictures
+
+
+def scene_options(given: dict[str, Any]) -> SceneOptions:
+    """scene's typed value (see SceneOptions): UsageError, or SceneError for a scene that cannot
+    be loaded."""
+    pictures = pictures_typed(given)
+    if given["list"]:
+        if given["file"] is not None:
+            raise UsageError("--list takes no scene")
+        named = [f"--{o}" for o in ("svg", "png", "csv", "dir", "frames", "text", "dpi", "size")
+                 if given.get(o) not in (None, False)]
+        if named:
+            raise UsageError("--list writes no file and draws nothing: no use for "
+                             + " ".join(named))
+        return SceneOptions(True, "", None, None, None, pictures)
+    if given["file"] is None:
+        raise UsageError("give a scene: a file, or a name of scene --list (e.g. fig3)")
+    path = scene_path(given["file"])
+    scene = load_scene(path)
+    csv, folder = given["csv"], given["dir"]
+    _check_not_inputs({"--svg": pictures.svg, "--png": pictures.png, "--csv": csv}, [path])
+    if scene.draws_mechanism:
+        if csv or folder is not None:
+            raise UsageError(f"--csv and --dir go with a scene of curves; {path} draws the "
+                             "mechanism (--svg, --png, --dxf, --text, --frames)")
+        check_outputs({"--svg": pictures.svg, "--png": pictures.png, "--dxf": pictures.dxf})
+    else:
+        if pictures.svg or pictures.dxf or pictures.frames is not None:
+            raise UsageError(f"--svg, --dxf and --frames draw a mechanism scene; {path} plots "
+                             "curves (--png, --text)")
+        plan = [f"{p}-branch{b}" for b in scene.branches for p in scene.precisions]
+        check_outputs({"--csv": csv, "--png": pictures.png}, folder,
+                       [os.path.join(d, n) for d in (plan if len(plan) > 1 else ["."])
+                        for n in DatFiles.NAMES + (DatFiles.MU,)])
+    return SceneOptions(False, path, scene, csv, folder, pictures)
+
+
+def scene_command(args: SceneOptions) -> int:
     """`python3 linkage.py scene FILE`: compute the scene and draw it, keeping its DAT files in
     --dir if given; a mechanism scene is drawn (and animated) instead, and writes no DAT file."""
-    if args.list:
-        if args.file is not None:
-            parser.error("--list takes no scene")
-        given = [f"--{o}" for o in ("svg", "png", "csv", "dir", "frames", "text", "dpi", "size")
-                 if getattr(args, o, None) not in (None, False)]
-        if given:
-            parser.error(f"--list writes no file and draws nothing: no use for {' '.join(given)}")
+    if args.listing:
         for name, title in scene_list():
             print(f"{name:34} {printable(title)}")
         return 0
-    if args.file is None:
-        parser.error("give a scene: a file, or a name of scene --list (e.g. fig3)")
-    try:
-        args.file = scene_path(args.file)
-        scene = load_scene(args.file)
-    except SceneError as e:
-        return said(e, 1)
-    _check_not_inputs(parser, {"--svg": args.svg, "--png": args.png, "--csv": args.csv},
-                      [args.file])
+    scene = args.scene
+    assert scene is not None                            # scene_options loaded it
     if scene.draws_mechanism:
-        if args.csv or args.dir is not None:
-            parser.error(f"--csv and --dir go with a scene of curves; {args.file} draws the "
-                         "mechanism (--svg, --png, --dxf, --text, --frames)")
-        _check_outputs(parser, {"--svg": args.svg, "--png": args.png, "--dxf": args.dxf})
-        return drawing_command(args, lambda: scene_drawing(scene))
-    if args.svg or args.dxf or args.frames is not None:
-        parser.error(f"--svg, --dxf and --frames draw a mechanism scene; {args.file} plots "
-                     "curves (--png, --text)")
-    plan = [f"{p}-branch{b}" for b in scene.branches for p in scene.precisions]
-    _check_outputs(parser, {"--csv": args.csv, "--png": args.png}, args.dir,
-                   [os.path.join(d, n) for d in (plan if len(plan) > 1 else ["."])
-                    for n in DatFiles.NAMES + (DatFiles.MU,)])
-    if args.dir is not None:
-        output_folder(parser, "--dir", args.dir)
-    return _reported(lambda: _scene_outputs(scene, args))
+        return drawing_command(args.pictures, lambda: scene_drawing(scene))
+    if args.folder is not None:
+        output_folder("--dir", args.folder)
+    return reported(lambda: _scene_outputs(scene, args))
 
 
-def _scene_outputs(scene: Scene, args: argparse.Namespace) -> None:
+def _scene_outputs(scene: Scene, args: SceneOptions) -> None:
     """A scene of curves: computed in a hidden folder (in --dir, or a temporary one), then its DAT
     files (with --dir), its CSV and its PNG put in place as one set (WrittenSet: all or none),
     then the text plot printed."""
-    if args.png:
+    if args.pictures.png:
         matplotlib_canvas()                             # fail before any work
     try:
-        staging = staging_folder(args.dir)
+        staging = staging_folder(args.folder)
     except OSError as e:
-        raise SceneError(f"cannot write the DAT files in {args.dir!r}: {e.strerror}") from None
+        raise SceneError(f"cannot write the DAT files in {args.folder!r}: {e.strerror}") from None
     with staging as where:
         series = compute_scene(scene, where, say)
         figure = scene_figure(scene, series)
-        text = text_figure(figure) if args.text or not args.png else ""    # may not fit
+        text = text_figure(figure) if args.pictures.text or not args.pictures.png else ""    # may not fit
         with WrittenSet() as outputs:
-            if args.dir is not None:
+            if args.folder is not None:
                 for s in series:
                     family = DatFiles.NAMES + ((DatFiles.MU,) if s.precision == "double" else ())
-                    target = os.path.join(args.dir, os.path.relpath(s.directory, where))
+                    target = os.path.join(args.folder, os.path.relpath(s.directory, where))
                     for name in family:
                         staged = os.path.join(s.directory, name)
                         if os.path.exists(staged):
@@ -13399,36 +13445,50 @@ def _scene_outputs(scene: Scene, args: argparse.Namespace) -> None:
                         else:
                             outputs.removed(os.path.join(target, name))
             rows = scene_csv(scene, series, args.csv, outputs) if args.csv else 0
-            if args.png:
-                png_figure(figure, args.png, args.dpi, args.size, outputs)
-    if args.dir is not None:
-        say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.dir}")
+            if args.pictures.png:
+                png_figure(figure, args.pictures.png, args.pictures.dpi, args.pictures.size, outputs)
+    if args.folder is not None:
+        say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.folder}")
     if args.csv:
         say(f"wrote {args.csv} ({rows:,} rows)")
-    if args.png:
-        say(f"wrote {args.png}")
+    if args.pictures.png:
+        say(f"wrote {args.pictures.png}")
     sys.stdout.write(text)
 
 
-def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR."""
+class PlotOptions(NamedTuple):
+    """plot's command line: the folder of the DAT files, the kind (None: not given) and the
+    pictures."""
+
+    directory: str
+    kind: str | None
+    pictures: Pictures
+
+
+def plot_options(given: dict[str, Any]) -> PlotOptions:
+    """plot's typed value (see PlotOptions), or UsageError: a --png that is one of its inputs."""
+    pictures = pictures_typed(given)
     with contextlib.suppress(SceneError):        # no DAT file there: dat_figure's to say
-        _check_not_inputs(parser, {"--png": args.png}, [
-            os.path.join(s.directory, name) for s in dat_series(args.directory)
+        _check_not_inputs({"--png": pictures.png}, [
+            os.path.join(s.directory, name) for s in dat_series(given["directory"])
             for name in QUANTITY_FILES.values()])
-    return _draw_command(args, lambda: dat_figure(args.directory, args.kind))
+    return PlotOptions(given["directory"], given["kind"], pictures)
 
 
-def _check_not_inputs(parser: argparse.ArgumentParser, files: dict[str, str | None],
-                      inputs: Iterable[str]) -> None:
-    """Refuse (parser.error), before anything is read or written, an output of `files` {option:
+def plot_command(args: PlotOptions) -> int:
+    """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR."""
+    return figure_command(args.pictures, lambda: dat_figure(args.directory, args.kind))
+
+
+def _check_not_inputs(files: dict[str, str | None], inputs: Iterable[str]) -> None:
+    """Refuse (UsageError), before anything is read or written, an output of `files` {option:
     path} that is one of the command's `inputs` (`plot . --png ANG.DAT` wrote its figure over
     the file it drew, exit 0), or would become one."""
     real = {os.path.realpath(p): p for p in inputs}
     for option, path in files.items():
         if path and path != "-" and os.path.realpath(path) in real:
-            parser.error(f"{option} {path!r} is {real[os.path.realpath(path)]!r}, a file the "
-                         "command reads: it is not written over")
+            raise UsageError(f"{option} {path!r} is {real[os.path.realpath(path)]!r}, a file "
+                             "the command reads: it is not written over")
 
 
 def design_scene(result: Synthesis, path: str = "design") -> Scene:
@@ -13443,18 +13503,41 @@ def design_scene(result: Synthesis, path: str = "design") -> Scene:
                  marked=tuple(phi for phi, _ in design.positions))
 
 
-def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+class DesignOptions(NamedTuple):
+    """design's command line, validated: the method (a key of METHODS) and its data by datum
+    name (those given), --analyse, the files (--dat's folder, --scene) and the pictures; the
+    command line's words, which the scene quotes."""
+
+    method: str
+    data: dict[str, Any]
+    analyze: bool
+    dat: str | None
+    scene: str | None
+    pictures: Pictures
+    words: tuple[str, ...]
+
+
+def design_options(given: dict[str, Any]) -> DesignOptions:
+    """design's typed value (see DesignOptions), or UsageError: outputs naming one file twice."""
+    pictures = pictures_typed(given)
+    check_outputs({"--scene": given["scene"], "--svg": pictures.svg, "--png": pictures.png,
+                    "--dxf": pictures.dxf}, given["dat"], DatFiles.NAMES)
+    method = METHODS[given["method"]][1]
+    data = {datum.name: given[datum.name] for datum in DATA[method]
+            if given.get(datum.name) is not None}
+    return DesignOptions(given["method"], data, given["analyze"], given["dat"], given["scene"],
+                         pictures, tuple(given["words"]))
+
+
+def design_command(args: DesignOptions) -> int:
     """`python3 linkage.py design METHOD --name value ... [--analyze] [--dat DIR] [--svg OUT]
     [--png OUT] [--text] [--scene OUT]`: print the design, `name = value` a line, and draw it;
     exit 0, 1 bad data, 2 usage, 3 a miss."""
-    _check_outputs(parser, {"--scene": args.scene, "--svg": args.svg, "--png": args.png,
-                            "--dxf": args.dxf}, args.dat, DatFiles.NAMES)
     if args.dat is not None:
-        output_folder(parser, "--dat", args.dat)
+        output_folder("--dat", args.dat)
     function, method = METHODS[args.method]
     try:
-        result = function(**{datum.name: getattr(args, datum.name) for datum in DATA[method]
-                             if getattr(args, datum.name) is not None})
+        result = function(**args.data)
     except DesignError as error:
         say(f"error: {error}", f"{PROG} design")
         return 1
@@ -13492,25 +13575,28 @@ def design_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
                 print(f"analysis = none  # {error}")
         for line in review_lines(design):
             print(line)
-    if args.dat is not None or args.scene or args.svg or args.png or args.dxf or args.text:
+    pictures = args.pictures
+    if (args.dat is not None or args.scene or pictures.svg or pictures.png or pictures.dxf
+            or pictures.text):
         sys.stdout.flush()
-        status = _reported(lambda: _design_outputs(result, args))
+        status = reported(lambda: _design_outputs(result, args))
         return status or code
     return code
 
 
-def _design_outputs(result: Synthesis, args: argparse.Namespace) -> int:
+def _design_outputs(result: Synthesis, args: DesignOptions) -> int:
     """design's files - the DAT files (--dat), the scene (--scene), the drawings (--svg, --png,
     --dxf) - put in place as one set (WrittenSet: all or none), then --text's terminal drawing. The status
     (1: a DAT file that cannot be written)."""
-    if args.png:
+    pictures = args.pictures
+    if pictures.png:
         matplotlib_canvas()                               # fail before any work
-    if args.dxf:
+    if pictures.dxf:
         dxf_module()
     link = result.design.linkage
     kind, dims = kind_and_dimensions(link)
-    drawing = (scene_drawing(design_scene(result)) if args.svg or args.png or args.dxf
-               or args.text else None)
+    drawing = (scene_drawing(design_scene(result)) if pictures.svg or pictures.png
+               or pictures.dxf or pictures.text else None)
     with contextlib.ExitStack() as stack:
         outputs = WrittenSet()
         if args.dat is not None:
@@ -13528,15 +13614,14 @@ def _design_outputs(result: Synthesis, args: argparse.Namespace) -> int:
                     fh.write(scene_text(design_scene(result, args.scene),
                                         f"python3 linkage.py {' '.join(args.words)}")
                              .encode("utf-8"))
-            if drawing is not None and args.svg:
-                with outputs.opened(args.svg) as fh:
+            if drawing is not None and pictures.svg:
+                with outputs.opened(pictures.svg) as fh:
                     fh.write(svg_drawing(drawing).encode("utf-8"))
-            if drawing is not None and args.png:
-                with outputs.opened(args.png) as fh:
-                    fh.write(png_drawing(drawing, dpi=getattr(args, "dpi", None),
-                                         size=getattr(args, "size", None)))
-            if drawing is not None and args.dxf:
-                with outputs.opened(args.dxf) as fh:
+            if drawing is not None and pictures.png:
+                with outputs.opened(pictures.png) as fh:
+                    fh.write(png_drawing(drawing, dpi=pictures.dpi, size=pictures.size))
+            if drawing is not None and pictures.dxf:
+                with outputs.opened(pictures.dxf) as fh:
                     fh.write(dxf_drawing(drawing))
     if args.dat is not None:
         print(f"dat = {args.dat}  # ANG.DAT, VEL.DAT, ACC.DAT of the preferred solution, "
@@ -13545,12 +13630,12 @@ def _design_outputs(result: Synthesis, args: argparse.Namespace) -> int:
         say(f"wrote {args.scene} (a scene: python3 linkage.py scene {args.scene})")
     if drawing is None:                                   # no --svg, --png, --dxf or --text
         return 0
-    for path in (args.svg, args.png, args.dxf):
+    for path in (pictures.svg, pictures.png, pictures.dxf):
         if path:
-            count = len(drawing.frames) if path != args.dxf else min(
+            count = len(drawing.frames) if path != pictures.dxf else min(
                 DXF_POSITIONS, sum(f.message is None for f in drawing.frames))
             say(f"wrote {path} ({count} position{'s' * (count != 1)})")
-    if args.text:
+    if pictures.text:
         if sys.stdout.isatty():
             return show_drawing(drawing)                  # the whole motion, until q
         return show_drawing(_positions_drawing(result), frames=len(result.design.positions))
@@ -13666,7 +13751,13 @@ def annotated_listing(listing: str, errata: str, scan: str | None = None,
     return out
 
 
-def listing_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+class ListingOptions(NamedTuple):
+    """listing's command line: --ocr, the scan's text shown too."""
+
+    ocr: bool
+
+
+def listing_command(args: ListingOptions) -> int:
     """`python3 linkage.py listing [--ocr]`: the corrected listing with its errata."""
     def show() -> None:
         listing, errata = (open(shipped_file("legacy_basic", name), encoding="utf-8").read()
@@ -13676,52 +13767,53 @@ def listing_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
         shown = annotated_listing(listing, errata, scan,
                                   os.path.abspath(shipped_file("legacy_basic", "ERRATA.md")))
         sys.stdout.write("".join(f"{printable(line)}\n" for line in shown))
-    return _reported(show)
+    return reported(show)
 
 
-def _screen_size(text: str) -> tuple[int, int]:
-    match = re.fullmatch(r"([0-9]{1,4})[xX]([0-9]{1,4})", text.strip())
-    if not match or not (40 <= int(match[1]) <= 1000 and 12 <= int(match[2]) <= 1000):
-        raise argparse.ArgumentTypeError(f"{text!r}: expected COLUMNSxLINES, at least 40x12, "
-                                         "e.g. 80x24")
-    return int(match[1]), int(match[2])
+class ExploreOptions(NamedTuple):
+    """explore's command line, validated: the explorer's first state, and the key file to
+    replay (None: the terminal's keys) with the replay's screen size."""
+
+    state: Explorer
+    keys: str | None
+    size: tuple[int, int]
 
 
-def _explorer_given(args: argparse.Namespace, parser: argparse.ArgumentParser) -> Explorer:
-    """The explorer's first state: the kind and dimensions given (the kind's example's where
-    not), or a scene's linkage, branch and coupler point, or the plane four-bar's example."""
-    given = [n for n in DIMENSION_HELP if getattr(args, n) is not None]
-    target = args.target or PLANE_FOUR_BAR
-    try:
-        kind = _kind_argument(target)
-    except argparse.ArgumentTypeError:
-        if given:
-            parser.error(f"--{given[0]} goes with a kind ({', '.join(KIND_MENU)}), not "
+def explore_options(given: dict[str, Any]) -> ExploreOptions:
+    """explore's typed value: the kind and dimensions given (the kind's example's where not), or
+    a scene's linkage, branch and coupler point, or the plane four-bar's example. UsageError,
+    or CommandError (SceneError) for a scene or linkage it cannot show."""
+    typed = dimensions_typed(given)
+    target = given["target"] or PLANE_FOUR_BAR
+    kind = kind_named(target)
+    if kind is None and typed:
+        raise UsageError(f"--{next(iter(typed))} goes with a kind ({', '.join(KIND_MENU)}), not "
                          "with a scene")
-        scene = load_scene(scene_path(target))
-        branch = next((b for b in scene.branches if isinstance(b, int)), 1)
-        return explorer_of(scene.kind, scene.dimensions, branch,
-                           FOLLOW in scene.branches, scene.coupler)
-    unknown = [n for n in given if n not in LINKAGE_DIMENSIONS[kind]]
-    if unknown:
-        parser.error(f"--{unknown[0]}: the {KIND_NAMES[kind]} takes "
-                     + ", ".join("--" + n for n in LINKAGE_DIMENSIONS[kind]))
+    if kind is not None:
+        unknown = [n for n in typed if n not in LINKAGE_DIMENSIONS[kind]]
+        if unknown:
+            raise UsageError(f"--{unknown[0]}: the {KIND_NAMES[kind]} takes "
+                             + ", ".join("--" + n for n in LINKAGE_DIMENSIONS[kind]))
+        dims = {n: typed_value(decimal_number, text, f"--{n}") for n, text in typed.items()}
     try:
-        dims = {n: decimal_number(getattr(args, n), f"--{n}") for n in given}
+        if kind is None:
+            scene = load_scene(scene_path(target))
+            state = explorer_of(scene.kind, scene.dimensions,
+                                next((b for b in scene.branches if isinstance(b, int)), 1),
+                                FOLLOW in scene.branches, scene.coupler)
+        else:
+            state = explorer_of(kind, dims)
+        ExploreViews()(state)                           # a linkage that can be drawn
     except ValueError as e:
-        parser.error(str(e))
-    return explorer_of(kind, dims)
+        raise CommandError(str(e)) from None
+    return ExploreOptions(state, given["keys"], given["size"])
 
 
-def explore_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+def explore_command(args: ExploreOptions) -> int:
     """`python3 linkage.py explore [KIND --a ... | SCENE]`: the explorer on the terminal
     (explore_terminal); with --keys FILE the keys of the file replayed instead and the last
     screen printed (explore_replay)."""
-    try:
-        state = _explorer_given(args, parser)
-        ExploreViews()(state)                           # a linkage that can be drawn
-    except (SceneError, ValueError) as e:
-        return said(e, 1)
+    state = args.state
     unicode = (getattr(sys.stdout, "encoding", None) or "").lower().replace("-", "") == "utf8"
     if args.keys is not None:
         try:
@@ -13736,8 +13828,6 @@ def explore_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
         sys.stdout.write("".join(line + "\n" for line in lines))
         sys.stdout.flush()
         return 0
-    if args.size != (80, 24):
-        parser.error("--size sets the screen of a replay (--keys FILE); the terminal's is its own")
     if (not (is_terminal(sys.stdin) and is_terminal(sys.stdout))
             or os.environ.get("TERM", "dumb") in ("", "dumb")):
         return said("explore needs a terminal: standard input and output a terminal whose TERM "
@@ -13750,14 +13840,28 @@ def explore_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -
     return 0
 
 
-def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
+class BenchOptions(NamedTuple):
+    """bench's command line, validated: the benchmarks' names (all where none), --quick's tiny
+    sizes, and bench accuracy's --png."""
+
+    names: tuple[str, ...]
+    quick: bool
+    png: str | None
+
+
+def bench_options(given: dict[str, Any]) -> BenchOptions:
+    """bench's typed value (see BenchOptions), or UsageError."""
+    if given["png"] and "accuracy" not in given["names"]:
+        raise UsageError("--png goes with bench accuracy")
+    return BenchOptions(tuple(given["names"]), given["quick"], given["png"])
+
+
+def bench_command(args: BenchOptions) -> int:
     """`python3 linkage.py bench [NAME ...]`: print the benchmarks' numbers and how they ran."""
     print(f"$ python3 linkage.py bench {' '.join(args.names)}".rstrip())
     print(f"{PROG} {__version__} on {machine()}")
     if args.quick:
         print("--quick: a check that each runs, on tiny sizes; its numbers mean nothing")
-    if args.png and "accuracy" not in args.names:
-        parser.error("--png goes with bench accuracy")
     for name in args.names or list(BENCHMARKS):
         print(f"\n== {name}: {(BENCHMARKS[name].__doc__ or '').splitlines()[0]}")
         try:
@@ -13768,6 +13872,133 @@ def bench_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
         except (PlotUnavailable, WriteError) as e:
             return said(e, 1)
     return 0
+
+
+# ---- 25. The command line: argparse from the table of commands -----------------------------------
+#
+# Holds: the command line's words parsed (argparse): the parsers of what is typed in an option
+# (a number of a design's data, a kind, PNG sizes), the commands' help, and COMMANDS, the table of
+# every sub-command: its help, its options, its "goes with" rules and the functions that make its
+# typed value and do its work (section 23); build_parser turns it into argparse; main() last.
+#
+# Uses: sections 1, 2, 5, 6, 13, 15, 16, 18, 21, 22, 23 and 24.
+# Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, Option, option, Command,
+#   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, DATUM_FLAGS, DXF_HELP, PNG_OPTIONS, COMMANDS,
+#   CommandParser, build_parser, main.
+
+
+ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
+               "towards the output pivot B0)")
+METHOD_HELP = {  # each method's --help: what it designs from what (the data: DATA)
+    "FOURB-CR-1": "A crank-rocker (Chen; Pamidi) whose rocker swings through psi while the crank "
+                  "turns 180 + theta from the extended dead centre (crank and coupler in line) to "
+                  "the folded one, the crank at theta0 at the extended one.",
+    "FOURB-CR-2": "A crank-rocker (Chen; Pamidi) whose rocker swings through psi while the crank "
+                  "turns 180 + theta from the extended dead centre (crank and coupler in line) to "
+                  "the folded one, the rocker at psi0 at the extended one; up to two linkages.",
+    "FOURB-CR-3": "A crank-rocker (Freudenstein & Primrose) whose rocker swings through psi "
+                  "while the crank turns 180 + theta from the extended dead centre to the folded "
+                  "one, with the least greatest deviation of the transmission angle from 90 "
+                  "degrees.",
+    "FOURB-CR-4": "A centric crank-rocker (Brodell & Soni: theta = 0, the crank turning 180 "
+                  "degrees each way) whose rocker swings through psi, with least transmission "
+                  "angle mu_min.",
+    "FOURB-CR-4 (Volmer)": "The centric crank-rocker of FOURB-CR-4 by Volmer's equations (6a-c): "
+                           "rocker swing psi, least transmission angle mu_min.",
+    "DRAGLINK-1": "A drag-link (Bagci: frame shortest, crank and output turning fully) whose "
+                  "output turns dpsi0 while the crank turns 180 degrees from the frame line "
+                  "(phi = 0) to its extension (phi = 180), with transmission angle mu_min at "
+                  "phi = 0 and 180 - mu_min at phi = 180.",
+    "DRAGLINK-2": "A drag-link (Tsai: frame shortest) with unit velocity ratio (output as fast as "
+                  "the crank) at two positions dphi apart on the crank and dpsi on the output; "
+                  "lambda = coupler / frame given, or chosen for the transmission angle closest "
+                  "to 90 degrees.",
+    "FOURB-FG2-1": "A four-bar function generator (Chiang): while the crank turns through phij "
+                   "from phi0 the output turns through psij (signed, counter-clockwise positive: "
+                   "the motion itself, not only the end position), for a given crank a and "
+                   "output c, ratios to the frame d = 1 (--crank-ratio, --output-ratio); finds "
+                   "the coupler and the output's start psi0. Up to two linkages.",
+    "FOURB-FG3-1": "A four-bar function generator (Freudenstein's equation) through three "
+                   "positions: the output at psi1, psi2, psi3 when the crank is at phi1, phi2, "
+                   "phi3. The output angles are the review's: measured from the opposite "
+                   "direction to the program's, which are 180 less.",
+    "SLID-FG2-1": "A slider-crank (Chen) whose slider moves ds between its dead centres while the "
+                  "crank turns dtheta from the outer to the inner one, for a chosen offset "
+                  "epsilon (the slider's line is y = -epsilon: the program's e = -epsilon).",
+    "SLID-FG2-2": "A slider-crank (Chen) through its two dead centres: the crank at theta1 with "
+                  "the slider at s1 (outer), the crank pin in the direction theta2 with the "
+                  "slider at s2 (inner; the crank itself at theta2 - 180). The two must agree: "
+                  "s1 tan(theta1) = s2 tan(theta2).",
+}
+DESIGN_OUTPUT_HELP = (
+    "Prints, a `name = value` line each: the data; per solution the linkage in the program's "
+    "letters, as `run` takes them (four-bars: a the fixed link = 1, b the input crank, c the "
+    "coupler, d the output crank; slider-cranks: b the crank, c the rod, e the offset of the "
+    "slider's line y = e), its branch (run --branch), the design positions (phi the crank, psi "
+    "the output, x the slider; angles as the data give them), the transmission angle's extremes "
+    "mu_min and mu_max; then, labelled review, the review's own numbers in its letters. Exit 0, "
+    "1 for data no design meets, 2 for a usage error, 3 when --analyse finds a miss.")
+
+
+def datum_help(datum: Datum) -> str:
+    """The help of a datum: what it is, its valid range, the values refused in it (DATA)."""
+    refused = "".join(f"; refused: {reason}" for reason, _ in datum.excluded)
+    return f"{datum.meaning}; in {range_text(datum)}{refused}"
+
+
+# -- what is typed in an option: argparse's types --------------------------------------------------
+
+def _design_number(flag: str) -> Callable[[str], float]:
+    """The argparse type of a datum: an ordinary decimal (decimal_number), its refusal naming
+    the option."""
+    def number(text: str) -> float:
+        try:
+            return decimal_number(text, flag, basic_hint=False)
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(str(e).removeprefix(f"{flag}: ")) from None
+    number.__name__ = "number"
+    return number
+
+
+def _kind_argument(text: str) -> str:
+    name = kind_named(text)
+    if name is None:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not one of {', '.join(KIND_MENU)} (or 1-5)")
+    return name
+
+
+def _png_dpi(text: str) -> float:
+    try:
+        dpi = decimal_number(text, "--dpi")
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+    if not 10 <= dpi <= 1200:
+        raise argparse.ArgumentTypeError(f"{text} dots an inch: expected 10 to 1200")
+    return dpi
+
+
+def _png_size(text: str) -> tuple[int, int]:
+    match = re.fullmatch(r"([0-9]{1,5})[xX]([0-9]{1,5})", text.strip())
+    if not match or not all(100 <= int(v) <= 20000 for v in match.groups()):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected WIDTHxHEIGHT in pixels, each 100 "
+                                         "to 20000, e.g. 1600x1200")
+    return int(match[1]), int(match[2])
+
+
+def _benchmark_name(text: str) -> str:
+    if text not in BENCHMARKS:
+        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(BENCHMARKS)}")
+    return text
+
+
+def _screen_size(text: str) -> tuple[int, int]:
+    match = re.fullmatch(r"([0-9]{1,4})[xX]([0-9]{1,4})", text.strip())
+    if not match or not (40 <= int(match[1]) <= 1000 and 12 <= int(match[2]) <= 1000):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected COLUMNSxLINES, at least 40x12, "
+                                         "e.g. 80x24")
+    return int(match[1]), int(match[2])
+
 
 
 # -- the table: every sub-command, its help and its options -------------------------------------
@@ -13784,13 +14015,17 @@ def option(*names: str, **settings: Any) -> Option:
 
 
 class Command(NamedTuple):
-    """A sub-command: handler(args, parser) gives the exit status; help is its line in the
-    program's --help, description its own --help; aliases its other spellings."""
+    """A sub-command: typed(given) makes its one typed value of what its options hold (given:
+    {dest: value}), once its rules hold, and handler(value) does its work and gives the exit
+    status; help is its line in the program's --help, description its own --help; aliases its
+    other spellings."""
 
-    handler: Callable[[argparse.Namespace, argparse.ArgumentParser], int]
+    typed: Callable[[dict[str, Any]], Any]
+    handler: Callable[[Any], int]
     help: str
     description: str
     options: tuple[Option, ...]
+    rules: tuple[Rule, ...] = ()
     aliases: tuple[str, ...] = ()
 
 
@@ -13831,7 +14066,7 @@ PNG_OPTIONS = (
 )
 COMMANDS = {
     "run": Command(
-        run_command, "the original program driven by options",
+        run_options, run_command, "the original program driven by options",
         "The original program given these answers: writes ANG.DAT, VEL.DAT and ACC.DAT exactly "
         "as the menu would. Dimensions are typed as in the menu (degrees for the spherical "
         "linkage's arcs). " + DIMENSIONS_HELP,
@@ -13871,9 +14106,20 @@ COMMANDS = {
                 help="with --precision double: clip VEL and ACC to +-3 as the original does"),
          option("--fast", action="store_true",
                 help="with --precision double: the same numbers by the vectorised engine (needs "
-                     "numpy: python3 -m pip install numpy)"))),
+                     "numpy: python3 -m pip install numpy)")),
+        (goes_with("--branch follow", "--precision double",
+                   why="the original program has branches 1 and 2 only"),
+         goes_with("--start-branch", "--branch follow"),
+         goes_with("--fast", "--branch 1 or 2",
+                   why="the vectorised path computes the listing's branches"),
+         goes_with("--coupler", "--precision double",
+                   why="the original program computes the output link only"),
+         goes_with("--coupler", "--csv", why="it adds columns to the CSV: give --csv OUT too"),
+         goes_with("--clip", "--precision double", why="the original always clips VEL and ACC"),
+         goes_with("--fast", "--precision double",
+                   why="the original's numbers are computed one point at a time"))),
     "analyse": Command(
-        analyse_command, "the linkage's class, range of motion and transmission angle",
+        analyse_options, analyse_command, "the linkage's class, range of motion and transmission angle",
         "The linkage's class (Grashof's for the plane four-bar, b + |e| against c for the "
         "plane slider-crank, the class its motion shows for the other kinds), the crank's range "
         "(full, or between its dead centres), the output's range and swing, the time ratio "
@@ -13901,9 +14147,11 @@ COMMANDS = {
                      "traced (as run --coupler)"),
          option("--dpi", type=_png_dpi, metavar="N", help="the PNG's dots an inch"),
          option("--size", type=_png_size, metavar="WxH", help="the PNG's size in pixels")),
+        (goes_with("--start-branch", "--branch follow"),
+         goes_with("--coupler", "--svg", "--png", "--dxf", why="it draws the coupler curve")),
         ("analyze",)),
     "forces": Command(
-        forces_command, "what it takes to drive the linkage: torque, power, joint forces, "
+        forces_options, forces_command, "what it takes to drive the linkage: torque, power, joint forces, "
                         "shaking, flywheel",
         "The forces along a sweep (SI units: lengths in metres, masses in kg; the spherical "
         "four-bar's arcs in degrees on a sphere of the scene's radius, or --radius): the "
@@ -13949,7 +14197,7 @@ COMMANDS = {
                 help="the speed fluctuation Cs = (max - min) / mean speed the flywheel holds "
                      "(default 0.05)"))),
     "scene": Command(
-        scene_command, "draw a scene of data/scenes: the paper's figures, the hard cases, the "
+        scene_options, scene_command, "draw a scene of data/scenes: the paper's figures, the hard cases, the "
                        "linkage moving",
         "Compute a scene (a TOML file, see data/scenes), keep its DAT files (with --dir) and draw "
         "its figure: a plain-text plot of 80 x 24 characters unless --png is given. A mechanism "
@@ -13981,7 +14229,7 @@ COMMANDS = {
                      "scene that overlays several series writes one folder each"),
          *PNG_OPTIONS)),
     "plot": Command(
-        plot_command, "draw the figure of ANG.DAT, VEL.DAT and ACC.DAT already written",
+        plot_options, plot_command, "draw the figure of ANG.DAT, VEL.DAT and ACC.DAT already written",
         "Draw the figure of the DAT files in DIR (the menu program's, run's or a scene's): a "
         "plain-text plot of 80 x 24 characters unless --png is given. To see the linkage itself "
         "move, draw a mechanism scene: python3 linkage.py scene "
@@ -13993,7 +14241,7 @@ COMMANDS = {
                                      "the old spelling, still taken)"),
          *PNG_OPTIONS)),
     "design": Command(
-        design_command, "synthesise a linkage by one of the review's methods (python3 "
+        design_options, design_command, "synthesise a linkage by one of the review's methods (python3 "
                         "linkage.py design --help)",
         "Synthesis of four-bar and slider-crank function generators (Pennestri & Valentini's "
         "review); angles in degrees.",
@@ -14018,7 +14266,7 @@ COMMANDS = {
                 help="write that motion as a scene file (TOML) to edit and draw with python3 "
                      "linkage.py scene OUT"))),
     "listing": Command(
-        listing_command, "the original BASIC listing as corrected, with its errata",
+        lambda given: ListingOptions(given["ocr"]), listing_command, "the original BASIC listing as corrected, with its errata",
         "The program of the paper's appendix as it must have run (legacy_basic/LINKAGE.BAS): "
         "each line that corrects the scan of the printed listing is marked * and followed by "
         "its erratum and the reason for it, each line where a bug of the original lives, kept "
@@ -14029,7 +14277,7 @@ COMMANDS = {
                 help="show the scan's text (legacy_basic/LINKAGE.OCR.txt) under each line it "
                      "prints otherwise (white space aside)"),)),
     "explore": Command(
-        explore_command, "change a dimension and watch the linkage answer, in the terminal",
+        explore_options, explore_command, "change a dimension and watch the linkage answer, in the terminal",
         "A full-screen view of the linkage moving, its coupler curve traced, and beside it its "
         "dimensions and what analyse answers (type, crank range, swing, time ratio, the "
         "transmission angle now, at its extremes and furthest from 90 degrees), all following "
@@ -14045,9 +14293,11 @@ COMMANDS = {
                      "one key a line, a character or one of " + ", ".join(EXPLORE_KEY_NAMES)
                      + " (Tick: a tick of the motion's timer); lines starting '# ' are skipped"),
          option("--size", type=_screen_size, default=(80, 24), metavar="COLSxLINES",
-                help="with --keys: the screen's size (default 80x24)"))),
+                help="with --keys: the screen's size (default 80x24)")),
+        (goes_with("--size", "--keys",
+                   why="it sets the screen of a replay; the terminal's is its own"),)),
     "bench": Command(
-        bench_command, "measure speed, and what accuracy costs in time",
+        bench_options, bench_command, "measure speed, and what accuracy costs in time",
         "Run the benchmarks and print their numbers (port runs PC-BASIC for minutes; accuracy, "
         "what each rung of the ladder - GW-BASIC single precision, the double engine, numpy, 50 "
         "digits - errs against 110 digits and costs a point). The tests' own ladder, against an "
@@ -14097,7 +14347,7 @@ def build_parser() -> argparse.ArgumentParser:
             sub = commands.add_parser(name, help=command.help, description=command.description,
                                       aliases=command.aliases)
             sub.add_options(command.options)
-            sub.set_defaults(handler=command.handler, parser=sub)
+            sub.set_defaults(command_row=command, parser=sub)
             continue
         design = commands.add_parser(name, help=command.help, description=command.description)
         methods = design.add_subparsers(dest="method", metavar="METHOD",
@@ -14113,7 +14363,7 @@ def build_parser() -> argparse.ArgumentParser:
                 sub.add_argument(*flags, dest=datum.name, type=_design_number(flags[0]),
                                  required=not datum.optional, help=datum_help(datum), **counted)
             sub.add_options(command.options)
-            sub.set_defaults(handler=command.handler, parser=sub)
+            sub.set_defaults(command_row=command, parser=sub)
     return parser
 
 
@@ -14139,11 +14389,20 @@ def _command(argv: list[str]) -> int:
         if not argv:
             return menu_program()
         parser = build_parser()
-        args = parser.parse_args(argv)
-        if args.command is None:
+        given = vars(parser.parse_args(argv))
+        if given.pop("command") is None:
             parser.error("give a command, or none for the menu program")
-        args.words = argv                       # the command line, for what quotes it
-        status = args.handler(args, args.parser)
+        command, sub = given.pop("command_row"), given.pop("parser")
+        given["words"] = argv                   # the command line, for what quotes it
+        try:
+            broken = broken_rule(command.rules, *_options_given(command.options, given))
+            if broken is not None:
+                raise UsageError(broken)
+            status = command.handler(command.typed(given))
+        except UsageError as e:
+            sub.error(str(e))
+        except (CommandError, SceneError) as e:
+            return said(e, 1)
         if sys.stdout is not None:
             sys.stdout.flush()                  # here, not at exit: its failure is a status
         return status
@@ -14151,18 +14410,36 @@ def _command(argv: list[str]) -> int:
         return said("interrupted", interrupted_status(e))
     except BrokenPipeError as e:                # the reader (head, less) stopped reading
         if e.filename is not None:
-            return said(_unwritten(e), 1)
+            return said(unwritten(e), 1)
         with contextlib.suppress(OSError, ValueError):
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
     except OSError as e:                        # standard output full or gone (> /dev/full)
         with contextlib.suppress(OSError, ValueError):
             sys.stdout = None                   # nothing more to flush into it at exit
-        return said(_unwritten(e), 1)
+        return said(unwritten(e), 1)
     except RecursionError as e:
         return said(f"too deeply nested: {e}", 1)
     except MemoryError:
         return said("out of memory", 1)
+
+
+def _options_given(options: Iterable[Option], given: dict[str, Any]
+                   ) -> tuple[dict[str, Any], set[str]]:
+    """What each flag of `options` holds in `given` (its default where not typed), and the
+    flags typed: holding other than their default (broken_rule's two arguments)."""
+    values: dict[str, Any] = {}
+    typed: set[str] = set()
+    for o in options:
+        if not o.names[0].startswith("-"):
+            continue
+        dest = o.settings.get("dest", o.names[0].lstrip("-").replace("-", "_"))
+        value = given.get(dest)
+        for flag in o.names:
+            values[flag] = value
+            if value not in (None, False) and value != o.settings.get("default"):
+                typed.add(flag)
+    return values, typed
 
 
 def _reopen_closed_streams() -> None:
