@@ -420,3 +420,73 @@ def test_a_one_point_png_is_drawn_without_a_warning(tmp_path):
     assert result.returncode == 0
     assert result.stderr == b"linkage.py: wrote one.png\n"
     assert (tmp_path / "one.png").read_bytes().startswith(b"\x89PNG")
+
+
+# -- the command line as data: one typed value a command, its "goes with" rules as rows --------
+
+def _flags_and_choices(command) -> dict[str, tuple | None]:
+    """Each flag of a COMMANDS row: the values it may hold (its choices), None where any."""
+    return {flag: tuple(o.settings["choices"]) if "choices" in o.settings else None
+            for o in command.options for flag in o.names if flag.startswith("-")}
+
+
+def test_every_rule_names_flags_and_values_its_command_has():
+    """A rule that names a flag the command lacks (a typo, an option renamed) would never fire:
+    each side of every rule is one of its command's flags, with values among its choices."""
+    rules = 0
+    for name, command in linkage.COMMANDS.items():
+        flags = _flags_and_choices(command)
+        for rule in command.rules:
+            for side in (rule.given, *rule.needs):
+                flag, _, values = side.partition(" ")
+                assert flag in flags, (name, side)
+                for value in values.split(" or ") if values else ():
+                    assert flags[flag] is None or value in flags[flag], (name, side)
+                rules += 1
+    assert rules >= 10
+
+
+@pytest.mark.parametrize("typed, expected", [
+    ({"--branch": "follow", "--precision": "basic"},
+     "--branch follow goes with --precision double (the original program has branches 1 and 2 "
+     "only)"),
+    ({"--branch": "follow", "--precision": "double", "--fast": True},
+     "--fast goes with --branch 1 or 2 (the vectorised path computes the listing's branches)"),
+    ({"--branch": "2", "--precision": "double", "--fast": True}, None),
+    ({"--branch": "1", "--start-branch": "2", "--precision": "double"},
+     "--start-branch goes with --branch follow"),
+    ({"--branch": "1", "--coupler": ["1"], "--precision": "double"},
+     "--coupler goes with --csv (it adds columns to the CSV: give --csv OUT too)"),
+    ({"--branch": "1", "--coupler": ["1"], "--precision": "double", "--csv": "x.csv"}, None),
+])
+def test_broken_rule_reads_the_rows_as_they_read(typed, expected):
+    """broken_rule on run's rows: the first rule broken, said as the row reads; a default
+    (--precision basic) counts as held, a flag not typed as not given."""
+    values = {"--precision": "basic", **typed}
+    assert linkage.broken_rule(linkage.COMMANDS["run"].rules, values, set(typed)) == expected
+
+
+def test_no_handler_rebinds_what_it_was_given():
+    """Handlers take their command's typed value (a NamedTuple) and never assign to it: no
+    `args.x = ...` anywhere in the program."""
+    import ast
+    tree = ast.parse(open(linkage.__file__, encoding="utf-8").read())
+    rebound = [node.lineno for node in ast.walk(tree) if isinstance(node, ast.Assign)
+               for target in node.targets if isinstance(target, ast.Attribute)
+               and isinstance(target.value, ast.Name) and target.value.id == "args"]
+    assert rebound == []
+    for name, command in linkage.COMMANDS.items():
+        hints = command.handler.__annotations__
+        assert hints.get("args") not in (None, "argparse.Namespace"), name
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["explore", "--size", "100x30"], b"--size goes with --keys"),
+    (["bench", "engine", "--png", "x.png"], b"--png goes with bench accuracy"),
+    (["run", "slider", "--b", "1", "--c", "3", "--e", "0", "--from", "0", "--to", "10",
+      "--step", "5", "--branch", "1", "--clip"], b"--clip goes with --precision double"),
+])
+def test_a_rule_broken_is_a_usage_error_before_any_work(argv, message, tmp_path):
+    result = run(argv, tmp_path)
+    assert result.returncode == 2 and message in result.stderr, result.stderr
+    assert b"usage:" in result.stderr and os.listdir(tmp_path) == []
