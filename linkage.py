@@ -11271,6 +11271,9 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
                ("displacement", 1): "black", ("displacement", 2): "tab:gray",
                ("velocity", 1): "tab:blue", ("velocity", 2): "tab:cyan",
                ("acceleration", 1): "tab:red", ("acceleration", 2): "tab:orange"}
+    colours.update({(q, b): c for q, c in (("omega", "tab:blue"), ("speed", "tab:blue"),
+                                           ("alpha", "tab:red"), ("work", "tab:orange"),
+                                           ("drift", "tab:red")) for b in (1, 2)})
     n = len(figure.panels)
     dpi = dpi or 90
     mpl = MplFigure(figsize=(size[0] / dpi, size[1] / dpi) if size else (7.2, 0.7 + 2.6 * n),
@@ -11559,10 +11562,10 @@ def _setting_text(scene: Scene) -> str:
     angle, rpm = settings.initial
     driver = settings.driver
     drives = [f"torque {driver.torque:g} N m"] * bool(driver.torque) + [
-        f"motor {driver.stall_torque:g} N m stalled, {driver.free_speed_rpm:g} rpm free"
+        f"motor {driver.stall_torque:g} N m to {driver.free_speed_rpm:g} rpm"
     ] * bool(driver.stall_torque)
-    return (f"from phi = {angle:g} deg at {rpm:.4g} rpm on branch {scene.branches[0]}, "
-            f"followed; {', '.join(drives) or 'no driver'}; tolerance {settings.tolerance:g}")
+    return (f"from phi = {angle:g} deg, {rpm:.4g} rpm, branch {scene.branches[0]}; "
+            f"{', '.join(drives) or 'no driver'}")
 
 
 def simulation_figure(scene: Scene, run: Simulation) -> Figure:
