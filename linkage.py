@@ -30,11 +30,13 @@ derives (joints, coupler point, transmission angle); 8. the linkage analysed (an
 motion in time under forces, through dead centres and change points); 12. the linkage
 (Linkage, a method for each question); 13. DAT and CSV files; 14. the mechanism drawn; 15. the
 mechanism's renderers (terminal, SVG, PNG, DXF); 16. synthesis: what a design is; 17. synthesis:
-the review's methods; 18. synthesis: designs measured and checked; 19. scenes; 20. plots;
-21. the explorer (a dimension changed, the linkage watched in the terminal); 22. benchmarks of
-the program itself; 23. commands run, analyse and forces (each command's one typed value,
-validated once, and its handler); 24. commands scene, plot, design, listing, explore and bench;
-25. the command line (argparse, from the table of commands), last. The engine, the view and
+the review's methods; 18. synthesis: designs measured and checked; 19. scenes (read and
+checked); 20. scenes computed (DAT files, forces, CSV); 21. plots; 22. simulation scenes (a run
+in time: its CSV, plots and motion); 23. the explorer (a dimension changed, the linkage watched
+in the terminal); 24. benchmarks of the program itself; 25. commands run, analyse and forces
+(each command's one typed value, validated once, and its handler); 26. commands scene, plot,
+design, listing, explore and bench; 27. the command line (argparse, from the table of commands),
+last. The engine, the view and
 synthesis never use the original program.
 """
 
@@ -3232,7 +3234,7 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 # Uses: sections 2 and 6.
 # Offers: Real, Vec3, Kinematics, Pins, PINS, COUPLER_REACH, pin_dimensions, cross, dot, rotated_y,
 #   check_coupler_point, joint_kinematics, output_pin_at, coupler_form, transmission_form,
-#   CouplerMotion, coupler_of, transmission_of, Pose, joint_positions.
+#   CouplerMotion, coupler_of, transmission_of, Pose, joint_positions, pose_at.
 
 
 # -- the joints, the coupler point and the transmission angle -----------------------------------
@@ -3563,13 +3565,20 @@ def joint_positions(linkage: Closure, phi: float, branch: int | str = 1) -> Pose
                   guide through F1 = (a, 0, f).
     """
     motion = linkage.motion(phi, branch, derivatives=0)
+    return pose_at(linkage, motion.phi, motion.output, motion.status)
+
+
+def pose_at(linkage: Closure, phi: float, output: float | None, status: str = ASSEMBLED
+            ) -> Pose:
+    """The Pose (as joint_positions') with the crank at phi (degrees) and the output at `output`
+    as given (degrees, or the slider's position; None: the crank alone), e.g. a simulation's
+    row, whose branch the engine's labels do not name through a change point."""
     dims, kind, pins = pin_dimensions(linkage.dims), linkage.kind, PINS[linkage.kind]
     joints, axes = _GROUND_JOINTS[kind](dims)
-    joints["A"] = pins.crank_pin(dims, *cos_sin_degrees(motion.phi))[0]
-    out = motion.output
-    if out is not None:
-        joints[pins.output_joint] = output_pin_at(linkage, dims, out, cos_sin_degrees)[0]
-    return Pose(motion.phi, motion.status, out, joints, axes)
+    joints["A"] = pins.crank_pin(dims, *cos_sin_degrees(phi))[0]
+    if output is not None:
+        joints[pins.output_joint] = output_pin_at(linkage, dims, output, cos_sin_degrees)[0]
+    return Pose(phi, status, output, joints, axes)
 
 
 _Z_AXIS = (0.0, 0.0, 1.0)
@@ -6756,6 +6765,8 @@ class Drawing(NamedTuple):
     chart: tuple[tuple[float, float | None], ...] | None = None   # the transmission angle
     #                                                    along the sweep: ((phi, mu), ...)
     coupler_points: tuple[Vector | None, ...] = ()   # the coupler point in 3-D, a frame each
+    seconds: float | None = None    # how long a frame shows when animated (a simulation's rows
+    #                                 apart: real time); None: frame_seconds()
 
 
 # One linkage of each kind that turns fully, as Figs. 1 and 2 draw them (data/scenes/fig1*, fig2*).
@@ -7391,7 +7402,8 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
                       coupler: tuple[float, float] | None = None,
                       traced: Sequence[int | str] = (), marked: Sequence[float] = (),
                       marked_branches: Sequence[int] = (),
-                      extra: Sequence[tuple[Stroke, ...]] = ()) -> Drawing:
+                      extra: Sequence[tuple[Stroke, ...]] = (),
+                      poses: Sequence[Pose] | None = None) -> Drawing:
     """The linkage drawn at each input angle of `phis` (degrees) on `branch`: one Frame a pose
     over the ground, in the kind's view (plane: the xy plane; spherical and skew: VIEWS).
 
@@ -7402,7 +7414,8 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
     linkage is drawn faint under every frame, numbered 1, 2, ... at the output (a design's
     positions), each on its branch of marked_branches (`branch` where none is given). extra:
     strokes drawn on each frame, a tuple a pose (force_arrows'), its letters placed clear of
-    them."""
+    them. poses: the poses drawn (pose_at's, one an angle of `phis`) instead of the engine's on
+    `branch`."""
     kind = linkage.kind
     if coupler is not None:
         coupler = check_coupler_point(linkage, *coupler)
@@ -7420,7 +7433,8 @@ def mechanism_drawing(linkage: Linkage, phis: Sequence[float], branch: int = 1,
                              + ("the fixed link is drawn along the common perpendicular, which "
                                 "needs a != 0" if skew_offset else
                                 "links are drawn with lengths greater than 0"))
-    poses = [joint_positions(linkage, phi, branch) for phi in phis]
+    poses = [joint_positions(linkage, phi, branch) for phi in phis] if poses is None \
+        else list(poses)
     if not poses:
         raise ValueError("a drawing needs at least one input angle")
     x0, y0, x1, y1 = _extent([project(kind, p) for pose in poses for p in pose.joints.values()])
@@ -7687,14 +7701,16 @@ def frame_seconds(count: int) -> float:
 def show_drawing(drawing: Drawing, out: TextIO | None = None, frames: int | None = None,
                  fps: float | None = None, unicode: bool | None = None) -> int:
     """The drawing on `out` (standard output): animated in place on a terminal, at `fps` frames
-    a second (1 / frame_seconds()), until q (exit status 0) or Ctrl-C (KeyboardInterrupt);
+    a second (1 / the drawing's seconds, else 1 / frame_seconds()), until q (exit status 0) or Ctrl-C (KeyboardInterrupt);
     otherwise, or with `frames`, still frames one after another. ASCII where out's encoding is
     not UTF-8."""
     out = sys.stdout if out is None else out
     if unicode is None:
         unicode = (getattr(out, "encoding", None) or "").lower().replace("-", "") == "utf8"
     if frames is None and len(drawing.frames) > 1 and out.isatty():
-        return _animate(drawing, out, fps or 1.0 / frame_seconds(len(drawing.frames)), unicode)
+        return _animate(drawing, out, fps or 1.0 / (drawing.seconds
+                                                    or frame_seconds(len(drawing.frames))),
+                        unicode)
     width, height = shutil.get_terminal_size() if out.isatty() else _text_size()
     out.write("\n\n".join(text_drawing(drawing, i, width, height, unicode)
                           for i in _still_frames(drawing, frames)) + "\n")
@@ -7881,8 +7897,8 @@ def _xml(text: str) -> str:
 
 
 def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str:
-    """The drawing as one animated SVG (SMIL; each frame frame_seconds() unless
-    seconds_per_frame)."""
+    """The drawing as one animated SVG (SMIL; each frame seconds_per_frame, else the drawing's
+    seconds, else frame_seconds())."""
     x0, y0, x1, y1 = drawing.bounds
     margin, head, foot = SVG_MARGIN, 58, 40
     scale = svg_scale(drawing.bounds)
@@ -7899,7 +7915,7 @@ def svg_drawing(drawing: Drawing, seconds_per_frame: float | None = None) -> str
         height += 22                              # a line of its own under the caption
     count = len(drawing.frames)
     shown = _still_frames(drawing, None)[0]
-    period = (seconds_per_frame or frame_seconds(count)) * count
+    period = (seconds_per_frame or drawing.seconds or frame_seconds(count)) * count
     out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
            f'viewBox="0 0 {width} {height}" data-kind="{drawing.kind}" data-frames="{count}" '
            f'data-scale="{scale!r}" data-origin="{page.left!r} {page.top!r}">',
@@ -9902,7 +9918,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     return below + step / 2, above - step / 2, step
 
 
-# ---- 19. Scenes: a figure's data, loaded and computed --------------------------------------------
+# ---- 19. Scenes: a figure's data, read and checked -----------------------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a linkage's kind and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -9910,20 +9926,15 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # acceleration against the input angle - as a plain-text plot (80 x 24, no dependency) or a PNG
 # (matplotlib, the `plot` extra). `plot` draws the same figure from DAT files already written.
 #
-# The numbers come from the two places that already make them, never from a copy of a formula:
-# `basic` runs the menu program's own session (run_session, as the `run` command does) and reads
-# back the files it wrote; `double` asks the engine. Each computes only what the panels show: a
-# displacement-only scene runs lines 1060-1150 of the listing and no further
-# (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
-# those files are written.
+# A scene with [simulation] is a run in time instead (section 22 runs it): its keys are read
+# here, as [dynamics]' are, each value's shape checked where the file is read.
 #
-# Uses: sections 1, 2, 5, 6, 7, 9, 10, 12 and 13.
+# Uses: sections 1, 2, 6, 7, 10, 11, 12 and 13.
 # Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, FORCE_QUANTITIES, QUANTITY_FILES,
 #   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, DRAWN_UP_TO,
 #   DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene, scene_error, load_scene,
 #   known_scenes, scene_path, scene_list, DYNAMICS_KEYS, BODY_KEYS, Dynamics, scene_dynamics,
-#   check_assembles, Series, branch_text, compute_scene, scene_forces, forces_columns,
-#   FORCES_COLUMNS, forces_row, scene_csv.
+#   SIMULATION_KEYS, SIMULATION_QUANTITIES, SimulationSettings, scene_simulation.
 
 
 SCENE_KEYS = {  # key: what is expected (the error messages quote it)
@@ -9950,6 +9961,10 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "forces": "true or false: a mechanism scene draws each joint's force as an arrow (needs "
               "[dynamics]; not the spherical four-bar, whose joints' forces rigid bodies leave "
               "undetermined)",
+    "simulation": "a table [simulation]: the motion in time under [dynamics] (its time, step, "
+                  "initial angle and speed, driver, springs; data/scenes/simulate-*.toml show "
+                  "one), drawn against time or, with panels = [{quantities = [\"mechanism\"]}], "
+                  "moving in real time",
 }
 REQUIRED_SCENE_KEYS = ("kind", "dimensions", "input", "branches", "panels")
 QUANTITIES = ("displacement", "velocity", "acceleration", "transmission")
@@ -10011,6 +10026,7 @@ class Scene(NamedTuple):
     coupler: tuple[float, float] | None = None   # a mechanism scene's coupler point (u, v)
     marked: tuple[float, ...] = ()   # a mechanism scene's input angles drawn faint and numbered
     dynamics: Dynamics | None = None     # the [dynamics] table: forces computed, else none
+    simulation: SimulationSettings | None = None     # the [simulation] table: a run in time
 
     @property
     def transmission(self) -> bool:
@@ -10076,6 +10092,8 @@ def load_scene(path: str) -> Scene:
         raise SceneError(f"{path}: key 'mechanism' is the old name of 'kind': give one of them")
     kind_key = "mechanism" if "mechanism" in data else "kind"     # as the file names it
     data = {"kind" if key == "mechanism" else key: value for key, value in data.items()}
+    if "simulation" in data:
+        return _simulation_scene(path, data, kind_key)
     for key in REQUIRED_SCENE_KEYS:
         if key not in data:
             raise SceneError(f"{path}: key '{key}' is missing: expected {SCENE_KEYS[key]}")
@@ -10231,18 +10249,21 @@ def _scene_sweep(path: str, sweep: object) -> tuple[float, float, float]:
     return start, stop, step
 
 
-def _scene_panels(path: str, panels: list[dict[str, Any]]) -> tuple[PanelSpec, ...]:
-    """The panels of a scene of curves: each its quantities and optional y limits."""
+def _scene_panels(path: str, panels: list[dict[str, Any]],
+                  vocabulary: tuple[str, ...] = QUANTITIES + FORCE_QUANTITIES
+                  ) -> tuple[PanelSpec, ...]:
+    """The panels of a scene of curves: each its quantities (of `vocabulary`) and optional y
+    limits."""
     specs = []
     for i, panel in enumerate(panels, 1):
         key = f"panels[{i}]"
         _unknown_keys(path, panel, ("quantities", "limits", "notes"), f"{key}.")
         quantities = panel.get("quantities")
         if (not isinstance(quantities, list) or not quantities
-                or not all(q in QUANTITIES + FORCE_QUANTITIES for q in quantities)
+                or not all(q in vocabulary for q in quantities)
                 or len(set(quantities)) != len(quantities)):
             raise scene_error(path, f"{key}.quantities", "a list of one or more of "
-                               f"{', '.join(QUANTITIES + FORCE_QUANTITIES)}", quantities)
+                               f"{', '.join(vocabulary)}", quantities)
         limits = panel.get("limits")
         expected = (f"[low, high], two numbers, low < high, each within +-{DRAWN_UP_TO:g}, at "
                     f"least {DRAWN_DOWN_TO:g} (and {DRAWN_CLOSEST:g} of the larger) apart")
@@ -10453,6 +10474,175 @@ def scene_dynamics(path: str, mechanism: str, dims: dict[str, float], table: obj
     return dynamics
 
 
+# -- a scene's [simulation]: what simulate() takes besides the linkage and its bodies -------------
+
+SIMULATION_KEYS = {  # key: what is expected (the error messages quote it)
+    "time": "a number, the run's length (s)",
+    "step": "a number, the time between the rows written (s; default 0.01)",
+    "tolerance": "a number, the error the integrator allows a step (radians; default 1e-8)",
+    "initial": "a table { angle = degrees, speed = rpm }: the crank at the start",
+    "torque": "a number, a torque driving the crank (N m, in the sense of phi)",
+    "motor": "a table { stall_torque = N m, free_speed = rpm }: a motor line driving the crank, "
+             "stall_torque (1 - speed / free_speed)",
+    "spring": "a table { between = [P, Q], k = N/m, free_length = m }, or a list of them; P and "
+              "Q a joint (A0, A, B, B0; C the slider) or a point [x, y] of the frame (m)",
+    "torsion": "a table { at = \"A0\" or \"B0\", k = N m/rad, free_angle = degrees, damping = "
+               "N m s/rad }, or a list of them: a torsional spring and damper at that pivot",
+    "until_angle": "a number, the crank's angle (degrees) at which the run ends",
+}
+SIMULATION_QUANTITIES = ("phi", "omega", "speed", "alpha", "output", "energy", "work", "drift")
+_SIMULATION_REFUSED = {  # a scene key a simulation scene does not take: why
+    "input": "the run's angles are its own (simulation.initial gives the first)",
+    "precision": "a simulation is the accurate engine's",
+    "fast": "a simulation is computed one step at a time",
+    "coupler": "a simulation scene draws the links only",
+    "marked": "a simulation scene draws the links only",
+    "forces": "a simulation scene draws the links only",
+}
+
+
+class SimulationSettings(NamedTuple):
+    """A scene's [simulation]: simulate()'s arguments besides the linkage, bodies and effects."""
+    time: float
+    step: float
+    tolerance: float
+    initial: tuple[float, float]        # (degrees, rpm)
+    driver: Driver
+    springs: tuple[Spring, ...]
+    torsions: tuple[Torsion, ...]
+    until_angle: float | None
+
+
+def _table_numbers(path: str, key: str, table: object, names: dict[str, float | None],
+                   expected: str) -> dict[str, float]:
+    """The numbers of an inline table at `key` (names: each key's default, None: required)."""
+    if not isinstance(table, dict):
+        raise scene_error(path, key, expected, table)
+    _unknown_keys(path, table, names, f"{key}.")
+    got = {}
+    for name, default in names.items():
+        value = table.get(name, default)
+        if value is None:
+            raise SceneError(f"{path}: key '{key}.{name}' is missing: expected {expected}")
+        if not _is_number(value):
+            raise scene_error(path, f"{key}.{name}", f"a number ({expected})", value)
+        got[name] = float(value)
+    return got
+
+
+def _listed(value: object) -> list[object]:
+    return value if isinstance(value, list) else [value]
+
+
+def scene_simulation(path: str, table: object) -> SimulationSettings:
+    """The [simulation] table of a scene, each value's shape checked (simulate() checks what the
+    values mean, when the scene is run); a SceneError names the file, the key and what it
+    expects."""
+    if not isinstance(table, dict):
+        raise scene_error(path, "simulation", SCENE_KEYS["simulation"], table)
+    _unknown_keys(path, table, SIMULATION_KEYS, "simulation.")
+    for key in ("time", "initial"):
+        if key not in table:
+            raise SceneError(f"{path}: key 'simulation.{key}' is missing: expected "
+                             f"{SIMULATION_KEYS[key]}")
+    for key in ("time", "step", "tolerance", "torque", "until_angle"):
+        if key in table and not _is_number(table[key]):
+            raise scene_error(path, f"simulation.{key}", SIMULATION_KEYS[key], table[key])
+    initial = _table_numbers(path, "simulation.initial", table["initial"],
+                             {"angle": None, "speed": 0.0}, SIMULATION_KEYS["initial"])
+    motor = _table_numbers(path, "simulation.motor", table.get("motor", {}),
+                           {"stall_torque": 0.0, "free_speed": 0.0}, SIMULATION_KEYS["motor"])
+    springs = []
+    for spring in _listed(table.get("spring", [])):
+        ends = spring.get("between") if isinstance(spring, dict) else None
+        if not (isinstance(ends, list) and len(ends) == 2 and all(
+                isinstance(p, str) or _numbers(p, 2) for p in ends)):
+            raise scene_error(path, "simulation.spring.between", "[P, Q], each a joint (A0, A, "
+                              "B, B0; C the slider) or a point [x, y] of the frame", ends)
+        numbers = _table_numbers(path, "simulation.spring", {
+            k: v for k, v in cast(dict, spring).items() if k != "between"},
+            {"k": None, "free_length": None}, SIMULATION_KEYS["spring"])
+        p, q = (e if isinstance(e, str) else (float(e[0]), float(e[1])) for e in ends)
+        springs.append(Spring(p, q, numbers["k"], numbers["free_length"]))
+    torsions = []
+    for torsion in _listed(table.get("torsion", [])):
+        at = torsion.get("at") if isinstance(torsion, dict) else None
+        if at not in ("A0", "B0"):
+            raise scene_error(path, "simulation.torsion.at", "\"A0\" (the crank's pivot) or "
+                              "\"B0\" (the output crank's)", at)
+        numbers = _table_numbers(path, "simulation.torsion", {
+            k: v for k, v in cast(dict, torsion).items() if k != "at"},
+            {"k": 0.0, "free_angle": 0.0, "damping": 0.0}, SIMULATION_KEYS["torsion"])
+        torsions.append(Torsion(cast(str, at), numbers["k"], numbers["free_angle"],
+                                numbers["damping"]))
+    return SimulationSettings(
+        float(table["time"]), float(table.get("step", 0.01)), float(table.get("tolerance", 1e-8)),
+        (initial["angle"], initial["speed"]),
+        Driver(float(table.get("torque", 0.0)), motor["stall_torque"], motor["free_speed"]),
+        tuple(springs), tuple(torsions),
+        None if "until_angle" not in table else float(table["until_angle"]))
+
+
+def _simulation_scene(path: str, data: dict[str, Any], kind_key: str) -> Scene:
+    """A scene with [simulation]: its linkage, [dynamics] (the bodies, gravity and loads; no
+    speed: the motion is the run's), the branch it starts on, and panels of quantities against
+    time or one mechanism panel (the linkage moving in real time)."""
+    for key, why in _SIMULATION_REFUSED.items():
+        if key in data:
+            raise scene_error(path, key, f"no {key} with [simulation]: {why}", data[key])
+    for key in ("kind", "dimensions", "branches", "panels", "dynamics"):
+        if key not in data:
+            raise SceneError(f"{path}: key '{key}' is missing: expected {SCENE_KEYS[key]}"
+                             + " (a simulation needs its bodies' masses)" * (key == "dynamics"))
+    kind = data["kind"]
+    if not isinstance(kind, str) or kind not in LINKAGE_DIMENSIONS:
+        raise scene_error(path, kind_key, SCENE_KEYS["kind"], kind)
+    dims = _scene_dimensions(path, kind, data["dimensions"])
+    if not (data["branches"] in ([1], [2])):
+        raise scene_error(path, "branches", "[1] or [2]: the listing's branch the run starts "
+                          "on (the run follows the motion through change points, as \"follow\")",
+                          data["branches"])
+    dynamics = scene_dynamics(path, kind, dims, data["dynamics"])
+    for key in ("speed", "crank_acceleration"):
+        if key in data["dynamics"]:
+            raise scene_error(path, f"dynamics.{key}", f"no {key} with [simulation]: the motion "
+                              "is the run's (its first speed: simulation.initial)",
+                              data["dynamics"][key])
+    settings = scene_simulation(path, data["simulation"])
+    panels = data["panels"]
+    if (not isinstance(panels, list) or not 1 <= len(panels) <= 3
+            or not all(isinstance(p, dict) for p in panels)):
+        raise scene_error(path, "panels", SCENE_KEYS["panels"], panels)
+    if panels[0].get("quantities") == [MECHANISM_PANEL]:
+        if len(panels) != 1 or set(panels[0]) != {"quantities"}:
+            raise scene_error(path, "panels", "one [[panels]] of quantities [\"mechanism\"] "
+                              "alone: the linkage drawn at each row of the run", panels)
+        specs: tuple[PanelSpec, ...] = (PanelSpec((MECHANISM_PANEL,), None),)
+    else:
+        specs = _scene_panels(path, panels, SIMULATION_QUANTITIES)
+    angle = settings.initial[0]
+    return Scene(path, _scene_title(path, data), kind, dims, angle, angle, 1.0,
+                 (int(data["branches"][0]),), ("double",), specs, dynamics=dynamics,
+                 simulation=settings)
+
+
+# ---- 20. Scenes computed: their DAT files, forces and CSV ----------------------------------------
+#
+# A scene read (section 19) computed: the DAT files its panels need, its forces along the sweep
+# for [dynamics], and its numbers as one CSV.
+#
+# The numbers come from the two places that already make them, never from a copy of a formula:
+# `basic` runs the menu program's own session (run_session, as the `run` command does) and reads
+# back the files it wrote; `double` asks the engine. Each computes only what the panels show: a
+# displacement-only scene runs lines 1060-1150 of the listing and no further
+# (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
+# those files are written.
+#
+# Uses: sections 1, 2, 5, 6, 7, 9, 10, 12, 13 and 19.
+# Offers: check_assembles, Series, branch_text, compute_scene, scene_forces, forces_columns,
+#   FORCES_COLUMNS, forces_row, scene_csv.
+
+
 # -- computing a scene: the DAT files ----------------------------------------------------------
 
 def _faithful_files(scene: Scene, branch: int | str, directory: str) -> list[str]:
@@ -10634,7 +10824,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
     return write_csv(path, rows(), ("series",) + CSV_HEADER + joint_columns, outputs)
 
 
-# ---- 20. Plots: a figure drawn as text or PNG ----------------------------------------------------
+# ---- 21. Plots: a figure drawn as text or PNG ----------------------------------------------------
 #
 # Holds: a figure built from DAT files (scene_figure, dat_figure: its panels and curves) and drawn
 # as a plain-text plot (80 x 24, no dependency) or a PNG (matplotlib, the `plot` extra); a mechanism
@@ -10647,7 +10837,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 # added so that a curve is continuous across +-180 degrees, and so that the curves of a panel lie
 # within half a turn of the first one.
 #
-# Uses: sections 1, 2, 6, 7, 10, 12, 13, 14, 15 and 19.
+# Uses: sections 1, 2, 6, 7, 10, 12, 13, 14, 15, 19 and 20.
 # Offers: dat_series, Curve, Panel, Figure, FORCE_LABELS, POLAR_MOMENTS, CLIPPED, build_figure,
 #   scene_figure, dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure,
 #   png_figure, force_arrows, scene_drawing, scene_text.
@@ -11023,7 +11213,8 @@ def text_figure(figure: Figure, width: int = TEXT_WIDTH, height: int = TEXT_HEIG
         return "".join(labels).rstrip()
 
     x_axis, x_texts = x_axis_of([x for p, po in zip(figure.panels, polar) if not po
-                                 for c in p.curves for r in c.runs for x, _ in r] or [0.0], True)
+                                 for c in p.curves for r in c.runs for x, _ in r] or [0.0],
+                                figure.xlabel == INPUT_AXIS)
 
     out, overlaps = list(top), False
     for k, (panel, header, y_axis, texts) in enumerate(zip(figure.panels, headers, y_axes,
@@ -11077,11 +11268,15 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
     polar = [panel.quantities == ("joint_forces",) for panel in figure.panels]
     xs_all = [x for p, po in zip(figure.panels, polar) if not po for c in p.curves
               for r in c.runs for x, _ in r]
-    x_step = _nice_axis(min(xs_all), max(xs_all), 73, 8, angles=True).step if xs_all else 1.0
+    x_step = _nice_axis(min(xs_all), max(xs_all), 73, 8, angles=figure.xlabel == INPUT_AXIS
+                        ).step if xs_all else 1.0
     colours: dict[tuple[str, int | str], str] = {
                ("displacement", 1): "black", ("displacement", 2): "tab:gray",
                ("velocity", 1): "tab:blue", ("velocity", 2): "tab:cyan",
                ("acceleration", 1): "tab:red", ("acceleration", 2): "tab:orange"}
+    colours.update({(q, b): c for q, c in (("omega", "tab:blue"), ("speed", "tab:blue"),
+                                           ("alpha", "tab:red"), ("work", "tab:orange"),
+                                           ("drift", "tab:red")) for b in (1, 2)})
     n = len(figure.panels)
     dpi = dpi or 90
     mpl = MplFigure(figsize=(size[0] / dpi, size[1] / dpi) if size else (7.2, 0.7 + 2.6 * n),
@@ -11123,7 +11318,7 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
             ax.legend(fontsize=7, loc="best")
             continue
         ax.set_title(f"({panel.letter}) " + " and ".join(n_ for n_, _, _ in panel.labels)
-                     + " vs input angle", loc="left", fontsize=10)
+                     + f" vs {name}", loc="left", fontsize=10)
         ax.set_ylabel(_pretty(", ".join(f"{s} [{u}]" for _, s, u in panel.labels)), fontsize=9)
         ax.set_xlabel(_pretty(f"{name} {symbol} [{unit}]"), fontsize=9)
         if panel.limits:
@@ -11251,7 +11446,176 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ---- 21. The explorer: a linkage changed and watched in the terminal -----------------------------
+# ---- 22. Simulation scenes: a run written, plotted against time and drawn moving -----------------
+#
+# A scene with a [simulation] table (read by scene_simulation) is one run of simulate(): its
+# linkage and [dynamics] (bodies, gravity, the output's load, a coupler force; no speed: the motion
+# is the run's) and these keys of [simulation], each an argument:
+#
+#   time, step, tolerance             time, step, tolerance (s, s, radians)
+#   initial = { angle, speed }        initial = (angle, speed) (degrees, rpm)
+#   torque; motor = { stall_torque,   driver = Driver(torque, stall_torque, free_speed_rpm)
+#     free_speed }
+#   spring = { between = [P, Q], k,   springs = [Spring(P, Q, k, free_length), ...]
+#     free_length } (or a list)
+#   torsion = { at, k, free_angle,    torsions = [Torsion(at, k, free_angle, damping), ...]
+#     damping } (or a list)
+#   until_angle                       until_angle (degrees)
+#   branches = [1] or [2]             branch (the run follows the motion from there, as "follow")
+#
+# The run's rows go to the CSV (SIMULATION_COLUMNS: phi and output in degrees as everywhere, or
+# the slider's x; the energy with the work done and the drift E - W - E0, the check that the
+# integrator kept to its tolerance), its events to the user in a few lines (simulation_report),
+# its quantities against time to a figure (a scene of curves: text or PNG, as section 20 draws),
+# and its positions to a Drawing whose frames are the rows every 1/ANIMATION_FPS s or more
+# (a mechanism panel: the terminal, SVG and PNG of section 15), each shown for the time between
+# them: the linkage moves in real time.
+#
+# Uses: sections 1, 2, 7, 11, 12, 13, 14, 19 and 21.
+# Offers: scene_run, SIMULATION_COLUMNS, simulation_rows, simulation_csv, EVENT_WORDS,
+#   simulation_report, SIMULATION_LABELS, simulation_figure, ANIMATION_FPS, simulation_drawing.
+
+
+def scene_run(scene: Scene) -> Simulation:
+    """The scene's run (its [simulation] as simulate()'s arguments: see the section's notes); a
+    SceneError names the file and says what simulate() refused."""
+    assert scene.simulation is not None and scene.dynamics is not None
+    settings, (bodies, effects, _) = scene.simulation, scene.dynamics
+    branch = scene.branches[0]
+    assert isinstance(branch, int)          # load_scene: [1] or [2]
+    try:
+        return simulate(Linkage(scene.kind, **scene.dimensions), bodies, effects,
+                        driver=settings.driver, springs=settings.springs,
+                        torsions=settings.torsions, initial=settings.initial,
+                        time=settings.time, step=settings.step, tolerance=settings.tolerance,
+                        branch=branch, until_angle=settings.until_angle)
+    except ValueError as e:
+        raise SceneError(f"{scene.path}: key 'simulation': the run cannot be made: {e}") \
+            from None
+
+
+SIMULATION_COLUMNS = ("t", "phi", "omega", "alpha", "output", "output_rate",
+                      "output_acceleration", "energy", "work", "drift", "coordinate")
+
+
+def simulation_rows(run: Simulation) -> Iterator[tuple]:
+    """The run's rows as SIMULATION_COLUMNS: SimRow's, and the drift E - W - E(0) (J)."""
+    first = run.rows[0].energy
+    for r in run.rows:
+        yield r[:9] + (r.energy - r.work - first, r.coordinate)
+
+
+def simulation_csv(run: Simulation, path: str, outputs: WrittenSet | None = None) -> int:
+    """The run's rows as one CSV file (SIMULATION_COLUMNS), whole or not at all; the rows."""
+    return write_csv(path, simulation_rows(run), SIMULATION_COLUMNS, outputs)
+
+
+EVENT_WORDS = {DEAD_CENTRE: "dead centre of the input", CHANGE_POINT: "change point",
+               REST: "at rest", COORDINATE: "coordinate changed", ANGLE_REACHED: "angle reached",
+               STUCK: "stuck", END: "end"}
+
+
+def simulation_report(run: Simulation) -> list[str]:
+    """What happened in the run, in a few lines: each kind of event (how many times, the first),
+    how it ended, and the energy check."""
+    lines = []
+    ends = (END, STUCK, ANGLE_REACHED)
+    for kind, words in EVENT_WORDS.items():
+        seen = [e for e in run.events if e.kind == kind]
+        if not seen or kind in ends:
+            continue
+        first = seen[0]
+        text = "to the output's angle and back" if kind == COORDINATE else first.text
+        lines.append(f"{words}: {len(seen):,} time{'s' * (len(seen) > 1)}, the first at "
+                     f"t = {first.t:.6g} s, phi = {first.phi:.6g} deg ({text})")
+    for e in run.events:
+        if e.kind in ends:
+            lines.append(f"{EVENT_WORDS[e.kind]} at t = {e.t:.6g} s, phi = {e.phi:.6g} deg: "
+                         f"{e.text}")
+    drift = max(abs(row[9]) for row in simulation_rows(run))
+    lines.append(f"energy: {run.rows[0].energy:.6g} J at the start, {run.rows[-1].energy:.6g} J "
+                 f"at the end, the work done on it {run.rows[-1].work:.6g} J; the drift "
+                 f"|E - W - E0| at most {drift:.3g} J ({run.steps:,} steps, {run.rejected:,} "
+                 "rejected)")
+    return lines
+
+
+SIMULATION_LABELS = {  # a quantity's (name, symbol, unit) against time; output: see _labels
+    "phi": ("crank angle", "phi", "deg"),
+    "omega": ("crank speed", "omega", "rad/s"),
+    "speed": ("crank speed", "n", "rpm"),
+    "alpha": ("crank acceleration", "alpha", "rad/s^2"),
+    "output": ("output angle", "psi", "deg"),
+    "energy": ("total energy", "E", "J"),
+    "work": ("work done on it", "W", "J"),
+    "drift": ("energy drift", "E - W - E0", "J"),
+}
+_SLIDER_OUTPUT = ("slider position", "x", "m")
+_VALUES: dict[str, Callable[[SimRow, float], float]] = {   # a quantity of a row (and E(0))
+    "phi": lambda r, e0: r.phi, "omega": lambda r, e0: r.omega,
+    "speed": lambda r, e0: r.omega * 30.0 / math.pi, "alpha": lambda r, e0: r.alpha,
+    "output": lambda r, e0: r.output, "energy": lambda r, e0: r.energy,
+    "work": lambda r, e0: r.work, "drift": lambda r, e0: r.energy - r.work - e0}
+
+
+def _setting_text(scene: Scene) -> str:
+    """The run's start and driver, in a few words (the figure's and drawing's subtitle)."""
+    settings = scene.simulation
+    assert settings is not None
+    angle, rpm = settings.initial
+    driver = settings.driver
+    drives = [f"torque {driver.torque:g} N m"] * bool(driver.torque) + [
+        f"motor {driver.stall_torque:g} N m to {driver.free_speed_rpm:g} rpm"
+    ] * bool(driver.stall_torque)
+    return (f"from phi = {angle:g} deg, {rpm:.4g} rpm, branch {scene.branches[0]}; "
+            f"{', '.join(drives) or 'no driver'}")
+
+
+def simulation_figure(scene: Scene, run: Simulation) -> Figure:
+    """The scene's panels drawn against time from the run's rows."""
+    dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
+    e0 = run.rows[0].energy
+    panels = []
+    for letter, spec in zip("abc", scene.panels):
+        labels = tuple(_SLIDER_OUTPUT if q == "output" and scene.kind in SLIDER_CRANKS
+                       else SIMULATION_LABELS[q] for q in spec.quantities)
+        curves = tuple(Curve(q, q, "double", scene.branches[0], (tuple(
+            (r.t, _VALUES[q](r, e0)) for r in run.rows),)) for q in spec.quantities)
+        panels.append(Panel(letter, spec.quantities, labels, curves, spec.limits))
+    return Figure(f"{scene.title}: {dims}", f"{KIND_NAMES[scene.kind]}; {_setting_text(scene)}",
+                  ("time", "t", "s"), tuple(panels))
+
+
+ANIMATION_FPS = 25.0        # the most frames a second a run is drawn at (its rows spread)
+
+
+def simulation_drawing(scene: Scene, run: Simulation) -> Drawing:
+    """The linkage at the run's rows (every row, or every k-th: at most ANIMATION_FPS a second
+    and MAX_FRAMES in all), each frame shown for the time between them (Drawing.seconds)."""
+    settings = scene.simulation
+    assert settings is not None
+    timed = [r for r in run.rows if abs(r.t / settings.step - round(r.t / settings.step)) < 1e-6]
+    every = max(1, math.ceil(1.0 / (ANIMATION_FPS * settings.step) - 1e-9),
+                math.ceil(len(timed) / MAX_FRAMES))
+    rows = timed[::every]
+    linkage = Linkage(scene.kind, **scene.dimensions)
+    dims = " ".join(f"{k}={v:g}" for k, v in scene.dimensions.items())
+    try:
+        drawing = mechanism_drawing(
+            linkage, [r.phi for r in rows], 1, f"{scene.title}: {dims}",
+            f"{KIND_NAMES[scene.kind]}; {_setting_text(scene)}; in real time",
+            poses=[pose_at(linkage, r.phi, r.output) for r in rows])
+    except ValueError as e:
+        raise scene_error(scene.path, "dimensions", f"dimensions that can be drawn: {e}") \
+            from None
+    out = "x = {:.4g} m" if linkage.is_slider else "ψ = {:.1f}°"
+    frames = tuple(f._replace(caption=f"t = {r.t:.2f} s  φ = {r.phi:.1f}°  "
+                              + out.format(r.output) + f"  ω = {r.omega:.3g} rad/s")
+                   for f, r in zip(drawing.frames, rows))
+    return drawing._replace(frames=frames, seconds=every * settings.step)
+
+
+# ---- 23. The explorer: a linkage changed and watched in the terminal -----------------------------
 #
 # Holds: `python3 linkage.py explore`: a full-screen view of the linkage moving, its coupler curve
 # traced, and beside it its dimensions and what analyse answers, all following each key. The
@@ -11266,7 +11630,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 # A change that cannot be drawn (a length of 0, an arc of 180 degrees) is refused on the status
 # line, the state as it was.
 #
-# Uses: sections 1, 2, 6, 7, 8, 12, 14, 15, 16, 19 and 20.
+# Uses: sections 1, 2, 6, 7, 8, 12, 14, 15, 16, 19 and 21.
 # Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
 #   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_key,
 #   explore_screen, explore_scene, terminal_keys, key_file, explore_saved, explore_replay,
@@ -11984,13 +12348,13 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
     return state
 
 
-# ---- 22. Benchmarks of the program itself --------------------------------------------------------
+# ---- 24. Benchmarks of the program itself --------------------------------------------------------
 #
 # Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS. What
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 11, 12, 13, 14, 15, 19, 20 and 21.
+# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 11, 12, 13, 14, 15, 19, 20, 21 and 23.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
 #   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, bench_forces,
 #   FILES_TARGET, bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung,
@@ -12719,7 +13083,7 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 23. Commands run, analyse and forces: each one's typed value, validated once, and its work ----
+# ---- 25. Commands run, analyse and forces: each one's typed value, validated once, and its work ----
 #
 # Holds: the parsers of what is typed (numbers in each precision, kinds); what every command is
 # given (its one typed value, made of the parsed options once its "goes with" rules hold: Rule,
@@ -12727,7 +13091,7 @@ def machine() -> str:
 # command shares; then run, analyse and forces, each its typed value, the function that makes it
 # (run_options, ...) and its handler (run_command, ...), and the drawing every command shares.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 12, 13, 14, 15, 19, 20 and 21.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 12, 13, 14, 15, 19, 20, 21 and 23.
 # Offers: DECIMAL, LONGEST_NUMBER, decimal_number, basic_answer, kind_named, UsageError,
 #   CommandError, Rule, goes_with, broken_rule, Pictures, pictures_typed, unwritten, reported,
 #   dimensions_typed, typed_value, check_outputs, MADE_FOLDERS, output_folder, unmake_folders,
@@ -13344,12 +13708,12 @@ def drawing_command(args: Pictures, make_drawing: Callable[[], Drawing]) -> int:
     return reported(draw)
 
 
-# ---- 24. Commands scene, plot, design, listing, explore and bench --------------------------------
+# ---- 26. Commands scene, plot, design, listing, explore and bench --------------------------------
 #
 # Holds: the other commands, each as the last section's: its typed value, the function that makes
 # it, its handler.
 #
-# Uses: sections 1, 2, 6, 8, 12, 13, 14, 15, 16, 18, 19, 20, 21, 22 and 23.
+# Uses: sections 1, 2, 6, 8, 11, 12, 13, 14, 15, 16, 18, 19, 20, 21, 22, 23, 24 and 25.
 # Offers: SceneOptions, scene_options, scene_command, PlotOptions, plot_options, plot_command,
 #   design_scene, DesignOptions, design_options, design_command, ERRATUM, KEPT_BUG, SCAN_LINE,
 #   scan_lines, erratum_reason, kept_bug_lines, annotated_listing, ListingOptions, listing_command,
@@ -13387,6 +13751,9 @@ def scene_options(given: dict[str, Any]) -> SceneOptions:
     scene = load_scene(path)
     csv, folder = given["csv"], given["dir"]
     _check_not_inputs({"--svg": pictures.svg, "--png": pictures.png, "--csv": csv}, [path])
+    if scene.simulation is not None and folder is not None:
+        raise UsageError(f"--dir keeps DAT files, against the input angle; {path} is a run in "
+                         "time: its rows go to --csv")
     if scene.draws_mechanism:
         if csv or folder is not None:
             raise UsageError(f"--csv and --dir go with a scene of curves; {path} draws the "
@@ -13413,7 +13780,11 @@ def scene_command(args: SceneOptions) -> int:
     scene = args.scene
     assert scene is not None                            # scene_options loaded it
     if scene.draws_mechanism:
-        return drawing_command(args.pictures, lambda: scene_drawing(scene))
+        return drawing_command(args.pictures, lambda: scene_drawing(scene)
+                               if scene.simulation is None
+                               else simulation_drawing(scene, _simulated(scene)))
+    if scene.simulation is not None:
+        return reported(lambda: _simulation_outputs(scene, args))
     if args.folder is not None:
         output_folder("--dir", args.folder)
     return reported(lambda: _scene_outputs(scene, args))
@@ -13432,7 +13803,8 @@ def _scene_outputs(scene: Scene, args: SceneOptions) -> None:
     with staging as where:
         series = compute_scene(scene, where, say)
         figure = scene_figure(scene, series)
-        text = text_figure(figure) if args.pictures.text or not args.pictures.png else ""    # may not fit
+        text = (text_figure(figure) if args.pictures.text or not args.pictures.png
+                else "")                                # may not fit
         with WrittenSet() as outputs:
             if args.folder is not None:
                 for s in series:
@@ -13449,6 +13821,33 @@ def _scene_outputs(scene: Scene, args: SceneOptions) -> None:
                 png_figure(figure, args.pictures.png, args.pictures.dpi, args.pictures.size, outputs)
     if args.folder is not None:
         say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.folder}")
+    if args.csv:
+        say(f"wrote {args.csv} ({rows:,} rows)")
+    if args.pictures.png:
+        say(f"wrote {args.pictures.png}")
+    sys.stdout.write(text)
+
+
+def _simulated(scene: Scene) -> Simulation:
+    """The simulation scene's run, what happened in it said (standard error)."""
+    run = scene_run(scene)
+    for line in simulation_report(run):
+        say(line)
+    return run
+
+
+def _simulation_outputs(scene: Scene, args: SceneOptions) -> None:
+    """A simulation scene of curves: the run, its CSV and PNG as one set (all or none), then the
+    text plot printed."""
+    if args.pictures.png:
+        matplotlib_canvas()                             # fail before any work
+    run = _simulated(scene)
+    figure = simulation_figure(scene, run)
+    text = text_figure(figure) if args.pictures.text or not args.pictures.png else ""
+    with WrittenSet() as outputs:
+        rows = simulation_csv(run, args.csv, outputs) if args.csv else 0
+        if args.pictures.png:
+            png_figure(figure, args.pictures.png, args.pictures.dpi, args.pictures.size, outputs)
     if args.csv:
         say(f"wrote {args.csv} ({rows:,} rows)")
     if args.pictures.png:
@@ -13874,14 +14273,14 @@ def bench_command(args: BenchOptions) -> int:
     return 0
 
 
-# ---- 25. The command line: argparse from the table of commands -----------------------------------
+# ---- 27. The command line: argparse from the table of commands -----------------------------------
 #
 # Holds: the command line's words parsed (argparse): the parsers of what is typed in an option
 # (a number of a design's data, a kind, PNG sizes), the commands' help, and COMMANDS, the table of
 # every sub-command: its help, its options, its "goes with" rules and the functions that make its
 # typed value and do its work (section 23); build_parser turns it into argparse; main() last.
 #
-# Uses: sections 1, 2, 5, 6, 13, 15, 16, 18, 21, 22, 23 and 24.
+# Uses: sections 1, 2, 5, 6, 13, 15, 16, 18, 23, 24, 25 and 26.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, Option, option, Command,
 #   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, DATUM_FLAGS, DXF_HELP, PNG_OPTIONS, COMMANDS,
 #   CommandParser, build_parser, main.
