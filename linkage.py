@@ -12777,17 +12777,24 @@ def bench_explore(out: TextIO, quick: bool = False) -> None:
 
     A key's frame is explore_key then explore_screen at 80 x 24, each key changing a dimension
     or the branch or the coupler point (so that each is a linkage not seen yet: a glance), then
-    the view made whole when the
-    keys stop (ExploreViews.settled: analyse and the motion drawn)."""
+    the view made whole when the keys stop (ExploreViews.settled: analyse and the motion
+    drawn); for each kind's example, and each scene with [dynamics] (data/scenes/forces-*:
+    the torque now at each key, its peak in the view made whole)."""
     import time
     keys = ["Right", "Left", "S-Right", "S-Left", "Tab"] * (1 if quick else 4) + ["b", "c"]
     print(f"the explorer, {len(keys)} keys a kind (a dimension changed, the next one selected, "
           "the branch, the coupler), the 80 x 24 frame drawn after each; milliseconds; target: "
           f"a key to its frame under {1e3 * EXPLORE_TARGET:.0f} ms", file=out)
-    print(f"{'linkage':12} {'key median':>11} {'key worst':>10} {'whole median':>13} "
+    print(f"{'linkage':26} {'key median':>11} {'key worst':>10} {'whole median':>13} "
           f"{'whole worst':>12}", file=out)
-    for kind in LINKAGE_DIMENSIONS:
-        views, state = ExploreViews(quick=True), explorer_of(kind)
+    scenes = [load_scene(scene_path(name)) for name in known_scenes()
+              if name.startswith("forces-") and "arrows" not in name]
+    starts = [(kind, explorer_of(kind)) for kind in LINKAGE_DIMENSIONS] + [
+        (os.path.basename(s.path).removesuffix(".toml"),
+         explorer_of(s.kind, s.dimensions, dynamics=s.dynamics)) for s in scenes
+        if s.dynamics is not None and isinstance(s.branches[0], int)]
+    for name, state in starts:
+        views = ExploreViews(quick=True)
         views(state)
         key_times, whole_times = [], []
         for key in keys:
@@ -12801,7 +12808,7 @@ def bench_explore(out: TextIO, quick: bool = False) -> None:
             whole_times.append(time.perf_counter() - start)
         key_times.sort()
         whole_times.sort()
-        print(f"{kind:12} {1e3 * key_times[len(keys) // 2]:11.1f} {1e3 * key_times[-1]:10.1f} "
+        print(f"{name:26} {1e3 * key_times[len(keys) // 2]:11.1f} {1e3 * key_times[-1]:10.1f} "
               f"{1e3 * whole_times[len(keys) // 2]:13.1f} {1e3 * whole_times[-1]:12.1f}"
               + ("" if key_times[-1] < EXPLORE_TARGET else "   over the target"), file=out)
 
