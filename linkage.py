@@ -5100,7 +5100,8 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #
 # Uses: sections 2, 6, 7 and 8.
 # Offers: STANDARD_GRAVITY, UNBOUNDED, OUT_OF_RANGE, Matrix, Body, Bodies, Effects, Reaction,
-#   Forces, checked_number, checked_numbers, forces, ForcesSummary, forces_summary, forces_lines.
+#   Forces, checked_number, checked_numbers, forces, PEAK_TOLERANCE, TorquePeak, torque_peak,
+#   ForcesSummary, forces_summary, forces_lines.
 
 
 STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
@@ -5621,6 +5622,71 @@ def forces(linkage: Closure, phis: Iterable[float], branch: int | str = 1,
     and the effects (see the notes above; radius: the spherical four-bar's sphere, metres)."""
     setup = _setup(linkage, bodies, effects, radius)
     return [_forces_at(setup, m) for m in linkage.sweep(phis, branch, 2, start=start)]
+
+
+PEAK_TOLERANCE = 0.01       # degrees: torque_peak closes on the peak to this (golden section)
+
+
+class TorquePeak(NamedTuple):
+    """The driving torque's largest size along a motion: its value (signed, N m) at the input
+    angle phi; or the angles where the forces are unbounded (value and phi None: the torque
+    grows without bound as the crank nears them); all None where no position is known."""
+    value: float | None
+    phi: float | None
+    unbounded: tuple[float, ...] = ()
+
+
+def torque_peak(linkage: Closure, phis: Sequence[float], branch: int = 1,
+                bodies: Bodies = Bodies(), effects: Effects = Effects(), *, radius: float = 1.0,
+                turns: bool = False, dead: frozenset[int] = frozenset(), refined: int = 2
+                ) -> tuple[tuple[Forces, ...], TorquePeak]:
+    """forces() at each of phis (increasing, degrees; turns: a full turn, the last the first's
+    neighbour) on `branch`, the positions `dead` (dead centres) UNBOUNDED, and the torque's
+    peak: unbounded where any position is, else the largest |T| of the positions and of each
+    of the `refined` largest local peaks closed on between its neighbours by golden section to
+    PEAK_TOLERANCE degrees (a peak narrower than the positions' spacing may be missed)."""
+    def at(angles: Sequence[float]) -> list[Forces]:
+        return forces(linkage, angles, branch, bodies, effects, radius=radius)
+    results = tuple(Forces(r.phi, None, None, None, None, None, UNBOUNDED) if i in dead else r
+                    for i, r in enumerate(at(phis)))
+    unbounded = tuple(r.phi for r in results if r.status == UNBOUNDED)
+    if unbounded:
+        return results, TorquePeak(None, None, unbounded)
+    count = len(results)
+    size = [-1.0 if r.torque is None else abs(r.torque) for r in results]
+
+    def beside(i: int) -> float | None:      # the angle of position i (out of range: None)
+        if 0 <= i < count:
+            return phis[i]
+        return phis[i % count] + (360.0 if i >= count else -360.0) if turns and count else None
+    peaks = [i for i in range(count) if size[i] >= 0.0
+             and all(size[j % count] <= size[i] for j in (i - 1, i + 1) if beside(j) is not None)]
+    best = [(r.torque, r.phi) for r in results if r.torque is not None]
+
+    def found(phi: float) -> float:
+        torque = at([phi])[0].torque
+        if torque is None:
+            return -1.0
+        best.append((torque, phi))
+        return abs(torque)
+    ratio = (math.sqrt(5.0) - 1.0) / 2.0
+    for i in sorted(peaks, key=lambda i: -size[i])[:refined]:
+        lo, hi = (phis[i] if x is None else x for x in (beside(i - 1), beside(i + 1)))
+        x1, x2 = hi - ratio * (hi - lo), lo + ratio * (hi - lo)
+        f1, f2 = found(x1), found(x2)
+        while hi - lo > PEAK_TOLERANCE:
+            if f1 >= f2:
+                hi, x2, f2 = x2, x1, f1
+                x1 = hi - ratio * (hi - lo)
+                f1 = found(x1)
+            else:
+                lo, x1, f1 = x1, x2, f2
+                x2 = lo + ratio * (hi - lo)
+                f2 = found(x2)
+    if not best:
+        return results, TorquePeak(None, None)
+    value, phi = max(best, key=lambda tp: abs(tp[0]))
+    return results, TorquePeak(value, phi)
 
 
 class ForcesSummary(NamedTuple):
@@ -9957,7 +10023,7 @@ SCENE_KEYS = {  # key: what is expected (the error messages quote it)
     "mechanism": "the old name of kind, still taken",
     "dynamics": "a table [dynamics]: the speed, the bodies' masses, gravity and the loads, for "
                 "the forces (the panels torque, joint_forces and shaking; the CSV's columns; a "
-                "mechanism scene's arrows, with forces = true)",
+                "mechanism scene's arrows, with forces = true; the explorer's torque)",
     "forces": "true or false: a mechanism scene draws each joint's force as an arrow (needs "
               "[dynamics]; not the spherical four-bar, whose joints' forces rigid bodies leave "
               "undetermined)",
@@ -10027,6 +10093,7 @@ class Scene(NamedTuple):
     marked: tuple[float, ...] = ()   # a mechanism scene's input angles drawn faint and numbered
     dynamics: Dynamics | None = None     # the [dynamics] table: forces computed, else none
     simulation: SimulationSettings | None = None     # the [simulation] table: a run in time
+    arrows: bool = False             # a mechanism scene draws the joints' forces (forces = true)
 
     @property
     def transmission(self) -> bool:
@@ -10315,16 +10382,15 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
     arrows = data.get("forces", False)
     if not isinstance(arrows, bool):
         raise scene_error(path, "forces", SCENE_KEYS["forces"], arrows)
-    if arrows != ("dynamics" in data):
-        raise scene_error(path, "forces", "forces = true with a [dynamics] table, and neither "
-                           "without the other: a mechanism scene uses [dynamics] only to draw "
-                           "the joints' forces", arrows)
+    if arrows and "dynamics" not in data:
+        raise scene_error(path, "forces", "forces = true with a [dynamics] table (the forces "
+                           "drawn are its), or false", arrows)
     kind = str(data.get("kind", data.get("mechanism")))     # the old name still taken
     if arrows and kind == SPHERICAL_FOUR_BAR:
         raise scene_error(path, "forces", "false for the spherical four-bar: its joints' forces "
                            "are not determined by rigid bodies (its joints' moments about the "
                            "centre are: a scene of curves draws them)", arrows)
-    dynamics = scene_dynamics(path, kind, dims, data["dynamics"]) if arrows \
+    dynamics = scene_dynamics(path, kind, dims, data["dynamics"]) if "dynamics" in data \
         else None
     if len(data["panels"]) != 1:
         raise scene_error(path, "panels", "one [[panels]] only: a mechanism panel is a scene "
@@ -10360,7 +10426,7 @@ def _mechanism_scene(path: str, data: dict[str, Any], dims: dict[str, float], st
         raise scene_error(path, "marked", SCENE_KEYS["marked"], marked)
     return Scene(path, _scene_title(path, data), data["kind"], dims, start, stop, step,
                  branches, ("double",), (spec,), coupler=coupler,
-                 marked=tuple(float(v) for v in marked), dynamics=dynamics)
+                 marked=tuple(float(v) for v in marked), dynamics=dynamics, arrows=arrows)
 
 
 # -- a scene's [dynamics]: the bodies and effects that forces() takes ------------------------------
@@ -11393,7 +11459,7 @@ def scene_drawing(scene: Scene) -> Drawing:
     assert isinstance(branch, int)      # load_scene: a mechanism scene draws branch 1 or 2
     arrows: list[tuple[Stroke, ...]] = []
     note = ""
-    if scene.dynamics is not None:
+    if scene.arrows and scene.dynamics is not None:
         linkage, (bodies, effects, radius) = (Linkage(scene.kind, **scene.dimensions),
                                               scene.dynamics)
         arrows, biggest = force_arrows(linkage, scene.angles(), branch, forces(
@@ -11415,6 +11481,36 @@ def scene_drawing(scene: Scene) -> Drawing:
     return drawing
 
 
+def _toml_value(value: Any) -> str:
+    """A number, or a list (of lists) of numbers, as TOML."""
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    return repr(float(value))
+
+
+def _dynamics_text(kind: str, dynamics: Dynamics) -> list[str]:
+    """The [dynamics] table's lines that scene_dynamics reads back into `dynamics`: each
+    effect that is not its default, each body that has a mass or a shape."""
+    effects = dynamics.effects
+    lines = ["[dynamics]", f"speed = {_toml_value(effects.speed_rpm)}"]
+    lines += [f"{key} = {_toml_value(value)}" for key, value, default in (
+        ("crank_acceleration", effects.crank_acceleration, 0.0),
+        ("gravity", effects.gravity, None), ("radius", dynamics.radius, 1.0),
+        ("output_torque", effects.output_torque, 0.0),
+        ("output_force", effects.output_force, 0.0)) if value != default]
+    if effects.coupler_force is not None:
+        at, force = effects.coupler_force
+        lines.append(f"coupler_force = {{ at = {_toml_value(at)}, force = {_toml_value(force)} }}")
+    output = "slider" if kind in SLIDER_CRANKS else "output"
+    for key, body in zip(("crank", "coupler", output), dynamics.bodies):
+        if body != Body():
+            shape = "".join(f", {name} = {_toml_value(value)}" for name, value in
+                            (("centre", body.centre), ("inertia", body.inertia))
+                            if value is not None)
+            lines.append(f"{key} = {{ mass = {_toml_value(body.mass)}{shape} }}")
+    return lines
+
+
 def _toml_string(text: str) -> str:
     """A TOML basic string of text (its escapes are JSON's, and DEL too)."""
     import json                         # here: the menu program starts without it
@@ -11424,8 +11520,8 @@ def _toml_string(text: str) -> str:
 def scene_text(scene: Scene, comment: str = "") -> str:
     """A mechanism scene as the TOML that load_scene reads back into the same scene: the file
     a user can edit and run (`scene FILE`); `comment` (one line) heads it."""
-    if not scene.draws_mechanism or scene.dynamics is not None:
-        raise ValueError("scene_text writes mechanism scenes without [dynamics]")
+    if not scene.draws_mechanism:
+        raise ValueError("scene_text writes mechanism scenes")
 
     def numbers(values: Iterable[float]) -> str:
         return ", ".join(repr(float(v)) for v in values)
@@ -11440,6 +11536,10 @@ def scene_text(scene: Scene, comment: str = "") -> str:
         lines.append(f"coupler = [{numbers(scene.coupler)}]")
     if scene.marked:
         lines.append(f"marked = [{numbers(scene.marked)}]")
+    if scene.arrows:
+        lines.append("forces = true")
+    if scene.dynamics is not None:
+        lines += [""] + _dynamics_text(scene.kind, scene.dynamics)
     lines += ["", "[[panels]]", 'quantities = ["mechanism"]']
     if scene.panels[0].angles is not None:
         lines.append(f"angles = [{numbers(scene.panels[0].angles)}]")
@@ -11630,7 +11730,7 @@ def simulation_drawing(scene: Scene, run: Simulation) -> Drawing:
 # A change that cannot be drawn (a length of 0, an arc of 180 degrees) is refused on the status
 # line, the state as it was.
 #
-# Uses: sections 1, 2, 6, 7, 8, 12, 14, 15, 16, 19 and 21.
+# Uses: sections 1, 2, 6, 7, 8, 10, 12, 14, 15, 16, 19 and 21.
 # Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
 #   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_key,
 #   explore_screen, explore_scene, terminal_keys, key_file, explore_saved, explore_replay,
@@ -11669,6 +11769,7 @@ _TERMINAL_SEQUENCES = {b"\x1b[A": "Up", b"\x1b[B": "Down", b"\x1b[C": "Right", b
 _ASCII_PANEL = str.maketrans({"φ": "phi", "ψ": "psi", "ξ": "ksi", "μ": "mu", "°": " deg"})
 _STEP_KEYS = ("Left", "Right", "S-Left", "S-Right", "[", "]")
 _UNDO_DEPTH = 100
+_INSIDE = 1e-9          # degrees: a rocking crank's motion ends this far inside its dead centres
 _TYPED_NUMBER = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
 
 
@@ -11676,8 +11777,8 @@ class Explorer(NamedTuple):
     """What the explorer shows and where the user is: the linkage (kind, dims in
     LINKAGE_DIMENSIONS' order, branch, follow), the coupler point (u, v) and whether it is
     traced, the shown position (index into ExploreView.phis) and the motion, what is being
-    typed (a value, a file name, an answer), the status line, and the states undo goes back
-    to."""
+    typed (a value, a file name, an answer), the status line, the states undo goes back to,
+    and the scene's dynamics (the bodies and effects whose driving torque is shown)."""
     kind: str
     dims: tuple[tuple[str, float], ...]
     branch: int = 1
@@ -11698,6 +11799,7 @@ class Explorer(NamedTuple):
     status: str = ""
     undo: tuple[Explorer, ...] = ()
     done: bool = False
+    dynamics: Dynamics | None = None   # a scene's [dynamics]: the driving torque shown
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -11721,20 +11823,24 @@ def _default_coupler(kind: str, dims: dict[str, float]) -> tuple[float, float]:
 
 
 def explorer_of(kind: str, dims: dict[str, float] | None = None, branch: int = 1,
-                follow: bool = False, coupler: tuple[float, float] | None = None) -> Explorer:
+                follow: bool = False, coupler: tuple[float, float] | None = None,
+                dynamics: Dynamics | None = None) -> Explorer:
     """The explorer's first state: the linkage given (its dimensions the kind's example's where
-    not given), coupler the point traced (None: one half along the coupler)."""
+    not given), coupler the point traced (None: one half along the coupler), dynamics a
+    scene's (None: no forces shown)."""
     given = dict(MECHANISM_EXAMPLES[kind], **(dims or {}))
     values = tuple((n, float(given[n])) for n in LINKAGE_DIMENSIONS[kind])
     return Explorer(kind, values, branch, follow,
-                    coupler or _default_coupler(kind, dict(values)))
+                    coupler or _default_coupler(kind, dict(values)), dynamics=dynamics)
 
 
 class ExploreView(NamedTuple):
     """What a linkage looks like: its analysis (None where it assembles nowhere, message then
     says so), the drawing of its motion at the input angles phis, the transmission angle at
     each, and whether the crank turns fully (else it rocks between dead centres); settled False
-    for a glance (explore_glance: one position, not analysed yet)."""
+    for a glance (explore_glance: one position, not analysed yet). With dynamics: forces() at
+    each of phis (UNBOUNDED at a dead centre) and the torque's peak (torque_peak; None in a
+    glance)."""
     analysis: Analysis | None
     message: str
     drawing: Drawing
@@ -11742,16 +11848,20 @@ class ExploreView(NamedTuple):
     mus: tuple[float | None, ...]
     turns: bool
     settled: bool = True
+    forces: tuple[Forces, ...] = ()
+    peak: TorquePeak | None = None
 
 
 def _motion_angles(analysis: Analysis | None, count: int = EXPLORE_POSITIONS
                    ) -> tuple[list[float], bool]:
     """`count` input angles over a full turn, or count + 1 over the crank's first reachable
-    range end to end (dead centre to dead centre); whether the crank turns fully."""
+    range end to end (dead centre to dead centre, each _INSIDE it: there the two branches
+    meet, and exactly there rounding may leave no pose); whether the crank turns fully."""
     if analysis is None or analysis.crank_range is None:
         return [360.0 * i / count for i in range(count)], True
     lo, hi = analysis.crank_range[0]
     hi += 360.0 if hi <= lo else 0.0
+    lo, hi = lo + _INSIDE, hi - _INSIDE
     return [lo + (hi - lo) * i / count for i in range(count + 1)], False
 
 
@@ -11834,7 +11944,15 @@ def explore_view(state: Explorer) -> ExploreView:
                                 f"{name}: " + (message or "the crank turns fully"), None,
                                 coupler, traced)
     mus = tuple(linkage.transmission(phis, state.branch))
-    return ExploreView(analysis, message, drawing, tuple(phis), mus, turns)
+    if state.dynamics is None:
+        return ExploreView(analysis, message, drawing, tuple(phis), mus, turns)
+    stops = () if analysis is None else analysis.dead_centres + analysis.change_points
+    dead = frozenset(i for i, phi in enumerate(phis) if (not turns and i in (0, len(phis) - 1))
+                     or any(abs(wrap_degrees(phi - x)) < 1e-6 for x in stops))
+    bodies, effects, radius = state.dynamics
+    results, peak = torque_peak(linkage, phis, state.branch, bodies, effects, radius=radius,
+                                turns=turns, dead=dead)
+    return ExploreView(analysis, message, drawing, tuple(phis), mus, turns, True, results, peak)
 
 
 def explore_glance(state: Explorer, phi: float, bounds: Box) -> ExploreView:
@@ -11849,7 +11967,9 @@ def explore_glance(state: Explorer, phi: float, bounds: Box) -> ExploreView:
     drawing = drawing._replace(bounds=(min(x0, bounds[0]), min(y0, bounds[1]),
                                        max(x1, bounds[2]), max(y1, bounds[3])))
     mus = tuple(linkage.transmission([phi], state.branch))
-    return ExploreView(None, "", drawing, (phi,), mus, True, False)
+    now = () if state.dynamics is None else tuple(
+        forces(linkage, [phi], state.branch, *state.dynamics[:2], radius=state.dynamics.radius))
+    return ExploreView(None, "", drawing, (phi,), mus, True, False, now)
 
 
 class ExploreViews:
@@ -11864,7 +11984,7 @@ class ExploreViews:
     @staticmethod
     def _key(state: Explorer) -> tuple[Any, ...]:
         return (state.kind, state.dims, state.branch, state.follow,
-                state.coupler if state.traced else None)
+                state.coupler if state.traced else None, repr(state.dynamics))
 
     def __call__(self, state: Explorer) -> ExploreView:
         key = self._key(state)
@@ -12046,8 +12166,11 @@ def explore_key(state: Explorer, key: str, views: ExploreViews) -> Explorer:
     if key == "k":
         kinds = list(LINKAGE_DIMENSIONS)
         first = explorer_of(kinds[(kinds.index(state.kind) + 1) % len(kinds)])
-        return _changed(state, views, kind=first.kind, dims=first.dims, coupler=first.coupler,
-                        selected=0)
+        new = _changed(state, views, kind=first.kind, dims=first.dims, coupler=first.coupler,
+                       selected=0, dynamics=None)
+        return new._replace(status=new.status or "the forces stay with the "
+                            f"{KIND_NAMES[state.kind]} (u brings it back)") \
+            if state.dynamics is not None and new.kind != state.kind else new
     if key == "u":
         if not state.undo:
             return state._replace(status="nothing to undo")
@@ -12102,6 +12225,31 @@ def _analysis_rows(view: ExploreView, mu: float | None, unit: str, more: bool
                                     f"{_number(worst.phi)}")]
 
 
+def _torque_rows(state: Explorer, view: ExploreView, more: bool) -> list[tuple[str, str]]:
+    """The side panel's driving torque, with dynamics: now (at the position shown) and its
+    peak over the motion with its crank angle, or where it is unbounded; more: the speed and
+    how the peak was found too."""
+    if state.dynamics is None or not view.forces:
+        return []
+    now = view.forces[state.position]
+    said = {UNBOUNDED: "unbounded", OUT_OF_RANGE: "overflow"}
+    rows = [("torque now", f"{now.torque:.6g} N m" if now.torque is not None
+             else said.get(now.status, "-"))]
+    peak = view.peak
+    if peak is None:
+        rows.append(("torque peak", "..."))
+    elif peak.unbounded:
+        rows.append(("torque peak", "unbounded: " + ", ".join(f"{phi % 360.0:.4g}"
+                                                              for phi in peak.unbounded)))
+    else:
+        rows.append(("torque peak", "-" if peak.value is None or peak.phi is None else
+                     f"{peak.value:.6g} N m at {peak.phi % 360.0:.5g}"))
+    if more:
+        rows += [("speed", f"{state.dynamics.effects.speed_rpm:g} rpm"),
+                 ("peak of", f"{len(view.phis)} positions, refined")]
+    return rows
+
+
 def _side_panel(state: Explorer, view: ExploreView, width: int, height: int, unicode: bool
                 ) -> tuple[list[str], int]:
     """The side panel's lines, and which one is the selected dimension's."""
@@ -12122,11 +12270,18 @@ def _side_panel(state: Explorer, view: ExploreView, width: int, height: int, uni
     lines.append("")
     phi = view.phis[state.position] % 360.0
     mu = view.mus[state.position]
+    more = height >= 32
     lines += [f"{name if unicode else name.translate(_ASCII_PANEL):<12} {value}" if name
-              else f"  {value}" for name, value in _analysis_rows(view, mu, unit, height >= 32)]
+              else f"  {value}" for name, value in _analysis_rows(view, mu, unit, more)
+              + _torque_rows(state, view, more)]
     speed = EXPLORE_SPEEDS[state.speed]
     lines += ["", f"φ = {phi:.4g} deg  " + (f"playing {speed}/s" if state.playing
                                             else "paused")]
+    excess = len(lines) - (height - 2)
+    if excess > 0:                      # more than the screen holds: blank lines go first
+        dropped = [i for i, line in enumerate(lines) if not line][:excess]
+        selected -= sum(1 for i in dropped if i < selected)
+        lines = [line for i, line in enumerate(lines) if i not in dropped]
     return [line[:width] for line in lines], selected
 
 
@@ -12181,14 +12336,16 @@ def explore_screen(state: Explorer, view: ExploreView, width: int = 80, height: 
 def explore_scene(state: Explorer, view: ExploreView, path: str) -> Scene:
     """The state as a mechanism scene (scene_text writes it; explore SCENE reads it back): the
     linkage, its branch, the motion drawn, the coupler point traced, and followed (a scene
-    follows the motion only with a coupler point: given where follow is on)."""
+    follows the motion only with a coupler point: given where follow is on), and its
+    [dynamics]."""
     phis = view.phis
     step = (phis[-1] - phis[0]) / max(1, len(phis) - 1)
     branches: tuple[int | str, ...] = (state.branch,) + ((FOLLOW,) if state.follow else ())
     return Scene(path, f"{KIND_NAMES[state.kind]}, as explored", state.kind,
                  dict(state.dims), phis[0], phis[-1], step, branches, ("double",),
                  (PanelSpec((MECHANISM_PANEL,), None),),
-                 coupler=state.coupler if state.traced or state.follow else None)
+                 coupler=state.coupler if state.traced or state.follow else None,
+                 dynamics=state.dynamics)
 
 
 def terminal_keys(data: bytes) -> list[str]:
@@ -12986,17 +13143,24 @@ def bench_explore(out: TextIO, quick: bool = False) -> None:
 
     A key's frame is explore_key then explore_screen at 80 x 24, each key changing a dimension
     or the branch or the coupler point (so that each is a linkage not seen yet: a glance), then
-    the view made whole when the
-    keys stop (ExploreViews.settled: analyse and the motion drawn)."""
+    the view made whole when the keys stop (ExploreViews.settled: analyse and the motion
+    drawn); for each kind's example, and each scene with [dynamics] (data/scenes/forces-*:
+    the torque now at each key, its peak in the view made whole)."""
     import time
     keys = ["Right", "Left", "S-Right", "S-Left", "Tab"] * (1 if quick else 4) + ["b", "c"]
     print(f"the explorer, {len(keys)} keys a kind (a dimension changed, the next one selected, "
           "the branch, the coupler), the 80 x 24 frame drawn after each; milliseconds; target: "
           f"a key to its frame under {1e3 * EXPLORE_TARGET:.0f} ms", file=out)
-    print(f"{'linkage':12} {'key median':>11} {'key worst':>10} {'whole median':>13} "
+    print(f"{'linkage':26} {'key median':>11} {'key worst':>10} {'whole median':>13} "
           f"{'whole worst':>12}", file=out)
-    for kind in LINKAGE_DIMENSIONS:
-        views, state = ExploreViews(quick=True), explorer_of(kind)
+    scenes = [load_scene(scene_path(name)) for name in known_scenes()
+              if name.startswith("forces-") and "arrows" not in name]
+    starts = [(kind, explorer_of(kind)) for kind in LINKAGE_DIMENSIONS] + [
+        (os.path.basename(s.path).removesuffix(".toml"),
+         explorer_of(s.kind, s.dimensions, dynamics=s.dynamics)) for s in scenes
+        if s.dynamics is not None and isinstance(s.branches[0], int)]
+    for name, state in starts:
+        views = ExploreViews(quick=True)
         views(state)
         key_times, whole_times = [], []
         for key in keys:
@@ -13010,7 +13174,7 @@ def bench_explore(out: TextIO, quick: bool = False) -> None:
             whole_times.append(time.perf_counter() - start)
         key_times.sort()
         whole_times.sort()
-        print(f"{kind:12} {1e3 * key_times[len(keys) // 2]:11.1f} {1e3 * key_times[-1]:10.1f} "
+        print(f"{name:26} {1e3 * key_times[len(keys) // 2]:11.1f} {1e3 * key_times[-1]:10.1f} "
               f"{1e3 * whole_times[len(keys) // 2]:13.1f} {1e3 * whole_times[-1]:12.1f}"
               + ("" if key_times[-1] < EXPLORE_TARGET else "   over the target"), file=out)
 
@@ -14180,7 +14344,7 @@ class ExploreOptions(NamedTuple):
 
 def explore_options(given: dict[str, Any]) -> ExploreOptions:
     """explore's typed value: the kind and dimensions given (the kind's example's where not), or
-    a scene's linkage, branch and coupler point, or the plane four-bar's example. UsageError,
+    a scene's linkage, branch, coupler point and [dynamics], or the plane four-bar's example. UsageError,
     or CommandError (SceneError) for a scene or linkage it cannot show."""
     typed = dimensions_typed(given)
     target = given["target"] or PLANE_FOUR_BAR
@@ -14199,7 +14363,7 @@ def explore_options(given: dict[str, Any]) -> ExploreOptions:
             scene = load_scene(scene_path(target))
             state = explorer_of(scene.kind, scene.dimensions,
                                 next((b for b in scene.branches if isinstance(b, int)), 1),
-                                FOLLOW in scene.branches, scene.coupler)
+                                FOLLOW in scene.branches, scene.coupler, scene.dynamics)
         else:
             state = explorer_of(kind, dims)
         ExploreViews()(state)                           # a linkage that can be drawn

@@ -485,3 +485,130 @@ def test_a_followed_motion_is_saved_and_read_back(tmp_path):
     assert scene.branches == (1, "follow") and scene.coupler is not None
     after = replayed([str(tmp_path / "explore-plane.toml")], [], tmp_path)
     assert panel(after) == panel(before) and "follow" in after.split("\n")[1]
+
+
+# -- a scene with [dynamics]: the driving torque now and its peak --------------------------------
+
+FORCES_SCENES = ["forces-plane-crank-rocker", "forces-skew-four-bar", "forces-slider-crank-engine",
+                 "forces-spherical-four-bar"]
+
+
+def torque_rows(text):
+    """(crank angle, torque now, torque peak) of a screen: numbers (N m) or what it says."""
+    phi = float(re.search(r"φ = (\S+) deg", text)[1])
+    rows = dict(re.findall(r"(torque now|torque peak) +(.+?) *$", text, re.M))
+    return phi, rows["torque now"], rows["torque peak"]
+
+
+def forces_printed(argv):
+    """`python3 linkage.py forces ...`'s name = value lines, as a dict."""
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert linkage.main(["forces", *argv]) == 0
+    return dict(line.split(" = ", 1) for line in out.getvalue().splitlines())
+
+
+@pytest.mark.parametrize("name", FORCES_SCENES)
+def test_the_torque_on_screen_is_what_forces_gives(name, tmp_path):
+    """The torque now is forces() at the angle shown; the peak is at least the largest of
+    `forces SCENE`'s 2-degree sweep, within 1 % of it and 2 degrees of its angle, and a local
+    maximum of |T| (forces() a little either side is smaller)."""
+    scene = linkage.load_scene(linkage.scene_path(name))
+    bodies, effects, radius = scene.dynamics
+    link = linkage.Linkage(scene.kind, **scene.dimensions)
+    phi, now, peak = torque_rows(replayed([name], ["Tick"] * 7, tmp_path))
+    expected = linkage.forces(link, [phi], 1, bodies, effects, radius=radius)[0].torque
+    close(now.removesuffix(" N m"), expected, "torque now")
+    value, at = re.fullmatch(r"(\S+) N m at (\S+)", peak).groups()
+    value, at = float(value), float(at)
+    printed = forces_printed([name])
+    swept, swept_at = float(printed["torque_peak"].removesuffix(" N m")), \
+        float(printed["torque_peak_phi"])
+    assert abs(value) >= abs(swept) * (1 - 1e-6) and value == pytest.approx(swept, rel=0.01)
+    assert abs(linkage.wrap_degrees(at - swept_at)) <= 2.0
+    nearby = linkage.forces(link, [at + d for d in (-1, -0.1, -0.02, 0.02, 0.1, 1)], 1, bodies,
+                            effects, radius=radius)
+    assert all(abs(f.torque) <= abs(value) * (1 + 1e-5) for f in nearby), nearby
+
+
+def test_the_torque_now_is_the_forces_command_s_at_that_angle(tmp_path):
+    """The plane scene's torque now against `forces plane ... --from PHI --to PHI` (its masses
+    are rods, which the command's options give): the command's peak of one position."""
+    phi, now, _ = torque_rows(replayed(["forces-plane-crank-rocker"], ["Tick"] * 11, tmp_path))
+    printed = forces_printed(["plane", "--a", "0.3", "--b", "0.1", "--c", "0.35", "--d", "0.45",
+                              "--speed", "300", "--gravity", "9.80665", "--mass-crank", "0.5",
+                              "--mass-coupler", "1.2", "--mass-output", "1.5",
+                              "--output-torque", "-5", "--from", repr(phi), "--to", repr(phi)])
+    assert printed["torque_peak_phi"] == repr(phi) or float(printed["torque_peak_phi"]) == phi
+    close(now.removesuffix(" N m"), printed["torque_peak"].removesuffix(" N m"), "torque now")
+
+
+def test_a_rocking_crank_s_torque_is_unbounded_at_its_dead_centres(tmp_path):
+    """b made 0.25: the crank rocks; the peak is unbounded at the crank's two dead centres (never
+    inf or nan), and the torque now says so where the motion stops at one."""
+    keys = ["B", "=", "0", ".", "2", "5", "Enter"]
+    text = replayed(["forces-plane-crank-rocker"], keys + ["Tick"] * 3, tmp_path)
+    (lo, hi), = linkage.analyse(linkage.Linkage("plane", a=0.3, b=0.25, c=0.35,
+                                                d=0.45)).crank_range
+    phi, now, peak = torque_rows(text)
+    assert float(now.removesuffix(" N m")) and peak == f"unbounded: {lo:.4g}, {hi:.4g}"
+    stopped = replayed(["forces-plane-crank-rocker"], keys + ["Tick"] * 40, tmp_path)
+    assert "stopped at a dead centre" in stopped and torque_rows(stopped)[1] == "unbounded"
+    for screen_text in (text, stopped):
+        assert not re.search(r"\b(inf|nan)\b", screen_text, re.I)
+
+
+def test_a_saved_dynamics_scene_reads_back_to_the_same_numbers(tmp_path):
+    name = "forces-slider-crank-engine"
+    before = replayed([name], ["C", "Right", "Tick", "s", "Enter"], tmp_path)
+    assert before.split("\n")[-1] == "saved explore-slider.toml"
+    saved = linkage.load_scene(str(tmp_path / "explore-slider.toml"))
+    assert saved.dynamics == linkage.load_scene(linkage.scene_path(name)).dynamics
+    after = replayed([str(tmp_path / "explore-slider.toml")], ["Tick"], tmp_path)
+    assert torque_rows(after) == torque_rows(before) and panel(after) == panel(before)
+
+
+def test_another_kind_leaves_the_forces_and_undo_brings_them_back(tmp_path):
+    text = replayed(["forces-plane-crank-rocker"], ["k"], tmp_path)
+    assert "torque" not in text and "the forces stay with the plane four-bar" in text
+    back = replayed(["forces-plane-crank-rocker"], ["k", "u"], tmp_path)
+    assert "torque peak  43" in back
+
+
+# -- a rocking crank played: back and forth on its branch ----------------------------------------
+
+def played(state, keys):
+    """Each key's screen and the crank angle shown (unrounded), the view made whole first (as
+    explore_replay takes a Tick)."""
+    views = linkage.ExploreViews(quick=True)
+    screens = []
+    for key in keys:
+        state = linkage.explore_key(views.settled(state), key, views)
+        state = views.settled(state)
+        view = views(state)
+        screens.append(("\n".join(linkage.explore_screen(state, view)[0]),
+                        view.phis[state.position]))
+    return screens
+
+
+@pytest.mark.parametrize("dims, branch", [(dict(a=6, b=5, c=7, d=9), 1),
+                                          (dict(a=6, b=5, c=7, d=9), 2),
+                                          (dict(a=0.3, b=0.25, c=0.35, d=0.45), 1)])
+def test_a_rocking_crank_swings_back_and_forth_on_its_branch(dims, branch):
+    """Played with Space through both dead centres and back: every frame is assembled, its
+    output angle ψ the engine's on the branch chosen (not the other's, where they differ), the
+    crank angle going up to one dead centre, down to the other, and up again."""
+    state = linkage.explorer_of("plane", dims, branch)
+    keys = (["Tick"] * 40 + ["Space"]) * 2 + ["Tick"] * 5
+    link = linkage.Linkage("plane", **dims)
+    phis = []
+    for text, phi in played(state, keys):
+        assert "not assembled" not in text and f"branch {branch} " in text
+        psi = float(re.search(r"φ = \S+°  ψ = (\S+)°", text)[1])
+        mine, other = (link.sweep([phi], b)[0].output for b in (branch, 3 - branch))
+        assert psi == pytest.approx(mine, abs=0.006), (phi, psi, mine)
+        assert abs(mine - other) < 0.02 or abs(psi - other) > 0.006
+        phis.append(phi)
+    ups = [b > a for a, b in zip(phis, phis[1:]) if b != a]
+    turns = sum(1 for a, b in zip(ups, ups[1:]) if a != b)
+    assert ups[0] and turns == 2 and ups[-1], phis

@@ -470,9 +470,25 @@ def test_a_massless_coupler_s_arrows_lie_along_it(tmp_path):
     assert "arrows: joint forces, the longest" in drawing.subtitle
 
 
+@pytest.mark.parametrize("mechanism, dims", [("plane", PLANE),
+                                             ("spherical", "{ a = 80, b = 20, c = 75, d = 60 }")])
+def test_dynamics_without_forces_true_draws_no_arrows(mechanism, dims, tmp_path):
+    """A mechanism scene's [dynamics] without forces = true (the explorer's torque, saved) is
+    read, and the scene is drawn as it is without one: no arrows."""
+    path = tmp_path / "plain.toml"
+    path.write_text(ARROWS.format(mechanism=mechanism, dims=dims, forces="", dynamics=""))
+    with_dynamics = tmp_path / "dynamics.toml"
+    with_dynamics.write_text(ARROWS.format(mechanism=mechanism, dims=dims, forces="",
+                                           dynamics="[dynamics]\nspeed = 60\n"
+                                                    "output_torque = -5\n"))
+    plain, scene = (linkage.load_scene(str(p)) for p in (path, with_dynamics))
+    assert scene.dynamics is not None and not scene.arrows
+    assert scene.dynamics.effects.output_torque == -5.0
+    assert linkage.scene_drawing(scene) == linkage.scene_drawing(plain)
+
+
 @pytest.mark.parametrize("mechanism, dims, forces, dynamics, fragment", [
     ("plane", PLANE, "forces = true", "", "forces = true with a [dynamics] table"),
-    ("plane", PLANE, "", "[dynamics]\nspeed = 60\n", "forces = true with a [dynamics] table"),
     ("plane", PLANE, "forces = 1", "[dynamics]\nspeed = 60\n", "true or false"),
     ("spherical", "{ a = 80, b = 20, c = 75, d = 60 }", "forces = true",
      "[dynamics]\nspeed = 60\n", "false for the spherical four-bar"),

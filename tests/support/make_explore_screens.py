@@ -68,6 +68,9 @@ SESSIONS: dict[str, tuple[list[str], list[str]]] = {
     "scene": (["fig1c"], ["Tick"]),
     "wide-160x48": (PLANE + ["--size", "160x48"], ["D", "S-Right", "Tick", "Tick", "Tick"]),
     "spherical-typed": (["spherical"], ["B", "=", "5", "0", "Enter"] + ["Tick"] * 3),
+    "dynamics": (["forces-plane-crank-rocker"], ["Tick"] * 3 + ["B", "=", "0", ".", "2", "5",
+                                                                "Enter", "Tick"]),
+    "dynamics-wide": (["forces-skew-four-bar", "--size", "160x48"], ["Tick"] * 5),
 }
 
 
