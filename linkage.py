@@ -26,14 +26,15 @@ them): 1. files, messages and the terminal (the one writer of files, say, signal
 precision; 4. the listing's computation; 5. the original program (screen, keys, INPUT, the menu
 session); 6. the accurate engine (the closure solved, swept and followed); 7. what the engine
 derives (joints, coupler point, transmission angle); 8. the linkage analysed (analyse);
-9. the numpy path; 10. forces (driving torque, joint reactions, shaking); 11. simulation (the
-motion in time under forces, through dead centres and change points); 12. the linkage
-(Linkage, a method for each question); 13. DAT and CSV files; 14. the mechanism drawn; 15. the
-mechanism's renderers (terminal, SVG, PNG, DXF); 16. synthesis: what a design is; 17. synthesis:
-the review's methods; 18. synthesis: designs measured and checked; 19. scenes; 20. plots;
-21. the explorer (a dimension changed, the linkage watched in the terminal); 22. benchmarks of
-the program itself; 23. the command line, last. The engine, the view and
-synthesis never use the original program.
+9. forces (driving torque, joint reactions, shaking); 10. the numpy path (the engine, what it
+derives and the forces, on arrays); 11. simulation (the motion in time under forces,
+through dead centres and change points); 12. the linkage (Linkage, a method for each
+question); 13. DAT and CSV files; 14. the mechanism drawn; 15. the mechanism's renderers
+(terminal, SVG, PNG, DXF); 16. synthesis: what a design is; 17. synthesis: the review's
+methods; 18. synthesis: designs measured and checked; 19. scenes; 20. plots; 21. the explorer
+(a dimension changed, the linkage watched in the terminal); 22. benchmarks of the program
+itself; 23. the command line, last. The engine, the view and synthesis never use the original
+program.
 """
 
 from __future__ import annotations
@@ -4335,691 +4336,7 @@ def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
     return [f"{prefix}{name} = {value}" for name, value in rows]
 
 
-# ---- 9. The numpy path: sweeps, coupler points and file lines on arrays --------------------------
-#
-# Holds: the engine's sweep on numpy arrays (sweep_arrays' work: the same formulas in blocks, a
-# point near a dead centre or change point handed to the scalar engine), the coupler point and
-# transmission angle on arrays, and numbers formatted as repr formats them a block at once (the DAT
-# and CSV lines). numpy is an optional extra: numpy_module raises FastUnavailable without it. No
-# other section uses numpy itself (test_layout).
-#
-# Uses: sections 1, 2, 6 and 7.
-# Offers: STATUS_CODES, FAST_BLOCK, FAST_MARGIN, FastUnavailable, numpy_module, angle_array,
-#   MotionArrays, assembled_count, motion_arrays_of, CouplerArrays, coupler_of_arrays,
-#   transmission_of_arrays, SweepColumns, NUMBER_ROWS, LINE_ROWS, as_columns, column_texts.
-
-
-# -- the vectorised path: numpy, a block of angles at a time ------------------------------------
-#
-# Linkage.sweep_arrays is _sweep_four_bar and _sweep_slider written on numpy arrays: the same
-# formulas with the same operations in the same order, hypot computed as CPython's math.hypot
-# (_fast_hypot), so the same numbers: here (numpy 2.4.6) the velocity and acceleration to the bit,
-# the output within a unit in the last place (numpy's arctan2 is not libm's; where numpy's cos
-# and sin are not libm's either, a few). The angles go through in
-# blocks of FAST_BLOCK, every operation written into a preallocated array (out=) so that the
-# working set stays in the cache; a term whose constant is zero is left out (it adds nothing but
-# the sign of a zero). The vectorised path decides only "assembled" and the plainly "not
-# assembled": a point the scalar engine would redo in 50-digit decimal (discriminant within
-# _precise_below of zero), widened by FAST_MARGIN so that a last-place difference cannot carry a
-# point across that line, and any point whose numbers are not finite, is handed to Linkage.sweep
-# itself - never approximated here. numpy is imported at the first use only: linkage.py runs on
-# the standard library alone, and this path is the optional extra `fast`.
-
-STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE,  # MotionArrays.status,
-                CHANGE_POINT, STOPPED)          # SweepColumns.status: every Motion.status
-FAST_BLOCK = 16384       # angles a block (of 4096 to 32768 the fastest at 1e4 and 1e5 points here,
-#                          2026-11-26; memory: 50 arrays of it, 6.5 MB)
-FAST_MARGIN = 2.0        # handed to the scalar engine: |D| <= FAST_MARGIN * its decimal line
-
-
-class FastUnavailable(RuntimeError):
-    """The vectorised path (Linkage.sweep_arrays, run --fast, a scene's fast = true) where numpy
-    cannot be imported."""
-
-
-def numpy_module() -> ModuleType:
-    """numpy, imported at the first use; FastUnavailable, saying what to install, without it.
-    Imported with SIGINT, SIGTERM and SIGHUP held (held_import): a signal whose handler ran in
-    numpy's C initialisation was swallowed there (the import went on, and a run finished as if
-    no signal had come), and the threads numpy's BLAS starts then hold them for good."""
-    try:
-        with held_import("numpy"):
-            import numpy
-    except ImportError:
-        raise FastUnavailable("the vectorised path (--fast, a scene's fast = true) needs numpy, "
-                              "which is not installed: python3 -m pip install numpy; "
-                              "without it, leave --fast out: the same numbers, computed one "
-                              "point at a time") from None
-    return numpy
-
-
-def angle_array(start: float, step: float, first: int, last: int) -> numpy.ndarray:
-    """The input angles start + i * step for i from first to last (excluded) as a float64
-    array: the same numbers as the scalar path's list (evenly_spaced_angles)."""
-    np = numpy_module()
-    return np.arange(first, last, dtype=np.float64) * step + start
-
-
-class MotionArrays(NamedTuple):
-    """Linkage.sweep_arrays' answer: Linkage.sweep's Motion fields as numpy arrays, one element an
-    input angle. output, velocity and acceleration are float64, NaN where the position does not
-    exist (status says why); velocity and acceleration are None when not asked for. status holds
-    int8 codes, indices into STATUS_CODES (0 ASSEMBLED, 1 DEAD_CENTRE, 2 NOT_ASSEMBLED,
-    3 INDETERMINATE, 4 CHANGE_POINT; 5 STOPPED is a followed motion's, which this path does not
-    compute)."""
-
-    phi: numpy.ndarray
-    output: numpy.ndarray
-    velocity: numpy.ndarray | None          # None: not asked for
-    acceleration: numpy.ndarray | None
-    status: numpy.ndarray
-
-    def motions(self) -> list[Motion]:
-        """The same answer as Linkage.sweep gives it: a list of Motion, None for NaN."""
-        columns = [None if a is None else [None if v != v else v for v in a.tolist()]
-                   for a in (self.output, self.velocity, self.acceleration)]
-        n = len(self.phi)
-        output, velocity, acceleration = (c if c is not None else [None] * n for c in columns)
-        return [Motion(phi, o, v, a, STATUS_CODES[k]) for phi, o, v, a, k in
-                zip(self.phi.tolist(), output, velocity, acceleration, self.status.tolist())]
-
-
-def assembled_count(arrays: MotionArrays) -> int:
-    """How many of a MotionArrays' angles have a position."""
-    return len(arrays.output) - int(numpy_module().isnan(arrays.output).sum())
-
-
-def _fast_lin(np, a, x, b, y, out, spare):
-    """a x + b y into out, as the scalar engine rounds it; a term with a zero constant left out."""
-    if a and b:
-        np.multiply(x, a, out=out)
-        np.multiply(y, b, out=spare)
-        return np.add(out, spare, out=out)
-    if a or b:
-        return np.multiply(x if a else y, a or b, out=out)
-    out.fill(0.0)
-    return out
-
-
-def _fast_plus(np, k, x, out):
-    """k + x into out (x itself when k is zero)."""
-    return np.add(x, k, out=out) if k else x
-
-
-def _fast_cos_sin(np, phi, reduce, w):
-    """cos_sin_degrees on an array (the one reduction, in numpy: r = phi mod 360, unless not
-    `reduce`; y = r - 90 n, |y| <= 45; cos y and sin y turned by n quarter turns, exact), into
-    the work buffers w."""
-    r = np.fmod(phi, 360.0, out=w["r"]) if reduce else phi
-    n = np.divide(r, 90.0, out=w["n"])
-    np.rint(n, out=n)                       # half to even, as round() does
-    y = np.multiply(n, 90.0, out=w["y"])
-    np.subtract(r, y, out=y)
-    np.multiply(y, RAD, out=y)
-    cy, sy = np.cos(y, out=w["cy"]), np.sin(y, out=w["sy"])
-    lo, hi = n.min(), n.max()
-    if lo == hi:                            # one quarter turn for the whole block (the usual)
-        q = int(lo) & 3
-        if q == 0:
-            return cy, sy
-        if q == 2:
-            return np.negative(cy, out=cy), np.negative(sy, out=sy)
-        return (np.negative(sy, out=sy), cy) if q == 1 else (sy, np.negative(cy, out=cy))
-    quarter = w["quarter"]
-    np.copyto(quarter, n, casting="unsafe")
-    np.bitwise_and(quarter, 3, out=quarter)
-    turn_c = np.take(_QUARTER_COS, quarter, out=w["tc"])
-    turn_s = np.take(_QUARTER_SIN, quarter, out=w["ts"])
-    c, s, spare = w["c"], w["s"], w["spare"]
-    np.multiply(cy, turn_c, out=c)
-    np.subtract(c, np.multiply(sy, turn_s, out=spare), out=c)
-    np.multiply(sy, turn_c, out=s)
-    np.add(s, np.multiply(cy, turn_s, out=spare), out=s)
-    return c, s
-
-
-_QUARTER_COS = (1.0, 0.0, -1.0, 0.0)     # cos and sin of n quarter turns
-_QUARTER_SIN = (0.0, 1.0, 0.0, -1.0)
-
-
-def _fast_square(np, x, hi, lo, t, u):
-    """x^2 = hi + lo exactly (Dekker's split): the double-length square CPython's hypot uses."""
-    np.multiply(x, x, out=hi)
-    np.multiply(x, 134217729.0, out=t)              # 2^27 + 1
-    np.subtract(t, x, out=u)
-    np.subtract(t, u, out=t)                        # the high half of x
-    np.subtract(x, t, out=u)                        # the low half
-    np.multiply(t, t, out=lo)
-    np.subtract(lo, hi, out=lo)
-    np.multiply(t, 2.0, out=t)
-    np.multiply(t, u, out=t)
-    np.add(lo, t, out=lo)                           # ((xh xh - hi) + 2 xh xl) + xl xl
-    np.multiply(u, u, out=u)
-    np.add(lo, u, out=lo)
-
-
-def _fast_hypot(np, x, y, out, w):
-    """math.hypot(x, y) elementwise, bit for bit as CPython 3.11 computes it (vector_norm: scaled
-    by a power of two, the squares and their sum carried as double-doubles, one differential
-    correction; identical on 3 million random pairs). numpy's hypot is libm's, an ulp away in
-    about 0.6% of cases, which the discriminant's cancellation near a dead centre magnifies
-    beyond 1e-13 in the output. NaN where x = y = 0 (the caller hands such points over)."""
-    ax, ay, hi, lo, t, u = (w[key] for key in ("ax", "ay", "hi", "lo", "t", "t2"))
-    csum, f1, f2, exponent = w["csum"], w["f1"], w["f2"], w["exponent"]
-    np.abs(x, out=ax)
-    np.abs(y, out=ay)
-    np.frexp(np.maximum(ax, ay, out=out), out=(t, exponent))
-    np.negative(exponent, out=exponent)
-    np.ldexp(ax, exponent, out=ax)                  # lossless scaling into [0.5, 1)
-    np.ldexp(ay, exponent, out=ay)
-    _fast_square(np, ax, hi, f1, t, u)
-    np.add(hi, 1.0, out=csum)                       # csum = 1 + x^2, f2 its rounding error
-    np.subtract(1.0, csum, out=f2)
-    np.add(f2, hi, out=f2)
-    _fast_square(np, ay, hi, lo, t, u)
-    np.add(f1, lo, out=f1)
-    np.add(csum, hi, out=t)                         # csum + y^2, its error into f2
-    np.subtract(csum, t, out=csum)
-    np.add(csum, hi, out=csum)
-    np.add(f2, csum, out=f2)
-    csum, t = t, csum
-    h = np.subtract(csum, 1.0, out=out)
-    np.add(h, np.add(f1, f2, out=lo), out=h)
-    np.sqrt(h, out=h)
-    _fast_square(np, h, hi, lo, ax, u)              # h^2 = hi + lo
-    np.subtract(csum, hi, out=ay)                   # csum - h^2, its error into f2
-    np.subtract(csum, ay, out=csum)
-    np.subtract(csum, hi, out=csum)
-    np.add(f2, csum, out=f2)
-    np.subtract(f1, lo, out=f1)
-    np.subtract(ay, 1.0, out=ay)
-    np.add(ay, np.add(f1, f2, out=f1), out=ay)      # the residual
-    np.divide(ay, np.multiply(h, 2.0, out=u), out=ay)
-    np.add(h, ay, out=h)                            # the differential correction
-    np.negative(exponent, out=exponent)
-    return np.ldexp(h, exponent, out=h)
-
-
-def _fast_four_bar(np, k, c, s, sign, level, res, w):
-    """_sweep_four_bar on one block: psi, psi', psi'' into res, the discriminant into
-    res["disc"]."""
-    p0, pc, ps, q0, qc, qs, s0, sc, ss = k
-    spare = w["spare"]
-    xp = _fast_lin(np, pc, c, ps, s, w["xp"], spare)
-    xq = _fast_lin(np, qc, c, qs, s, w["xq"], spare)
-    xs = _fast_lin(np, sc, c, ss, s, w["xs"], spare)
-    p, q, sv = _fast_plus(np, p0, xp, w["p"]), _fast_plus(np, q0, xq, w["q"]), \
-        _fast_plus(np, s0, xs, w["sv"])
-    rr = _fast_hypot(np, p, q, w["rr"], w)
-    disc = np.subtract(rr, sv, out=res["disc"])
-    np.multiply(disc, np.add(rr, sv, out=spare), out=disc)
-    root = np.sqrt(disc, out=w["root"])      # NaN where not assembled: found by the caller
-    sn, cn = w["sn"], w["cn"]
-    np.multiply(q, sv, out=sn)               # sn = -q sv - sign p root
-    pr = np.multiply(p, root, out=spare)
-    (np.add if sign > 0 else np.subtract)(sn, pr, out=sn)
-    np.negative(sn, out=sn)
-    np.multiply(p, sv, out=cn)               # cn = -p sv + sign q root
-    qr = np.multiply(q, root, out=spare)
-    (np.subtract if sign > 0 else np.add)(cn, qr, out=cn)
-    np.negative(cn, out=cn)
-    psi = np.arctan2(sn, cn, out=res["output"])
-    np.multiply(psi, DEG, out=psi)
-    np.copyto(psi, 180.0, where=np.equal(psi, -180.0, out=w["flag"]))
-    if level == 0:
-        return
-    r2 = np.multiply(rr, rr, out=w["r2"])
-    cp, sp = np.divide(cn, r2, out=cn), np.divide(sn, r2, out=sn)
-    dp = _fast_lin(np, ps, c, -pc, s, w["dp"], spare)
-    dq = _fast_lin(np, qs, c, -qc, s, w["dq"], spare)
-    ds = _fast_lin(np, ss, c, -sc, s, w["ds"], spare)
-    vel = np.multiply(dp, cp, out=res["velocity"])       # -sign (dp cp + dq sp + ds) / root
-    np.add(vel, np.multiply(dq, sp, out=spare), out=vel)
-    np.add(vel, ds, out=vel)
-    np.divide(vel, root, out=vel)
-    if sign > 0:
-        np.negative(vel, out=vel)
-    if level == 1:
-        return
-    acc = res["acceleration"]
-    e = np.multiply(xp, cp, out=w["e"])                  # -e_ff = xp cp + xq sp + xs
-    np.add(e, np.multiply(xq, sp, out=spare), out=e)
-    np.add(e, xs, out=e)
-    fp = np.multiply(dq, cp, out=w["fp"])                # e_fp = dq cp - dp sp
-    np.subtract(fp, np.multiply(dp, sp, out=spare), out=fp)
-    np.multiply(fp, 2.0, out=fp)
-    np.multiply(fp, vel, out=fp)
-    np.subtract(fp, e, out=acc)                          # e_ff + 2 e_fp vel
-    np.multiply(sv, vel, out=spare)
-    np.multiply(spare, vel, out=spare)
-    np.add(acc, spare, out=acc)                          # ... + sv vel vel
-    np.divide(acc, root, out=acc)
-    if sign > 0:
-        np.negative(acc, out=acc)
-
-
-def _fast_slider(np, k, c, s, sign, level, res, w):
-    """_sweep_slider on one block, in the linkage's scaled lengths (the caller multiplies by the
-    unit): x, x', x'' into res, the discriminant into res["disc"]."""
-    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = k
-    spare = w["spare"]
-    xm = _fast_lin(np, mc, c, ms, s, w["xm"], spare)
-    xk = _fast_lin(np, kc, c, ks, s, w["xk"], spare)
-    m, q = _fast_plus(np, m0, xm, w["m"]), _fast_plus(np, k0, xk, w["q"])
-    u = _fast_affine(np, u0, uc, c, us, s, w["u"], spare)
-    if v0 or vc or vs:
-        dist = _fast_hypot(np, u, _fast_affine(np, v0, vc, c, vs, s, w["v"], spare), w["dist"],
-                           w)
-    else:
-        dist = np.abs(u, out=w["dist"])                  # hypot(u, 0), exactly
-    disc = np.subtract(rod, dist, out=res["disc"])
-    np.multiply(disc, np.add(dist, rod, out=spare), out=disc)
-    root = np.sqrt(disc, out=w["root"])
-    negative = np.less(m, 0.0, out=w["flag"])
-    big = w["big"]                                       # m + root, or m - root where m < 0
-    np.copyto(big, root)
-    np.negative(big, out=big, where=negative)
-    np.add(big, m, out=big)
-    x = res["output"]
-    np.divide(q, big, out=x)                             # the other root, q / big
-    if sign < 0:
-        np.copyto(x, big, where=negative)
-    else:
-        np.logical_not(negative, out=negative)
-        np.copyto(x, big, where=negative)
-    if level == 0:
-        return
-    dm = _fast_lin(np, ms, c, -mc, s, w["dm"], spare)
-    dk = _fast_lin(np, ks, c, -kc, s, w["dk"], spare)
-    vel = np.multiply(dm, x, out=res["velocity"])        # sign (dm x - dk / 2) / root
-    np.subtract(vel, np.multiply(dk, 0.5, out=spare), out=vel)
-    np.divide(vel, root, out=vel)
-    if sign < 0:
-        np.negative(vel, out=vel)
-    if level == 1:
-        return
-    acc = np.multiply(xk, 0.5, out=res["acceleration"])  # sign (xk/2 - xm x + 2 dm x' - x'^2)
-    np.subtract(acc, np.multiply(xm, x, out=spare), out=acc)
-    np.multiply(dm, 2.0, out=spare)
-    np.add(acc, np.multiply(spare, vel, out=spare), out=acc)
-    np.subtract(acc, np.multiply(vel, vel, out=spare), out=acc)
-    np.divide(acc, root, out=acc)
-    if sign < 0:
-        np.negative(acc, out=acc)
-
-
-def _fast_affine(np, k0, kc, c, ks, s, out, spare):
-    """(k0 + kc c) + ks s into out, in _sweep_slider's order; zero terms left out."""
-    if kc:
-        np.multiply(c, kc, out=out)
-        if k0:
-            np.add(out, k0, out=out)
-    else:
-        out.fill(k0)
-    if ks:
-        np.add(out, np.multiply(s, ks, out=spare), out=out)
-    return out
-
-
-_FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "xq", "xs", "p",
-              "q", "sv", "rr", "root", "sn", "cn", "r2", "dp", "dq", "ds", "e", "fp", "xm", "xk",
-              "m", "u", "v", "dist", "big", "dm", "dk", "ax", "ay", "hi", "lo", "t", "t2", "csum",
-              "f1", "f2", "disc")
-
-
-def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
-                     derivatives: int) -> MotionArrays:
-    """Linkage.sweep_arrays: see there."""
-    np = numpy_module()
-    if branch not in (1, 2):
-        raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
-    if derivatives not in (0, 1, 2):
-        raise ValueError("derivatives is 0 (output), 1 (and velocity) or 2 (and acceleration)")
-    try:
-        phi = np.array(phis, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError("input angles must be numbers") from None
-    if phi.ndim != 1:
-        raise ValueError("input angles must be a sequence of numbers (one dimension)")
-    low, high = (phi.min(), phi.max()) if len(phi) else (0.0, 0.0)   # NaN if any is NaN
-    if not (math.isfinite(low) and math.isfinite(high)):
-        raise ValueError("input angles must be finite")
-    count, sign, level = len(phi), 1.0 if branch == 1 else -1.0, derivatives
-    res = {"output": np.empty(count), "velocity": np.empty(count) if level >= 1 else None,
-           "acceleration": np.empty(count) if level >= 2 else None}
-    status = np.zeros(count, dtype=np.int8)
-    block = min(FAST_BLOCK, max(count, 1))
-    w = dict(zip(_FAST_WORK, np.empty((len(_FAST_WORK), block))))   # one allocation: the
-    #                                     allocator keeps it for the next call, not new pages
-    w["flag"], w["missing"], w["redo"] = np.empty((3, block), dtype=bool)
-    w["quarter"] = np.empty(block, dtype=np.intp)
-    w["exponent"] = np.empty(block, dtype=np.intc)
-    reduce = not max(-low, high) < 360.0
-    step = _fast_slider if linkage.is_slider else _fast_four_bar
-    k = linkage._constants
-    line = FAST_MARGIN * linkage._precise_below
-    last = ("output", "velocity", "acceleration")[level]
-    redo = []
-    with np.errstate(all="ignore"):        # a block at a time: memory bounded, in the cache
-        for start in range(0, count, block):
-            stop = min(start + block, count)
-            n = stop - start
-            part = {key: None if a is None else a[start:stop] for key, a in res.items()}
-            work = w if n == block else {key: a[:n] for key, a in w.items()}
-            part["disc"] = work["disc"]
-            c, s = _fast_cos_sin(np, phi[start:stop], reduce, work)
-            step(np, k, c, s, sign, level, part, work)
-            disc, missing, again = part["disc"], work["missing"], work["redo"]
-            np.less(disc, -line, out=missing)
-            np.less_equal(np.abs(disc, out=disc), line, out=again)
-            again |= ~(np.isfinite(part[last], out=work["flag"]) | missing)
-            status[start:stop][missing] = STATUS_CODES.index(NOT_ASSEMBLED)
-            if again.any():
-                redo.append(np.flatnonzero(again) + start)
-            if linkage.is_slider:
-                for key in ("output", "velocity", "acceleration"):
-                    if part[key] is not None:
-                        np.multiply(part[key], linkage._unit, out=part[key])
-    where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
-    if len(where):
-        columns = [res[key] for key in ("output", "velocity", "acceleration")]
-        for i, m in zip(where.tolist(), linkage.sweep(phi[where].tolist(), branch, level)):
-            for column, value in zip(columns, m[1:4]):
-                if column is not None:
-                    column[i] = math.nan if value is None else value
-            status[i] = STATUS_CODES.index(m.status)
-    return MotionArrays(phi, res["output"], res["velocity"], res["acceleration"], status)
-
-
-def _cos_sin_degrees_array(np, x):
-    """cos_sin_degrees elementwise (NaN stays NaN): _fast_cos_sin, with buffers of its own."""
-    x = np.asarray(x, dtype=np.float64)
-    w = {k: np.empty_like(x) for k in ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare")}
-    w["quarter"] = np.empty(x.shape, dtype=np.intp)
-    with np.errstate(invalid="ignore"):             # NaN's quarter: any, its cos and sin NaN
-        return _fast_cos_sin(np, x, True, w)
-
-
-class CouplerArrays(NamedTuple):
-    """Linkage.coupler_arrays' answer: phi, then position, velocity and acceleration as float64
-    arrays of shape (n, 3) (NaN where there is no position; velocity and acceleration None when
-    not asked for), and the MotionArrays status codes."""
-    phi: numpy.ndarray
-    position: numpy.ndarray
-    velocity: numpy.ndarray | None          # None: not asked for
-    acceleration: numpy.ndarray | None
-    status: numpy.ndarray
-
-
-def coupler_of_arrays(linkage: Closure, arrays: MotionArrays, u: float,
-                      v: float = 0.0) -> CouplerArrays:
-    """coupler_of on a MotionArrays (Linkage.sweep_arrays'): a CouplerArrays."""
-    np = numpy_module()
-    u, v = check_coupler_point(linkage, u, v)
-    level = 0 if arrays.velocity is None else 1 if arrays.acceleration is None else 2
-    c, s = _cos_sin_degrees_array(np, arrays.phi)
-    with np.errstate(all="ignore"):
-        a, p, _ = joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
-                                    arrays.output, level, arrays.velocity,
-                                    arrays.acceleration, functools.partial(_cos_sin_degrees_array,
-                                                                           np))
-        point = coupler_form(linkage, a, p, u, v, np.sqrt)
-    count = len(arrays.phi)
-    stacked = [np.stack([np.broadcast_to(np.asarray(x, dtype=np.float64), (count,))
-                         for x in w], axis=1) for w in point] + [None, None]
-    position, velocity, acceleration = stacked[:3]
-    return CouplerArrays(arrays.phi, position, velocity, acceleration, arrays.status)
-
-
-def transmission_of_arrays(linkage: Closure, arrays: MotionArrays) -> numpy.ndarray:
-    """transmission_of on a MotionArrays: a float64 array, NaN where there is no position."""
-    np = numpy_module()
-    c, s = _cos_sin_degrees_array(np, arrays.phi)
-    with np.errstate(all="ignore"):
-        a, p, p_q = joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
-                                      arrays.output, 0, None, None,
-                                      functools.partial(_cos_sin_degrees_array, np))
-        mu = transmission_form(linkage.kind, a[0], p[0], p_q, np.arctan2)
-    return np.broadcast_to(np.asarray(mu, dtype=np.float64), (len(arrays.phi),)).copy()
-
-
-class SweepColumns(NamedTuple):
-    """A block of a sweep's rows as numpy arrays, for the files: phi, output, velocity,
-    acceleration (float64, NaN where there is no value), status (int8 codes, STATUS_CODES),
-    extra (the rows' further fields, float64 arrays: the transmission angle, a coupler
-    point's nine coordinates)."""
-    phi: numpy.ndarray
-    output: numpy.ndarray
-    velocity: numpy.ndarray
-    acceleration: numpy.ndarray
-    status: numpy.ndarray
-    extra: tuple = ()
-
-    def __len__(self) -> int:
-        return len(self.phi)
-
-
-NUMBER_ROWS = 16384      # numbers formatted at once (numpy's fixed cost a call shared)
-LINE_ROWS = 4096         # lines joined at once (their matrices stay in the cache)
-
-
-def as_columns(rows: list[tuple], vectorised: bool) -> list[tuple] | SweepColumns:
-    """SweepColumns of a list of rows (phi, output, velocity, acceleration, status, extra ...),
-    or the list itself where not `vectorised` or numpy is not installed."""
-    if not vectorised:
-        return rows
-    try:
-        np = numpy_module()
-    except FastUnavailable:
-        return rows
-    codes = {s: i for i, s in enumerate(STATUS_CODES)}
-    columns = [np.array([row[i] for row in rows], dtype=np.float64)      # None becomes NaN
-               for i in range(len(rows[0])) if i != 4]
-    status = np.array([codes[row[4]] for row in rows], dtype=np.int8)
-    phi, output, velocity, acceleration = columns[:4]
-    return SweepColumns(phi, output, velocity, acceleration, status, tuple(columns[4:]))
-
-
-def _lines(np, outputs):
-    """The lines of each output, (fields, keep), LINE_ROWS rows at a time: a list of bytes (one
-    an output) and the number of rows. A field is a float64 array (its numbers as repr writes
-    them, _float_texts, NUMBER_ROWS at a time; a column that several outputs share is formatted
-    once) or a uint8 matrix (a text a row, NUL-padded); the fields of a row are joined by commas
-    and ended by CR LF, and only the rows where `keep` (a bool array, or None: every row) are
-    written."""
-    count = len(outputs[0][0][0])
-    comma, end = np.full((LINE_ROWS, 1), 44, np.uint8), np.tile(np.uint8([13, 10]),
-                                                                (LINE_ROWS, 1))
-    for start in range(0, count, NUMBER_ROWS):
-        stop = min(start + NUMBER_ROWS, count)
-        fields = {id(field): field for fields, _ in outputs for field in fields}
-        texts = {key: [field[start:stop]] if field.dtype == np.uint8
-                 else _float_texts(np, field[start:stop]) for key, field in fields.items()}
-        for first in range(start, stop, LINE_ROWS):
-            last = min(first + LINE_ROWS, stop)
-            rows, n = slice(first - start, last - start), last - first
-            lines = []
-            for fields, keep in outputs:
-                pieces = [piece for field in fields for piece in [
-                    text[rows] for text in texts[id(field)]] + [comma[:n]]]
-                pieces[-1] = end[:n]
-                matrix = np.concatenate(pieces, axis=1)
-                if keep is not None and not keep[first:last].all():
-                    matrix = matrix[keep[first:last]]
-                lines.append(matrix.tobytes().translate(None, b"\0"))
-            yield lines, n
-
-
-# -- numbers as text, a block at once ------------------------------------------------------------
-#
-# repr writes a double as the shortest decimal that reads back as it (David Gay's dtoa, mode 0),
-# the nearest to it where two are as short; positional from 1e-4 to 1e16. _float_texts does the
-# same for a numpy block at once, exactly, where 1e-2 <= |x| < 1e13 (the other numbers, and the
-# few cases it cannot decide, are repr's own). The argument, with ulp the spacing of doubles at x
-# and m = 16 - floor(log10 |x|):
-# - x 10^m = hi + lo exactly (Dekker's product: 10^m is a double for m <= 22), so d17, the
-#   nearest integer to it (17 digits), and the residual f17 are exact; the nearest 16- and
-#   15-digit decimals and their residuals follow from d17 and f17 (to 1e-14, so a comparison
-#   within 1e-12 of its bound is left to repr).
-# - a decimal reads back as x when it lies within ulp/2 of x (to even at exactly ulp/2: left to
-#   repr, as is a power of two, whose interval is lopsided).
-# - 15 digits are 4.5 ulp apart or more: at most one is within ulp/2, so if the nearest reads
-#   back it is the only one of 15 digits or fewer (repr's, its trailing zeros dropped); else the
-#   nearest of 16 digits if it reads back; else the nearest of 17, which always does (17 digits
-#   are 0.9 ulp apart or less). Two nearest, equally near (16 or 17 digits, both may read back)
-#   are left to repr, whose dtoa breaks such ties by rules of its own; at 15 digits, half a unit
-#   is more than ulp/2 (0.11 units or less): neither reads back.
-# tests/test_fast.py holds it against repr (hypothesis and the hard cases of each step).
-
-_POW10 = tuple(10.0 ** k for k in range(23))      # exact doubles
-
-@functools.cache
-def _digit_tables(np: ModuleType) -> dict[str, Any]:
-    """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as int64;
-    the 10,000 four-digit texts as uint32, with leading zeros and without (NULs for them); masks
-    of the first k of 20 bytes and of the last k of 16, as uint32; "." and three NULs; three
-    NULs and "-"."""
-    pow10 = np.array(_POW10)
-    big = pow10 * 134217729.0                     # 2^27 + 1
-    high = big - (big - pow10)
-    return dict(
-        pow10=pow10, high=high, low=pow10 - high,
-        pow10i=np.array([10 ** k for k in range(19)], dtype=np.int64),
-        quads=np.frombuffer(b"".join(b"%04d" % i for i in range(10_000)), dtype=np.uint32),
-        leading=np.frombuffer(b"".join(b"%4d" % i for i in range(10_000)).replace(b" ", b"\0"),
-                              dtype=np.uint32),
-        first=np.array([[255 * (c < k) for c in range(20)] for k in range(21)],
-                       dtype=np.uint8).view(np.uint32),
-        last=np.array([[255 * (c >= 16 - k) for c in range(16)] for k in range(17)],
-                      dtype=np.uint8).view(np.uint32),
-        point=np.frombuffer(b".\0\0\0", dtype=np.uint32)[0],
-        minus=np.frombuffer(b"\0\0\0-", dtype=np.uint32)[0])
-
-
-def _float_texts(np, x) -> list:
-    """repr(float(v)) of each element of the float64 array x: uint8 matrices whose rows, joined
-    across them and their NUL bytes dropped, are the texts."""
-    t = _digit_tables(np)
-    n = len(x)
-    a = np.abs(x)
-    fast = (a >= 1e-2) & (a < 1e13)                        # NaN is not
-    np.copyto(a, 1.0, where=~fast)
-    m = 16 - np.floor(np.log10(a)).astype(np.intp)
-    scale = t["pow10"].take(m)
-    hi = a * scale
-    s = a * 134217729.0
-    ah = s - (s - a)
-    al = a - ah
-    sh, sl = t["high"].take(m), t["low"].take(m)
-    lo = ((ah * sh - hi) + ah * sl + al * sh) + al * sl    # hi + lo = x 10^m exactly
-    r = np.rint(lo)
-    f17 = lo - r
-    d17 = hi.astype(np.int64) + r.astype(np.int64)
-    half = np.spacing(a) * 0.5
-    q1 = d17 // 10
-    t16 = (d17 - q1 * 10) + f17
-    up16 = t16 > 5.0
-    f16 = np.abs(t16 * 0.1 - up16)                         # residuals, in the last digit's units
-    q2 = d17 // 100
-    t15 = (d17 - q2 * 100) + f17
-    up15 = t15 > 50.0
-    f15 = np.abs(t15 * 0.01 - up15)
-    h16 = half * t["pow10"].take(m - 1)                    # ulp/2 in the same units
-    h15 = h16 * 0.1
-    margin = 1e-12
-    ok15 = f15 < h15 - margin
-    ok16 = f16 < h16 - margin
-    good = (fast & (d17 >= 10 ** 16) & (d17 < 10 ** 17) & (np.frexp(a)[0] != 0.5)
-            & (t16 != 5.0) & (np.abs(f17) != 0.5)
-            & (ok15 | (f15 > h15 + margin)) & (ok15 | ok16 | (f16 > h16 + margin)))
-    digits = np.where(ok15, q2 + up15, np.where(ok16, q1 + up16, d17))
-    places = m - 2 * ok15 - (ok16 & ~ok15)                 # digits after the point
-    zero = x == 0.0                                        # 0.0, -0.0
-    good |= zero
-    blank = ~good | zero
-    if blank.any():
-        np.copyto(digits, 0, where=blank)
-        np.copyto(places, 1, where=blank)
-    kept = places.copy()
-    short = np.flatnonzero(ok15 & ~blank)                  # less their trailing zeros
-    if len(short):
-        rest, cut = digits[short], np.zeros(len(short), dtype=np.intp)
-        for k in (8, 4, 2, 1):
-            q = rest // 10 ** k
-            ends = rest == q * 10 ** k
-            np.copyto(rest, q, where=ends)
-            cut += ends * k
-        kept[short] = np.maximum(places[short] - cut, 1)
-    np.copyto(a, 0.0, where=blank)
-    whole = np.floor(a).astype(np.int64)                   # the decimal's whole part: no whole
-    #                                                        number lies within ulp/2 of x
-    width = int(places.max()) if n else 1
-    fraction = (digits - whole * t["pow10i"].take(places)) * t["pow10i"].take(width - places)
-    lead = -(-len(str(int(whole.max()) if n else 0)) // 4)
-    groups = -(-width // 4)
-    text = np.empty((n, 2 + lead + groups), dtype=np.uint32)   # words of 4 bytes: NULs, "-";
-    #                                           the whole part; "." and NULs; the fraction
-    np.multiply(np.signbit(x), t["minus"], out=text[:, 0], casting="unsafe")
-    text[:, lead + 1] = t["point"]
-    if lead == 1:
-        text[:, 1] = t["leading"].take(whole)              # "   7" with NULs for the spaces
-    else:
-        count = np.ones(n, dtype=np.intp)                  # the whole part's digits
-        for k in range(1, 4 * lead):
-            count += whole >= 10 ** k
-        for j in range(lead, 0, -1):
-            q = whole // 10_000
-            text[:, j] = t["quads"].take(whole - q * 10_000)
-            whole = q
-        text[:, 1:lead + 1] &= t["last"].take(count, axis=0)[:, 4 - lead:]
-    for j in range(1 + lead + groups, 1 + lead, -1):
-        q = fraction // 10_000
-        text[:, j] = t["quads"].take(fraction - q * 10_000)
-        fraction = q
-    skip = 4 * groups - width                              # the first group's leading zeros
-    text[:, lead + 2:] &= (t["first"].take(kept + skip, axis=0)[:, :groups]
-                           & ~t["first"][skip, :groups])
-    text = text.view(np.uint8)
-    others = np.flatnonzero(~good)
-    if not len(others):                  # the columns that can hold a byte, to be joined
-        return [text[:, 3:4 * lead + 5], text[:, 4 * lead + 8 + skip:]]
-    words = [repr(v).encode("ascii") for v in x[others].tolist()]     # repr's own, whole rows
-    longest = max(map(len, words))
-    if longest > text.shape[1]:
-        text = np.concatenate([text, np.zeros((n, longest - text.shape[1]), np.uint8)], 1)
-    text[others] = 0
-    for i, word in zip(others.tolist(), words):
-        text[i, :len(word)] = np.frombuffer(word, dtype=np.uint8)
-    return [text]
-
-
-def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[bool], zero: bool,
-                 csv: bool) -> Iterator[tuple[list[bytes], int]]:
-    """_block_texts of SweepColumns, formatted a block at once (the same bytes as a number at a
-    time, _float_texts)."""
-    np = numpy_module()
-    phi = block.phi
-    with np.errstate(all="ignore"):
-        values = [c + 0.0 for c in block[1:4] + block.extra]  # -0.0 written as 0.0
-    outputs = []
-    for f, clipped_column in zip(fields, clipped):
-        column = values[f - 1 if f < 4 else f - 2]
-        if clipped_column:
-            column = np.clip(column, -3.0, 3.0)
-        if zero:
-            outputs.append(((phi, np.where(np.isnan(column), 0.0, column)), None))
-        else:
-            outputs.append(((phi, column), ~np.isnan(column)))
-    if csv:
-        status = np.array(STATUS_CODES, dtype="S").take(block.status)
-        unsigned = phi + 0.0 if ((phi == 0.0) & np.signbit(phi)).any() else phi   # the CSV's
-        outputs.append(((unsigned, *values[:3], status.view(np.uint8).reshape(len(block), -1),
-                         *values[3:]), None))
-    with np.errstate(all="ignore"):
-        yield from _lines(np, outputs)
-
-
-# ---- 10. Forces: what it takes to drive the linkage ----------------------------------------------
+# ---- 9. Forces: what it takes to drive the linkage -----------------------------------------------
 #
 # Kinetostatics: the motion is the engine's (psi, psi' and psi'' at each input angle phi, the crank
 # turning at a given speed and acceleration); forces() finds what holds the bodies to it. Newton's
@@ -5707,6 +5024,690 @@ def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
     return [f"{prefix}{name} = {value}" for name, value in rows]
 
 
+# ---- 10. The numpy path: sweeps, coupler points and file lines on arrays -------------------------
+#
+# Holds: the engine's sweep on numpy arrays (sweep_arrays' work: the same formulas in blocks, a
+# point near a dead centre or change point handed to the scalar engine), the coupler point and
+# transmission angle on arrays, and numbers formatted as repr formats them a block at once (the DAT
+# and CSV lines). numpy is an optional extra: numpy_module raises FastUnavailable without it. No
+# other section uses numpy itself (test_layout).
+#
+# Uses: sections 1, 2, 6 and 7.
+# Offers: STATUS_CODES, FAST_BLOCK, FAST_MARGIN, FastUnavailable, numpy_module, angle_array,
+#   MotionArrays, assembled_count, motion_arrays_of, CouplerArrays, coupler_of_arrays,
+#   transmission_of_arrays, SweepColumns, NUMBER_ROWS, LINE_ROWS, as_columns, column_texts.
+
+
+# -- the vectorised path: numpy, a block of angles at a time ------------------------------------
+#
+# Linkage.sweep_arrays is _sweep_four_bar and _sweep_slider written on numpy arrays: the same
+# formulas with the same operations in the same order, hypot computed as CPython's math.hypot
+# (_fast_hypot), so the same numbers: here (numpy 2.4.6) the velocity and acceleration to the bit,
+# the output within a unit in the last place (numpy's arctan2 is not libm's; where numpy's cos
+# and sin are not libm's either, a few). The angles go through in
+# blocks of FAST_BLOCK, every operation written into a preallocated array (out=) so that the
+# working set stays in the cache; a term whose constant is zero is left out (it adds nothing but
+# the sign of a zero). The vectorised path decides only "assembled" and the plainly "not
+# assembled": a point the scalar engine would redo in 50-digit decimal (discriminant within
+# _precise_below of zero), widened by FAST_MARGIN so that a last-place difference cannot carry a
+# point across that line, and any point whose numbers are not finite, is handed to Linkage.sweep
+# itself - never approximated here. numpy is imported at the first use only: linkage.py runs on
+# the standard library alone, and this path is the optional extra `fast`.
+
+STATUS_CODES = (ASSEMBLED, DEAD_CENTRE, NOT_ASSEMBLED, INDETERMINATE,  # MotionArrays.status,
+                CHANGE_POINT, STOPPED)          # SweepColumns.status: every Motion.status
+FAST_BLOCK = 16384       # angles a block (of 4096 to 32768 the fastest at 1e4 and 1e5 points here,
+#                          2026-11-26; memory: 50 arrays of it, 6.5 MB)
+FAST_MARGIN = 2.0        # handed to the scalar engine: |D| <= FAST_MARGIN * its decimal line
+
+
+class FastUnavailable(RuntimeError):
+    """The vectorised path (Linkage.sweep_arrays, run --fast, a scene's fast = true) where numpy
+    cannot be imported."""
+
+
+def numpy_module() -> ModuleType:
+    """numpy, imported at the first use; FastUnavailable, saying what to install, without it.
+    Imported with SIGINT, SIGTERM and SIGHUP held (held_import): a signal whose handler ran in
+    numpy's C initialisation was swallowed there (the import went on, and a run finished as if
+    no signal had come), and the threads numpy's BLAS starts then hold them for good."""
+    try:
+        with held_import("numpy"):
+            import numpy
+    except ImportError:
+        raise FastUnavailable("the vectorised path (--fast, a scene's fast = true) needs numpy, "
+                              "which is not installed: python3 -m pip install numpy; "
+                              "without it, leave --fast out: the same numbers, computed one "
+                              "point at a time") from None
+    return numpy
+
+
+def angle_array(start: float, step: float, first: int, last: int) -> numpy.ndarray:
+    """The input angles start + i * step for i from first to last (excluded) as a float64
+    array: the same numbers as the scalar path's list (evenly_spaced_angles)."""
+    np = numpy_module()
+    return np.arange(first, last, dtype=np.float64) * step + start
+
+
+class MotionArrays(NamedTuple):
+    """Linkage.sweep_arrays' answer: Linkage.sweep's Motion fields as numpy arrays, one element an
+    input angle. output, velocity and acceleration are float64, NaN where the position does not
+    exist (status says why); velocity and acceleration are None when not asked for. status holds
+    int8 codes, indices into STATUS_CODES (0 ASSEMBLED, 1 DEAD_CENTRE, 2 NOT_ASSEMBLED,
+    3 INDETERMINATE, 4 CHANGE_POINT; 5 STOPPED is a followed motion's, which this path does not
+    compute)."""
+
+    phi: numpy.ndarray
+    output: numpy.ndarray
+    velocity: numpy.ndarray | None          # None: not asked for
+    acceleration: numpy.ndarray | None
+    status: numpy.ndarray
+
+    def motions(self) -> list[Motion]:
+        """The same answer as Linkage.sweep gives it: a list of Motion, None for NaN."""
+        columns = [None if a is None else [None if v != v else v for v in a.tolist()]
+                   for a in (self.output, self.velocity, self.acceleration)]
+        n = len(self.phi)
+        output, velocity, acceleration = (c if c is not None else [None] * n for c in columns)
+        return [Motion(phi, o, v, a, STATUS_CODES[k]) for phi, o, v, a, k in
+                zip(self.phi.tolist(), output, velocity, acceleration, self.status.tolist())]
+
+
+def assembled_count(arrays: MotionArrays) -> int:
+    """How many of a MotionArrays' angles have a position."""
+    return len(arrays.output) - int(numpy_module().isnan(arrays.output).sum())
+
+
+def _fast_lin(np, a, x, b, y, out, spare):
+    """a x + b y into out, as the scalar engine rounds it; a term with a zero constant left out."""
+    if a and b:
+        np.multiply(x, a, out=out)
+        np.multiply(y, b, out=spare)
+        return np.add(out, spare, out=out)
+    if a or b:
+        return np.multiply(x if a else y, a or b, out=out)
+    out.fill(0.0)
+    return out
+
+
+def _fast_plus(np, k, x, out):
+    """k + x into out (x itself when k is zero)."""
+    return np.add(x, k, out=out) if k else x
+
+
+def _fast_cos_sin(np, phi, reduce, w):
+    """cos_sin_degrees on an array (the one reduction, in numpy: r = phi mod 360, unless not
+    `reduce`; y = r - 90 n, |y| <= 45; cos y and sin y turned by n quarter turns, exact), into
+    the work buffers w."""
+    r = np.fmod(phi, 360.0, out=w["r"]) if reduce else phi
+    n = np.divide(r, 90.0, out=w["n"])
+    np.rint(n, out=n)                       # half to even, as round() does
+    y = np.multiply(n, 90.0, out=w["y"])
+    np.subtract(r, y, out=y)
+    np.multiply(y, RAD, out=y)
+    cy, sy = np.cos(y, out=w["cy"]), np.sin(y, out=w["sy"])
+    lo, hi = n.min(), n.max()
+    if lo == hi:                            # one quarter turn for the whole block (the usual)
+        q = int(lo) & 3
+        if q == 0:
+            return cy, sy
+        if q == 2:
+            return np.negative(cy, out=cy), np.negative(sy, out=sy)
+        return (np.negative(sy, out=sy), cy) if q == 1 else (sy, np.negative(cy, out=cy))
+    quarter = w["quarter"]
+    np.copyto(quarter, n, casting="unsafe")
+    np.bitwise_and(quarter, 3, out=quarter)
+    turn_c = np.take(_QUARTER_COS, quarter, out=w["tc"])
+    turn_s = np.take(_QUARTER_SIN, quarter, out=w["ts"])
+    c, s, spare = w["c"], w["s"], w["spare"]
+    np.multiply(cy, turn_c, out=c)
+    np.subtract(c, np.multiply(sy, turn_s, out=spare), out=c)
+    np.multiply(sy, turn_c, out=s)
+    np.add(s, np.multiply(cy, turn_s, out=spare), out=s)
+    return c, s
+
+
+_QUARTER_COS = (1.0, 0.0, -1.0, 0.0)     # cos and sin of n quarter turns
+_QUARTER_SIN = (0.0, 1.0, 0.0, -1.0)
+
+
+def _fast_square(np, x, hi, lo, t, u):
+    """x^2 = hi + lo exactly (Dekker's split): the double-length square CPython's hypot uses."""
+    np.multiply(x, x, out=hi)
+    np.multiply(x, 134217729.0, out=t)              # 2^27 + 1
+    np.subtract(t, x, out=u)
+    np.subtract(t, u, out=t)                        # the high half of x
+    np.subtract(x, t, out=u)                        # the low half
+    np.multiply(t, t, out=lo)
+    np.subtract(lo, hi, out=lo)
+    np.multiply(t, 2.0, out=t)
+    np.multiply(t, u, out=t)
+    np.add(lo, t, out=lo)                           # ((xh xh - hi) + 2 xh xl) + xl xl
+    np.multiply(u, u, out=u)
+    np.add(lo, u, out=lo)
+
+
+def _fast_hypot(np, x, y, out, w):
+    """math.hypot(x, y) elementwise, bit for bit as CPython 3.11 computes it (vector_norm: scaled
+    by a power of two, the squares and their sum carried as double-doubles, one differential
+    correction; identical on 3 million random pairs). numpy's hypot is libm's, an ulp away in
+    about 0.6% of cases, which the discriminant's cancellation near a dead centre magnifies
+    beyond 1e-13 in the output. NaN where x = y = 0 (the caller hands such points over)."""
+    ax, ay, hi, lo, t, u = (w[key] for key in ("ax", "ay", "hi", "lo", "t", "t2"))
+    csum, f1, f2, exponent = w["csum"], w["f1"], w["f2"], w["exponent"]
+    np.abs(x, out=ax)
+    np.abs(y, out=ay)
+    np.frexp(np.maximum(ax, ay, out=out), out=(t, exponent))
+    np.negative(exponent, out=exponent)
+    np.ldexp(ax, exponent, out=ax)                  # lossless scaling into [0.5, 1)
+    np.ldexp(ay, exponent, out=ay)
+    _fast_square(np, ax, hi, f1, t, u)
+    np.add(hi, 1.0, out=csum)                       # csum = 1 + x^2, f2 its rounding error
+    np.subtract(1.0, csum, out=f2)
+    np.add(f2, hi, out=f2)
+    _fast_square(np, ay, hi, lo, t, u)
+    np.add(f1, lo, out=f1)
+    np.add(csum, hi, out=t)                         # csum + y^2, its error into f2
+    np.subtract(csum, t, out=csum)
+    np.add(csum, hi, out=csum)
+    np.add(f2, csum, out=f2)
+    csum, t = t, csum
+    h = np.subtract(csum, 1.0, out=out)
+    np.add(h, np.add(f1, f2, out=lo), out=h)
+    np.sqrt(h, out=h)
+    _fast_square(np, h, hi, lo, ax, u)              # h^2 = hi + lo
+    np.subtract(csum, hi, out=ay)                   # csum - h^2, its error into f2
+    np.subtract(csum, ay, out=csum)
+    np.subtract(csum, hi, out=csum)
+    np.add(f2, csum, out=f2)
+    np.subtract(f1, lo, out=f1)
+    np.subtract(ay, 1.0, out=ay)
+    np.add(ay, np.add(f1, f2, out=f1), out=ay)      # the residual
+    np.divide(ay, np.multiply(h, 2.0, out=u), out=ay)
+    np.add(h, ay, out=h)                            # the differential correction
+    np.negative(exponent, out=exponent)
+    return np.ldexp(h, exponent, out=h)
+
+
+def _fast_four_bar(np, k, c, s, sign, level, res, w):
+    """_sweep_four_bar on one block: psi, psi', psi'' into res, the discriminant into
+    res["disc"]."""
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = k
+    spare = w["spare"]
+    xp = _fast_lin(np, pc, c, ps, s, w["xp"], spare)
+    xq = _fast_lin(np, qc, c, qs, s, w["xq"], spare)
+    xs = _fast_lin(np, sc, c, ss, s, w["xs"], spare)
+    p, q, sv = _fast_plus(np, p0, xp, w["p"]), _fast_plus(np, q0, xq, w["q"]), \
+        _fast_plus(np, s0, xs, w["sv"])
+    rr = _fast_hypot(np, p, q, w["rr"], w)
+    disc = np.subtract(rr, sv, out=res["disc"])
+    np.multiply(disc, np.add(rr, sv, out=spare), out=disc)
+    root = np.sqrt(disc, out=w["root"])      # NaN where not assembled: found by the caller
+    sn, cn = w["sn"], w["cn"]
+    np.multiply(q, sv, out=sn)               # sn = -q sv - sign p root
+    pr = np.multiply(p, root, out=spare)
+    (np.add if sign > 0 else np.subtract)(sn, pr, out=sn)
+    np.negative(sn, out=sn)
+    np.multiply(p, sv, out=cn)               # cn = -p sv + sign q root
+    qr = np.multiply(q, root, out=spare)
+    (np.subtract if sign > 0 else np.add)(cn, qr, out=cn)
+    np.negative(cn, out=cn)
+    psi = np.arctan2(sn, cn, out=res["output"])
+    np.multiply(psi, DEG, out=psi)
+    np.copyto(psi, 180.0, where=np.equal(psi, -180.0, out=w["flag"]))
+    if level == 0:
+        return
+    r2 = np.multiply(rr, rr, out=w["r2"])
+    cp, sp = np.divide(cn, r2, out=cn), np.divide(sn, r2, out=sn)
+    dp = _fast_lin(np, ps, c, -pc, s, w["dp"], spare)
+    dq = _fast_lin(np, qs, c, -qc, s, w["dq"], spare)
+    ds = _fast_lin(np, ss, c, -sc, s, w["ds"], spare)
+    vel = np.multiply(dp, cp, out=res["velocity"])       # -sign (dp cp + dq sp + ds) / root
+    np.add(vel, np.multiply(dq, sp, out=spare), out=vel)
+    np.add(vel, ds, out=vel)
+    np.divide(vel, root, out=vel)
+    if sign > 0:
+        np.negative(vel, out=vel)
+    if level == 1:
+        return
+    acc = res["acceleration"]
+    e = np.multiply(xp, cp, out=w["e"])                  # -e_ff = xp cp + xq sp + xs
+    np.add(e, np.multiply(xq, sp, out=spare), out=e)
+    np.add(e, xs, out=e)
+    fp = np.multiply(dq, cp, out=w["fp"])                # e_fp = dq cp - dp sp
+    np.subtract(fp, np.multiply(dp, sp, out=spare), out=fp)
+    np.multiply(fp, 2.0, out=fp)
+    np.multiply(fp, vel, out=fp)
+    np.subtract(fp, e, out=acc)                          # e_ff + 2 e_fp vel
+    np.multiply(sv, vel, out=spare)
+    np.multiply(spare, vel, out=spare)
+    np.add(acc, spare, out=acc)                          # ... + sv vel vel
+    np.divide(acc, root, out=acc)
+    if sign > 0:
+        np.negative(acc, out=acc)
+
+
+def _fast_slider(np, k, c, s, sign, level, res, w):
+    """_sweep_slider on one block, in the linkage's scaled lengths (the caller multiplies by the
+    unit): x, x', x'' into res, the discriminant into res["disc"]."""
+    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = k
+    spare = w["spare"]
+    xm = _fast_lin(np, mc, c, ms, s, w["xm"], spare)
+    xk = _fast_lin(np, kc, c, ks, s, w["xk"], spare)
+    m, q = _fast_plus(np, m0, xm, w["m"]), _fast_plus(np, k0, xk, w["q"])
+    u = _fast_affine(np, u0, uc, c, us, s, w["u"], spare)
+    if v0 or vc or vs:
+        dist = _fast_hypot(np, u, _fast_affine(np, v0, vc, c, vs, s, w["v"], spare), w["dist"],
+                           w)
+    else:
+        dist = np.abs(u, out=w["dist"])                  # hypot(u, 0), exactly
+    disc = np.subtract(rod, dist, out=res["disc"])
+    np.multiply(disc, np.add(dist, rod, out=spare), out=disc)
+    root = np.sqrt(disc, out=w["root"])
+    negative = np.less(m, 0.0, out=w["flag"])
+    big = w["big"]                                       # m + root, or m - root where m < 0
+    np.copyto(big, root)
+    np.negative(big, out=big, where=negative)
+    np.add(big, m, out=big)
+    x = res["output"]
+    np.divide(q, big, out=x)                             # the other root, q / big
+    if sign < 0:
+        np.copyto(x, big, where=negative)
+    else:
+        np.logical_not(negative, out=negative)
+        np.copyto(x, big, where=negative)
+    if level == 0:
+        return
+    dm = _fast_lin(np, ms, c, -mc, s, w["dm"], spare)
+    dk = _fast_lin(np, ks, c, -kc, s, w["dk"], spare)
+    vel = np.multiply(dm, x, out=res["velocity"])        # sign (dm x - dk / 2) / root
+    np.subtract(vel, np.multiply(dk, 0.5, out=spare), out=vel)
+    np.divide(vel, root, out=vel)
+    if sign < 0:
+        np.negative(vel, out=vel)
+    if level == 1:
+        return
+    acc = np.multiply(xk, 0.5, out=res["acceleration"])  # sign (xk/2 - xm x + 2 dm x' - x'^2)
+    np.subtract(acc, np.multiply(xm, x, out=spare), out=acc)
+    np.multiply(dm, 2.0, out=spare)
+    np.add(acc, np.multiply(spare, vel, out=spare), out=acc)
+    np.subtract(acc, np.multiply(vel, vel, out=spare), out=acc)
+    np.divide(acc, root, out=acc)
+    if sign < 0:
+        np.negative(acc, out=acc)
+
+
+def _fast_affine(np, k0, kc, c, ks, s, out, spare):
+    """(k0 + kc c) + ks s into out, in _sweep_slider's order; zero terms left out."""
+    if kc:
+        np.multiply(c, kc, out=out)
+        if k0:
+            np.add(out, k0, out=out)
+    else:
+        out.fill(k0)
+    if ks:
+        np.add(out, np.multiply(s, ks, out=spare), out=out)
+    return out
+
+
+_FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "xq", "xs", "p",
+              "q", "sv", "rr", "root", "sn", "cn", "r2", "dp", "dq", "ds", "e", "fp", "xm", "xk",
+              "m", "u", "v", "dist", "big", "dm", "dk", "ax", "ay", "hi", "lo", "t", "t2", "csum",
+              "f1", "f2", "disc")
+
+
+def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
+                     derivatives: int) -> MotionArrays:
+    """Linkage.sweep_arrays: see there."""
+    np = numpy_module()
+    if branch not in (1, 2):
+        raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
+    if derivatives not in (0, 1, 2):
+        raise ValueError("derivatives is 0 (output), 1 (and velocity) or 2 (and acceleration)")
+    try:
+        phi = np.array(phis, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError("input angles must be numbers") from None
+    if phi.ndim != 1:
+        raise ValueError("input angles must be a sequence of numbers (one dimension)")
+    low, high = (phi.min(), phi.max()) if len(phi) else (0.0, 0.0)   # NaN if any is NaN
+    if not (math.isfinite(low) and math.isfinite(high)):
+        raise ValueError("input angles must be finite")
+    count, sign, level = len(phi), 1.0 if branch == 1 else -1.0, derivatives
+    res = {"output": np.empty(count), "velocity": np.empty(count) if level >= 1 else None,
+           "acceleration": np.empty(count) if level >= 2 else None}
+    status = np.zeros(count, dtype=np.int8)
+    block = min(FAST_BLOCK, max(count, 1))
+    w = dict(zip(_FAST_WORK, np.empty((len(_FAST_WORK), block))))   # one allocation: the
+    #                                     allocator keeps it for the next call, not new pages
+    w["flag"], w["missing"], w["redo"] = np.empty((3, block), dtype=bool)
+    w["quarter"] = np.empty(block, dtype=np.intp)
+    w["exponent"] = np.empty(block, dtype=np.intc)
+    reduce = not max(-low, high) < 360.0
+    step = _fast_slider if linkage.is_slider else _fast_four_bar
+    k = linkage._constants
+    line = FAST_MARGIN * linkage._precise_below
+    last = ("output", "velocity", "acceleration")[level]
+    redo = []
+    with np.errstate(all="ignore"):        # a block at a time: memory bounded, in the cache
+        for start in range(0, count, block):
+            stop = min(start + block, count)
+            n = stop - start
+            part = {key: None if a is None else a[start:stop] for key, a in res.items()}
+            work = w if n == block else {key: a[:n] for key, a in w.items()}
+            part["disc"] = work["disc"]
+            c, s = _fast_cos_sin(np, phi[start:stop], reduce, work)
+            step(np, k, c, s, sign, level, part, work)
+            disc, missing, again = part["disc"], work["missing"], work["redo"]
+            np.less(disc, -line, out=missing)
+            np.less_equal(np.abs(disc, out=disc), line, out=again)
+            again |= ~(np.isfinite(part[last], out=work["flag"]) | missing)
+            status[start:stop][missing] = STATUS_CODES.index(NOT_ASSEMBLED)
+            if again.any():
+                redo.append(np.flatnonzero(again) + start)
+            if linkage.is_slider:
+                for key in ("output", "velocity", "acceleration"):
+                    if part[key] is not None:
+                        np.multiply(part[key], linkage._unit, out=part[key])
+    where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
+    if len(where):
+        columns = [res[key] for key in ("output", "velocity", "acceleration")]
+        for i, m in zip(where.tolist(), linkage.sweep(phi[where].tolist(), branch, level)):
+            for column, value in zip(columns, m[1:4]):
+                if column is not None:
+                    column[i] = math.nan if value is None else value
+            status[i] = STATUS_CODES.index(m.status)
+    return MotionArrays(phi, res["output"], res["velocity"], res["acceleration"], status)
+
+
+def _cos_sin_degrees_array(np, x):
+    """cos_sin_degrees elementwise (NaN stays NaN): _fast_cos_sin, with buffers of its own."""
+    x = np.asarray(x, dtype=np.float64)
+    w = {k: np.empty_like(x) for k in ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare")}
+    w["quarter"] = np.empty(x.shape, dtype=np.intp)
+    with np.errstate(invalid="ignore"):             # NaN's quarter: any, its cos and sin NaN
+        return _fast_cos_sin(np, x, True, w)
+
+
+class CouplerArrays(NamedTuple):
+    """Linkage.coupler_arrays' answer: phi, then position, velocity and acceleration as float64
+    arrays of shape (n, 3) (NaN where there is no position; velocity and acceleration None when
+    not asked for), and the MotionArrays status codes."""
+    phi: numpy.ndarray
+    position: numpy.ndarray
+    velocity: numpy.ndarray | None          # None: not asked for
+    acceleration: numpy.ndarray | None
+    status: numpy.ndarray
+
+
+def coupler_of_arrays(linkage: Closure, arrays: MotionArrays, u: float,
+                      v: float = 0.0) -> CouplerArrays:
+    """coupler_of on a MotionArrays (Linkage.sweep_arrays'): a CouplerArrays."""
+    np = numpy_module()
+    u, v = check_coupler_point(linkage, u, v)
+    level = 0 if arrays.velocity is None else 1 if arrays.acceleration is None else 2
+    c, s = _cos_sin_degrees_array(np, arrays.phi)
+    with np.errstate(all="ignore"):
+        a, p, _ = joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
+                                    arrays.output, level, arrays.velocity,
+                                    arrays.acceleration, functools.partial(_cos_sin_degrees_array,
+                                                                           np))
+        point = coupler_form(linkage, a, p, u, v, np.sqrt)
+    count = len(arrays.phi)
+    stacked = [np.stack([np.broadcast_to(np.asarray(x, dtype=np.float64), (count,))
+                         for x in w], axis=1) for w in point] + [None, None]
+    position, velocity, acceleration = stacked[:3]
+    return CouplerArrays(arrays.phi, position, velocity, acceleration, arrays.status)
+
+
+def transmission_of_arrays(linkage: Closure, arrays: MotionArrays) -> numpy.ndarray:
+    """transmission_of on a MotionArrays: a float64 array, NaN where there is no position."""
+    np = numpy_module()
+    c, s = _cos_sin_degrees_array(np, arrays.phi)
+    with np.errstate(all="ignore"):
+        a, p, p_q = joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
+                                      arrays.output, 0, None, None,
+                                      functools.partial(_cos_sin_degrees_array, np))
+        mu = transmission_form(linkage.kind, a[0], p[0], p_q, np.arctan2)
+    return np.broadcast_to(np.asarray(mu, dtype=np.float64), (len(arrays.phi),)).copy()
+
+
+class SweepColumns(NamedTuple):
+    """A block of a sweep's rows as numpy arrays, for the files: phi, output, velocity,
+    acceleration (float64, NaN where there is no value), status (int8 codes, STATUS_CODES),
+    extra (the rows' further fields, float64 arrays: the transmission angle, a coupler
+    point's nine coordinates)."""
+    phi: numpy.ndarray
+    output: numpy.ndarray
+    velocity: numpy.ndarray
+    acceleration: numpy.ndarray
+    status: numpy.ndarray
+    extra: tuple = ()
+
+    def __len__(self) -> int:
+        return len(self.phi)
+
+
+NUMBER_ROWS = 16384      # numbers formatted at once (numpy's fixed cost a call shared)
+LINE_ROWS = 4096         # lines joined at once (their matrices stay in the cache)
+
+
+def as_columns(rows: list[tuple], vectorised: bool) -> list[tuple] | SweepColumns:
+    """SweepColumns of a list of rows (phi, output, velocity, acceleration, status, extra ...),
+    or the list itself where not `vectorised` or numpy is not installed."""
+    if not vectorised:
+        return rows
+    try:
+        np = numpy_module()
+    except FastUnavailable:
+        return rows
+    codes = {s: i for i, s in enumerate(STATUS_CODES)}
+    columns = [np.array([row[i] for row in rows], dtype=np.float64)      # None becomes NaN
+               for i in range(len(rows[0])) if i != 4]
+    status = np.array([codes[row[4]] for row in rows], dtype=np.int8)
+    phi, output, velocity, acceleration = columns[:4]
+    return SweepColumns(phi, output, velocity, acceleration, status, tuple(columns[4:]))
+
+
+def _lines(np, outputs):
+    """The lines of each output, (fields, keep), LINE_ROWS rows at a time: a list of bytes (one
+    an output) and the number of rows. A field is a float64 array (its numbers as repr writes
+    them, _float_texts, NUMBER_ROWS at a time; a column that several outputs share is formatted
+    once) or a uint8 matrix (a text a row, NUL-padded); the fields of a row are joined by commas
+    and ended by CR LF, and only the rows where `keep` (a bool array, or None: every row) are
+    written."""
+    count = len(outputs[0][0][0])
+    comma, end = np.full((LINE_ROWS, 1), 44, np.uint8), np.tile(np.uint8([13, 10]),
+                                                                (LINE_ROWS, 1))
+    for start in range(0, count, NUMBER_ROWS):
+        stop = min(start + NUMBER_ROWS, count)
+        fields = {id(field): field for fields, _ in outputs for field in fields}
+        texts = {key: [field[start:stop]] if field.dtype == np.uint8
+                 else _float_texts(np, field[start:stop]) for key, field in fields.items()}
+        for first in range(start, stop, LINE_ROWS):
+            last = min(first + LINE_ROWS, stop)
+            rows, n = slice(first - start, last - start), last - first
+            lines = []
+            for fields, keep in outputs:
+                pieces = [piece for field in fields for piece in [
+                    text[rows] for text in texts[id(field)]] + [comma[:n]]]
+                pieces[-1] = end[:n]
+                matrix = np.concatenate(pieces, axis=1)
+                if keep is not None and not keep[first:last].all():
+                    matrix = matrix[keep[first:last]]
+                lines.append(matrix.tobytes().translate(None, b"\0"))
+            yield lines, n
+
+
+# -- numbers as text, a block at once ------------------------------------------------------------
+#
+# repr writes a double as the shortest decimal that reads back as it (David Gay's dtoa, mode 0),
+# the nearest to it where two are as short; positional from 1e-4 to 1e16. _float_texts does the
+# same for a numpy block at once, exactly, where 1e-2 <= |x| < 1e13 (the other numbers, and the
+# few cases it cannot decide, are repr's own). The argument, with ulp the spacing of doubles at x
+# and m = 16 - floor(log10 |x|):
+# - x 10^m = hi + lo exactly (Dekker's product: 10^m is a double for m <= 22), so d17, the
+#   nearest integer to it (17 digits), and the residual f17 are exact; the nearest 16- and
+#   15-digit decimals and their residuals follow from d17 and f17 (to 1e-14, so a comparison
+#   within 1e-12 of its bound is left to repr).
+# - a decimal reads back as x when it lies within ulp/2 of x (to even at exactly ulp/2: left to
+#   repr, as is a power of two, whose interval is lopsided).
+# - 15 digits are 4.5 ulp apart or more: at most one is within ulp/2, so if the nearest reads
+#   back it is the only one of 15 digits or fewer (repr's, its trailing zeros dropped); else the
+#   nearest of 16 digits if it reads back; else the nearest of 17, which always does (17 digits
+#   are 0.9 ulp apart or less). Two nearest, equally near (16 or 17 digits, both may read back)
+#   are left to repr, whose dtoa breaks such ties by rules of its own; at 15 digits, half a unit
+#   is more than ulp/2 (0.11 units or less): neither reads back.
+# tests/test_fast.py holds it against repr (hypothesis and the hard cases of each step).
+
+_POW10 = tuple(10.0 ** k for k in range(23))      # exact doubles
+
+@functools.cache
+def _digit_tables(np: ModuleType) -> dict[str, Any]:
+    """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as int64;
+    the 10,000 four-digit texts as uint32, with leading zeros and without (NULs for them); masks
+    of the first k of 20 bytes and of the last k of 16, as uint32; "." and three NULs; three
+    NULs and "-"."""
+    pow10 = np.array(_POW10)
+    big = pow10 * 134217729.0                     # 2^27 + 1
+    high = big - (big - pow10)
+    return dict(
+        pow10=pow10, high=high, low=pow10 - high,
+        pow10i=np.array([10 ** k for k in range(19)], dtype=np.int64),
+        quads=np.frombuffer(b"".join(b"%04d" % i for i in range(10_000)), dtype=np.uint32),
+        leading=np.frombuffer(b"".join(b"%4d" % i for i in range(10_000)).replace(b" ", b"\0"),
+                              dtype=np.uint32),
+        first=np.array([[255 * (c < k) for c in range(20)] for k in range(21)],
+                       dtype=np.uint8).view(np.uint32),
+        last=np.array([[255 * (c >= 16 - k) for c in range(16)] for k in range(17)],
+                      dtype=np.uint8).view(np.uint32),
+        point=np.frombuffer(b".\0\0\0", dtype=np.uint32)[0],
+        minus=np.frombuffer(b"\0\0\0-", dtype=np.uint32)[0])
+
+
+def _float_texts(np, x) -> list:
+    """repr(float(v)) of each element of the float64 array x: uint8 matrices whose rows, joined
+    across them and their NUL bytes dropped, are the texts."""
+    t = _digit_tables(np)
+    n = len(x)
+    a = np.abs(x)
+    fast = (a >= 1e-2) & (a < 1e13)                        # NaN is not
+    np.copyto(a, 1.0, where=~fast)
+    m = 16 - np.floor(np.log10(a)).astype(np.intp)
+    scale = t["pow10"].take(m)
+    hi = a * scale
+    s = a * 134217729.0
+    ah = s - (s - a)
+    al = a - ah
+    sh, sl = t["high"].take(m), t["low"].take(m)
+    lo = ((ah * sh - hi) + ah * sl + al * sh) + al * sl    # hi + lo = x 10^m exactly
+    r = np.rint(lo)
+    f17 = lo - r
+    d17 = hi.astype(np.int64) + r.astype(np.int64)
+    half = np.spacing(a) * 0.5
+    q1 = d17 // 10
+    t16 = (d17 - q1 * 10) + f17
+    up16 = t16 > 5.0
+    f16 = np.abs(t16 * 0.1 - up16)                         # residuals, in the last digit's units
+    q2 = d17 // 100
+    t15 = (d17 - q2 * 100) + f17
+    up15 = t15 > 50.0
+    f15 = np.abs(t15 * 0.01 - up15)
+    h16 = half * t["pow10"].take(m - 1)                    # ulp/2 in the same units
+    h15 = h16 * 0.1
+    margin = 1e-12
+    ok15 = f15 < h15 - margin
+    ok16 = f16 < h16 - margin
+    good = (fast & (d17 >= 10 ** 16) & (d17 < 10 ** 17) & (np.frexp(a)[0] != 0.5)
+            & (t16 != 5.0) & (np.abs(f17) != 0.5)
+            & (ok15 | (f15 > h15 + margin)) & (ok15 | ok16 | (f16 > h16 + margin)))
+    digits = np.where(ok15, q2 + up15, np.where(ok16, q1 + up16, d17))
+    places = m - 2 * ok15 - (ok16 & ~ok15)                 # digits after the point
+    zero = x == 0.0                                        # 0.0, -0.0
+    good |= zero
+    blank = ~good | zero
+    if blank.any():
+        np.copyto(digits, 0, where=blank)
+        np.copyto(places, 1, where=blank)
+    kept = places.copy()
+    short = np.flatnonzero(ok15 & ~blank)                  # less their trailing zeros
+    if len(short):
+        rest, cut = digits[short], np.zeros(len(short), dtype=np.intp)
+        for k in (8, 4, 2, 1):
+            q = rest // 10 ** k
+            ends = rest == q * 10 ** k
+            np.copyto(rest, q, where=ends)
+            cut += ends * k
+        kept[short] = np.maximum(places[short] - cut, 1)
+    np.copyto(a, 0.0, where=blank)
+    whole = np.floor(a).astype(np.int64)                   # the decimal's whole part: no whole
+    #                                                        number lies within ulp/2 of x
+    width = int(places.max()) if n else 1
+    fraction = (digits - whole * t["pow10i"].take(places)) * t["pow10i"].take(width - places)
+    lead = -(-len(str(int(whole.max()) if n else 0)) // 4)
+    groups = -(-width // 4)
+    text = np.empty((n, 2 + lead + groups), dtype=np.uint32)   # words of 4 bytes: NULs, "-";
+    #                                           the whole part; "." and NULs; the fraction
+    np.multiply(np.signbit(x), t["minus"], out=text[:, 0], casting="unsafe")
+    text[:, lead + 1] = t["point"]
+    if lead == 1:
+        text[:, 1] = t["leading"].take(whole)              # "   7" with NULs for the spaces
+    else:
+        count = np.ones(n, dtype=np.intp)                  # the whole part's digits
+        for k in range(1, 4 * lead):
+            count += whole >= 10 ** k
+        for j in range(lead, 0, -1):
+            q = whole // 10_000
+            text[:, j] = t["quads"].take(whole - q * 10_000)
+            whole = q
+        text[:, 1:lead + 1] &= t["last"].take(count, axis=0)[:, 4 - lead:]
+    for j in range(1 + lead + groups, 1 + lead, -1):
+        q = fraction // 10_000
+        text[:, j] = t["quads"].take(fraction - q * 10_000)
+        fraction = q
+    skip = 4 * groups - width                              # the first group's leading zeros
+    text[:, lead + 2:] &= (t["first"].take(kept + skip, axis=0)[:, :groups]
+                           & ~t["first"][skip, :groups])
+    text = text.view(np.uint8)
+    others = np.flatnonzero(~good)
+    if not len(others):                  # the columns that can hold a byte, to be joined
+        return [text[:, 3:4 * lead + 5], text[:, 4 * lead + 8 + skip:]]
+    words = [repr(v).encode("ascii") for v in x[others].tolist()]     # repr's own, whole rows
+    longest = max(map(len, words))
+    if longest > text.shape[1]:
+        text = np.concatenate([text, np.zeros((n, longest - text.shape[1]), np.uint8)], 1)
+    text[others] = 0
+    for i, word in zip(others.tolist(), words):
+        text[i, :len(word)] = np.frombuffer(word, dtype=np.uint8)
+    return [text]
+
+
+def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[bool], zero: bool,
+                 csv: bool) -> Iterator[tuple[list[bytes], int]]:
+    """_block_texts of SweepColumns, formatted a block at once (the same bytes as a number at a
+    time, _float_texts)."""
+    np = numpy_module()
+    phi = block.phi
+    with np.errstate(all="ignore"):
+        values = [c + 0.0 for c in block[1:4] + block.extra]  # -0.0 written as 0.0
+    outputs = []
+    for f, clipped_column in zip(fields, clipped):
+        column = values[f - 1 if f < 4 else f - 2]
+        if clipped_column:
+            column = np.clip(column, -3.0, 3.0)
+        if zero:
+            outputs.append(((phi, np.where(np.isnan(column), 0.0, column)), None))
+        else:
+            outputs.append(((phi, column), ~np.isnan(column)))
+    if csv:
+        status = np.array(STATUS_CODES, dtype="S").take(block.status)
+        unsigned = phi + 0.0 if ((phi == 0.0) & np.signbit(phi)).any() else phi   # the CSV's
+        outputs.append(((unsigned, *values[:3], status.view(np.uint8).reshape(len(block), -1),
+                         *values[3:]), None))
+    with np.errstate(all="ignore"):
+        yield from _lines(np, outputs)
+
+
 # ---- 11. Simulation: the motion in time under the scene's effects --------------------------------
 #
 # The linkage has one degree of freedom; in a coordinate q (an angle, radians) every point moves
@@ -5754,7 +5755,7 @@ def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
 # slider-crank is solved in phi alone: a rocking crank's run ends (STUCK) where |x'| passes 100
 # times the crank's length, its input's dead centre ahead, where phi cannot turn back.
 #
-# Uses: sections 2, 6, 7 and 10.
+# Uses: sections 2, 6, 7 and 9.
 # Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, Driver, Spring, Torsion, SimRow, SimEvent,
 #   Simulation, Reduced, reduced, simulate.
 
@@ -6475,7 +6476,7 @@ class Linkage(Closure):
 # (section 1), a block of rows at once where numpy is there (the numpy path), the same bytes
 # either way.
 #
-# Uses: sections 1 and 9.
+# Uses: sections 1 and 10.
 # Offers: SceneError, angle_count, evenly_spaced_angles, write_dat_files, CSV_HEADER,
 #   TRANSMISSION_COLUMN, COUPLER_COLUMNS, csv_line, write_csv, read_dat, dat_precision.
 
@@ -10645,7 +10646,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 # added so that a curve is continuous across +-180 degrees, and so that the curves of a panel lie
 # within half a turn of the first one.
 #
-# Uses: sections 1, 2, 6, 7, 10, 12, 13, 14, 15 and 19.
+# Uses: sections 1, 2, 6, 7, 9, 12, 13, 14, 15 and 19.
 # Offers: dat_series, Curve, Panel, Figure, FORCE_LABELS, POLAR_MOMENTS, CLIPPED, build_figure,
 #   scene_figure, dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure,
 #   png_figure, force_arrows, scene_drawing, scene_text.
