@@ -4406,7 +4406,8 @@ def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
 #
 # Uses: sections 2, 6, 7 and 8.
 # Offers: STANDARD_GRAVITY, UNBOUNDED, OUT_OF_RANGE, Matrix, Body, Bodies, Effects, Reaction,
-#   Forces, checked_number, checked_numbers, forces, ForcesSummary, forces_summary, forces_lines.
+#   Forces, checked_number, checked_numbers, ForcesSetup, forces_setup, forces, ForcesSummary,
+#   forces_summary, forces_lines.
 
 
 STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
@@ -4459,7 +4460,8 @@ class Forces(NamedTuple):
     """One input angle's forces: the driver's torque on the crank about its axis, in the sense
     of phi (N m), its power (W), each joint's Reaction, the shaking force (N) and moment (N m)
     on the frame. None where there is no position (status the Motion's) or the forces are
-    unbounded (status UNBOUNDED)."""
+    unbounded (status UNBOUNDED). speed_rpm: the crank's speed they are at (the power's, and
+    forces_summary's flywheel's)."""
     phi: float
     torque: float | None
     power: float | None
@@ -4467,6 +4469,7 @@ class Forces(NamedTuple):
     shaking_force: Vector | None
     shaking_moment: Vector | None
     status: str
+    speed_rpm: float            # the crank's speed they were computed at (Effects.speed_rpm)
 
 
 class _Mass(NamedTuple):
@@ -4634,9 +4637,11 @@ def _checked_body(kind: str, role: str, body: Body, rod: Callable[[float], _Mass
     return _Mass(mass, centre, cast(Matrix, tuple(rows)))
 
 
-class _Setup(NamedTuple):
-    """What forces() computes once for a call: the bodies, the loads and the ground."""
+class ForcesSetup(NamedTuple):
+    """What forces() computes once for a call: the bodies, the loads and the ground (the numpy
+    path's forces_of_arrays starts from it too)."""
     linkage: Closure
+    speed_rpm: float
     dims: dict[str, float]
     radius: float
     masses: tuple[_Mass, _Mass, _Mass]
@@ -4651,7 +4656,8 @@ class _Setup(NamedTuple):
     axes: dict[str, tuple[Vector, Vector]]
 
 
-def _setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float) -> _Setup:
+def forces_setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float
+                 ) -> ForcesSetup:
     """The checked bodies and effects of a forces() call (a ValueError says what is wrong)."""
     kind = linkage.kind
     spherical, plane = kind == SPHERICAL_FOUR_BAR, kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
@@ -4718,14 +4724,15 @@ def _setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float) ->
     if plane and (gravity[2] or force[2]):
         raise ValueError("the plane kinds are analysed in their plane: gravity and the coupler "
                          "force must have no z component")
-    omega = 2.0 * math.pi * checked_number(effects.speed_rpm, "the speed (rpm)") / 60.0
+    speed = checked_number(effects.speed_rpm, "the speed (rpm)")
+    omega = 2.0 * math.pi * speed / 60.0
     alpha = checked_number(effects.crank_acceleration, "the crank's acceleration")
     ground = joint_positions(linkage, 0.0)
-    return _Setup(linkage, dims, radius, masses, omega, alpha, gravity, output_torque,
+    return ForcesSetup(linkage, speed, dims, radius, masses, omega, alpha, gravity, output_torque,
                   output_force, point, force, ground.joints, ground.axes)
 
 
-def _states(setup: _Setup, m: Motion) -> tuple[tuple[_State, _State, _State], Vector, Vector]:
+def _states(setup: ForcesSetup, m: Motion) -> tuple[tuple[_State, _State, _State], Vector, Vector]:
     """The three bodies at the Motion m, and the pins A and P (the output's, B or C)."""
     linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
     kind = linkage.kind
@@ -4770,7 +4777,7 @@ def _states(setup: _Setup, m: Motion) -> tuple[tuple[_State, _State, _State], Ve
     return (crank, coupler, output), pa, pp
 
 
-def _joints(setup: _Setup, states: tuple[_State, _State, _State], pa: Vector, pp: Vector
+def _joints(setup: ForcesSetup, states: tuple[_State, _State, _State], pa: Vector, pp: Vector
             ) -> list[_Joint]:
     """The kind's joints with their unknowns at this position (see the notes above)."""
     kind = setup.linkage.kind
@@ -4840,9 +4847,9 @@ def _solved(rows: list[list[float]], rhs: list[float]) -> list[float] | None:
     return [v / s for v, s in zip(x, columns)]
 
 
-def _forces_at(setup: _Setup, m: Motion) -> Forces:
+def _forces_at(setup: ForcesSetup, m: Motion) -> Forces:
     """One position's Forces (see forces)."""
-    none = Forces(m.phi, None, None, None, None, None, m.status)
+    none = Forces(m.phi, None, None, None, None, None, m.status, setup.speed_rpm)
     if m.output is None:
         return none
     if m.status in (DEAD_CENTRE, CHANGE_POINT) or m.velocity is None or m.acceleration is None:
@@ -4916,7 +4923,7 @@ def _forces_at(setup: _Setup, m: Motion) -> Forces:
     if not all(map(math.isfinite, numbers)):     # masses or a speed past the floats' range
         return none._replace(status=OUT_OF_RANGE)
     return Forces(m.phi, torque, torque * setup.omega, reactions, shaking_force, shaking_moment,
-                  m.status)
+                  m.status, setup.speed_rpm)
 
 
 def forces(linkage: Closure, phis: Iterable[float], branch: int | str = 1,
@@ -4925,7 +4932,7 @@ def forces(linkage: Closure, phis: Iterable[float], branch: int | str = 1,
     """The driving torque, the joints' reactions and the frame's shaking force and moment at
     each input angle of `phis` (degrees) on `branch` (as Linkage.sweep), for the bodies' masses
     and the effects (see the notes above; radius: the spherical four-bar's sphere, metres)."""
-    setup = _setup(linkage, bodies, effects, radius)
+    setup = forces_setup(linkage, bodies, effects, radius)
     return [_forces_at(setup, m) for m in linkage.sweep(phis, branch, 2, start=start)]
 
 
@@ -4940,14 +4947,17 @@ class ForcesSummary(NamedTuple):
     flywheel_inertia: float | None                  # kg m^2, for the speed fluctuation cs
 
 
-def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
-                   ) -> ForcesSummary:
+def forces_summary(results: Sequence[Forces], *, cs: float = 0.05) -> ForcesSummary:
     """Peak and RMS torque, mean power, each joint's peak, the peak shaking force and moment,
     and the flywheel inertia ΔE_max / (cs omega^2) that holds the speed within +-cs/2 of its
     mean: ΔE_max the largest swing of the integral of (T - T_mean) dphi along `results` (None
     unless every position is defined; the sweep should be one whole turn, as a flywheel's cycle
-    is: that is the caller's to give), means by the trapezoid rule; speed_rpm: the speed the
-    results were computed at (Effects.speed_rpm)."""
+    is: that is the caller's to give), means by the trapezoid rule; omega that of the speed the
+    results were computed at (their speed_rpm: a ValueError if they differ)."""
+    speeds = {r.speed_rpm for r in results}
+    if len(speeds) > 1:
+        raise ValueError("forces computed at different speeds "
+                         f"({', '.join(map(value_text, sorted(speeds)))} rpm) have no one summary")
     known = [r for r in results if r.torque is not None]
     if not known:
         return ForcesSummary(None, None, None, {}, None, None, None)
@@ -4974,7 +4984,7 @@ def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
         weights = [1.0 / len(known)] * len(known)
     mean = sum(w * t for w, t in zip(weights, torques))
     rms = math.sqrt(sum(w * t * t for w, t in zip(weights, torques)))
-    omega = 2.0 * math.pi * checked_number(speed_rpm, "the speed (rpm)") / 60.0
+    omega = 2.0 * math.pi * known[0].speed_rpm / 60.0
     flywheel = None
     if len(known) == len(results) and len(known) > 1 and span and omega and cs > 0.0:
         energy, low, high = 0.0, 0.0, 0.0
@@ -4988,13 +4998,13 @@ def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
         peak((size(r.shaking_moment), r.phi) for r in known), flywheel)
 
 
-def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
-                 prefix: str = "") -> list[str]:
+def forces_lines(results: Sequence[Forces], *, cs: float = 0.05, prefix: str = ""
+                 ) -> list[str]:
     """The `name = value` lines of a swept list of Forces (forces_summary's figures), each name
     after `prefix`: peak and RMS torque with their angles, mean power, each joint's peak force
     (the spherical kind's: its moment about O), the peak shaking force and moment, the flywheel
     for the speed fluctuation cs, and the angles where the forces are unbounded or overflow."""
-    s = forces_summary(results, speed_rpm, cs)
+    s = forces_summary(results, cs=cs)
     rows: list[tuple[str, str]] = []
 
     def peak(name: str, value: tuple[float, float] | None, unit: str) -> None:
@@ -5032,10 +5042,11 @@ def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
 # and CSV lines). numpy is an optional extra: numpy_module raises FastUnavailable without it. No
 # other section uses numpy itself (test_layout).
 #
-# Uses: sections 1, 2, 6 and 7.
+# Uses: sections 1, 2, 6, 7 and 9.
 # Offers: STATUS_CODES, FAST_BLOCK, FAST_MARGIN, FastUnavailable, numpy_module, angle_array,
 #   MotionArrays, assembled_count, motion_arrays_of, CouplerArrays, coupler_of_arrays,
-#   transmission_of_arrays, SweepColumns, NUMBER_ROWS, LINE_ROWS, as_columns, column_texts.
+#   transmission_of_arrays, FORCES_STATUS_CODES, FORCES_HANDOFF, ReactionArrays, ForcesArrays,
+#   forces_of_arrays, SweepColumns, NUMBER_ROWS, LINE_ROWS, as_columns, column_texts.
 
 
 # -- the vectorised path: numpy, a block of angles at a time ------------------------------------
@@ -5470,6 +5481,356 @@ def transmission_of_arrays(linkage: Closure, arrays: MotionArrays) -> numpy.ndar
                                       functools.partial(_cos_sin_degrees_array, np))
         mu = transmission_form(linkage.kind, a[0], p[0], p_q, np.arctan2)
     return np.broadcast_to(np.asarray(mu, dtype=np.float64), (len(arrays.phi),)).copy()
+
+
+# -- the forces on arrays ---------------------------------------------------------------------------
+#
+# Linkage.forces_arrays is forces() on a sweep_arrays answer: each body's wrench as forces() finds
+# it (the same formulas, a block of angles at a time, each body's frame as the forces section's
+# notes give it), but the system solved by elimination along the chain, body by body, in closed
+# form, rather than by Gaussian elimination on the whole (the same square system, so the same
+# solution to rounding; tests/test_forces_numpy.py holds the two together). With T_1 the coupler's
+# wrench about A, R_B the force the coupler exerts on the output at its pin P, e = P - A:
+#   the coupler's moments about A (all but the one about e: 0 = 0 for the skew kinds' line, and
+#   in the plane the one about z) fix R_B across e: R_B - (R_B . e) e/|e|^2 = e x T_1 / |e|^2;
+#   the output's moment about its axis k through its pivot (a four-bar), or its force along the
+#   guide g (a slider), fixes the rest: divided by h . e, h = k x (P - B0) or g;
+#   then the coupler's Newton gives R_A, the output's its ground reaction (force, and moment
+#   where it carries one), the crank's the torque about z and A0's reaction.
+# The spherical four-bar (moments about O only): M_B is perpendicular to its axis b and to
+#   nothing else but what the two other bodies ask: a . M_A = 0 (M_A = T_1 + M_B) and
+#   k . M_B0 = 0 (M_B0 = T_2 - M_B), three equations in rows b, a, k, solved by Cramer's rule
+#   over b . (a x k); then M_A, M_B0, the torque and M_A0 as above.
+# A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
+# near the output's dead centre, where forces() may find its system singular), whose numbers are
+# not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
+# forces() itself, which decides its status: the statuses are always the scalar form's.
+
+FORCES_STATUS_CODES = STATUS_CODES + (UNBOUNDED, OUT_OF_RANGE)    # ForcesArrays.status
+FORCES_HANDOFF = 1e-6       # handed to forces(): the elimination's divisor under this relative
+_ZERO3, _EX, _EY, _EZ = (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+
+
+class ReactionArrays(NamedTuple):
+    """A joint's Reaction on arrays: force and moment of shape (n, 3), or None where the joint
+    carries none (as Reaction)."""
+    force: numpy.ndarray | None
+    moment: numpy.ndarray | None
+
+
+class ForcesArrays(NamedTuple):
+    """Linkage.forces_arrays' answer: Forces' fields as numpy arrays, one element (or row) an
+    input angle: torque and power float64 of shape (n,), each joint's ReactionArrays, the
+    shaking force and moment of shape (n, 3), NaN where the forces are not known (status says
+    why: int8 codes, indices into FORCES_STATUS_CODES, the sweep's STATUS_CODES then UNBOUNDED
+    and OUT_OF_RANGE); speed_rpm the crank's speed they were computed at."""
+    phi: numpy.ndarray
+    torque: numpy.ndarray
+    power: numpy.ndarray
+    joints: dict[str, ReactionArrays]
+    shaking_force: numpy.ndarray
+    shaking_moment: numpy.ndarray
+    status: numpy.ndarray
+    speed_rpm: float
+
+    def forces(self) -> list[Forces]:
+        """The same answer as Linkage.forces gives it: a list of Forces, None where unknown."""
+        def vector(a: Any, i: int) -> Vector | None:
+            return None if a is None else cast(Vector, tuple(a[i].tolist()))
+        out = []
+        for i, (phi, torque, power, code) in enumerate(zip(
+                self.phi.tolist(), self.torque.tolist(), self.power.tolist(),
+                self.status.tolist())):
+            status = FORCES_STATUS_CODES[code]
+            if torque != torque:
+                out.append(Forces(phi, None, None, None, None, None, status, self.speed_rpm))
+                continue
+            joints = {name: Reaction(vector(r.force, i), vector(r.moment, i))
+                      for name, r in self.joints.items()}
+            out.append(Forces(phi, torque, power, joints, vector(self.shaking_force, i),
+                              vector(self.shaking_moment, i), status, self.speed_rpm))
+        return out
+
+
+# Numbers that are floats or arrays: a float 0.0 (a component the kind's geometry makes zero) is
+# left out of sums and products, so that a plane kind costs what its plane needs.
+def _nought(x: Any) -> bool:
+    return type(x) is float and x == 0.0
+
+
+def _times(k: Any, x: Any) -> Any:
+    if _nought(k) or _nought(x):
+        return 0.0
+    if type(k) is float and k == 1.0:
+        return x
+    return k if type(x) is float and x == 1.0 else k * x
+
+
+def _total(*xs: Any) -> Any:
+    out: Any = 0.0
+    for x in xs:
+        if not _nought(x):
+            out = x if _nought(out) else out + x
+    return out
+
+
+def _minus(x: Any, y: Any) -> Any:
+    return x if _nought(y) else -y if _nought(x) else x - y
+
+
+def _vlin(*terms: tuple[Any, Vec3]) -> Vec3:
+    """The sum of (coefficient, 3-vector) terms."""
+    return cast(Vec3, tuple(_total(*(_times(k, v[i]) for k, v in terms)) for i in range(3)))
+
+
+def _vcross(u: Vec3, v: Vec3) -> Vec3:
+    return (_minus(_times(u[1], v[2]), _times(u[2], v[1])),
+            _minus(_times(u[2], v[0]), _times(u[0], v[2])),
+            _minus(_times(u[0], v[1]), _times(u[1], v[0])))
+
+
+def _vdot(u: Vec3, v: Vec3) -> Any:
+    return _total(_times(u[0], v[0]), _times(u[1], v[1]), _times(u[2], v[2]))
+
+
+def _vunit(np: ModuleType, v: Vec3) -> Vec3:
+    return _vlin((1.0 / np.sqrt(_vdot(v, v)), v))
+
+
+class _BodyArrays(NamedTuple):
+    origin: Vec3
+    axes: tuple[Vec3, Vec3, Vec3] | None        # None: the skew coupler's (only x: line)
+    line: Vec3
+    acceleration: Vec3
+    spin: Vec3
+    spin_rate: Vec3
+
+
+def _inertia_times_arrays(body: _BodyArrays, inertia: Matrix, w: Vec3) -> Vec3:
+    """The body-frame inertia, in the fixed frame, times w (_inertia_times on arrays); the skew
+    coupler's axisymmetric about its line."""
+    if body.axes is None:
+        along = _vdot(body.line, w)
+        transverse = (inertia[1][1] + inertia[2][2]) / 2.0
+        return _vlin((inertia[0][0] - transverse, _vlin((along, body.line))), (transverse, w))
+    local = [_vdot(axis, w) for axis in body.axes]
+    rows = [_total(*(_times(row[j], local[j]) for j in range(3))) for row in inertia]
+    return _vlin(*zip(rows, body.axes))
+
+
+def _body_frames(np: ModuleType, setup: ForcesSetup, phi: Any, out: Any, q1: Any, q2: Any
+                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3]:
+    """_states on arrays: the three bodies, and the pins A and P."""
+    linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
+    kind = linkage.kind
+    cos_sin = functools.partial(_cos_sin_degrees_array, np)
+    a = PINS[kind].crank_pin(dims, *cos_sin(phi))
+    p = output_pin_at(linkage, dims, out, cos_sin)
+    p1, p2 = _vlin((q1, p[1])), _vlin((_times(q1, q1), p[2]), (q2, p[1]))
+    pa, va, aa = _vlin((r, a[0])), _vlin((r * w, a[1])), _vlin((r * w * w, a[2]), (r * al, a[1]))
+    pp, vp, ap = _vlin((r, p[0])), _vlin((r * w, p1)), _vlin((r * w * w, p2), (r * al, p1))
+    x = _vunit(np, (pa[0], pa[1], 0.0))
+    crank = _BodyArrays(_ZERO3, (x, _vcross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
+                        (0.0, 0.0, al))
+    form = PINS[kind].coupler
+    if form == "sphere":
+        n = _vcross(pa, pp)
+        nn = _vdot(n, n)
+        z = _vlin((1.0 / np.sqrt(nn), n))
+
+        def about_o(va_: Vec3, vb_: Vec3) -> Vec3:     # _spin_about_centre
+            return _vlin((_vdot(vb_, n) / nn, pa), (-_vdot(va_, n) / nn, pp),
+                         (_vdot(va_, pp) / nn, n))
+        spin = about_o(va, vp)
+        rate = about_o(_vlin((1.0, aa), (-1.0, _vcross(spin, va))),
+                       _vlin((1.0, ap), (-1.0, _vcross(spin, vp))))
+        x = _vunit(np, pa)
+        coupler = _BodyArrays(_ZERO3, (x, _vcross(z, x), z), x, _ZERO3, spin, rate)
+    else:
+        ab, dv, da = _vlin((1.0, pp), (-1.0, pa)), _vlin((1.0, vp), (-1.0, va)), \
+            _vlin((1.0, ap), (-1.0, aa))
+        inverse = 1.0 / _vdot(ab, ab)
+        spin = _vlin((inverse, _vcross(ab, dv)))
+        rate = _vlin((inverse, _vcross(ab, _vlin((1.0, da), (-1.0, _vcross(spin, dv))))))
+        x = _vlin((np.sqrt(inverse), ab))
+        axes = (x, _vcross(_EZ, x), _EZ) if form == "plane" else None
+        coupler = _BodyArrays(pa, axes, x, aa, spin, rate)
+    if linkage.is_slider:
+        g = setup.axes["guide"][1]
+        y = _EY if kind == PLANE_SLIDER_CRANK else _EX
+        output = _BodyArrays(pp, (g, y, cross(g, y)), g, ap, _ZERO3, _ZERO3)
+    else:
+        k = setup.axes["output"][1]
+        pivot = _vlin((r, setup.ground["B0"])) if kind != SPHERICAL_FOUR_BAR else _ZERO3
+        arm = _vlin((1.0, pp), (-1.0, pivot))
+        x = _vunit(np, _vlin((1.0, arm), (-_vdot(arm, k), k)))
+        output = _BodyArrays(pivot, (x, _vcross(k, x), k), x, _ZERO3, _vlin((_times(q1, w), k)),
+                             _vlin((_total(_times(q2, w * w), _times(q1, al)), k)))
+    return (crank, coupler, output), pa, pp
+
+
+def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays]
+                   ) -> list[tuple[Vec3, Vec3]]:
+    """Each body's wrench about the origin that the reactions and the torque make up (as in
+    _forces_at): the rate of its momenta less gravity and the loads."""
+    needed = []
+    for i, (mass, body) in enumerate(zip(setup.masses, bodies)):
+        axes = body.axes or (body.line, _ZERO3, _ZERO3)
+        rho = _vlin(*zip(mass.centre, axes))
+        centre = _vlin((1.0, body.origin), (1.0, rho))
+        a_g = _vlin((1.0, body.acceleration), (1.0, _vcross(body.spin_rate, rho)),
+                    (1.0, _vcross(body.spin, _vcross(body.spin, rho))))
+        net = _vlin((mass.mass, a_g), (-mass.mass, setup.gravity))
+        turning = _vlin((1.0, _vcross(centre, net)),
+                        (1.0, _inertia_times_arrays(body, mass.inertia, body.spin_rate)),
+                        (1.0, _vcross(body.spin, _inertia_times_arrays(body, mass.inertia,
+                                                                       body.spin))))
+        if i == 1 and setup.coupler_point is not None:
+            at = _vlin((1.0, body.origin), (1.0, _vlin(*zip(setup.coupler_point, axes))))
+            net = _vlin((1.0, net), (-1.0, setup.coupler_force))
+            turning = _vlin((1.0, turning), (-1.0, _vcross(at, setup.coupler_force)))
+        if i == 2 and setup.output_torque:
+            assert body.axes is not None
+            turning = _vlin((1.0, turning), (-setup.output_torque, body.axes[2]))
+        if i == 2 and setup.output_force:
+            load = _vlin((setup.output_force, body.line))
+            net = _vlin((1.0, net), (-1.0, load))
+            turning = _vlin((1.0, turning), (-1.0, _vcross(body.origin, load)))
+        needed.append((net, turning))
+    return needed
+
+
+def _reactions_arrays(np: ModuleType, setup: ForcesSetup,
+                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3
+                      ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any]:
+    """The torque, each joint's (force, moment), the shaking force and moment, and how far
+    each position is from the elimination's singularity (its divisor, relative): see the
+    notes above."""
+    kind = setup.linkage.kind
+    (n0, t0), (n1, t1), (n2, t2) = _needed_arrays(setup, bodies)
+    out = PINS[kind].output_joint
+    ground = "guide" if setup.linkage.is_slider else "B0"
+    joints: dict[str, tuple[Vec3 | None, Vec3 | None]]
+    if kind == SPHERICAL_FOUR_BAR:
+        a, b, k = _vunit(np, pa), _vunit(np, pp), setup.axes["output"][1]
+        divisor = _vdot(b, _vcross(a, k))
+        m_b = _vlin((-_vdot(a, t1) / divisor, _vcross(k, b)),
+                    (_vdot(k, t2) / divisor, _vcross(b, a)))
+        m_a, m_b0 = _vlin((1.0, t1), (1.0, m_b)), _vlin((1.0, t2), (-1.0, m_b))
+        v = _vlin((1.0, t0), (1.0, m_a))
+        m_a0 = (v[0], v[1], 0.0)
+        shaking_force = _vlin((-1.0, n0), (-1.0, n1), (-1.0, n2))
+        shaking_moment = _vlin((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
+        joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
+        return v[2], joints, shaking_force, shaking_moment, np.abs(divisor)
+    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
+    ab = _vlin((1.0, pp), (-1.0, pa))
+    squared = _vdot(ab, ab)
+    t1a = _vlin((1.0, t1), (-1.0, _vcross(pa, n1)))
+    across = _vlin((1.0 / squared, _vcross(ab, t1a)))
+    output = bodies[2]
+    if setup.linkage.is_slider:
+        g = output.line
+        divisor = _vdot(g, ab)
+        along = _minus(_vdot(g, n2), _vdot(g, across)) / divisor
+        size = np.sqrt(squared)
+    else:
+        k = setup.axes["output"][1]
+        arm = _vlin((1.0, pp), (-1.0, output.origin))
+        t2o = _vlin((1.0, t2), (-1.0, _vcross(output.origin, n2)))
+        h = _vcross(k, arm)
+        divisor = _vdot(h, ab)
+        along = _minus(_vdot(k, t2o), _vdot(h, across)) / divisor
+        size = np.sqrt(squared * _vdot(h, h))
+    r_b = _vlin((along, ab), (1.0, across))
+    r_a = _vlin((1.0, n1), (1.0, r_b))
+    r_g = _vlin((1.0, n2), (-1.0, r_b))
+    if setup.linkage.is_slider:
+        m_g = _vlin((1.0, t2), (-1.0, _vcross(pp, n2)))
+        if plane:
+            r_g, m_g = (0.0, r_g[1], 0.0), (0.0, 0.0, m_g[2])
+        at = pp
+    else:
+        m_g = _vlin((1.0, t2o), (-1.0, _vcross(arm, r_b)))
+        at = output.origin
+    r_a0 = _vlin((1.0, n0), (1.0, r_a))
+    v = _vlin((1.0, t0), (1.0, _vcross(pa, r_a)))
+    torque = v[2]
+    m_a0 = (v[0], v[1], 0.0)
+    shaking_force = _vlin((-1.0, r_a0), (-1.0, r_g))
+    shaking_moment = _vlin((1.0, (0.0, 0.0, -torque)), (-1.0, _vcross(at, r_g)))
+    if plane and not setup.linkage.is_slider:
+        joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, None)}
+    elif plane:
+        shaking_moment = _vlin((1.0, shaking_moment), (-1.0, m_g))
+        joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
+    else:
+        shaking_moment = _vlin((1.0, shaking_moment), (-1.0, m_a0), (-1.0, m_g))
+        joints = {"A0": (r_a0, m_a0), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
+    return torque, joints, shaking_force, shaking_moment, np.abs(divisor) / size
+
+
+def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
+                     bodies: Bodies = Bodies(), effects: Effects = Effects(), *,
+                     radius: float = 1.0) -> ForcesArrays:
+    """forces() on a MotionArrays of `branch` with velocity and acceleration (Linkage.sweep_arrays'
+    answer): a ForcesArrays (see Linkage.forces_arrays)."""
+    np = numpy_module()
+    setup = forces_setup(linkage, bodies, effects, radius)
+    if arrays.velocity is None or arrays.acceleration is None:
+        raise ValueError("the forces need the sweep's velocity and acceleration (derivatives 2)")
+    count = len(arrays.phi)
+    torque = np.full(count, math.nan)
+    status = arrays.status.copy()
+    joints: dict[str, ReactionArrays] = {}
+    shaking = np.full((2, count, 3), math.nan)
+    handed = []
+    assembled = STATUS_CODES.index(ASSEMBLED)
+    with np.errstate(all="ignore"):
+        for start in range(0, count, FAST_BLOCK):
+            part = slice(start, min(start + FAST_BLOCK, count))
+            states, pa, pp = _body_frames(np, setup, arrays.phi[part], arrays.output[part],
+                                          arrays.velocity[part], arrays.acceleration[part])
+            t, reactions, force, moment, apart = _reactions_arrays(np, setup, states, pa, pp)
+            torque[part] = t
+            check = torque[part].copy()
+            for name, pair in reactions.items():
+                if name not in joints:
+                    joints[name] = ReactionArrays(*(None if v is None else
+                                                    np.full((count, 3), math.nan) for v in pair))
+                for v, into in zip(pair, joints[name]):
+                    if v is not None and into is not None:
+                        for j in range(3):
+                            into[part, j] = v[j]
+                            check += into[part, j]
+            for v, whole in zip((force, moment), shaking):
+                for j in range(3):
+                    whole[part, j] = v[j]
+                    check += whole[part, j]
+            plain = arrays.status[part]
+            redo = ((plain != assembled) & (plain != STATUS_CODES.index(NOT_ASSEMBLED))) | (
+                (plain == assembled) & ~((apart >= FORCES_HANDOFF) & np.isfinite(check)))
+            if redo.any():
+                handed.append(np.flatnonzero(redo) + start)
+    unknown = status != assembled
+    torque[unknown] = math.nan
+    for a in [shaking] + [v for r in joints.values() for v in r if v is not None]:
+        a[..., unknown, :] = math.nan
+    where = np.concatenate(handed) if handed else np.empty(0, dtype=np.intp)
+    if len(where):
+        for i, f in zip(where.tolist(), forces(linkage, arrays.phi[where].tolist(), branch,
+                                                 bodies, effects, radius=radius)):
+            status[i] = FORCES_STATUS_CODES.index(f.status)
+            torque[i] = math.nan if f.torque is None else f.torque
+            for name, arrays_of in joints.items():
+                reaction = f.joints[name] if f.joints is not None else Reaction(None, None)
+                for v, column in zip(reaction, arrays_of):
+                    if column is not None:
+                        column[i] = math.nan if v is None else v
+            for v, column in zip((f.shaking_force, f.shaking_moment), shaking):
+                column[i] = math.nan if v is None else v
+    return ForcesArrays(arrays.phi, torque, torque * setup.omega, joints, shaking[0], shaking[1],
+                        status, setup.speed_rpm)
 
 
 class SweepColumns(NamedTuple):
@@ -6466,6 +6827,16 @@ class Linkage(Closure):
         joints' reactions and the frame's shaking, for the bodies and effects given (see the
         forces section's notes: SI units, each body's frame)."""
         return forces(self, phis, branch, bodies, effects, radius=radius, start=start)
+
+    def forces_arrays(self, phis: Sequence[float] | numpy.ndarray, branch: int = 1,
+                      bodies: Bodies = Bodies(), effects: Effects = Effects(), *,
+                      radius: float = 1.0) -> ForcesArrays:
+        """forces on numpy arrays (the optional extra `fast`): a ForcesArrays of the torque, the
+        power, each joint's reaction and the shaking, NaN where unknown, with status codes; the
+        same numbers as forces to rounding and the same statuses (tests/test_forces_numpy.py): a
+        position near a dead centre is computed by forces itself."""
+        return forces_of_arrays(self, self.sweep_arrays(phis, branch, 2), branch, bodies,
+                                effects, radius=radius)
 
 
 # ---- 13. DAT and CSV files: the sweep's formats, written and read --------------------------------
@@ -13267,8 +13638,8 @@ def forces_command(args: argparse.Namespace, parser: argparse.ArgumentParser) ->
             return said(f"{scene.path}: the {scene.kind} linkage assembles at none of "
                         "the sweep's input angles", 1)
         prefix = f"branch_{branch}." if len(branches) > 1 else ""
-        lines += [f"{prefix}branch = {branch}"] + forces_lines(results, speed,
-                                                               args.fluctuation, prefix)
+        lines += [f"{prefix}branch = {branch}"] + forces_lines(results, cs=args.fluctuation,
+                                                               prefix=prefix)
     sys.stdout.write("".join(line + "\n" for line in lines))
     sys.stdout.flush()
     return 0
