@@ -26,14 +26,14 @@ them): 1. files, messages and the terminal (the one writer of files, say, signal
 precision; 4. the listing's computation; 5. the original program (screen, keys, INPUT, the menu
 session); 6. the accurate engine (the closure solved, swept and followed); 7. what the engine
 derives (joints, coupler point, transmission angle); 8. the linkage analysed (analyse);
-9. forces (driving torque, joint reactions, shaking); 10. the numpy path (the engine, what it
-derives and the forces, on arrays); 11. simulation (the motion in time under forces,
-through dead centres and change points); 12. the linkage (Linkage, a method for each
-question); 13. DAT and CSV files; 14. the mechanism drawn; 15. the mechanism's renderers
-(terminal, SVG, PNG, DXF); 16. synthesis: what a design is; 17. synthesis: the review's
-methods; 18. synthesis: designs measured and checked; 19. scenes; 20. plots; 21. the explorer
-(a dimension changed, the linkage watched in the terminal); 22. benchmarks of the program
-itself; 23. the command line, last. The engine, the view and synthesis never use the original
+9. forces (driving torque, joint reactions, shaking); 10. the numpy path (the engine and what
+it derives, on arrays); 11. the numpy path: forces on arrays; 12. simulation (the motion in time
+under forces, through dead centres and change points); 13. the linkage (Linkage, a method for
+each question); 14. DAT and CSV files; 15. the mechanism drawn; 16. the mechanism's renderers
+(terminal, SVG, PNG, DXF); 17. synthesis: what a design is; 18. synthesis: the review's
+methods; 19. synthesis: designs measured and checked; 20. scenes; 21. plots; 22. the explorer
+(a dimension changed, the linkage watched in the terminal); 23. benchmarks of the program
+itself; 24. the command line, last. The engine, the view and synthesis never use the original
 program.
 """
 
@@ -5040,13 +5040,13 @@ def forces_lines(results: Sequence[Forces], *, cs: float = 0.05, prefix: str = "
 # point near a dead centre or change point handed to the scalar engine), the coupler point and
 # transmission angle on arrays, and numbers formatted as repr formats them a block at once (the DAT
 # and CSV lines). numpy is an optional extra: numpy_module raises FastUnavailable without it. No
-# other section uses numpy itself (test_layout).
+# section but this and the next (the forces on arrays) uses numpy itself (test_layout).
 #
-# Uses: sections 1, 2, 6, 7 and 9.
+# Uses: sections 1, 2, 6 and 7.
 # Offers: STATUS_CODES, FAST_BLOCK, FAST_MARGIN, FastUnavailable, numpy_module, angle_array,
-#   MotionArrays, assembled_count, motion_arrays_of, CouplerArrays, coupler_of_arrays,
-#   transmission_of_arrays, FORCES_STATUS_CODES, FORCES_HANDOFF, ReactionArrays, ForcesArrays,
-#   forces_of_arrays, SweepColumns, NUMBER_ROWS, LINE_ROWS, as_columns, column_texts.
+#   MotionArrays, assembled_count, motion_arrays_of, cos_sin_degrees_array, CouplerArrays,
+#   coupler_of_arrays, transmission_of_arrays, SweepColumns, NUMBER_ROWS, LINE_ROWS, as_columns,
+#   column_texts.
 
 
 # -- the vectorised path: numpy, a block of angles at a time ------------------------------------
@@ -5431,7 +5431,7 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
     return MotionArrays(phi, res["output"], res["velocity"], res["acceleration"], status)
 
 
-def _cos_sin_degrees_array(np, x):
+def cos_sin_degrees_array(np: ModuleType, x: Any) -> tuple[numpy.ndarray, numpy.ndarray]:
     """cos_sin_degrees elementwise (NaN stays NaN): _fast_cos_sin, with buffers of its own."""
     x = np.asarray(x, dtype=np.float64)
     w = {k: np.empty_like(x) for k in ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare")}
@@ -5457,11 +5457,11 @@ def coupler_of_arrays(linkage: Closure, arrays: MotionArrays, u: float,
     np = numpy_module()
     u, v = check_coupler_point(linkage, u, v)
     level = 0 if arrays.velocity is None else 1 if arrays.acceleration is None else 2
-    c, s = _cos_sin_degrees_array(np, arrays.phi)
+    c, s = cos_sin_degrees_array(np, arrays.phi)
     with np.errstate(all="ignore"):
         a, p, _ = joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
                                     arrays.output, level, arrays.velocity,
-                                    arrays.acceleration, functools.partial(_cos_sin_degrees_array,
+                                    arrays.acceleration, functools.partial(cos_sin_degrees_array,
                                                                            np))
         point = coupler_form(linkage, a, p, u, v, np.sqrt)
     count = len(arrays.phi)
@@ -5474,363 +5474,14 @@ def coupler_of_arrays(linkage: Closure, arrays: MotionArrays, u: float,
 def transmission_of_arrays(linkage: Closure, arrays: MotionArrays) -> numpy.ndarray:
     """transmission_of on a MotionArrays: a float64 array, NaN where there is no position."""
     np = numpy_module()
-    c, s = _cos_sin_degrees_array(np, arrays.phi)
+    c, s = cos_sin_degrees_array(np, arrays.phi)
     with np.errstate(all="ignore"):
         a, p, p_q = joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
                                       arrays.output, 0, None, None,
-                                      functools.partial(_cos_sin_degrees_array, np))
+                                      functools.partial(cos_sin_degrees_array, np))
         mu = transmission_form(linkage.kind, a[0], p[0], p_q, np.arctan2)
     return np.broadcast_to(np.asarray(mu, dtype=np.float64), (len(arrays.phi),)).copy()
 
-
-# -- the forces on arrays ---------------------------------------------------------------------------
-#
-# Linkage.forces_arrays is forces() on a sweep_arrays answer: each body's wrench as forces() finds
-# it (the same formulas, a block of angles at a time, each body's frame as the forces section's
-# notes give it), but the system solved by elimination along the chain, body by body, in closed
-# form, rather than by Gaussian elimination on the whole (the same square system, so the same
-# solution to rounding; tests/test_forces_numpy.py holds the two together). With T_1 the coupler's
-# wrench about A, R_B the force the coupler exerts on the output at its pin P, e = P - A:
-#   the coupler's moments about A (all but the one about e: 0 = 0 for the skew kinds' line, and
-#   in the plane the one about z) fix R_B across e: R_B - (R_B . e) e/|e|^2 = e x T_1 / |e|^2;
-#   the output's moment about its axis k through its pivot (a four-bar), or its force along the
-#   guide g (a slider), fixes the rest: divided by h . e, h = k x (P - B0) or g;
-#   then the coupler's Newton gives R_A, the output's its ground reaction (force, and moment
-#   where it carries one), the crank's the torque about z and A0's reaction.
-# The spherical four-bar (moments about O only): M_B is perpendicular to its axis b and to
-#   nothing else but what the two other bodies ask: a . M_A = 0 (M_A = T_1 + M_B) and
-#   k . M_B0 = 0 (M_B0 = T_2 - M_B), three equations in rows b, a, k, solved by Cramer's rule
-#   over b . (a x k); then M_A, M_B0, the torque and M_A0 as above.
-# A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
-# near the output's dead centre, where forces() may find its system singular), whose numbers are
-# not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
-# forces() itself, which decides its status: the statuses are always the scalar form's.
-
-FORCES_STATUS_CODES = STATUS_CODES + (UNBOUNDED, OUT_OF_RANGE)    # ForcesArrays.status
-FORCES_HANDOFF = 1e-6       # handed to forces(): the elimination's divisor under this relative
-_ZERO3, _EX, _EY, _EZ = (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
-
-
-class ReactionArrays(NamedTuple):
-    """A joint's Reaction on arrays: force and moment of shape (n, 3), or None where the joint
-    carries none (as Reaction)."""
-    force: numpy.ndarray | None
-    moment: numpy.ndarray | None
-
-
-class ForcesArrays(NamedTuple):
-    """Linkage.forces_arrays' answer: Forces' fields as numpy arrays, one element (or row) an
-    input angle: torque and power float64 of shape (n,), each joint's ReactionArrays, the
-    shaking force and moment of shape (n, 3), NaN where the forces are not known (status says
-    why: int8 codes, indices into FORCES_STATUS_CODES, the sweep's STATUS_CODES then UNBOUNDED
-    and OUT_OF_RANGE); speed_rpm the crank's speed they were computed at."""
-    phi: numpy.ndarray
-    torque: numpy.ndarray
-    power: numpy.ndarray
-    joints: dict[str, ReactionArrays]
-    shaking_force: numpy.ndarray
-    shaking_moment: numpy.ndarray
-    status: numpy.ndarray
-    speed_rpm: float
-
-    def forces(self) -> list[Forces]:
-        """The same answer as Linkage.forces gives it: a list of Forces, None where unknown."""
-        def vector(a: Any, i: int) -> Vector | None:
-            return None if a is None else cast(Vector, tuple(a[i].tolist()))
-        out = []
-        for i, (phi, torque, power, code) in enumerate(zip(
-                self.phi.tolist(), self.torque.tolist(), self.power.tolist(),
-                self.status.tolist())):
-            status = FORCES_STATUS_CODES[code]
-            if torque != torque:
-                out.append(Forces(phi, None, None, None, None, None, status, self.speed_rpm))
-                continue
-            joints = {name: Reaction(vector(r.force, i), vector(r.moment, i))
-                      for name, r in self.joints.items()}
-            out.append(Forces(phi, torque, power, joints, vector(self.shaking_force, i),
-                              vector(self.shaking_moment, i), status, self.speed_rpm))
-        return out
-
-
-# Numbers that are floats or arrays: a float 0.0 (a component the kind's geometry makes zero) is
-# left out of sums and products, so that a plane kind costs what its plane needs.
-def _nought(x: Any) -> bool:
-    return type(x) is float and x == 0.0
-
-
-def _times(k: Any, x: Any) -> Any:
-    if _nought(k) or _nought(x):
-        return 0.0
-    if type(k) is float and k == 1.0:
-        return x
-    return k if type(x) is float and x == 1.0 else k * x
-
-
-def _total(*xs: Any) -> Any:
-    out: Any = 0.0
-    for x in xs:
-        if not _nought(x):
-            out = x if _nought(out) else out + x
-    return out
-
-
-def _minus(x: Any, y: Any) -> Any:
-    return x if _nought(y) else -y if _nought(x) else x - y
-
-
-def _vlin(*terms: tuple[Any, Vec3]) -> Vec3:
-    """The sum of (coefficient, 3-vector) terms."""
-    return cast(Vec3, tuple(_total(*(_times(k, v[i]) for k, v in terms)) for i in range(3)))
-
-
-def _vcross(u: Vec3, v: Vec3) -> Vec3:
-    return (_minus(_times(u[1], v[2]), _times(u[2], v[1])),
-            _minus(_times(u[2], v[0]), _times(u[0], v[2])),
-            _minus(_times(u[0], v[1]), _times(u[1], v[0])))
-
-
-def _vdot(u: Vec3, v: Vec3) -> Any:
-    return _total(_times(u[0], v[0]), _times(u[1], v[1]), _times(u[2], v[2]))
-
-
-def _vunit(np: ModuleType, v: Vec3) -> Vec3:
-    return _vlin((1.0 / np.sqrt(_vdot(v, v)), v))
-
-
-class _BodyArrays(NamedTuple):
-    origin: Vec3
-    axes: tuple[Vec3, Vec3, Vec3] | None        # None: the skew coupler's (only x: line)
-    line: Vec3
-    acceleration: Vec3
-    spin: Vec3
-    spin_rate: Vec3
-
-
-def _inertia_times_arrays(body: _BodyArrays, inertia: Matrix, w: Vec3) -> Vec3:
-    """The body-frame inertia, in the fixed frame, times w (_inertia_times on arrays); the skew
-    coupler's axisymmetric about its line."""
-    if body.axes is None:
-        along = _vdot(body.line, w)
-        transverse = (inertia[1][1] + inertia[2][2]) / 2.0
-        return _vlin((inertia[0][0] - transverse, _vlin((along, body.line))), (transverse, w))
-    local = [_vdot(axis, w) for axis in body.axes]
-    rows = [_total(*(_times(row[j], local[j]) for j in range(3))) for row in inertia]
-    return _vlin(*zip(rows, body.axes))
-
-
-def _body_frames(np: ModuleType, setup: ForcesSetup, phi: Any, out: Any, q1: Any, q2: Any
-                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3]:
-    """_states on arrays: the three bodies, and the pins A and P."""
-    linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
-    kind = linkage.kind
-    cos_sin = functools.partial(_cos_sin_degrees_array, np)
-    a = PINS[kind].crank_pin(dims, *cos_sin(phi))
-    p = output_pin_at(linkage, dims, out, cos_sin)
-    p1, p2 = _vlin((q1, p[1])), _vlin((_times(q1, q1), p[2]), (q2, p[1]))
-    pa, va, aa = _vlin((r, a[0])), _vlin((r * w, a[1])), _vlin((r * w * w, a[2]), (r * al, a[1]))
-    pp, vp, ap = _vlin((r, p[0])), _vlin((r * w, p1)), _vlin((r * w * w, p2), (r * al, p1))
-    x = _vunit(np, (pa[0], pa[1], 0.0))
-    crank = _BodyArrays(_ZERO3, (x, _vcross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
-                        (0.0, 0.0, al))
-    form = PINS[kind].coupler
-    if form == "sphere":
-        n = _vcross(pa, pp)
-        nn = _vdot(n, n)
-        z = _vlin((1.0 / np.sqrt(nn), n))
-
-        def about_o(va_: Vec3, vb_: Vec3) -> Vec3:     # _spin_about_centre
-            return _vlin((_vdot(vb_, n) / nn, pa), (-_vdot(va_, n) / nn, pp),
-                         (_vdot(va_, pp) / nn, n))
-        spin = about_o(va, vp)
-        rate = about_o(_vlin((1.0, aa), (-1.0, _vcross(spin, va))),
-                       _vlin((1.0, ap), (-1.0, _vcross(spin, vp))))
-        x = _vunit(np, pa)
-        coupler = _BodyArrays(_ZERO3, (x, _vcross(z, x), z), x, _ZERO3, spin, rate)
-    else:
-        ab, dv, da = _vlin((1.0, pp), (-1.0, pa)), _vlin((1.0, vp), (-1.0, va)), \
-            _vlin((1.0, ap), (-1.0, aa))
-        inverse = 1.0 / _vdot(ab, ab)
-        spin = _vlin((inverse, _vcross(ab, dv)))
-        rate = _vlin((inverse, _vcross(ab, _vlin((1.0, da), (-1.0, _vcross(spin, dv))))))
-        x = _vlin((np.sqrt(inverse), ab))
-        axes = (x, _vcross(_EZ, x), _EZ) if form == "plane" else None
-        coupler = _BodyArrays(pa, axes, x, aa, spin, rate)
-    if linkage.is_slider:
-        g = setup.axes["guide"][1]
-        y = _EY if kind == PLANE_SLIDER_CRANK else _EX
-        output = _BodyArrays(pp, (g, y, cross(g, y)), g, ap, _ZERO3, _ZERO3)
-    else:
-        k = setup.axes["output"][1]
-        pivot = _vlin((r, setup.ground["B0"])) if kind != SPHERICAL_FOUR_BAR else _ZERO3
-        arm = _vlin((1.0, pp), (-1.0, pivot))
-        x = _vunit(np, _vlin((1.0, arm), (-_vdot(arm, k), k)))
-        output = _BodyArrays(pivot, (x, _vcross(k, x), k), x, _ZERO3, _vlin((_times(q1, w), k)),
-                             _vlin((_total(_times(q2, w * w), _times(q1, al)), k)))
-    return (crank, coupler, output), pa, pp
-
-
-def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays]
-                   ) -> list[tuple[Vec3, Vec3]]:
-    """Each body's wrench about the origin that the reactions and the torque make up (as in
-    _forces_at): the rate of its momenta less gravity and the loads."""
-    needed = []
-    for i, (mass, body) in enumerate(zip(setup.masses, bodies)):
-        axes = body.axes or (body.line, _ZERO3, _ZERO3)
-        rho = _vlin(*zip(mass.centre, axes))
-        centre = _vlin((1.0, body.origin), (1.0, rho))
-        a_g = _vlin((1.0, body.acceleration), (1.0, _vcross(body.spin_rate, rho)),
-                    (1.0, _vcross(body.spin, _vcross(body.spin, rho))))
-        net = _vlin((mass.mass, a_g), (-mass.mass, setup.gravity))
-        turning = _vlin((1.0, _vcross(centre, net)),
-                        (1.0, _inertia_times_arrays(body, mass.inertia, body.spin_rate)),
-                        (1.0, _vcross(body.spin, _inertia_times_arrays(body, mass.inertia,
-                                                                       body.spin))))
-        if i == 1 and setup.coupler_point is not None:
-            at = _vlin((1.0, body.origin), (1.0, _vlin(*zip(setup.coupler_point, axes))))
-            net = _vlin((1.0, net), (-1.0, setup.coupler_force))
-            turning = _vlin((1.0, turning), (-1.0, _vcross(at, setup.coupler_force)))
-        if i == 2 and setup.output_torque:
-            assert body.axes is not None
-            turning = _vlin((1.0, turning), (-setup.output_torque, body.axes[2]))
-        if i == 2 and setup.output_force:
-            load = _vlin((setup.output_force, body.line))
-            net = _vlin((1.0, net), (-1.0, load))
-            turning = _vlin((1.0, turning), (-1.0, _vcross(body.origin, load)))
-        needed.append((net, turning))
-    return needed
-
-
-def _reactions_arrays(np: ModuleType, setup: ForcesSetup,
-                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3
-                      ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any]:
-    """The torque, each joint's (force, moment), the shaking force and moment, and how far
-    each position is from the elimination's singularity (its divisor, relative): see the
-    notes above."""
-    kind = setup.linkage.kind
-    (n0, t0), (n1, t1), (n2, t2) = _needed_arrays(setup, bodies)
-    out = PINS[kind].output_joint
-    ground = "guide" if setup.linkage.is_slider else "B0"
-    joints: dict[str, tuple[Vec3 | None, Vec3 | None]]
-    if kind == SPHERICAL_FOUR_BAR:
-        a, b, k = _vunit(np, pa), _vunit(np, pp), setup.axes["output"][1]
-        divisor = _vdot(b, _vcross(a, k))
-        m_b = _vlin((-_vdot(a, t1) / divisor, _vcross(k, b)),
-                    (_vdot(k, t2) / divisor, _vcross(b, a)))
-        m_a, m_b0 = _vlin((1.0, t1), (1.0, m_b)), _vlin((1.0, t2), (-1.0, m_b))
-        v = _vlin((1.0, t0), (1.0, m_a))
-        m_a0 = (v[0], v[1], 0.0)
-        shaking_force = _vlin((-1.0, n0), (-1.0, n1), (-1.0, n2))
-        shaking_moment = _vlin((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
-        joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
-        return v[2], joints, shaking_force, shaking_moment, np.abs(divisor)
-    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
-    ab = _vlin((1.0, pp), (-1.0, pa))
-    squared = _vdot(ab, ab)
-    t1a = _vlin((1.0, t1), (-1.0, _vcross(pa, n1)))
-    across = _vlin((1.0 / squared, _vcross(ab, t1a)))
-    output = bodies[2]
-    if setup.linkage.is_slider:
-        g = output.line
-        divisor = _vdot(g, ab)
-        along = _minus(_vdot(g, n2), _vdot(g, across)) / divisor
-        size = np.sqrt(squared)
-    else:
-        k = setup.axes["output"][1]
-        arm = _vlin((1.0, pp), (-1.0, output.origin))
-        t2o = _vlin((1.0, t2), (-1.0, _vcross(output.origin, n2)))
-        h = _vcross(k, arm)
-        divisor = _vdot(h, ab)
-        along = _minus(_vdot(k, t2o), _vdot(h, across)) / divisor
-        size = np.sqrt(squared * _vdot(h, h))
-    r_b = _vlin((along, ab), (1.0, across))
-    r_a = _vlin((1.0, n1), (1.0, r_b))
-    r_g = _vlin((1.0, n2), (-1.0, r_b))
-    if setup.linkage.is_slider:
-        m_g = _vlin((1.0, t2), (-1.0, _vcross(pp, n2)))
-        if plane:
-            r_g, m_g = (0.0, r_g[1], 0.0), (0.0, 0.0, m_g[2])
-        at = pp
-    else:
-        m_g = _vlin((1.0, t2o), (-1.0, _vcross(arm, r_b)))
-        at = output.origin
-    r_a0 = _vlin((1.0, n0), (1.0, r_a))
-    v = _vlin((1.0, t0), (1.0, _vcross(pa, r_a)))
-    torque = v[2]
-    m_a0 = (v[0], v[1], 0.0)
-    shaking_force = _vlin((-1.0, r_a0), (-1.0, r_g))
-    shaking_moment = _vlin((1.0, (0.0, 0.0, -torque)), (-1.0, _vcross(at, r_g)))
-    if plane and not setup.linkage.is_slider:
-        joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, None)}
-    elif plane:
-        shaking_moment = _vlin((1.0, shaking_moment), (-1.0, m_g))
-        joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
-    else:
-        shaking_moment = _vlin((1.0, shaking_moment), (-1.0, m_a0), (-1.0, m_g))
-        joints = {"A0": (r_a0, m_a0), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
-    return torque, joints, shaking_force, shaking_moment, np.abs(divisor) / size
-
-
-def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
-                     bodies: Bodies = Bodies(), effects: Effects = Effects(), *,
-                     radius: float = 1.0) -> ForcesArrays:
-    """forces() on a MotionArrays of `branch` with velocity and acceleration (Linkage.sweep_arrays'
-    answer): a ForcesArrays (see Linkage.forces_arrays)."""
-    np = numpy_module()
-    setup = forces_setup(linkage, bodies, effects, radius)
-    if arrays.velocity is None or arrays.acceleration is None:
-        raise ValueError("the forces need the sweep's velocity and acceleration (derivatives 2)")
-    count = len(arrays.phi)
-    torque = np.full(count, math.nan)
-    status = arrays.status.copy()
-    joints: dict[str, ReactionArrays] = {}
-    shaking = np.full((2, count, 3), math.nan)
-    handed = []
-    assembled = STATUS_CODES.index(ASSEMBLED)
-    with np.errstate(all="ignore"):
-        for start in range(0, count, FAST_BLOCK):
-            part = slice(start, min(start + FAST_BLOCK, count))
-            states, pa, pp = _body_frames(np, setup, arrays.phi[part], arrays.output[part],
-                                          arrays.velocity[part], arrays.acceleration[part])
-            t, reactions, force, moment, apart = _reactions_arrays(np, setup, states, pa, pp)
-            torque[part] = t
-            check = torque[part].copy()
-            for name, pair in reactions.items():
-                if name not in joints:
-                    joints[name] = ReactionArrays(*(None if v is None else
-                                                    np.full((count, 3), math.nan) for v in pair))
-                for v, into in zip(pair, joints[name]):
-                    if v is not None and into is not None:
-                        for j in range(3):
-                            into[part, j] = v[j]
-                            check += into[part, j]
-            for v, whole in zip((force, moment), shaking):
-                for j in range(3):
-                    whole[part, j] = v[j]
-                    check += whole[part, j]
-            plain = arrays.status[part]
-            redo = ((plain != assembled) & (plain != STATUS_CODES.index(NOT_ASSEMBLED))) | (
-                (plain == assembled) & ~((apart >= FORCES_HANDOFF) & np.isfinite(check)))
-            if redo.any():
-                handed.append(np.flatnonzero(redo) + start)
-    unknown = status != assembled
-    torque[unknown] = math.nan
-    for a in [shaking] + [v for r in joints.values() for v in r if v is not None]:
-        a[..., unknown, :] = math.nan
-    where = np.concatenate(handed) if handed else np.empty(0, dtype=np.intp)
-    if len(where):
-        for i, f in zip(where.tolist(), forces(linkage, arrays.phi[where].tolist(), branch,
-                                                 bodies, effects, radius=radius)):
-            status[i] = FORCES_STATUS_CODES.index(f.status)
-            torque[i] = math.nan if f.torque is None else f.torque
-            for name, arrays_of in joints.items():
-                reaction = f.joints[name] if f.joints is not None else Reaction(None, None)
-                for v, column in zip(reaction, arrays_of):
-                    if column is not None:
-                        column[i] = math.nan if v is None else v
-            for v, column in zip((f.shaking_force, f.shaking_moment), shaking):
-                column[i] = math.nan if v is None else v
-    return ForcesArrays(arrays.phi, torque, torque * setup.omega, joints, shaking[0], shaking[1],
-                        status, setup.speed_rpm)
 
 
 class SweepColumns(NamedTuple):
@@ -6069,7 +5720,368 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
         yield from _lines(np, outputs)
 
 
-# ---- 11. Simulation: the motion in time under the scene's effects --------------------------------
+# ---- 11. The numpy path: forces on arrays --------------------------------------------------------
+#
+# Holds: the forces section's answer on numpy arrays, Linkage.forces_arrays' work: each body's
+# wrench as forces() finds it, the reactions by elimination along the chain in closed form, a
+# position near a dead centre handed to forces() itself. The numpy path's second room: numpy here
+# too, and nowhere else but section 10 (test_layout).
+#
+# Uses: sections 2, 6, 7, 9 and 10.
+# Offers: FORCES_STATUS_CODES, FORCES_HANDOFF, ReactionArrays, ForcesArrays, forces_of_arrays.
+
+
+# -- the forces on arrays ---------------------------------------------------------------------------
+#
+# Linkage.forces_arrays is forces() on a sweep_arrays answer: each body's wrench as forces() finds
+# it (the same formulas, a block of angles at a time, each body's frame as the forces section's
+# notes give it), but the system solved by elimination along the chain, body by body, in closed
+# form, rather than by Gaussian elimination on the whole (the same square system, so the same
+# solution to rounding; tests/test_forces_numpy.py holds the two together). With T_1 the coupler's
+# wrench about A, R_B the force the coupler exerts on the output at its pin P, e = P - A:
+#   the coupler's moments about A (all but the one about e: 0 = 0 for the skew kinds' line, and
+#   in the plane the one about z) fix R_B across e: R_B - (R_B . e) e/|e|^2 = e x T_1 / |e|^2;
+#   the output's moment about its axis k through its pivot (a four-bar), or its force along the
+#   guide g (a slider), fixes the rest: divided by h . e, h = k x (P - B0) or g;
+#   then the coupler's Newton gives R_A, the output's its ground reaction (force, and moment
+#   where it carries one), the crank's the torque about z and A0's reaction.
+# The spherical four-bar (moments about O only): M_B is perpendicular to its axis b and to
+#   nothing else but what the two other bodies ask: a . M_A = 0 (M_A = T_1 + M_B) and
+#   k . M_B0 = 0 (M_B0 = T_2 - M_B), three equations in rows b, a, k, solved by Cramer's rule
+#   over b . (a x k); then M_A, M_B0, the torque and M_A0 as above.
+# A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
+# near the output's dead centre, where forces() may find its system singular), whose numbers are
+# not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
+# forces() itself, which decides its status: the statuses are always the scalar form's.
+
+FORCES_STATUS_CODES = STATUS_CODES + (UNBOUNDED, OUT_OF_RANGE)    # ForcesArrays.status
+FORCES_HANDOFF = 1e-6       # handed to forces(): the elimination's divisor under this relative
+_ZERO3, _EX, _EY, _EZ = (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+
+
+class ReactionArrays(NamedTuple):
+    """A joint's Reaction on arrays: force and moment of shape (n, 3), or None where the joint
+    carries none (as Reaction)."""
+    force: numpy.ndarray | None
+    moment: numpy.ndarray | None
+
+
+class ForcesArrays(NamedTuple):
+    """Linkage.forces_arrays' answer: Forces' fields as numpy arrays, one element (or row) an
+    input angle: torque and power float64 of shape (n,), each joint's ReactionArrays, the
+    shaking force and moment of shape (n, 3), NaN where the forces are not known (status says
+    why: int8 codes, indices into FORCES_STATUS_CODES, the sweep's STATUS_CODES then UNBOUNDED
+    and OUT_OF_RANGE); speed_rpm the crank's speed they were computed at."""
+    phi: numpy.ndarray
+    torque: numpy.ndarray
+    power: numpy.ndarray
+    joints: dict[str, ReactionArrays]
+    shaking_force: numpy.ndarray
+    shaking_moment: numpy.ndarray
+    status: numpy.ndarray
+    speed_rpm: float
+
+    def forces(self) -> list[Forces]:
+        """The same answer as Linkage.forces gives it: a list of Forces, None where unknown."""
+        def vector(a: Any, i: int) -> Vector | None:
+            return None if a is None else cast(Vector, tuple(a[i].tolist()))
+        out = []
+        for i, (phi, torque, power, code) in enumerate(zip(
+                self.phi.tolist(), self.torque.tolist(), self.power.tolist(),
+                self.status.tolist())):
+            status = FORCES_STATUS_CODES[code]
+            if torque != torque:
+                out.append(Forces(phi, None, None, None, None, None, status, self.speed_rpm))
+                continue
+            joints = {name: Reaction(vector(r.force, i), vector(r.moment, i))
+                      for name, r in self.joints.items()}
+            out.append(Forces(phi, torque, power, joints, vector(self.shaking_force, i),
+                              vector(self.shaking_moment, i), status, self.speed_rpm))
+        return out
+
+
+# Numbers that are floats or arrays: a float 0.0 (a component the kind's geometry makes zero) is
+# left out of sums and products, so that a plane kind costs what its plane needs.
+def _nought(x: Any) -> bool:
+    return type(x) is float and x == 0.0
+
+
+def _times(k: Any, x: Any) -> Any:
+    if _nought(k) or _nought(x):
+        return 0.0
+    if type(k) is float and k == 1.0:
+        return x
+    return k if type(x) is float and x == 1.0 else k * x
+
+
+def _total(*xs: Any) -> Any:
+    out: Any = 0.0
+    for x in xs:
+        if not _nought(x):
+            out = x if _nought(out) else out + x
+    return out
+
+
+def _minus(x: Any, y: Any) -> Any:
+    return x if _nought(y) else -y if _nought(x) else x - y
+
+
+def _vlin(*terms: tuple[Any, Vec3]) -> Vec3:
+    """The sum of (coefficient, 3-vector) terms."""
+    return cast(Vec3, tuple(_total(*(_times(k, v[i]) for k, v in terms)) for i in range(3)))
+
+
+def _vcross(u: Vec3, v: Vec3) -> Vec3:
+    return (_minus(_times(u[1], v[2]), _times(u[2], v[1])),
+            _minus(_times(u[2], v[0]), _times(u[0], v[2])),
+            _minus(_times(u[0], v[1]), _times(u[1], v[0])))
+
+
+def _vdot(u: Vec3, v: Vec3) -> Any:
+    return _total(_times(u[0], v[0]), _times(u[1], v[1]), _times(u[2], v[2]))
+
+
+def _vunit(np: ModuleType, v: Vec3) -> Vec3:
+    return _vlin((1.0 / np.sqrt(_vdot(v, v)), v))
+
+
+class _BodyArrays(NamedTuple):
+    origin: Vec3
+    axes: tuple[Vec3, Vec3, Vec3] | None        # None: the skew coupler's (only x: line)
+    line: Vec3
+    acceleration: Vec3
+    spin: Vec3
+    spin_rate: Vec3
+
+
+def _inertia_times_arrays(body: _BodyArrays, inertia: Matrix, w: Vec3) -> Vec3:
+    """The body-frame inertia, in the fixed frame, times w (_inertia_times on arrays); the skew
+    coupler's axisymmetric about its line."""
+    if body.axes is None:
+        along = _vdot(body.line, w)
+        transverse = (inertia[1][1] + inertia[2][2]) / 2.0
+        return _vlin((inertia[0][0] - transverse, _vlin((along, body.line))), (transverse, w))
+    local = [_vdot(axis, w) for axis in body.axes]
+    rows = [_total(*(_times(row[j], local[j]) for j in range(3))) for row in inertia]
+    return _vlin(*zip(rows, body.axes))
+
+
+def _body_frames(np: ModuleType, setup: ForcesSetup, phi: Any, out: Any, q1: Any, q2: Any
+                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3]:
+    """_states on arrays: the three bodies, and the pins A and P."""
+    linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
+    kind = linkage.kind
+    cos_sin = functools.partial(cos_sin_degrees_array, np)
+    a = PINS[kind].crank_pin(dims, *cos_sin(phi))
+    p = output_pin_at(linkage, dims, out, cos_sin)
+    p1, p2 = _vlin((q1, p[1])), _vlin((_times(q1, q1), p[2]), (q2, p[1]))
+    pa, va, aa = _vlin((r, a[0])), _vlin((r * w, a[1])), _vlin((r * w * w, a[2]), (r * al, a[1]))
+    pp, vp, ap = _vlin((r, p[0])), _vlin((r * w, p1)), _vlin((r * w * w, p2), (r * al, p1))
+    x = _vunit(np, (pa[0], pa[1], 0.0))
+    crank = _BodyArrays(_ZERO3, (x, _vcross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
+                        (0.0, 0.0, al))
+    form = PINS[kind].coupler
+    if form == "sphere":
+        n = _vcross(pa, pp)
+        nn = _vdot(n, n)
+        z = _vlin((1.0 / np.sqrt(nn), n))
+
+        def about_o(va_: Vec3, vb_: Vec3) -> Vec3:     # _spin_about_centre
+            return _vlin((_vdot(vb_, n) / nn, pa), (-_vdot(va_, n) / nn, pp),
+                         (_vdot(va_, pp) / nn, n))
+        spin = about_o(va, vp)
+        rate = about_o(_vlin((1.0, aa), (-1.0, _vcross(spin, va))),
+                       _vlin((1.0, ap), (-1.0, _vcross(spin, vp))))
+        x = _vunit(np, pa)
+        coupler = _BodyArrays(_ZERO3, (x, _vcross(z, x), z), x, _ZERO3, spin, rate)
+    else:
+        ab, dv, da = _vlin((1.0, pp), (-1.0, pa)), _vlin((1.0, vp), (-1.0, va)), \
+            _vlin((1.0, ap), (-1.0, aa))
+        inverse = 1.0 / _vdot(ab, ab)
+        spin = _vlin((inverse, _vcross(ab, dv)))
+        rate = _vlin((inverse, _vcross(ab, _vlin((1.0, da), (-1.0, _vcross(spin, dv))))))
+        x = _vlin((np.sqrt(inverse), ab))
+        axes = (x, _vcross(_EZ, x), _EZ) if form == "plane" else None
+        coupler = _BodyArrays(pa, axes, x, aa, spin, rate)
+    if linkage.is_slider:
+        g = setup.axes["guide"][1]
+        y = _EY if kind == PLANE_SLIDER_CRANK else _EX
+        output = _BodyArrays(pp, (g, y, cross(g, y)), g, ap, _ZERO3, _ZERO3)
+    else:
+        k = setup.axes["output"][1]
+        pivot = _vlin((r, setup.ground["B0"])) if kind != SPHERICAL_FOUR_BAR else _ZERO3
+        arm = _vlin((1.0, pp), (-1.0, pivot))
+        x = _vunit(np, _vlin((1.0, arm), (-_vdot(arm, k), k)))
+        output = _BodyArrays(pivot, (x, _vcross(k, x), k), x, _ZERO3, _vlin((_times(q1, w), k)),
+                             _vlin((_total(_times(q2, w * w), _times(q1, al)), k)))
+    return (crank, coupler, output), pa, pp
+
+
+def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays]
+                   ) -> list[tuple[Vec3, Vec3]]:
+    """Each body's wrench about the origin that the reactions and the torque make up (as in
+    _forces_at): the rate of its momenta less gravity and the loads."""
+    needed = []
+    for i, (mass, body) in enumerate(zip(setup.masses, bodies)):
+        axes = body.axes or (body.line, _ZERO3, _ZERO3)
+        rho = _vlin(*zip(mass.centre, axes))
+        centre = _vlin((1.0, body.origin), (1.0, rho))
+        a_g = _vlin((1.0, body.acceleration), (1.0, _vcross(body.spin_rate, rho)),
+                    (1.0, _vcross(body.spin, _vcross(body.spin, rho))))
+        net = _vlin((mass.mass, a_g), (-mass.mass, setup.gravity))
+        turning = _vlin((1.0, _vcross(centre, net)),
+                        (1.0, _inertia_times_arrays(body, mass.inertia, body.spin_rate)),
+                        (1.0, _vcross(body.spin, _inertia_times_arrays(body, mass.inertia,
+                                                                       body.spin))))
+        if i == 1 and setup.coupler_point is not None:
+            at = _vlin((1.0, body.origin), (1.0, _vlin(*zip(setup.coupler_point, axes))))
+            net = _vlin((1.0, net), (-1.0, setup.coupler_force))
+            turning = _vlin((1.0, turning), (-1.0, _vcross(at, setup.coupler_force)))
+        if i == 2 and setup.output_torque:
+            assert body.axes is not None
+            turning = _vlin((1.0, turning), (-setup.output_torque, body.axes[2]))
+        if i == 2 and setup.output_force:
+            load = _vlin((setup.output_force, body.line))
+            net = _vlin((1.0, net), (-1.0, load))
+            turning = _vlin((1.0, turning), (-1.0, _vcross(body.origin, load)))
+        needed.append((net, turning))
+    return needed
+
+
+def _reactions_arrays(np: ModuleType, setup: ForcesSetup,
+                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3
+                      ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any]:
+    """The torque, each joint's (force, moment), the shaking force and moment, and how far
+    each position is from the elimination's singularity (its divisor, relative): see the
+    notes above."""
+    kind = setup.linkage.kind
+    (n0, t0), (n1, t1), (n2, t2) = _needed_arrays(setup, bodies)
+    out = PINS[kind].output_joint
+    ground = "guide" if setup.linkage.is_slider else "B0"
+    joints: dict[str, tuple[Vec3 | None, Vec3 | None]]
+    if kind == SPHERICAL_FOUR_BAR:
+        a, b, k = _vunit(np, pa), _vunit(np, pp), setup.axes["output"][1]
+        divisor = _vdot(b, _vcross(a, k))
+        m_b = _vlin((-_vdot(a, t1) / divisor, _vcross(k, b)),
+                    (_vdot(k, t2) / divisor, _vcross(b, a)))
+        m_a, m_b0 = _vlin((1.0, t1), (1.0, m_b)), _vlin((1.0, t2), (-1.0, m_b))
+        v = _vlin((1.0, t0), (1.0, m_a))
+        m_a0 = (v[0], v[1], 0.0)
+        shaking_force = _vlin((-1.0, n0), (-1.0, n1), (-1.0, n2))
+        shaking_moment = _vlin((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
+        joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
+        return v[2], joints, shaking_force, shaking_moment, np.abs(divisor)
+    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
+    ab = _vlin((1.0, pp), (-1.0, pa))
+    squared = _vdot(ab, ab)
+    t1a = _vlin((1.0, t1), (-1.0, _vcross(pa, n1)))
+    across = _vlin((1.0 / squared, _vcross(ab, t1a)))
+    output = bodies[2]
+    if setup.linkage.is_slider:
+        g = output.line
+        divisor = _vdot(g, ab)
+        along = _minus(_vdot(g, n2), _vdot(g, across)) / divisor
+        size = np.sqrt(squared)
+    else:
+        k = setup.axes["output"][1]
+        arm = _vlin((1.0, pp), (-1.0, output.origin))
+        t2o = _vlin((1.0, t2), (-1.0, _vcross(output.origin, n2)))
+        h = _vcross(k, arm)
+        divisor = _vdot(h, ab)
+        along = _minus(_vdot(k, t2o), _vdot(h, across)) / divisor
+        size = np.sqrt(squared * _vdot(h, h))
+    r_b = _vlin((along, ab), (1.0, across))
+    r_a = _vlin((1.0, n1), (1.0, r_b))
+    r_g = _vlin((1.0, n2), (-1.0, r_b))
+    if setup.linkage.is_slider:
+        m_g = _vlin((1.0, t2), (-1.0, _vcross(pp, n2)))
+        if plane:
+            r_g, m_g = (0.0, r_g[1], 0.0), (0.0, 0.0, m_g[2])
+        at = pp
+    else:
+        m_g = _vlin((1.0, t2o), (-1.0, _vcross(arm, r_b)))
+        at = output.origin
+    r_a0 = _vlin((1.0, n0), (1.0, r_a))
+    v = _vlin((1.0, t0), (1.0, _vcross(pa, r_a)))
+    torque = v[2]
+    m_a0 = (v[0], v[1], 0.0)
+    shaking_force = _vlin((-1.0, r_a0), (-1.0, r_g))
+    shaking_moment = _vlin((1.0, (0.0, 0.0, -torque)), (-1.0, _vcross(at, r_g)))
+    if plane and not setup.linkage.is_slider:
+        joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, None)}
+    elif plane:
+        shaking_moment = _vlin((1.0, shaking_moment), (-1.0, m_g))
+        joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
+    else:
+        shaking_moment = _vlin((1.0, shaking_moment), (-1.0, m_a0), (-1.0, m_g))
+        joints = {"A0": (r_a0, m_a0), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
+    return torque, joints, shaking_force, shaking_moment, np.abs(divisor) / size
+
+
+def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
+                     bodies: Bodies = Bodies(), effects: Effects = Effects(), *,
+                     radius: float = 1.0) -> ForcesArrays:
+    """forces() on a MotionArrays of `branch` with velocity and acceleration (Linkage.sweep_arrays'
+    answer): a ForcesArrays (see Linkage.forces_arrays)."""
+    np = numpy_module()
+    setup = forces_setup(linkage, bodies, effects, radius)
+    if arrays.velocity is None or arrays.acceleration is None:
+        raise ValueError("the forces need the sweep's velocity and acceleration (derivatives 2)")
+    count = len(arrays.phi)
+    torque = np.full(count, math.nan)
+    status = arrays.status.copy()
+    joints: dict[str, ReactionArrays] = {}
+    shaking = np.full((2, count, 3), math.nan)
+    handed = []
+    assembled = STATUS_CODES.index(ASSEMBLED)
+    with np.errstate(all="ignore"):
+        for start in range(0, count, FAST_BLOCK):
+            part = slice(start, min(start + FAST_BLOCK, count))
+            states, pa, pp = _body_frames(np, setup, arrays.phi[part], arrays.output[part],
+                                          arrays.velocity[part], arrays.acceleration[part])
+            t, reactions, force, moment, apart = _reactions_arrays(np, setup, states, pa, pp)
+            torque[part] = t
+            check = torque[part].copy()
+            for name, pair in reactions.items():
+                if name not in joints:
+                    joints[name] = ReactionArrays(*(None if v is None else
+                                                    np.full((count, 3), math.nan) for v in pair))
+                for v, into in zip(pair, joints[name]):
+                    if v is not None and into is not None:
+                        for j in range(3):
+                            into[part, j] = v[j]
+                            check += into[part, j]
+            for v, whole in zip((force, moment), shaking):
+                for j in range(3):
+                    whole[part, j] = v[j]
+                    check += whole[part, j]
+            plain = arrays.status[part]
+            redo = ((plain != assembled) & (plain != STATUS_CODES.index(NOT_ASSEMBLED))) | (
+                (plain == assembled) & ~((apart >= FORCES_HANDOFF) & np.isfinite(check)))
+            if redo.any():
+                handed.append(np.flatnonzero(redo) + start)
+    unknown = status != assembled
+    torque[unknown] = math.nan
+    for a in [shaking] + [v for r in joints.values() for v in r if v is not None]:
+        a[..., unknown, :] = math.nan
+    where = np.concatenate(handed) if handed else np.empty(0, dtype=np.intp)
+    if len(where):
+        for i, f in zip(where.tolist(), forces(linkage, arrays.phi[where].tolist(), branch,
+                                                 bodies, effects, radius=radius)):
+            status[i] = FORCES_STATUS_CODES.index(f.status)
+            torque[i] = math.nan if f.torque is None else f.torque
+            for name, arrays_of in joints.items():
+                reaction = f.joints[name] if f.joints is not None else Reaction(None, None)
+                for v, column in zip(reaction, arrays_of):
+                    if column is not None:
+                        column[i] = math.nan if v is None else v
+            for v, column in zip((f.shaking_force, f.shaking_moment), shaking):
+                column[i] = math.nan if v is None else v
+    return ForcesArrays(arrays.phi, torque, torque * setup.omega, joints, shaking[0], shaking[1],
+                        status, setup.speed_rpm)
+
+
+# ---- 12. Simulation: the motion in time under the scene's effects --------------------------------
 #
 # The linkage has one degree of freedom; in a coordinate q (an angle, radians) every point moves
 # with X'(q) q_dot, and Lagrange's equation is
@@ -6763,13 +6775,13 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
     return Simulation(rows, events, steps, rejected, evaluations, worst)
 
 
-# ---- 12. The linkage: one class for all that can be asked of it ----------------------------------
+# ---- 13. The linkage: one class for all that can be asked of it ----------------------------------
 #
 # Holds: Linkage, the engine's Closure with a method for each question the sections before answer:
 # motion and sweep (the engine), coupler and transmission (what it derives), the same on numpy
 # arrays, and forces (what it takes to drive it).
 #
-# Uses: sections 6, 7, 9 and 10.
+# Uses: sections 6, 7, 9, 10 and 11.
 # Offers: Linkage.
 
 
@@ -6839,7 +6851,7 @@ class Linkage(Closure):
                                 effects, radius=radius)
 
 
-# ---- 13. DAT and CSV files: the sweep's formats, written and read --------------------------------
+# ---- 14. DAT and CSV files: the sweep's formats, written and read --------------------------------
 #
 # Holds: the accurate engine's files: ANG.DAT, VEL.DAT, ACC.DAT (and MU.DAT) in the listing's format
 # ("phi,value" CR LF lines, the end byte 1A) at full precision, the CSV's columns, a sweep's angles,
@@ -7041,7 +7053,7 @@ def dat_precision(directory: str) -> str:
     return ""
 
 
-# ---- 14. The mechanism drawn: poses projected onto the page --------------------------------------
+# ---- 15. The mechanism drawn: poses projected onto the page --------------------------------------
 #
 # Holds: mechanism_drawing(), which projects the poses of a sweep onto the page - plane linkages as
 # they are, the spherical linkage on its sphere seen obliquely, the skew linkages in a fixed
@@ -7049,7 +7061,7 @@ def dat_precision(directory: str) -> str:
 # on the side the links cross least, axes), drawn once, and one Frame a pose with its letters. The
 # letters go where no mark, link, hatching or other letter covers them (place_labels).
 #
-# Uses: sections 2, 6, 7 and 12.
+# Uses: sections 2, 6, 7 and 13.
 # Offers: Point, Box, Stroke, Mark, Label, Letters, Layer, Frame, Drawing, MECHANISM_EXAMPLES,
 #   STROKE_STYLES, FAR_SIDE, VIEWS, project, Segment, stroke_segments, place_labels,
 #   mechanism_drawing, spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale,
@@ -7880,14 +7892,14 @@ def svg_letters(bounds: Box, size: float) -> Letters:
                    (svg_radius(size, scale) + 1.0) / scale, 1.6 / scale)
 
 
-# ---- 15. The mechanism's renderers: terminal, SVG, PNG and DXF -----------------------------------
+# ---- 16. The mechanism's renderers: terminal, SVG, PNG and DXF -----------------------------------
 #
 # Holds: what draws a Drawing: the terminal (Unicode braille, or ASCII; still or animated until a
 # key), an animated SVG, a PNG (matplotlib); and the DXF of its linkage for CAD (ezdxf). The SVG's
 # letters are those placed in the Drawing; the terminal and the PNG place them again for the sizes
 # they draw letters at.
 #
-# Uses: sections 1, 2, 6, 7, 8 and 14.
+# Uses: sections 1, 2, 6, 7, 8 and 15.
 # Offers: text_drawing, frame_seconds, show_drawing, svg_drawing, PlotUnavailable,
 #   matplotlib_canvas, png_drawing, DXF_LINKS, DXF_POSITIONS, dxf_module, dxf_drawing.
 
@@ -8630,7 +8642,7 @@ def dxf_drawing(drawing: Drawing, positions: int = DXF_POSITIONS) -> bytes:
     return text.getvalue().encode("utf-8")
 
 
-# ---- 16. Synthesis: what a design is, its data and its linkage -----------------------------------
+# ---- 17. Synthesis: what a design is, its data and its linkage -----------------------------------
 #
 # The classical analytical synthesis methods collected by E. Pennestrì and P. P. Valentini, "A
 # review of simple analytical methods for the kinematic synthesis of four-bar and slider-crank
@@ -9021,14 +9033,14 @@ class Synthesis(NamedTuple):
         return self.solutions[self.preferred]
 
 
-# ---- 17. Synthesis: the review's methods ---------------------------------------------------------
+# ---- 18. Synthesis: the review's methods ---------------------------------------------------------
 #
 # Holds: the review's methods, each a function of its data returning a Synthesis: the crank-rockers
 # FOURB-CR-1..4 and Volmer's, the drag-links DRAGLINK-1 and -2, the function generators FOURB-FG2-1,
 # FOURB-FG3-1, SLID-FG2-1 and SLID-FG2-2. Corrections to the review are marked `# ERRATUM Sn` and
 # justified in data/SYNTHESIS_ERRATA.md.
 #
-# Uses: sections 2 and 16.
+# Uses: sections 2 and 17.
 # Offers: fourb_cr_1, fourb_cr_2, fourb_cr_3, fourb_cr_4, volmer_crank_rocker, draglink_1,
 #   draglink_2, limit_angles, fourb_fg2_1, fourb_fg3_1, slid_fg2_1, slid_fg2_2.
 
@@ -9769,7 +9781,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
     return _one(design)
 
 
-# ---- 18. Synthesis: designs measured and checked by the engine -----------------------------------
+# ---- 19. Synthesis: designs measured and checked by the engine -----------------------------------
 #
 # Holds: every design run through engine_outputs, the one adapter to the analysis (the accurate
 # engine, never the synthesis formulas); analyze_design measures on the analysed linkage what it
@@ -9777,7 +9789,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
 # or missed, the transmission-angle extremes. METHODS, the table of the methods, and a design's
 # lines of text.
 #
-# Uses: sections 2, 8, 12, 16 and 17.
+# Uses: sections 2, 8, 13, 17 and 18.
 # Offers: engine_outputs, kind_and_dimensions, measured_transmission_angle, Measured, measure,
 #   output_change, velocity_ratio, Check, analyze_design, ANGLE_TOLERANCE, LENGTH_TOLERANCE,
 #   RATIO_TOLERANCE, conditioning, rounding_floor, misses, METHODS, ASKED_ANGLES, REVIEW_LETTERS,
@@ -10272,7 +10284,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     return below + step / 2, above - step / 2, step
 
 
-# ---- 19. Scenes: a figure's data, loaded and computed --------------------------------------------
+# ---- 20. Scenes: a figure's data, loaded and computed --------------------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a linkage's kind and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -10287,7 +10299,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
 # those files are written.
 #
-# Uses: sections 1, 2, 5, 6, 7, 9, 10, 12 and 13.
+# Uses: sections 1, 2, 5, 6, 7, 9, 10, 13 and 14.
 # Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, FORCE_QUANTITIES, QUANTITY_FILES,
 #   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, DRAWN_UP_TO,
 #   DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene, scene_error, load_scene,
@@ -11004,7 +11016,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
     return write_csv(path, rows(), ("series",) + CSV_HEADER + joint_columns, outputs)
 
 
-# ---- 20. Plots: a figure drawn as text or PNG ----------------------------------------------------
+# ---- 21. Plots: a figure drawn as text or PNG ----------------------------------------------------
 #
 # Holds: a figure built from DAT files (scene_figure, dat_figure: its panels and curves) and drawn
 # as a plain-text plot (80 x 24, no dependency) or a PNG (matplotlib, the `plot` extra); a mechanism
@@ -11017,7 +11029,7 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 # added so that a curve is continuous across +-180 degrees, and so that the curves of a panel lie
 # within half a turn of the first one.
 #
-# Uses: sections 1, 2, 6, 7, 9, 12, 13, 14, 15 and 19.
+# Uses: sections 1, 2, 6, 7, 9, 13, 14, 15, 16 and 20.
 # Offers: dat_series, Curve, Panel, Figure, FORCE_LABELS, POLAR_MOMENTS, CLIPPED, build_figure,
 #   scene_figure, dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure,
 #   png_figure, force_arrows, scene_drawing, scene_text.
@@ -11621,7 +11633,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ---- 21. The explorer: a linkage changed and watched in the terminal -----------------------------
+# ---- 22. The explorer: a linkage changed and watched in the terminal -----------------------------
 #
 # Holds: `python3 linkage.py explore`: a full-screen view of the linkage moving, its coupler curve
 # traced, and beside it its dimensions and what analyse answers, all following each key. The
@@ -11636,7 +11648,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 # A change that cannot be drawn (a length of 0, an arc of 180 degrees) is refused on the status
 # line, the state as it was.
 #
-# Uses: sections 1, 2, 6, 7, 8, 12, 14, 15, 16, 19 and 20.
+# Uses: sections 1, 2, 6, 7, 8, 13, 15, 16, 17, 20 and 21.
 # Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
 #   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_key,
 #   explore_screen, explore_scene, terminal_keys, key_file, explore_saved, explore_replay,
@@ -12354,13 +12366,13 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
     return state
 
 
-# ---- 22. Benchmarks of the program itself --------------------------------------------------------
+# ---- 23. Benchmarks of the program itself --------------------------------------------------------
 #
 # Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS. What
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 11, 12, 13, 14, 15, 19, 20 and 21.
+# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 12, 13, 14, 15, 16, 20, 21 and 22.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
 #   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, bench_forces,
 #   FILES_TARGET, bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung,
@@ -13089,13 +13101,13 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 23. The command line ------------------------------------------------------------------------
+# ---- 24. The command line ------------------------------------------------------------------------
 #
 # Holds: the shared parsers of what is typed on the command line (numbers in each precision, linkage
 # kinds, PNG sizes), one handler a sub-command, the design methods' help, and COMMANDS, the table of
 # every sub-command's help and options that build_parser turns into argparse; main() last.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 12, 13, 14, 15, 16, 18, 19, 20, 21 and 22.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 13, 14, 15, 16, 17, 19, 20, 21, 22 and 23.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, DECIMAL, LONGEST_NUMBER,
 #   decimal_number, basic_answer, MADE_FOLDERS, output_folder, unmake_folders, run_command,
 #   CSV_CLIPPED, analyse_command, forces_command, FORCES_OPTIONS, drawing_command, scene_command,
