@@ -5827,8 +5827,17 @@ def _minus(x: Any, y: Any) -> Any:
 
 
 def _vlin(*terms: tuple[Any, Vec3]) -> Vec3:
-    """The sum of (coefficient, 3-vector) terms."""
-    return cast(Vec3, tuple(_total(*(_times(k, v[i]) for k, v in terms)) for i in range(3)))
+    """The sum of (coefficient, 3-vector) terms (a term of coefficient -1 subtracted)."""
+    out = []
+    for i in range(3):
+        value: Any = 0.0
+        for k, v in terms:
+            if type(k) is float and k == -1.0:
+                value = _minus(value, v[i])
+            else:
+                value = _total(value, _times(k, v[i]))
+        out.append(value)
+    return cast(Vec3, tuple(out))
 
 
 def _vcross(u: Vec3, v: Vec3) -> Vec3:
@@ -5852,6 +5861,7 @@ class _BodyArrays(NamedTuple):
     acceleration: Vec3
     spin: Vec3
     spin_rate: Vec3
+    axial: bool = False         # spin and spin_rate along axes[2] (the crank; a four-bar's output)
 
 
 def _inertia_times_arrays(body: _BodyArrays, inertia: Matrix, w: Vec3) -> Vec3:
@@ -5861,7 +5871,8 @@ def _inertia_times_arrays(body: _BodyArrays, inertia: Matrix, w: Vec3) -> Vec3:
         along = _vdot(body.line, w)
         transverse = (inertia[1][1] + inertia[2][2]) / 2.0
         return _vlin((inertia[0][0] - transverse, _vlin((along, body.line))), (transverse, w))
-    local = [_vdot(axis, w) for axis in body.axes]
+    local = [0.0, 0.0, _vdot(body.axes[2], w)] if body.axial else [
+        _vdot(axis, w) for axis in body.axes]
     rows = [_total(*(_times(row[j], local[j]) for j in range(3))) for row in inertia]
     return _vlin(*zip(rows, body.axes))
 
@@ -5879,7 +5890,7 @@ def _body_frames(np: ModuleType, setup: ForcesSetup, phi: Any, out: Any, q1: Any
     pp, vp, ap = _vlin((r, p[0])), _vlin((r * w, p1)), _vlin((r * w * w, p2), (r * al, p1))
     x = _vunit(np, (pa[0], pa[1], 0.0))
     crank = _BodyArrays(_ZERO3, (x, _vcross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
-                        (0.0, 0.0, al))
+                        (0.0, 0.0, al), True)
     form = PINS[kind].coupler
     if form == "sphere":
         n = _vcross(pa, pp)
@@ -5913,7 +5924,7 @@ def _body_frames(np: ModuleType, setup: ForcesSetup, phi: Any, out: Any, q1: Any
         arm = _vlin((1.0, pp), (-1.0, pivot))
         x = _vunit(np, _vlin((1.0, arm), (-_vdot(arm, k), k)))
         output = _BodyArrays(pivot, (x, _vcross(k, x), k), x, _ZERO3, _vlin((_times(q1, w), k)),
-                             _vlin((_total(_times(q2, w * w), _times(q1, al)), k)))
+                             _vlin((_total(_times(q2, w * w), _times(q1, al)), k)), True)
     return (crank, coupler, output), pa, pp
 
 
@@ -6030,8 +6041,8 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
     count = len(arrays.phi)
     torque = np.full(count, math.nan)
     status = arrays.status.copy()
-    joints: dict[str, ReactionArrays] = {}
-    shaking = np.full((2, count, 3), math.nan)
+    columns: dict[str, list[Any]] = {}      # each vector's components in a row: (3, count)
+    shaking = np.full((2, 3, count), math.nan)
     handed = []
     assembled = STATUS_CODES.index(ASSEMBLED)
     with np.errstate(all="ignore"):
@@ -6041,29 +6052,31 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                                           arrays.velocity[part], arrays.acceleration[part])
             t, reactions, force, moment, apart = _reactions_arrays(np, setup, states, pa, pp)
             torque[part] = t
-            check = torque[part].copy()
             for name, pair in reactions.items():
-                if name not in joints:
-                    joints[name] = ReactionArrays(*(None if v is None else
-                                                    np.full((count, 3), math.nan) for v in pair))
-                for v, into in zip(pair, joints[name]):
-                    if v is not None and into is not None:
+                into = columns.setdefault(name, [None if v is None else
+                                                 np.full((3, count), math.nan) for v in pair])
+                for v, rows in zip(pair, into):
+                    if v is not None:
                         for j in range(3):
-                            into[part, j] = v[j]
-                            check += into[part, j]
-            for v, whole in zip((force, moment), shaking):
+                            rows[j, part] = v[j]
+            for v, rows in zip((force, moment), shaking):
                 for j in range(3):
-                    whole[part, j] = v[j]
-                    check += whole[part, j]
+                    rows[j, part] = v[j]
+            # every number the elimination makes reaches the torque or the shaking (an inf or
+            # a NaN carries through + and x): all are finite where these seven are
+            check = torque[part] + shaking[:, :, part].sum(axis=(0, 1))
             plain = arrays.status[part]
             redo = ((plain != assembled) & (plain != STATUS_CODES.index(NOT_ASSEMBLED))) | (
                 (plain == assembled) & ~((apart >= FORCES_HANDOFF) & np.isfinite(check)))
             if redo.any():
                 handed.append(np.flatnonzero(redo) + start)
+    joints = {name: ReactionArrays(*(None if rows is None else rows.T for rows in into))
+              for name, into in columns.items()}
     unknown = status != assembled
-    torque[unknown] = math.nan
-    for a in [shaking] + [v for r in joints.values() for v in r if v is not None]:
-        a[..., unknown, :] = math.nan
+    if unknown.any():
+        torque[unknown] = math.nan
+        for rows in [shaking] + [v for r in columns.values() for v in r if v is not None]:
+            rows[..., unknown] = math.nan
     where = np.concatenate(handed) if handed else np.empty(0, dtype=np.intp)
     if len(where):
         for i, f in zip(where.tolist(), forces(linkage, arrays.phi[where].tolist(), branch,
@@ -6075,10 +6088,10 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                 for v, column in zip(reaction, arrays_of):
                     if column is not None:
                         column[i] = math.nan if v is None else v
-            for v, column in zip((f.shaking_force, f.shaking_moment), shaking):
-                column[i] = math.nan if v is None else v
-    return ForcesArrays(arrays.phi, torque, torque * setup.omega, joints, shaking[0], shaking[1],
-                        status, setup.speed_rpm)
+            for v, rows in zip((f.shaking_force, f.shaking_moment), shaking):
+                rows[:, i] = math.nan if v is None else v
+    return ForcesArrays(arrays.phi, torque, torque * setup.omega, joints, shaking[0].T,
+                        shaking[1].T, status, setup.speed_rpm)
 
 
 # ---- 12. Simulation: the motion in time under the scene's effects --------------------------------
@@ -12374,8 +12387,8 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
 #
 # Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 12, 13, 14, 15, 16, 20, 21 and 22.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
-#   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, bench_forces,
-#   FILES_TARGET, bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung,
+#   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, FORCES_ARRAYS_TARGET,
+#   bench_forces, FILES_TARGET, bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung,
 #   measure_accuracy, bench_accuracy, EXPLORE_TARGET, bench_explore, SIMULATION_TOLERANCES,
 #   bench_simulate, BENCHMARKS, machine.
 
@@ -12725,25 +12738,55 @@ def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> No
         print(text, file=out)
 
 
-def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601) -> None:
-    """What the forces add to a sweep: forces() over the sweep alone, per kind.
+FORCES_ARRAYS_TARGET = 0.5     # forces_arrays' rate over sweep_arrays' (with v and a), at least
+
+
+def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601,
+                 array_points: int = 100_001) -> None:
+    """What the forces add to a sweep, scalar and numpy, per kind.
+
+    Scalar: forces() over the sweep alone; numpy: forces_arrays' rate beside sweep_arrays' with
+    velocity and acceleration (the target: FORCES_ARRAYS_TARGET of it).
 
     The torque, every joint's reaction and the shaking at each angle of a sweep with velocity and
     acceleration, each link a rod of 1 kg, at 100 rpm under gravity."""
     if quick:
-        points = 37
+        points, array_points = 37, 1001
     angles, _ = _bench_angles(points)
+    _, array = _bench_angles(array_points)
     bodies, effects = Bodies(Body(1.0), Body(1.0), Body(1.0)), Effects(100.0, gravity=9.80665)
-    print(f"{points:,} input angles, 0 to 360 degrees, branch 1, velocity and acceleration; "
-          "forces() (the sweep, then one linear system a position) over the sweep alone; best "
-          "of 3, one run", file=out)
-    print(f"{'linkage':12} {'sweep':>12} {'forces':>12} {'ratio':>7}", file=out)
+    print(f"scalar: {points:,} input angles, 0 to 360 degrees, branch 1, velocity and "
+          "acceleration; forces() (the sweep, then one linear system a position) over the sweep "
+          f"alone, best of 3. numpy: {array_points:,} angles, sweep_arrays (derivatives 2) and "
+          "forces_arrays (the sweep, then the forces) alternated, best of 5; one run, compare "
+          "the ratios", file=out)
+    print(f"{'linkage':12} {'sweep':>12} {'forces':>12} {'ratio':>7}   {'sweep_arrays':>13} "
+          f"{'forces_arrays':>14} {'rate ratio':>10}", file=out)
+    ratios = {}
     for kind, dims in BENCH_LINKAGES:
         linkage = Linkage(kind, **dims)
         base = _best_of(3, lambda: linkage.sweep(angles))
         with_forces = _best_of(3, lambda: forces(linkage, angles, 1, bodies, effects))
-        print(f"{kind:12} {len(angles) / base:10,.0f}/s {len(angles) / with_forces:10,.0f}/s "
-              f"{with_forces / base:6.1f}x", file=out)
+        text = (f"{kind:12} {len(angles) / base:10,.0f}/s {len(angles) / with_forces:10,.0f}/s "
+                f"{with_forces / base:6.1f}x")
+        if array is not None:
+            sweep_time = forces_time = math.inf
+            for _ in range(5):
+                sweep_time = min(sweep_time, _best_of(1, lambda: linkage.sweep_arrays(array)))
+                forces_time = min(forces_time, _best_of(1, lambda: linkage.forces_arrays(
+                    array, 1, bodies, effects)))
+            ratios[kind] = sweep_time / forces_time
+            text += (f"   {len(array) / sweep_time:11,.0f}/s {len(array) / forces_time:12,.0f}/s "
+                     f"{ratios[kind]:10.2f}")
+        else:
+            text += "   numpy not installed"
+        print(text, file=out)
+    if ratios and not quick:
+        short = [k for k, r in ratios.items() if r < FORCES_ARRAYS_TARGET]
+        print(f"target: forces_arrays at >= {FORCES_ARRAYS_TARGET} of sweep_arrays' rate with "
+              "velocity and acceleration: " + (f"NOT MET for {', '.join(short)}" if short
+                                                 else "met")
+              + f", lowest {min(ratios.values()):.2f}", file=out)
 
 
 FILES_TARGET = 1_000_000   # points a second of CPU: run --precision double --fast, DAT and CSV
