@@ -10318,7 +10318,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 #   DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene, scene_error, load_scene,
 #   known_scenes, scene_path, scene_list, DYNAMICS_KEYS, BODY_KEYS, Dynamics, scene_dynamics,
 #   check_assembles, Series, branch_text, compute_scene, scene_forces, forces_columns,
-#   FORCES_COLUMNS, forces_row, scene_csv.
+#   FORCES_COLUMNS, forces_row, scene_csv, csv_forces_series.
 
 
 SCENE_KEYS = {  # key: what is expected (the error messages quote it)
@@ -11029,6 +11029,64 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
     return write_csv(path, rows(), ("series",) + CSV_HEADER + joint_columns, outputs)
 
 
+def csv_forces_series(path: str) -> list[Series]:
+    """The forces of a scene's CSV (scene_csv's, with [dynamics]) read back: a Series for each
+    series name it holds (its precision and branch from the name), whose forces are its rows'
+    (the speed from power over torque); a SceneError, naming the file and its line, for a file
+    that is not such a CSV."""
+    try:
+        with open(path, encoding="utf-8", newline="") as file:
+            lines = [line.rstrip("\r\n") for line in file]
+    except (OSError, UnicodeDecodeError) as e:
+        raise SceneError(f"{path}: cannot be read ({getattr(e, 'strerror', None) or e})") \
+            from None
+    header = lines[0].split(",") if lines else []
+    fixed = ["series", *CSV_HEADER, *FORCES_COLUMNS]
+    joints = list(dict.fromkeys(column.rpartition("_")[0] for column in header[len(fixed):]))
+    parts = {name: [q for q in "fm" if f"{name}_{q}x" in header] for name in joints}
+    if header[:len(fixed)] != fixed or header[len(fixed):] != [
+            f"{name}_{q}{axis}" for name in joints for q in parts[name] for axis in "xyz"]:
+        raise SceneError(f"{path}: not the CSV of a scene with [dynamics] (its first line names "
+                         f"series, {', '.join(CSV_HEADER)}, torque, power, shaking_fx .. "
+                         "shaking_mz, forces_status, then each joint's A0_fx .. B0_mz)")
+    words = {"series", "status", "forces_status"}
+    rows: dict[str, list[Forces]] = {}
+    omega: dict[str, float] = {}
+    for number, line in enumerate(lines[1:], 2):
+        texts = line.split(",")
+        try:
+            if len(texts) != len(header):
+                raise ValueError(f"{len(texts)} fields, not {len(header)}")
+            x = {c: float(t) for c, t in zip(header, texts) if c not in words}
+        except ValueError as e:
+            raise SceneError(f"{path}, line {number}: not a row of the scene's CSV ({e})") \
+                from None
+
+        def vector(prefix: str) -> Vector:
+            return (x[f"{prefix}x"], x[f"{prefix}y"], x[f"{prefix}z"])
+        name, torque, power = texts[0], x["torque"], x["power"]
+        if math.isfinite(torque) and torque and math.isfinite(power):
+            omega.setdefault(name, power / torque)
+        force, moment = vector("shaking_f"), vector("shaking_m")
+        known = all(map(math.isfinite, (torque, power, *force, *moment)))
+        reactions = {j: Reaction(*(vector(f"{j}_{q}") if q in parts[j] else None for q in "fm"))
+                     for j in joints}
+        status = texts[len(fixed) - 1]          # forces_status
+        rows.setdefault(name, []).append(
+            Forces(x["phi"], torque, power, reactions, force, moment, status, 0.0) if known
+            else Forces(x["phi"], None, None, None, None, None, status, 0.0))
+    series = []
+    for name, results in rows.items():
+        found = re.fullmatch(r"(basic|double)-branch(1|2|follow)", name)
+        branch = None if not found else FOLLOW if found[2] == FOLLOW else int(found[2])
+        speed = omega.get(name, 0.0) * 60.0 / (2.0 * math.pi)
+        series.append(Series(name, found[1] if found else "", branch, "",
+                             tuple(f._replace(speed_rpm=speed) for f in results)))
+    if not any(f.torque is not None for s in series for f in s.forces):
+        raise SceneError(f"{path}: holds no position whose forces are known")
+    return series
+
+
 # ---- 21. Plots: a figure drawn as text or PNG ----------------------------------------------------
 #
 # Holds: a figure built from DAT files (scene_figure, dat_figure: its panels and curves) and drawn
@@ -11044,8 +11102,8 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 #
 # Uses: sections 1, 2, 6, 7, 9, 13, 14, 15, 16 and 20.
 # Offers: dat_series, Curve, Panel, Figure, FORCE_LABELS, POLAR_MOMENTS, CLIPPED, build_figure,
-#   scene_figure, dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure,
-#   png_figure, force_arrows, scene_drawing, scene_text.
+#   scene_figure, dat_figure, csv_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS,
+#   text_figure, png_figure, force_arrows, scene_drawing, scene_text.
 
 
 def dat_series(directory: str) -> list[Series]:
@@ -11277,6 +11335,17 @@ def dat_figure(directory: str, kind: str | None = None) -> Figure:
         raise SceneError(f"{directory}: its DAT files hold no point to draw (no \"angle,value\" "
                          "line)")
     return figure
+
+
+def csv_figure(path: str) -> Figure:
+    """The force panels of a scene's CSV (csv_forces_series): (a) the torque, (b) the shaking
+    force, (c) each joint's force as a polar diagram, as the scene draws them."""
+    series = csv_forces_series(path)
+    specs = [PanelSpec((q,), None) for q in ("torque", "shaking", "joint_forces")]
+    branches = ", ".join(str(s.branch) for s in series if s.branch is not None)
+    what = f"{len(series)} series" + (f"; branch{'es' * (len(series) > 1)} {branches}"
+                                     if branches else "")
+    return build_figure(f"The forces in {path}", what, "unknown", specs, series)
 
 
 # -- the plain-text plot -----------------------------------------------------------------------
@@ -13838,7 +13907,11 @@ def _scene_outputs(scene: Scene, args: argparse.Namespace) -> None:
 
 
 def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
-    """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR."""
+    """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR; `plot FILE.csv`: the
+    force panels of a scene's CSV."""
+    if os.path.isfile(args.directory):
+        _check_not_inputs(parser, {"--png": args.png}, [args.directory])
+        return _draw_command(args, lambda: csv_figure(args.directory))
     with contextlib.suppress(SceneError):        # no DAT file there: dat_figure's to say
         _check_not_inputs(parser, {"--png": args.png}, [
             os.path.join(s.directory, name) for s in dat_series(args.directory)
@@ -14414,7 +14487,9 @@ COMMANDS = {
         "move, draw a mechanism scene: python3 linkage.py scene "
         "data/scenes/fig1a-plane-four-bar.toml (scene --help).",
         (option("directory", nargs="?", default=".", metavar="DIR",
-                help="the folder of the DAT files, or of folders of them (default: here)"),
+                help="the folder of the DAT files, or of folders of them (default: here); or "
+                     "a scene's CSV with forces (scene FILE --csv OUT): its torque, shaking and "
+                     "joint-force panels"),
          option("--kind", "--mechanism", dest="kind", type=_kind_argument,
                 metavar="KIND", help=f"{KINDS_HELP}: gives the axes their units (--mechanism: "
                                      "the old spelling, still taken)"),
