@@ -5771,10 +5771,10 @@ class ReactionArrays(NamedTuple):
 
 class ForcesArrays(NamedTuple):
     """Linkage.forces_arrays' answer: Forces' fields as numpy arrays, one element (or row) an
-    input angle: torque and power float64 of shape (n,), each joint's ReactionArrays, the
-    shaking force and moment of shape (n, 3), NaN where the forces are not known (status says
-    why: int8 codes, indices into FORCES_STATUS_CODES, the sweep's STATUS_CODES then UNBOUNDED
-    and OUT_OF_RANGE); speed_rpm the crank's speed they were computed at."""
+    input angle: torque and power float64 of shape (n,), each joint's ReactionArrays (none for
+    no angle), the shaking force and moment of shape (n, 3), NaN where the forces are not known
+    (status says why: int8 codes, indices into FORCES_STATUS_CODES, the sweep's STATUS_CODES
+    then UNBOUNDED and OUT_OF_RANGE); speed_rpm the crank's speed they were computed at."""
     phi: numpy.ndarray
     torque: numpy.ndarray
     power: numpy.ndarray
