@@ -26,18 +26,18 @@ them): 1. files, messages and the terminal (the one writer of files, say, signal
 precision; 4. the listing's computation; 5. the original program (screen, keys, INPUT, the menu
 session); 6. the accurate engine (the closure solved, swept and followed); 7. what the engine
 derives (joints, coupler point, transmission angle); 8. the linkage analysed (analyse);
-9. the numpy path; 10. forces (driving torque, joint reactions, shaking); 11. simulation (the
-motion in time under forces, through dead centres and change points); 12. the linkage
-(Linkage, a method for each question); 13. DAT and CSV files; 14. the mechanism drawn; 15. the
-mechanism's renderers (terminal, SVG, PNG, DXF); 16. synthesis: what a design is; 17. synthesis:
-the review's methods; 18. synthesis: designs measured and checked; 19. scenes (read and
-checked); 20. scenes computed (DAT files, forces, CSV); 21. plots; 22. simulation scenes (a run
-in time: its CSV, plots and motion); 23. the explorer (a dimension changed, the linkage watched
-in the terminal); 24. benchmarks of the program itself; 25. commands run, analyse and forces
-(each command's one typed value, validated once, and its handler); 26. commands scene, plot,
-design, listing, explore and bench; 27. the command line (argparse, from the table of commands),
-last. The engine, the view and
-synthesis never use the original program.
+9. forces (driving torque, joint reactions, shaking); 10. the numpy path (the engine and what it
+derives, on arrays); 11. the numpy path: forces on arrays; 12. simulation (the motion in time
+under forces, through dead centres and change points); 13. the linkage (Linkage, a method for
+each question); 14. DAT and CSV files; 15. the mechanism drawn; 16. the mechanism's renderers
+(terminal, SVG, PNG, DXF); 17. synthesis: what a design is; 18. synthesis: the review's
+methods; 19. synthesis: designs measured and checked; 20. scenes (read and checked); 21. scenes
+computed (DAT files, forces, CSV); 22. plots; 23. simulation scenes (a run in time: its CSV,
+plots and motion); 24. the explorer (a dimension changed, the linkage watched in the terminal);
+25. benchmarks of the program itself; 26. commands run, analyse and forces (each command's one
+typed value, validated once, and its handler); 27. commands scene, plot, design, listing,
+explore and bench; 28. the command line (argparse, from the table of commands), last. The
+engine, the view and synthesis never use the original program.
 """
 
 from __future__ import annotations
@@ -4346,18 +4346,783 @@ def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
     return [f"{prefix}{name} = {value}" for name, value in rows]
 
 
-# ---- 9. The numpy path: sweeps, coupler points and file lines on arrays --------------------------
+# ---- 9. Forces: what it takes to drive the linkage -----------------------------------------------
+#
+# Kinetostatics: the motion is the engine's (psi, psi' and psi'' at each input angle phi, the crank
+# turning at a given speed and acceleration); forces() finds what holds the bodies to it. Newton's
+# and Euler's equations of each moving body (its mass times its centre's acceleration; the rate
+# of its angular momentum, I dOmega/dt + Omega x I Omega about its centre) against gravity, the
+# loads, the driver's torque and the joints' reactions make one linear system in the reactions
+# and the torque, solved at each angle by Gaussian elimination with partial pivoting, its rows
+# and columns scaled to a largest entry of 1 first. At the engine's DEAD_CENTRE (the output's
+# dead centre, mu = 0 or 180) and CHANGE_POINT, and wherever that system is singular (a pivot under
+# 1e-12), the forces are unbounded: status UNBOUNDED and None, never an inf or a NaN (approaching
+# a dead centre they are finite and grow as psi' psi''); where masses or a speed too large for
+# floating point would make one, status OUT_OF_RANGE ("overflow") and None. Nothing here runs
+# unless forces() is called.
+#
+# Units SI: lengths in metres (the dimensions as given; the spherical four-bar's arcs stay in
+# degrees, on a sphere of `radius` metres), kg, N, N m; the speed in rpm, omega = 2 pi rpm / 60;
+# the crank's acceleration alpha in rad/s^2. A point X(phi) of the engine's moves with velocity
+# X' omega and acceleration X'' omega^2 + X' alpha (' = d/dphi, radians). Gravity (Effects.gravity)
+# a number g: g along -y for the plane kinds, along -z (the input axis) for the spatial kinds; or
+# a 3-vector as given. The plane kinds are analysed in their plane z = 0 (forces with a z
+# component are refused there).
+#
+# Each body's frame (x, y, z orthonormal and right-handed; a centre and inertia are given in it):
+#   crank:    origin the pivot A0 (the sphere's centre O for the spherical four-bar), z the input
+#             axis, x toward the pin A (perpendicular to z).
+#   coupler:  plane kinds: origin A, x toward the output pin, z = (0, 0, 1), so that its centre
+#             (u, v) is Linkage.coupler's point (u, v). Skew kinds: origin A, x toward the output
+#             pin; with a ball joint at each end it may spin idly about that line, so its mass must
+#             lie on it: a centre (u, 0, 0) and an inertia axisymmetric about x (its spin is taken
+#             as zero, Omega = AB x (vB - vA) / |AB|^2, so only the transverse moment acts).
+#             Spherical: origin O, x toward A, z along A x B, y = z x x (Linkage.coupler's t).
+#   output:   four-bars: origin the output's pivot B0 (O for the spherical four-bar), z its axis
+#             (psi turns positively about it: (0, 0, 1), w, or OB0), x toward the pin B. Sliders:
+#             origin C, x along the guide in the sense of increasing x, y = (0, 1, 0) (plane) or
+#             (1, 0, 0) (skew: along the common perpendicular), z = x cross y.
+# The plane kinds take a scalar centre for crank and output (the distance from the pivot toward
+# the pin; the slider's from C along the guide), (u, v) for the coupler, and a scalar inertia
+# about the centre (the z component; the others do not act in the plane); the spatial kinds a
+# 3-vector and a symmetric positive semi-definite 3 x 3 tensor about the centre. A Body of a mass
+# only is a uniform slender rod between its joints (spherical: the arc of the sphere between
+# them; a slider: a point mass at C).
+#
+# Each joint's reaction is the force (and moment about the joint) that the body before it exerts
+# on the body after it, along frame - crank - coupler - output, at a ground joint the frame's on
+# the moving link; the unknowns, by kind:
+#   plane, slider:  each pin joint a force in the plane (2 unknowns); the slider's guide a normal
+#                   force and a moment about z at C (2); the torque: 9 = 3 bodies x 3 equations.
+#   skew:           the revolutes A0 and B0 a force (3) and a moment perpendicular to their axis
+#                   (2), at A0 and B0; the balls A and B a force (3); the torque: 17 = 6 + 5 + 6
+#                   equations, the coupler's about A->B dropped (all its forces meet that line:
+#                   0 = 0).
+#   skew-slider:    A0 (5), the balls A and C (3 each), the guide a force perpendicular to it (2)
+#                   and a moment (3), at C; the torque: 17 = 6 + 5 + 6.
+#   spherical:      every joint's axis passes through O, and so every body turns about O: the
+#                   linkage is over-constrained (spatially 6 x 3 = 18 equations for 4 x 5 + 1 = 21
+#                   unknowns), and the joints' forces can carry a self-balanced system of 3
+#                   parameters that rigid bodies leave undetermined (the links' elasticity and fit
+#                   decide it). Determinate are each joint's moment about O (perpendicular to its
+#                   axis, 2 each), the torque (8 + 1 = 9 = 3 bodies x Euler's 3 equations about
+#                   O), and the frame's resultant: the joints report their moments about O only
+#                   (force None).
+# The shaking force and moment are what the linkage exerts on its frame: minus the ground joints'
+# reactions, and minus the driver's torque (its stator sits on the frame), the moment about A0
+# (O for the spherical kind); the loads and gravity act from outside. For the spherical kind the
+# shaking force is the whole linkage's Newton: sum of (m g - m a_G) plus the loads' forces.
+#
+#
+# Uses: sections 2, 6, 7 and 8.
+# Offers: STANDARD_GRAVITY, UNBOUNDED, OUT_OF_RANGE, Matrix, Body, Bodies, Effects, Reaction,
+#   Forces, checked_number, checked_numbers, ForcesSetup, forces_setup, forces, PEAK_TOLERANCE,
+#   TorquePeak, torque_peak, ForcesSummary, forces_summary, forces_lines.
+
+
+STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
+UNBOUNDED = "unbounded"         # Forces.status where the force system is singular
+OUT_OF_RANGE = "overflow"       # Forces.status where a number would pass the floats' range
+_SINGULAR_BELOW = 1e-12         # a pivot of the scaled system under this: singular
+Matrix = tuple[Vector, Vector, Vector]      # a 3 x 3 matrix, by rows
+_X, _Y, _Z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+_NOUGHT = (0.0, 0.0, 0.0)
+
+
+class Body(NamedTuple):
+    """One moving body: mass (kg), centre of mass and inertia about it (kg m^2) in the body's
+    frame (see the notes above); centre and inertia None: a uniform slender rod."""
+    mass: float = 0.0
+    centre: float | Sequence[float] | None = None
+    inertia: float | Sequence[Sequence[float]] | None = None
+
+
+class Bodies(NamedTuple):
+    """The three moving bodies; output is the slider of the slider-cranks. Massless if left out."""
+    crank: Body = Body()
+    coupler: Body = Body()
+    output: Body = Body()
+
+
+class Effects(NamedTuple):
+    """What drives and loads the linkage: the crank's speed (rpm) and acceleration (rad/s^2);
+    gravity (None, a number g along the kind's down, or a 3-vector, m/s^2); a torque applied to
+    the output about its axis in the sense of psi (N m, four-bars: a load that resists the
+    motion where psi increases is negative); a force applied to the slider along its guide in
+    the sense of x (N, slider-cranks, likewise); a force (fx, fy, fz) (N) at the coupler point
+    (u, v) of Linkage.coupler, as ((u, v), (fx, fy, fz))."""
+    speed_rpm: float = 0.0
+    crank_acceleration: float = 0.0
+    gravity: float | Sequence[float] | None = None
+    output_torque: float = 0.0
+    output_force: float = 0.0
+    coupler_force: tuple[Sequence[float], Sequence[float]] | None = None
+
+
+class Reaction(NamedTuple):
+    """A joint's reaction (see the notes above): its force (N) and its moment (N m) where it
+    carries one, None where not (a plane pin's moment, the spherical kind's forces)."""
+    force: Vector | None
+    moment: Vector | None
+
+
+class Forces(NamedTuple):
+    """One input angle's forces: the driver's torque on the crank about its axis, in the sense
+    of phi (N m), its power (W), each joint's Reaction, the shaking force (N) and moment (N m)
+    on the frame. None where there is no position (status the Motion's) or the forces are
+    unbounded (status UNBOUNDED). speed_rpm: the crank's speed they are at (the power's, and
+    forces_summary's flywheel's)."""
+    phi: float
+    torque: float | None
+    power: float | None
+    joints: dict[str, Reaction] | None
+    shaking_force: Vector | None
+    shaking_moment: Vector | None
+    status: str
+    speed_rpm: float            # the crank's speed they were computed at (Effects.speed_rpm)
+
+
+class _Mass(NamedTuple):
+    mass: float
+    centre: Vector              # in the body's frame
+    inertia: Matrix             # about the centre, in the body's frame
+
+
+class _State(NamedTuple):
+    """A body at one instant: its frame's origin and axes (x, y, z), the origin's acceleration,
+    the angular velocity and acceleration."""
+    origin: Vector
+    axes: Matrix
+    acceleration: Vector
+    spin: Vector
+    spin_rate: Vector
+
+
+class _Joint(NamedTuple):
+    """A joint's unknowns: the force directions (acting at `at`) and the moment directions; the
+    bodies it joins (0 crank, 1 coupler, 2 output, None the frame): before acts on after."""
+    name: str
+    before: int | None
+    after: int
+    at: Vector
+    forces: tuple[Vector, ...]
+    moments: tuple[Vector, ...]
+
+
+def _comb(*terms: tuple[float, Vector]) -> Vector:
+    """The sum of (coefficient, 3-vector) terms."""
+    x = y = z = 0.0
+    for k, v in terms:
+        x, y, z = x + k * v[0], y + k * v[1], z + k * v[2]
+    return x, y, z
+
+
+def _unit3(v: Vector) -> Vector:
+    return _comb((1.0 / math.sqrt(dot(v, v)), v))
+
+
+def _in_world(axes: Matrix, v: Sequence[float]) -> Vector:
+    """A vector given in a body's frame (axes x, y, z), in the fixed frame."""
+    return _comb((v[0], axes[0]), (v[1], axes[1]), (v[2], axes[2]))
+
+
+def _inertia_times(axes: Matrix, inertia: Matrix, w: Vector) -> Vector:
+    """The body-frame inertia, turned into the fixed frame, times w."""
+    local = [dot(axis, w) for axis in axes]
+    return _in_world(axes, [sum(row[j] * local[j] for j in range(3)) for row in inertia])
+
+
+def _perpendicular_pair(k: Vector) -> tuple[Vector, Vector]:
+    """Two unit vectors perpendicular to the unit vector k and to each other."""
+    least = min(range(3), key=lambda i: abs(k[i]))
+    p = _unit3(cross(k, (_X, _Y, _Z)[least]))
+    return p, cross(k, p)
+
+
+def _spin_about_centre(a: Vector, b: Vector, va: Vector, vb: Vector) -> Vector:
+    """The angular velocity Omega of a body turning about the origin whose points a and b (not
+    parallel) move with va = Omega x a, vb = Omega x b (in Omega's basis a, b, a x b)."""
+    n = cross(a, b)
+    nn = dot(n, n)
+    return _comb((dot(vb, n) / nn, a), (-dot(va, n) / nn, b), (dot(va, b) / nn, n))
+
+
+def checked_number(value: Any, what: str) -> float:
+    """value as a finite float, or a ValueError that names `what` and says why not."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what} must be a number, not {value!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{what} must be finite, not {x!r}")
+    return x
+
+
+def checked_numbers(values: Any, count: int, what: str) -> tuple[float, ...]:
+    """`count` finite floats from values, or a ValueError that names `what`."""
+    try:
+        items = list(values)
+    except TypeError:
+        items = []
+    if len(items) != count:
+        raise ValueError(f"{what} must be {count} numbers, not {values!r}")
+    return tuple(checked_number(v, what) for v in items)
+
+
+def _rod(mass: float, length: float) -> _Mass:
+    """A uniform slender rod along x from the origin, of `length`."""
+    side = mass * length * length / 12.0
+    return _Mass(mass, (length / 2.0, 0.0, 0.0), (_NOUGHT, (0.0, side, 0.0), (0.0, 0.0, side)))
+
+
+def _arc(mass: float, radius: float, arc: float, start: int, toward: int) -> _Mass:
+    """A uniform slender rod on the circle of `radius` about the origin, from the body axis
+    `start` toward the axis `toward` through `arc` radians."""
+    p, q = (_X, _Y, _Z)[start], (_X, _Y, _Z)[toward]
+    half = math.sin(2.0 * arc) / (4.0 * arc)
+    cc, ss, cs = 0.5 + half, 0.5 - half, math.sin(arc) ** 2 / (2.0 * arc)   # <cos^2>, <sin^2>, <cs>
+    g = _comb((radius * math.sin(arc) / arc, p), (radius * (1.0 - math.cos(arc)) / arc, q))
+    k = mass * radius * radius
+    gg = dot(g, g)
+    rows = []
+    for i in range(3):
+        row = []
+        for j in range(3):
+            mean = cc * p[i] * p[j] + ss * q[i] * q[j] + cs * (p[i] * q[j] + q[i] * p[j])
+            about_o = k * ((i == j) - mean)
+            row.append(about_o - mass * (gg * (i == j) - g[i] * g[j]))
+        rows.append(tuple(row))
+    return _Mass(mass, g, cast(Matrix, tuple(rows)))
+
+
+def _checked_body(kind: str, role: str, body: Body, rod: Callable[[float], _Mass]) -> _Mass:
+    """body as a _Mass in its frame, or a ValueError that says what is wrong with it; rod(mass)
+    the uniform rod it is when its centre and inertia are None."""
+    name = f"the {role}"
+    mass = checked_number(body.mass, f"{name}'s mass")
+    if mass < 0.0:
+        raise ValueError(f"{name}'s mass must not be negative, not {mass:g}")
+    if body.centre is None and body.inertia is None:
+        return rod(mass)
+    if body.centre is None or body.inertia is None:
+        raise ValueError(f"{name}: give both its centre and its inertia, or neither (a rod)")
+    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
+    if plane:
+        if role == "coupler":
+            u, v = checked_numbers(body.centre, 2, f"{name}'s centre (u, v)")
+            centre = (u, v, 0.0)
+        else:
+            centre = (checked_number(body.centre, f"{name}'s centre"), 0.0, 0.0)
+        inertia = checked_number(body.inertia, f"{name}'s inertia")
+        if inertia < 0.0:
+            raise ValueError(f"{name}'s inertia must not be negative, not {inertia:g}")
+        return _Mass(mass, centre, ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, inertia)))
+    centre = cast(Vector, checked_numbers(body.centre, 3, f"{name}'s centre (x, y, z)"))
+    try:
+        rows = [checked_numbers(row, 3, f"{name}'s inertia") for row in cast(Any, body.inertia)]
+    except TypeError:
+        rows = []
+    if len(rows) != 3:
+        raise ValueError(f"{name}'s inertia must be a 3 x 3 tensor (three rows of three numbers)")
+    scale = max(abs(x) for row in rows for x in row) or 1.0
+    if any(abs(rows[i][j] - rows[j][i]) > 1e-12 * scale for i in range(3) for j in range(i)):
+        raise ValueError(f"{name}'s inertia must be a symmetric tensor")
+    minors = [rows[i][i] for i in range(3)] + [
+        rows[i][i] * rows[j][j] - rows[i][j] ** 2 for i, j in ((0, 1), (0, 2), (1, 2))] + [
+        rows[0][0] * (rows[1][1] * rows[2][2] - rows[1][2] ** 2)
+        - rows[0][1] * (rows[0][1] * rows[2][2] - rows[1][2] * rows[0][2])
+        + rows[0][2] * (rows[0][1] * rows[1][2] - rows[1][1] * rows[0][2])]
+    if any(m < -1e-12 * scale ** (1 + (k > 2) + (k > 5)) for k, m in enumerate(minors)):
+        raise ValueError(f"{name}'s inertia must be positive semi-definite (no negative moment "
+                         "of inertia about any axis)")
+    if role == "coupler" and PINS[kind].coupler == "line":
+        if centre[1] or centre[2]:
+            raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
+                             "from A to its output pin, so its centre must lie on it: (u, 0, 0)")
+        if any(rows[i][j] for i in range(3) for j in range(3) if i != j) or \
+                abs(rows[1][1] - rows[2][2]) > 1e-12 * scale:
+            raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
+                             "from A to its output pin, so its inertia must be axisymmetric "
+                             "about it: ((axial, 0, 0), (0, transverse, 0), (0, 0, transverse))")
+    return _Mass(mass, centre, cast(Matrix, tuple(rows)))
+
+
+class ForcesSetup(NamedTuple):
+    """What forces() computes once for a call: the bodies, the loads and the ground (the numpy
+    path's forces_of_arrays starts from it too)."""
+    linkage: Closure
+    speed_rpm: float
+    dims: dict[str, float]
+    radius: float
+    masses: tuple[_Mass, _Mass, _Mass]
+    omega: float
+    alpha: float
+    gravity: Vector
+    output_torque: float
+    output_force: float
+    coupler_point: Vector | None        # (u, v, 0) plane, (u, 0, 0) line, sphere's unit vector
+    coupler_force: Vector
+    ground: dict[str, Vector]
+    axes: dict[str, tuple[Vector, Vector]]
+
+
+def forces_setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float
+                 ) -> ForcesSetup:
+    """The checked bodies and effects of a forces() call (a ValueError says what is wrong)."""
+    kind = linkage.kind
+    spherical, plane = kind == SPHERICAL_FOUR_BAR, kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
+    radius = checked_number(radius, "the sphere's radius")
+    if radius <= 0.0:
+        raise ValueError(f"the sphere's radius must be positive, not {radius:g}")
+    if radius != 1.0 and not spherical:
+        raise ValueError("radius is the spherical four-bar's: the other kinds' dimensions are "
+                         "their lengths in metres")
+    dims = pin_dimensions(linkage.dims)
+    if spherical:
+        arcs = {n: math.acos(max(-1.0, min(1.0, cos_sin_degrees(dims[n])[0]))) for n in "bcd"}
+        if min(math.sin(x) for x in arcs.values()) == 0.0:
+            raise ValueError("forces need arcs b, c and d that are not 0 or 180 degrees")
+        crank: Callable[[float], _Mass] = functools.partial(_arc, radius=radius, arc=arcs["b"],
+                                                            start=2, toward=0)
+        coupler: Callable[[float], _Mass] = functools.partial(_arc, radius=radius,
+                                                              arc=arcs["c"], start=0, toward=1)
+        output: Callable[[float], _Mass] = functools.partial(_arc, radius=radius, arc=arcs["d"],
+                                                             start=2, toward=0)
+    else:
+        lengths = [abs(dims[n]) for n in ("b", "c") + (("d",) if "d" in dims else ())]
+        if min(lengths) == 0.0:
+            raise ValueError("forces need links of non-zero length (b, c and d)")
+        crank = functools.partial(_rod, length=abs(dims["b"]))
+        coupler = functools.partial(_rod, length=abs(dims["c"]))
+        output = (functools.partial(_rod, length=abs(dims["d"])) if not linkage.is_slider
+                  else lambda m: _Mass(m, _NOUGHT, (_NOUGHT, _NOUGHT, _NOUGHT)))
+    masses = (_checked_body(kind, "crank", bodies.crank, crank),
+              _checked_body(kind, "coupler", bodies.coupler, coupler),
+              _checked_body(kind, "slider" if linkage.is_slider else "output", bodies.output,
+                            output))
+    if effects.gravity is None:
+        gravity = _NOUGHT
+    elif isinstance(effects.gravity, (int, float)):
+        g = checked_number(effects.gravity, "gravity")
+        gravity = (0.0, -g, 0.0) if plane else (0.0, 0.0, -g)
+    else:
+        gravity = cast(Vector, checked_numbers(effects.gravity, 3, "gravity (gx, gy, gz)"))
+    output_torque = checked_number(effects.output_torque, "the output torque")
+    output_force = checked_number(effects.output_force, "the output force")
+    if output_torque and linkage.is_slider:
+        raise ValueError("a slider-crank's output is its slider: load it with output_force")
+    if output_force and not linkage.is_slider:
+        raise ValueError("a four-bar's output is a crank: load it with output_torque")
+    point, force = None, _NOUGHT
+    if effects.coupler_force is not None:
+        try:
+            at, given = effects.coupler_force
+        except (TypeError, ValueError):
+            raise ValueError("coupler_force is ((u, v), (fx, fy, fz))") from None
+        u, v = checked_numbers(at, 2, "the coupler force's point (u, v)")
+        force = cast(Vector, checked_numbers(given, 3, "the coupler force (fx, fy, fz)"))
+        form = PINS[kind].coupler
+        if form == "line" and v:
+            raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
+                             "from A to its output pin, so a force on it must act at a point of "
+                             f"that line: v must be 0, not {v:g}")
+        if form == "sphere":
+            (cu, su), (cv, sv) = cos_sin_degrees(u), cos_sin_degrees(v)
+            point = (radius * cv * cu, radius * cv * su, radius * sv)
+        else:
+            point = (u, v, 0.0)
+    if plane and (gravity[2] or force[2]):
+        raise ValueError("the plane kinds are analysed in their plane: gravity and the coupler "
+                         "force must have no z component")
+    speed = checked_number(effects.speed_rpm, "the speed (rpm)")
+    omega = 2.0 * math.pi * speed / 60.0
+    alpha = checked_number(effects.crank_acceleration, "the crank's acceleration")
+    ground = joint_positions(linkage, 0.0)
+    return ForcesSetup(linkage, speed, dims, radius, masses, omega, alpha, gravity, output_torque,
+                  output_force, point, force, ground.joints, ground.axes)
+
+
+def _states(setup: ForcesSetup, m: Motion) -> tuple[tuple[_State, _State, _State], Vector, Vector]:
+    """The three bodies at the Motion m, and the pins A and P (the output's, B or C)."""
+    linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
+    kind = linkage.kind
+    assert m.output is not None and m.velocity is not None and m.acceleration is not None
+    q1, q2 = m.velocity, m.acceleration
+    a = PINS[kind].crank_pin(dims, *cos_sin_degrees(m.phi))
+    p = output_pin_at(linkage, dims, m.output, cos_sin_degrees)
+    p1, p2 = _comb((q1, p[1])), _comb((q1 * q1, p[2]), (q2, p[1]))
+    pa, va, aa = _comb((r, a[0])), _comb((r * w, a[1])), _comb((r * w * w, a[2]), (r * al, a[1]))
+    pp, vp, ap = _comb((r, p[0])), _comb((r * w, p1)), _comb((r * w * w, p2), (r * al, p1))
+    x = _unit3((pa[0], pa[1], 0.0))
+    crank = _State(_NOUGHT, (x, cross(_Z, x), _Z), _NOUGHT, (0.0, 0.0, w), (0.0, 0.0, al))
+    form = PINS[kind].coupler
+    if form == "sphere":
+        z = _unit3(cross(pa, pp))
+        spin = _spin_about_centre(pa, pp, va, vp)
+        rate = _spin_about_centre(pa, pp, _comb((1.0, aa), (-1.0, cross(spin, va))),
+                                  _comb((1.0, ap), (-1.0, cross(spin, vp))))
+        x = _unit3(pa)
+        coupler = _State(_NOUGHT, (x, cross(z, x), z), _NOUGHT, spin, rate)
+    else:
+        ab, dv, da = _comb((1.0, pp), (-1.0, pa)), _comb((1.0, vp), (-1.0, va)), _comb((1.0, ap),
+                                                                                      (-1.0, aa))
+        squared = dot(ab, ab)
+        spin = _comb((1.0 / squared, cross(ab, dv)))
+        rate = _comb((1.0 / squared, cross(ab, _comb((1.0, da), (-1.0, cross(spin, dv))))))
+        x = _unit3(ab)
+        y, z = (cross(_Z, x), _Z) if form == "plane" else _perpendicular_pair(x)
+        coupler = _State(pa, (x, y, z), aa, spin, rate)
+    if linkage.is_slider:
+        g = setup.axes["guide"][1]
+        y = _Y if kind == PLANE_SLIDER_CRANK else _X
+        output = _State(pp, (g, y, cross(g, y)), ap, _NOUGHT, _NOUGHT)
+    else:
+        k = setup.axes["output"][1]
+        pivot = setup.ground.get("B0", _NOUGHT) if kind != SPHERICAL_FOUR_BAR else _NOUGHT
+        pivot = _comb((r, pivot))
+        arm = _comb((1.0, pp), (-1.0, pivot))
+        x = _unit3(_comb((1.0, arm), (-dot(arm, k), k)))
+        output = _State(pivot, (x, cross(k, x), k), _NOUGHT, _comb((q1 * w, k)),
+                        _comb((q2 * w * w + q1 * al, k)))
+    return (crank, coupler, output), pa, pp
+
+
+def _joints(setup: ForcesSetup, states: tuple[_State, _State, _State], pa: Vector, pp: Vector
+            ) -> list[_Joint]:
+    """The kind's joints with their unknowns at this position (see the notes above)."""
+    kind = setup.linkage.kind
+    out = PINS[kind].output_joint
+    if kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
+        pins = [_Joint("A0", None, 0, _NOUGHT, (_X, _Y), ()),
+                _Joint("A", 0, 1, pa, (_X, _Y), ()), _Joint(out, 1, 2, pp, (_X, _Y), ())]
+        if kind == PLANE_FOUR_BAR:
+            return pins + [_Joint("B0", None, 2, states[2].origin, (_X, _Y), ())]
+        return pins + [_Joint("guide", None, 2, pp, (_Y,), (_Z,))]
+    if kind == SPHERICAL_FOUR_BAR:
+        return [_Joint(name, before, after, _NOUGHT, (), _perpendicular_pair(_unit3(axis)))
+                for name, before, after, axis in (("A0", None, 0, _Z), ("A", 0, 1, pa),
+                                                  ("B", 1, 2, pp),
+                                                  ("B0", None, 2, setup.axes["output"][1]))]
+    joints = [_Joint("A0", None, 0, _NOUGHT, (_X, _Y, _Z), _perpendicular_pair(_Z)),
+              _Joint("A", 0, 1, pa, (_X, _Y, _Z), ()), _Joint(out, 1, 2, pp, (_X, _Y, _Z), ())]
+    if kind == SKEW_FOUR_BAR:
+        k = setup.axes["output"][1]
+        return joints + [_Joint("B0", None, 2, states[2].origin, (_X, _Y, _Z),
+                                _perpendicular_pair(k))]
+    return joints + [_Joint("guide", None, 2, pp, _perpendicular_pair(setup.axes["guide"][1]),
+                            (_X, _Y, _Z))]
+
+
+def _equations(kind: str, states: tuple[_State, _State, _State]
+               ) -> list[list[tuple[Vector, Vector]]]:
+    """Each body's equations as (force, moment) directions its wrench about the origin is
+    projected on: the plane's 3, space's 6 (the skew coupler's 5), Euler's 3 about O."""
+    if kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
+        return [[(_X, _NOUGHT), (_Y, _NOUGHT), (_NOUGHT, _Z)]] * 3
+    if kind == SPHERICAL_FOUR_BAR:
+        return [[(_NOUGHT, _X), (_NOUGHT, _Y), (_NOUGHT, _Z)]] * 3
+    full = [(_X, _NOUGHT), (_Y, _NOUGHT), (_Z, _NOUGHT),
+            (_NOUGHT, _X), (_NOUGHT, _Y), (_NOUGHT, _Z)]
+    return [full, full[:3] + [(_NOUGHT, states[1].axes[1]), (_NOUGHT, states[1].axes[2])], full]
+
+
+def _solved(rows: list[list[float]], rhs: list[float]) -> list[float] | None:
+    """x with rows x = rhs, by Gaussian elimination with partial pivoting on the system scaled
+    to a largest entry of 1 in each row and column; None where it is singular (a pivot under
+    _SINGULAR_BELOW)."""
+    n = len(rows)
+    work = [list(row) + [b] for row, b in zip(rows, rhs)]
+    for row in work:
+        big = max(abs(v) for v in row[:n])
+        if big == 0.0:
+            return None
+        row[:] = [v / big for v in row]
+    columns = [max(abs(row[j]) for row in work) for j in range(n)]
+    if min(columns) == 0.0:
+        return None
+    for row in work:
+        row[:n] = [v / s for v, s in zip(row, columns)]
+    for k in range(n):
+        pivot = max(range(k, n), key=lambda i: abs(work[i][k]))
+        if abs(work[pivot][k]) < _SINGULAR_BELOW:
+            return None
+        work[k], work[pivot] = work[pivot], work[k]
+        for i in range(k + 1, n):
+            f = work[i][k] / work[k][k]
+            if f:
+                work[i][k:] = [v - f * t for v, t in zip(work[i][k:], work[k][k:])]
+    x = [0.0] * n
+    for k in reversed(range(n)):
+        x[k] = (work[k][n] - sum(work[k][j] * x[j] for j in range(k + 1, n))) / work[k][k]
+    return [v / s for v, s in zip(x, columns)]
+
+
+def _forces_at(setup: ForcesSetup, m: Motion) -> Forces:
+    """One position's Forces (see forces)."""
+    none = Forces(m.phi, None, None, None, None, None, m.status, setup.speed_rpm)
+    if m.output is None:
+        return none
+    if m.status in (DEAD_CENTRE, CHANGE_POINT) or m.velocity is None or m.acceleration is None:
+        return none._replace(status=UNBOUNDED)
+    kind = setup.linkage.kind
+    states, pa, pp = _states(setup, m)
+    joints = _joints(setup, states, pa, pp)
+    # each body's wrench about the origin that the reactions and the torque must make up:
+    # the rate of its momenta less gravity and the loads
+    needed = []
+    for body, (mass, state) in enumerate(zip(setup.masses, states)):
+        rho = _in_world(state.axes, mass.centre)
+        centre = _comb((1.0, state.origin), (1.0, rho))
+        a_g = _comb((1.0, state.acceleration), (1.0, cross(state.spin_rate, rho)),
+                    (1.0, cross(state.spin, cross(state.spin, rho))))
+        net = _comb((mass.mass, a_g), (-mass.mass, setup.gravity))
+        turning = _comb((1.0, cross(centre, net)),
+                        (1.0, _inertia_times(state.axes, mass.inertia, state.spin_rate)),
+                        (1.0, cross(state.spin, _inertia_times(state.axes, mass.inertia,
+                                                                state.spin))))
+        if body == 1 and setup.coupler_point is not None:
+            at = _comb((1.0, state.origin), (1.0, _in_world(state.axes, setup.coupler_point)))
+            net = _comb((1.0, net), (-1.0, setup.coupler_force))
+            turning = _comb((1.0, turning), (-1.0, cross(at, setup.coupler_force)))
+        if body == 2 and setup.output_torque:
+            turning = _comb((1.0, turning), (-setup.output_torque, state.axes[2]))
+        if body == 2 and setup.output_force:
+            load = _comb((setup.output_force, state.axes[0]))
+            net = _comb((1.0, net), (-1.0, load))
+            turning = _comb((1.0, turning), (-1.0, cross(state.origin, load)))
+        needed.append((net, turning))
+    # one column per unknown: its unit wrench about the origin on each body it acts on
+    columns: list[list[tuple[Vector, Vector]]] = []
+    for joint in joints:
+        units = [(d, cross(joint.at, d)) for d in joint.forces] + [(_NOUGHT, d)
+                                                                   for d in joint.moments]
+        for f, t in units:
+            on = [(_NOUGHT, _NOUGHT)] * 3
+            on[joint.after] = (f, t)
+            if joint.before is not None:
+                on[joint.before] = (_comb((-1.0, f)), _comb((-1.0, t)))
+            columns.append(on)
+    columns.append([(_NOUGHT, _Z), (_NOUGHT, _NOUGHT), (_NOUGHT, _NOUGHT)])     # the torque
+    rows, rhs = [], []
+    for body, equations in enumerate(_equations(kind, states)):
+        for f_dir, t_dir in equations:
+            rows.append([dot(f_dir, col[body][0]) + dot(t_dir, col[body][1]) for col in columns])
+            rhs.append(dot(f_dir, needed[body][0]) + dot(t_dir, needed[body][1]))
+    x = _solved(rows, rhs)
+    if x is None:
+        return none._replace(status=UNBOUNDED)
+    torque, i = x[-1], 0
+    reactions: dict[str, Reaction] = {}
+    shaking_force, shaking_moment = _NOUGHT, (0.0, 0.0, -torque)
+    for joint in joints:
+        nf, nm = len(joint.forces), len(joint.moments)
+        force = _comb(*zip(x[i:i + nf], joint.forces)) if nf else None
+        moment = _comb(*zip(x[i + nf:i + nf + nm], joint.moments)) if nm else None
+        i += nf + nm
+        reactions[joint.name] = Reaction(force, moment)
+        if joint.before is None:
+            if force is not None:
+                shaking_force = _comb((1.0, shaking_force), (-1.0, force))
+                shaking_moment = _comb((1.0, shaking_moment), (-1.0, cross(joint.at, force)))
+            if moment is not None:
+                shaking_moment = _comb((1.0, shaking_moment), (-1.0, moment))
+    if kind == SPHERICAL_FOUR_BAR:     # the whole linkage's Newton: the loads less m a_G
+        shaking_force = _comb(*((-1.0, net) for net, _ in needed))
+    numbers = [torque, torque * setup.omega, *shaking_force, *shaking_moment] + [
+        v for r in reactions.values() for part in r if part is not None for v in part]
+    if not all(map(math.isfinite, numbers)):     # masses or a speed past the floats' range
+        return none._replace(status=OUT_OF_RANGE)
+    return Forces(m.phi, torque, torque * setup.omega, reactions, shaking_force, shaking_moment,
+                  m.status, setup.speed_rpm)
+
+
+def forces(linkage: Closure, phis: Iterable[float], branch: int | str = 1,
+           bodies: Bodies = Bodies(), effects: Effects = Effects(), *, radius: float = 1.0,
+           start: int | None = None) -> list[Forces]:
+    """The driving torque, the joints' reactions and the frame's shaking force and moment at
+    each input angle of `phis` (degrees) on `branch` (as Linkage.sweep), for the bodies' masses
+    and the effects (see the notes above; radius: the spherical four-bar's sphere, metres)."""
+    setup = forces_setup(linkage, bodies, effects, radius)
+    return [_forces_at(setup, m) for m in linkage.sweep(phis, branch, 2, start=start)]
+
+
+PEAK_TOLERANCE = 0.01       # degrees: torque_peak closes on the peak to this (golden section)
+
+
+class TorquePeak(NamedTuple):
+    """The driving torque's largest size along a motion: its value (signed, N m) at the input
+    angle phi; or the angles where the forces are unbounded (value and phi None: the torque
+    grows without bound as the crank nears them); all None where no position is known."""
+    value: float | None
+    phi: float | None
+    unbounded: tuple[float, ...] = ()
+
+
+def torque_peak(linkage: Closure, phis: Sequence[float], branch: int = 1,
+                bodies: Bodies = Bodies(), effects: Effects = Effects(), *, radius: float = 1.0,
+                turns: bool = False, dead: frozenset[int] = frozenset(), refined: int = 2
+                ) -> tuple[tuple[Forces, ...], TorquePeak]:
+    """forces() at each of phis (increasing, degrees; turns: a full turn, the last the first's
+    neighbour) on `branch`, the positions `dead` (dead centres) UNBOUNDED, and the torque's
+    peak: unbounded where any position is, else the largest |T| of the positions and of each
+    of the `refined` largest local peaks closed on between its neighbours by golden section to
+    PEAK_TOLERANCE degrees (a peak narrower than the positions' spacing may be missed)."""
+    def at(angles: Sequence[float]) -> list[Forces]:
+        return forces(linkage, angles, branch, bodies, effects, radius=radius)
+    results = tuple(r._replace(torque=None, power=None, joints=None, shaking_force=None,
+                               shaking_moment=None, status=UNBOUNDED) if i in dead else r
+                    for i, r in enumerate(at(phis)))
+    unbounded = tuple(r.phi for r in results if r.status == UNBOUNDED)
+    if unbounded:
+        return results, TorquePeak(None, None, unbounded)
+    count = len(results)
+    size = [-1.0 if r.torque is None else abs(r.torque) for r in results]
+
+    def beside(i: int) -> float | None:      # the angle of position i (out of range: None)
+        if 0 <= i < count:
+            return phis[i]
+        return phis[i % count] + (360.0 if i >= count else -360.0) if turns and count else None
+    peaks = [i for i in range(count) if size[i] >= 0.0
+             and all(size[j % count] <= size[i] for j in (i - 1, i + 1) if beside(j) is not None)]
+    best = [(r.torque, r.phi) for r in results if r.torque is not None]
+
+    def found(phi: float) -> float:
+        torque = at([phi])[0].torque
+        if torque is None:
+            return -1.0
+        best.append((torque, phi))
+        return abs(torque)
+    ratio = (math.sqrt(5.0) - 1.0) / 2.0
+    for i in sorted(peaks, key=lambda i: -size[i])[:refined]:
+        lo, hi = (phis[i] if x is None else x for x in (beside(i - 1), beside(i + 1)))
+        x1, x2 = hi - ratio * (hi - lo), lo + ratio * (hi - lo)
+        f1, f2 = found(x1), found(x2)
+        while hi - lo > PEAK_TOLERANCE:
+            if f1 >= f2:
+                hi, x2, f2 = x2, x1, f1
+                x1 = hi - ratio * (hi - lo)
+                f1 = found(x1)
+            else:
+                lo, x1, f1 = x1, x2, f2
+                x2 = lo + ratio * (hi - lo)
+                f2 = found(x2)
+    if not best:
+        return results, TorquePeak(None, None)
+    value, phi = max(best, key=lambda tp: abs(tp[0]))
+    return results, TorquePeak(value, phi)
+
+
+class ForcesSummary(NamedTuple):
+    """The figures of a swept list of Forces: (value, phi) of the largest; None if none."""
+    peak_torque: tuple[float, float] | None         # the largest |T|, signed
+    rms_torque: float | None
+    mean_power: float | None
+    peak_joints: dict[str, tuple[float, float]]     # |force| (spherical: |moment about O|)
+    peak_shaking_force: tuple[float, float] | None
+    peak_shaking_moment: tuple[float, float] | None
+    flywheel_inertia: float | None                  # kg m^2, for the speed fluctuation cs
+
+
+def forces_summary(results: Sequence[Forces], *, cs: float = 0.05) -> ForcesSummary:
+    """Peak and RMS torque, mean power, each joint's peak, the peak shaking force and moment,
+    and the flywheel inertia ΔE_max / (cs omega^2) that holds the speed within +-cs/2 of its
+    mean: ΔE_max the largest swing of the integral of (T - T_mean) dphi along `results` (None
+    unless every position is defined; the sweep should be one whole turn, as a flywheel's cycle
+    is: that is the caller's to give), means by the trapezoid rule; omega that of the speed the
+    results were computed at (their speed_rpm: a ValueError if they differ)."""
+    speeds = {r.speed_rpm for r in results}
+    if len(speeds) > 1:
+        raise ValueError("forces computed at different speeds "
+                         f"({', '.join(map(value_text, sorted(speeds)))} rpm) have no one summary")
+    known = [r for r in results if r.torque is not None]
+    if not known:
+        return ForcesSummary(None, None, None, {}, None, None, None)
+
+    def peak(values: Iterable[tuple[float, float]]) -> tuple[float, float]:
+        return max(values, key=lambda vp: abs(vp[0]))
+
+    def size(v: Vector | None) -> float:
+        return math.sqrt(dot(v, v)) if v is not None else 0.0
+
+    torques = [cast(float, r.torque) for r in known]
+    joints: dict[str, tuple[float, float]] = {}
+    for r in known:
+        for name, reaction in cast(dict, r.joints).items():
+            value = size(reaction.force if reaction.force is not None else reaction.moment)
+            if name not in joints or value > joints[name][0]:
+                joints[name] = (value, r.phi)
+    phis = [r.phi * RAD for r in known]
+    span = phis[-1] - phis[0]
+    if len(known) > 1 and span:
+        weights = [((phis[min(i + 1, len(phis) - 1)] - phis[max(i - 1, 0)]) / 2.0) / span
+                   for i in range(len(phis))]
+    else:
+        weights = [1.0 / len(known)] * len(known)
+    mean = sum(w * t for w, t in zip(weights, torques))
+    rms = math.sqrt(sum(w * t * t for w, t in zip(weights, torques)))
+    omega = 2.0 * math.pi * known[0].speed_rpm / 60.0
+    flywheel = None
+    if len(known) == len(results) and len(known) > 1 and span and omega and cs > 0.0:
+        energy, low, high = 0.0, 0.0, 0.0
+        for i in range(1, len(known)):
+            energy += (torques[i - 1] + torques[i] - 2.0 * mean) / 2.0 * (phis[i] - phis[i - 1])
+            low, high = min(low, energy), max(high, energy)
+        flywheel = (high - low) / (cs * omega * omega)
+    return ForcesSummary(
+        peak((t, r.phi) for t, r in zip(torques, known)), rms, mean * omega, joints,
+        peak((size(r.shaking_force), r.phi) for r in known),
+        peak((size(r.shaking_moment), r.phi) for r in known), flywheel)
+
+
+def forces_lines(results: Sequence[Forces], *, cs: float = 0.05, prefix: str = ""
+                 ) -> list[str]:
+    """The `name = value` lines of a swept list of Forces (forces_summary's figures), each name
+    after `prefix`: peak and RMS torque with their angles, mean power, each joint's peak force
+    (the spherical kind's: its moment about O), the peak shaking force and moment, the flywheel
+    for the speed fluctuation cs, and the angles where the forces are unbounded or overflow."""
+    s = forces_summary(results, cs=cs)
+    rows: list[tuple[str, str]] = []
+
+    def peak(name: str, value: tuple[float, float] | None, unit: str) -> None:
+        if value is None:
+            rows.append((name, "none (no position whose forces are known)"))
+        else:
+            rows.extend([(name, f"{value_text(value[0])} {unit}"),
+                         (f"{name}_phi", value_text(value[1]))])
+    peak("torque_peak", s.peak_torque, "N m")
+    rows.append(("torque_rms", "none" if s.rms_torque is None
+                 else f"{value_text(s.rms_torque)} N m"))
+    rows.append(("power_mean", "none" if s.mean_power is None
+                 else f"{value_text(s.mean_power)} W"))
+    for name, value in s.peak_joints.items():
+        moment = any(r.joints and r.joints[name].force is None for r in results)
+        peak(f"joint_{name}_{'moment' if moment else 'force'}_peak", value,
+             "N m" if moment else "N")
+    peak("shaking_force_peak", s.peak_shaking_force, "N")
+    peak("shaking_moment_peak", s.peak_shaking_moment, "N m")
+    rows.append(("fluctuation", value_text(cs)))
+    rows.append(("flywheel_inertia", f"{value_text(s.flywheel_inertia)} kg m^2"
+                 if s.flywheel_inertia is not None else
+                 "none (it needs the speed, and the forces bounded at every angle of the sweep)"))
+    for status in (UNBOUNDED, OUT_OF_RANGE):
+        rows.append((status, ", ".join(value_text(r.phi) for r in results
+                                       if r.status == status) or "none"))
+    return [f"{prefix}{name} = {value}" for name, value in rows]
+
+
+# ---- 10. The numpy path: sweeps, coupler points and file lines on arrays -------------------------
 #
 # Holds: the engine's sweep on numpy arrays (sweep_arrays' work: the same formulas in blocks, a
 # point near a dead centre or change point handed to the scalar engine), the coupler point and
 # transmission angle on arrays, and numbers formatted as repr formats them a block at once (the DAT
 # and CSV lines). numpy is an optional extra: numpy_module raises FastUnavailable without it. No
-# other section uses numpy itself (test_layout).
+# section but this and the next (the forces on arrays) uses numpy itself (test_layout).
 #
 # Uses: sections 1, 2, 6 and 7.
 # Offers: STATUS_CODES, FAST_BLOCK, FAST_MARGIN, FastUnavailable, numpy_module, angle_array,
-#   MotionArrays, assembled_count, motion_arrays_of, CouplerArrays, coupler_of_arrays,
-#   transmission_of_arrays, SweepColumns, NUMBER_ROWS, LINE_ROWS, as_columns, column_texts.
+#   MotionArrays, assembled_count, motion_arrays_of, cos_sin_degrees_array, CouplerArrays,
+#   coupler_of_arrays, transmission_of_arrays, SweepColumns, NUMBER_ROWS, LINE_ROWS, as_columns,
+#   column_texts.
 
 
 # -- the vectorised path: numpy, a block of angles at a time ------------------------------------
@@ -4742,7 +5507,7 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
     return MotionArrays(phi, res["output"], res["velocity"], res["acceleration"], status)
 
 
-def _cos_sin_degrees_array(np, x):
+def cos_sin_degrees_array(np: ModuleType, x: Any) -> tuple[numpy.ndarray, numpy.ndarray]:
     """cos_sin_degrees elementwise (NaN stays NaN): _fast_cos_sin, with buffers of its own."""
     x = np.asarray(x, dtype=np.float64)
     w = {k: np.empty_like(x) for k in ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare")}
@@ -4768,11 +5533,11 @@ def coupler_of_arrays(linkage: Closure, arrays: MotionArrays, u: float,
     np = numpy_module()
     u, v = check_coupler_point(linkage, u, v)
     level = 0 if arrays.velocity is None else 1 if arrays.acceleration is None else 2
-    c, s = _cos_sin_degrees_array(np, arrays.phi)
+    c, s = cos_sin_degrees_array(np, arrays.phi)
     with np.errstate(all="ignore"):
         a, p, _ = joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
                                     arrays.output, level, arrays.velocity,
-                                    arrays.acceleration, functools.partial(_cos_sin_degrees_array,
+                                    arrays.acceleration, functools.partial(cos_sin_degrees_array,
                                                                            np))
         point = coupler_form(linkage, a, p, u, v, np.sqrt)
     count = len(arrays.phi)
@@ -4785,13 +5550,14 @@ def coupler_of_arrays(linkage: Closure, arrays: MotionArrays, u: float,
 def transmission_of_arrays(linkage: Closure, arrays: MotionArrays) -> numpy.ndarray:
     """transmission_of on a MotionArrays: a float64 array, NaN where there is no position."""
     np = numpy_module()
-    c, s = _cos_sin_degrees_array(np, arrays.phi)
+    c, s = cos_sin_degrees_array(np, arrays.phi)
     with np.errstate(all="ignore"):
         a, p, p_q = joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
                                       arrays.output, 0, None, None,
-                                      functools.partial(_cos_sin_degrees_array, np))
+                                      functools.partial(cos_sin_degrees_array, np))
         mu = transmission_form(linkage.kind, a[0], p[0], p_q, np.arctan2)
     return np.broadcast_to(np.asarray(mu, dtype=np.float64), (len(arrays.phi),)).copy()
+
 
 
 class SweepColumns(NamedTuple):
@@ -5030,761 +5796,384 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
         yield from _lines(np, outputs)
 
 
-# ---- 10. Forces: what it takes to drive the linkage ----------------------------------------------
+# ---- 11. The numpy path: forces on arrays --------------------------------------------------------
 #
-# Kinetostatics: the motion is the engine's (psi, psi' and psi'' at each input angle phi, the crank
-# turning at a given speed and acceleration); forces() finds what holds the bodies to it. Newton's
-# and Euler's equations of each moving body (its mass times its centre's acceleration; the rate
-# of its angular momentum, I dOmega/dt + Omega x I Omega about its centre) against gravity, the
-# loads, the driver's torque and the joints' reactions make one linear system in the reactions
-# and the torque, solved at each angle by Gaussian elimination with partial pivoting, its rows
-# and columns scaled to a largest entry of 1 first. At the engine's DEAD_CENTRE (the output's
-# dead centre, mu = 0 or 180) and CHANGE_POINT, and wherever that system is singular (a pivot under
-# 1e-12), the forces are unbounded: status UNBOUNDED and None, never an inf or a NaN (approaching
-# a dead centre they are finite and grow as psi' psi''); where masses or a speed too large for
-# floating point would make one, status OUT_OF_RANGE ("overflow") and None. Nothing here runs
-# unless forces() is called.
+# Holds: the forces section's answer on numpy arrays, Linkage.forces_arrays' work: each body's
+# wrench as forces() finds it, the reactions by elimination along the chain in closed form, a
+# position near a dead centre handed to forces() itself. The numpy path's second room: numpy here
+# too, and nowhere else but section 10 (test_layout).
 #
-# Units SI: lengths in metres (the dimensions as given; the spherical four-bar's arcs stay in
-# degrees, on a sphere of `radius` metres), kg, N, N m; the speed in rpm, omega = 2 pi rpm / 60;
-# the crank's acceleration alpha in rad/s^2. A point X(phi) of the engine's moves with velocity
-# X' omega and acceleration X'' omega^2 + X' alpha (' = d/dphi, radians). Gravity (Effects.gravity)
-# a number g: g along -y for the plane kinds, along -z (the input axis) for the spatial kinds; or
-# a 3-vector as given. The plane kinds are analysed in their plane z = 0 (forces with a z
-# component are refused there).
+# Uses: sections 2, 6, 7, 9 and 10.
+# Offers: FORCES_STATUS_CODES, FORCES_HANDOFF, ReactionArrays, ForcesArrays, forces_of_arrays.
+
+
+# -- the forces on arrays ---------------------------------------------------------------------------
 #
-# Each body's frame (x, y, z orthonormal and right-handed; a centre and inertia are given in it):
-#   crank:    origin the pivot A0 (the sphere's centre O for the spherical four-bar), z the input
-#             axis, x toward the pin A (perpendicular to z).
-#   coupler:  plane kinds: origin A, x toward the output pin, z = (0, 0, 1), so that its centre
-#             (u, v) is Linkage.coupler's point (u, v). Skew kinds: origin A, x toward the output
-#             pin; with a ball joint at each end it may spin idly about that line, so its mass must
-#             lie on it: a centre (u, 0, 0) and an inertia axisymmetric about x (its spin is taken
-#             as zero, Omega = AB x (vB - vA) / |AB|^2, so only the transverse moment acts).
-#             Spherical: origin O, x toward A, z along A x B, y = z x x (Linkage.coupler's t).
-#   output:   four-bars: origin the output's pivot B0 (O for the spherical four-bar), z its axis
-#             (psi turns positively about it: (0, 0, 1), w, or OB0), x toward the pin B. Sliders:
-#             origin C, x along the guide in the sense of increasing x, y = (0, 1, 0) (plane) or
-#             (1, 0, 0) (skew: along the common perpendicular), z = x cross y.
-# The plane kinds take a scalar centre for crank and output (the distance from the pivot toward
-# the pin; the slider's from C along the guide), (u, v) for the coupler, and a scalar inertia
-# about the centre (the z component; the others do not act in the plane); the spatial kinds a
-# 3-vector and a symmetric positive semi-definite 3 x 3 tensor about the centre. A Body of a mass
-# only is a uniform slender rod between its joints (spherical: the arc of the sphere between
-# them; a slider: a point mass at C).
-#
-# Each joint's reaction is the force (and moment about the joint) that the body before it exerts
-# on the body after it, along frame - crank - coupler - output, at a ground joint the frame's on
-# the moving link; the unknowns, by kind:
-#   plane, slider:  each pin joint a force in the plane (2 unknowns); the slider's guide a normal
-#                   force and a moment about z at C (2); the torque: 9 = 3 bodies x 3 equations.
-#   skew:           the revolutes A0 and B0 a force (3) and a moment perpendicular to their axis
-#                   (2), at A0 and B0; the balls A and B a force (3); the torque: 17 = 6 + 5 + 6
-#                   equations, the coupler's about A->B dropped (all its forces meet that line:
-#                   0 = 0).
-#   skew-slider:    A0 (5), the balls A and C (3 each), the guide a force perpendicular to it (2)
-#                   and a moment (3), at C; the torque: 17 = 6 + 5 + 6.
-#   spherical:      every joint's axis passes through O, and so every body turns about O: the
-#                   linkage is over-constrained (spatially 6 x 3 = 18 equations for 4 x 5 + 1 = 21
-#                   unknowns), and the joints' forces can carry a self-balanced system of 3
-#                   parameters that rigid bodies leave undetermined (the links' elasticity and fit
-#                   decide it). Determinate are each joint's moment about O (perpendicular to its
-#                   axis, 2 each), the torque (8 + 1 = 9 = 3 bodies x Euler's 3 equations about
-#                   O), and the frame's resultant: the joints report their moments about O only
-#                   (force None).
-# The shaking force and moment are what the linkage exerts on its frame: minus the ground joints'
-# reactions, and minus the driver's torque (its stator sits on the frame), the moment about A0
-# (O for the spherical kind); the loads and gravity act from outside. For the spherical kind the
-# shaking force is the whole linkage's Newton: sum of (m g - m a_G) plus the loads' forces.
-#
-#
-# Uses: sections 2, 6, 7 and 8.
-# Offers: STANDARD_GRAVITY, UNBOUNDED, OUT_OF_RANGE, Matrix, Body, Bodies, Effects, Reaction,
-#   Forces, checked_number, checked_numbers, forces, PEAK_TOLERANCE, TorquePeak, torque_peak,
-#   ForcesSummary, forces_summary, forces_lines.
+# Linkage.forces_arrays is forces() on a sweep_arrays answer: each body's wrench as forces() finds
+# it (the same formulas, a block of angles at a time, each body's frame as the forces section's
+# notes give it), but the system solved by elimination along the chain, body by body, in closed
+# form, rather than by Gaussian elimination on the whole (the same square system, so the same
+# solution to rounding; tests/test_forces_numpy.py holds the two together). With T_1 the coupler's
+# wrench about A, R_B the force the coupler exerts on the output at its pin P, e = P - A:
+#   the coupler's moments about A (all but the one about e: 0 = 0 for the skew kinds' line, and
+#   in the plane the one about z) fix R_B across e: R_B - (R_B . e) e/|e|^2 = e x T_1 / |e|^2;
+#   the output's moment about its axis k through its pivot (a four-bar), or its force along the
+#   guide g (a slider), fixes the rest: divided by h . e, h = k x (P - B0) or g;
+#   then the coupler's Newton gives R_A, the output's its ground reaction (force, and moment
+#   where it carries one), the crank's the torque about z and A0's reaction.
+# The spherical four-bar (moments about O only): M_B, perpendicular to its axis b, is fixed by
+#   what the two other bodies ask: a . M_A = 0 (M_A = T_1 + M_B) and k . M_B0 = 0 (M_B0 =
+#   T_2 - M_B), three equations in rows b, a, k, solved by Cramer's rule over b . (a x k); then
+#   M_A, M_B0, the torque and M_A0 as above.
+# What it costs: bench forces (the sweep's work again and several times over: each body's frame,
+#   its wrench and the elimination are some 110 (slider) to 460 (spherical) operations on arrays
+#   a position, the trigonometry of phi and the output again among them).
+# A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
+# near the output's dead centre, where forces() may find its system singular), whose numbers are
+# not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
+# forces() itself, which decides its status: the statuses are always the scalar form's.
+
+FORCES_STATUS_CODES = STATUS_CODES + (UNBOUNDED, OUT_OF_RANGE)    # ForcesArrays.status
+FORCES_HANDOFF = 1e-6       # handed to forces(): the elimination's divisor under this relative
+_ZERO3, _EX, _EY, _EZ = (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
 
 
-STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
-UNBOUNDED = "unbounded"         # Forces.status where the force system is singular
-OUT_OF_RANGE = "overflow"       # Forces.status where a number would pass the floats' range
-_SINGULAR_BELOW = 1e-12         # a pivot of the scaled system under this: singular
-Matrix = tuple[Vector, Vector, Vector]      # a 3 x 3 matrix, by rows
-_X, _Y, _Z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
-_NOUGHT = (0.0, 0.0, 0.0)
+class ReactionArrays(NamedTuple):
+    """A joint's Reaction on arrays: force and moment of shape (n, 3), or None where the joint
+    carries none (as Reaction)."""
+    force: numpy.ndarray | None
+    moment: numpy.ndarray | None
 
 
-class Body(NamedTuple):
-    """One moving body: mass (kg), centre of mass and inertia about it (kg m^2) in the body's
-    frame (see the notes above); centre and inertia None: a uniform slender rod."""
-    mass: float = 0.0
-    centre: float | Sequence[float] | None = None
-    inertia: float | Sequence[Sequence[float]] | None = None
+class ForcesArrays(NamedTuple):
+    """Linkage.forces_arrays' answer: Forces' fields as numpy arrays, one element (or row) an
+    input angle: torque and power float64 of shape (n,), each joint's ReactionArrays (none for
+    no angle), the shaking force and moment of shape (n, 3), NaN where the forces are not known
+    (status says why: int8 codes, indices into FORCES_STATUS_CODES, the sweep's STATUS_CODES
+    then UNBOUNDED and OUT_OF_RANGE); speed_rpm the crank's speed they were computed at."""
+    phi: numpy.ndarray
+    torque: numpy.ndarray
+    power: numpy.ndarray
+    joints: dict[str, ReactionArrays]
+    shaking_force: numpy.ndarray
+    shaking_moment: numpy.ndarray
+    status: numpy.ndarray
+    speed_rpm: float
+
+    def forces(self) -> list[Forces]:
+        """The same answer as Linkage.forces gives it: a list of Forces, None where unknown."""
+        def vector(a: Any, i: int) -> Vector | None:
+            return None if a is None else cast(Vector, tuple(a[i].tolist()))
+        out = []
+        for i, (phi, torque, power, code) in enumerate(zip(
+                self.phi.tolist(), self.torque.tolist(), self.power.tolist(),
+                self.status.tolist())):
+            status = FORCES_STATUS_CODES[code]
+            if torque != torque:
+                out.append(Forces(phi, None, None, None, None, None, status, self.speed_rpm))
+                continue
+            joints = {name: Reaction(vector(r.force, i), vector(r.moment, i))
+                      for name, r in self.joints.items()}
+            out.append(Forces(phi, torque, power, joints, vector(self.shaking_force, i),
+                              vector(self.shaking_moment, i), status, self.speed_rpm))
+        return out
 
 
-class Bodies(NamedTuple):
-    """The three moving bodies; output is the slider of the slider-cranks. Massless if left out."""
-    crank: Body = Body()
-    coupler: Body = Body()
-    output: Body = Body()
+# Numbers that are floats or arrays: a float 0.0 (a component the kind's geometry makes zero) is
+# left out of sums and products, so that a plane kind costs what its plane needs.
+def _nought(x: Any) -> bool:
+    return type(x) is float and x == 0.0
 
 
-class Effects(NamedTuple):
-    """What drives and loads the linkage: the crank's speed (rpm) and acceleration (rad/s^2);
-    gravity (None, a number g along the kind's down, or a 3-vector, m/s^2); a torque applied to
-    the output about its axis in the sense of psi (N m, four-bars: a load that resists the
-    motion where psi increases is negative); a force applied to the slider along its guide in
-    the sense of x (N, slider-cranks, likewise); a force (fx, fy, fz) (N) at the coupler point
-    (u, v) of Linkage.coupler, as ((u, v), (fx, fy, fz))."""
-    speed_rpm: float = 0.0
-    crank_acceleration: float = 0.0
-    gravity: float | Sequence[float] | None = None
-    output_torque: float = 0.0
-    output_force: float = 0.0
-    coupler_force: tuple[Sequence[float], Sequence[float]] | None = None
+def _times(k: Any, x: Any) -> Any:
+    if _nought(k) or _nought(x):
+        return 0.0
+    if type(k) is float and k == 1.0:
+        return x
+    return k if type(x) is float and x == 1.0 else k * x
 
 
-class Reaction(NamedTuple):
-    """A joint's reaction (see the notes above): its force (N) and its moment (N m) where it
-    carries one, None where not (a plane pin's moment, the spherical kind's forces)."""
-    force: Vector | None
-    moment: Vector | None
+def _total(*xs: Any) -> Any:
+    out: Any = 0.0
+    for x in xs:
+        if not _nought(x):
+            out = x if _nought(out) else out + x
+    return out
 
 
-class Forces(NamedTuple):
-    """One input angle's forces: the driver's torque on the crank about its axis, in the sense
-    of phi (N m), its power (W), each joint's Reaction, the shaking force (N) and moment (N m)
-    on the frame. None where there is no position (status the Motion's) or the forces are
-    unbounded (status UNBOUNDED)."""
-    phi: float
-    torque: float | None
-    power: float | None
-    joints: dict[str, Reaction] | None
-    shaking_force: Vector | None
-    shaking_moment: Vector | None
-    status: str
+def _minus(x: Any, y: Any) -> Any:
+    return x if _nought(y) else -y if _nought(x) else x - y
 
 
-class _Mass(NamedTuple):
-    mass: float
-    centre: Vector              # in the body's frame
-    inertia: Matrix             # about the centre, in the body's frame
-
-
-class _State(NamedTuple):
-    """A body at one instant: its frame's origin and axes (x, y, z), the origin's acceleration,
-    the angular velocity and acceleration."""
-    origin: Vector
-    axes: Matrix
-    acceleration: Vector
-    spin: Vector
-    spin_rate: Vector
-
-
-class _Joint(NamedTuple):
-    """A joint's unknowns: the force directions (acting at `at`) and the moment directions; the
-    bodies it joins (0 crank, 1 coupler, 2 output, None the frame): before acts on after."""
-    name: str
-    before: int | None
-    after: int
-    at: Vector
-    forces: tuple[Vector, ...]
-    moments: tuple[Vector, ...]
-
-
-def _comb(*terms: tuple[float, Vector]) -> Vector:
-    """The sum of (coefficient, 3-vector) terms."""
-    x = y = z = 0.0
-    for k, v in terms:
-        x, y, z = x + k * v[0], y + k * v[1], z + k * v[2]
-    return x, y, z
-
-
-def _unit3(v: Vector) -> Vector:
-    return _comb((1.0 / math.sqrt(dot(v, v)), v))
-
-
-def _in_world(axes: Matrix, v: Sequence[float]) -> Vector:
-    """A vector given in a body's frame (axes x, y, z), in the fixed frame."""
-    return _comb((v[0], axes[0]), (v[1], axes[1]), (v[2], axes[2]))
-
-
-def _inertia_times(axes: Matrix, inertia: Matrix, w: Vector) -> Vector:
-    """The body-frame inertia, turned into the fixed frame, times w."""
-    local = [dot(axis, w) for axis in axes]
-    return _in_world(axes, [sum(row[j] * local[j] for j in range(3)) for row in inertia])
-
-
-def _perpendicular_pair(k: Vector) -> tuple[Vector, Vector]:
-    """Two unit vectors perpendicular to the unit vector k and to each other."""
-    least = min(range(3), key=lambda i: abs(k[i]))
-    p = _unit3(cross(k, (_X, _Y, _Z)[least]))
-    return p, cross(k, p)
-
-
-def _spin_about_centre(a: Vector, b: Vector, va: Vector, vb: Vector) -> Vector:
-    """The angular velocity Omega of a body turning about the origin whose points a and b (not
-    parallel) move with va = Omega x a, vb = Omega x b (in Omega's basis a, b, a x b)."""
-    n = cross(a, b)
-    nn = dot(n, n)
-    return _comb((dot(vb, n) / nn, a), (-dot(va, n) / nn, b), (dot(va, b) / nn, n))
-
-
-def checked_number(value: Any, what: str) -> float:
-    """value as a finite float, or a ValueError that names `what` and says why not."""
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{what} must be a number, not {value!r}") from None
-    if not math.isfinite(x):
-        raise ValueError(f"{what} must be finite, not {x!r}")
-    return x
-
-
-def checked_numbers(values: Any, count: int, what: str) -> tuple[float, ...]:
-    """`count` finite floats from values, or a ValueError that names `what`."""
-    try:
-        items = list(values)
-    except TypeError:
-        items = []
-    if len(items) != count:
-        raise ValueError(f"{what} must be {count} numbers, not {values!r}")
-    return tuple(checked_number(v, what) for v in items)
-
-
-def _rod(mass: float, length: float) -> _Mass:
-    """A uniform slender rod along x from the origin, of `length`."""
-    side = mass * length * length / 12.0
-    return _Mass(mass, (length / 2.0, 0.0, 0.0), (_NOUGHT, (0.0, side, 0.0), (0.0, 0.0, side)))
-
-
-def _arc(mass: float, radius: float, arc: float, start: int, toward: int) -> _Mass:
-    """A uniform slender rod on the circle of `radius` about the origin, from the body axis
-    `start` toward the axis `toward` through `arc` radians."""
-    p, q = (_X, _Y, _Z)[start], (_X, _Y, _Z)[toward]
-    half = math.sin(2.0 * arc) / (4.0 * arc)
-    cc, ss, cs = 0.5 + half, 0.5 - half, math.sin(arc) ** 2 / (2.0 * arc)   # <cos^2>, <sin^2>, <cs>
-    g = _comb((radius * math.sin(arc) / arc, p), (radius * (1.0 - math.cos(arc)) / arc, q))
-    k = mass * radius * radius
-    gg = dot(g, g)
-    rows = []
+def _vlin(*terms: tuple[Any, Vec3]) -> Vec3:
+    """The sum of (coefficient, 3-vector) terms (a term of coefficient -1 subtracted)."""
+    out = []
     for i in range(3):
-        row = []
-        for j in range(3):
-            mean = cc * p[i] * p[j] + ss * q[i] * q[j] + cs * (p[i] * q[j] + q[i] * p[j])
-            about_o = k * ((i == j) - mean)
-            row.append(about_o - mass * (gg * (i == j) - g[i] * g[j]))
-        rows.append(tuple(row))
-    return _Mass(mass, g, cast(Matrix, tuple(rows)))
+        value: Any = 0.0
+        for k, v in terms:
+            if type(k) is float and k == -1.0:
+                value = _minus(value, v[i])
+            else:
+                value = _total(value, _times(k, v[i]))
+        out.append(value)
+    return cast(Vec3, tuple(out))
 
 
-def _checked_body(kind: str, role: str, body: Body, rod: Callable[[float], _Mass]) -> _Mass:
-    """body as a _Mass in its frame, or a ValueError that says what is wrong with it; rod(mass)
-    the uniform rod it is when its centre and inertia are None."""
-    name = f"the {role}"
-    mass = checked_number(body.mass, f"{name}'s mass")
-    if mass < 0.0:
-        raise ValueError(f"{name}'s mass must not be negative, not {mass:g}")
-    if body.centre is None and body.inertia is None:
-        return rod(mass)
-    if body.centre is None or body.inertia is None:
-        raise ValueError(f"{name}: give both its centre and its inertia, or neither (a rod)")
-    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
-    if plane:
-        if role == "coupler":
-            u, v = checked_numbers(body.centre, 2, f"{name}'s centre (u, v)")
-            centre = (u, v, 0.0)
-        else:
-            centre = (checked_number(body.centre, f"{name}'s centre"), 0.0, 0.0)
-        inertia = checked_number(body.inertia, f"{name}'s inertia")
-        if inertia < 0.0:
-            raise ValueError(f"{name}'s inertia must not be negative, not {inertia:g}")
-        return _Mass(mass, centre, ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, inertia)))
-    centre = cast(Vector, checked_numbers(body.centre, 3, f"{name}'s centre (x, y, z)"))
-    try:
-        rows = [checked_numbers(row, 3, f"{name}'s inertia") for row in cast(Any, body.inertia)]
-    except TypeError:
-        rows = []
-    if len(rows) != 3:
-        raise ValueError(f"{name}'s inertia must be a 3 x 3 tensor (three rows of three numbers)")
-    scale = max(abs(x) for row in rows for x in row) or 1.0
-    if any(abs(rows[i][j] - rows[j][i]) > 1e-12 * scale for i in range(3) for j in range(i)):
-        raise ValueError(f"{name}'s inertia must be a symmetric tensor")
-    minors = [rows[i][i] for i in range(3)] + [
-        rows[i][i] * rows[j][j] - rows[i][j] ** 2 for i, j in ((0, 1), (0, 2), (1, 2))] + [
-        rows[0][0] * (rows[1][1] * rows[2][2] - rows[1][2] ** 2)
-        - rows[0][1] * (rows[0][1] * rows[2][2] - rows[1][2] * rows[0][2])
-        + rows[0][2] * (rows[0][1] * rows[1][2] - rows[1][1] * rows[0][2])]
-    if any(m < -1e-12 * scale ** (1 + (k > 2) + (k > 5)) for k, m in enumerate(minors)):
-        raise ValueError(f"{name}'s inertia must be positive semi-definite (no negative moment "
-                         "of inertia about any axis)")
-    if role == "coupler" and PINS[kind].coupler == "line":
-        if centre[1] or centre[2]:
-            raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
-                             "from A to its output pin, so its centre must lie on it: (u, 0, 0)")
-        if any(rows[i][j] for i in range(3) for j in range(3) if i != j) or \
-                abs(rows[1][1] - rows[2][2]) > 1e-12 * scale:
-            raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
-                             "from A to its output pin, so its inertia must be axisymmetric "
-                             "about it: ((axial, 0, 0), (0, transverse, 0), (0, 0, transverse))")
-    return _Mass(mass, centre, cast(Matrix, tuple(rows)))
+def _vcross(u: Vec3, v: Vec3) -> Vec3:
+    return (_minus(_times(u[1], v[2]), _times(u[2], v[1])),
+            _minus(_times(u[2], v[0]), _times(u[0], v[2])),
+            _minus(_times(u[0], v[1]), _times(u[1], v[0])))
 
 
-class _Setup(NamedTuple):
-    """What forces() computes once for a call: the bodies, the loads and the ground."""
-    linkage: Closure
-    dims: dict[str, float]
-    radius: float
-    masses: tuple[_Mass, _Mass, _Mass]
-    omega: float
-    alpha: float
-    gravity: Vector
-    output_torque: float
-    output_force: float
-    coupler_point: Vector | None        # (u, v, 0) plane, (u, 0, 0) line, sphere's unit vector
-    coupler_force: Vector
-    ground: dict[str, Vector]
-    axes: dict[str, tuple[Vector, Vector]]
+def _vdot(u: Vec3, v: Vec3) -> Any:
+    return _total(_times(u[0], v[0]), _times(u[1], v[1]), _times(u[2], v[2]))
 
 
-def _setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float) -> _Setup:
-    """The checked bodies and effects of a forces() call (a ValueError says what is wrong)."""
-    kind = linkage.kind
-    spherical, plane = kind == SPHERICAL_FOUR_BAR, kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
-    radius = checked_number(radius, "the sphere's radius")
-    if radius <= 0.0:
-        raise ValueError(f"the sphere's radius must be positive, not {radius:g}")
-    if radius != 1.0 and not spherical:
-        raise ValueError("radius is the spherical four-bar's: the other kinds' dimensions are "
-                         "their lengths in metres")
-    dims = pin_dimensions(linkage.dims)
-    if spherical:
-        arcs = {n: math.acos(max(-1.0, min(1.0, cos_sin_degrees(dims[n])[0]))) for n in "bcd"}
-        if min(math.sin(x) for x in arcs.values()) == 0.0:
-            raise ValueError("forces need arcs b, c and d that are not 0 or 180 degrees")
-        crank: Callable[[float], _Mass] = functools.partial(_arc, radius=radius, arc=arcs["b"],
-                                                            start=2, toward=0)
-        coupler: Callable[[float], _Mass] = functools.partial(_arc, radius=radius,
-                                                              arc=arcs["c"], start=0, toward=1)
-        output: Callable[[float], _Mass] = functools.partial(_arc, radius=radius, arc=arcs["d"],
-                                                             start=2, toward=0)
-    else:
-        lengths = [abs(dims[n]) for n in ("b", "c") + (("d",) if "d" in dims else ())]
-        if min(lengths) == 0.0:
-            raise ValueError("forces need links of non-zero length (b, c and d)")
-        crank = functools.partial(_rod, length=abs(dims["b"]))
-        coupler = functools.partial(_rod, length=abs(dims["c"]))
-        output = (functools.partial(_rod, length=abs(dims["d"])) if not linkage.is_slider
-                  else lambda m: _Mass(m, _NOUGHT, (_NOUGHT, _NOUGHT, _NOUGHT)))
-    masses = (_checked_body(kind, "crank", bodies.crank, crank),
-              _checked_body(kind, "coupler", bodies.coupler, coupler),
-              _checked_body(kind, "slider" if linkage.is_slider else "output", bodies.output,
-                            output))
-    if effects.gravity is None:
-        gravity = _NOUGHT
-    elif isinstance(effects.gravity, (int, float)):
-        g = checked_number(effects.gravity, "gravity")
-        gravity = (0.0, -g, 0.0) if plane else (0.0, 0.0, -g)
-    else:
-        gravity = cast(Vector, checked_numbers(effects.gravity, 3, "gravity (gx, gy, gz)"))
-    output_torque = checked_number(effects.output_torque, "the output torque")
-    output_force = checked_number(effects.output_force, "the output force")
-    if output_torque and linkage.is_slider:
-        raise ValueError("a slider-crank's output is its slider: load it with output_force")
-    if output_force and not linkage.is_slider:
-        raise ValueError("a four-bar's output is a crank: load it with output_torque")
-    point, force = None, _NOUGHT
-    if effects.coupler_force is not None:
-        try:
-            at, given = effects.coupler_force
-        except (TypeError, ValueError):
-            raise ValueError("coupler_force is ((u, v), (fx, fy, fz))") from None
-        u, v = checked_numbers(at, 2, "the coupler force's point (u, v)")
-        force = cast(Vector, checked_numbers(given, 3, "the coupler force (fx, fy, fz)"))
-        form = PINS[kind].coupler
-        if form == "line" and v:
-            raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
-                             "from A to its output pin, so a force on it must act at a point of "
-                             f"that line: v must be 0, not {v:g}")
-        if form == "sphere":
-            (cu, su), (cv, sv) = cos_sin_degrees(u), cos_sin_degrees(v)
-            point = (radius * cv * cu, radius * cv * su, radius * sv)
-        else:
-            point = (u, v, 0.0)
-    if plane and (gravity[2] or force[2]):
-        raise ValueError("the plane kinds are analysed in their plane: gravity and the coupler "
-                         "force must have no z component")
-    omega = 2.0 * math.pi * checked_number(effects.speed_rpm, "the speed (rpm)") / 60.0
-    alpha = checked_number(effects.crank_acceleration, "the crank's acceleration")
-    ground = joint_positions(linkage, 0.0)
-    return _Setup(linkage, dims, radius, masses, omega, alpha, gravity, output_torque,
-                  output_force, point, force, ground.joints, ground.axes)
+def _vunit(np: ModuleType, v: Vec3) -> Vec3:
+    return _vlin((1.0 / np.sqrt(_vdot(v, v)), v))
 
 
-def _states(setup: _Setup, m: Motion) -> tuple[tuple[_State, _State, _State], Vector, Vector]:
-    """The three bodies at the Motion m, and the pins A and P (the output's, B or C)."""
+class _BodyArrays(NamedTuple):
+    origin: Vec3
+    axes: tuple[Vec3, Vec3, Vec3] | None        # None: the skew coupler's (only x: line)
+    line: Vec3
+    acceleration: Vec3
+    spin: Vec3
+    spin_rate: Vec3
+    axial: bool = False         # spin and spin_rate along axes[2] (the crank; a four-bar's output)
+
+
+def _inertia_times_arrays(body: _BodyArrays, inertia: Matrix, w: Vec3) -> Vec3:
+    """The body-frame inertia, in the fixed frame, times w (_inertia_times on arrays); the skew
+    coupler's axisymmetric about its line."""
+    if body.axes is None:
+        along = _vdot(body.line, w)
+        transverse = (inertia[1][1] + inertia[2][2]) / 2.0
+        return _vlin((inertia[0][0] - transverse, _vlin((along, body.line))), (transverse, w))
+    local = [0.0, 0.0, _vdot(body.axes[2], w)] if body.axial else [
+        _vdot(axis, w) for axis in body.axes]
+    rows = [_total(*(_times(row[j], local[j]) for j in range(3))) for row in inertia]
+    return _vlin(*zip(rows, body.axes))
+
+
+def _body_frames(np: ModuleType, setup: ForcesSetup, phi: Any, out: Any, q1: Any, q2: Any
+                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3]:
+    """_states on arrays: the three bodies, and the pins A and P."""
     linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
     kind = linkage.kind
-    assert m.output is not None and m.velocity is not None and m.acceleration is not None
-    q1, q2 = m.velocity, m.acceleration
-    a = PINS[kind].crank_pin(dims, *cos_sin_degrees(m.phi))
-    p = output_pin_at(linkage, dims, m.output, cos_sin_degrees)
-    p1, p2 = _comb((q1, p[1])), _comb((q1 * q1, p[2]), (q2, p[1]))
-    pa, va, aa = _comb((r, a[0])), _comb((r * w, a[1])), _comb((r * w * w, a[2]), (r * al, a[1]))
-    pp, vp, ap = _comb((r, p[0])), _comb((r * w, p1)), _comb((r * w * w, p2), (r * al, p1))
-    x = _unit3((pa[0], pa[1], 0.0))
-    crank = _State(_NOUGHT, (x, cross(_Z, x), _Z), _NOUGHT, (0.0, 0.0, w), (0.0, 0.0, al))
+    cos_sin = functools.partial(cos_sin_degrees_array, np)
+    a = PINS[kind].crank_pin(dims, *cos_sin(phi))
+    p = output_pin_at(linkage, dims, out, cos_sin)
+    p1, p2 = _vlin((q1, p[1])), _vlin((_times(q1, q1), p[2]), (q2, p[1]))
+    pa, va, aa = _vlin((r, a[0])), _vlin((r * w, a[1])), _vlin((r * w * w, a[2]), (r * al, a[1]))
+    pp, vp, ap = _vlin((r, p[0])), _vlin((r * w, p1)), _vlin((r * w * w, p2), (r * al, p1))
+    x = _vunit(np, (pa[0], pa[1], 0.0))
+    crank = _BodyArrays(_ZERO3, (x, _vcross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
+                        (0.0, 0.0, al), True)
     form = PINS[kind].coupler
     if form == "sphere":
-        z = _unit3(cross(pa, pp))
-        spin = _spin_about_centre(pa, pp, va, vp)
-        rate = _spin_about_centre(pa, pp, _comb((1.0, aa), (-1.0, cross(spin, va))),
-                                  _comb((1.0, ap), (-1.0, cross(spin, vp))))
-        x = _unit3(pa)
-        coupler = _State(_NOUGHT, (x, cross(z, x), z), _NOUGHT, spin, rate)
+        n = _vcross(pa, pp)
+        nn = _vdot(n, n)
+        z = _vlin((1.0 / np.sqrt(nn), n))
+
+        def about_o(va_: Vec3, vb_: Vec3) -> Vec3:     # _spin_about_centre
+            return _vlin((_vdot(vb_, n) / nn, pa), (-_vdot(va_, n) / nn, pp),
+                         (_vdot(va_, pp) / nn, n))
+        spin = about_o(va, vp)
+        rate = about_o(_vlin((1.0, aa), (-1.0, _vcross(spin, va))),
+                       _vlin((1.0, ap), (-1.0, _vcross(spin, vp))))
+        x = _vunit(np, pa)
+        coupler = _BodyArrays(_ZERO3, (x, _vcross(z, x), z), x, _ZERO3, spin, rate)
     else:
-        ab, dv, da = _comb((1.0, pp), (-1.0, pa)), _comb((1.0, vp), (-1.0, va)), _comb((1.0, ap),
-                                                                                      (-1.0, aa))
-        squared = dot(ab, ab)
-        spin = _comb((1.0 / squared, cross(ab, dv)))
-        rate = _comb((1.0 / squared, cross(ab, _comb((1.0, da), (-1.0, cross(spin, dv))))))
-        x = _unit3(ab)
-        y, z = (cross(_Z, x), _Z) if form == "plane" else _perpendicular_pair(x)
-        coupler = _State(pa, (x, y, z), aa, spin, rate)
+        ab, dv, da = _vlin((1.0, pp), (-1.0, pa)), _vlin((1.0, vp), (-1.0, va)), \
+            _vlin((1.0, ap), (-1.0, aa))
+        inverse = 1.0 / _vdot(ab, ab)
+        spin = _vlin((inverse, _vcross(ab, dv)))
+        rate = _vlin((inverse, _vcross(ab, _vlin((1.0, da), (-1.0, _vcross(spin, dv))))))
+        x = _vlin((np.sqrt(inverse), ab))
+        axes = (x, _vcross(_EZ, x), _EZ) if form == "plane" else None
+        coupler = _BodyArrays(pa, axes, x, aa, spin, rate)
     if linkage.is_slider:
         g = setup.axes["guide"][1]
-        y = _Y if kind == PLANE_SLIDER_CRANK else _X
-        output = _State(pp, (g, y, cross(g, y)), ap, _NOUGHT, _NOUGHT)
+        y = _EY if kind == PLANE_SLIDER_CRANK else _EX
+        output = _BodyArrays(pp, (g, y, cross(g, y)), g, ap, _ZERO3, _ZERO3)
     else:
         k = setup.axes["output"][1]
-        pivot = setup.ground.get("B0", _NOUGHT) if kind != SPHERICAL_FOUR_BAR else _NOUGHT
-        pivot = _comb((r, pivot))
-        arm = _comb((1.0, pp), (-1.0, pivot))
-        x = _unit3(_comb((1.0, arm), (-dot(arm, k), k)))
-        output = _State(pivot, (x, cross(k, x), k), _NOUGHT, _comb((q1 * w, k)),
-                        _comb((q2 * w * w + q1 * al, k)))
+        pivot = _vlin((r, setup.ground["B0"])) if kind != SPHERICAL_FOUR_BAR else _ZERO3
+        arm = _vlin((1.0, pp), (-1.0, pivot))
+        x = _vunit(np, _vlin((1.0, arm), (-_vdot(arm, k), k)))
+        output = _BodyArrays(pivot, (x, _vcross(k, x), k), x, _ZERO3, _vlin((_times(q1, w), k)),
+                             _vlin((_total(_times(q2, w * w), _times(q1, al)), k)), True)
     return (crank, coupler, output), pa, pp
 
 
-def _joints(setup: _Setup, states: tuple[_State, _State, _State], pa: Vector, pp: Vector
-            ) -> list[_Joint]:
-    """The kind's joints with their unknowns at this position (see the notes above)."""
-    kind = setup.linkage.kind
-    out = PINS[kind].output_joint
-    if kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
-        pins = [_Joint("A0", None, 0, _NOUGHT, (_X, _Y), ()),
-                _Joint("A", 0, 1, pa, (_X, _Y), ()), _Joint(out, 1, 2, pp, (_X, _Y), ())]
-        if kind == PLANE_FOUR_BAR:
-            return pins + [_Joint("B0", None, 2, states[2].origin, (_X, _Y), ())]
-        return pins + [_Joint("guide", None, 2, pp, (_Y,), (_Z,))]
-    if kind == SPHERICAL_FOUR_BAR:
-        return [_Joint(name, before, after, _NOUGHT, (), _perpendicular_pair(_unit3(axis)))
-                for name, before, after, axis in (("A0", None, 0, _Z), ("A", 0, 1, pa),
-                                                  ("B", 1, 2, pp),
-                                                  ("B0", None, 2, setup.axes["output"][1]))]
-    joints = [_Joint("A0", None, 0, _NOUGHT, (_X, _Y, _Z), _perpendicular_pair(_Z)),
-              _Joint("A", 0, 1, pa, (_X, _Y, _Z), ()), _Joint(out, 1, 2, pp, (_X, _Y, _Z), ())]
-    if kind == SKEW_FOUR_BAR:
-        k = setup.axes["output"][1]
-        return joints + [_Joint("B0", None, 2, states[2].origin, (_X, _Y, _Z),
-                                _perpendicular_pair(k))]
-    return joints + [_Joint("guide", None, 2, pp, _perpendicular_pair(setup.axes["guide"][1]),
-                            (_X, _Y, _Z))]
-
-
-def _equations(kind: str, states: tuple[_State, _State, _State]
-               ) -> list[list[tuple[Vector, Vector]]]:
-    """Each body's equations as (force, moment) directions its wrench about the origin is
-    projected on: the plane's 3, space's 6 (the skew coupler's 5), Euler's 3 about O."""
-    if kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
-        return [[(_X, _NOUGHT), (_Y, _NOUGHT), (_NOUGHT, _Z)]] * 3
-    if kind == SPHERICAL_FOUR_BAR:
-        return [[(_NOUGHT, _X), (_NOUGHT, _Y), (_NOUGHT, _Z)]] * 3
-    full = [(_X, _NOUGHT), (_Y, _NOUGHT), (_Z, _NOUGHT),
-            (_NOUGHT, _X), (_NOUGHT, _Y), (_NOUGHT, _Z)]
-    return [full, full[:3] + [(_NOUGHT, states[1].axes[1]), (_NOUGHT, states[1].axes[2])], full]
-
-
-def _solved(rows: list[list[float]], rhs: list[float]) -> list[float] | None:
-    """x with rows x = rhs, by Gaussian elimination with partial pivoting on the system scaled
-    to a largest entry of 1 in each row and column; None where it is singular (a pivot under
-    _SINGULAR_BELOW)."""
-    n = len(rows)
-    work = [list(row) + [b] for row, b in zip(rows, rhs)]
-    for row in work:
-        big = max(abs(v) for v in row[:n])
-        if big == 0.0:
-            return None
-        row[:] = [v / big for v in row]
-    columns = [max(abs(row[j]) for row in work) for j in range(n)]
-    if min(columns) == 0.0:
-        return None
-    for row in work:
-        row[:n] = [v / s for v, s in zip(row, columns)]
-    for k in range(n):
-        pivot = max(range(k, n), key=lambda i: abs(work[i][k]))
-        if abs(work[pivot][k]) < _SINGULAR_BELOW:
-            return None
-        work[k], work[pivot] = work[pivot], work[k]
-        for i in range(k + 1, n):
-            f = work[i][k] / work[k][k]
-            if f:
-                work[i][k:] = [v - f * t for v, t in zip(work[i][k:], work[k][k:])]
-    x = [0.0] * n
-    for k in reversed(range(n)):
-        x[k] = (work[k][n] - sum(work[k][j] * x[j] for j in range(k + 1, n))) / work[k][k]
-    return [v / s for v, s in zip(x, columns)]
-
-
-def _forces_at(setup: _Setup, m: Motion) -> Forces:
-    """One position's Forces (see forces)."""
-    none = Forces(m.phi, None, None, None, None, None, m.status)
-    if m.output is None:
-        return none
-    if m.status in (DEAD_CENTRE, CHANGE_POINT) or m.velocity is None or m.acceleration is None:
-        return none._replace(status=UNBOUNDED)
-    kind = setup.linkage.kind
-    states, pa, pp = _states(setup, m)
-    joints = _joints(setup, states, pa, pp)
-    # each body's wrench about the origin that the reactions and the torque must make up:
-    # the rate of its momenta less gravity and the loads
+def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays]
+                   ) -> list[tuple[Vec3, Vec3]]:
+    """Each body's wrench about the origin that the reactions and the torque make up (as in
+    _forces_at): the rate of its momenta less gravity and the loads."""
     needed = []
-    for body, (mass, state) in enumerate(zip(setup.masses, states)):
-        rho = _in_world(state.axes, mass.centre)
-        centre = _comb((1.0, state.origin), (1.0, rho))
-        a_g = _comb((1.0, state.acceleration), (1.0, cross(state.spin_rate, rho)),
-                    (1.0, cross(state.spin, cross(state.spin, rho))))
-        net = _comb((mass.mass, a_g), (-mass.mass, setup.gravity))
-        turning = _comb((1.0, cross(centre, net)),
-                        (1.0, _inertia_times(state.axes, mass.inertia, state.spin_rate)),
-                        (1.0, cross(state.spin, _inertia_times(state.axes, mass.inertia,
-                                                                state.spin))))
-        if body == 1 and setup.coupler_point is not None:
-            at = _comb((1.0, state.origin), (1.0, _in_world(state.axes, setup.coupler_point)))
-            net = _comb((1.0, net), (-1.0, setup.coupler_force))
-            turning = _comb((1.0, turning), (-1.0, cross(at, setup.coupler_force)))
-        if body == 2 and setup.output_torque:
-            turning = _comb((1.0, turning), (-setup.output_torque, state.axes[2]))
-        if body == 2 and setup.output_force:
-            load = _comb((setup.output_force, state.axes[0]))
-            net = _comb((1.0, net), (-1.0, load))
-            turning = _comb((1.0, turning), (-1.0, cross(state.origin, load)))
+    for i, (mass, body) in enumerate(zip(setup.masses, bodies)):
+        axes = body.axes or (body.line, _ZERO3, _ZERO3)
+        rho = _vlin(*zip(mass.centre, axes))
+        centre = _vlin((1.0, body.origin), (1.0, rho))
+        a_g = _vlin((1.0, body.acceleration), (1.0, _vcross(body.spin_rate, rho)),
+                    (1.0, _vcross(body.spin, _vcross(body.spin, rho))))
+        net = _vlin((mass.mass, a_g), (-mass.mass, setup.gravity))
+        turning = _vlin((1.0, _vcross(centre, net)),
+                        (1.0, _inertia_times_arrays(body, mass.inertia, body.spin_rate)),
+                        (1.0, _vcross(body.spin, _inertia_times_arrays(body, mass.inertia,
+                                                                       body.spin))))
+        if i == 1 and setup.coupler_point is not None:
+            at = _vlin((1.0, body.origin), (1.0, _vlin(*zip(setup.coupler_point, axes))))
+            net = _vlin((1.0, net), (-1.0, setup.coupler_force))
+            turning = _vlin((1.0, turning), (-1.0, _vcross(at, setup.coupler_force)))
+        if i == 2 and setup.output_torque:
+            assert body.axes is not None
+            turning = _vlin((1.0, turning), (-setup.output_torque, body.axes[2]))
+        if i == 2 and setup.output_force:
+            load = _vlin((setup.output_force, body.line))
+            net = _vlin((1.0, net), (-1.0, load))
+            turning = _vlin((1.0, turning), (-1.0, _vcross(body.origin, load)))
         needed.append((net, turning))
-    # one column per unknown: its unit wrench about the origin on each body it acts on
-    columns: list[list[tuple[Vector, Vector]]] = []
-    for joint in joints:
-        units = [(d, cross(joint.at, d)) for d in joint.forces] + [(_NOUGHT, d)
-                                                                   for d in joint.moments]
-        for f, t in units:
-            on = [(_NOUGHT, _NOUGHT)] * 3
-            on[joint.after] = (f, t)
-            if joint.before is not None:
-                on[joint.before] = (_comb((-1.0, f)), _comb((-1.0, t)))
-            columns.append(on)
-    columns.append([(_NOUGHT, _Z), (_NOUGHT, _NOUGHT), (_NOUGHT, _NOUGHT)])     # the torque
-    rows, rhs = [], []
-    for body, equations in enumerate(_equations(kind, states)):
-        for f_dir, t_dir in equations:
-            rows.append([dot(f_dir, col[body][0]) + dot(t_dir, col[body][1]) for col in columns])
-            rhs.append(dot(f_dir, needed[body][0]) + dot(t_dir, needed[body][1]))
-    x = _solved(rows, rhs)
-    if x is None:
-        return none._replace(status=UNBOUNDED)
-    torque, i = x[-1], 0
-    reactions: dict[str, Reaction] = {}
-    shaking_force, shaking_moment = _NOUGHT, (0.0, 0.0, -torque)
-    for joint in joints:
-        nf, nm = len(joint.forces), len(joint.moments)
-        force = _comb(*zip(x[i:i + nf], joint.forces)) if nf else None
-        moment = _comb(*zip(x[i + nf:i + nf + nm], joint.moments)) if nm else None
-        i += nf + nm
-        reactions[joint.name] = Reaction(force, moment)
-        if joint.before is None:
-            if force is not None:
-                shaking_force = _comb((1.0, shaking_force), (-1.0, force))
-                shaking_moment = _comb((1.0, shaking_moment), (-1.0, cross(joint.at, force)))
-            if moment is not None:
-                shaking_moment = _comb((1.0, shaking_moment), (-1.0, moment))
-    if kind == SPHERICAL_FOUR_BAR:     # the whole linkage's Newton: the loads less m a_G
-        shaking_force = _comb(*((-1.0, net) for net, _ in needed))
-    numbers = [torque, torque * setup.omega, *shaking_force, *shaking_moment] + [
-        v for r in reactions.values() for part in r if part is not None for v in part]
-    if not all(map(math.isfinite, numbers)):     # masses or a speed past the floats' range
-        return none._replace(status=OUT_OF_RANGE)
-    return Forces(m.phi, torque, torque * setup.omega, reactions, shaking_force, shaking_moment,
-                  m.status)
+    return needed
 
 
-def forces(linkage: Closure, phis: Iterable[float], branch: int | str = 1,
-           bodies: Bodies = Bodies(), effects: Effects = Effects(), *, radius: float = 1.0,
-           start: int | None = None) -> list[Forces]:
-    """The driving torque, the joints' reactions and the frame's shaking force and moment at
-    each input angle of `phis` (degrees) on `branch` (as Linkage.sweep), for the bodies' masses
-    and the effects (see the notes above; radius: the spherical four-bar's sphere, metres)."""
-    setup = _setup(linkage, bodies, effects, radius)
-    return [_forces_at(setup, m) for m in linkage.sweep(phis, branch, 2, start=start)]
-
-
-PEAK_TOLERANCE = 0.01       # degrees: torque_peak closes on the peak to this (golden section)
-
-
-class TorquePeak(NamedTuple):
-    """The driving torque's largest size along a motion: its value (signed, N m) at the input
-    angle phi; or the angles where the forces are unbounded (value and phi None: the torque
-    grows without bound as the crank nears them); all None where no position is known."""
-    value: float | None
-    phi: float | None
-    unbounded: tuple[float, ...] = ()
-
-
-def torque_peak(linkage: Closure, phis: Sequence[float], branch: int = 1,
-                bodies: Bodies = Bodies(), effects: Effects = Effects(), *, radius: float = 1.0,
-                turns: bool = False, dead: frozenset[int] = frozenset(), refined: int = 2
-                ) -> tuple[tuple[Forces, ...], TorquePeak]:
-    """forces() at each of phis (increasing, degrees; turns: a full turn, the last the first's
-    neighbour) on `branch`, the positions `dead` (dead centres) UNBOUNDED, and the torque's
-    peak: unbounded where any position is, else the largest |T| of the positions and of each
-    of the `refined` largest local peaks closed on between its neighbours by golden section to
-    PEAK_TOLERANCE degrees (a peak narrower than the positions' spacing may be missed)."""
-    def at(angles: Sequence[float]) -> list[Forces]:
-        return forces(linkage, angles, branch, bodies, effects, radius=radius)
-    results = tuple(Forces(r.phi, None, None, None, None, None, UNBOUNDED) if i in dead else r
-                    for i, r in enumerate(at(phis)))
-    unbounded = tuple(r.phi for r in results if r.status == UNBOUNDED)
-    if unbounded:
-        return results, TorquePeak(None, None, unbounded)
-    count = len(results)
-    size = [-1.0 if r.torque is None else abs(r.torque) for r in results]
-
-    def beside(i: int) -> float | None:      # the angle of position i (out of range: None)
-        if 0 <= i < count:
-            return phis[i]
-        return phis[i % count] + (360.0 if i >= count else -360.0) if turns and count else None
-    peaks = [i for i in range(count) if size[i] >= 0.0
-             and all(size[j % count] <= size[i] for j in (i - 1, i + 1) if beside(j) is not None)]
-    best = [(r.torque, r.phi) for r in results if r.torque is not None]
-
-    def found(phi: float) -> float:
-        torque = at([phi])[0].torque
-        if torque is None:
-            return -1.0
-        best.append((torque, phi))
-        return abs(torque)
-    ratio = (math.sqrt(5.0) - 1.0) / 2.0
-    for i in sorted(peaks, key=lambda i: -size[i])[:refined]:
-        lo, hi = (phis[i] if x is None else x for x in (beside(i - 1), beside(i + 1)))
-        x1, x2 = hi - ratio * (hi - lo), lo + ratio * (hi - lo)
-        f1, f2 = found(x1), found(x2)
-        while hi - lo > PEAK_TOLERANCE:
-            if f1 >= f2:
-                hi, x2, f2 = x2, x1, f1
-                x1 = hi - ratio * (hi - lo)
-                f1 = found(x1)
-            else:
-                lo, x1, f1 = x1, x2, f2
-                x2 = lo + ratio * (hi - lo)
-                f2 = found(x2)
-    if not best:
-        return results, TorquePeak(None, None)
-    value, phi = max(best, key=lambda tp: abs(tp[0]))
-    return results, TorquePeak(value, phi)
-
-
-class ForcesSummary(NamedTuple):
-    """The figures of a swept list of Forces: (value, phi) of the largest; None if none."""
-    peak_torque: tuple[float, float] | None         # the largest |T|, signed
-    rms_torque: float | None
-    mean_power: float | None
-    peak_joints: dict[str, tuple[float, float]]     # |force| (spherical: |moment about O|)
-    peak_shaking_force: tuple[float, float] | None
-    peak_shaking_moment: tuple[float, float] | None
-    flywheel_inertia: float | None                  # kg m^2, for the speed fluctuation cs
-
-
-def forces_summary(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05
-                   ) -> ForcesSummary:
-    """Peak and RMS torque, mean power, each joint's peak, the peak shaking force and moment,
-    and the flywheel inertia ΔE_max / (cs omega^2) that holds the speed within +-cs/2 of its
-    mean: ΔE_max the largest swing of the integral of (T - T_mean) dphi along `results` (None
-    unless every position is defined; the sweep should be one whole turn, as a flywheel's cycle
-    is: that is the caller's to give), means by the trapezoid rule; speed_rpm: the speed the
-    results were computed at (Effects.speed_rpm)."""
-    known = [r for r in results if r.torque is not None]
-    if not known:
-        return ForcesSummary(None, None, None, {}, None, None, None)
-
-    def peak(values: Iterable[tuple[float, float]]) -> tuple[float, float]:
-        return max(values, key=lambda vp: abs(vp[0]))
-
-    def size(v: Vector | None) -> float:
-        return math.sqrt(dot(v, v)) if v is not None else 0.0
-
-    torques = [cast(float, r.torque) for r in known]
-    joints: dict[str, tuple[float, float]] = {}
-    for r in known:
-        for name, reaction in cast(dict, r.joints).items():
-            value = size(reaction.force if reaction.force is not None else reaction.moment)
-            if name not in joints or value > joints[name][0]:
-                joints[name] = (value, r.phi)
-    phis = [r.phi * RAD for r in known]
-    span = phis[-1] - phis[0]
-    if len(known) > 1 and span:
-        weights = [((phis[min(i + 1, len(phis) - 1)] - phis[max(i - 1, 0)]) / 2.0) / span
-                   for i in range(len(phis))]
+def _reactions_arrays(np: ModuleType, setup: ForcesSetup,
+                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3
+                      ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any]:
+    """The torque, each joint's (force, moment), the shaking force and moment, and how far
+    each position is from the elimination's singularity (its divisor, relative): see the
+    notes above."""
+    kind = setup.linkage.kind
+    (n0, t0), (n1, t1), (n2, t2) = _needed_arrays(setup, bodies)
+    out = PINS[kind].output_joint
+    ground = "guide" if setup.linkage.is_slider else "B0"
+    joints: dict[str, tuple[Vec3 | None, Vec3 | None]]
+    if kind == SPHERICAL_FOUR_BAR:
+        a, b, k = _vunit(np, pa), _vunit(np, pp), setup.axes["output"][1]
+        divisor = _vdot(b, _vcross(a, k))
+        m_b = _vlin((-_vdot(a, t1) / divisor, _vcross(k, b)),
+                    (_vdot(k, t2) / divisor, _vcross(b, a)))
+        m_a, m_b0 = _vlin((1.0, t1), (1.0, m_b)), _vlin((1.0, t2), (-1.0, m_b))
+        v = _vlin((1.0, t0), (1.0, m_a))
+        m_a0 = (v[0], v[1], 0.0)
+        shaking_force = _vlin((-1.0, n0), (-1.0, n1), (-1.0, n2))
+        shaking_moment = _vlin((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
+        joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
+        return v[2], joints, shaking_force, shaking_moment, np.abs(divisor)
+    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
+    ab = _vlin((1.0, pp), (-1.0, pa))
+    squared = _vdot(ab, ab)
+    t1a = _vlin((1.0, t1), (-1.0, _vcross(pa, n1)))
+    across = _vlin((1.0 / squared, _vcross(ab, t1a)))
+    output = bodies[2]
+    if setup.linkage.is_slider:
+        g = output.line
+        divisor = _vdot(g, ab)
+        along = _minus(_vdot(g, n2), _vdot(g, across)) / divisor
+        size = np.sqrt(squared)
     else:
-        weights = [1.0 / len(known)] * len(known)
-    mean = sum(w * t for w, t in zip(weights, torques))
-    rms = math.sqrt(sum(w * t * t for w, t in zip(weights, torques)))
-    omega = 2.0 * math.pi * checked_number(speed_rpm, "the speed (rpm)") / 60.0
-    flywheel = None
-    if len(known) == len(results) and len(known) > 1 and span and omega and cs > 0.0:
-        energy, low, high = 0.0, 0.0, 0.0
-        for i in range(1, len(known)):
-            energy += (torques[i - 1] + torques[i] - 2.0 * mean) / 2.0 * (phis[i] - phis[i - 1])
-            low, high = min(low, energy), max(high, energy)
-        flywheel = (high - low) / (cs * omega * omega)
-    return ForcesSummary(
-        peak((t, r.phi) for t, r in zip(torques, known)), rms, mean * omega, joints,
-        peak((size(r.shaking_force), r.phi) for r in known),
-        peak((size(r.shaking_moment), r.phi) for r in known), flywheel)
+        k = setup.axes["output"][1]
+        arm = _vlin((1.0, pp), (-1.0, output.origin))
+        t2o = _vlin((1.0, t2), (-1.0, _vcross(output.origin, n2)))
+        h = _vcross(k, arm)
+        divisor = _vdot(h, ab)
+        along = _minus(_vdot(k, t2o), _vdot(h, across)) / divisor
+        size = np.sqrt(squared * _vdot(h, h))
+    r_b = _vlin((along, ab), (1.0, across))
+    r_a = _vlin((1.0, n1), (1.0, r_b))
+    r_g = _vlin((1.0, n2), (-1.0, r_b))
+    if setup.linkage.is_slider:
+        m_g = _vlin((1.0, t2), (-1.0, _vcross(pp, n2)))
+        if plane:
+            r_g, m_g = (0.0, r_g[1], 0.0), (0.0, 0.0, m_g[2])
+        at = pp
+    else:
+        m_g = _vlin((1.0, t2o), (-1.0, _vcross(arm, r_b)))
+        at = output.origin
+    r_a0 = _vlin((1.0, n0), (1.0, r_a))
+    v = _vlin((1.0, t0), (1.0, _vcross(pa, r_a)))
+    torque = v[2]
+    m_a0 = (v[0], v[1], 0.0)
+    shaking_force = _vlin((-1.0, r_a0), (-1.0, r_g))
+    shaking_moment = _vlin((1.0, (0.0, 0.0, -torque)), (-1.0, _vcross(at, r_g)))
+    if plane and not setup.linkage.is_slider:
+        joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, None)}
+    elif plane:
+        shaking_moment = _vlin((1.0, shaking_moment), (-1.0, m_g))
+        joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
+    else:
+        shaking_moment = _vlin((1.0, shaking_moment), (-1.0, m_a0), (-1.0, m_g))
+        joints = {"A0": (r_a0, m_a0), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
+    return torque, joints, shaking_force, shaking_moment, np.abs(divisor) / size
 
 
-def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
-                 prefix: str = "") -> list[str]:
-    """The `name = value` lines of a swept list of Forces (forces_summary's figures), each name
-    after `prefix`: peak and RMS torque with their angles, mean power, each joint's peak force
-    (the spherical kind's: its moment about O), the peak shaking force and moment, the flywheel
-    for the speed fluctuation cs, and the angles where the forces are unbounded or overflow."""
-    s = forces_summary(results, speed_rpm, cs)
-    rows: list[tuple[str, str]] = []
+def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
+                     bodies: Bodies = Bodies(), effects: Effects = Effects(), *,
+                     radius: float = 1.0) -> ForcesArrays:
+    """forces() on a MotionArrays of `branch` with velocity and acceleration (Linkage.sweep_arrays'
+    answer): a ForcesArrays (see Linkage.forces_arrays)."""
+    np = numpy_module()
+    setup = forces_setup(linkage, bodies, effects, radius)
+    if arrays.velocity is None or arrays.acceleration is None:
+        raise ValueError("the forces need the sweep's velocity and acceleration (derivatives 2)")
+    count = len(arrays.phi)
+    torque = np.full(count, math.nan)
+    status = arrays.status.copy()
+    columns: dict[str, list[Any]] = {}      # each vector's components in a row: (3, count)
+    shaking = np.full((2, 3, count), math.nan)
+    handed = []
+    assembled = STATUS_CODES.index(ASSEMBLED)
+    with np.errstate(all="ignore"):
+        for start in range(0, count, FAST_BLOCK):
+            part = slice(start, min(start + FAST_BLOCK, count))
+            states, pa, pp = _body_frames(np, setup, arrays.phi[part], arrays.output[part],
+                                          arrays.velocity[part], arrays.acceleration[part])
+            t, reactions, force, moment, apart = _reactions_arrays(np, setup, states, pa, pp)
+            torque[part] = t
+            for name, pair in reactions.items():
+                into = columns.setdefault(name, [None if v is None else
+                                                 np.full((3, count), math.nan) for v in pair])
+                for v, rows in zip(pair, into):
+                    if v is not None:
+                        for j in range(3):
+                            rows[j, part] = v[j]
+            for v, rows in zip((force, moment), shaking):
+                for j in range(3):
+                    rows[j, part] = v[j]
+            # every number the elimination makes reaches the torque or the shaking (an inf or
+            # a NaN carries through + and x): all are finite where these seven are
+            check = torque[part] + shaking[:, :, part].sum(axis=(0, 1))
+            plain = arrays.status[part]
+            redo = ((plain != assembled) & (plain != STATUS_CODES.index(NOT_ASSEMBLED))) | (
+                (plain == assembled) & ~((apart >= FORCES_HANDOFF) & np.isfinite(check)))
+            if redo.any():
+                handed.append(np.flatnonzero(redo) + start)
+    joints = {name: ReactionArrays(*(None if rows is None else rows.T for rows in into))
+              for name, into in columns.items()}
+    unknown = status != assembled
+    if unknown.any():
+        torque[unknown] = math.nan
+        for rows in [shaking] + [v for r in columns.values() for v in r if v is not None]:
+            rows[..., unknown] = math.nan
+    where = np.concatenate(handed) if handed else np.empty(0, dtype=np.intp)
+    if len(where):
+        for i, f in zip(where.tolist(), forces(linkage, arrays.phi[where].tolist(), branch,
+                                                 bodies, effects, radius=radius)):
+            status[i] = FORCES_STATUS_CODES.index(f.status)
+            torque[i] = math.nan if f.torque is None else f.torque
+            for name, arrays_of in joints.items():
+                reaction = f.joints[name] if f.joints is not None else Reaction(None, None)
+                for v, column in zip(reaction, arrays_of):
+                    if column is not None:
+                        column[i] = math.nan if v is None else v
+            for v, rows in zip((f.shaking_force, f.shaking_moment), shaking):
+                rows[:, i] = math.nan if v is None else v
+    return ForcesArrays(arrays.phi, torque, torque * setup.omega, joints, shaking[0].T,
+                        shaking[1].T, status, setup.speed_rpm)
 
-    def peak(name: str, value: tuple[float, float] | None, unit: str) -> None:
-        if value is None:
-            rows.append((name, "none (no position whose forces are known)"))
-        else:
-            rows.extend([(name, f"{value_text(value[0])} {unit}"),
-                         (f"{name}_phi", value_text(value[1]))])
-    peak("torque_peak", s.peak_torque, "N m")
-    rows.append(("torque_rms", "none" if s.rms_torque is None
-                 else f"{value_text(s.rms_torque)} N m"))
-    rows.append(("power_mean", "none" if s.mean_power is None
-                 else f"{value_text(s.mean_power)} W"))
-    for name, value in s.peak_joints.items():
-        moment = any(r.joints and r.joints[name].force is None for r in results)
-        peak(f"joint_{name}_{'moment' if moment else 'force'}_peak", value,
-             "N m" if moment else "N")
-    peak("shaking_force_peak", s.peak_shaking_force, "N")
-    peak("shaking_moment_peak", s.peak_shaking_moment, "N m")
-    rows.append(("fluctuation", value_text(cs)))
-    rows.append(("flywheel_inertia", f"{value_text(s.flywheel_inertia)} kg m^2"
-                 if s.flywheel_inertia is not None else
-                 "none (it needs the speed, and the forces bounded at every angle of the sweep)"))
-    for status in (UNBOUNDED, OUT_OF_RANGE):
-        rows.append((status, ", ".join(value_text(r.phi) for r in results
-                                       if r.status == status) or "none"))
-    return [f"{prefix}{name} = {value}" for name, value in rows]
 
-
-# ---- 11. Simulation: the motion in time under the scene's effects --------------------------------
+# ---- 12. Simulation: the motion in time under the scene's effects --------------------------------
 #
 # The linkage has one degree of freedom; in a coordinate q (an angle, radians) every point moves
 # with X'(q) q_dot, and Lagrange's equation is
@@ -5831,7 +6220,7 @@ def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
 # slider-crank is solved in phi alone: a rocking crank's run ends (STUCK) where |x'| passes 100
 # times the crank's length, its input's dead centre ahead, where phi cannot turn back.
 #
-# Uses: sections 2, 6, 7 and 10.
+# Uses: sections 2, 6, 7 and 9.
 # Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, Driver, Spring, Torsion, SimRow, SimEvent,
 #   Simulation, Reduced, reduced, simulate.
 
@@ -6478,13 +6867,13 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
     return Simulation(rows, events, steps, rejected, evaluations, worst)
 
 
-# ---- 12. The linkage: one class for all that can be asked of it ----------------------------------
+# ---- 13. The linkage: one class for all that can be asked of it ----------------------------------
 #
 # Holds: Linkage, the engine's Closure with a method for each question the sections before answer:
 # motion and sweep (the engine), coupler and transmission (what it derives), the same on numpy
 # arrays, and forces (what it takes to drive it).
 #
-# Uses: sections 6, 7, 9 and 10.
+# Uses: sections 6, 7, 9, 10 and 11.
 # Offers: Linkage.
 
 
@@ -6543,8 +6932,18 @@ class Linkage(Closure):
         forces section's notes: SI units, each body's frame)."""
         return forces(self, phis, branch, bodies, effects, radius=radius, start=start)
 
+    def forces_arrays(self, phis: Sequence[float] | numpy.ndarray, branch: int = 1,
+                      bodies: Bodies = Bodies(), effects: Effects = Effects(), *,
+                      radius: float = 1.0) -> ForcesArrays:
+        """forces on numpy arrays (the optional extra `fast`): a ForcesArrays of the torque, the
+        power, each joint's reaction and the shaking, NaN where unknown, with status codes; the
+        same numbers as forces to rounding and the same statuses (tests/test_forces_numpy.py): a
+        position near a dead centre is computed by forces itself."""
+        return forces_of_arrays(self, self.sweep_arrays(phis, branch, 2), branch, bodies,
+                                effects, radius=radius)
 
-# ---- 13. DAT and CSV files: the sweep's formats, written and read --------------------------------
+
+# ---- 14. DAT and CSV files: the sweep's formats, written and read --------------------------------
 #
 # Holds: the accurate engine's files: ANG.DAT, VEL.DAT, ACC.DAT (and MU.DAT) in the listing's format
 # ("phi,value" CR LF lines, the end byte 1A) at full precision, the CSV's columns, a sweep's angles,
@@ -6552,7 +6951,7 @@ class Linkage(Closure):
 # (section 1), a block of rows at once where numpy is there (the numpy path), the same bytes
 # either way.
 #
-# Uses: sections 1 and 9.
+# Uses: sections 1 and 10.
 # Offers: SceneError, angle_count, evenly_spaced_angles, write_dat_files, CSV_HEADER,
 #   TRANSMISSION_COLUMN, COUPLER_COLUMNS, csv_line, write_csv, read_dat, dat_precision.
 
@@ -6746,7 +7145,7 @@ def dat_precision(directory: str) -> str:
     return ""
 
 
-# ---- 14. The mechanism drawn: poses projected onto the page --------------------------------------
+# ---- 15. The mechanism drawn: poses projected onto the page --------------------------------------
 #
 # Holds: mechanism_drawing(), which projects the poses of a sweep onto the page - plane linkages as
 # they are, the spherical linkage on its sphere seen obliquely, the skew linkages in a fixed
@@ -6754,7 +7153,7 @@ def dat_precision(directory: str) -> str:
 # on the side the links cross least, axes), drawn once, and one Frame a pose with its letters. The
 # letters go where no mark, link, hatching or other letter covers them (place_labels).
 #
-# Uses: sections 2, 6, 7 and 12.
+# Uses: sections 2, 6, 7 and 13.
 # Offers: Point, Box, Stroke, Mark, Label, Letters, Layer, Frame, Drawing, MECHANISM_EXAMPLES,
 #   STROKE_STYLES, FAR_SIDE, VIEWS, project, Segment, stroke_segments, place_labels,
 #   mechanism_drawing, spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale,
@@ -7590,14 +7989,14 @@ def svg_letters(bounds: Box, size: float) -> Letters:
                    (svg_radius(size, scale) + 1.0) / scale, 1.6 / scale)
 
 
-# ---- 15. The mechanism's renderers: terminal, SVG, PNG and DXF -----------------------------------
+# ---- 16. The mechanism's renderers: terminal, SVG, PNG and DXF -----------------------------------
 #
 # Holds: what draws a Drawing: the terminal (Unicode braille, or ASCII; still or animated until a
 # key), an animated SVG, a PNG (matplotlib); and the DXF of its linkage for CAD (ezdxf). The SVG's
 # letters are those placed in the Drawing; the terminal and the PNG place them again for the sizes
 # they draw letters at.
 #
-# Uses: sections 1, 2, 6, 7, 8 and 14.
+# Uses: sections 1, 2, 6, 7, 8 and 15.
 # Offers: text_drawing, frame_seconds, show_drawing, svg_drawing, PlotUnavailable,
 #   matplotlib_canvas, png_drawing, DXF_LINKS, DXF_POSITIONS, dxf_module, dxf_drawing.
 
@@ -8342,7 +8741,7 @@ def dxf_drawing(drawing: Drawing, positions: int = DXF_POSITIONS) -> bytes:
     return text.getvalue().encode("utf-8")
 
 
-# ---- 16. Synthesis: what a design is, its data and its linkage -----------------------------------
+# ---- 17. Synthesis: what a design is, its data and its linkage -----------------------------------
 #
 # The classical analytical synthesis methods collected by E. Pennestrì and P. P. Valentini, "A
 # review of simple analytical methods for the kinematic synthesis of four-bar and slider-crank
@@ -8733,14 +9132,14 @@ class Synthesis(NamedTuple):
         return self.solutions[self.preferred]
 
 
-# ---- 17. Synthesis: the review's methods ---------------------------------------------------------
+# ---- 18. Synthesis: the review's methods ---------------------------------------------------------
 #
 # Holds: the review's methods, each a function of its data returning a Synthesis: the crank-rockers
 # FOURB-CR-1..4 and Volmer's, the drag-links DRAGLINK-1 and -2, the function generators FOURB-FG2-1,
 # FOURB-FG3-1, SLID-FG2-1 and SLID-FG2-2. Corrections to the review are marked `# ERRATUM Sn` and
 # justified in data/SYNTHESIS_ERRATA.md.
 #
-# Uses: sections 2 and 16.
+# Uses: sections 2 and 17.
 # Offers: fourb_cr_1, fourb_cr_2, fourb_cr_3, fourb_cr_4, volmer_crank_rocker, draglink_1,
 #   draglink_2, limit_angles, fourb_fg2_1, fourb_fg3_1, slid_fg2_1, slid_fg2_2.
 
@@ -9481,7 +9880,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
     return _one(design)
 
 
-# ---- 18. Synthesis: designs measured and checked by the engine -----------------------------------
+# ---- 19. Synthesis: designs measured and checked by the engine -----------------------------------
 #
 # Holds: every design run through engine_outputs, the one adapter to the analysis (the accurate
 # engine, never the synthesis formulas); analyze_design measures on the analysed linkage what it
@@ -9489,7 +9888,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
 # or missed, the transmission-angle extremes. METHODS, the table of the methods, and a design's
 # lines of text.
 #
-# Uses: sections 2, 8, 12, 16 and 17.
+# Uses: sections 2, 8, 13, 17 and 18.
 # Offers: engine_outputs, kind_and_dimensions, measured_transmission_angle, Measured, measure,
 #   output_change, velocity_ratio, Check, analyze_design, ANGLE_TOLERANCE, LENGTH_TOLERANCE,
 #   RATIO_TOLERANCE, conditioning, rounding_floor, misses, METHODS, ASKED_ANGLES, REVIEW_LETTERS,
@@ -9984,7 +10383,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     return below + step / 2, above - step / 2, step
 
 
-# ---- 19. Scenes: a figure's data, read and checked -----------------------------------------------
+# ---- 20. Scenes: a figure's data, read and checked -----------------------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a linkage's kind and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -9995,7 +10394,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # A scene with [simulation] is a run in time instead (section 22 runs it): its keys are read
 # here, as [dynamics]' are, each value's shape checked where the file is read.
 #
-# Uses: sections 1, 2, 6, 7, 10, 11, 12 and 13.
+# Uses: sections 1, 2, 6, 7, 9, 12, 13 and 14.
 # Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, FORCE_QUANTITIES, QUANTITY_FILES,
 #   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, DRAWN_UP_TO,
 #   DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene, scene_error, load_scene,
@@ -10692,7 +11091,7 @@ def _simulation_scene(path: str, data: dict[str, Any], kind_key: str) -> Scene:
                  simulation=settings)
 
 
-# ---- 20. Scenes computed: their DAT files, forces and CSV ----------------------------------------
+# ---- 21. Scenes computed: their DAT files, forces and CSV ----------------------------------------
 #
 # A scene read (section 19) computed: the DAT files its panels need, its forces along the sweep
 # for [dynamics], and its numbers as one CSV.
@@ -10704,9 +11103,9 @@ def _simulation_scene(path: str, data: dict[str, Any], kind_key: str) -> Scene:
 # (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
 # those files are written.
 #
-# Uses: sections 1, 2, 5, 6, 7, 9, 10, 12, 13 and 19.
+# Uses: sections 1, 2, 5, 6, 7, 9, 10, 13, 14 and 20.
 # Offers: check_assembles, Series, branch_text, compute_scene, scene_forces, forces_columns,
-#   FORCES_COLUMNS, forces_row, scene_csv.
+#   FORCES_COLUMNS, forces_row, scene_csv, csv_forces_series.
 
 
 # -- computing a scene: the DAT files ----------------------------------------------------------
@@ -10890,7 +11289,65 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
     return write_csv(path, rows(), ("series",) + CSV_HEADER + joint_columns, outputs)
 
 
-# ---- 21. Plots: a figure drawn as text or PNG ----------------------------------------------------
+def csv_forces_series(path: str) -> list[Series]:
+    """The forces of a scene's CSV (scene_csv's, with [dynamics]) read back: a Series for each
+    series name it holds (its precision and branch from the name), whose forces are its rows'
+    (the speed from power over torque); a SceneError, naming the file and its line, for a file
+    that is not such a CSV."""
+    try:
+        with open(path, encoding="utf-8", newline="") as file:
+            lines = [line.rstrip("\r\n") for line in file]
+    except (OSError, UnicodeDecodeError) as e:
+        raise SceneError(f"{path}: cannot be read ({getattr(e, 'strerror', None) or e})") \
+            from None
+    header = lines[0].split(",") if lines else []
+    fixed = ["series", *CSV_HEADER, *FORCES_COLUMNS]
+    joints = list(dict.fromkeys(column.rpartition("_")[0] for column in header[len(fixed):]))
+    parts = {name: [q for q in "fm" if f"{name}_{q}x" in header] for name in joints}
+    if header[:len(fixed)] != fixed or header[len(fixed):] != [
+            f"{name}_{q}{axis}" for name in joints for q in parts[name] for axis in "xyz"]:
+        raise SceneError(f"{path}: not the CSV of a scene with [dynamics] (its first line names "
+                         f"series, {', '.join(CSV_HEADER)}, torque, power, shaking_fx .. "
+                         "shaking_mz, forces_status, then each joint's A0_fx .. B0_mz)")
+    words = {"series", "status", "forces_status"}
+    rows: dict[str, list[Forces]] = {}
+    omega: dict[str, float] = {}
+    for number, line in enumerate(lines[1:], 2):
+        texts = line.split(",")
+        try:
+            if len(texts) != len(header):
+                raise ValueError(f"{len(texts)} fields, not {len(header)}")
+            x = {c: float(t) for c, t in zip(header, texts) if c not in words}
+        except ValueError as e:
+            raise SceneError(f"{path}, line {number}: not a row of the scene's CSV ({e})") \
+                from None
+
+        def vector(prefix: str) -> Vector:
+            return (x[f"{prefix}x"], x[f"{prefix}y"], x[f"{prefix}z"])
+        name, torque, power = texts[0], x["torque"], x["power"]
+        if math.isfinite(torque) and torque and math.isfinite(power):
+            omega.setdefault(name, power / torque)
+        force, moment = vector("shaking_f"), vector("shaking_m")
+        known = all(map(math.isfinite, (torque, power, *force, *moment)))
+        reactions = {j: Reaction(*(vector(f"{j}_{q}") if q in parts[j] else None for q in "fm"))
+                     for j in joints}
+        status = texts[len(fixed) - 1]          # forces_status
+        rows.setdefault(name, []).append(
+            Forces(x["phi"], torque, power, reactions, force, moment, status, 0.0) if known
+            else Forces(x["phi"], None, None, None, None, None, status, 0.0))
+    series = []
+    for name, results in rows.items():
+        found = re.fullmatch(r"(basic|double)-branch(1|2|follow)", name)
+        branch = None if not found else FOLLOW if found[2] == FOLLOW else int(found[2])
+        speed = omega.get(name, 0.0) * 60.0 / (2.0 * math.pi)
+        series.append(Series(name, found[1] if found else "", branch, "",
+                             tuple(f._replace(speed_rpm=speed) for f in results)))
+    if not any(f.torque is not None for s in series for f in s.forces):
+        raise SceneError(f"{path}: holds no position whose forces are known")
+    return series
+
+
+# ---- 22. Plots: a figure drawn as text or PNG ----------------------------------------------------
 #
 # Holds: a figure built from DAT files (scene_figure, dat_figure: its panels and curves) and drawn
 # as a plain-text plot (80 x 24, no dependency) or a PNG (matplotlib, the `plot` extra); a mechanism
@@ -10903,10 +11360,10 @@ def scene_csv(scene: Scene, series: list[Series], path: str,
 # added so that a curve is continuous across +-180 degrees, and so that the curves of a panel lie
 # within half a turn of the first one.
 #
-# Uses: sections 1, 2, 6, 7, 10, 12, 13, 14, 15, 19 and 20.
+# Uses: sections 1, 2, 6, 7, 9, 13, 14, 15, 16, 20 and 21.
 # Offers: dat_series, Curve, Panel, Figure, FORCE_LABELS, POLAR_MOMENTS, CLIPPED, build_figure,
-#   scene_figure, dat_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS, text_figure,
-#   png_figure, force_arrows, scene_drawing, scene_text.
+#   scene_figure, dat_figure, csv_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS,
+#   text_figure, png_figure, force_arrows, scene_drawing, scene_text.
 
 
 def dat_series(directory: str) -> list[Series]:
@@ -11138,6 +11595,17 @@ def dat_figure(directory: str, kind: str | None = None) -> Figure:
         raise SceneError(f"{directory}: its DAT files hold no point to draw (no \"angle,value\" "
                          "line)")
     return figure
+
+
+def csv_figure(path: str) -> Figure:
+    """The force panels of a scene's CSV (csv_forces_series): (a) the torque, (b) the shaking
+    force, (c) each joint's force as a polar diagram, as the scene draws them."""
+    series = csv_forces_series(path)
+    specs = [PanelSpec((q,), None) for q in ("torque", "shaking", "joint_forces")]
+    branches = ", ".join(str(s.branch) for s in series if s.branch is not None)
+    what = f"{len(series)} series" + (f"; branch{'es' * (len(series) > 1)} {branches}"
+                                     if branches else "")
+    return build_figure(f"The forces in {path}", what, "unknown", specs, series)
 
 
 # -- the plain-text plot -----------------------------------------------------------------------
@@ -11546,7 +12014,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ---- 22. Simulation scenes: a run written, plotted against time and drawn moving -----------------
+# ---- 23. Simulation scenes: a run written, plotted against time and drawn moving -----------------
 #
 # A scene with a [simulation] table (read by scene_simulation) is one run of simulate(): its
 # linkage and [dynamics] (bodies, gravity, the output's load, a coupler force; no speed: the motion
@@ -11571,7 +12039,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 # (a mechanism panel: the terminal, SVG and PNG of section 15), each shown for the time between
 # them: the linkage moves in real time.
 #
-# Uses: sections 1, 2, 7, 11, 12, 13, 14, 19 and 21.
+# Uses: sections 1, 2, 7, 12, 13, 14, 15, 20 and 22.
 # Offers: scene_run, SIMULATION_COLUMNS, simulation_rows, simulation_csv, EVENT_WORDS,
 #   simulation_report, SIMULATION_LABELS, simulation_figure, ANIMATION_FPS, simulation_drawing.
 
@@ -11715,7 +12183,7 @@ def simulation_drawing(scene: Scene, run: Simulation) -> Drawing:
     return drawing._replace(frames=frames, seconds=every * settings.step)
 
 
-# ---- 23. The explorer: a linkage changed and watched in the terminal -----------------------------
+# ---- 24. The explorer: a linkage changed and watched in the terminal -----------------------------
 #
 # Holds: `python3 linkage.py explore`: a full-screen view of the linkage moving, its coupler curve
 # traced, and beside it its dimensions and what analyse answers, all following each key. The
@@ -11730,7 +12198,7 @@ def simulation_drawing(scene: Scene, run: Simulation) -> Drawing:
 # A change that cannot be drawn (a length of 0, an arc of 180 degrees) is refused on the status
 # line, the state as it was.
 #
-# Uses: sections 1, 2, 6, 7, 8, 10, 12, 14, 15, 16, 19 and 21.
+# Uses: sections 1, 2, 6, 7, 8, 9, 13, 15, 16, 17, 20 and 22.
 # Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
 #   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_key,
 #   explore_screen, explore_scene, terminal_keys, key_file, explore_saved, explore_replay,
@@ -12505,16 +12973,16 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
     return state
 
 
-# ---- 24. Benchmarks of the program itself --------------------------------------------------------
+# ---- 25. Benchmarks of the program itself --------------------------------------------------------
 #
 # Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS. What
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 11, 12, 13, 14, 15, 19, 20, 21 and 23.
+# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 12, 13, 14, 15, 16, 20, 21, 22 and 24.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
-#   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, bench_forces,
-#   FILES_TARGET, bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung,
+#   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, FORCES_ARRAYS_TARGET,
+#   bench_forces, FILES_TARGET, bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung,
 #   measure_accuracy, bench_accuracy, EXPLORE_TARGET, bench_explore, SIMULATION_TOLERANCES,
 #   bench_simulate, BENCHMARKS, machine.
 
@@ -12864,25 +13332,55 @@ def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> No
         print(text, file=out)
 
 
-def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601) -> None:
-    """What the forces add to a sweep: forces() over the sweep alone, per kind.
+FORCES_ARRAYS_TARGET = 0.5     # forces_arrays' rate over sweep_arrays' (with v and a), at least
+
+
+def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601,
+                 array_points: int = 100_001) -> None:
+    """What the forces add to a sweep, scalar and numpy, per kind.
+
+    Scalar: forces() over the sweep alone; numpy: forces_arrays' rate beside sweep_arrays' with
+    velocity and acceleration (the target: FORCES_ARRAYS_TARGET of it).
 
     The torque, every joint's reaction and the shaking at each angle of a sweep with velocity and
     acceleration, each link a rod of 1 kg, at 100 rpm under gravity."""
     if quick:
-        points = 37
+        points, array_points = 37, 1001
     angles, _ = _bench_angles(points)
+    _, array = _bench_angles(array_points)
     bodies, effects = Bodies(Body(1.0), Body(1.0), Body(1.0)), Effects(100.0, gravity=9.80665)
-    print(f"{points:,} input angles, 0 to 360 degrees, branch 1, velocity and acceleration; "
-          "forces() (the sweep, then one linear system a position) over the sweep alone; best "
-          "of 3, one run", file=out)
-    print(f"{'linkage':12} {'sweep':>12} {'forces':>12} {'ratio':>7}", file=out)
+    print(f"scalar: {points:,} input angles, 0 to 360 degrees, branch 1, velocity and "
+          "acceleration; forces() (the sweep, then one linear system a position) over the sweep "
+          f"alone, best of 3. numpy: {array_points:,} angles, sweep_arrays (derivatives 2) and "
+          "forces_arrays (the sweep, then the forces) alternated, best of 5; one run, compare "
+          "the ratios", file=out)
+    print(f"{'linkage':12} {'sweep':>12} {'forces':>12} {'ratio':>7}   {'sweep_arrays':>13} "
+          f"{'forces_arrays':>14} {'rate ratio':>10}", file=out)
+    ratios = {}
     for kind, dims in BENCH_LINKAGES:
         linkage = Linkage(kind, **dims)
         base = _best_of(3, lambda: linkage.sweep(angles))
         with_forces = _best_of(3, lambda: forces(linkage, angles, 1, bodies, effects))
-        print(f"{kind:12} {len(angles) / base:10,.0f}/s {len(angles) / with_forces:10,.0f}/s "
-              f"{with_forces / base:6.1f}x", file=out)
+        text = (f"{kind:12} {len(angles) / base:10,.0f}/s {len(angles) / with_forces:10,.0f}/s "
+                f"{with_forces / base:6.1f}x")
+        if array is not None:
+            sweep_time = forces_time = math.inf
+            for _ in range(5):
+                sweep_time = min(sweep_time, _best_of(1, lambda: linkage.sweep_arrays(array)))
+                forces_time = min(forces_time, _best_of(1, lambda: linkage.forces_arrays(
+                    array, 1, bodies, effects)))
+            ratios[kind] = sweep_time / forces_time
+            text += (f"   {len(array) / sweep_time:11,.0f}/s {len(array) / forces_time:12,.0f}/s "
+                     f"{ratios[kind]:10.2f}")
+        else:
+            text += "   numpy not installed"
+        print(text, file=out)
+    if ratios and not quick:
+        short = [k for k, r in ratios.items() if r < FORCES_ARRAYS_TARGET]
+        print(f"target: forces_arrays at >= {FORCES_ARRAYS_TARGET} of sweep_arrays' rate with "
+              "velocity and acceleration: " + (f"NOT MET for {', '.join(short)}" if short
+                                                 else "met")
+              + f", lowest {min(ratios.values()):.2f}", file=out)
 
 
 FILES_TARGET = 1_000_000   # points a second of CPU: run --precision double --fast, DAT and CSV
@@ -13247,7 +13745,7 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 25. Commands run, analyse and forces: each one's typed value, validated once, and its work ----
+# ---- 26. Commands run, analyse and forces: each one's typed value, validated once, and its work ----
 #
 # Holds: the parsers of what is typed (numbers in each precision, kinds); what every command is
 # given (its one typed value, made of the parsed options once its "goes with" rules hold: Rule,
@@ -13255,7 +13753,7 @@ def machine() -> str:
 # command shares; then run, analyse and forces, each its typed value, the function that makes it
 # (run_options, ...) and its handler (run_command, ...), and the drawing every command shares.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 12, 13, 14, 15, 19, 20, 21 and 23.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 13, 14, 15, 16, 20, 21, 22 and 24.
 # Offers: DECIMAL, LONGEST_NUMBER, decimal_number, basic_answer, kind_named, UsageError,
 #   CommandError, Rule, goes_with, broken_rule, Pictures, pictures_typed, unwritten, reported,
 #   dimensions_typed, typed_value, check_outputs, MADE_FOLDERS, output_folder, unmake_folders,
@@ -13806,8 +14304,8 @@ def forces_command(args: ForcesOptions) -> int:
             return said(f"{scene.path}: the {scene.kind} linkage assembles at none of "
                         "the sweep's input angles", 1)
         prefix = f"branch_{branch}." if len(args.branches) > 1 else ""
-        lines += [f"{prefix}branch = {branch}"] + forces_lines(results, speed,
-                                                               args.fluctuation, prefix)
+        lines += [f"{prefix}branch = {branch}"] + forces_lines(results, cs=args.fluctuation,
+                                                               prefix=prefix)
     sys.stdout.write("".join(line + "\n" for line in lines))
     sys.stdout.flush()
     return 0
@@ -13872,12 +14370,12 @@ def drawing_command(args: Pictures, make_drawing: Callable[[], Drawing]) -> int:
     return reported(draw)
 
 
-# ---- 26. Commands scene, plot, design, listing, explore and bench --------------------------------
+# ---- 27. Commands scene, plot, design, listing, explore and bench --------------------------------
 #
 # Holds: the other commands, each as the last section's: its typed value, the function that makes
 # it, its handler.
 #
-# Uses: sections 1, 2, 6, 8, 11, 12, 13, 14, 15, 16, 18, 19, 20, 21, 22, 23, 24 and 25.
+# Uses: sections 1, 2, 6, 8, 12, 13, 14, 15, 16, 17, 19, 20, 21, 22, 23, 24, 25 and 26.
 # Offers: SceneOptions, scene_options, scene_command, PlotOptions, plot_options, plot_command,
 #   design_scene, DesignOptions, design_options, design_command, ERRATUM, KEPT_BUG, SCAN_LINE,
 #   scan_lines, erratum_reason, kept_bug_lines, annotated_listing, ListingOptions, listing_command,
@@ -14031,6 +14529,9 @@ class PlotOptions(NamedTuple):
 def plot_options(given: dict[str, Any]) -> PlotOptions:
     """plot's typed value (see PlotOptions), or UsageError: a --png that is one of its inputs."""
     pictures = pictures_typed(given)
+    if os.path.isfile(given["directory"]):      # a scene's CSV: its force panels
+        _check_not_inputs({"--png": pictures.png}, [given["directory"]])
+        return PlotOptions(given["directory"], given["kind"], pictures)
     with contextlib.suppress(SceneError):        # no DAT file there: dat_figure's to say
         _check_not_inputs({"--png": pictures.png}, [
             os.path.join(s.directory, name) for s in dat_series(given["directory"])
@@ -14039,7 +14540,10 @@ def plot_options(given: dict[str, Any]) -> PlotOptions:
 
 
 def plot_command(args: PlotOptions) -> int:
-    """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR."""
+    """`python3 linkage.py plot [DIR]`: the figure of the DAT files in DIR; `plot FILE.csv`: the
+    force panels of a scene's CSV."""
+    if os.path.isfile(args.directory):
+        return figure_command(args.pictures, lambda: csv_figure(args.directory))
     return figure_command(args.pictures, lambda: dat_figure(args.directory, args.kind))
 
 
@@ -14437,14 +14941,14 @@ def bench_command(args: BenchOptions) -> int:
     return 0
 
 
-# ---- 27. The command line: argparse from the table of commands -----------------------------------
+# ---- 28. The command line: argparse from the table of commands -----------------------------------
 #
 # Holds: the command line's words parsed (argparse): the parsers of what is typed in an option
 # (a number of a design's data, a kind, PNG sizes), the commands' help, and COMMANDS, the table of
 # every sub-command: its help, its options, its "goes with" rules and the functions that make its
 # typed value and do its work (section 23); build_parser turns it into argparse; main() last.
 #
-# Uses: sections 1, 2, 5, 6, 13, 15, 16, 18, 23, 24, 25 and 26.
+# Uses: sections 1, 2, 5, 6, 14, 16, 17, 19, 24, 25, 26 and 27.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, Option, option, Command,
 #   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, DATUM_FLAGS, DXF_HELP, PNG_OPTIONS, COMMANDS,
 #   CommandParser, build_parser, main.
@@ -14798,7 +15302,9 @@ COMMANDS = {
         "move, draw a mechanism scene: python3 linkage.py scene "
         "data/scenes/fig1a-plane-four-bar.toml (scene --help).",
         (option("directory", nargs="?", default=".", metavar="DIR",
-                help="the folder of the DAT files, or of folders of them (default: here)"),
+                help="the folder of the DAT files, or of folders of them (default: here); or "
+                     "a scene's CSV with forces (scene FILE --csv OUT): its torque, shaking and "
+                     "joint-force panels"),
          option("--kind", "--mechanism", dest="kind", type=_kind_argument,
                 metavar="KIND", help=f"{KINDS_HELP}: gives the axes their units (--mechanism: "
                                      "the old spelling, still taken)"),

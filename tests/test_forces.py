@@ -400,9 +400,9 @@ def test_the_summary_of_a_sine_torque():
     results = [linkage.Forces(p, t0 + amp * math.sin(math.radians(p)),
                               (t0 + amp * math.sin(math.radians(p))) * w,
                               {"A0": linkage.Reaction((p, 0.0, 0.0), None)},
-                              (0.0, p / 10, 0.0), (0.0, 0.0, -p), linkage.ASSEMBLED)
+                              (0.0, p / 10, 0.0), (0.0, 0.0, -p), linkage.ASSEMBLED, rpm)
                for p in phis]
-    got = linkage.forces_summary(results, rpm, cs)
+    got = linkage.forces_summary(results, cs=cs)
     assert got.peak_torque == (pytest.approx(t0 + amp), 90.0)
     assert got.rms_torque == pytest.approx(math.sqrt(t0 ** 2 + amp ** 2 / 2), rel=1e-6)
     assert got.mean_power == pytest.approx(t0 * w, rel=1e-9)

@@ -244,6 +244,67 @@ def test_the_text_plot_shows_torque_shaking_and_the_polar_diagram(tmp_path, caps
     assert len(lines) <= linkage.TEXT_HEIGHT and max(map(len, lines)) <= linkage.TEXT_WIDTH
 
 
+ALL_FORCE_PANELS = ("\n[[panels]]\nquantities = [\"torque\"]\n[[panels]]\nquantities = "
+                    "[\"shaking\"]\n[[panels]]\nquantities = [\"joint_forces\"]\n")
+LOADED = ("speed = 300\ngravity = 9.81\noutput_torque = 5\ncrank = { mass = 0.5 }\n"
+          "coupler = { mass = 1.2 }\noutput = { mass = 1.5 }\n")
+
+
+@pytest.mark.parametrize("mechanism, dims, branch", [
+    ("plane", PLANE, "[1, 2]"),
+    ("spherical", "{ a = 60, b = 30, c = 60, d = 50 }", "[1]"),
+    ("plane", "{ a = 4, b = 1, c = 2, d = 3 }", '["follow"]')])      # a change point at 180
+def test_plot_redraws_the_force_panels_from_the_scene_s_csv(mechanism, dims, branch, tmp_path,
+                                                            capsys):
+    """`plot OUT.csv` draws, from the CSV alone, the torque, shaking and joint-force panels the
+    scene drew (the same text, line for line, but the title's), for two branches, the
+    spherical kind's moments and a motion followed through a change point (its unbounded
+    position a gap); the Forces read back are the scene's (repr round trips; the speed from
+    power / torque)."""
+    path = scene_file(tmp_path, LOADED, mechanism, dims, panels=ALL_FORCE_PANELS)
+    path.write_text(path.read_text().replace("branches = [1]", f"branches = {branch}"))
+    status, drawn, err = run(["scene", path, "--text", "--csv", tmp_path / "out.csv"], capsys)
+    assert status == 0, err
+    status, redrawn, err = run(["plot", tmp_path / "out.csv"], capsys)
+    assert status == 0, err
+    def panels(out):
+        lines = out.splitlines()
+        return lines[next(i for i, line in enumerate(lines) if line.startswith("(a) ")):]
+    assert panels(redrawn) == panels(drawn)
+    assert redrawn.split()[:3] == ["The", "forces", "in"]
+    scene = linkage.load_scene(str(path))
+    for series in linkage.csv_forces_series(str(tmp_path / "out.csv")):
+        want = linkage.scene_forces(scene, series.branch)
+        assert [f._replace(speed_rpm=0) for f in series.forces] == \
+            [f._replace(speed_rpm=0) for f in want]
+        assert series.forces[0].speed_rpm == pytest.approx(300, rel=1e-12)
+        assert series.precision == "double"
+
+
+def test_plot_refuses_a_csv_without_forces_in_one_line(tmp_path, capsys):
+    """A CSV without force columns, a row cut short, a file not text: one line on stderr, exit
+    1, and no PNG written."""
+    path = scene_file(tmp_path, None, panels="\n[[panels]]\nquantities = [\"displacement\"]\n")
+    status, _, err = run(["scene", path, "--csv", tmp_path / "plain.csv"], capsys)
+    assert status == 0, err
+    loaded = scene_file(tmp_path, LOADED)
+    status, _, err = run(["scene", loaded, "--csv", tmp_path / "loaded.csv"], capsys)
+    assert status == 0, err
+    lines = (tmp_path / "loaded.csv").read_text().splitlines()
+    (tmp_path / "cut.csv").write_text("\n".join(lines[:3] + [",".join(lines[3].split(",")[:20])])
+                                      + "\n")
+    (tmp_path / "binary.csv").write_bytes(b"\xff\xfe\x00")
+    (tmp_path / "none.csv").write_text(lines[0] + "\n")
+    for name, fragment in (("plain.csv", "not the CSV of a scene with [dynamics]"),
+                           ("cut.csv", "line 4: not a row of the scene's CSV (20 fields"),
+                           ("binary.csv", "cannot be read"),
+                           ("none.csv", "holds no position whose forces are known")):
+        status, out, err = run(["plot", tmp_path / name, "--png", tmp_path / "out.png"], capsys)
+        assert status == 1 and out == "" and len(err.splitlines()) == 1, (name, err)
+        assert fragment in err, (name, err)
+        assert not (tmp_path / "out.png").exists()
+
+
 # ---- 3. the forces command ------------------------------------------------------------------
 
 KIND_ARGS = ["forces", "plane", "--a", "0.3", "--b", "0.1", "--c", "0.35", "--d", "0.45",
