@@ -150,8 +150,13 @@ def test_energy_kept_over_ten_thousand_periods():
     assert len(events(sim, linkage.DEAD_CENTRE)) >= 2 * 10 ** 4 - 2
 
 
+SPATIAL = [("spherical", dict(a=80.0, b=20.0, c=75.0, d=60.0)),        # crank-rockers
+           ("skew", dict(a=2.0, b=1.0, c=3.0, d=2.5, f=0.5, ksi=30.0)),
+           ("skew-slider", dict(a=1.5, b=1.0, c=3.0, f=0.5, ksi=30.0))]
+
+
 @pytest.mark.parametrize("kind, dims", [("plane", CRANK_ROCKER),
-                                        ("slider", dict(b=1.0, c=3.0, e=0.5))])
+                                        ("slider", dict(b=1.0, c=3.0, e=0.5))] + SPATIAL)
 def test_motor_work_equals_the_energy_gained(kind, dims):
     lk = Linkage(kind, **dims)
     bodies = Bodies(Body(2.0), Body(3.0), Body(2.5))
@@ -159,7 +164,7 @@ def test_motor_work_equals_the_energy_gained(kind, dims):
     sim = simulate(lk, bodies, Effects(gravity=G), driver=motor, initial=(0.0, 0.0), time=4.0,
                    step=0.02, tolerance=1e-9)
     e0 = sim.rows[0].energy
-    assert sim.rows[-1].work > 100.0                 # the motor did work: the crank turns
+    assert sim.rows[-1].work > 10.0                  # the motor did work: the crank turns
     assert sim.rows[-1].phi > 720.0
     for r in sim.rows:
         assert abs(r.energy - e0 - r.work) < 1e-7 * max(1.0, r.work), r
@@ -343,18 +348,77 @@ def check_dead_centre(dims, sim, psi0, times):
     assert {r.coordinate for r in rows} == {"input", "output"}
 
 
-def test_a_rocking_slider_crank_ends_before_its_input_dead_centre():
-    """The slider-crank is solved in phi alone: a crank that cannot turn (b > c, e = 0: it
-    stops where sin phi = -c / b) ends its run, said, before the dead centre, the energy kept."""
-    b, c = 2.0, 1.5
+def slide_motion(b, c, masses, x0):
+    """The slider-crank (e = 0) released from rest with its slider at x0, gravity g along -x (the
+    slide), written in the slider's x: A where the circles |A| = b and |A - C| = c meet (on the
+    side y > 0), each rod's centre and angle differentiated by x (mpmath.diff), J(x), the
+    potential g sum m G_x, and the time to reach x from energy alone, t = integral of
+    sqrt(J / 2 (V0 - V)) dx, in 30 digits. Returns times(xs), xs in the order reached."""
+    mpmath.mp.dps = 30
+    b, c, x0 = mpmath.mpf(b), mpmath.mpf(c), mpmath.mpf(x0)
+    m1, m2, m3 = (mpmath.mpf(m) for m in masses)
+
+    def crank_pin(x):
+        along = (b * b - c * c + x * x) / (2 * x)
+        return along, mpmath.sqrt(b * b - along * along)
+
+    def inertia(x):
+        ax, ay = crank_pin(x)
+        dx, dy = (mpmath.diff(lambda z: crank_pin(z)[i], x) for i in (0, 1))
+        crank_turn = (ax * dy - ay * dx) / (b * b)
+        coupler_turn = ((x - ax) * (-dy) - (-ay) * (1 - dx)) / (c * c)
+        return (m1 * (dx * dx + dy * dy) / 4 + m1 * b * b / 12 * crank_turn ** 2
+                + m2 * ((dx + 1) ** 2 + dy * dy) / 4 + m2 * c * c / 12 * coupler_turn ** 2 + m3)
+
+    def potential(x):
+        ax = crank_pin(x)[0]
+        return G * (m1 * ax / 2 + m2 * (ax + x) / 2 + m3 * x)
+
+    v0 = potential(x0)
+
+    def times(xs):
+        out, t, last = [], mpmath.mpf(0), x0
+        for x in xs:
+            t += abs(mpmath.quad(lambda z: mpmath.sqrt(inertia(z) / (2 * (v0 - potential(z)))),
+                                 [x, last]))
+            out.append(float(t))
+            last = mpmath.mpf(x)
+        return out
+
+    return times
+
+
+def test_a_rocking_slider_crank_swings_through_its_input_dead_centre_as_the_motion_in_x():
+    """b > c, e = 0: the crank cannot turn; released at 30 degrees under gravity along the slide,
+    the slider runs to its fold at x = b - c and back, the crank turning back at its input's
+    dead centres (sin phi = +-c / b: the rod perpendicular to the slide, where x is regular and
+    the run changes to it). Its times at the rows and at the dead centre against the motion in x
+    written here; the energy kept; by the mirror y -> -y it comes to rest at -30 degrees.
+    Fails with phi'' in the slider's x made -phi'' (the run drifts from the quadrature)."""
+    b, c, masses = 2.0, 1.5, (1.0, 1.0, 1.0)
     lk = Linkage("slider", b=b, c=c, e=0.0)
-    sim = simulate(lk, Bodies(Body(1.0), Body(1.0), Body(1.0)), Effects(gravity=G),
-                   initial=(30.0, 0.0), time=3.0, step=0.1, tolerance=1e-10)
-    dead = -math.degrees(math.asin(c / b))
-    assert [e.kind for e in sim.events] == [linkage.STUCK]
-    assert dead < sim.events[0].phi < dead + 0.1
-    assert sim.rows[-1].t == sim.events[0].t < 3.0
-    assert energy_drift(sim) < 1e-7
+    sim = simulate(lk, Bodies(*(Body(m) for m in masses)), Effects(gravity=(-G, 0.0, 0.0)),
+                   initial=(30.0, 0.0), time=1.6, step=0.1, tolerance=1e-10)
+    dead = math.degrees(math.asin(c / b))
+    kinds = [e.kind for e in sim.events]
+    assert kinds.count(linkage.DEAD_CENTRE) == 2 and linkage.STUCK not in kinds
+    first, second = events(sim, linkage.DEAD_CENTRE)
+    assert abs(first.phi - dead) < 1e-9 and abs(second.phi + dead) < 1e-9
+    (rest,) = events(sim, linkage.REST)
+    assert abs(rest.phi + 30.0) < 1e-6, rest
+    assert {r.coordinate for r in sim.rows} == {"input", "output"}
+    assert energy_drift(sim) < 1e-8
+    x0 = sim.rows[0].output
+    assert abs(x0 - (b * math.cos(math.radians(30.0)) + math.sqrt(c * c - b * b / 4))) < 1e-12
+    # the slider's way down to its fold (x = 0.5 at t = 0.7 or so): the rows and the dead centre
+    wanted = sorted([(r.t, r.output) for r in sim.rows[1:] if r.t < 0.65]
+                    + [(first.t, b * math.cos(math.radians(dead)))])
+    try:
+        got = slide_motion(b, c, masses, x0)([x for _, x in wanted])
+    finally:
+        mpmath.mp.dps = 15
+    for (t, x), quadrature in zip(wanted, got):
+        assert abs(t - quadrature) < 1e-8, (t, x, quadrature)
 
 
 # -- the flywheel forces() asks for, run ----------------------------------------------------------
@@ -411,29 +475,40 @@ def test_the_flywheel_of_forces_summary_holds_the_speed_fluctuation_it_was_made_
 
 # -- reduced() against forces(): T(phi, omega, alpha) = J alpha + 1/2 J' omega^2 - Q ---------------
 
-@settings(max_examples=40, deadline=None)
-@given(kind=st.sampled_from(["plane", "slider"]), phi=st.floats(0.0, 360.0),
-       masses=st.tuples(*[st.floats(0.0, 5.0)] * 3), omega=st.floats(-20.0, 20.0))
-def test_reduced_against_forces(kind, phi, masses, omega):
-    lk = Linkage(kind, **(CRANK_ROCKER if kind == "plane" else dict(b=1.0, c=3.0, e=0.5)))
+KINDS = [("plane", CRANK_ROCKER), ("slider", dict(b=1.0, c=3.0, e=0.5))] + SPATIAL
+
+
+@settings(max_examples=60, deadline=None)
+@given(case=st.sampled_from(KINDS), phi=st.floats(0.0, 360.0),
+       masses=st.tuples(*[st.floats(0.0, 5.0)] * 3), omega=st.floats(-20.0, 20.0),
+       gravity=st.sampled_from([G, (3.0, -4.0, 8.0)]))
+def test_reduced_against_forces(case, phi, masses, omega, gravity):
+    """All five kinds (the spherical four-bar on a sphere of 1.3 m), gravity along the kind's down
+    or across it (the plane kinds: in their plane)."""
+    kind, dims = case
+    lk = Linkage(kind, **dims)
+    radius = 1.3 if kind == "spherical" else 1.0
+    if kind in ("plane", "slider") and not isinstance(gravity, float):
+        gravity = (3.0, -4.0, 0.0)
     bodies = Bodies(*(Body(m) for m in masses))
-    r = linkage.reduced(lk, phi, 1, bodies, G)
+    r = linkage.reduced(lk, phi, 1, bodies, gravity, radius=radius)
     assert r is not None
 
     def torque(speed, alpha, gravity):
         return linkage.forces(lk, [phi], 1, bodies, Effects(
             speed_rpm=speed * 30.0 / math.pi, crank_acceleration=alpha,
-            gravity=gravity))[0].torque
+            gravity=gravity), radius=radius)[0].torque
 
     scale = 1.0 + sum(masses) * (1.0 + omega * omega + G)
     assert abs(torque(0.0, 1.0, None) - r.inertia) < 1e-12 * scale
     assert abs(torque(omega, 0.0, None) - 0.5 * r.slope * omega * omega) < 1e-12 * scale
-    assert abs(torque(0.0, 0.0, G) + r.gravity_force) < 1e-12 * scale
-    assert abs(torque(omega, 2.0, G) - (2.0 * r.inertia + 0.5 * r.slope * omega * omega
-                                         - r.gravity_force)) < 1e-12 * scale
+    assert abs(torque(0.0, 0.0, gravity) + r.gravity_force) < 1e-12 * scale
+    assert abs(torque(omega, 2.0, gravity) - (2.0 * r.inertia + 0.5 * r.slope * omega * omega
+                                               - r.gravity_force)) < 1e-12 * scale
     # gravity's force is minus the potential's slope (central difference, step 1e-4 rad)
     h = 1e-4
-    up, down = (linkage.reduced(lk, phi + s * math.degrees(h), 1, bodies, G) for s in (1, -1))
+    up, down = (linkage.reduced(lk, phi + s * math.degrees(h), 1, bodies, gravity, radius=radius)
+                for s in (1, -1))
     assert abs(-(up.potential - down.potential) / (2 * h) - r.gravity_force) < 1e-6 * scale
 
 
@@ -467,8 +542,3 @@ def test_bad_input_is_refused_in_one_sentence(given_, message):
                  arguments.pop("effects"), **arguments)
     text = str(caught.value)
     assert "\n" not in text and text.count(". ") == 0
-
-
-def test_spatial_kinds_are_refused():
-    with pytest.raises(ValueError, match="plane kinds"):
-        simulate(Linkage("spherical", a=60, b=20, c=70, d=50), Bodies(Body(1.0)))
