@@ -5743,8 +5743,12 @@ def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
 # is solved as its inverse, the four-bar with input and output swapped: the plane turned half a
 # turn about the frame line's middle maps A0 to B0, its input angle is psi + 180 degrees and its
 # output phi + 180, gravity and the coupler's frame turned with it; its crank is the output body.
-# The run changes to the other coordinate after a step whose end has |d other / d q| > 2, so the
-# new coordinate's is under 1/2 and the change cannot flap. At each evaluation the output (or phi)
+# The plane slider-crank is solved in its slider's x there (phi(x) in closed form, phi' and
+# phi'' by implicit differentiation; x is regular at the input's dead centre, where the rod is
+# perpendicular to the slide, and phi at the slider's own, where crank and rod are in line).
+# The run changes to the other coordinate after a step whose end has |d other / d q| > 2 (the
+# slider's x measured in crank lengths b), so the new coordinate's is under 1/2 and the change
+# cannot flap. At each evaluation the output (or phi)
 # is the engine's root nearest the prediction (output, velocity) from the step's start by Taylor,
 # so that at a change point the motion keeps to the branch it follows (as sweep's "follow"),
 # never jumping: the branches cross there with different velocities.
@@ -5758,11 +5762,18 @@ def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
 # stops), an angle reached (until_angle). A step whose evaluation fails (no position, J = 0) is
 # retried at a quarter of its length. The total energy E = 1/2 J q_dot^2 + potential of gravity and
 # springs, from the positions, is written along the run with W: E - W stays E(0) to the tolerance, a
-# check (Simulation.energy_error), not an assumption.
+# check (Simulation.energy_error), not an assumption. The tolerance's unit is the coordinate's
+# scale: 1 rad, or the crank's length b in the slider's x.
 #
-# The plane kinds only (plane four-bar, plane slider-crank), SI units as the forces section's. The
-# slider-crank is solved in phi alone: a rocking crank's run ends (STUCK) where |x'| passes 100
-# times the crank's length, its input's dead centre ahead, where phi cannot turn back.
+# All five kinds, SI units as the forces section's (the spherical four-bar on a sphere of `radius`
+# metres). The spatial kinds' J, J' and Q come from each body in forces' frame (body_masses):
+# its origin's path, its angular velocity per unit q_dot w' and that's derivative (the spherical
+# coupler's by spin_about_centre, the skew couplers' AB x (B' - A') / |AB|^2, no spin about
+# AB), J = sum m |G'|^2 + w'.I w', J' = 2 sum (m G'.G'' + w''.I w'): a reduced() call took
+# 0.14 to 0.21 ms against 1.0 to 1.7 ms for the three forces() calls that give the same numbers
+# (tests/test_simulate.py holds them equal). The spatial kinds have no second coordinate: a
+# crank that stops and turns back at its input's dead centre ends its run (STUCK, said) where
+# |psi'| (or |x'| / b) passes 20, the dead centre ahead, never a motion past it.
 #
 # Uses: sections 2, 6, 7 and 10.
 # Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, Driver, Spring, Torsion, SimRow, SimEvent,
@@ -5775,9 +5786,9 @@ COORDINATE = "coordinate"            # the run changed its coordinate (text: to 
 STUCK = "stuck"                      # no step could be taken: the run ends
 END = "end"                          # the run's time is over
 _SWITCH_ABOVE = 2.0                  # |d other / d q| over which the coordinate changes
-_ALONE_ABOVE = 20.0                 # |x'| over the crank's length where a slider-crank's run
-#                                      ends, its input's dead centre ahead (in phi alone, the
-#                                      crank could not turn back there)
+_ALONE_ABOVE = 20.0                 # |psi'| (|x'| over b) where a spatial kind's run ends, its
+#                                      input's dead centre ahead (in phi alone, the crank
+#                                      could not turn back there)
 _CRAWL, _CRAWL_STEPS = 1e-9, 10_000  # so many steps in a row, each under this of the run: STUCK
 _SHORTEST = 1e-13                    # a step shorter than this (times 1 + t) fails: STUCK
 _LONGEST_RUN = 1e7                   # seconds: a longer run is refused
@@ -5937,8 +5948,10 @@ class _Model(NamedTuple):
 
 def _mix(*terms: tuple[float, Sequence[float]]) -> Vector:
     """The sum of (coefficient, 3-vector) terms."""
-    return (sum(k * v[0] for k, v in terms), sum(k * v[1] for k, v in terms),
-            sum(k * v[2] for k, v in terms))
+    x = y = z = 0.0
+    for k, v in terms:
+        x, y, z = x + k * v[0], y + k * v[1], z + k * v[2]
+    return x, y, z
 
 
 def _less(p: Sequence[float], q: Sequence[float]) -> Vector:
@@ -6315,18 +6328,21 @@ def _dp_step(run: _Model, view: _View, y: _Phase, first: _Point, h: float
     stages' slopes, the new point, and the error estimates of q and q_dot; None where a stage
     cannot be evaluated."""
     slopes = [_slope(first)]
-    point = first
-    new = y
+    point, new, near = first, y, _reference(first)
     for a in _DP_A[1:]:
-        new = cast(_Phase, tuple(y[j] + h * sum(ai * k[j] for ai, k in zip(a, slopes))
-                                 for j in range(3)))
-        found = _at(run, view, new[0], new[1], _reference(first), first.label)
+        dq = dr = dw = 0.0
+        for ai, k in zip(a, slopes):
+            dq, dr, dw = dq + ai * k[0], dr + ai * k[1], dw + ai * k[2]
+        new = (y[0] + h * dq, y[1] + h * dr, y[2] + h * dw)
+        found = _at(run, view, new[0], new[1], near, first.label)
         if found is None:
             return None
         point = found
         slopes.append(_slope(point))
-    errors = [h * sum(e * k[j] for e, k in zip(_DP_E, slopes)) for j in range(2)]
-    return new, slopes, point, errors[0], errors[1]
+    eq = ev = 0.0
+    for e, k in zip(_DP_E, slopes):
+        eq, ev = eq + e * k[0], ev + e * k[1]
+    return new, slopes, point, h * eq, h * ev
 
 
 def _dense(y: _Phase, slopes: _Slopes, h: float, theta: float) -> _Phase:
@@ -12835,7 +12851,8 @@ SIMULATION_TOLERANCES = (1e-6, 1e-8, 1e-10, 1e-12)
 
 
 def bench_simulate(out: TextIO, quick: bool = False) -> None:
-    """simulate's cost: steps a second, as the tolerance falls, and a motor's run-up.
+    """simulate's cost in this process's CPU time: steps per CPU second as the tolerance falls,
+    and a motor's run-up (CPU seconds against the seconds simulated).
 
     The double-rocker released from rest at 320 degrees swings across its input's dead centres
     (the energy's error beside each tolerance); the crank-rocker runs up from rest."""
@@ -12845,16 +12862,16 @@ def bench_simulate(out: TextIO, quick: bool = False) -> None:
     rocker = Linkage(PLANE_FOUR_BAR, a=3.0, b=2.5, c=1.0, d=2.0)
     print(f"the double-rocker a=3 b=2.5 c=1 d=2, 1/0.5/1 kg rods, g = 9.81, released at 320 "
           f"degrees on branch 1, {seconds:g} s simulated (about {seconds / 1.9:.0f} swings, "
-          "each across two dead centres); one core", file=out)
+          "each across two dead centres); times are this process's CPU seconds", file=out)
     print(f"{'tolerance':>10} {'steps':>8} {'rejected':>9} {'evaluations':>12} {'CPU s':>8} "
-          f"{'steps/s':>9} {'energy error / E':>17}", file=out)
+          f"{'steps/CPU s':>12} {'energy error / E':>17}", file=out)
     for tolerance in tolerances:
         cpu, sim = _cpu_timed(lambda: simulate(
             rocker, rods, Effects(gravity=9.81), initial=(320.0, 0.0), time=seconds,
             step=seconds, tolerance=tolerance, branch=1))
         drift = sim.energy_error / abs(sim.rows[0].energy)
         print(f"{tolerance:10.0e} {sim.steps:8,} {sim.rejected:9,} {sim.evaluations:12,} "
-              f"{cpu:8.2f} {sim.steps / cpu:9,.0f} {drift:17.2e}", file=out)
+              f"{cpu:8.2f} {sim.steps / cpu:12,.0f} {drift:17.2e}", file=out)
     crank_rocker = Linkage(PLANE_FOUR_BAR, a=4.0, b=1.0, c=4.0, d=3.0)
     motor = Driver(stall_torque=40.0, free_speed_rpm=120.0)
     cpu, sim = _cpu_timed(lambda: simulate(
@@ -12864,8 +12881,9 @@ def bench_simulate(out: TextIO, quick: bool = False) -> None:
     balance = abs(last.energy - sim.rows[0].energy - last.work) / last.work
     print(f"a motor's run-up (40 N m stall, 120 rpm free) of the crank-rocker a=4 b=1 c=4 d=3 "
           f"with 2/3/2.5 kg rods, {run_up:g} s simulated at tolerance 1e-8: "
-          f"{last.phi / 360.0:,.0f} turns, {sim.steps:,} steps in {cpu:.2f} s CPU "
-          f"({sim.steps / cpu:,.0f} steps/s), |E - E(0) - W| / W = {balance:.1e}", file=out)
+          f"{last.phi / 360.0:,.0f} turns, {sim.steps:,} steps in {cpu:.2f} CPU seconds of this "
+          f"process ({sim.steps / cpu:,.0f} steps per CPU second; {run_up / cpu:.0f} simulated "
+          f"seconds per CPU second), |E - E(0) - W| / W = {balance:.1e}", file=out)
 
 
 def _cpu_timed(function: Callable[[], Simulation]) -> tuple[float, Simulation]:
