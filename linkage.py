@@ -3230,7 +3230,7 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 # Uses: sections 2 and 6.
 # Offers: Real, Vec3, Kinematics, Pins, PINS, COUPLER_REACH, pin_dimensions, cross, dot, rotated_y,
 #   check_coupler_point, joint_kinematics, output_pin_at, coupler_form, transmission_form,
-#   CouplerMotion, coupler_of, transmission_of, Pose, joint_positions.
+#   CouplerMotion, coupler_of, transmission_of, slider_crank_angle, Pose, joint_positions.
 
 
 # -- the joints, the coupler point and the transmission angle -----------------------------------
@@ -3526,6 +3526,28 @@ def transmission_of(linkage: Closure, motions: Iterable[Motion]) -> list[float |
     return out
 
 
+
+
+def slider_crank_angle(linkage: Closure, x: float, label: int
+                       ) -> tuple[float, float, float] | None:
+    """The plane slider-crank's crank angle phi (radians) at its slider's x, and dphi/dx and
+    d2phi/dx2: |A - C| = c with A = b (cos phi, sin phi), C = (x, e) is x cos phi + e sin phi = k,
+    k = (b^2 + x^2 + e^2 - c^2) / 2b, so phi = atan2(e, x) +- acos(k / |(x, e)|) (label 1: +);
+    the derivatives by differentiating F = x cos phi + e sin phi - k = 0. None where it does not
+    assemble, or at F_phi = 0 (crank and rod in line: the slider's own dead centre)."""
+    b, c, e = (linkage.dims[n] for n in "bce")
+    r = math.hypot(x, e)
+    k = (b * b + x * x + e * e - c * c) / (2.0 * b)
+    if not abs(k) < r:
+        return None
+    phi = math.atan2(e, x) + (1.0 if label == 1 else -1.0) * math.acos(k / r)
+    cp, sp = math.cos(phi), math.sin(phi)
+    f_phi = e * cp - x * sp
+    if f_phi == 0.0:
+        return None
+    phi1 = -(cp - x / b) / f_phi
+    phi2 = (1.0 / b + 2.0 * sp * phi1 + (x * cp + e * sp) * phi1 * phi1) / f_phi
+    return phi, phi1, phi2
 
 
 class Pose(NamedTuple):
@@ -5088,9 +5110,9 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #
 #
 # Uses: sections 2, 6, 7 and 8.
-# Offers: STANDARD_GRAVITY, UNBOUNDED, OUT_OF_RANGE, Matrix, Body, Bodies, Effects, Reaction,
-#   Forces, BodyMass, spin_about_centre, checked_number, checked_numbers, body_masses, forces,
-#   ForcesSummary, forces_summary, forces_lines.
+# Offers: STANDARD_GRAVITY, UNBOUNDED, OUT_OF_RANGE, Matrix, Body, Bodies, Effects, Driver, Spring,
+#   Torsion, Reaction, Forces, BodyMass, spin_about_centre, checked_number, checked_numbers,
+#   body_masses, forces, ForcesSummary, forces_summary, forces_lines.
 
 
 STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
@@ -5130,6 +5152,33 @@ class Effects(NamedTuple):
     output_torque: float = 0.0
     output_force: float = 0.0
     coupler_force: tuple[Sequence[float], Sequence[float]] | None = None
+
+
+class Driver(NamedTuple):
+    """What drives the crank: a torque (N m, in the sense of phi), and a motor line that adds
+    stall_torque (1 - omega / omega_free) (N m; free_speed_rpm 0: no motor line)."""
+    torque: float = 0.0
+    stall_torque: float = 0.0
+    free_speed_rpm: float = 0.0
+
+
+class Spring(NamedTuple):
+    """A linear spring between two points, each a joint's name (A0, A, B, B0; C the slider) or a
+    point (x, y) of the frame (m): stiffness (N/m), free length (m)."""
+    point_a: str | tuple[float, float]
+    point_b: str | tuple[float, float]
+    stiffness: float
+    free_length: float
+
+
+class Torsion(NamedTuple):
+    """A torsional spring and damper at a pivot: A0 on the crank's angle phi, B0 on the output's
+    psi: the torque -stiffness (angle - free_angle) - damping angle_rate (N m/rad, degrees,
+    N m s/rad)."""
+    pivot: str
+    stiffness: float = 0.0
+    free_angle: float = 0.0
+    damping: float = 0.0
 
 
 class Reaction(NamedTuple):
@@ -5743,15 +5792,15 @@ def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
 # is solved as its inverse, the four-bar with input and output swapped: the plane turned half a
 # turn about the frame line's middle maps A0 to B0, its input angle is psi + 180 degrees and its
 # output phi + 180, gravity and the coupler's frame turned with it; its crank is the output body.
-# The plane slider-crank is solved in its slider's x there (phi(x) in closed form, phi' and
-# phi'' by implicit differentiation; x is regular at the input's dead centre, where the rod is
-# perpendicular to the slide, and phi at the slider's own, where crank and rod are in line).
-# The run changes to the other coordinate after a step whose end has |d other / d q| > 2 (the
-# slider's x measured in crank lengths b), so the new coordinate's is under 1/2 and the change
-# cannot flap. At each evaluation the output (or phi)
-# is the engine's root nearest the prediction (output, velocity) from the step's start by Taylor,
-# so that at a change point the motion keeps to the branch it follows (as sweep's "follow"),
-# never jumping: the branches cross there with different velocities.
+# The plane slider-crank is solved in its slider's x there (slider_crank_angle: phi(x) in closed
+# form, phi' and phi'' by implicit differentiation; x is regular at the input's dead centre, where
+# the rod is perpendicular to the slide, and phi at the slider's own, where crank and rod are in
+# line). The run changes to the other coordinate after a step whose end has |d other / d q| > 2
+# (the slider's x measured in crank lengths b), so the new coordinate's is under 1/2 and the change
+# cannot flap. At each evaluation the output (or phi) is the engine's root nearest the prediction
+# (output, velocity) from the step's start by Taylor, so that at a change point the motion keeps to
+# the branch it follows (as sweep's "follow"), never jumping: the branches cross there with
+# different velocities.
 #
 # The integrator: Dormand and Prince's embedded Runge-Kutta 5(4) with its 4th-order dense output
 # (Hairer, Norsett and Wanner, Solving ODE I, II.5 and II.6), on (q, q_dot, W), W the work of the
@@ -5776,8 +5825,8 @@ def forces_lines(results: Sequence[Forces], speed_rpm: float, cs: float = 0.05,
 # |psi'| (or |x'| / b) passes 20, the dead centre ahead, never a motion past it.
 #
 # Uses: sections 2, 6, 7 and 10.
-# Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, Driver, Spring, Torsion, SimRow, SimEvent,
-#   Simulation, Reduced, reduced, simulate.
+# Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, SimRow, SimEvent, Simulation, Reduced,
+#   reduced, simulate.
 
 
 REST = "rest"                        # SimEvent.kind: every point at rest (q_dot = 0)
@@ -5814,33 +5863,6 @@ _DP_DENSE = ((1.0, -8048581381 / 2820520608, 8663915743 / 2820520608,
               701980252875 / 199316789632),
              (0.0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844),
              (0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423))
-
-
-class Driver(NamedTuple):
-    """What drives the crank: a torque (N m, in the sense of phi), and a motor line that adds
-    stall_torque (1 - omega / omega_free) (N m; free_speed_rpm 0: no motor line)."""
-    torque: float = 0.0
-    stall_torque: float = 0.0
-    free_speed_rpm: float = 0.0
-
-
-class Spring(NamedTuple):
-    """A linear spring between two points, each a joint's name (A0, A, B, B0; C the slider) or a
-    point (x, y) of the frame (m): stiffness (N/m), free length (m)."""
-    point_a: str | tuple[float, float]
-    point_b: str | tuple[float, float]
-    stiffness: float
-    free_length: float
-
-
-class Torsion(NamedTuple):
-    """A torsional spring and damper at a pivot: A0 on the crank's angle phi, B0 on the output's
-    psi: the torque -stiffness (angle - free_angle) - damping angle_rate (N m/rad, degrees,
-    N m s/rad)."""
-    pivot: str
-    stiffness: float = 0.0
-    free_angle: float = 0.0
-    damping: float = 0.0
 
 
 class SimRow(NamedTuple):
@@ -5972,25 +5994,12 @@ def _engine_solver(closure: Closure) -> Callable[[float, int], _Pose | None]:
 
 
 def _slider_solver(closure: Closure) -> Callable[[float, int], _Pose | None]:
-    """The plane slider-crank's positions in the slider's x: |A - C| = c with A = b (cos phi,
-    sin phi), C = (x, e) is x cos phi + e sin phi = k, k = (b^2 + x^2 + e^2 - c^2) / 2b, so phi =
-    atan2(e, x) +- acos(k / |(x, e)|) (label 1: +); phi' and phi'' by x differentiating
-    F = x cos phi + e sin phi - k = 0 (F_phi = 0 where crank and rod are in line: the slider's
-    own dead centre, where the run is back in phi)."""
-    b, c, e = (closure.dims[n] for n in "bce")
-
+    """The plane slider-crank's positions in its slider's x (slider_crank_angle)."""
     def solve(x: float, label: int) -> _Pose | None:
-        r = math.hypot(x, e)
-        k = (b * b + x * x + e * e - c * c) / (2.0 * b)
-        if not abs(k) < r:
+        found = slider_crank_angle(closure, x, label)
+        if found is None:
             return None
-        phi = math.atan2(e, x) + (1.0 if label == 1 else -1.0) * math.acos(k / r)
-        cp, sp = math.cos(phi), math.sin(phi)
-        f_phi = e * cp - x * sp
-        if f_phi == 0.0:
-            return None
-        phi1 = -(cp - x / b) / f_phi
-        phi2 = (1.0 / b + 2.0 * sp * phi1 + (x * cp + e * sp) * phi1 * phi1) / f_phi
+        phi, phi1, phi2 = found
         return _Pose(phi * DEG, x, phi1, phi2, 1.0, 0.0, phi, phi1, phi2)
     return solve
 
