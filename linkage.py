@@ -12860,8 +12860,10 @@ SIMULATION_TOLERANCES = (1e-6, 1e-8, 1e-10, 1e-12)
 
 
 def bench_simulate(out: TextIO, quick: bool = False) -> None:
-    """simulate's cost in this process's CPU time: steps per CPU second as the tolerance falls,
-    and a motor's run-up (CPU seconds against the seconds simulated).
+    """simulate's cost in CPU seconds: steps per CPU second by tolerance, and a motor's run-up.
+
+    Times are this process's CPU time (time.process_time), the run-up's against the seconds
+    simulated.
 
     The double-rocker released from rest at 320 degrees swings across its input's dead centres
     (the energy's error beside each tolerance); the crank-rocker runs up from rest."""
