@@ -3234,7 +3234,7 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 # Uses: sections 2 and 6.
 # Offers: Real, Vec3, Kinematics, Pins, PINS, COUPLER_REACH, pin_dimensions, cross, dot, rotated_y,
 #   check_coupler_point, joint_kinematics, output_pin_at, coupler_form, transmission_form,
-#   CouplerMotion, coupler_of, transmission_of, Pose, joint_positions, pose_at.
+#   CouplerMotion, coupler_of, transmission_of, slider_crank_angle, Pose, joint_positions, pose_at.
 
 
 # -- the joints, the coupler point and the transmission angle -----------------------------------
@@ -3530,6 +3530,28 @@ def transmission_of(linkage: Closure, motions: Iterable[Motion]) -> list[float |
     return out
 
 
+
+
+def slider_crank_angle(linkage: Closure, x: float, label: int
+                       ) -> tuple[float, float, float] | None:
+    """The plane slider-crank's crank angle phi (radians) at its slider's x, and dphi/dx and
+    d2phi/dx2: |A - C| = c with A = b (cos phi, sin phi), C = (x, e) is x cos phi + e sin phi = k,
+    k = (b^2 + x^2 + e^2 - c^2) / 2b, so phi = atan2(e, x) +- acos(k / |(x, e)|) (label 1: +);
+    the derivatives by differentiating F = x cos phi + e sin phi - k = 0. None where it does not
+    assemble, or at F_phi = 0 (crank and rod in line: the slider's own dead centre)."""
+    b, c, e = (linkage.dims[n] for n in "bce")
+    r = math.hypot(x, e)
+    k = (b * b + x * x + e * e - c * c) / (2.0 * b)
+    if not abs(k) < r:
+        return None
+    phi = math.atan2(e, x) + (1.0 if label == 1 else -1.0) * math.acos(k / r)
+    cp, sp = math.cos(phi), math.sin(phi)
+    f_phi = e * cp - x * sp
+    if f_phi == 0.0:
+        return None
+    phi1 = -(cp - x / b) / f_phi
+    phi2 = (1.0 / b + 2.0 * sp * phi1 + (x * cp + e * sp) * phi1 * phi1) / f_phi
+    return phi, phi1, phi2
 
 
 class Pose(NamedTuple):
@@ -4415,9 +4437,10 @@ def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
 #
 #
 # Uses: sections 2, 6, 7 and 8.
-# Offers: STANDARD_GRAVITY, UNBOUNDED, OUT_OF_RANGE, Matrix, Body, Bodies, Effects, Reaction,
-#   Forces, checked_number, checked_numbers, ForcesSetup, forces_setup, forces, PEAK_TOLERANCE,
-#   TorquePeak, torque_peak, ForcesSummary, forces_summary, forces_lines.
+# Offers: STANDARD_GRAVITY, UNBOUNDED, OUT_OF_RANGE, Matrix, Body, Bodies, Effects, Driver, Spring,
+#   Torsion, Reaction, Forces, BodyMass, spin_about_centre, checked_number, checked_numbers,
+#   ForcesSetup, forces_setup, body_masses, forces, PEAK_TOLERANCE, TorquePeak, torque_peak,
+#   ForcesSummary, forces_summary, forces_lines.
 
 
 STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
@@ -4459,6 +4482,33 @@ class Effects(NamedTuple):
     coupler_force: tuple[Sequence[float], Sequence[float]] | None = None
 
 
+class Driver(NamedTuple):
+    """What drives the crank: a torque (N m, in the sense of phi), and a motor line that adds
+    stall_torque (1 - omega / omega_free) (N m; free_speed_rpm 0: no motor line)."""
+    torque: float = 0.0
+    stall_torque: float = 0.0
+    free_speed_rpm: float = 0.0
+
+
+class Spring(NamedTuple):
+    """A linear spring between two points, each a joint's name (A0, A, B, B0; C the slider) or a
+    point (x, y) of the frame (m): stiffness (N/m), free length (m)."""
+    point_a: str | tuple[float, float]
+    point_b: str | tuple[float, float]
+    stiffness: float
+    free_length: float
+
+
+class Torsion(NamedTuple):
+    """A torsional spring and damper at a pivot: A0 on the crank's angle phi, B0 on the output's
+    psi: the torque -stiffness (angle - free_angle) - damping angle_rate (N m/rad, degrees,
+    N m s/rad)."""
+    pivot: str
+    stiffness: float = 0.0
+    free_angle: float = 0.0
+    damping: float = 0.0
+
+
 class Reaction(NamedTuple):
     """A joint's reaction (see the notes above): its force (N) and its moment (N m) where it
     carries one, None where not (a plane pin's moment, the spherical kind's forces)."""
@@ -4482,7 +4532,9 @@ class Forces(NamedTuple):
     speed_rpm: float            # the crank's speed they were computed at (Effects.speed_rpm)
 
 
-class _Mass(NamedTuple):
+class BodyMass(NamedTuple):
+    """A body's mass (kg), centre and inertia about it (kg m^2) in its frame, as forces() takes
+    them (see body_masses)."""
     mass: float
     centre: Vector              # in the body's frame
     inertia: Matrix             # about the centre, in the body's frame
@@ -4539,7 +4591,7 @@ def _perpendicular_pair(k: Vector) -> tuple[Vector, Vector]:
     return p, cross(k, p)
 
 
-def _spin_about_centre(a: Vector, b: Vector, va: Vector, vb: Vector) -> Vector:
+def spin_about_centre(a: Vector, b: Vector, va: Vector, vb: Vector) -> Vector:
     """The angular velocity Omega of a body turning about the origin whose points a and b (not
     parallel) move with va = Omega x a, vb = Omega x b (in Omega's basis a, b, a x b)."""
     n = cross(a, b)
@@ -4569,13 +4621,13 @@ def checked_numbers(values: Any, count: int, what: str) -> tuple[float, ...]:
     return tuple(checked_number(v, what) for v in items)
 
 
-def _rod(mass: float, length: float) -> _Mass:
+def _rod(mass: float, length: float) -> BodyMass:
     """A uniform slender rod along x from the origin, of `length`."""
     side = mass * length * length / 12.0
-    return _Mass(mass, (length / 2.0, 0.0, 0.0), (_NOUGHT, (0.0, side, 0.0), (0.0, 0.0, side)))
+    return BodyMass(mass, (length / 2.0, 0.0, 0.0), (_NOUGHT, (0.0, side, 0.0), (0.0, 0.0, side)))
 
 
-def _arc(mass: float, radius: float, arc: float, start: int, toward: int) -> _Mass:
+def _arc(mass: float, radius: float, arc: float, start: int, toward: int) -> BodyMass:
     """A uniform slender rod on the circle of `radius` about the origin, from the body axis
     `start` toward the axis `toward` through `arc` radians."""
     p, q = (_X, _Y, _Z)[start], (_X, _Y, _Z)[toward]
@@ -4592,11 +4644,11 @@ def _arc(mass: float, radius: float, arc: float, start: int, toward: int) -> _Ma
             about_o = k * ((i == j) - mean)
             row.append(about_o - mass * (gg * (i == j) - g[i] * g[j]))
         rows.append(tuple(row))
-    return _Mass(mass, g, cast(Matrix, tuple(rows)))
+    return BodyMass(mass, g, cast(Matrix, tuple(rows)))
 
 
-def _checked_body(kind: str, role: str, body: Body, rod: Callable[[float], _Mass]) -> _Mass:
-    """body as a _Mass in its frame, or a ValueError that says what is wrong with it; rod(mass)
+def _checked_body(kind: str, role: str, body: Body, rod: Callable[[float], BodyMass]) -> BodyMass:
+    """body as a BodyMass in its frame, or a ValueError that says what is wrong with it; rod(mass)
     the uniform rod it is when its centre and inertia are None."""
     name = f"the {role}"
     mass = checked_number(body.mass, f"{name}'s mass")
@@ -4616,7 +4668,7 @@ def _checked_body(kind: str, role: str, body: Body, rod: Callable[[float], _Mass
         inertia = checked_number(body.inertia, f"{name}'s inertia")
         if inertia < 0.0:
             raise ValueError(f"{name}'s inertia must not be negative, not {inertia:g}")
-        return _Mass(mass, centre, ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, inertia)))
+        return BodyMass(mass, centre, ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, inertia)))
     centre = cast(Vector, checked_numbers(body.centre, 3, f"{name}'s centre (x, y, z)"))
     try:
         rows = [checked_numbers(row, 3, f"{name}'s inertia") for row in cast(Any, body.inertia)]
@@ -4644,7 +4696,7 @@ def _checked_body(kind: str, role: str, body: Body, rod: Callable[[float], _Mass
             raise ValueError(f"the {KIND_NAMES[kind]}'s coupler may spin about the line "
                              "from A to its output pin, so its inertia must be axisymmetric "
                              "about it: ((axial, 0, 0), (0, transverse, 0), (0, 0, transverse))")
-    return _Mass(mass, centre, cast(Matrix, tuple(rows)))
+    return BodyMass(mass, centre, cast(Matrix, tuple(rows)))
 
 
 class ForcesSetup(NamedTuple):
@@ -4654,7 +4706,7 @@ class ForcesSetup(NamedTuple):
     speed_rpm: float
     dims: dict[str, float]
     radius: float
-    masses: tuple[_Mass, _Mass, _Mass]
+    masses: tuple[BodyMass, BodyMass, BodyMass]
     omega: float
     alpha: float
     gravity: Vector
@@ -4682,11 +4734,11 @@ def forces_setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: flo
         arcs = {n: math.acos(max(-1.0, min(1.0, cos_sin_degrees(dims[n])[0]))) for n in "bcd"}
         if min(math.sin(x) for x in arcs.values()) == 0.0:
             raise ValueError("forces need arcs b, c and d that are not 0 or 180 degrees")
-        crank: Callable[[float], _Mass] = functools.partial(_arc, radius=radius, arc=arcs["b"],
+        crank: Callable[[float], BodyMass] = functools.partial(_arc, radius=radius, arc=arcs["b"],
                                                             start=2, toward=0)
-        coupler: Callable[[float], _Mass] = functools.partial(_arc, radius=radius,
+        coupler: Callable[[float], BodyMass] = functools.partial(_arc, radius=radius,
                                                               arc=arcs["c"], start=0, toward=1)
-        output: Callable[[float], _Mass] = functools.partial(_arc, radius=radius, arc=arcs["d"],
+        output: Callable[[float], BodyMass] = functools.partial(_arc, radius=radius, arc=arcs["d"],
                                                              start=2, toward=0)
     else:
         lengths = [abs(dims[n]) for n in ("b", "c") + (("d",) if "d" in dims else ())]
@@ -4695,7 +4747,7 @@ def forces_setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: flo
         crank = functools.partial(_rod, length=abs(dims["b"]))
         coupler = functools.partial(_rod, length=abs(dims["c"]))
         output = (functools.partial(_rod, length=abs(dims["d"])) if not linkage.is_slider
-                  else lambda m: _Mass(m, _NOUGHT, (_NOUGHT, _NOUGHT, _NOUGHT)))
+                  else lambda m: BodyMass(m, _NOUGHT, (_NOUGHT, _NOUGHT, _NOUGHT)))
     masses = (_checked_body(kind, "crank", bodies.crank, crank),
               _checked_body(kind, "coupler", bodies.coupler, coupler),
               _checked_body(kind, "slider" if linkage.is_slider else "output", bodies.output,
@@ -4758,8 +4810,8 @@ def _states(setup: ForcesSetup, m: Motion) -> tuple[tuple[_State, _State, _State
     form = PINS[kind].coupler
     if form == "sphere":
         z = _unit3(cross(pa, pp))
-        spin = _spin_about_centre(pa, pp, va, vp)
-        rate = _spin_about_centre(pa, pp, _comb((1.0, aa), (-1.0, cross(spin, va))),
+        spin = spin_about_centre(pa, pp, va, vp)
+        rate = spin_about_centre(pa, pp, _comb((1.0, aa), (-1.0, cross(spin, va))),
                                   _comb((1.0, ap), (-1.0, cross(spin, vp))))
         x = _unit3(pa)
         coupler = _State(_NOUGHT, (x, cross(z, x), z), _NOUGHT, spin, rate)
@@ -4934,6 +4986,13 @@ def _forces_at(setup: ForcesSetup, m: Motion) -> Forces:
         return none._replace(status=OUT_OF_RANGE)
     return Forces(m.phi, torque, torque * setup.omega, reactions, shaking_force, shaking_moment,
                   m.status, setup.speed_rpm)
+
+
+def body_masses(linkage: Closure, bodies: Bodies, radius: float = 1.0
+                ) -> tuple[BodyMass, BodyMass, BodyMass]:
+    """The crank's, coupler's and output's BodyMass as forces() takes them (a mass alone: the
+    uniform rod, or arc, between the joints), or a ValueError that says what is wrong."""
+    return forces_setup(linkage, bodies, Effects(), radius).masses
 
 
 def forces(linkage: Closure, phis: Iterable[float], branch: int | str = 1,
@@ -5976,7 +6035,7 @@ def _body_frames(np: ModuleType, setup: ForcesSetup, phi: Any, out: Any, q1: Any
         nn = _vdot(n, n)
         z = _vlin((1.0 / np.sqrt(nn), n))
 
-        def about_o(va_: Vec3, vb_: Vec3) -> Vec3:     # _spin_about_centre
+        def about_o(va_: Vec3, vb_: Vec3) -> Vec3:     # spin_about_centre
             return _vlin((_vdot(vb_, n) / nn, pa), (-_vdot(va_, n) / nn, pp),
                          (_vdot(va_, pp) / nn, n))
         spin = about_o(va, vp)
@@ -6221,8 +6280,8 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
 # times the crank's length, its input's dead centre ahead, where phi cannot turn back.
 #
 # Uses: sections 2, 6, 7 and 9.
-# Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, Driver, Spring, Torsion, SimRow, SimEvent,
-#   Simulation, Reduced, reduced, simulate.
+# Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, SimRow, SimEvent, Simulation, Reduced,
+#   reduced, simulate.
 
 
 REST = "rest"                        # SimEvent.kind: every point at rest (q_dot = 0)
@@ -6231,9 +6290,9 @@ COORDINATE = "coordinate"            # the run changed its coordinate (text: to 
 STUCK = "stuck"                      # no step could be taken: the run ends
 END = "end"                          # the run's time is over
 _SWITCH_ABOVE = 2.0                  # |d other / d q| over which the coordinate changes
-_ALONE_ABOVE = 20.0                 # |x'| over the crank's length where a slider-crank's run
-#                                      ends, its input's dead centre ahead (in phi alone, the
-#                                      crank could not turn back there)
+_ALONE_ABOVE = 20.0                 # |psi'| (|x'| over b) where a spatial kind's run ends, its
+#                                      input's dead centre ahead (in phi alone, the crank
+#                                      could not turn back there)
 _CRAWL, _CRAWL_STEPS = 1e-9, 10_000  # so many steps in a row, each under this of the run: STUCK
 _SHORTEST = 1e-13                    # a step shorter than this (times 1 + t) fails: STUCK
 _LONGEST_RUN = 1e7                   # seconds: a longer run is refused
@@ -6259,33 +6318,6 @@ _DP_DENSE = ((1.0, -8048581381 / 2820520608, 8663915743 / 2820520608,
               701980252875 / 199316789632),
              (0.0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844),
              (0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423))
-
-
-class Driver(NamedTuple):
-    """What drives the crank: a torque (N m, in the sense of phi), and a motor line that adds
-    stall_torque (1 - omega / omega_free) (N m; free_speed_rpm 0: no motor line)."""
-    torque: float = 0.0
-    stall_torque: float = 0.0
-    free_speed_rpm: float = 0.0
-
-
-class Spring(NamedTuple):
-    """A linear spring between two points, each a joint's name (A0, A, B, B0; C the slider) or a
-    point (x, y) of the frame (m): stiffness (N/m), free length (m)."""
-    point_a: str | tuple[float, float]
-    point_b: str | tuple[float, float]
-    stiffness: float
-    free_length: float
-
-
-class Torsion(NamedTuple):
-    """A torsional spring and damper at a pivot: A0 on the crank's angle phi, B0 on the output's
-    psi: the torque -stiffness (angle - free_angle) - damping angle_rate (N m/rad, degrees,
-    N m s/rad)."""
-    pivot: str
-    stiffness: float = 0.0
-    free_angle: float = 0.0
-    damping: float = 0.0
 
 
 class SimRow(NamedTuple):
@@ -6326,22 +6358,47 @@ class Simulation(NamedTuple):
     energy_error: float
 
 
+class _Pose(NamedTuple):
+    """A position a view found at q: its closure's input angle phi (degrees) and output (degrees,
+    or the slider's x), the derivatives by q of the closure's crank angle (radians) and of its
+    output (radians, or length), and the other coordinate (radians, or x) with its derivatives."""
+    phi: float
+    output: float
+    crank1: float
+    crank2: float
+    out1: float
+    out2: float
+    other: float
+    other1: float
+    other2: float
+
+
 class _View(NamedTuple):
-    """The linkage as the run solves it in one coordinate: the closure whose input angle is q,
-    its bodies, and how its frame maps to the linkage's."""
+    """The linkage as the run solves it in one coordinate q: its closure, bodies (and the spatial
+    kinds' BodyMass), how its frame maps to the linkage's, and how it finds a position."""
     closure: Closure
     bodies: Bodies
-    swapped: bool               # the inverse four-bar: q = psi + pi, its output phi + pi
+    swapped: bool               # q is not the crank's angle: the inverse four-bar's input
+    #                             (psi + shift), or the plane slider's x (shift 0)
+    shift: float
     gravity: Vector
     names: dict[str, str]       # the linkage's joint names as this view's
     frame: Callable[[Sequence[float]], Vector]     # a point of the linkage's frame in the view's
     ground: dict[str, Vector]   # the view's fixed joints
+    axes: dict[str, tuple[Vector, Vector]]         # the view's shafts and guide
+    dims: dict[str, float]      # pin_dimensions of the closure's
+    radius: float               # the spherical four-bar's sphere (m), else 1
+    masses: tuple[BodyMass, BodyMass, BodyMass] | None     # the spatial kinds'
+    solve: Callable[[float, int], _Pose | None]    # the position at q on the label 1 or 2
+    other_angle: bool           # the other coordinate is an angle (unwrapped by 2 pi)
+    ratio: float                # q's scale over the other's: |other'| ratio over 2 changes them
+    scale: float                # q's scale (1 rad, or the crank's length), the tolerance's unit
 
 
 class _Point(NamedTuple):
-    """The state at one instant in a view: q, q_dot, the other angle (radians unwrapped, or the
-    slider's x) and its derivatives by q, its engine label, J, q_ddot, the energy and the power
-    of the non-conservative forces."""
+    """The state at one instant in a view: q, q_dot, the other coordinate (radians unwrapped, or
+    the slider's x) and its derivatives by q, its label, J, q_ddot, the energy and the power of
+    the non-conservative forces."""
     q: float
     rate: float
     other: float
@@ -6355,7 +6412,7 @@ class _Point(NamedTuple):
 
 
 class _Model(NamedTuple):
-    """What a run keeps fixed: the linkage, its two views, the bodies' centres, the loads."""
+    """What a run keeps fixed: the linkage, its views (coordinates), the driver and the loads."""
     linkage: Closure
     views: tuple[_View, ...]
     driver: Driver
@@ -6368,20 +6425,60 @@ class _Model(NamedTuple):
 
 def _mix(*terms: tuple[float, Sequence[float]]) -> Vector:
     """The sum of (coefficient, 3-vector) terms."""
-    return (sum(k * v[0] for k, v in terms), sum(k * v[1] for k, v in terms),
-            sum(k * v[2] for k, v in terms))
+    x = y = z = 0.0
+    for k, v in terms:
+        x, y, z = x + k * v[0], y + k * v[1], z + k * v[2]
+    return x, y, z
 
 
 def _less(p: Sequence[float], q: Sequence[float]) -> Vector:
     return p[0] - q[0], p[1] - q[1], p[2] - q[2]
 
 
-def _views(linkage: Closure, bodies: Bodies, gravity: Vector) -> tuple[_View, ...]:
-    """The linkage as itself and (plane four-bar) as its inverse, turned half a turn."""
+def _engine_solver(closure: Closure) -> Callable[[float, int], _Pose | None]:
+    """A view's positions from the engine: q the closure's input angle (radians)."""
+    def solve(q: float, label: int) -> _Pose | None:
+        m = closure.motion(q * DEG, label)
+        if m.status not in (ASSEMBLED, CHANGE_POINT) or m.output is None:
+            return None
+        assert m.velocity is not None and m.acceleration is not None
+        y = m.output if closure.is_slider else m.output * RAD
+        return _Pose(m.phi, m.output, 1.0, 0.0, m.velocity, m.acceleration, y, m.velocity,
+                     m.acceleration)
+    return solve
+
+
+def _slider_solver(closure: Closure) -> Callable[[float, int], _Pose | None]:
+    """The plane slider-crank's positions in its slider's x (slider_crank_angle)."""
+    def solve(x: float, label: int) -> _Pose | None:
+        found = slider_crank_angle(closure, x, label)
+        if found is None:
+            return None
+        phi, phi1, phi2 = found
+        return _Pose(phi * DEG, x, phi1, phi2, 1.0, 0.0, phi, phi1, phi2)
+    return solve
+
+
+def _views(linkage: Closure, bodies: Bodies, gravity: Vector, radius: float = 1.0
+           ) -> tuple[_View, ...]:
+    """The linkage in its crank's angle, and (plane four-bar) as its inverse turned half a turn,
+    (plane slider-crank) in its slider's x."""
     same = {n: n for n in ("A0", "A", "B", "B0", "C")}
-    own = _View(linkage, bodies, False, gravity, same,
-                lambda p: (float(p[0]), float(p[1]), 0.0), joint_positions(linkage, 0.0).joints)
-    if linkage.kind != PLANE_FOUR_BAR:
+    kind = linkage.kind
+    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
+    ground = joint_positions(linkage, 0.0)
+    joints = {n: cast(Vector, tuple(radius * x for x in p)) for n, p in ground.joints.items()}
+    scale = abs(linkage.dims["b"]) if linkage.is_slider else 1.0
+    own = _View(linkage, bodies, False, 0.0, gravity, same,
+                (lambda p: (float(p[0]), float(p[1]), 0.0)) if plane else
+                (lambda p: (float(p[0]), float(p[1]), float(p[2]))),
+                joints, ground.axes, pin_dimensions(linkage.dims), radius,
+                None if plane else body_masses(linkage, bodies, radius),
+                _engine_solver(linkage), not linkage.is_slider, 1.0 / scale, 1.0)
+    if kind == PLANE_SLIDER_CRANK:
+        return own, own._replace(swapped=True, solve=_slider_solver(linkage), other_angle=True,
+                                 ratio=scale, scale=scale)
+    if kind != PLANE_FOUR_BAR:
         return (own,)
     a, b, c, d = (linkage.dims[n] for n in "abcd")
     coupler = bodies.coupler
@@ -6390,39 +6487,37 @@ def _views(linkage: Closure, bodies: Bodies, gravity: Vector) -> tuple[_View, ..
         coupler = coupler._replace(centre=(abs(c) - u, -v))
     turned = (-gravity[0], -gravity[1], gravity[2])
     closure = Closure(PLANE_FOUR_BAR, a=a, b=d, c=c, d=b)
-    inverse = _View(closure, Bodies(bodies.output, coupler, bodies.crank), True, turned,
-                    {"A0": "B0", "B0": "A0", "A": "B", "B": "A"},
-                    lambda p: (a - float(p[0]), -float(p[1]), 0.0),
-                    joint_positions(closure, 0.0).joints)
+    inverse = own._replace(
+        closure=closure, bodies=Bodies(bodies.output, coupler, bodies.crank), swapped=True,
+        shift=math.pi, gravity=turned, names={"A0": "B0", "B0": "A0", "A": "B", "B": "A"},
+        frame=lambda p: (a - float(p[0]), -float(p[1]), 0.0),
+        ground=joint_positions(closure, 0.0).joints, dims=pin_dimensions(closure.dims),
+        solve=_engine_solver(closure))
     return own, inverse
 
 
 def _root(view: _View, q: float, near: tuple[float, float, float, float] | None,
-          label: int) -> tuple[Motion, float, int] | None:
-    """The engine's position at q on the branch the motion follows: the root nearest the
-    prediction from near = (q0, other, other', other'') (None: the branch `label`); with the
-    other coordinate unwrapped (radians, or the slider's x) and its label. None where the
-    linkage does not assemble (or its output is free)."""
-    closure = view.closure
+          label: int) -> tuple[_Pose, int] | None:
+    """The position at q on the branch the motion follows: the root nearest the prediction from
+    near = (q0, other, other', other'') (None: the label `label`); with the other coordinate
+    unwrapped, and its label. None where the linkage does not assemble (or its output is free)."""
     best = None
     for branch in (1, 2):
         if near is None and branch != label:
             continue
-        m = closure.motion(q * DEG, branch)
-        if m.status not in (ASSEMBLED, CHANGE_POINT) or m.output is None:
+        pose = view.solve(q, branch)
+        if pose is None:
             continue
-        assert m.velocity is not None and m.acceleration is not None
         if near is None:
-            y = m.output if closure.is_slider else m.output * RAD
-            return m, y, branch
+            return pose, branch
         q0, y0, v0, a0 = near
         h = q - q0
         guess, slope = y0 + h * v0 + 0.5 * h * h * a0, v0 + h * a0
-        y = m.output if closure.is_slider else guess + math.remainder(m.output * RAD - guess,
-                                                                      2.0 * math.pi)
-        misfit = abs(y - guess) + abs(h) * abs(m.velocity - slope)
+        if view.other_angle:
+            pose = pose._replace(other=guess + math.remainder(pose.other - guess, 2.0 * math.pi))
+        misfit = abs(pose.other - guess) + abs(h) * abs(pose.other1 - slope)
         if best is None or misfit < best[0]:
-            best = (misfit, m, y, branch)
+            best = (misfit, pose, branch)
     return None if best is None else best[1:]
 
 
@@ -6437,43 +6532,59 @@ class Reduced(NamedTuple):
 
 
 def reduced(linkage: Closure, phi: float, branch: int = 1, bodies: Bodies = Bodies(),
-            gravity: float | Sequence[float] | None = None) -> Reduced | None:
+            gravity: float | Sequence[float] | None = None, *, radius: float = 1.0
+            ) -> Reduced | None:
     """J, dJ/dphi, gravity's generalised force and potential at input angle phi (degrees) on
-    the listing's `branch` of a plane kind (see the section's notes; bodies and gravity as
-    forces'; at a change point the branch's limits); None where there is no velocity (no
-    position, a dead centre)."""
-    if linkage.kind not in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
-        raise ValueError("reduced takes the plane kinds (plane four-bar, plane slider-crank)")
-    forces(linkage, [], branch, bodies, Effects(gravity=gravity))   # its ValueError: the bodies
+    the listing's `branch` (see the section's notes; bodies, gravity and the spherical
+    four-bar's radius as forces'; at a change point the branch's limits); None where there is
+    no velocity (no position, a dead centre)."""
+    forces(linkage, [], branch, bodies, Effects(gravity=gravity), radius=radius)   # its errors
+    view = _views(linkage, bodies, _gravity(gravity, linkage.kind), radius)[0]
     m = linkage.motion(phi, branch)
-    g = _gravity(gravity)
-    view = _views(linkage, bodies, g)[0]
-    return None if m.velocity is None else _reduced_at(view, m)
+    if m.velocity is None or m.acceleration is None or m.output is None:
+        return None
+    pose = _Pose(m.phi, m.output, 1.0, 0.0, m.velocity, m.acceleration, 0.0, 0.0, 0.0)
+    return _reduced_at(view, pose, *_pins(view, pose))
 
 
-def _gravity(gravity: float | Sequence[float] | None) -> Vector:
+def _gravity(gravity: float | Sequence[float] | None, kind: str) -> Vector:
+    """Gravity as forces() takes it: a number g along -y (plane kinds) or -z (spatial)."""
+    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
     if gravity is None:
         return (0.0, 0.0, 0.0)
     if isinstance(gravity, (int, float)):
-        return (0.0, -checked_number(gravity, "gravity"), 0.0)
-    g = checked_numbers(gravity, 3, "gravity (gx, gy, gz)")
-    if g[2]:
+        g = checked_number(gravity, "gravity")
+        return (0.0, -g, 0.0) if plane else (0.0, 0.0, -g)
+    v = checked_numbers(gravity, 3, "gravity (gx, gy, gz)")
+    if plane and v[2]:
         raise ValueError("the plane kinds are simulated in their plane: gravity must have no z "
                          "component")
-    return g[0], g[1], 0.0
+    return v[0], v[1], v[2]
 
 
-def _reduced_at(view: _View, m: Motion) -> Reduced:
-    """Reduced at the engine's position m (with its derivatives) in `view`: each body's centre
-    and angle, and their first and second derivatives by q, by the chain rule from the pins'
-    (a body of a mass only is a uniform rod, as forces' bodies; the plane's inertia about z)."""
-    assert m.output is not None and m.velocity is not None and m.acceleration is not None
-    y1, y2 = m.velocity, m.acceleration
+_Path: TypeAlias = tuple[Vector, Vector, Vector]       # a point and its derivatives by q
+
+
+def _pins(view: _View, pose: _Pose) -> tuple[_Path, _Path]:
+    """The crank pin A and the output pin (B, or the slider C) with their derivatives by q."""
+    closure, dims, r = view.closure, view.dims, view.radius
+    a = PINS[closure.kind].crank_pin(dims, *cos_sin_degrees(pose.phi))
+    p = output_pin_at(closure, dims, pose.output, cos_sin_degrees)
+    k1, k2, o1, o2 = pose.crank1, pose.crank2, pose.out1, pose.out2
+    return ((_mix((r, a[0])), _mix((r * k1, a[1])), _mix((r * k1 * k1, a[2]), (r * k2, a[1]))),
+            (_mix((r, p[0])), _mix((r * o1, p[1])), _mix((r * o1 * o1, p[2]), (r * o2, p[1]))))
+
+
+def _reduced_at(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
+    """Reduced at the position `pose` with pins a and p in `view`, by the kind's table."""
+    return _REDUCERS[view.closure.kind](view, pose, a, p)
+
+
+def _plane_reduced(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
+    """The plane kinds' Reduced: each body's centre and angle, and their first and second
+    derivatives by q, by the chain rule from the pins' (a body of a mass only is a uniform rod,
+    as forces' bodies; the plane's inertia about z)."""
     closure = view.closure
-    dims = pin_dimensions(closure.dims)
-    a = PINS[closure.kind].crank_pin(dims, *cos_sin_degrees(m.phi))
-    out = output_pin_at(closure, dims, m.output, cos_sin_degrees)
-    p = (out[0], _mix((y1, out[1])), _mix((y1 * y1, out[2]), (y2, out[1])))
     g = view.gravity
     crank, coupler, output = view.bodies
     inertia = slope = force = potential = 0.0
@@ -6490,7 +6601,7 @@ def _reduced_at(view: _View, m: Motion) -> Reduced:
 
     length = math.sqrt(dot(a[0], a[0]))
     r, moment = _mass_of(crank, length)
-    body(crank.mass, moment, [_mix((r / length, x)) for x in a], (1.0, 0.0))
+    body(crank.mass, moment, [_mix((r / length, x)) for x in a], (pose.crank1, pose.crank2))
     along = [_less(x, z) for x, z in zip(p, a)]
     span = dot(along[0], along[0])
     e = _mix((1.0 / math.sqrt(span), along[0]))
@@ -6515,8 +6626,74 @@ def _reduced_at(view: _View, m: Motion) -> Reduced:
         length = math.sqrt(dot(arm, arm))
         r, moment = _mass_of(output, length)
         body(output.mass, moment, (_mix((1.0, pivot), (r / length, arm)),
-                                   _mix((r / length, p[1])), _mix((r / length, p[2]))), (y1, y2))
+                                   _mix((r / length, p[1])), _mix((r / length, p[2]))),
+             (pose.out1, pose.out2))
     return Reduced(inertia, slope, force, potential)
+
+
+def _normed(v: Vector) -> Vector:
+    return _mix((1.0 / math.sqrt(dot(v, v)), v))
+
+
+def _spatial_reduced(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
+    """The spatial kinds' Reduced: each body in forces' frame (see section 10's notes), its
+    origin's path, its angular velocity per unit q_dot w' and that's derivative w'', its centre
+    G = origin + rho: J = sum m |G'|^2 + w'.I w' and J' = 2 sum (m G'.G'' + w''.I w') (the
+    inertia I turning with the body adds w'.(w' x I w' - I (w' x w')) = 0)."""
+    g = view.gravity
+    crank, coupler, output = cast(tuple[BodyMass, BodyMass, BodyMass], view.masses)
+    totals = [0.0, 0.0, 0.0, 0.0]
+    nought = (0.0, 0.0, 0.0)
+
+    def body(mass: BodyMass, axes: Sequence[Vector], origin: _Path, w1: Vector, w2: Vector
+             ) -> None:
+        rho = _mix(*zip(mass.centre, axes))
+        g1 = _mix((1.0, origin[1]), (1.0, cross(w1, rho)))
+        g2 = _mix((1.0, origin[2]), (1.0, cross(w2, rho)), (1.0, cross(w1, cross(w1, rho))))
+        local = (dot(axes[0], w1), dot(axes[1], w1), dot(axes[2], w1))
+        iw1 = _mix(*zip((dot(row, local) for row in mass.inertia), axes))
+        totals[0] += mass.mass * dot(g1, g1) + dot(w1, iw1)
+        totals[1] += 2.0 * (mass.mass * dot(g1, g2) + dot(w2, iw1))
+        totals[2] += mass.mass * dot(g, g1)
+        totals[3] -= mass.mass * dot(g, _mix((1.0, origin[0]), (1.0, rho)))
+
+    z = (0.0, 0.0, 1.0)
+    x = _normed((a[0][0], a[0][1], 0.0))
+    body(crank, (x, cross(z, x), z), (nought, nought, nought), (0.0, 0.0, pose.crank1),
+         (0.0, 0.0, pose.crank2))
+    if PINS[view.closure.kind].coupler == "sphere":
+        w1 = spin_about_centre(a[0], p[0], a[1], p[1])
+        w2 = spin_about_centre(a[0], p[0], _less(a[2], cross(w1, a[1])),
+                               _less(p[2], cross(w1, p[1])))
+        x, normal = _normed(a[0]), _normed(cross(a[0], p[0]))
+        body(coupler, (x, cross(normal, x), normal), (nought, nought, nought), w1, w2)
+    else:                   # a line: no spin about it, and |AB| fixed, so AB . (B' - A') = 0
+        ab = _less(p[0], a[0])
+        span = dot(ab, ab)
+        w1 = _mix((1.0 / span, cross(ab, _less(p[1], a[1]))))
+        w2 = _mix((1.0 / span, cross(ab, _less(p[2], a[2]))))
+        x = _normed(ab)
+        least = min(range(3), key=lambda i: abs(x[i]))
+        y = _normed(cross(x, ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), z)[least]))
+        body(coupler, (x, y, cross(x, y)), a, w1, w2)
+    if view.closure.is_slider:
+        guide = view.axes["guide"][1]
+        side = (1.0, 0.0, 0.0)
+        body(output, (guide, side, cross(guide, side)), p, nought, nought)
+    else:
+        k = view.axes["output"][1]
+        pivot = view.ground.get("B0", nought) if view.closure.kind == SKEW_FOUR_BAR else nought
+        arm = _less(p[0], pivot)
+        x = _normed(_mix((1.0, arm), (-dot(arm, k), k)))
+        body(output, (x, cross(k, x), k), (pivot, nought, nought), _mix((pose.out1, k)),
+             _mix((pose.out2, k)))
+    return Reduced(*totals)
+
+
+_REDUCERS: dict[str, Callable[[_View, _Pose, _Path, _Path], Reduced]] = {
+    PLANE_FOUR_BAR: _plane_reduced, PLANE_SLIDER_CRANK: _plane_reduced,
+    SPHERICAL_FOUR_BAR: _spatial_reduced, SKEW_FOUR_BAR: _spatial_reduced,
+    SKEW_SLIDER_CRANK: _spatial_reduced}
 
 
 def _mass_of(body: Body, length: float) -> tuple[float, float]:
@@ -6527,29 +6704,43 @@ def _mass_of(body: Body, length: float) -> tuple[float, float]:
     return float(cast(float, body.centre)), float(cast(float, body.inertia))
 
 
+def _coupler_rate(view: _View, pose: _Pose, a: _Path, p: _Path, u: float, v: float) -> Vector:
+    """The coupler point (u, v)'s derivative by q (Linkage.coupler's point)."""
+    form = PINS[view.closure.kind].coupler
+    if form == "sphere":
+        m = Motion(pose.phi, pose.output, pose.out1, pose.out2, ASSEMBLED)
+        rate = coupler_of(view.closure, [m], u, v)[0].velocity
+        assert rate is not None
+        return _mix((view.radius, rate))
+    ab, ab1 = _less(p[0], a[0]), _less(p[1], a[1])
+    span = dot(ab, ab)
+    if form == "line":                  # A + u e, e' = (B' - A') / |AB| (|AB| fixed)
+        return _mix((1.0, a[1]), (u / math.sqrt(span), ab1))
+    w1 = cross(ab, ab1)[2] / span
+    e = _mix((1.0 / math.sqrt(span), ab))
+    return _mix((1.0, a[1]), (-w1 * u, (e[1], -e[0], 0.0)), (-w1 * v, e))
+
+
 def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, float, float, float]
         | None, label: int) -> _Point | None:
     """The state (q, rate) in `view`, or None where it cannot be evaluated."""
     found = _root(view, q, near, label)
     if found is None:
         return None
-    m, y, branch = found
-    assert m.velocity is not None and m.acceleration is not None
-    y1, y2 = m.velocity, m.acceleration
-    closure, swapped = view.closure, view.swapped
-    dynamics = _reduced_at(view, m)
+    pose, branch = found
+    a, p = _pins(view, pose)
+    dynamics = _reduced_at(view, pose, a, p)
     if not dynamics.inertia > 0.0:
         return None
+    y, y1, y2 = pose.other, pose.other1, pose.other2
     # the linkage's angles by q: the crank's phi and the output's psi (or x)
-    phi, phi1 = (y - math.pi, y1) if swapped else (q, 1.0)
-    psi, psi1 = (q - math.pi, 1.0) if swapped else (y, y1)
-    dims = pin_dimensions(closure.dims)
-    pins = PINS[closure.kind]
-    crank = pins.crank_pin(dims, *cos_sin_degrees(m.phi))
-    out = output_pin_at(closure, dims, cast(float, m.output), cos_sin_degrees)
+    if view.swapped:
+        phi, phi1, psi, psi1 = y - view.shift, y1, q - view.shift, 1.0
+    else:
+        phi, phi1, psi, psi1 = q, 1.0, y, y1
     still = (0.0, 0.0, 0.0)
     points = {name: (at, still) for name, at in view.ground.items()}
-    points.update({"A": (crank[0], crank[1]), pins.output_joint: (out[0], _mix((y1, out[1])))})
+    points.update({"A": (a[0], a[1]), PINS[view.closure.kind].output_joint: (p[0], p[1])})
     applied = dynamics.gravity_force - 0.5 * dynamics.slope * rate * rate
     potential = dynamics.potential
     omega = phi1 * rate
@@ -6564,8 +6755,8 @@ def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, floa
         applied -= t.stiffness * (angle - t.free_angle * RAD) * angle1
         free -= t.damping * angle1 * angle1 * rate
     for s in run.springs:
-        (pa, va), (pb, vb) = (points[view.names[p]] if isinstance(p, str)
-                              else (view.frame(p), still) for p in (s.point_a, s.point_b))
+        (pa, va), (pb, vb) = (points[view.names[x]] if isinstance(x, str)
+                              else (view.frame(x), still) for x in (s.point_a, s.point_b))
         gap = _less(pa, pb)
         length = math.sqrt(dot(gap, gap))
         stretch = length - s.free_length
@@ -6574,11 +6765,9 @@ def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, floa
             applied -= s.stiffness * stretch * dot(gap, _less(va, vb)) / length
     if run.coupler_force is not None:
         (u, v), f = run.coupler_force
-        if swapped:
-            u, v, f = abs(closure.dims["c"]) - u, -v, (-f[0], -f[1], f[2])
-        point = coupler_of(closure, [m], u, v)[0].velocity
-        assert point is not None
-        free += dot(f, point)
+        if view.shift:                  # the inverse four-bar: its coupler's frame turned
+            u, v, f = abs(view.closure.dims["c"]) - u, -v, (-f[0], -f[1], f[2])
+        free += dot(f, _coupler_rate(view, pose, a, p, u, v))
     applied += free
     energy = 0.5 * dynamics.inertia * rate * rate + potential
     return _Point(q, rate, y, y1, y2, branch, dynamics.inertia, applied / dynamics.inertia,
@@ -6603,18 +6792,21 @@ def _dp_step(run: _Model, view: _View, y: _Phase, first: _Point, h: float
     stages' slopes, the new point, and the error estimates of q and q_dot; None where a stage
     cannot be evaluated."""
     slopes = [_slope(first)]
-    point = first
-    new = y
+    point, new, near = first, y, _reference(first)
     for a in _DP_A[1:]:
-        new = cast(_Phase, tuple(y[j] + h * sum(ai * k[j] for ai, k in zip(a, slopes))
-                                 for j in range(3)))
-        found = _at(run, view, new[0], new[1], _reference(first), first.label)
+        dq = dr = dw = 0.0
+        for ai, k in zip(a, slopes):
+            dq, dr, dw = dq + ai * k[0], dr + ai * k[1], dw + ai * k[2]
+        new = (y[0] + h * dq, y[1] + h * dr, y[2] + h * dw)
+        found = _at(run, view, new[0], new[1], near, first.label)
         if found is None:
             return None
         point = found
         slopes.append(_slope(point))
-    errors = [h * sum(e * k[j] for e, k in zip(_DP_E, slopes)) for j in range(2)]
-    return new, slopes, point, errors[0], errors[1]
+    eq = ev = 0.0
+    for e, k in zip(_DP_E, slopes):
+        eq, ev = eq + e * k[0], ev + e * k[1]
+    return new, slopes, point, h * eq, h * ev
 
 
 def _dense(y: _Phase, slopes: _Slopes, h: float, theta: float) -> _Phase:
@@ -6628,8 +6820,8 @@ def _dense(y: _Phase, slopes: _Slopes, h: float, theta: float) -> _Phase:
 def _row(view: _View, t: float, p: _Point) -> SimRow:
     """A SimRow of the point p in `view` at time t."""
     if view.swapped:
-        phi, phi1, phi2, psi, psi1, psi2 = p.other - math.pi, p.other1, p.other2, \
-            p.q - math.pi, 1.0, 0.0
+        phi, phi1, phi2, psi, psi1, psi2 = p.other - view.shift, p.other1, p.other2, \
+            p.q - view.shift, 1.0, 0.0
     else:
         phi, phi1, phi2, psi, psi1, psi2 = p.q, 1.0, 0.0, p.other, p.other1, p.other2
     r, a = p.rate, p.acceleration
@@ -6661,16 +6853,15 @@ def simulate(linkage: Closure, bodies: Bodies, effects: Effects = Effects(), *,
              driver: Driver | None = None, springs: Sequence[Spring] = (),
              torsions: Sequence[Torsion] = (), initial: tuple[float, float] = (0.0, 0.0),
              time: float = 1.0, step: float = 0.01, tolerance: float = 1e-8, branch: int = 1,
-             until_angle: float | None = None, stop_at_rest: bool = False) -> Simulation:
+             until_angle: float | None = None, stop_at_rest: bool = False,
+             radius: float = 1.0) -> Simulation:
     """The linkage's motion in time from the crank's initial (angle in degrees, speed in rpm)
     on the listing's `branch` there, for `time` seconds, under gravity and the loads of
     `effects` (its speed and acceleration are not used), the driver, springs and torsions:
     rows every `step` seconds, the events, and the energy check (see the section's notes). The
-    run ends early at until_angle (degrees, the crank's) or at rest (stop_at_rest). A
-    ValueError says in one sentence what is wrong with the input."""
-    if linkage.kind not in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK):
-        raise ValueError("simulate takes the plane kinds (plane four-bar, plane slider-crank), "
-                         f"not the {KIND_NAMES[linkage.kind]}")
+    run ends early at until_angle (degrees, the crank's) or at rest (stop_at_rest); radius is
+    the spherical four-bar's sphere (m), as forces'. A ValueError says in one sentence what is
+    wrong with the input."""
     time = _checked_positive(time, "the run's time (s)", _LONGEST_RUN)
     step = _checked_positive(step, "the rows' step (s)", time)
     if time / step > _ROWS_AT_MOST:
@@ -6694,15 +6885,18 @@ def simulate(linkage: Closure, bodies: Bodies, effects: Effects = Effects(), *,
         checked_number(value, what)
     if driver.stall_torque and not driver.free_speed_rpm:
         raise ValueError("a motor line needs its free speed (free_speed_rpm, not 0)")
+    plane = linkage.kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
     for s in springs:
         for p in (s.point_a, s.point_b):
             if isinstance(p, str):
                 if p not in ("A0", "A", PINS[linkage.kind].output_joint) + (
-                        ("B0",) if linkage.kind == PLANE_FOUR_BAR else ()):
+                        () if linkage.is_slider else ("B0",)):
                     raise ValueError(f"a spring's point is a joint (A0, A, B, B0; C the "
-                                     f"slider's) or (x, y), not {p!r}")
+                                     f"slider's) or {'(x, y)' if plane else '(x, y, z)'}, "
+                                     f"not {p!r}")
             else:
-                checked_numbers(p, 2, "a spring's point (x, y)")
+                checked_numbers(p, 2 if plane else 3, "a spring's point " +
+                                ("(x, y)" if plane else "(x, y, z)"))
         if checked_number(s.stiffness, "a spring's stiffness") < 0.0 or \
                 checked_number(s.free_length, "a spring's free length") < 0.0:
             raise ValueError("a spring's stiffness and free length must not be negative")
@@ -6712,12 +6906,14 @@ def simulate(linkage: Closure, bodies: Bodies, effects: Effects = Effects(), *,
                              f"not {tz.pivot!r}")
         for value, what in zip(tz[1:], ("stiffness", "free angle", "damping")):
             checked_number(value, f"a torsion's {what}")
-    forces(linkage, [], branch, bodies, effects)      # its ValueError: the bodies, the effects
+    forces(linkage, [], branch, bodies, effects, radius=radius)     # its ValueError: the
+    #                                                                   bodies, the effects
     load = None
     if effects.coupler_force is not None:
         at, f = effects.coupler_force
         load = ((float(at[0]), float(at[1])), cast(Vector, tuple(float(x) for x in f)))
-    run = _Model(linkage, _views(linkage, bodies, _gravity(effects.gravity)), driver,
+    run = _Model(linkage, _views(linkage, bodies, _gravity(effects.gravity, linkage.kind),
+                                 radius), driver,
                  tuple(springs), tuple(torsions), float(effects.output_torque),
                  float(effects.output_force), load)
     view = run.views[0]
@@ -6728,18 +6924,17 @@ def simulate(linkage: Closure, bodies: Bodies, effects: Effects = Effects(), *,
     if start.velocity is None:
         raise ValueError(f"the linkage does not assemble at the initial angle {angle:g} "
                          f"degrees on branch {branch}")
-    if not _reduced_at(view, start).inertia > 0.0:
+    first = _at(run, view, angle * RAD, omega, None, branch)
+    if first is None:                   # it assembles: J is zero
         raise ValueError("the reduced inertia at the initial angle is zero: give the crank, "
                          "coupler or output a mass")
-    first = _at(run, view, angle * RAD, omega, None, branch)
-    assert first is not None            # it assembles and J > 0
     return _integrate(run, first, time, step, tolerance, target, stop_at_rest)
 
 
 def _switched(run: _Model, index: int, p: _Point) -> tuple[int, _Point | None]:
     """The point p of view `index` in the other view (the other coordinate)."""
     to = 1 - index
-    shift = math.pi if to == 1 else -math.pi
+    shift = run.views[1].shift if to == 1 else -run.views[1].shift
     near = (p.other + shift, p.q + shift, 1.0 / p.other1, -p.other2 / p.other1 ** 3)
     return to, _at(run, run.views[to], p.other + shift, p.other1 * p.rate, near, 1)
 
@@ -6751,9 +6946,9 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
     events: list[SimEvent] = []
 
     def phi_of(v: _View, p: _Point) -> float:
-        return (p.other - math.pi if v.swapped else p.q) * DEG
+        return (p.other - v.shift if v.swapped else p.q) * DEG
 
-    if len(run.views) > 1 and abs(first.other1) > _SWITCH_ABOVE:
+    if len(run.views) > 1 and abs(first.other1) * run.views[0].ratio > _SWITCH_ABOVE:
         index, moved = _switched(run, index, first)
         if moved is None:
             raise ValueError("the motion cannot start there (a dead centre)")
@@ -6776,8 +6971,8 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
             h *= 0.25
         else:
             new, slopes, p1, eq, ev = taken
-            error = max(abs(eq) / tolerance,
-                        abs(ev) / (tolerance * max(1.0, abs(y[1]), abs(new[1]))))
+            error = max(abs(eq) / (tolerance * view.scale),
+                        abs(ev) / (tolerance * max(view.scale, abs(y[1]), abs(new[1]))))
             if error > 1.0:
                 rejected += 1
                 h *= max(0.2, 0.9 * error ** -0.2)
@@ -6790,18 +6985,18 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
                     s = _dense(y, slopes, h, theta)
                     return _at(run, view, s[0], s[1], near, label0)
 
-                def other_at(theta: float) -> tuple[Motion, float, int] | None:
+                def other_at(theta: float) -> tuple[_Pose, int] | None:
                     return _root(view, _dense(y, slopes, h, theta)[0], near, label0)
 
                 found: list[tuple[float, str, str]] = []
                 if p1.label != p.label:
-                    found.append((_bisected(lambda th: (lambda r: r is None or r[2] == label0)(
+                    found.append((_bisected(lambda th: (lambda r: r is None or r[1] == label0)(
                         other_at(th))), CHANGE_POINT, "the branches cross: kept to the one "
                                                       "followed"))
                 if view.swapped and (p.other1 > 0.0) != (p1.other1 > 0.0):
                     sign = p.other1 > 0.0
                     found.append((_bisected(lambda th: (lambda r: r is None or (
-                        (r[0].velocity or 0.0) > 0.0) == sign)(other_at(th))), DEAD_CENTRE,
+                        r[0].other1 > 0.0) == sign)(other_at(th))), DEAD_CENTRE,
                         "the crank stops and turns back"))
                 if (y[1] > 0.0) != (new[1] > 0.0) and y[1] != 0.0:
                     found.append((_bisected(lambda th: (_dense(y, slopes, h, th)[1] > 0.0) ==
@@ -6835,13 +7030,13 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
                 t, y, p = t + h, new, p1
                 worst = max(worst, abs(p.energy - y[2] - energy0))
                 h *= min(5.0, max(0.2, 0.9 * max(error, 1e-10) ** -0.2))
-                if len(run.views) == 1 and abs(p.other1) > _ALONE_ABOVE * abs(
-                        run.linkage.dims["b"]):
+                if len(run.views) == 1 and abs(p.other1) * view.ratio > _ALONE_ABOVE:
                     events.append(SimEvent(t, STUCK, phi_of(view, p), "the input's dead centre "
-                                           "is ahead, and the slider-crank has no other "
-                                           "coordinate there yet: the run ends"))
+                                           f"is ahead, and the {KIND_NAMES[run.linkage.kind]} "
+                                           "is simulated in its crank's angle alone: the run "
+                                           "ends"))
                     break
-                if len(run.views) > 1 and abs(p.other1) > _SWITCH_ABOVE:
+                if len(run.views) > 1 and abs(p.other1) * view.ratio > _SWITCH_ABOVE:
                     index, moved = _switched(run, index, p)
                     if moved is None:
                         events.append(SimEvent(t, STUCK, phi_of(view, p), "cannot change "
@@ -6850,7 +7045,8 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
                     view, p = run.views[index], moved
                     y = (p.q, p.rate, y[2])
                     events.append(SimEvent(t, COORDINATE, phi_of(view, p),
-                                           "the output's angle" if view.swapped
+                                           ("the slider's x" if view.closure.is_slider else
+                                            "the output's angle") if view.swapped
                                            else "the crank's angle"))
         if h < _SHORTEST * (1.0 + t):
             events.append(SimEvent(t, STUCK, phi_of(view, p), "no step could be taken"))
@@ -10394,7 +10590,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # A scene with [simulation] is a run in time instead (section 22 runs it): its keys are read
 # here, as [dynamics]' are, each value's shape checked where the file is read.
 #
-# Uses: sections 1, 2, 6, 7, 9, 12, 13 and 14.
+# Uses: sections 1, 2, 6, 7, 9, 13 and 14.
 # Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, FORCE_QUANTITIES, QUANTITY_FILES,
 #   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, DRAWN_UP_TO,
 #   DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene, scene_error, load_scene,
@@ -13681,7 +13877,10 @@ SIMULATION_TOLERANCES = (1e-6, 1e-8, 1e-10, 1e-12)
 
 
 def bench_simulate(out: TextIO, quick: bool = False) -> None:
-    """simulate's cost: steps a second, as the tolerance falls, and a motor's run-up.
+    """simulate's cost in CPU seconds: steps per CPU second by tolerance, and a motor's run-up.
+
+    Times are this process's CPU time (time.process_time), the run-up's against the seconds
+    simulated.
 
     The double-rocker released from rest at 320 degrees swings across its input's dead centres
     (the energy's error beside each tolerance); the crank-rocker runs up from rest."""
@@ -13691,16 +13890,16 @@ def bench_simulate(out: TextIO, quick: bool = False) -> None:
     rocker = Linkage(PLANE_FOUR_BAR, a=3.0, b=2.5, c=1.0, d=2.0)
     print(f"the double-rocker a=3 b=2.5 c=1 d=2, 1/0.5/1 kg rods, g = 9.81, released at 320 "
           f"degrees on branch 1, {seconds:g} s simulated (about {seconds / 1.9:.0f} swings, "
-          "each across two dead centres); one core", file=out)
+          "each across two dead centres); times are this process's CPU seconds", file=out)
     print(f"{'tolerance':>10} {'steps':>8} {'rejected':>9} {'evaluations':>12} {'CPU s':>8} "
-          f"{'steps/s':>9} {'energy error / E':>17}", file=out)
+          f"{'steps/CPU s':>12} {'energy error / E':>17}", file=out)
     for tolerance in tolerances:
         cpu, sim = _cpu_timed(lambda: simulate(
             rocker, rods, Effects(gravity=9.81), initial=(320.0, 0.0), time=seconds,
             step=seconds, tolerance=tolerance, branch=1))
         drift = sim.energy_error / abs(sim.rows[0].energy)
         print(f"{tolerance:10.0e} {sim.steps:8,} {sim.rejected:9,} {sim.evaluations:12,} "
-              f"{cpu:8.2f} {sim.steps / cpu:9,.0f} {drift:17.2e}", file=out)
+              f"{cpu:8.2f} {sim.steps / cpu:12,.0f} {drift:17.2e}", file=out)
     crank_rocker = Linkage(PLANE_FOUR_BAR, a=4.0, b=1.0, c=4.0, d=3.0)
     motor = Driver(stall_torque=40.0, free_speed_rpm=120.0)
     cpu, sim = _cpu_timed(lambda: simulate(
@@ -13710,8 +13909,9 @@ def bench_simulate(out: TextIO, quick: bool = False) -> None:
     balance = abs(last.energy - sim.rows[0].energy - last.work) / last.work
     print(f"a motor's run-up (40 N m stall, 120 rpm free) of the crank-rocker a=4 b=1 c=4 d=3 "
           f"with 2/3/2.5 kg rods, {run_up:g} s simulated at tolerance 1e-8: "
-          f"{last.phi / 360.0:,.0f} turns, {sim.steps:,} steps in {cpu:.2f} s CPU "
-          f"({sim.steps / cpu:,.0f} steps/s), |E - E(0) - W| / W = {balance:.1e}", file=out)
+          f"{last.phi / 360.0:,.0f} turns, {sim.steps:,} steps in {cpu:.2f} CPU seconds of this "
+          f"process ({sim.steps / cpu:,.0f} steps per CPU second; {run_up / cpu:.0f} simulated "
+          f"seconds per CPU second), |E - E(0) - W| / W = {balance:.1e}", file=out)
 
 
 def _cpu_timed(function: Callable[[], Simulation]) -> tuple[float, Simulation]:
