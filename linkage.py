@@ -2754,10 +2754,14 @@ class Closure:
     PLANE_SLIDER_CRANK ("slider", b c e; c is the rod c* as typed) or SKEW_SLIDER_CRANK
     ("skew-slider", a b c f ksi). Geometry and signs are the listing's (tests/test_physics.py).
     No assembly check is made here: each position says whether it assembles (Motion.status).
-    Lengths are divided by a power of two near the largest (exactly) so that no scale overflows.
+    Lengths are divided by a power of two near the largest (exactly) so that no scale overflows:
+    that power is `unit`, the dimensions so divided `scaled` (angles as given; what the sections
+    that derive joints and forces from the closure compute with), and `precise_below` the
+    discriminant under which a position is solved in 50-digit decimal (decimal_motion; the
+    numpy path hands such positions back, with a margin: FAST_MARGIN).
     """
 
-    __slots__ = ("kind", "dims", "is_slider", "_unit", "_scaled", "_constants", "_precise_below",
+    __slots__ = ("kind", "dims", "is_slider", "unit", "scaled", "_constants", "precise_below",
                  "_decimal")
 
     def __init__(self, kind: str, **dims: float) -> None:
@@ -2766,12 +2770,12 @@ class Closure:
         self.is_slider = kind in SLIDER_CRANKS
         largest = max([abs(v) for k, v in self.dims.items() if k != "ksi"]
                       if kind != SPHERICAL_FOUR_BAR else [0.0])
-        self._unit = math.ldexp(1.0, min(math.frexp(largest)[1], 1023)) if largest else 1.0
-        self._scaled = {k: v if k == "ksi" or kind == SPHERICAL_FOUR_BAR else v / self._unit
+        self.unit = math.ldexp(1.0, min(math.frexp(largest)[1], 1023)) if largest else 1.0
+        self.scaled = {k: v if k == "ksi" or kind == SPHERICAL_FOUR_BAR else v / self.unit
                         for k, v in self.dims.items()}
-        exact = _closure_constants(kind, self._scaled, _trig_double)
+        exact = _closure_constants(kind, self.scaled, _trig_double)
         self._constants = tuple(float(v) for v in exact)
-        self._precise_below = _PRECISE_BELOW * float(_size_squared(kind, exact))
+        self.precise_below = _PRECISE_BELOW * float(_size_squared(kind, exact))
         # the 50-digit (and 110-digit) constants by precision, made at the first use: the
         # closure's constants, the discriminant's zero and the line under which 110 digits serve
         self._decimal: dict[int, tuple[tuple[Decimal, ...], Decimal, Decimal]] | None = None
@@ -2836,7 +2840,7 @@ class Closure:
             self._decimal = {}
         for context in contexts:
             if context.prec not in self._decimal:
-                exact = _closure_constants(self.kind, self._scaled,
+                exact = _closure_constants(self.kind, self.scaled,
                                            functools.partial(_trig_decimal, context=context))
                 with decimal.localcontext(context):
                     k = tuple(Decimal(v.numerator) / Decimal(v.denominator) for v in exact)
@@ -2848,7 +2852,7 @@ class Closure:
             with decimal.localcontext(context):
                 more = None if context is _DECIMAL_FINE else fine
                 if self.is_slider:
-                    m = _slider_point(k, zero, more, phi, c, s, int(sign), level, self._unit)
+                    m = _slider_point(k, zero, more, phi, c, s, int(sign), level, self.unit)
                 else:
                     m = _four_bar_point(k, zero, more, phi, c, s, int(sign), level)
             if m is not None:
@@ -2864,7 +2868,7 @@ def _sweep_four_bar(linkage: Closure, phis: list[float], sign: float, level: int
     psi' = -E_phi / E_psi and psi'' = -(E_phiphi + 2 E_phipsi psi' + E_psipsi psi'^2) / E_psi,
     with E_psi = sign sqrt(D), D = P^2 + Q^2 - S^2, and E_psipsi = S on the root."""
     p0, pc, ps, q0, qc, qs, s0, sc, ss = linkage._constants
-    precise_below = linkage._precise_below
+    precise_below = linkage.precise_below
     hypot, sqrt, atan2 = math.hypot, math.sqrt, math.atan2
     deg, new = DEG, tuple.__new__
     out: list[Motion] = []
@@ -2924,7 +2928,7 @@ def _sweep_slider(linkage: Closure, phis: list[float], sign: float, level: int) 
     formula (the root away from zero first, the other as q over it); x' = -G_phi / G_x and x''
     likewise, with G_x = 2 sign sqrt(D)."""
     m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = linkage._constants
-    precise_below, unit = linkage._precise_below, linkage._unit
+    precise_below, unit = linkage.precise_below, linkage.unit
     hypot, sqrt = math.hypot, math.sqrt
     new = tuple.__new__
     out: list[Motion] = []
@@ -3232,9 +3236,10 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 # linkage made plane gives eq. (1).
 #
 # Uses: sections 2 and 6.
-# Offers: Real, Vec3, Kinematics, Pins, PINS, COUPLER_REACH, pin_dimensions, cross, dot, rotated_y,
-#   check_coupler_point, joint_kinematics, output_pin_at, coupler_form, transmission_form,
-#   CouplerMotion, coupler_of, transmission_of, slider_crank_angle, Pose, joint_positions, pose_at.
+# Offers: Real, Vec3, Kinematics, Pins, PINS, COUPLER_REACH, pin_dimensions, weighted_sum,
+#   difference, cross, dot, unit_vector, rotated_y, check_coupler_point, joint_kinematics,
+#   output_pin_at, coupler_form, transmission_form, CouplerMotion, coupler_of, transmission_of,
+#   slider_crank_angle, Pose, joint_positions, pose_at.
 
 
 # -- the joints, the coupler point and the transmission angle -----------------------------------
@@ -3343,15 +3348,17 @@ def pin_dimensions(dims: dict[str, float]) -> dict[str, float]:
     return out
 
 
-def _add(*terms: tuple[Real, Vec3]) -> Vec3:
-    """The sum of (coefficient, 3-vector) terms, componentwise."""
-    (k, v), x, y, z = terms[0], 0.0, 0.0, 0.0
+def weighted_sum(*terms: tuple[Real, Vec3]) -> Vec3:
+    """The sum of (coefficient, 3-vector) terms, componentwise: the one such sum of the
+    program's 3-vectors (floats, mpmath's or numpy's numbers alike)."""
+    x = y = z = 0.0
     for k, v in terms:
         x, y, z = x + k * v[0], y + k * v[1], z + k * v[2]
     return x, y, z
 
 
-def _sub(p: Vec3, q: Vec3) -> Vec3:
+def difference(p: Vec3, q: Vec3) -> Vec3:
+    """p - q, componentwise."""
     return (p[0] - q[0], p[1] - q[1], p[2] - q[2])
 
 
@@ -3363,6 +3370,11 @@ def cross(u: Vec3, v: Vec3) -> Vec3:
 def dot(u: Vec3, v: Vec3) -> Real:
     """The dot product of two 3-vectors."""
     return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def unit_vector(v: Vector) -> Vector:
+    """v divided by its length."""
+    return weighted_sum((1.0 / math.sqrt(dot(v, v)), v))
 
 
 def rotated_y(c: float, s: float, v: Vec3) -> Vec3:
@@ -3411,20 +3423,20 @@ def joint_kinematics(linkage: Closure, dims: dict[str, float], c: Real, s: Real,
     """A, P (positions and total derivatives by phi, as many as `level` asks) and P_q, in the
     linkage's scaled lengths (divided by its unit, as the engine computes), from cos and sin of
     phi, the output (degrees, or length) and its derivatives q1, q2; dims is
-    pin_dimensions(linkage._scaled); cos_sin is cos_sin_degrees or its array form."""
+    pin_dimensions(linkage.scaled); cos_sin is cos_sin_degrees or its array form."""
     a = PINS[linkage.kind].crank_pin(dims, c, s)
     if linkage.is_slider:
-        unit = linkage._unit
+        unit = linkage.unit
         out = out / unit
         q1, q2 = (None if q is None else q / unit for q in (q1, q2))
     p = output_pin_at(linkage, dims, out, cos_sin)
     if level == 0:
         return a[:1], p[:1], p[1]
     assert q1 is not None                   # the derivatives `level` asks for are given
-    p1 = _add((q1, p[1]))
+    p1 = weighted_sum((q1, p[1]))
     if level == 1:
         return a[:2], (p[0], p1), p[1]
-    p2 = _add((q1 * q1, p[2]), (q2, p[1]))
+    p2 = weighted_sum((q1 * q1, p[2]), (q2, p[1]))
     return a, (p[0], p1, p2), p[1]
 
 
@@ -3453,30 +3465,30 @@ def coupler_form(linkage: Closure, a: Sequence[Vec3], p: Sequence[Vec3], u: floa
         alpha, beta, gamma = cv * cu - cv * su * k / sn, cv * su / sn, sv / sn
         normal = [n]
         if len(a) > 1:
-            normal.append(_add((1.0, cross(a[1], p[0])), (1.0, cross(a[0], p[1]))))
+            normal.append(weighted_sum((1.0, cross(a[1], p[0])), (1.0, cross(a[0], p[1]))))
         if len(a) > 2:
-            normal.append(_add((1.0, cross(a[2], p[0])), (2.0, cross(a[1], p[1])),
+            normal.append(weighted_sum((1.0, cross(a[2], p[0])), (2.0, cross(a[1], p[1])),
                                (1.0, cross(a[0], p[2]))))
-        return [_add((alpha, ai), (beta, pi), (gamma, ni)) for ai, pi, ni in zip(a, p, normal)]
-    unit = linkage._unit
-    w = _sub(p[0], a[0])
+        return [weighted_sum((alpha, ai), (beta, pi), (gamma, ni)) for ai, pi, ni in zip(a, p, normal)]
+    unit = linkage.unit
+    w = difference(p[0], a[0])
     length = sqrt(dot(w, w))                              # c, to rounding
     out = []
     for ai, pi in zip(a, p):
-        e = _sub(pi, ai)
+        e = difference(pi, ai)
         terms = [(unit, ai), (u / length, e)]
         if form == "plane" and v:
             terms.append((v / length, _quarter_turned(e)))
-        out.append(_add(*terms))
+        out.append(weighted_sum(*terms))
     return out
 
 
 def transmission_form(kind: str, a: Vec3, p: Vec3, p_q: Vec3, atan2: Callable[[Any, Any], Any]
                        ) -> Real:
     """mu in degrees from the pins' positions and the output pin's P_q (see the notes above)."""
-    t_r = cross(a if PINS[kind].joint_at_a == "OA" else (0.0, 0.0, 1.0), _sub(p, a))
+    t_r = cross(a if PINS[kind].joint_at_a == "OA" else (0.0, 0.0, 1.0), difference(p, a))
     if PINS[kind].coupler == "line":        # the skew kinds: the size from the coupler's line
-        line = _sub(p, a)
+        line = difference(p, a)
         across = cross(p_q, line)
         sense = (dot(p_q, t_r) >= 0.0) * 2 - 1
         return atan2(abs(dot(p_q, line)), sense * dot(across, across) ** 0.5) * DEG
@@ -3500,7 +3512,7 @@ def coupler_of(linkage: Closure, motions: Iterable[Motion], u: float, v: float =
     """The coupler point (u, v) (see Linkage.coupler) at each of `motions` (Linkage.sweep's): as
     many derivatives as each Motion carries."""
     u, v = check_coupler_point(linkage, u, v)
-    out, dims = [], pin_dimensions(linkage._scaled)
+    out, dims = [], pin_dimensions(linkage.scaled)
     for m in motions:
         if m.output is None:
             out.append(CouplerMotion(m.phi, None, None, None, m.status))
@@ -3518,7 +3530,7 @@ def transmission_of(linkage: Closure, motions: Iterable[Motion]) -> list[float |
     """The transmission angle mu (degrees, [0, 180]) at each of `motions`, None where there is no
     position."""
     out: list[float | None] = []
-    dims = pin_dimensions(linkage._scaled)
+    dims = pin_dimensions(linkage.scaled)
     for m in motions:
         if m.output is None:
             out.append(None)
@@ -4561,21 +4573,9 @@ class _Joint(NamedTuple):
     moments: tuple[Vector, ...]
 
 
-def _comb(*terms: tuple[float, Vector]) -> Vector:
-    """The sum of (coefficient, 3-vector) terms."""
-    x = y = z = 0.0
-    for k, v in terms:
-        x, y, z = x + k * v[0], y + k * v[1], z + k * v[2]
-    return x, y, z
-
-
-def _unit3(v: Vector) -> Vector:
-    return _comb((1.0 / math.sqrt(dot(v, v)), v))
-
-
 def _in_world(axes: Matrix, v: Sequence[float]) -> Vector:
     """A vector given in a body's frame (axes x, y, z), in the fixed frame."""
-    return _comb((v[0], axes[0]), (v[1], axes[1]), (v[2], axes[2]))
+    return weighted_sum((v[0], axes[0]), (v[1], axes[1]), (v[2], axes[2]))
 
 
 def _inertia_times(axes: Matrix, inertia: Matrix, w: Vector) -> Vector:
@@ -4587,7 +4587,7 @@ def _inertia_times(axes: Matrix, inertia: Matrix, w: Vector) -> Vector:
 def _perpendicular_pair(k: Vector) -> tuple[Vector, Vector]:
     """Two unit vectors perpendicular to the unit vector k and to each other."""
     least = min(range(3), key=lambda i: abs(k[i]))
-    p = _unit3(cross(k, (_X, _Y, _Z)[least]))
+    p = unit_vector(cross(k, (_X, _Y, _Z)[least]))
     return p, cross(k, p)
 
 
@@ -4596,7 +4596,7 @@ def spin_about_centre(a: Vector, b: Vector, va: Vector, vb: Vector) -> Vector:
     parallel) move with va = Omega x a, vb = Omega x b (in Omega's basis a, b, a x b)."""
     n = cross(a, b)
     nn = dot(n, n)
-    return _comb((dot(vb, n) / nn, a), (-dot(va, n) / nn, b), (dot(va, b) / nn, n))
+    return weighted_sum((dot(vb, n) / nn, a), (-dot(va, n) / nn, b), (dot(va, b) / nn, n))
 
 
 def checked_number(value: Any, what: str) -> float:
@@ -4633,7 +4633,7 @@ def _arc(mass: float, radius: float, arc: float, start: int, toward: int) -> Bod
     p, q = (_X, _Y, _Z)[start], (_X, _Y, _Z)[toward]
     half = math.sin(2.0 * arc) / (4.0 * arc)
     cc, ss, cs = 0.5 + half, 0.5 - half, math.sin(arc) ** 2 / (2.0 * arc)   # <cos^2>, <sin^2>, <cs>
-    g = _comb((radius * math.sin(arc) / arc, p), (radius * (1.0 - math.cos(arc)) / arc, q))
+    g = weighted_sum((radius * math.sin(arc) / arc, p), (radius * (1.0 - math.cos(arc)) / arc, q))
     k = mass * radius * radius
     gg = dot(g, g)
     rows = []
@@ -4802,26 +4802,26 @@ def _states(setup: ForcesSetup, m: Motion) -> tuple[tuple[_State, _State, _State
     q1, q2 = m.velocity, m.acceleration
     a = PINS[kind].crank_pin(dims, *cos_sin_degrees(m.phi))
     p = output_pin_at(linkage, dims, m.output, cos_sin_degrees)
-    p1, p2 = _comb((q1, p[1])), _comb((q1 * q1, p[2]), (q2, p[1]))
-    pa, va, aa = _comb((r, a[0])), _comb((r * w, a[1])), _comb((r * w * w, a[2]), (r * al, a[1]))
-    pp, vp, ap = _comb((r, p[0])), _comb((r * w, p1)), _comb((r * w * w, p2), (r * al, p1))
-    x = _unit3((pa[0], pa[1], 0.0))
+    p1, p2 = weighted_sum((q1, p[1])), weighted_sum((q1 * q1, p[2]), (q2, p[1]))
+    pa, va, aa = weighted_sum((r, a[0])), weighted_sum((r * w, a[1])), weighted_sum((r * w * w, a[2]), (r * al, a[1]))
+    pp, vp, ap = weighted_sum((r, p[0])), weighted_sum((r * w, p1)), weighted_sum((r * w * w, p2), (r * al, p1))
+    x = unit_vector((pa[0], pa[1], 0.0))
     crank = _State(_NOUGHT, (x, cross(_Z, x), _Z), _NOUGHT, (0.0, 0.0, w), (0.0, 0.0, al))
     form = PINS[kind].coupler
     if form == "sphere":
-        z = _unit3(cross(pa, pp))
+        z = unit_vector(cross(pa, pp))
         spin = spin_about_centre(pa, pp, va, vp)
-        rate = spin_about_centre(pa, pp, _comb((1.0, aa), (-1.0, cross(spin, va))),
-                                  _comb((1.0, ap), (-1.0, cross(spin, vp))))
-        x = _unit3(pa)
+        rate = spin_about_centre(pa, pp, weighted_sum((1.0, aa), (-1.0, cross(spin, va))),
+                                  weighted_sum((1.0, ap), (-1.0, cross(spin, vp))))
+        x = unit_vector(pa)
         coupler = _State(_NOUGHT, (x, cross(z, x), z), _NOUGHT, spin, rate)
     else:
-        ab, dv, da = _comb((1.0, pp), (-1.0, pa)), _comb((1.0, vp), (-1.0, va)), _comb((1.0, ap),
+        ab, dv, da = weighted_sum((1.0, pp), (-1.0, pa)), weighted_sum((1.0, vp), (-1.0, va)), weighted_sum((1.0, ap),
                                                                                       (-1.0, aa))
         squared = dot(ab, ab)
-        spin = _comb((1.0 / squared, cross(ab, dv)))
-        rate = _comb((1.0 / squared, cross(ab, _comb((1.0, da), (-1.0, cross(spin, dv))))))
-        x = _unit3(ab)
+        spin = weighted_sum((1.0 / squared, cross(ab, dv)))
+        rate = weighted_sum((1.0 / squared, cross(ab, weighted_sum((1.0, da), (-1.0, cross(spin, dv))))))
+        x = unit_vector(ab)
         y, z = (cross(_Z, x), _Z) if form == "plane" else _perpendicular_pair(x)
         coupler = _State(pa, (x, y, z), aa, spin, rate)
     if linkage.is_slider:
@@ -4831,11 +4831,11 @@ def _states(setup: ForcesSetup, m: Motion) -> tuple[tuple[_State, _State, _State
     else:
         k = setup.axes["output"][1]
         pivot = setup.ground.get("B0", _NOUGHT) if kind != SPHERICAL_FOUR_BAR else _NOUGHT
-        pivot = _comb((r, pivot))
-        arm = _comb((1.0, pp), (-1.0, pivot))
-        x = _unit3(_comb((1.0, arm), (-dot(arm, k), k)))
-        output = _State(pivot, (x, cross(k, x), k), _NOUGHT, _comb((q1 * w, k)),
-                        _comb((q2 * w * w + q1 * al, k)))
+        pivot = weighted_sum((r, pivot))
+        arm = weighted_sum((1.0, pp), (-1.0, pivot))
+        x = unit_vector(weighted_sum((1.0, arm), (-dot(arm, k), k)))
+        output = _State(pivot, (x, cross(k, x), k), _NOUGHT, weighted_sum((q1 * w, k)),
+                        weighted_sum((q2 * w * w + q1 * al, k)))
     return (crank, coupler, output), pa, pp
 
 
@@ -4851,7 +4851,7 @@ def _joints(setup: ForcesSetup, states: tuple[_State, _State, _State], pa: Vecto
             return pins + [_Joint("B0", None, 2, states[2].origin, (_X, _Y), ())]
         return pins + [_Joint("guide", None, 2, pp, (_Y,), (_Z,))]
     if kind == SPHERICAL_FOUR_BAR:
-        return [_Joint(name, before, after, _NOUGHT, (), _perpendicular_pair(_unit3(axis)))
+        return [_Joint(name, before, after, _NOUGHT, (), _perpendicular_pair(unit_vector(axis)))
                 for name, before, after, axis in (("A0", None, 0, _Z), ("A", 0, 1, pa),
                                                   ("B", 1, 2, pp),
                                                   ("B0", None, 2, setup.axes["output"][1]))]
@@ -4924,24 +4924,24 @@ def _forces_at(setup: ForcesSetup, m: Motion) -> Forces:
     needed = []
     for body, (mass, state) in enumerate(zip(setup.masses, states)):
         rho = _in_world(state.axes, mass.centre)
-        centre = _comb((1.0, state.origin), (1.0, rho))
-        a_g = _comb((1.0, state.acceleration), (1.0, cross(state.spin_rate, rho)),
+        centre = weighted_sum((1.0, state.origin), (1.0, rho))
+        a_g = weighted_sum((1.0, state.acceleration), (1.0, cross(state.spin_rate, rho)),
                     (1.0, cross(state.spin, cross(state.spin, rho))))
-        net = _comb((mass.mass, a_g), (-mass.mass, setup.gravity))
-        turning = _comb((1.0, cross(centre, net)),
+        net = weighted_sum((mass.mass, a_g), (-mass.mass, setup.gravity))
+        turning = weighted_sum((1.0, cross(centre, net)),
                         (1.0, _inertia_times(state.axes, mass.inertia, state.spin_rate)),
                         (1.0, cross(state.spin, _inertia_times(state.axes, mass.inertia,
                                                                 state.spin))))
         if body == 1 and setup.coupler_point is not None:
-            at = _comb((1.0, state.origin), (1.0, _in_world(state.axes, setup.coupler_point)))
-            net = _comb((1.0, net), (-1.0, setup.coupler_force))
-            turning = _comb((1.0, turning), (-1.0, cross(at, setup.coupler_force)))
+            at = weighted_sum((1.0, state.origin), (1.0, _in_world(state.axes, setup.coupler_point)))
+            net = weighted_sum((1.0, net), (-1.0, setup.coupler_force))
+            turning = weighted_sum((1.0, turning), (-1.0, cross(at, setup.coupler_force)))
         if body == 2 and setup.output_torque:
-            turning = _comb((1.0, turning), (-setup.output_torque, state.axes[2]))
+            turning = weighted_sum((1.0, turning), (-setup.output_torque, state.axes[2]))
         if body == 2 and setup.output_force:
-            load = _comb((setup.output_force, state.axes[0]))
-            net = _comb((1.0, net), (-1.0, load))
-            turning = _comb((1.0, turning), (-1.0, cross(state.origin, load)))
+            load = weighted_sum((setup.output_force, state.axes[0]))
+            net = weighted_sum((1.0, net), (-1.0, load))
+            turning = weighted_sum((1.0, turning), (-1.0, cross(state.origin, load)))
         needed.append((net, turning))
     # one column per unknown: its unit wrench about the origin on each body it acts on
     columns: list[list[tuple[Vector, Vector]]] = []
@@ -4952,7 +4952,7 @@ def _forces_at(setup: ForcesSetup, m: Motion) -> Forces:
             on = [(_NOUGHT, _NOUGHT)] * 3
             on[joint.after] = (f, t)
             if joint.before is not None:
-                on[joint.before] = (_comb((-1.0, f)), _comb((-1.0, t)))
+                on[joint.before] = (weighted_sum((-1.0, f)), weighted_sum((-1.0, t)))
             columns.append(on)
     columns.append([(_NOUGHT, _Z), (_NOUGHT, _NOUGHT), (_NOUGHT, _NOUGHT)])     # the torque
     rows, rhs = [], []
@@ -4968,18 +4968,18 @@ def _forces_at(setup: ForcesSetup, m: Motion) -> Forces:
     shaking_force, shaking_moment = _NOUGHT, (0.0, 0.0, -torque)
     for joint in joints:
         nf, nm = len(joint.forces), len(joint.moments)
-        force = _comb(*zip(x[i:i + nf], joint.forces)) if nf else None
-        moment = _comb(*zip(x[i + nf:i + nf + nm], joint.moments)) if nm else None
+        force = weighted_sum(*zip(x[i:i + nf], joint.forces)) if nf else None
+        moment = weighted_sum(*zip(x[i + nf:i + nf + nm], joint.moments)) if nm else None
         i += nf + nm
         reactions[joint.name] = Reaction(force, moment)
         if joint.before is None:
             if force is not None:
-                shaking_force = _comb((1.0, shaking_force), (-1.0, force))
-                shaking_moment = _comb((1.0, shaking_moment), (-1.0, cross(joint.at, force)))
+                shaking_force = weighted_sum((1.0, shaking_force), (-1.0, force))
+                shaking_moment = weighted_sum((1.0, shaking_moment), (-1.0, cross(joint.at, force)))
             if moment is not None:
-                shaking_moment = _comb((1.0, shaking_moment), (-1.0, moment))
+                shaking_moment = weighted_sum((1.0, shaking_moment), (-1.0, moment))
     if kind == SPHERICAL_FOUR_BAR:     # the whole linkage's Newton: the loads less m a_G
-        shaking_force = _comb(*((-1.0, net) for net, _ in needed))
+        shaking_force = weighted_sum(*((-1.0, net) for net, _ in needed))
     numbers = [torque, torque * setup.omega, *shaking_force, *shaking_moment] + [
         v for r in reactions.values() for part in r if part is not None for v in part]
     if not all(map(math.isfinite, numbers)):     # masses or a speed past the floats' range
@@ -5532,7 +5532,7 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
     reduce = not max(-low, high) < 360.0
     step = _fast_slider if linkage.is_slider else _fast_four_bar
     k = linkage._constants
-    line = FAST_MARGIN * linkage._precise_below
+    line = FAST_MARGIN * linkage.precise_below
     last = ("output", "velocity", "acceleration")[level]
     redo = []
     with np.errstate(all="ignore"):        # a block at a time: memory bounded, in the cache
@@ -5554,7 +5554,7 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
             if linkage.is_slider:
                 for key in ("output", "velocity", "acceleration"):
                     if part[key] is not None:
-                        np.multiply(part[key], linkage._unit, out=part[key])
+                        np.multiply(part[key], linkage.unit, out=part[key])
     where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
     if len(where):
         columns = [res[key] for key in ("output", "velocity", "acceleration")]
@@ -5594,7 +5594,7 @@ def coupler_of_arrays(linkage: Closure, arrays: MotionArrays, u: float,
     level = 0 if arrays.velocity is None else 1 if arrays.acceleration is None else 2
     c, s = cos_sin_degrees_array(np, arrays.phi)
     with np.errstate(all="ignore"):
-        a, p, _ = joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
+        a, p, _ = joint_kinematics(linkage, pin_dimensions(linkage.scaled), c, s,
                                     arrays.output, level, arrays.velocity,
                                     arrays.acceleration, functools.partial(cos_sin_degrees_array,
                                                                            np))
@@ -5611,7 +5611,7 @@ def transmission_of_arrays(linkage: Closure, arrays: MotionArrays) -> numpy.ndar
     np = numpy_module()
     c, s = cos_sin_degrees_array(np, arrays.phi)
     with np.errstate(all="ignore"):
-        a, p, p_q = joint_kinematics(linkage, pin_dimensions(linkage._scaled), c, s,
+        a, p, p_q = joint_kinematics(linkage, pin_dimensions(linkage.scaled), c, s,
                                       arrays.output, 0, None, None,
                                       functools.partial(cos_sin_degrees_array, np))
         mu = transmission_form(linkage.kind, a[0], p[0], p_q, np.arctan2)
@@ -6423,18 +6423,6 @@ class _Model(NamedTuple):
     coupler_force: tuple[tuple[float, float], Vector] | None
 
 
-def _mix(*terms: tuple[float, Sequence[float]]) -> Vector:
-    """The sum of (coefficient, 3-vector) terms."""
-    x = y = z = 0.0
-    for k, v in terms:
-        x, y, z = x + k * v[0], y + k * v[1], z + k * v[2]
-    return x, y, z
-
-
-def _less(p: Sequence[float], q: Sequence[float]) -> Vector:
-    return p[0] - q[0], p[1] - q[1], p[2] - q[2]
-
-
 def _engine_solver(closure: Closure) -> Callable[[float, int], _Pose | None]:
     """A view's positions from the engine: q the closure's input angle (radians)."""
     def solve(q: float, label: int) -> _Pose | None:
@@ -6571,8 +6559,8 @@ def _pins(view: _View, pose: _Pose) -> tuple[_Path, _Path]:
     a = PINS[closure.kind].crank_pin(dims, *cos_sin_degrees(pose.phi))
     p = output_pin_at(closure, dims, pose.output, cos_sin_degrees)
     k1, k2, o1, o2 = pose.crank1, pose.crank2, pose.out1, pose.out2
-    return ((_mix((r, a[0])), _mix((r * k1, a[1])), _mix((r * k1 * k1, a[2]), (r * k2, a[1]))),
-            (_mix((r, p[0])), _mix((r * o1, p[1])), _mix((r * o1 * o1, p[2]), (r * o2, p[1]))))
+    return ((weighted_sum((r, a[0])), weighted_sum((r * k1, a[1])), weighted_sum((r * k1 * k1, a[2]), (r * k2, a[1]))),
+            (weighted_sum((r, p[0])), weighted_sum((r * o1, p[1])), weighted_sum((r * o1 * o1, p[2]), (r * o2, p[1]))))
 
 
 def _reduced_at(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
@@ -6601,10 +6589,10 @@ def _plane_reduced(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
 
     length = math.sqrt(dot(a[0], a[0]))
     r, moment = _mass_of(crank, length)
-    body(crank.mass, moment, [_mix((r / length, x)) for x in a], (pose.crank1, pose.crank2))
-    along = [_less(x, z) for x, z in zip(p, a)]
+    body(crank.mass, moment, [weighted_sum((r / length, x)) for x in a], (pose.crank1, pose.crank2))
+    along = [difference(x, z) for x, z in zip(p, a)]
     span = dot(along[0], along[0])
-    e = _mix((1.0 / math.sqrt(span), along[0]))
+    e = weighted_sum((1.0 / math.sqrt(span), along[0]))
     n = (-e[1], e[0], 0.0)
     w1 = cross(along[0], along[1])[2] / span
     w2 = cross(along[0], along[2])[2] / span
@@ -6613,26 +6601,22 @@ def _plane_reduced(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
     else:
         u, v = cast(Sequence[float], coupler.centre)
         moment = float(cast(float, coupler.inertia))
-    side = _mix((u, n), (-v, e))                 # d(u e + v n)/dtheta
+    side = weighted_sum((u, n), (-v, e))                 # d(u e + v n)/dtheta
     body(coupler.mass, moment,
-         (_mix((1.0, a[0]), (u, e), (v, n)), _mix((1.0, a[1]), (w1, side)),
-          _mix((1.0, a[2]), (w2, side), (-w1 * w1 * u, e), (-w1 * w1 * v, n))), (w1, w2))
+         (weighted_sum((1.0, a[0]), (u, e), (v, n)), weighted_sum((1.0, a[1]), (w1, side)),
+          weighted_sum((1.0, a[2]), (w2, side), (-w1 * w1 * u, e), (-w1 * w1 * v, n))), (w1, w2))
     if closure.is_slider:
-        body(output.mass, 0.0, (_mix((1.0, p[0]), (float(cast(float, output.centre or 0.0)),
+        body(output.mass, 0.0, (weighted_sum((1.0, p[0]), (float(cast(float, output.centre or 0.0)),
                                                      (1.0, 0.0, 0.0))), p[1], p[2]), (0.0, 0.0))
     else:
         pivot = view.ground["B0"]
-        arm = _less(p[0], pivot)
+        arm = difference(p[0], pivot)
         length = math.sqrt(dot(arm, arm))
         r, moment = _mass_of(output, length)
-        body(output.mass, moment, (_mix((1.0, pivot), (r / length, arm)),
-                                   _mix((r / length, p[1])), _mix((r / length, p[2]))),
+        body(output.mass, moment, (weighted_sum((1.0, pivot), (r / length, arm)),
+                                   weighted_sum((r / length, p[1])), weighted_sum((r / length, p[2]))),
              (pose.out1, pose.out2))
     return Reduced(inertia, slope, force, potential)
-
-
-def _normed(v: Vector) -> Vector:
-    return _mix((1.0 / math.sqrt(dot(v, v)), v))
 
 
 def _spatial_reduced(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
@@ -6647,34 +6631,34 @@ def _spatial_reduced(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
 
     def body(mass: BodyMass, axes: Sequence[Vector], origin: _Path, w1: Vector, w2: Vector
              ) -> None:
-        rho = _mix(*zip(mass.centre, axes))
-        g1 = _mix((1.0, origin[1]), (1.0, cross(w1, rho)))
-        g2 = _mix((1.0, origin[2]), (1.0, cross(w2, rho)), (1.0, cross(w1, cross(w1, rho))))
+        rho = weighted_sum(*zip(mass.centre, axes))
+        g1 = weighted_sum((1.0, origin[1]), (1.0, cross(w1, rho)))
+        g2 = weighted_sum((1.0, origin[2]), (1.0, cross(w2, rho)), (1.0, cross(w1, cross(w1, rho))))
         local = (dot(axes[0], w1), dot(axes[1], w1), dot(axes[2], w1))
-        iw1 = _mix(*zip((dot(row, local) for row in mass.inertia), axes))
+        iw1 = weighted_sum(*zip((dot(row, local) for row in mass.inertia), axes))
         totals[0] += mass.mass * dot(g1, g1) + dot(w1, iw1)
         totals[1] += 2.0 * (mass.mass * dot(g1, g2) + dot(w2, iw1))
         totals[2] += mass.mass * dot(g, g1)
-        totals[3] -= mass.mass * dot(g, _mix((1.0, origin[0]), (1.0, rho)))
+        totals[3] -= mass.mass * dot(g, weighted_sum((1.0, origin[0]), (1.0, rho)))
 
     z = (0.0, 0.0, 1.0)
-    x = _normed((a[0][0], a[0][1], 0.0))
+    x = unit_vector((a[0][0], a[0][1], 0.0))
     body(crank, (x, cross(z, x), z), (nought, nought, nought), (0.0, 0.0, pose.crank1),
          (0.0, 0.0, pose.crank2))
     if PINS[view.closure.kind].coupler == "sphere":
         w1 = spin_about_centre(a[0], p[0], a[1], p[1])
-        w2 = spin_about_centre(a[0], p[0], _less(a[2], cross(w1, a[1])),
-                               _less(p[2], cross(w1, p[1])))
-        x, normal = _normed(a[0]), _normed(cross(a[0], p[0]))
+        w2 = spin_about_centre(a[0], p[0], difference(a[2], cross(w1, a[1])),
+                               difference(p[2], cross(w1, p[1])))
+        x, normal = unit_vector(a[0]), unit_vector(cross(a[0], p[0]))
         body(coupler, (x, cross(normal, x), normal), (nought, nought, nought), w1, w2)
     else:                   # a line: no spin about it, and |AB| fixed, so AB . (B' - A') = 0
-        ab = _less(p[0], a[0])
+        ab = difference(p[0], a[0])
         span = dot(ab, ab)
-        w1 = _mix((1.0 / span, cross(ab, _less(p[1], a[1]))))
-        w2 = _mix((1.0 / span, cross(ab, _less(p[2], a[2]))))
-        x = _normed(ab)
+        w1 = weighted_sum((1.0 / span, cross(ab, difference(p[1], a[1]))))
+        w2 = weighted_sum((1.0 / span, cross(ab, difference(p[2], a[2]))))
+        x = unit_vector(ab)
         least = min(range(3), key=lambda i: abs(x[i]))
-        y = _normed(cross(x, ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), z)[least]))
+        y = unit_vector(cross(x, ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), z)[least]))
         body(coupler, (x, y, cross(x, y)), a, w1, w2)
     if view.closure.is_slider:
         guide = view.axes["guide"][1]
@@ -6683,10 +6667,10 @@ def _spatial_reduced(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
     else:
         k = view.axes["output"][1]
         pivot = view.ground.get("B0", nought) if view.closure.kind == SKEW_FOUR_BAR else nought
-        arm = _less(p[0], pivot)
-        x = _normed(_mix((1.0, arm), (-dot(arm, k), k)))
-        body(output, (x, cross(k, x), k), (pivot, nought, nought), _mix((pose.out1, k)),
-             _mix((pose.out2, k)))
+        arm = difference(p[0], pivot)
+        x = unit_vector(weighted_sum((1.0, arm), (-dot(arm, k), k)))
+        body(output, (x, cross(k, x), k), (pivot, nought, nought), weighted_sum((pose.out1, k)),
+             weighted_sum((pose.out2, k)))
     return Reduced(*totals)
 
 
@@ -6711,14 +6695,14 @@ def _coupler_rate(view: _View, pose: _Pose, a: _Path, p: _Path, u: float, v: flo
         m = Motion(pose.phi, pose.output, pose.out1, pose.out2, ASSEMBLED)
         rate = coupler_of(view.closure, [m], u, v)[0].velocity
         assert rate is not None
-        return _mix((view.radius, rate))
-    ab, ab1 = _less(p[0], a[0]), _less(p[1], a[1])
+        return weighted_sum((view.radius, rate))
+    ab, ab1 = difference(p[0], a[0]), difference(p[1], a[1])
     span = dot(ab, ab)
     if form == "line":                  # A + u e, e' = (B' - A') / |AB| (|AB| fixed)
-        return _mix((1.0, a[1]), (u / math.sqrt(span), ab1))
+        return weighted_sum((1.0, a[1]), (u / math.sqrt(span), ab1))
     w1 = cross(ab, ab1)[2] / span
-    e = _mix((1.0 / math.sqrt(span), ab))
-    return _mix((1.0, a[1]), (-w1 * u, (e[1], -e[0], 0.0)), (-w1 * v, e))
+    e = weighted_sum((1.0 / math.sqrt(span), ab))
+    return weighted_sum((1.0, a[1]), (-w1 * u, (e[1], -e[0], 0.0)), (-w1 * v, e))
 
 
 def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, float, float, float]
@@ -6757,12 +6741,12 @@ def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, floa
     for s in run.springs:
         (pa, va), (pb, vb) = (points[view.names[x]] if isinstance(x, str)
                               else (view.frame(x), still) for x in (s.point_a, s.point_b))
-        gap = _less(pa, pb)
+        gap = difference(pa, pb)
         length = math.sqrt(dot(gap, gap))
         stretch = length - s.free_length
         potential += 0.5 * s.stiffness * stretch * stretch
         if length:
-            applied -= s.stiffness * stretch * dot(gap, _less(va, vb)) / length
+            applied -= s.stiffness * stretch * dot(gap, difference(va, vb)) / length
     if run.coupler_force is not None:
         (u, v), f = run.coupler_force
         if view.shift:                  # the inverse four-bar: its coupler's frame turned

@@ -459,7 +459,7 @@ def test_the_skew_transmission_angle_is_what_the_forces_transmit(kind, dims):
             assert math.sin(math.radians(mu)) == pytest.approx(predicted, rel=1e-9, abs=1e-12), \
                 (kind, dims, branch, m.phi, mu)
             checked += 1
-            dims_ = linkage.pin_dimensions(link._scaled)
+            dims_ = linkage.pin_dimensions(link.scaled)
             c, s = linkage.cos_sin_degrees(m.phi)
             a, p, p_q = linkage.joint_kinematics(link, dims_, c, s, m.output, 1, m.velocity,
                                                  None, linkage.cos_sin_degrees)

@@ -198,9 +198,9 @@ def c_loop() -> Callable[..., list[Any]] | str:
         answer = [np.empty(n) for _ in range(3)] + [np.empty(n, dtype=np.int8)]
         args = [n, angles, np.array(link._constants), 1.0 if branch == 1 else -1.0,
                 int(not max(-angles.min(), angles.max()) < 360.0),
-                linkage.FAST_MARGIN * link._precise_below]
+                linkage.FAST_MARGIN * link.precise_below]
         if link.is_slider:
-            library.slider(*args, link._unit, *answer)
+            library.slider(*args, link.unit, *answer)
         else:
             library.four_bar(*args, *answer)
         return [np.array(angles)] + answer
