@@ -9991,11 +9991,11 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 #
 # Uses: sections 1, 2, 5, 6, 7, 9, 10, 12 and 13.
 # Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, FORCE_QUANTITIES, QUANTITY_FILES,
-#   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, DRAWN_UP_TO,
-#   DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene, scene_error, load_scene,
-#   known_scenes, scene_path, scene_list, DYNAMICS_KEYS, BODY_KEYS, Dynamics, scene_dynamics,
-#   check_assembles, Series, branch_text, compute_scene, scene_forces, forces_columns,
-#   FORCES_COLUMNS, forces_row, scene_csv.
+#   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, SCENE_LARGEST, AXIS_LABELS,
+#   INPUT_AXIS, DRAWN_UP_TO, DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene,
+#   scene_error, load_scene, known_scenes, scene_path, scene_list, DYNAMICS_KEYS, BODY_KEYS,
+#   Dynamics, scene_dynamics, check_assembles, Series, branch_text, compute_scene, scene_forces,
+#   forces_columns, FORCES_COLUMNS, forces_row, scene_csv.
 
 
 SCENE_KEYS = {  # key: what is expected (the error messages quote it)
@@ -10031,6 +10031,7 @@ MECHANISM_PANEL = "mechanism"    # the linkage drawn (a scene of its own, mechan
 MAX_FRAMES = 3600                # the most poses a mechanism scene draws
 PRECISIONS = {"basic": ("basic",), "double": ("double",), "both": ("basic", "double")}
 MAX_SCENE_POINTS = 100_000
+SCENE_LARGEST = 1 << 20          # bytes: the largest scene file read (the program's: < 4 KB)
 # Axis labels (name, symbol, unit) by quantity, for four-bars, slider-cranks and DAT files of an
 # unknown kind.
 AXIS_LABELS = {
@@ -10138,9 +10139,20 @@ def load_scene(path: str) -> Scene:
     import tomllib
     try:
         with open(path, "rb") as fh:
-            data = tomllib.load(fh)
+            raw = fh.read(SCENE_LARGEST + 1)   # no more: /dev/zero is not read to the end
     except OSError as e:
         raise SceneError(f"{path}: cannot read the scene: {e.strerror}") from None
+    if b"\0" in raw:
+        raise SceneError(f"{path}: not a TOML file: binary data (a NUL byte at offset "
+                         f"{raw.index(0):,})")
+    if len(raw) > SCENE_LARGEST:
+        raise SceneError(f"{path}: not a scene: larger than {SCENE_LARGEST:,} bytes (a scene "
+                         "is a few kilobytes of TOML)")
+    try:
+        data = tomllib.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError as e:
+        raise SceneError(f"{path}: not a TOML file: not UTF-8 text (byte {raw[e.start]:#04x} "
+                         f"at offset {e.start:,})") from None
     except tomllib.TOMLDecodeError as e:
         raise SceneError(f"{path}: not a TOML file: {e}") from None
     _unknown_keys(path, data, SCENE_KEYS)
@@ -10801,13 +10813,14 @@ def _unbroken(points: Iterable[tuple[float, float]], typical: float, angles: boo
     """(x, y, whether it starts a run) of each point: a run breaks where x skips more than 1.5
     `typical` steps. Angles (angles=True) are unwrapped: whole turns added so that each point
     is within 180 degrees of the point before it, across a break too."""
-    previous: tuple[float, float] | None = None
+    gap, px, py, first = 1.5 * typical, 0.0, 0.0, True
     for x, y in points:
-        first = previous is None or abs(x - previous[0]) > 1.5 * typical
-        if angles and previous is not None:
-            y += 360.0 * round((previous[1] - y) / 360.0)
+        if not first:
+            first = abs(x - px) > gap
+            if angles:
+                y += 360.0 * round((py - y) / 360.0)
         yield x, y, first
-        previous = (x, y)
+        px, py, first = x, y, False
 
 
 PLOT_POINTS = 1 << 17   # a curve of more points than this is thinned to PLOT_BINS (_drawn_runs)
@@ -10825,25 +10838,24 @@ def _drawn_runs(path: str, points: Iterable[tuple[float, float]], angles: bool
     beyond +-DRAWN_UP_TO is refused as soon as it is read."""
     touches_3 = False
 
-    def drawable(stream: Iterable[tuple[float, float]]) -> Iterator[tuple[float, float]]:
+    def drawable() -> Iterator[tuple[float, float]]:
         nonlocal touches_3
-        for x, y in stream:
-            if abs(x) > DRAWN_UP_TO or abs(y) > DRAWN_UP_TO:
-                big = x if abs(x) > DRAWN_UP_TO else y
+        top = DRAWN_UP_TO
+        for x, y in points:
+            if not (-top <= x <= top and -top <= y <= top):
+                big = x if abs(x) > top else y
                 raise SceneError(f"{path}: a value of {big:.3g} is too large to draw (the "
-                                 f"figures go up to +-{DRAWN_UP_TO:g})")
-            touches_3 = touches_3 or abs(y) == 3.0
+                                 f"figures go up to +-{top:g})")
+            if y == 3.0 or y == -3.0:
+                touches_3 = True
             yield x, y
-    stream = drawable(points)
+    stream = drawable()
     head = list(itertools.islice(stream, PLOT_POINTS + 1))
     if len(head) <= PLOT_POINTS:
         return _runs(head, angles), touches_3
-
-    def whole() -> Iterator[tuple[float, float]]:
-        yield from head
-        head.clear()                    # its points are in the bins now
-        yield from stream
-    return _thinned(path, _unbroken(whole(), _typical_step(head), angles)), touches_3
+    typical, rest = _typical_step(head), iter(head)
+    del head                            # the iterator lets go of the list once through it
+    return _thinned(path, _unbroken(itertools.chain(rest, stream), typical, angles)), touches_3
 
 
 def _thinned(path: str, points: Iterable[tuple[float, float, bool]]
@@ -13459,11 +13471,12 @@ def _draw_command(args: argparse.Namespace, make_figure: Callable[[], Figure]) -
         if args.png:
             matplotlib_canvas()                       # fail before any work
         figure = make_figure()
+        text = text_figure(figure) if args.text or not args.png else ""
         if args.png:
             png_figure(figure, args.png, args.dpi, args.size)
+        _printed(text)
+        if args.png:
             say(f"wrote {args.png}")
-        if args.text or not args.png:
-            sys.stdout.write(text_figure(figure))
     return _reported(draw)
 
 
@@ -13570,13 +13583,21 @@ def _scene_outputs(scene: Scene, args: argparse.Namespace) -> None:
             rows = scene_csv(scene, series, args.csv, outputs) if args.csv else 0
             if args.png:
                 png_figure(figure, args.png, args.dpi, args.size, outputs)
+    _printed(text)                      # before a word of what was written (--csv - too)
     if args.dir is not None:
         say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.dir}")
     if args.csv:
         say(f"wrote {args.csv} ({rows:,} rows)")
     if args.png:
         say(f"wrote {args.png}")
-    sys.stdout.write(text)
+
+
+def _printed(text: str) -> None:
+    """text on standard output, flushed: a command says what it wrote only after this, so that a
+    reader who leaves (`--csv - | head -c 10`) hears nothing said of it (main: quiet, 141)."""
+    if sys.stdout is not None:
+        sys.stdout.write(text)
+        sys.stdout.flush()
 
 
 def plot_command(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
@@ -13714,16 +13735,18 @@ def _design_outputs(result: Synthesis, args: argparse.Namespace) -> int:
         say(f"wrote {args.scene} (a scene: python3 linkage.py scene {args.scene})")
     if drawing is None:                                   # no --svg, --png, --dxf or --text
         return 0
+    status = 0
+    if args.text and not sys.stdout.isatty():            # printed before a word of the files
+        status = show_drawing(_positions_drawing(result), frames=len(result.design.positions))
+        _printed("")
     for path in (args.svg, args.png, args.dxf):
         if path:
             count = len(drawing.frames) if path != args.dxf else min(
                 DXF_POSITIONS, sum(f.message is None for f in drawing.frames))
             say(f"wrote {path} ({count} position{'s' * (count != 1)})")
-    if args.text:
-        if sys.stdout.isatty():
-            return show_drawing(drawing)                  # the whole motion, until q
-        return show_drawing(_positions_drawing(result), frames=len(result.design.positions))
-    return 0
+    if args.text and sys.stdout.isatty():
+        return show_drawing(drawing)                      # the whole motion, until q
+    return status
 
 
 def _positions_drawing(result: Synthesis) -> Drawing:
