@@ -50,6 +50,7 @@ import fractions
 import functools
 import heapq
 import io
+import itertools
 import math
 import os
 import re
@@ -7133,7 +7134,8 @@ class Linkage(Closure):
 #
 # Uses: sections 1 and 10.
 # Offers: SceneError, angle_count, evenly_spaced_angles, write_dat_files, CSV_HEADER,
-#   TRANSMISSION_COLUMN, COUPLER_COLUMNS, csv_line, write_csv, read_dat, dat_precision.
+#   TRANSMISSION_COLUMN, COUPLER_COLUMNS, csv_line, write_csv, DAT_CHUNK, DAT_LONGEST_LINE,
+#   DAT_TEXT, dat_points, read_dat, dat_precision.
 
 
 class SceneError(ValueError):
@@ -7275,45 +7277,117 @@ def write_csv(path: str, rows: Iterable[tuple], header: tuple[str, ...] = CSV_HE
 
 # -- reading DAT files -------------------------------------------------------------------------
 
-def read_dat(path: str, warn: Callable[[str], None] | None = None) -> list[tuple[float, float]]:
+DAT_CHUNK = 1 << 20          # a DAT file is read a mebibyte at a time, whatever its size
+DAT_LONGEST_LINE = 1024      # the longest line a DAT file may hold (its lines are < 60 characters)
+DAT_TEXT = bytes(range(32, 127)) + b"\t\r\n"      # the bytes a DAT file is made of, before 1A
+
+
+def dat_points(path: str, warn: Callable[[str], None] | None = None
+               ) -> Iterator[tuple[float, float]]:
     """The (input angle, value) pairs of a DAT file as WRITE # writes them (CRLF lines "x,y", the
-    end-of-file byte 1A; numbers like .5, -1.713751E-02) or as the engine writes them (repr).
-    warn(message), if given, hears of a file that may have been cut short: empty, without its
-    end-of-file byte, or with its last line unended."""
+    end-of-file byte 1A; numbers like .5, -1.713751E-02) or as the engine writes them (repr),
+    one at a time: the file is read a chunk at a time, so that memory does not grow with it.
+    A file that is not one is refused (SceneError) as soon as it shows it: no regular file (a
+    FIFO, a device), a byte that is no printable ASCII text, a line longer than
+    DAT_LONGEST_LINE, a line that is not two numbers. warn(message), if given, hears at the end
+    of a file that may have been cut short: empty, without its end-of-file byte, or with its
+    last line unended."""
+    import stat
     try:
-        with open(path, "rb") as fh:
-            data = fh.read()
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            raise SceneError(f"{path}: not a DAT file: it is no regular file (a FIFO, a device "
+                             "or a folder)")
+        fh = open(path, "rb")
     except OSError as e:
         raise SceneError(f"{path}: cannot read: {e.strerror}") from None
-    text = data.split(b"\x1a", 1)[0].decode("latin-1")
-    if warn is not None and b"\x1a" not in data:
-        warn(f"{path}: {'empty' if not data else 'no end-of-file byte (1A)'}: the file may have "
+    with fh:
+        number, seen, carry, tail, ended, after_cr = 0, 0, "", "", False, False
+        while not ended:
+            try:
+                chunk = fh.read(DAT_CHUNK)
+            except OSError as e:
+                raise SceneError(f"{path}: cannot read: {e.strerror}") from None
+            if not chunk:
+                break
+            end = chunk.find(b"\x1a")
+            if end >= 0:
+                chunk, ended = chunk[:end], True
+            other = chunk.translate(None, DAT_TEXT)
+            if other:
+                raise SceneError(f"{path}: not a DAT file: byte {other[0]:#04x} at offset "
+                                 f"{seen + chunk.index(other[:1]):,} (a DAT file is text, "
+                                 "\"angle,value\" lines)")
+            seen += len(chunk)
+            text = chunk.decode("ascii")
+            tail = (tail + text)[-2:]
+            if after_cr and text.startswith("\n"):       # a CR LF cut between two chunks
+                text = text[1:]
+            text = carry + text
+            if not ended:                                 # the last line may go on
+                cut = max(text.rfind("\n"), text.rfind("\r")) + 1
+                text, carry = text[:cut], text[cut:]
+                after_cr = text.endswith("\r") and not carry
+                if len(carry) > DAT_LONGEST_LINE:
+                    _dat_point(path, number + len(text.splitlines()) + 1, carry)    # says why
+            for line in text.splitlines():
+                number += 1
+                try:                                      # the common line, at speed
+                    x_text, y_text = line.split(",")
+                    x, y = float(x_text), float(y_text)
+                except ValueError:                        # blank, 1D+02, or no DAT line
+                    point = _dat_point(path, number, line)
+                    if point is None:
+                        continue
+                    x, y = point
+                if not (math.isfinite(x) and math.isfinite(y)) or len(line) > DAT_LONGEST_LINE:
+                    _dat_point(path, number, line)        # says why
+                yield x, y
+        if carry and not ended:                           # the last line, unended
+            number += 1
+            point = _dat_point(path, number, carry)
+            if point is not None:
+                yield point
+    if warn is not None and not ended:
+        warn(f"{path}: {'empty' if not seen else 'no end-of-file byte (1A)'}: the file may have "
              "been cut short")
-    elif warn is not None and text and not text.endswith("\r\n"):
+    elif warn is not None and seen and tail != "\r\n":
         warn(f"{path}: its last line has no line end: the file may have been cut short")
-    points = []
-    for number, line in enumerate(text.splitlines(), 1):
-        if not line.strip():
-            continue
-        fields = line.split(",")
-        try:
-            if len(fields) != 2:
-                raise ValueError
-            x, y = (float(f.strip().upper().replace("D", "E")) for f in fields)
-            if not (math.isfinite(x) and math.isfinite(y)):
-                raise ValueError
-        except ValueError:
-            raise SceneError(f"{path}: line {number}: expected two numbers \"angle,value\", "
-                             f"got {line[:40]!r}") from None
-        points.append((x, y))
-    return points
+
+
+def _dat_point(path: str, number: int, line: str) -> tuple[float, float] | None:
+    """The point of line `number` of a DAT file, None if it is blank; SceneError if it is no
+    "angle,value" line of finite numbers (D exponents as E, as GW-BASIC writes doubles)."""
+    if len(line) > DAT_LONGEST_LINE:
+        raise SceneError(f"{path}: not a DAT file: line {number:,} is longer than "
+                         f"{DAT_LONGEST_LINE:,} characters")
+    if not line.strip():
+        return None
+    fields = line.split(",")
+    try:
+        if len(fields) != 2:
+            raise ValueError
+        x, y = (float(f.strip().upper().replace("D", "E")) for f in fields)
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise ValueError
+    except ValueError:
+        raise SceneError(f"{path}: line {number}: expected two numbers \"angle,value\", "
+                         f"got {line[:40]!r}") from None
+    return x, y
+
+
+def read_dat(path: str, warn: Callable[[str], None] | None = None) -> list[tuple[float, float]]:
+    """The (input angle, value) pairs of a DAT file, all of them (dat_points: one at a time)."""
+    return list(dat_points(path, warn))
 
 
 def dat_precision(directory: str) -> str:
     """basic or double from how the numbers are written (GW-BASIC's .5 and 1E-02, or Python's
     repr 0.5, 2.0 and 1e-02), "" if the files do not tell."""
+    path = os.path.join(directory, "ANG.DAT")
     try:
-        with open(os.path.join(directory, "ANG.DAT"), "rb") as fh:
+        if not os.path.isfile(path):            # a FIFO would hang: dat_points refuses it
+            return ""
+        with open(path, "rb") as fh:
             text = fh.read(4096).decode("latin-1")
     except OSError:
         return ""
@@ -10576,10 +10650,11 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 #
 # Uses: sections 1, 2, 6, 7, 9, 13 and 14.
 # Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, FORCE_QUANTITIES, QUANTITY_FILES,
-#   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, AXIS_LABELS, INPUT_AXIS, DRAWN_UP_TO,
-#   DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene, scene_error, load_scene,
-#   known_scenes, scene_path, scene_list, DYNAMICS_KEYS, BODY_KEYS, Dynamics, scene_dynamics,
-#   SIMULATION_KEYS, SIMULATION_QUANTITIES, SimulationSettings, scene_simulation.
+#   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, SCENE_LARGEST, AXIS_LABELS,
+#   INPUT_AXIS, DRAWN_UP_TO, DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene,
+#   scene_error, load_scene, known_scenes, scene_path, scene_list, DYNAMICS_KEYS, BODY_KEYS,
+#   Dynamics, scene_dynamics, SIMULATION_KEYS, SIMULATION_QUANTITIES, SimulationSettings,
+#   scene_simulation.
 
 
 SCENE_KEYS = {  # key: what is expected (the error messages quote it)
@@ -10619,6 +10694,7 @@ MECHANISM_PANEL = "mechanism"    # the linkage drawn (a scene of its own, mechan
 MAX_FRAMES = 3600                # the most poses a mechanism scene draws
 PRECISIONS = {"basic": ("basic",), "double": ("double",), "both": ("basic", "double")}
 MAX_SCENE_POINTS = 100_000
+SCENE_LARGEST = 1 << 20          # bytes: the largest scene file read (the program's: < 4 KB)
 # Axis labels (name, symbol, unit) by quantity, for four-bars, slider-cranks and DAT files of an
 # unknown kind.
 AXIS_LABELS = {
@@ -10728,9 +10804,20 @@ def load_scene(path: str) -> Scene:
     import tomllib
     try:
         with open(path, "rb") as fh:
-            data = tomllib.load(fh)
+            raw = fh.read(SCENE_LARGEST + 1)   # no more: /dev/zero is not read to the end
     except OSError as e:
         raise SceneError(f"{path}: cannot read the scene: {e.strerror}") from None
+    if b"\0" in raw:
+        raise SceneError(f"{path}: not a TOML file: binary data (a NUL byte at offset "
+                         f"{raw.index(0):,})")
+    if len(raw) > SCENE_LARGEST:
+        raise SceneError(f"{path}: not a scene: larger than {SCENE_LARGEST:,} bytes (a scene "
+                         "is a few kilobytes of TOML)")
+    try:
+        data = tomllib.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError as e:
+        raise SceneError(f"{path}: not a TOML file: not UTF-8 text (byte {raw[e.start]:#04x} "
+                         f"at offset {e.start:,})") from None
     except tomllib.TOMLDecodeError as e:
         raise SceneError(f"{path}: not a TOML file: {e}") from None
     _unknown_keys(path, data, SCENE_KEYS)
@@ -11541,9 +11628,9 @@ def csv_forces_series(path: str) -> list[Series]:
 # within half a turn of the first one.
 #
 # Uses: sections 1, 2, 6, 7, 9, 13, 14, 15, 16, 20 and 21.
-# Offers: dat_series, Curve, Panel, Figure, FORCE_LABELS, POLAR_MOMENTS, CLIPPED, build_figure,
-#   scene_figure, dat_figure, csv_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS, OVERLAP, ANGLE_STEPS,
-#   text_figure, png_figure, force_arrows, scene_drawing, scene_text.
+# Offers: dat_series, Curve, Panel, Figure, PLOT_POINTS, PLOT_BINS, FORCE_LABELS, POLAR_MOMENTS,
+#   CLIPPED, build_figure, scene_figure, dat_figure, csv_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS,
+#   OVERLAP, ANGLE_STEPS, text_figure, png_figure, force_arrows, scene_drawing, scene_text.
 
 
 def dat_series(directory: str) -> list[Series]:
@@ -11601,24 +11688,125 @@ class Figure(NamedTuple):
 
 def _runs(points: Sequence[tuple[float, float]], angles: bool
           ) -> tuple[tuple[tuple[float, float], ...], ...]:
-    """Split (x, y) points where x skips more than 1.5 typical steps. Angles (angles=True) are
-    unwrapped: whole turns added so that each point, and each run's first, is within 180 degrees
-    of the point before it."""
+    """Split (x, y) points where x skips more than 1.5 typical steps (the median step); angles
+    unwrapped (_unbroken)."""
+    runs: list[list[tuple[float, float]]] = []
+    for x, y, first in _unbroken(points, _typical_step(points), angles):
+        if first:
+            runs.append([])
+        runs[-1].append((x, y))
+    return tuple(map(tuple, runs))
+
+
+def _typical_step(points: Sequence[tuple[float, float]]) -> float:
+    """The median of the steps in x between neighbouring points (0 for fewer than two)."""
     steps = sorted(abs(b[0] - a[0]) for a, b in zip(points, points[1:]))
-    typical = steps[len(steps) // 2] if steps else 0.0
-    runs: list[tuple[tuple[float, float], ...]] = []
-    run: list[tuple[float, float]] = []
+    return steps[len(steps) // 2] if steps else 0.0
+
+
+def _unbroken(points: Iterable[tuple[float, float]], typical: float, angles: bool
+              ) -> Iterator[tuple[float, float, bool]]:
+    """(x, y, whether it starts a run) of each point: a run breaks where x skips more than 1.5
+    `typical` steps. Angles (angles=True) are unwrapped: whole turns added so that each point
+    is within 180 degrees of the point before it, across a break too."""
+    gap, px, py, first = 1.5 * typical, 0.0, 0.0, True
     for x, y in points:
-        if run and abs(x - run[-1][0]) > 1.5 * typical:
-            runs.append(tuple(run))
-            run = []
-        previous = run[-1] if run else runs[-1][-1] if runs else None
-        if angles and previous is not None:
-            y += 360.0 * round((previous[1] - y) / 360.0)
-        run.append((x, y))
-    if run:
-        runs.append(tuple(run))
-    return tuple(runs)
+        if not first:
+            first = abs(x - px) > gap
+            if angles:
+                y += 360.0 * round((py - y) / 360.0)
+        yield x, y, first
+        px, py, first = x, y, False
+
+
+PLOT_POINTS = 1 << 17   # a curve of more points than this is thinned to PLOT_BINS (_drawn_runs)
+PLOT_BINS = 1 << 14     # bins of neighbouring points: 25 to a pixel of a 648-pixel-wide PNG
+
+
+def _drawn_runs(path: str, points: Iterable[tuple[float, float]], angles: bool
+                ) -> tuple[tuple[tuple[tuple[float, float], ...], ...], bool]:
+    """The runs (_runs) of a DAT file's points as the figure draws them, and whether a value
+    is +-3 (where the original clips). A file of up to PLOT_POINTS points is drawn as it is;
+    a longer one, read a point at a time, is thinned to the figure's resolution: its points
+    in at most PLOT_BINS bins of neighbouring points (a run's breaks kept, the typical step
+    that of its first PLOT_POINTS), each bin drawn as its first, lowest, highest and last
+    point, in their order, so that its lines cover the pixels the whole file's would. A value
+    beyond +-DRAWN_UP_TO is refused as soon as it is read."""
+    touches_3 = False
+
+    def drawable() -> Iterator[tuple[float, float]]:
+        nonlocal touches_3
+        top = DRAWN_UP_TO
+        for x, y in points:
+            if not (-top <= x <= top and -top <= y <= top):
+                big = x if abs(x) > top else y
+                raise SceneError(f"{path}: a value of {big:.3g} is too large to draw (the "
+                                 f"figures go up to +-{top:g})")
+            if y == 3.0 or y == -3.0:
+                touches_3 = True
+            yield x, y
+    stream = drawable()
+    head = list(itertools.islice(stream, PLOT_POINTS + 1))
+    if len(head) <= PLOT_POINTS:
+        return _runs(head, angles), touches_3
+    typical, rest = _typical_step(head), iter(head)
+    del head                            # the iterator lets go of the list once through it
+    return _thinned(path, _unbroken(itertools.chain(rest, stream), typical, angles)), touches_3
+
+
+def _thinned(path: str, points: Iterable[tuple[float, float, bool]]
+             ) -> tuple[tuple[tuple[float, float], ...], ...]:
+    """The runs of `points` ((x, y, whether it starts a run), _unbroken) kept in at most about
+    2 PLOT_BINS bins of neighbouring points of one run: each bin its first, lowest, highest and
+    last point (their index in the stream, x, y); when the bins reach 2 PLOT_BINS, neighbours of
+    a run are merged, two into one. More than PLOT_BINS runs: SceneError."""
+    bins: list[list[Any]] = []          # [starts a run, first, lowest, highest, last]
+    per, count, runs = 1, 0, 0
+    bin_: list[Any] = []
+    for i, (x, y, first) in enumerate(points):
+        point = (i, x, y)
+        if first or count == per:
+            if bin_:
+                bins.append(bin_)
+            if len(bins) >= 2 * PLOT_BINS:
+                bins, per = _merged(bins), 2 * per
+            runs += first
+            if runs > PLOT_BINS:
+                raise SceneError(f"{path}: its curve breaks into more than {PLOT_BINS:,} "
+                                 "pieces (where the input angle skips): too many to draw")
+            bin_, count = [first, point, point, point, point], 1
+            continue
+        if y < bin_[2][2]:
+            bin_[2] = point
+        elif y > bin_[3][2]:
+            bin_[3] = point
+        bin_[4] = point
+        count += 1
+    if bin_:
+        bins.append(bin_)
+    kept: list[list[tuple[float, float]]] = []
+    for first, *ends in bins:
+        if first:
+            kept.append([])
+        kept[-1] += [(x, y) for _, x, y in sorted(set(ends))]
+    return tuple(map(tuple, kept))
+
+
+def _merged(bins: list[list[Any]]) -> list[list[Any]]:
+    """The bins of _thinned, each two neighbours of a run as one (a bin that starts a run is
+    never merged into the one before it)."""
+    merged: list[list[Any]] = []
+    single = False                      # the last bin of `merged` is one of `bins` as it was
+    for b in bins:
+        if single and not b[0]:
+            a = merged[-1]
+            merged[-1] = [a[0], a[1], min(a[2], b[2], key=lambda p: p[2]),
+                          max(a[3], b[3], key=lambda p: p[2]), b[4]]
+            single = False
+        else:
+            merged.append(b)
+            single = True
+    return merged
 
 
 FORCE_LABELS = {  # (name, symbol, unit) of a force quantity's panel
@@ -11719,14 +11907,8 @@ def build_figure(title: str, subtitle: str, group: str, specs: Sequence[PanelSpe
                 if len(spec.quantities) > 1 or not label:
                     label = f"{quantity}, {label}" if label else quantity
                 angles = quantity == "displacement" and group != "slider"
-                points = read_dat(path, warn=say)
-                big = max((v for point in points for v in point), key=abs, default=0.0)
-                if abs(big) > DRAWN_UP_TO:
-                    raise SceneError(f"{path}: a value of {big:.3g} is too large to draw "
-                                     f"(the figures go up to +-{DRAWN_UP_TO:g})")
-                runs = _runs(points, angles)
-                if (s.precision == "basic" and quantity != "displacement"
-                        and any(abs(y) == 3.0 for _, y in points)):
+                runs, touches_3 = _drawn_runs(path, dat_points(path, warn=say), angles)
+                if s.precision == "basic" and quantity != "displacement" and touches_3:
                     label += CLIPPED                                        # ERRATA K9
                 curve = Curve(label, quantity, s.precision, s.branch, runs)
                 reference = next((c for c in curves if c.quantity == quantity), None)
@@ -13940,10 +14122,10 @@ def machine() -> str:
 # Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 13, 14, 15, 16, 20, 21, 22 and 24.
 # Offers: DECIMAL, LONGEST_NUMBER, decimal_number, basic_answer, kind_named, UsageError,
 #   CommandError, Rule, goes_with, broken_rule, Pictures, pictures_typed, unwritten, reported,
-#   dimensions_typed, typed_value, check_outputs, MADE_FOLDERS, output_folder, unmake_folders,
-#   RunOptions, run_options, run_command, CSV_CLIPPED, AnalyseOptions, analyse_options,
-#   analyse_command, ForcesOptions, forces_options, forces_command, FORCES_OPTIONS, figure_command,
-#   drawing_command.
+#   printed, dimensions_typed, typed_value, check_outputs, MADE_FOLDERS, output_folder,
+#   unmake_folders, RunOptions, run_options, run_command, CSV_CLIPPED, AnalyseOptions,
+#   analyse_options, analyse_command, ForcesOptions, forces_options, forces_command, FORCES_OPTIONS,
+#   figure_command, drawing_command.
 
 
 # -- what is typed: one parser a kind of value, shared by every command -------------------------
@@ -14092,6 +14274,14 @@ def reported(work: Callable[[], int | None]) -> int:
         return said(unwritten(e), 1)
     except KeyboardInterrupt as e:
         return said("interrupted", interrupted_status(e))
+
+
+def printed(text: str) -> None:
+    """text on standard output, flushed: a command says what it wrote only after this, so that a
+    reader who leaves (`--csv - | head -c 10`) hears nothing said of it (main: quiet, 141)."""
+    if sys.stdout is not None:
+        sys.stdout.write(text)
+        sys.stdout.flush()
 
 
 def _check_dimensions(kind: str, given: dict[str, Any]) -> None:
@@ -14512,11 +14702,12 @@ def figure_command(args: Pictures, make_figure: Callable[[], Figure]) -> int:
         if args.png:
             matplotlib_canvas()                       # fail before any work
         figure = make_figure()
+        text = text_figure(figure) if args.text or not args.png else ""
         if args.png:
             png_figure(figure, args.png, args.dpi, args.size)
+        printed(text)
+        if args.png:
             say(f"wrote {args.png}")
-        if args.text or not args.png:
-            sys.stdout.write(text_figure(figure))
     return reported(draw)
 
 
@@ -14664,14 +14855,15 @@ def _scene_outputs(scene: Scene, args: SceneOptions) -> None:
                             outputs.removed(os.path.join(target, name))
             rows = scene_csv(scene, series, args.csv, outputs) if args.csv else 0
             if args.pictures.png:
-                png_figure(figure, args.pictures.png, args.pictures.dpi, args.pictures.size, outputs)
+                png_figure(figure, args.pictures.png, args.pictures.dpi, args.pictures.size,
+                           outputs)
+    printed(text)                       # before a word of what was written (--csv - too)
     if args.folder is not None:
         say(f"wrote the DAT files of {', '.join(s.name for s in series)} in {args.folder}")
     if args.csv:
         say(f"wrote {args.csv} ({rows:,} rows)")
     if args.pictures.png:
         say(f"wrote {args.pictures.png}")
-    sys.stdout.write(text)
 
 
 def _simulated(scene: Scene) -> Simulation:
@@ -14694,11 +14886,11 @@ def _simulation_outputs(scene: Scene, args: SceneOptions) -> None:
         rows = simulation_csv(run, args.csv, outputs) if args.csv else 0
         if args.pictures.png:
             png_figure(figure, args.pictures.png, args.pictures.dpi, args.pictures.size, outputs)
+    printed(text)                       # before a word of what was written (--csv - too)
     if args.csv:
         say(f"wrote {args.csv} ({rows:,} rows)")
     if args.pictures.png:
         say(f"wrote {args.pictures.png}")
-    sys.stdout.write(text)
 
 
 class PlotOptions(NamedTuple):
@@ -14881,16 +15073,18 @@ def _design_outputs(result: Synthesis, args: DesignOptions) -> int:
         say(f"wrote {args.scene} (a scene: python3 linkage.py scene {args.scene})")
     if drawing is None:                                   # no --svg, --png, --dxf or --text
         return 0
+    status = 0
+    if pictures.text and not sys.stdout.isatty():        # printed before a word of the files
+        status = show_drawing(_positions_drawing(result), frames=len(result.design.positions))
+        printed("")
     for path in (pictures.svg, pictures.png, pictures.dxf):
         if path:
             count = len(drawing.frames) if path != pictures.dxf else min(
                 DXF_POSITIONS, sum(f.message is None for f in drawing.frames))
             say(f"wrote {path} ({count} position{'s' * (count != 1)})")
-    if pictures.text:
-        if sys.stdout.isatty():
-            return show_drawing(drawing)                  # the whole motion, until q
-        return show_drawing(_positions_drawing(result), frames=len(result.design.positions))
-    return 0
+    if pictures.text and sys.stdout.isatty():
+        return show_drawing(drawing)                      # the whole motion, until q
+    return status
 
 
 def _positions_drawing(result: Synthesis) -> Drawing:

@@ -195,15 +195,21 @@ def forces_argv(draw):
     """forces SCENE or forces KIND with dimensions and the dynamics' options, good and bad."""
     if draw(st.booleans()):
         return ["forces", draw(st.sampled_from(["forces-plane", "forces-spherical", "fig3",
-                                                "nosuch", "forces", ""]))] + draw(
-            st.sampled_from([[], ["--fluctuation", "0.1"], ["--speed", "10"], ["--step", "5"]]))
+                                                "forces-skew", "forces-slider", "forces-follow",
+                                                "forces-arrows", "fig1a", "nosuch", "forces",
+                                                "", "/dev/zero", "."]))] + draw(
+            st.sampled_from([[], ["--fluctuation", "0.1"], ["--speed", "10"], ["--step", "5"],
+                             ["--fluctuation", draw(st.sampled_from(VALUES))],
+                             ["--a", "1"]]))
     argv = ["forces", draw(st.sampled_from(MECHANISMS))]
     for name in draw(st.lists(st.sampled_from(["a", "b", "c", "d", "e", "f", "ksi"]), max_size=7)):
         argv += [f"--{name}", draw(st.sampled_from(VALUES))]
     for option in draw(st.lists(st.sampled_from(
             ["--speed", "--gravity", "--radius", "--mass-crank", "--mass-coupler", "--mass-output",
-             "--output-torque", "--output-force", "--step", "--fluctuation"]), max_size=4)):
-        argv += [option, draw(st.sampled_from(VALUES))]
+             "--output-torque", "--output-force", "--step", "--fluctuation", "--from", "--to",
+             "--branch"]), max_size=5)):
+        argv += [option, draw(st.sampled_from(VALUES + ["1", "2", "follow"] * 3
+                                              if option == "--branch" else VALUES))]
     return argv
 
 
@@ -455,3 +461,224 @@ def test_any_title_reaches_the_terminal_and_svg_printable(title, mechanism, tmp_
         assert all(c.isprintable() or c == "\n" for c in out), repr(out[:200])
         if mechanism:
             ElementTree.parse(folder / "s.svg")                # well-formed XML
+
+
+# ---- the commands of round three: [dynamics] and [simulation] tables, --dxf, explore --keys -----
+
+DYNAMICS_SCENES = [p for p in SCENES if "[dynamics]" in p.read_text()
+                   and "[simulation]" not in p.read_text()]      # runs in time: below
+DYNAMICS_VALUES = MUTATIONS + ["{ mass = -1 }", "{ mass = 0 }", "{ mass = 1e308 }",
+                               '{ mass = 1, length = "x" }', "{ mass = 1, centre = [0, 0] }",
+                               "{ mass = 1, centre = [1e300, 0, 0] }", "{ inertia = -1 }",
+                               "{ mass = nan }", "{}", "1e-320", "-0.0", "5e-324"]
+DYNAMICS_KEYS = ["speed", "gravity", "crank", "coupler", "output", "output_torque",
+                 "output_force", "radius", "slider", "nosuch", "speed.x"]
+
+
+@st.composite
+def mutated_dynamics(draw):
+    """A scene with [dynamics] whose table's lines are deleted, doubled, given odd values, or
+    joined by keys of their own or no key at all; the rest of the scene as it is."""
+    lines = draw(st.sampled_from(DYNAMICS_SCENES)).read_text().splitlines()
+    top = lines.index("[dynamics]")
+    end = next((i for i in range(top + 1, len(lines)) if lines[i].startswith("[")), len(lines))
+    for _ in range(draw(st.integers(1, 4))):
+        i = draw(st.integers(top + 1, max(top + 1, end - 1)))
+        what = draw(st.integers(0, 3))
+        if what == 0 and i < end and lines[i].strip():
+            del lines[i]
+            end -= 1
+        elif what == 1 and i < end:
+            lines.insert(i, lines[i])
+            end += 1
+        elif what == 2 and i < end and "=" in lines[i]:
+            lines[i] = lines[i].split("=")[0] + "= " + draw(st.sampled_from(DYNAMICS_VALUES))
+        else:
+            lines.insert(i, f"{draw(st.sampled_from(DYNAMICS_KEYS))} = "
+                            f"{draw(st.sampled_from(DYNAMICS_VALUES))}")
+            end += 1
+    return "\n".join(lines) + "\n"
+
+
+def _scene_and_forces(text, folder, capsys) -> None:
+    (folder / "s.toml").write_text(text)
+    for argv in (["scene", "s.toml", "--dir", "out", "--text"], ["forces", "s.toml"]):
+        status = run_main(argv, folder, capsys)
+        assert_whole(folder, status)
+        assert status in (0, 1, 2)
+
+
+@fuzz(100)
+@given(text=mutated_dynamics())
+def test_any_dynamics_table(text, tmp_path_factory, monkeypatch, capsys, signals_kept, no_hang):
+    """Mutated [dynamics] tables through scene and forces: a message or a figure, never a
+    traceback or a half-written set."""
+    no_hang()
+    folder = tmp_path_factory.mktemp("dynamics")
+    monkeypatch.chdir(folder)
+    _scene_and_forces(text, folder, capsys)
+
+
+# [simulation] tables: each simulation scene's own table with some of its keys given odd values
+# (or odd keys added), its run cut to at most 0.2 s unless `time` itself is drawn: a message
+# naming the file, or the run's CSV and figure whole; never a traceback, never a partial file.
+SIMULATION_SCENES = [p for p in SCENES if "[simulation]" in p.read_text()]
+MECHANISM_PANEL = 'quantities = ["mechanism"]'
+SIMULATION_KEYS = {"time": ["0", "0.1", "-1", "1e30", "nan", "inf", '"x"', "[]"],
+                   "step": ["0", "1e-3", "-1e-3", "1e-320", "1e30", "nan", '"x"'],
+                   "tolerance": ["0", "1e-9", "-1", "1e300", "nan", "{}", "1e-3"],
+                   "initial": ["{ angle = 0, speed = 0 }", "{ angle = 1e308, speed = -1e308 }",
+                               "{ angle = nan }", "{ speed = 10 }", "{}", "[0, 0]",
+                               '{ angle = "x", speed = 1 }', "{ angle = 0, speed = 0, x = 1 }",
+                               "{ angle = 179.99, speed = 3000 }"],
+                   "motor": ["{ stall_torque = 10, free_speed = 300 }",
+                             "{ stall_torque = -1, free_speed = 0 }",
+                             "{ stall_torque = 1e308, free_speed = 1e-308 }", "{ nosuch = 1 }",
+                             "{}", "3", "{ stall_torque = nan, free_speed = inf }"],
+                   "torque": ["0", "-5", "1e308", "nan", '"x"'],
+                   "until_angle": ["0", "90", "-1e308", "nan", "[]"],
+                   "spring": ["{ between = [\"A\", \"B0\"], k = 100, free_length = 0.1 }",
+                              "{ between = [\"A\", [0, 0]], k = -1, free_length = 0 }",
+                              "{ between = [\"Q\", \"A\"], k = 1, free_length = 1 }",
+                              "[]", "{}", "{ between = [], k = nan, free_length = 1 }"],
+                   "torsion": ['{ at = "A0", k = 10, free_angle = 0, damping = 0.1 }',
+                               '{ at = "Z", k = 1 }', '{ at = "B0", k = -1, damping = -1 }',
+                               "{}", "[{}, {}]"],
+                   "nosuch": ["1"]}
+SIMULATION_VALUES: dict[str, list[str]] = {}     # key: more values
+
+
+@st.composite
+def simulation_table(draw, scene):
+    """scene's text, its [simulation] table's lines overridden by some drawn keys' odd values."""
+    text = scene.read_text()
+    first = text.index("[simulation]")
+    after = text.index("\n[", first + 1)
+    lines = {line.split("=")[0].strip(): line for line in text[first:after].splitlines()[1:]
+             if "=" in line}
+    lines["time"] = "time = 0.2"
+    for key in draw(st.lists(st.sampled_from(sorted(SIMULATION_KEYS)), max_size=3)):
+        value = draw(st.sampled_from(SIMULATION_KEYS[key] + SIMULATION_VALUES.get(key, [])))
+        lines[key] = f"{key} = {value}"
+    return text[:first] + "[simulation]\n" + "\n".join(lines.values()) + "\n" + text[after:]
+
+
+@fuzz(100)
+@given(data=st.data(), scene=st.sampled_from(SIMULATION_SCENES))
+def test_any_simulation_table(data, scene, tmp_path_factory, monkeypatch, capsys, signals_kept,
+                              no_hang):
+    """A simulation scene's [simulation] table with odd values: a message naming the file and
+    nothing written, or its CSV whole; never a traceback."""
+    no_hang()
+    folder = tmp_path_factory.mktemp("simulation")
+    monkeypatch.chdir(folder)
+    (folder / "s.toml").write_text(data.draw(simulation_table(scene)))
+    status = run_main(["scene", "s.toml", "--csv", "out.csv", "--frames", "1"]
+                      if MECHANISM_PANEL in scene.read_text() else
+                      ["scene", "s.toml", "--csv", "out.csv", "--text"], folder, capsys)
+    assert_whole(folder, status)
+    assert (folder / "out.csv").exists() == (status == 0
+                                             and MECHANISM_PANEL not in scene.read_text())
+
+
+# --dxf: the outputs that are not plain new files, and a FIFO whose reader leaves after 10 bytes
+DXF_WRITERS = {
+    "mechanism scene": ["scene", "fig1a", "--dxf", "{0}", "--svg", "{1}"],
+    "analyse": ["analyse", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--dxf",
+                "{0}", "--png", "{1}"],
+    "design": ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--dxf", "{0}",
+               "--dat", ".", "--svg", "{1}"],
+}
+DXF_OUTPUTS = ["/dev/full", "folder", "quitting fifo", "fifo", "-", "new", "/dev/null"]
+
+
+class DxfOutputs(Outputs):
+    """Outputs (above), and /dev/full and a FIFO whose reader reads 10 bytes and leaves."""
+
+    def __init__(self, folder: Path, kinds):
+        plain = [k if k in OUTPUTS else "new" for k in kinds]
+        super().__init__(folder, plain)
+        for i, kind in enumerate(kinds):
+            if kind == "/dev/full":
+                self.paths[i] = "/dev/full"
+            elif kind == "quitting fifo":
+                self.paths[i] = f"q{i}"
+                os.mkfifo(folder / self.paths[i])
+                reader = threading.Thread(target=self._read_10, args=(folder / self.paths[i],),
+                                          daemon=True)
+                reader.start()
+                self.readers.append((folder / self.paths[i], reader))
+
+    @staticmethod
+    def _read_10(path: Path) -> None:
+        with open(path, "rb") as fifo:
+            fifo.read(10)
+
+
+@fuzz(80)
+@given(writer=st.sampled_from(list(DXF_WRITERS)),
+       kinds=st.lists(st.sampled_from(DXF_OUTPUTS), min_size=2, max_size=2))
+@example(writer="mechanism scene", kinds=["/dev/full", "new"])
+@example(writer="analyse", kinds=["quitting fifo", "new"])
+@example(writer="analyse", kinds=["/dev/full", "quitting fifo"])       # the long run's
+def test_any_dxf_output(writer, kinds, tmp_path_factory, monkeypatch, capsysbinary, signals_kept,
+                        no_hang):
+    """Whatever --dxf names: a message naming it where it cannot be written (a full device, a
+    folder, a FIFO whose reader left), and then no file of the set written (all or none); no
+    traceback, no hang, no temporary left."""
+    no_hang()
+    folder = tmp_path_factory.mktemp("dxf")
+    monkeypatch.chdir(folder)
+    outputs = DxfOutputs(folder, kinds)
+    try:
+        argv = [a.format(*outputs.paths) for a in DXF_WRITERS[writer]]
+        try:
+            status = linkage.main(argv)
+        except SystemExit as e:                # argparse: usage errors
+            status = e.code
+        err = capsysbinary.readouterr().err
+        assert b"Traceback" not in err
+    finally:
+        outputs.close()
+    assert status in (0, 1, 2), (argv, status, err)
+    assert not [p for p in folder.rglob(".*")]
+    bad = [p for k, p in zip(kinds, outputs.paths) if k in ("/dev/full", "folder")]
+    if bad:                                    # the message names the first that failed
+        assert status != 0, err
+    if status == 1:                            # (a FIFO whose reader left may come first)
+        assert any(p.encode() in err for k, p in zip(kinds, outputs.paths)
+                   if k in ("/dev/full", "folder", "quitting fifo")), err
+    if status != 0:
+        assert not [p for p in folder.iterdir() if p.is_file() and not p.is_symlink()
+                    and p.name != "target.txt"], (argv, err)
+
+
+EXPLORE_KEYS = list(linkage.EXPLORE_KEY_NAMES) * 2 + list("0123456789.-+eE=?qQabcdefABCDEF[]kusc "
+                                                          "\tx\x1b\x7fé")
+EXPLORE_JUNK = ["1e308", "nan", "tab", "S-", "Up Up", "9" * 400, "# a note", "#", "", "\x00"]
+EXPLORE_TARGETS = [[], ["plane"], ["slider", "--b", "2", "--c", "5", "--e", "1"], ["skew"],
+                   ["spherical"], ["skew-slider"], ["fig1a"], ["forces-plane"],
+                   ["plane", "--a", "0"], ["plane", "--a", "20", "--b", "1", "--c", "1",
+                                           "--d", "1"], ["x"], ["/dev/zero"]]
+
+
+@fuzz(600)
+@given(keys=st.lists(st.sampled_from(EXPLORE_KEYS), max_size=80).map("\n".join)
+       | st.lists(st.sampled_from(EXPLORE_KEYS + EXPLORE_JUNK) | st.text(max_size=3), max_size=40)
+       .map("\n".join),
+       target=st.sampled_from(EXPLORE_TARGETS),
+       size=st.sampled_from([[], ["--size", "80x24"], ["--size", "20x5"], ["--size", "200x60"],
+                             ["--size", "0x0"], ["--size", "x"]]))
+def test_any_keys_through_the_explorer(keys, target, size, tmp_path_factory, monkeypatch, capsys,
+                                       signals_kept, no_hang):
+    """explore --keys FILE with random keys (names and characters: numbers typed after =, help,
+    branches, play; and streams with lines that are no key): a last screen or a message naming
+    the file, never a traceback or a hang; nothing written ("s" saves a scene only after a
+    question, which a replay does not answer)."""
+    no_hang()
+    folder = tmp_path_factory.mktemp("explore")
+    monkeypatch.chdir(folder)
+    (folder / "keys.txt").write_text(keys, encoding="utf-8")
+    status = run_main(["explore", *target, "--keys", "keys.txt", *size], folder, capsys)
+    assert status in (0, 1, 2)
+    assert os.listdir(folder) == ["keys.txt"]

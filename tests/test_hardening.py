@@ -375,6 +375,144 @@ def test_plot_warns_of_cut_files_and_refuses_huge_values(data, status, said, tmp
     assert said in result.stderr.decode() if said else result.stderr == b""
 
 
+# ---- plot and scenes in bounded memory (issue 35, round three) ---------------------------------
+
+MEASURED = ("import resource, subprocess, sys\n"
+            "resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))    # the machine's safety\n"
+            "status = subprocess.call(sys.argv[2:], timeout=120)\n"
+            "open(sys.argv[1], 'w').write(str(resource.getrusage(resource.RUSAGE_CHILDREN)"
+            ".ru_maxrss))\n"
+            "sys.exit(status)\n")
+
+
+def peak_run(args, directory) -> tuple[subprocess.CompletedProcess, float]:
+    """The program run with args in a process of its own, and its peak memory (maximum resident
+    set, MiB), as getrusage reports it for the one child of a fresh parent."""
+    peak = directory / ".peak"
+    result = subprocess.run([sys.executable, "-c", MEASURED, str(peak)] + PROGRAM + args,
+                            cwd=directory, capture_output=True, timeout=300)
+    kib = int(peak.read_text())
+    peak.unlink()
+    return result, kib / 1024
+
+
+def test_the_python_that_draws_alone_takes_under_100_mib(tmp_path):
+    """The baseline for the bounds below: plot of the golden 73-point files."""
+    result, mib = peak_run(["plot", str(make_golden.GOLDEN / "plane-b1")], tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert mib < 100, mib
+
+
+def long_ang_dat(folder, lines: int, gap: tuple[float, float] = (100.0, 140.0)) -> None:
+    """An ANG.DAT of about `lines` points from 0 to 360 degrees as run --precision double writes
+    them: an output angle that turns 1.7 times as the input does (written within +-180, as the
+    engine does), and none where the input is within `gap` (a linkage that cannot be
+    assembled there)."""
+    step = 360.0 / (lines - 1)
+    with open(folder / "ANG.DAT", "wb") as out:
+        for start in range(0, lines, 10_000):
+            phis = (i * step for i in range(start, min(start + 10_000, lines)))
+            out.write("".join(f"{phi!r},{(1.7 * phi + 210.0) % 360.0 - 180.0!r}\r\n"
+                              for phi in phis if not gap[0] < phi < gap[1]).encode())
+        out.write(b"\x1a")
+
+
+@pytest.mark.parametrize("png, bound", [(False, 150), (True, 200)])
+def test_plot_of_a_million_lines_stays_in_bounded_memory(png, bound, tmp_path):
+    """Issue 35, item 7: plot read its DAT files whole, at 19 times their size (a 10^7-line
+    ANG.DAT took 2.9 GB). Read a chunk at a time and thinned to the figure's resolution, 10^6
+    lines (28 MB) are drawn in under 150 MiB, a PNG under 200 MiB (seen: 95 and 144 MiB; before,
+    305 and 401 MiB), whatever the file's length."""
+    long_ang_dat(tmp_path, 1_000_001)
+    result, mib = peak_run(["plot", "."] + (["--png", "p.png"] if png else []), tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert mib < bound, mib
+
+
+@pytest.mark.parametrize("gap", [(100.0, 140.0), (400.0, 400.0)])
+def test_a_thinned_curve_draws_the_whole_files_text_plot(gap, tmp_path, monkeypatch):
+    """The curve of 300,000 points, thinned to PLOT_BINS bins, draws the text plot its every
+    point draws: its break where the linkage cannot be assembled and its unwrapping across
+    +-180 degrees kept."""
+    long_ang_dat(tmp_path, 300_001, gap)
+    thinned = linkage.text_figure(linkage.dat_figure(str(tmp_path)))
+    monkeypatch.setattr(linkage, "PLOT_POINTS", 10 ** 9)
+    whole = linkage.text_figure(linkage.dat_figure(str(tmp_path)))
+    assert thinned == whole
+    assert "*" in whole
+
+
+@pytest.mark.parametrize("content, said", [
+    ("urandom", "ANG.DAT: not a DAT file: byte 0x"),                # 50 MB of /dev/urandom
+    ("link", "ANG.DAT: not a DAT file: it is no regular file"),     # a link to /dev/urandom
+    ("fifo", "ANG.DAT: not a DAT file: it is no regular file"),     # a FIFO nobody writes
+    ("line", "ANG.DAT: not a DAT file: line 1 is longer than 1,024 characters"),
+    ("binary", "ANG.DAT: not a DAT file: byte 0x00 at offset 8"),
+])
+def test_plot_refuses_what_is_no_dat_file_at_once(content, said, tmp_path):
+    """50 MB of random bytes were read whole, a link to /dev/urandom until memory ran out, a FIFO
+    hung plot, a line of 60 MB took 1 GB, a binary file was read whole: each is refused by its
+    first bytes, by name, in little memory, nothing written."""
+    path = tmp_path / "ANG.DAT"
+    if content == "urandom":
+        path.write_bytes(os.urandom(50_000_000))
+    elif content == "link":
+        os.symlink("/dev/urandom", path)
+    elif content == "fifo":
+        os.mkfifo(path)
+    elif content == "line":
+        path.write_bytes(b"1" * 60_000_000 + b",2\r\n\x1a")
+    else:
+        path.write_bytes(b"0,1\r\n10,\x00\x01\x02" + bytes(range(256)) * 100_000 + b"\x1a")
+    result, mib = peak_run(["plot", ".", "--png", "p.png"], tmp_path)
+    assert_clean(result)
+    assert result.returncode == 1
+    assert said in result.stderr.decode() and len(result.stderr.splitlines()) == 1, result.stderr
+    assert mib < 100, mib
+    assert sorted(os.listdir(tmp_path)) == ["ANG.DAT"]
+
+
+@pytest.mark.parametrize("source, said", [
+    ("/dev/zero", "/dev/zero: not a TOML file: binary data (a NUL byte at offset 0)"),
+    ("big.toml", "big.toml: not a scene: larger than 1,048,576 bytes"),
+    ("latin.toml", "latin.toml: not a TOML file: not UTF-8 text (byte 0xe9 at offset 9)"),
+])
+def test_a_scene_file_is_read_in_bounded_memory(source, said, tmp_path):
+    """`scene /dev/zero` read until memory ran out; a 200 MB scene was read whole; a scene that
+    is not UTF-8 was a UnicodeDecodeError traceback. At most SCENE_LARGEST bytes are read."""
+    (tmp_path / "big.toml").write_text('title = "x"\n' + "#" * 200_000_000 + "\n")
+    (tmp_path / "latin.toml").write_bytes('title = "é"\n'.encode("latin-1"))
+    result, mib = peak_run(["scene", source, "--dir", "out"], tmp_path)
+    assert_clean(result)
+    assert result.returncode == 1
+    assert said in result.stderr.decode() and len(result.stderr.splitlines()) == 1, result.stderr
+    assert mib < 100, mib
+    assert sorted(os.listdir(tmp_path)) == ["big.toml", "latin.toml"]
+
+
+def test_what_a_command_says_it_wrote_comes_after_its_standard_output(tmp_path):
+    """Issue 35, remnant: `scene transmission --csv - | head -c 10` printed "wrote -" and then
+    exited 141, the text plot's write failing: the CSV was said written though its reader had
+    gone. Standard output is written and flushed first, then a word of the files: with standard
+    error on the same pipe, "wrote -" comes after the last line of the plot; the reader gone
+    after 10 bytes, exit 141 and no word."""
+    for argv in (["scene", "transmission", "--csv", "-"],
+                 ["plot", str(make_golden.GOLDEN / "plane-b1"), "--png", "-", "--text"],
+                 ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--svg", "-",
+                  "--text"]):
+        merged = subprocess.run(PROGRAM + argv, cwd=tmp_path, stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, timeout=120)
+        assert merged.returncode == 0
+        assert merged.stdout.rstrip().split(b"\n")[-1].startswith(b"linkage.py: wrote -"), \
+            merged.stdout[-300:]
+        for _ in range(3):
+            cut = subprocess.run(["bash", "-c", " ".join(PROGRAM + argv) + " | head -c 10"
+                                  + " >/dev/null; exit ${PIPESTATUS[0]}"], cwd=tmp_path,
+                                 capture_output=True, timeout=120)
+            assert (cut.returncode, cut.stderr) in ((141, b""), (0, cut.stderr)), cut
+            assert cut.returncode == 141 or b"wrote -" in cut.stderr
+
+
 # ---- a long sweep on a terminal -----------------------------------------------------------------
 
 def test_a_long_sweep_shows_its_progress_on_a_terminal_only(tmp_path):
