@@ -521,7 +521,7 @@ def test_the_flywheel_of_forces_summary_holds_the_speed_fluctuation_it_was_made_
     phis = [0.5 * i for i in range(721)]
     cycle = linkage.forces(lk, phis, 1, rods, Effects(speed_rpm=rpm, gravity=G,
                                                        output_torque=load))
-    summary = linkage.forces_summary(cycle, rpm, cs)
+    summary = linkage.forces_summary(cycle, cs=cs)
     omega = 2.0 * math.pi * rpm / 60.0
     mean = summary.mean_power / omega
     assert abs(mean + load) < 1e-6 * abs(load)             # the load's torque, as a turn's work
