@@ -6282,7 +6282,7 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
 #
 # Uses: sections 2, 6, 7 and 9.
 # Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, SimRow, SimEvent, Simulation, Reduced,
-#   reduced, simulate.
+#   reduced, mean_reduced_inertia, simulate.
 
 
 REST = "rest"                        # SimEvent.kind: every point at rest (q_dot = 0)
@@ -6534,6 +6534,22 @@ def reduced(linkage: Closure, phi: float, branch: int = 1, bodies: Bodies = Bodi
         return None
     pose = _Pose(m.phi, m.output, 1.0, 0.0, m.velocity, m.acceleration, 0.0, 0.0, 0.0)
     return _reduced_at(view, pose, *_pins(view, pose))
+
+
+def mean_reduced_inertia(linkage: Closure, phis: Sequence[float], branch: int = 1,
+                         bodies: Bodies = Bodies(), *, radius: float = 1.0) -> float | None:
+    """The reduced inertia J averaged over the input angles phis (degrees, increasing; the
+    trapezoid rule in phi), None where any has none (a dead centre) or phis are fewer than two.
+    forces_summary's flywheel_inertia, ΔE_max / (cs omega^2), is the whole inertia at the crank
+    that holds the speed: the linkage's own J carries this much of it, and a flywheel of the
+    rest holds it to within about cs/2 of cs (tests/test_simulate.py measures it so)."""
+    values = [reduced(linkage, phi, branch, bodies, radius=radius) for phi in phis]
+    if len(values) < 2 or any(v is None for v in values) or phis[-1] <= phis[0]:
+        return None
+    inertia = [cast(Reduced, v).inertia for v in values]
+    area = sum((inertia[i] + inertia[i + 1]) * (phis[i + 1] - phis[i])
+               for i in range(len(phis) - 1))
+    return 0.5 * area / (phis[-1] - phis[0])
 
 
 def _gravity(gravity: float | Sequence[float] | None, kind: str) -> Vector:
@@ -14119,7 +14135,7 @@ def machine() -> str:
 # command shares; then run, analyse and forces, each its typed value, the function that makes it
 # (run_options, ...) and its handler (run_command, ...), and the drawing every command shares.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 13, 14, 15, 16, 20, 21, 22 and 24.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 12, 13, 14, 15, 16, 20, 21, 22 and 24.
 # Offers: DECIMAL, LONGEST_NUMBER, decimal_number, basic_answer, kind_named, UsageError,
 #   CommandError, Rule, goes_with, broken_rule, Pictures, pictures_typed, unwritten, reported,
 #   printed, dimensions_typed, typed_value, check_outputs, MADE_FOLDERS, output_folder,
@@ -14680,9 +14696,27 @@ def forces_command(args: ForcesOptions) -> int:
         prefix = f"branch_{branch}." if len(args.branches) > 1 else ""
         lines += [f"{prefix}branch = {branch}"] + forces_lines(results, cs=args.fluctuation,
                                                                prefix=prefix)
+        lines += _flywheel_added(scene, branch, results, args.fluctuation, prefix)
     sys.stdout.write("".join(line + "\n" for line in lines))
     sys.stdout.flush()
     return 0
+
+
+def _flywheel_added(scene: Scene, branch: int | str, results: Sequence[Forces], cs: float,
+                    prefix: str) -> list[str]:
+    """forces' two lines after flywheel_inertia (the whole inertia at the crank): the linkage's
+    own mean reduced inertia (mean_reduced_inertia) and the flywheel to add, the rest; none
+    where either cannot be known (no flywheel figure, a followed branch, a dead centre)."""
+    whole = forces_summary(results, cs=cs).flywheel_inertia
+    if whole is None or not isinstance(branch, int) or scene.dynamics is None:
+        return []
+    bodies, _, radius = scene.dynamics
+    own = mean_reduced_inertia(Linkage(scene.kind, **scene.dimensions),
+                               [r.phi for r in results], branch, bodies, radius=radius)
+    if own is None:
+        return []
+    return [f"{prefix}inertia_mean = {value_text(own)} kg m^2",
+            f"{prefix}flywheel_added = {value_text(max(0.0, whole - own))} kg m^2"]
 
 
 FORCES_OPTIONS = {"--speed": "speed", "--gravity": "gravity", "--radius": "radius",

@@ -532,8 +532,8 @@ def test_the_flywheel_of_forces_summary_holds_the_speed_fluctuation_it_was_made_
     middle = (max(swing) + min(swing)) / 2.0
     start = next(two.phi for e1, e2, two in zip(swing, swing[1:], cycle[1:])
                  if (e1 - middle) * (e2 - middle) <= 0.0)
-    j_bar = sum(linkage.reduced(lk, phi, 1, rods).inertia for phi in phis[:-1]) / 720.0
-    added = summary.flywheel_inertia - j_bar
+    j_bar = linkage.mean_reduced_inertia(lk, phis, 1, rods)     # forces' inertia_mean line
+    added = summary.flywheel_inertia - j_bar                    # and its flywheel_added
     assert added > 0.0
     b, crank = DRAG_LINK["b"], rods.crank.mass
     with_flywheel = rods._replace(crank=Body(crank, b / 2.0, crank * b * b / 12.0 + added))
