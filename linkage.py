@@ -8304,7 +8304,7 @@ def dxf_drawing(drawing: Drawing, positions: int = DXF_POSITIONS) -> bytes:
 #   FourBar, SliderCrank, Designed, four_bar_from_review, four_bar_to_review,
 #   slider_crank_from_review, grashof_class, cos_transmission, four_bar_transmission_angle,
 #   four_bar_transmission_extremes, slider_transmission_angle, slider_transmission_extremes, Design,
-#   Synthesis.
+#   Synthesis, scaled_design.
 
 
 MU_MARGIN = 0.1     # degrees: a design whose transmission angle comes this close to 0 or 180 is
@@ -8649,6 +8649,19 @@ class Synthesis(NamedTuple):
     def design(self) -> Design:
         """The preferred solution."""
         return self.solutions[self.preferred]
+
+
+def scaled_design(design: Design, factor: float) -> Design:
+    """The design with every length multiplied by `factor` (a four-bar's frame a, designed as 1,
+    becomes `factor`; a slider-crank's lengths and its slider positions, in its data's units, are
+    multiplied by it); angles, the data and the review's own numbers as they were."""
+    link = design.linkage
+    if isinstance(link, FourBar):
+        return design._replace(linkage=link._replace(
+            a=link.a * factor, b=link.b * factor, c=link.c * factor, d=link.d * factor))
+    return design._replace(
+        linkage=link._replace(b=link.b * factor, c=link.c * factor, e=link.e * factor),
+        positions=tuple((phi, x * factor) for phi, x in design.positions))
 
 
 # ---- 17. Synthesis: the review's methods ---------------------------------------------------------
@@ -9411,7 +9424,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
 # Offers: engine_outputs, kind_and_dimensions, measured_transmission_angle, Measured, measure,
 #   output_change, velocity_ratio, Check, analyze_design, ANGLE_TOLERANCE, LENGTH_TOLERANCE,
 #   RATIO_TOLERANCE, conditioning, rounding_floor, misses, METHODS, ASKED_ANGLES, REVIEW_LETTERS,
-#   letters, design_lines, review_lines, whole_motion.
+#   letters, design_lines, design_commands, review_lines, whole_motion.
 
 
 # -- the analysis adapter ------------------------------------------------------------------------
@@ -9874,6 +9887,19 @@ def design_lines(design: Design) -> list[str]:
     lines.append(f"mu_min = {value_text(design.mu_min)}")
     lines.append(f"mu_max = {value_text(design.mu_max)}")
     return lines
+
+
+def design_commands(design: Design) -> list[str]:
+    """The commands that take one design further, `name = value` lines to paste: analyse it on
+    its branch, and its forces (RPM and KG to fill in); the lengths in full precision (repr),
+    so that analyse sees the design itself, not one rounded to 10 digits."""
+    kind, dims = kind_and_dimensions(design.linkage)
+    letters = " ".join(f"--{n} {v!r}" for n, v in dims.items())
+    masses = " ".join(f"--mass-{role} KG" for role in ("crank", "coupler", "output"))
+    return [f"command.analyse = python3 linkage.py analyse {kind} {letters} "
+            f"--branch {design.linkage.branch}",
+            f"command.forces = python3 linkage.py forces {kind} {letters} "
+            f"--branch {design.linkage.branch} --speed RPM {masses} --gravity 9.80665"]
 
 
 def review_lines(design: Design) -> list[str]:
@@ -13515,6 +13541,7 @@ class DesignOptions(NamedTuple):
     scene: str | None
     pictures: Pictures
     words: tuple[str, ...]
+    scale: float | None = None      # every length multiplied by it (scaled_design); None: 1
 
 
 def design_options(given: dict[str, Any]) -> DesignOptions:
@@ -13525,8 +13552,14 @@ def design_options(given: dict[str, Any]) -> DesignOptions:
     method = METHODS[given["method"]][1]
     data = {datum.name: given[datum.name] for datum in DATA[method]
             if given.get(datum.name) is not None}
+    scale = given.get("scale")
+    if scale is not None:
+        scale = typed_value(decimal_number, scale, "--scale")
+        if not 0.0 < scale < math.inf:
+            raise UsageError(f"--scale {scale:g}: expected a length > 0 (the fixed link's, in "
+                             "your units)")
     return DesignOptions(given["method"], data, given["analyze"], given["dat"], given["scene"],
-                         pictures, tuple(given["words"]))
+                         pictures, tuple(given["words"]), scale)
 
 
 def design_command(args: DesignOptions) -> int:
@@ -13537,7 +13570,7 @@ def design_command(args: DesignOptions) -> int:
         output_folder("--dat", args.dat)
     function, method = METHODS[args.method]
     try:
-        result = function(**args.data)
+        designed = function(**args.data)
     except DesignError as error:
         say(f"error: {error}", f"{PROG} design")
         return 1
@@ -13545,22 +13578,27 @@ def design_command(args: DesignOptions) -> int:
         say(f"error: {method}: the data cannot be computed in double precision ({error})",
             f"{PROG} design")
         return 1
+    result = designed._replace(solutions=tuple(scaled_design(design, args.scale or 1.0)
+                                               for design in designed.solutions))
     print(f"method = {result.method}")
     for key, value in result.design.data.items():
         print(f"data.{key} = {value_text(value)}")
     print(f"letters = {letters(result.design.linkage)} (as run takes them)")
+    if args.scale is not None:
+        print(f"scale = {value_text(args.scale)}  # every length multiplied by it"
+              + (": the fixed link a" if isinstance(result.design.linkage, FourBar) else ""))
     print(f"solutions = {len(result.solutions)}")
     print(f"preferred = {result.preferred + 1}")
     for reason in result.rejected:
         print(f"rejected = {reason}")
     code = 0
-    for number, design in enumerate(result.solutions, 1):
+    for number, (design, unscaled) in enumerate(zip(result.solutions, designed.solutions), 1):
         print(f"solution = {number}")
         for line in design_lines(design):
             print(line)
         if args.analyze:
-            checks = analyze_design(design)
-            bad = misses(design, checks)
+            checks = analyze_design(unscaled)        # against the data, in the data's units
+            bad = misses(unscaled, checks)
             for check in checks:
                 measured = "none" if check.measured is None else value_text(check.measured)
                 print(f"measured.{check.name} = {measured}  # expected {value_text(check.expected)}"
@@ -13573,7 +13611,7 @@ def design_command(args: DesignOptions) -> int:
                 print("\n".join(analysis_lines(analysis, "analysis.")))
             except ValueError as error:
                 print(f"analysis = none  # {error}")
-        for line in review_lines(design):
+        for line in design_commands(design) + review_lines(unscaled):
             print(line)
     pictures = args.pictures
     if (args.dat is not None or args.scene or pictures.svg or pictures.png or pictures.dxf
@@ -13781,8 +13819,9 @@ class ExploreOptions(NamedTuple):
 
 def explore_options(given: dict[str, Any]) -> ExploreOptions:
     """explore's typed value: the kind and dimensions given (the kind's example's where not), or
-    a scene's linkage, branch and coupler point, or the plane four-bar's example. UsageError,
-    or CommandError (SceneError) for a scene or linkage it cannot show."""
+    a scene's linkage, branch and coupler point, or the plane four-bar's example; --branch the
+    branch it starts on (else 1, or the scene's). UsageError, or CommandError (SceneError) for a
+    scene or linkage it cannot show."""
     typed = dimensions_typed(given)
     target = given["target"] or PLANE_FOUR_BAR
     kind = kind_named(target)
@@ -13798,11 +13837,11 @@ def explore_options(given: dict[str, Any]) -> ExploreOptions:
     try:
         if kind is None:
             scene = load_scene(scene_path(target))
-            state = explorer_of(scene.kind, scene.dimensions,
-                                next((b for b in scene.branches if isinstance(b, int)), 1),
+            branch = next((b for b in scene.branches if isinstance(b, int)), 1)
+            state = explorer_of(scene.kind, scene.dimensions, int(given.get("branch") or branch),
                                 FOLLOW in scene.branches, scene.coupler)
         else:
-            state = explorer_of(kind, dims)
+            state = explorer_of(kind, dims, int(given.get("branch") or 1))
         ExploreViews()(state)                           # a linkage that can be drawn
     except ValueError as e:
         raise CommandError(str(e)) from None
@@ -13932,12 +13971,15 @@ METHOD_HELP = {  # each method's --help: what it designs from what (the data: DA
 }
 DESIGN_OUTPUT_HELP = (
     "Prints, a `name = value` line each: the data; per solution the linkage in the program's "
-    "letters, as `run` takes them (four-bars: a the fixed link = 1, b the input crank, c the "
-    "coupler, d the output crank; slider-cranks: b the crank, c the rod, e the offset of the "
-    "slider's line y = e), its branch (run --branch), the design positions (phi the crank, psi "
-    "the output, x the slider; angles as the data give them), the transmission angle's extremes "
-    "mu_min and mu_max; then, labelled review, the review's own numbers in its letters. Exit 0, "
-    "1 for data no design meets, 2 for a usage error, 3 when --analyse finds a miss.")
+    "letters, as `run` takes them (four-bars: a the fixed link = 1, or --scale's L, b the input "
+    "crank, c the coupler, d the output crank; slider-cranks: b the crank, c the rod, e the "
+    "offset of the slider's line y = e), its branch (run --branch; analyse, forces and explore "
+    "take branch 1 unless told), the design positions (phi the crank, psi the output, x the "
+    "slider; angles as the data give them), the transmission angle's extremes mu_min and "
+    "mu_max (analyse's mu_worst is the one further from 90); command.analyse and command.forces,"
+    " the next commands with the lengths in full precision and the branch, to paste (forces: "
+    "fill in RPM and each KG); then, labelled review, the review's own numbers in its letters. "
+    "Exit 0, 1 for data no design meets, 2 for a usage error, 3 when --analyse finds a miss.")
 
 
 def datum_help(datum: Datum) -> str:
@@ -14264,7 +14306,14 @@ COMMANDS = {
                      "positions as still frames)"),
          option("--scene", metavar="OUT",
                 help="write that motion as a scene file (TOML) to edit and draw with python3 "
-                     "linkage.py scene OUT"))),
+                     "linkage.py scene OUT"),
+         option("--scale", metavar="L",
+                help="every length multiplied by L, in what it prints, its commands, --scene, "
+                     "--svg, --png, --dxf and --dat: a four-bar (designed with the fixed link a "
+                     "= 1) gets the fixed link L, e.g. --scale 0.2 for a 0.2 m frame; a "
+                     "slider-crank (designed in its data's units: ds, epsilon, s1, s2) has its "
+                     "lengths and slider positions multiplied, e.g. --scale 0.001 from mm to m. "
+                     "Angles, the data and the review's own numbers are not scaled"))),
     "listing": Command(
         lambda given: ListingOptions(given["ocr"]), listing_command, "the original BASIC listing as corrected, with its errata",
         "The program of the paper's appendix as it must have run (legacy_basic/LINKAGE.BAS): "
@@ -14288,6 +14337,9 @@ COMMANDS = {
                      "rest the kind's example's); or a scene (a TOML file, or the name of one "
                      "of scene --list); default: the plane four-bar"),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
+         option("--branch", choices=("1", "2"), metavar="1|2",
+                help="the assembly it starts on: 1 (A+B, the default; a scene: its own) or 2 "
+                     "(A-B), as analyse --branch and design's branch (b toggles it)"),
          option("--keys", metavar="FILE",
                 help="replay the keys of FILE and print the last screen, no terminal needed: "
                      "one key a line, a character or one of " + ", ".join(EXPLORE_KEY_NAMES)

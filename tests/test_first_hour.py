@@ -11,6 +11,7 @@ import math
 import os
 import random
 import re
+import shlex
 
 import pytest
 
@@ -330,3 +331,73 @@ def test_the_svg_says_what_its_curves_colours_and_dashes_mean():
     assert "behind the sphere" in legend and "followed" not in legend
     plane = linkage.Linkage("plane", a=6, b=2, c=7, d=9)
     assert 'class="legend"' not in linkage.svg_drawing(linkage.mechanism_drawing(plane, [0.0]))
+
+
+# -- design -> analyse -> forces: the user's units, the branch, the next commands ----------------
+
+def lines_of(out: str) -> dict[str, str]:
+    return dict(line.split(" = ", 1) for line in out.splitlines() if " = " in line)
+
+
+def pasted(command: str, capsys, **filled: str):
+    """A `command.*` line of design run as the user pastes it, placeholders filled."""
+    words = shlex.split(command)
+    assert words[:2] == ["python3", "linkage.py"], words
+    words = [filled.get(w, w) for w in words[2:]]
+    return output_of(words, capsys)
+
+
+@pytest.mark.parametrize("argv, scale, swing, time_ratio", [
+    (["fourb-cr-4", "--psi", "50", "--mu-min", "40"], "0.2", "50 deg", "1"),
+    (["fourb-cr-1", "--psi", "45", "--theta", "12", "--theta0", "60"], "0.35", "45 deg", "1.142857143"),
+    (["slid-fg2-1", "--dtheta", "160", "--ds", "40", "--epsilon", "5"], "0.001", "0.04", "1.25")])
+def test_design_prints_the_next_commands_in_the_users_units_on_its_branch(
+        argv, scale, swing, time_ratio, capsys):
+    """design --scale L prints its lengths times L and command.analyse, which - pasted - analyses
+    that very linkage on its branch: the swing the data asked (a slider's stroke ds times L), the
+    time ratio (180 + theta) / (180 - theta) or dtheta's, not 1.000000001 from 10-digit lengths
+    typed by hand; command.forces runs once RPM and KG are filled in."""
+    status, out, err = output_of(["design", *argv], capsys)
+    plain = lines_of(out)
+    status, out, err = output_of(["design", *argv, "--scale", scale], capsys)
+    got = lines_of(out)
+    assert status == 0, err
+    for letter in "abcde":
+        if letter in plain:
+            assert float(got[letter]) == pytest.approx(float(plain[letter]) * float(scale),
+                                                       rel=1e-9), letter
+    status, out, err = pasted(got["command.analyse"], capsys)
+    analysed = lines_of(out)
+    assert status == 0, err
+    assert analysed["branch"] == got["branch"] and analysed["swing"] == swing, analysed
+    assert analysed["time_ratio"] == time_ratio, analysed
+    status, out, err = pasted(got["command.forces"], capsys, RPM="60", KG="0.5")
+    assert status == 0 and "torque_peak" in out, err
+
+
+def test_design_scale_draws_and_writes_the_scene_in_the_users_units(tmp_path, capsys):
+    scene = tmp_path / "cr4.toml"
+    status, out, err = output_of(["design", "fourb-cr-4", "--psi", "50", "--mu-min", "40",
+                                  "--scale", "0.2", "--scene", str(scene)], capsys)
+    assert status == 0, err
+    loaded = linkage.load_scene(str(scene))
+    assert loaded.dimensions["a"] == 0.2 and loaded.branches == (2,), loaded
+
+
+@pytest.mark.parametrize("scale", ["0", "-1", "inf"])
+def test_design_refuses_a_scale_that_is_no_length(scale, capsys):
+    with pytest.raises(SystemExit) as done:
+        linkage.main(["design", "fourb-cr-4", "--psi", "50", "--mu-min", "40", "--scale", scale])
+    assert done.value.code == 2 and "--scale" in capsys.readouterr().err
+
+
+def test_explore_starts_on_the_branch_asked(tmp_path, capsys):
+    """explore --branch 2 is the screen of branch 1 and b pressed."""
+    ticks, toggled = tmp_path / "ticks.keys", tmp_path / "toggled.keys"
+    ticks.write_text("Tick\nTick\n", encoding="utf-8")
+    toggled.write_text("b\nTick\nTick\n", encoding="utf-8")
+    plane = ["explore", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9"]
+    asked = output_of([*plane, "--branch", "2", "--keys", str(ticks)], capsys)
+    pressed = output_of([*plane, "--keys", str(toggled)], capsys)
+    assert asked[0] == pressed[0] == 0 and asked[1] == pressed[1], asked
+    assert "branch 2 (A-B)" in asked[1]
