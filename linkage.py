@@ -3815,6 +3815,8 @@ class Extreme(NamedTuple):
 
 
 EQUAL_STROKES = 1e-9                # degrees: strokes this close are equal (time ratio 1)
+MU_TIE = 4 * math.ulp(90.0)         # degrees (5.7e-14): mu_min and mu_max whose distances from
+#                                     90 differ by no more are equally far (mu_worst: mu_min)
 
 
 class _Strokes:
@@ -3855,9 +3857,9 @@ class _Strokes:
     @property
     def mu_worst(self) -> Extreme:
         """Of the transmission angle's extremes, the one further from 90 degrees (mu_min if
-        equally far)."""
-        return self.mu_max if abs(self.mu_max.value - 90.0) > abs(self.mu_min.value - 90.0) \
-            else self.mu_min
+        equally far, to rounding: MU_TIE)."""
+        further = abs(self.mu_max.value - 90.0) - abs(self.mu_min.value - 90.0)
+        return self.mu_max if further > MU_TIE else self.mu_min
 
 
 class _CircuitFields(NamedTuple):
@@ -8389,7 +8391,9 @@ _SWING = Datum("psi", "rocker swing", PSI_MIN, 180.0, ("lo",))
 _TIME_RATIO = Datum("theta", "crank rotation is 180 + theta", -180.0, 180.0)
 # centric crank-rockers: MU_MARGIN < mu_min < 90 - psi/2 is empty unless psi < 180 - 2 MU_MARGIN
 _CENTRIC = (_SWING._replace(hi=180.0 - 2 * MU_MARGIN),
-            Datum("mu_min", "least transmission angle", MU_MARGIN,
+            Datum("mu_min", "least transmission angle (a centric crank-rocker's mu runs from "
+                  "mu_min to 180 - mu_min, equally far from 90: analyse prints them as mu_min "
+                  "and mu_max, mu_worst = mu_min, mu_worst_deviation = 90 - mu_min)", MU_MARGIN,
                   ("90 - psi/2", lambda d: 90.0 - d["psi"] / 2)))
 _LENGTH: dict[str, Any] = dict(lo=LENGTH_MIN, hi=LENGTH_MAX, closed=("lo", "hi"))
 _ANGLE: dict[str, Any] = dict(lo=-360.0, hi=360.0, closed=("lo", "hi"))   # a position, not a turn
@@ -8419,7 +8423,9 @@ DATA = {
     "FOURB-CR-4 (Volmer)": _CENTRIC,
     "DRAGLINK-1": (
         Datum("dpsi0", "output rotation while the crank turns 180", 0.0, 360.0),
-        Datum("mu_min", "transmission angle at the design positions", MU_MARGIN, 90.0)),
+        Datum("mu_min", "transmission angle at the design positions (mu_min at phi = 0, 180 - "
+              "mu_min at 180, each 90 - mu_min from 90; analyse's mu_worst_deviation, over the "
+              "whole turn, is at least that)", MU_MARGIN, 90.0)),
     "DRAGLINK-2": (   # footnote 5: 0 < dphi - dpsi < 180, 90 + dL/2 <= dphi <= 270 + dL/2
         Datum("dphi", "crank rotation between the unit-ratio positions", 90.0, 360.0, excluded=(
             ("dphi = 180 makes t = tan(dphi/2) infinite (footnote 5)",

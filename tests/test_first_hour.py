@@ -401,3 +401,23 @@ def test_explore_starts_on_the_branch_asked(tmp_path, capsys):
     pressed = output_of([*plane, "--keys", str(toggled)], capsys)
     assert asked[0] == pressed[0] == 0 and asked[1] == pressed[1], asked
     assert "branch 2 (A-B)" in asked[1]
+
+
+def test_mu_worst_of_a_design_whose_mu_is_40_to_140_is_mu_min(capsys):
+    """FOURB-CR-4 with mu_min 40 is centric: mu runs from 40 to 140, equally far from 90 but for
+    rounding (2.8e-14 here), and the README's rule - mu_min if equally far - holds to that
+    rounding (MU_TIE, a few ulps of 90): mu_worst = 40 at mu_min's angle, not 140."""
+    status, out, err = output_of(["design", "fourb-cr-4", "--psi", "50", "--mu-min", "40"],
+                                 capsys)
+    command = lines_of(out)["command.analyse"]
+    words = shlex.split(command)[3:]
+    link = linkage.Linkage("plane", **{w[2:]: float(v) for w, v in zip(words[1::2], words[2::2])
+                                       if w[2:] in "abcd"})
+    analysis = linkage.analyse(link, 2)
+    apart = abs(analysis.mu_max.value - 90.0) - abs(analysis.mu_min.value - 90.0)
+    assert 0 < abs(apart) <= linkage.MU_TIE < 1e-13, apart     # a tie only to rounding
+    status, out, err = pasted(command, capsys)
+    got = lines_of(out)
+    assert (got["mu_min"], got["mu_max"]) == ("40", "140"), got
+    assert (got["mu_worst"], got["mu_worst_at"]) == (got["mu_min"], got["mu_min_phi"]), got
+    assert got["mu_worst_deviation"] == "50"
