@@ -14202,29 +14202,36 @@ COMMANDS = {
         forces_options, forces_command, "what it takes to drive the linkage: torque, power, joint forces, "
                         "shaking, flywheel",
         "The forces along a sweep (SI units: lengths in metres, masses in kg; the spherical "
-        "four-bar's arcs in degrees on a sphere of the scene's radius, or --radius): the "
-        "driving torque T on the crank (N m) at its peak and RMS with their input angles, the "
+        "four-bar's arcs in degrees on a sphere of the scene's radius, or --radius), the crank "
+        "turning at a constant speed, a positive one counter-clockwise (phi increasing): the "
+        "torque T the driver applies to the crank (N m, positive in the sense of phi), "
+        "torque_peak the largest |T| with its sign, and T's RMS, with their input angles; the "
         "mean power (T omega, W; omega = 2 pi rpm / 60, rad/s), each joint's peak force (N; the"
         " spherical four-bar's joints: their moment about the sphere's centre O, N m), the "
-        "frame's peak shaking force and moment, and the flywheel inertia (kg m^2) that holds "
-        "the speed within +-Cs/2 of its mean, Cs the speed fluctuation (max - min) / mean "
-        "(--fluctuation): the largest swing of the crank's energy over Cs omega^2, over a sweep"
-        " of one turn. Given a scene (data/scenes/forces-*.toml), its [dynamics] table; given a"
-        " KIND, its dimensions as for run and the options below, each link a uniform rod of its"
-        " mass. One `name = value` a line, as analyse prints.",
+        "frame's peak shaking force and moment, and flywheel_inertia (kg m^2): the flywheel's "
+        "own inertia about the crank's axis that holds the speed within +-Cs/2 of its mean, Cs "
+        "the speed fluctuation (max - min) / mean (--fluctuation; within +-5 % is Cs = 0.10): "
+        "the largest swing of the energy T puts in, over Cs omega^2, over a sweep of one turn. "
+        "The links' own inertia acts only through T; none of it is counted toward the flywheel "
+        "(the crank's inertia about its axis may be subtracted from it). No gravity unless "
+        "asked (--gravity, a scene's gravity key). Given a scene (data/scenes/forces-*.toml), "
+        "its [dynamics] table; given a KIND, its dimensions as for run and the options below, "
+        "each link a uniform rod of its mass. One `name = value` a line, as analyse prints.",
         (option("target", metavar="SCENE|KIND",
                 help="a scene with [dynamics] (a file, or the name of one that comes with the "
                      "program), or a kind: " + ", ".join(KIND_NAMES) + " (or 1-5)"),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
          option("--speed", metavar="RPM",
-                help="a KIND: the crank's speed, revolutions a minute (default 0: static)"),
+                help="a KIND: the crank's speed, revolutions a minute, positive counter-"
+                     "clockwise: phi increasing (default 0: static)"),
          option("--mass-crank", metavar="KG", help="a KIND: the crank's mass, kg"),
          option("--mass-coupler", metavar="KG", help="a KIND: the coupler's mass, kg"),
          option("--mass-output", metavar="KG",
                 help="a KIND: the output crank's mass (a slider-crank: the slider's), kg"),
          option("--gravity", metavar="G",
                 help="a KIND: gravity, m/s^2 along the kind's down (-y for the plane kinds, -z "
-                     "for the spatial ones), e.g. 9.80665 (default none)"),
+                     "for the spatial ones), e.g. 9.80665 (default none: no gravity unless "
+                     "asked)"),
          option("--radius", metavar="M",
                 help="a KIND (spherical): the sphere's radius, metres (default 1)"),
          option("--output-torque", metavar="N_M",
@@ -14243,7 +14250,7 @@ COMMANDS = {
                 help="a KIND: the step, degrees (default 1)"),
          option("--fluctuation", type=float, default=0.05, metavar="CS",
                 help="the speed fluctuation Cs = (max - min) / mean speed the flywheel holds "
-                     "(default 0.05)"))),
+                     "(default 0.05: within +-2.5 %% of the mean; +-5 %% is 0.10)"))),
     "scene": Command(
         scene_options, scene_command, "draw a scene of data/scenes: the paper's figures, the hard cases, the "
                        "linkage moving",

@@ -421,3 +421,29 @@ def test_mu_worst_of_a_design_whose_mu_is_40_to_140_is_mu_min(capsys):
     assert (got["mu_min"], got["mu_max"]) == ("40", "140"), got
     assert (got["mu_worst"], got["mu_worst_at"]) == (got["mu_min"], got["mu_min_phi"]), got
     assert got["mu_worst_deviation"] == "50"
+
+
+@pytest.mark.parametrize("phi, sign", [(0, 1), (90, 0), (180, -1)])
+def test_forces_help_and_readme_say_the_torques_sign_and_physics_agrees(phi, sign, capsys):
+    """forces --help and the README say T is the driver's torque, positive in the sense of phi,
+    the peak signed, the crank counter-clockwise for a positive speed, gravity off unless asked,
+    Cs = 0.10 for +-5 %; and a crank alone (a 2 kg rod of b = 0.5 m) held against gravity g = 10
+    at phi needs m g (b/2) cos(phi): +5 N m at 0 (gravity turns it clockwise), -5 at 180."""
+    text = help_text("forces")
+    for words in ("positive in the sense of phi", "the largest |T| with its sign",
+                  "counter- clockwise (phi increasing)", "No gravity unless asked",
+                  "within +-5 % is Cs = 0.10", "the flywheel's own inertia about the crank's axis"):
+        assert words in text, words
+    readme = " ".join(README.split())
+    for words in ("positive in the sense of φ", "*with its sign*", "`--fluctuation 0.10`",
+                  "gravity** is off unless asked", "on top of the links"):
+        assert words in readme, words
+    status, out, err = output_of(["forces", "plane", "--a", "2", "--b", "0.5", "--c", "2",
+                                  "--d", "1.5", "--mass-crank", "2", "--gravity", "10", "--from",
+                                  str(phi), "--to", str(phi), "--step", "1"], capsys)
+    torque = float(lines_of(out)["torque_peak"].split()[0])
+    assert status == 0 and torque == pytest.approx(sign * 5.0, abs=1e-9), out
+    status, out, err = output_of(["forces", "plane", "--a", "2", "--b", "0.5", "--c", "2",
+                                  "--d", "1.5", "--mass-crank", "2", "--from", "0", "--to", "0",
+                                  "--step", "1"], capsys)
+    assert float(lines_of(out)["torque_peak"].split()[0]) == 0.0, out   # no gravity unasked
