@@ -3624,8 +3624,8 @@ _GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _sph
 # extremes and the worst of them; analysis_lines, its `name = value` lines.
 #
 # Uses: sections 2, 6 and 7.
-# Offers: ANALYSIS_SAMPLES, extreme_of, crank_limits, Extreme, EQUAL_STROKES, Circuit, Analysis,
-#   unwrapped, LINKS, DEGENERATE_PROBES, degenerate, analyse, value_text, analysis_lines.
+# Offers: ANALYSIS_SAMPLES, extreme_of, crank_limits, Extreme, EQUAL_STROKES, MU_TIE, Circuit,
+#   Analysis, unwrapped, LINKS, DEGENERATE_PROBES, degenerate, analyse, value_text, analysis_lines.
 
 
 # -- the linkage's class and range of motion (analyse) ------------------------------------------
@@ -11300,17 +11300,20 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 #
 # Uses: sections 1, 2, 6, 7, 8, 12, 14, 15, 16, 19 and 20.
 # Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
-#   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_key,
-#   explore_screen, explore_scene, terminal_keys, key_file, explore_saved, explore_replay,
-#   explore_terminal.
+#   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_steps,
+#   explore_key, explore_screen, explore_scene, terminal_keys, key_file, explore_saved,
+#   explore_replay, explore_terminal.
 
 
 # The keys, as the help screen lists them (the footer shows the first words of each).
 EXPLORE_HELP = (
     ("Tab  S-Tab  Up  Down", "select the next or previous dimension"),
     ("A B C D E F X U V", "select that one (X: the skew angle ξ, U V: coupler)"),
-    ("Left  Right", "change the selected dimension by a small step"),
-    ("S-Left  S-Right  [  ]", "change it by a large step"),
+    ("Left  Right", "change the selected dimension by a small step:"),
+    ("", "a length 1 % of the longest other link, up to 1, 2"),
+    ("", "or 5 times a power of ten; an angle 1 degree (the"),
+    ("", "footer shows the steps of the selected one)"),
+    ("S-Left  S-Right  [  ]", "change it by a large step: ten small ones"),
     ("=  Enter", "type its value (Enter takes it, Esc leaves it)"),
     ("b", "the other branch (A+B or A-B)"),
     ("f", "follow: analyse the motion through change points"),
@@ -11581,10 +11584,24 @@ def _nearest(phis: Sequence[float], phi: float) -> int:
     return min(range(len(phis)), key=lambda i: abs(wrap_degrees(phis[i] - phi)))
 
 
-def _steps(kind: str, name: str) -> tuple[float, float]:
-    """A dimension's small and large steps: degrees 1 and 10, lengths 0.1 and 1."""
-    degrees = name == "ksi" or (kind == SPHERICAL_FOUR_BAR and name in "abcduv")
-    return (1.0, 10.0) if degrees else (0.1, 1.0)
+def _degrees(kind: str, name: str) -> bool:
+    """Whether the explorer's dimension `name` (or u, v) of `kind` is an angle."""
+    return name == "ksi" or (kind == SPHERICAL_FOUR_BAR and name in "abcduv")
+
+
+def explore_steps(state: Explorer, name: str) -> tuple[float, float]:
+    """A dimension's small and large steps: an angle's 1 and 10 degrees; a length's the 1-2-5
+    step (1, 2 or 5 times a power of ten) at or above 1 % of the longest of the other links,
+    and ten times that: a linkage in metres steps by millimetres, not by 0.1 m, and a key held
+    keeps its step (the length it changes is not the one measured), so Right then Left is back."""
+    if _degrees(state.kind, name):
+        return 1.0, 10.0
+    longest = max([abs(x) for n, x in state.dims if n != name and not _degrees(state.kind, n)]
+                  or [0.0])
+    size = 0.01 * (longest or 1.0)
+    power = 10.0 ** math.floor(math.log10(size))
+    small = next(m * power for m in (1.0, 2.0, 5.0, 10.0) if m * power >= size * (1 - 1e-12))
+    return small, 10.0 * small
 
 
 def _changed(state: Explorer, views: ExploreViews, **changes: Any) -> Explorer:
@@ -11607,7 +11624,7 @@ def _changed(state: Explorer, views: ExploreViews, **changes: Any) -> Explorer:
 
 def _set_value(state: Explorer, name: str, value: float,
                views: ExploreViews) -> Explorer:
-    value = round(value, 10) + 0.0                      # steps of 0.1 stay short decimals
+    value = float(f"{value:.12g}") + 0.0                # 0.1 + 0.2 stays 0.3
     if name in ("u", "v"):
         u, v = state.coupler
         return _changed(state, views, coupler=(value, v) if name == "u" else (u, value))
@@ -11699,7 +11716,7 @@ def explore_key(state: Explorer, key: str, views: ExploreViews) -> Explorer:
         return state._replace(selected=names.index(letter))
     name = names[state.selected]
     if key in _STEP_KEYS:                   # Left, Right: small steps; the others large ones
-        small, large = _steps(state.kind, name)
+        small, large = explore_steps(state, name)
         size = small if key in ("Left", "Right") else large
         sign = 1.0 if key in ("Right", "S-Right", "]") else -1.0
         return _set_value(state, name, state.value(name) + sign * size, views)
@@ -11798,12 +11815,15 @@ def _side_panel(state: Explorer, view: ExploreView, width: int, height: int, uni
     return [line[:width] for line in lines], selected
 
 
-def _footer(width: int, unicode: bool) -> str:
-    """The keys line: the most used keys, all of them where the screen is wide enough."""
-    arrows = "←→" if unicode else "<>"
-    wide = (f"Tab/ABC select  {arrows} step  [] big  = type  b branch  f follow  Space play  "
-            ",. step  +- speed  c coupler  k kind  u undo  s save  ? help  q quit")
-    narrow = (f"Tab select {arrows} [] change = type b branch Space play c k u s ? help q quit")
+def _footer(width: int, unicode: bool, steps: tuple[float, float]) -> str:
+    """The keys line: the most used keys, all of them where the screen is wide enough; the
+    arrows' and [ ]'s steps of the selected dimension (explore_steps)."""
+    arrows, sign = ("←→", "±") if unicode else ("<>", "+-")
+    small, large = (f"{sign}{step:g}" for step in steps)
+    wide = (f"Tab/ABC select  {arrows} {small}  [] {large}  = type  b branch  f follow  "
+            "Space play  ,. step  +- speed  c coupler  k kind  u undo  s save  ? help  q quit")
+    narrow = (f"Tab select {arrows}{small} []{large} = type b branch Space play c k u s ? help "
+              "q quit")
     return wide if len(wide) <= width else narrow[:width]
 
 
@@ -11839,7 +11859,8 @@ def explore_screen(state: Explorer, view: ExploreView, width: int = 80, height: 
         body = [f"{d:<{left}} {p}" for d, p in zip(drawn + [""] * (height - 2 - len(drawn)),
                                                    panel + [""] * (height - 2 - len(panel)))]
         rows = selected
-    body = (body + [""] * height)[:height - 2] + [_footer(width, unicode), _status_line(state)]
+    body = (body + [""] * height)[:height - 2] + [_footer(width, unicode, explore_steps(state, state.names[state.selected])),
+                                              _status_line(state)]
     if not unicode:                     # as text_drawing's lines: anything else a '?'
         body = [line.translate(_ASCII_PANEL).encode("ascii", "replace").decode("ascii")
                 for line in body]
