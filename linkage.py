@@ -3815,8 +3815,9 @@ class Extreme(NamedTuple):
 
 
 EQUAL_STROKES = 1e-9                # degrees: strokes this close are equal (time ratio 1)
-MU_TIE = 4 * math.ulp(90.0)         # degrees (5.7e-14): mu_min and mu_max whose distances from
-#                                     90 differ by no more are equally far (mu_worst: mu_min)
+MU_TIE = 1e-9                       # degrees: mu_min and mu_max whose distances from 90 differ
+#                                     by no more are equally far (mu_worst: mu_min); mu's rounding
+#                                     reaches 190 ulps of 90 (2.7e-12) where it is small, as acos'
 
 
 class _Strokes:
