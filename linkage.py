@@ -7140,8 +7140,10 @@ _GROUNDS = {PLANE_FOUR_BAR: _plane_ground, PLANE_SLIDER_CRANK: _slider_ground,
 def _frame(linkage: Linkage, pose: Pose, size: float, point: Vector | None = None,
            mu: float | None = None) -> Frame:
     """One pose's Frame; `point` the coupler point there (3-D) and mu the transmission angle, to
-    be drawn and told when given."""
-    where = f"φ = {pose.phi:g}°"
+    be drawn and told when given. The caption names the crank's position: φ in [0, 360), though
+    a sweep may run past a turn (a design's from its first position: 386.517 is 26.517)."""
+    turned = pose.phi % 360.0
+    where = f"φ = {0.0 if turned == 360.0 else turned:g}°"
     caption = where
     if pose.output is not None:
         caption += (f"  x = {pose.output:.4g}" if linkage.is_slider
@@ -11474,7 +11476,11 @@ def analysis_drawing(analysis: Analysis, coupler: tuple[float, float] | None = N
             texts[same].append(text)
     subtitle = ", ".join(f"{n} {' + '.join(t)} φ={phi % 360.0:.4g}"
                          for n, (t, phi) in enumerate(zip(texts, marked), 1))
-    phis, _ = _motion_angles(a, positions)
+    phis, turns = _motion_angles(a, positions)
+    end = phis[0] + 360.0 if turns else phis[-1]       # the output's extremes on this branch
+    exact = [phis[0] + (e.phi - phis[0]) % 360.0 for e in (a.output_min, a.output_max)  # drawn
+             if e is not None and off(output_on(branch, e.phi), e.value, angular) < 1e-6]
+    phis = sorted(set(phis) | {phi for phi in exact if phi < end or phi == phis[-1]})
     dims = " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in linkage.dims.items())
     return mechanism_drawing(linkage, phis, branch, f"{KIND_NAMES[linkage.kind]}: {dims}; "
                              f"{a.linkage_class}, crank {'full' if a.crank_range is None else 'rocks'}",

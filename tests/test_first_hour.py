@@ -463,3 +463,73 @@ def test_every_centric_crank_rocker_has_mu_worst_mu_min():
         assert math.isclose(dims["c"] ** 2 + dims["d"] ** 2, dims["a"] ** 2 + dims["b"] ** 2)
         analysis = linkage.analyse(linkage.Linkage("plane", **dims), link.branch)
         assert analysis.mu_worst == analysis.mu_min, (psi, mu, scale, analysis.mu_max)
+
+
+# -- the pictures: the angle a label names is the angle drawn -----------------------------------
+
+@pytest.mark.parametrize("kind, dims, branch", [
+    ("plane", dict(a=0.2, b=0.0777847742781538, c=0.110337791896249, d=0.184054456042127), 2),
+    ("plane", dict(a=6, b=2, c=7, d=9), 1), ("slider", dict(b=2, c=7, e=1.5), 1),
+    ("plane", dict(a=6, b=5, c=7, d=9), 1)])
+def test_the_analyse_drawing_draws_the_output_at_its_extremes(kind, dims, branch):
+    """analyse --png labels the drawn position where the output is least and greatest (ψ min,
+    with its φ) and its header names analyse's angles: the position drawn is at that angle (56.52,
+    not the 55 of a 5-degree sweep), the output there the extreme's value - where the extreme
+    is on the branch drawn (a=6 b=5: the rocking crank's output least on its return, branch 2,
+    drawn faint and numbered)."""
+    analysis = linkage.analyse(linkage.Linkage(kind, **dims), branch)
+    drawing = linkage.analysis_drawing(analysis)
+    posed = [f.pose for f in drawing.frames if f.message is None]
+    on_branch = [e for e in (analysis.output_min, analysis.output_max) if abs(linkage.wrap_degrees(
+        linkage.Linkage(kind, **dims).sweep([e.phi], branch, 0)[0].output - e.value)) < 1e-9]
+    assert len(on_branch) == (1 if dims.get("b") == 5 else 2), on_branch
+    for extreme in on_branch:
+        pose = next((p for p in posed if abs(linkage.wrap_degrees(p.phi - extreme.phi)) < 1e-9),
+                    None)
+        assert pose is not None, (extreme, [p.phi for p in posed])
+        assert abs(linkage.wrap_degrees(pose.output - extreme.value)) < 1e-9, (pose, extreme)
+
+
+def test_the_design_pictures_name_crank_positions_within_a_turn():
+    """design --png's caption said "the last at φ = 386.517°": a crank position, named in
+    [0, 360)."""
+    result = linkage.METHODS["fourb-cr-4"][0](psi=50, mu_min=40)
+    drawing = linkage.scene_drawing(linkage.design_scene(result))
+    assert max(f.pose.phi for f in drawing.frames) > 360             # the sweep runs past a turn
+    for frame in drawing.frames:
+        phi = float(re.match(r"φ = ([-0-9.e]+)°", frame.caption)[1])
+        assert 0 <= phi < 360 and math.isclose(phi, frame.pose.phi % 360, abs_tol=1e-3), frame.caption
+
+
+def test_the_readmes_walk_through_pastes_what_design_prints_and_shows_what_it_answers(capsys):
+    """The README's crank-rocker from start to finish: its analyse and forces commands are
+    design's command.analyse and command.forces (RPM and KG filled in), and every `name = value`
+    line it shows under a command is one that command prints."""
+    section = README.split("## A crank-rocker from start to finish", 1)[1].split("\n## ", 1)[0]
+    commands: list[str] = []
+    shown: dict[str, list[str]] = {}
+    for paragraph in section.split("\n\n"):
+        lines = [line.strip() for line in paragraph.splitlines()]
+        if not paragraph.startswith("    "):
+            continue
+        if lines[0].startswith("python3 linkage.py"):
+            commands.append(lines[0])
+        else:                                            # the output of the command before
+            shown[commands[-1]] = lines
+    assert len(shown) == 3, shown
+    design, analyse, png, forces = commands
+    status, out, err = output_of(shlex.split(design)[2:], capsys)
+    printed = lines_of(out)
+    assert status == 0 and analyse == printed["command.analyse"], (analyse, printed)
+    assert png.startswith(analyse + " --png ")
+    speed = re.search(r"--speed (\S+) --mass-crank (\S+) --mass-coupler (\S+) --mass-output (\S+)",
+                      forces)
+    filled = printed["command.forces"].replace("--speed RPM", f"--speed {speed[1]}")
+    for role, mass in zip(("crank", "coupler", "output"), speed.groups()[1:]):
+        filled = filled.replace(f"--mass-{role} KG", f"--mass-{role} {mass}")
+    assert forces == filled, (forces, filled)
+    for command, lines in shown.items():
+        status, out, err = output_of(shlex.split(command)[2:], capsys)
+        for line in lines:
+            assert line == "..." or line in out.splitlines(), (command, line)
+
