@@ -14005,9 +14005,9 @@ METHOD_HELP = {  # each method's --help: what it designs from what (the data: DA
 }
 DESIGN_OUTPUT_HELP = (
     "Prints, a `name = value` line each: the data; per solution the linkage in the program's "
-    "letters, as `run` takes them (four-bars: a the fixed link = 1, or --scale's L, b the input "
-    "crank, c the coupler, d the output crank; slider-cranks: b the crank, c the rod, e the "
-    "offset of the slider's line y = e), its branch (run --branch; analyse, forces and explore "
+    "letters, as `run` takes them (four-bars: a the fixed link = 1, b the input crank, c the "
+    "coupler, d the output crank; slider-cranks: b the crank, c the rod, e the offset of the "
+    "slider's line y = e; each length times --scale's L where it is given), its branch (run --branch; analyse, forces and explore "
     "take branch 1 unless told), the design positions (phi the crank, psi the output, x the "
     "slider; angles as the data give them), the transmission angle's extremes mu_min and "
     "mu_max (analyse's mu_worst is the one further from 90); command.analyse and command.forces,"
