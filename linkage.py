@@ -3668,8 +3668,8 @@ _GROUND_JOINTS = {PLANE_FOUR_BAR: _plane_ground_joints, SPHERICAL_FOUR_BAR: _sph
 # extremes and the worst of them; analysis_lines, its `name = value` lines.
 #
 # Uses: sections 2, 6 and 7.
-# Offers: ANALYSIS_SAMPLES, extreme_of, crank_limits, Extreme, EQUAL_STROKES, Circuit, Analysis,
-#   unwrapped, LINKS, DEGENERATE_PROBES, degenerate, analyse, value_text, analysis_lines.
+# Offers: ANALYSIS_SAMPLES, extreme_of, crank_limits, Extreme, EQUAL_STROKES, MU_TIE, Circuit,
+#   Analysis, unwrapped, LINKS, DEGENERATE_PROBES, degenerate, analyse, value_text, analysis_lines.
 
 
 # -- the linkage's class and range of motion (analyse) ------------------------------------------
@@ -3859,6 +3859,9 @@ class Extreme(NamedTuple):
 
 
 EQUAL_STROKES = 1e-9                # degrees: strokes this close are equal (time ratio 1)
+MU_TIE = 1e-9                       # degrees: mu_min and mu_max whose distances from 90 differ
+#                                     by no more are equally far (mu_worst: mu_min); mu's rounding
+#                                     reaches 190 ulps of 90 (2.7e-12) where it is small, as acos'
 
 
 class _Strokes:
@@ -3899,9 +3902,9 @@ class _Strokes:
     @property
     def mu_worst(self) -> Extreme:
         """Of the transmission angle's extremes, the one further from 90 degrees (mu_min if
-        equally far)."""
-        return self.mu_max if abs(self.mu_max.value - 90.0) > abs(self.mu_min.value - 90.0) \
-            else self.mu_min
+        equally far, to rounding: MU_TIE)."""
+        further = abs(self.mu_max.value - 90.0) - abs(self.mu_min.value - 90.0)
+        return self.mu_max if further > MU_TIE else self.mu_min
 
 
 class _CircuitFields(NamedTuple):
@@ -7883,8 +7886,10 @@ _GROUNDS = {PLANE_FOUR_BAR: _plane_ground, PLANE_SLIDER_CRANK: _slider_ground,
 def _frame(linkage: Linkage, pose: Pose, size: float, point: Vector | None = None,
            mu: float | None = None) -> Frame:
     """One pose's Frame; `point` the coupler point there (3-D) and mu the transmission angle, to
-    be drawn and told when given."""
-    where = f"φ = {pose.phi:g}°"
+    be drawn and told when given. The caption names the crank's position: φ in [0, 360), though
+    a sweep may run past a turn (a design's from its first position: 386.517 is 26.517)."""
+    turned = pose.phi % 360.0
+    where = f"φ = {0.0 if turned == 360.0 else turned:g}°"
     caption = where
     if pose.output is not None:
         caption += (f"  x = {pose.output:.4g}" if linkage.is_slider
@@ -9055,7 +9060,7 @@ def dxf_drawing(drawing: Drawing, positions: int = DXF_POSITIONS) -> bytes:
 #   FourBar, SliderCrank, Designed, four_bar_from_review, four_bar_to_review,
 #   slider_crank_from_review, grashof_class, cos_transmission, four_bar_transmission_angle,
 #   four_bar_transmission_extremes, slider_transmission_angle, slider_transmission_extremes, Design,
-#   Synthesis.
+#   Synthesis, scaled_design.
 
 
 MU_MARGIN = 0.1     # degrees: a design whose transmission angle comes this close to 0 or 180 is
@@ -9140,7 +9145,9 @@ _SWING = Datum("psi", "rocker swing", PSI_MIN, 180.0, ("lo",))
 _TIME_RATIO = Datum("theta", "crank rotation is 180 + theta", -180.0, 180.0)
 # centric crank-rockers: MU_MARGIN < mu_min < 90 - psi/2 is empty unless psi < 180 - 2 MU_MARGIN
 _CENTRIC = (_SWING._replace(hi=180.0 - 2 * MU_MARGIN),
-            Datum("mu_min", "least transmission angle", MU_MARGIN,
+            Datum("mu_min", "least transmission angle (a centric crank-rocker's mu runs from "
+                  "mu_min to 180 - mu_min, equally far from 90: analyse prints them as mu_min "
+                  "and mu_max, mu_worst = mu_min, mu_worst_deviation = 90 - mu_min)", MU_MARGIN,
                   ("90 - psi/2", lambda d: 90.0 - d["psi"] / 2)))
 _LENGTH: dict[str, Any] = dict(lo=LENGTH_MIN, hi=LENGTH_MAX, closed=("lo", "hi"))
 _ANGLE: dict[str, Any] = dict(lo=-360.0, hi=360.0, closed=("lo", "hi"))   # a position, not a turn
@@ -9170,7 +9177,9 @@ DATA = {
     "FOURB-CR-4 (Volmer)": _CENTRIC,
     "DRAGLINK-1": (
         Datum("dpsi0", "output rotation while the crank turns 180", 0.0, 360.0),
-        Datum("mu_min", "transmission angle at the design positions", MU_MARGIN, 90.0)),
+        Datum("mu_min", "transmission angle at the design positions (mu_min at phi = 0, 180 - "
+              "mu_min at 180, each 90 - mu_min from 90; analyse's mu_worst_deviation, over the "
+              "whole turn, is at least that)", MU_MARGIN, 90.0)),
     "DRAGLINK-2": (   # footnote 5: 0 < dphi - dpsi < 180, 90 + dL/2 <= dphi <= 270 + dL/2
         Datum("dphi", "crank rotation between the unit-ratio positions", 90.0, 360.0, excluded=(
             ("dphi = 180 makes t = tan(dphi/2) infinite (footnote 5)",
@@ -9400,6 +9409,19 @@ class Synthesis(NamedTuple):
     def design(self) -> Design:
         """The preferred solution."""
         return self.solutions[self.preferred]
+
+
+def scaled_design(design: Design, factor: float) -> Design:
+    """The design with every length multiplied by `factor` (a four-bar's frame a, designed as 1,
+    becomes `factor`; a slider-crank's lengths and its slider positions, in its data's units, are
+    multiplied by it); angles, the data and the review's own numbers as they were."""
+    link = design.linkage
+    if isinstance(link, FourBar):
+        return design._replace(linkage=link._replace(
+            a=link.a * factor, b=link.b * factor, c=link.c * factor, d=link.d * factor))
+    return design._replace(
+        linkage=link._replace(b=link.b * factor, c=link.c * factor, e=link.e * factor),
+        positions=tuple((phi, x * factor) for phi, x in design.positions))
 
 
 # ---- 18. Synthesis: the review's methods ---------------------------------------------------------
@@ -10162,7 +10184,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
 # Offers: engine_outputs, kind_and_dimensions, measured_transmission_angle, Measured, measure,
 #   output_change, velocity_ratio, Check, analyze_design, ANGLE_TOLERANCE, LENGTH_TOLERANCE,
 #   RATIO_TOLERANCE, conditioning, rounding_floor, misses, METHODS, ASKED_ANGLES, REVIEW_LETTERS,
-#   letters, design_lines, review_lines, whole_motion.
+#   letters, design_lines, design_commands, review_lines, whole_motion.
 
 
 # -- the analysis adapter ------------------------------------------------------------------------
@@ -10625,6 +10647,19 @@ def design_lines(design: Design) -> list[str]:
     lines.append(f"mu_min = {value_text(design.mu_min)}")
     lines.append(f"mu_max = {value_text(design.mu_max)}")
     return lines
+
+
+def design_commands(design: Design) -> list[str]:
+    """The commands that take one design further, `name = value` lines to paste: analyse it on
+    its branch, and its forces (RPM and KG to fill in); the lengths in full precision (repr),
+    so that analyse sees the design itself, not one rounded to 10 digits."""
+    kind, dims = kind_and_dimensions(design.linkage)
+    letters = " ".join(f"--{n} {v!r}" for n, v in dims.items())
+    masses = " ".join(f"--mass-{role} KG" for role in ("crank", "coupler", "output"))
+    return [f"command.analyse = python3 linkage.py analyse {kind} {letters} "
+            f"--branch {design.linkage.branch}",
+            f"command.forces = python3 linkage.py forces {kind} {letters} "
+            f"--branch {design.linkage.branch} --speed RPM {masses} --gravity 9.80665"]
 
 
 def review_lines(design: Design) -> list[str]:
@@ -12578,17 +12613,20 @@ def simulation_drawing(scene: Scene, run: Simulation) -> Drawing:
 #
 # Uses: sections 1, 2, 6, 7, 8, 9, 13, 15, 16, 17, 20 and 22.
 # Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
-#   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_key,
-#   explore_screen, explore_scene, terminal_keys, key_file, explore_saved, explore_replay,
-#   explore_terminal.
+#   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_steps,
+#   explore_key, explore_screen, explore_scene, terminal_keys, key_file, explore_saved,
+#   explore_replay, explore_terminal.
 
 
 # The keys, as the help screen lists them (the footer shows the first words of each).
 EXPLORE_HELP = (
     ("Tab  S-Tab  Up  Down", "select the next or previous dimension"),
     ("A B C D E F X U V", "select that one (X: the skew angle ξ, U V: coupler)"),
-    ("Left  Right", "change the selected dimension by a small step"),
-    ("S-Left  S-Right  [  ]", "change it by a large step"),
+    ("Left  Right", "change the selected dimension by a small step:"),
+    ("", "a length 1 % of the longest other link, up to 1, 2"),
+    ("", "or 5 times a power of ten; an angle 1 degree (the"),
+    ("", "footer shows the steps of the selected one)"),
+    ("S-Left  S-Right  [  ]", "change it by a large step: ten small ones"),
     ("=  Enter", "type its value (Enter takes it, Esc leaves it)"),
     ("b", "the other branch (A+B or A-B)"),
     ("f", "follow: analyse the motion through change points"),
@@ -12758,7 +12796,11 @@ def analysis_drawing(analysis: Analysis, coupler: tuple[float, float] | None = N
             texts[same].append(text)
     subtitle = ", ".join(f"{n} {' + '.join(t)} φ={phi % 360.0:.4g}"
                          for n, (t, phi) in enumerate(zip(texts, marked), 1))
-    phis, _ = _motion_angles(a, positions)
+    phis, turns = _motion_angles(a, positions)
+    end = phis[0] + 360.0 if turns else phis[-1]       # the output's extremes on this branch
+    exact = [phis[0] + (e.phi - phis[0]) % 360.0 for e in (a.output_min, a.output_max)  # drawn
+             if e is not None and off(output_on(branch, e.phi), e.value, angular) < 1e-6]
+    phis = sorted(set(phis) | {phi for phi in exact if phi < end or phi == phis[-1]})
     dims = " ".join(f"{'ξ' if k == 'ksi' else k}={v:g}" for k, v in linkage.dims.items())
     return mechanism_drawing(linkage, phis, branch, f"{KIND_NAMES[linkage.kind]}: {dims}; "
                              f"{a.linkage_class}, crank {'full' if a.crank_range is None else 'rocks'}",
@@ -12879,10 +12921,24 @@ def _nearest(phis: Sequence[float], phi: float) -> int:
     return min(range(len(phis)), key=lambda i: abs(wrap_degrees(phis[i] - phi)))
 
 
-def _steps(kind: str, name: str) -> tuple[float, float]:
-    """A dimension's small and large steps: degrees 1 and 10, lengths 0.1 and 1."""
-    degrees = name == "ksi" or (kind == SPHERICAL_FOUR_BAR and name in "abcduv")
-    return (1.0, 10.0) if degrees else (0.1, 1.0)
+def _degrees(kind: str, name: str) -> bool:
+    """Whether the explorer's dimension `name` (or u, v) of `kind` is an angle."""
+    return name == "ksi" or (kind == SPHERICAL_FOUR_BAR and name in "abcduv")
+
+
+def explore_steps(state: Explorer, name: str) -> tuple[float, float]:
+    """A dimension's small and large steps: an angle's 1 and 10 degrees; a length's the 1-2-5
+    step (1, 2 or 5 times a power of ten) at or above 1 % of the longest of the other links,
+    and ten times that: a linkage in metres steps by millimetres, not by 0.1 m, and a key held
+    keeps its step (the length it changes is not the one measured), so Right then Left is back."""
+    if _degrees(state.kind, name):
+        return 1.0, 10.0
+    longest = max([abs(x) for n, x in state.dims if n != name and not _degrees(state.kind, n)]
+                  or [0.0])
+    size = 0.01 * (longest or 1.0)
+    power = 10.0 ** math.floor(math.log10(size))
+    small = next(m * power for m in (1.0, 2.0, 5.0, 10.0) if m * power >= size * (1 - 1e-12))
+    return small, 10.0 * small
 
 
 def _changed(state: Explorer, views: ExploreViews, **changes: Any) -> Explorer:
@@ -12905,7 +12961,7 @@ def _changed(state: Explorer, views: ExploreViews, **changes: Any) -> Explorer:
 
 def _set_value(state: Explorer, name: str, value: float,
                views: ExploreViews) -> Explorer:
-    value = round(value, 10) + 0.0                      # steps of 0.1 stay short decimals
+    value = float(f"{value:.12g}") + 0.0                # 0.1 + 0.2 stays 0.3
     if name in ("u", "v"):
         u, v = state.coupler
         return _changed(state, views, coupler=(value, v) if name == "u" else (u, value))
@@ -12997,7 +13053,7 @@ def explore_key(state: Explorer, key: str, views: ExploreViews) -> Explorer:
         return state._replace(selected=names.index(letter))
     name = names[state.selected]
     if key in _STEP_KEYS:                   # Left, Right: small steps; the others large ones
-        small, large = _steps(state.kind, name)
+        small, large = explore_steps(state, name)
         size = small if key in ("Left", "Right") else large
         sign = 1.0 if key in ("Right", "S-Right", "]") else -1.0
         return _set_value(state, name, state.value(name) + sign * size, views)
@@ -13131,12 +13187,15 @@ def _side_panel(state: Explorer, view: ExploreView, width: int, height: int, uni
     return [line[:width] for line in lines], selected
 
 
-def _footer(width: int, unicode: bool) -> str:
-    """The keys line: the most used keys, all of them where the screen is wide enough."""
-    arrows = "←→" if unicode else "<>"
-    wide = (f"Tab/ABC select  {arrows} step  [] big  = type  b branch  f follow  Space play  "
-            ",. step  +- speed  c coupler  k kind  u undo  s save  ? help  q quit")
-    narrow = (f"Tab select {arrows} [] change = type b branch Space play c k u s ? help q quit")
+def _footer(width: int, unicode: bool, steps: tuple[float, float]) -> str:
+    """The keys line: the most used keys, all of them where the screen is wide enough; the
+    arrows' and [ ]'s steps of the selected dimension (explore_steps)."""
+    arrows, sign = ("←→", "±") if unicode else ("<>", "+-")
+    small, large = (f"{sign}{step:g}" for step in steps)
+    wide = (f"Tab/ABC select  {arrows} {small}  [] {large}  = type  b branch  f follow  "
+            "Space play  ,. step  +- speed  c coupler  k kind  u undo  s save  ? help  q quit")
+    narrow = (f"Tab select {arrows}{small} []{large} = type b branch Space play c k u s ? help "
+              "q quit")
     return wide if len(wide) <= width else narrow[:width]
 
 
@@ -13172,7 +13231,8 @@ def explore_screen(state: Explorer, view: ExploreView, width: int = 80, height: 
         body = [f"{d:<{left}} {p}" for d, p in zip(drawn + [""] * (height - 2 - len(drawn)),
                                                    panel + [""] * (height - 2 - len(panel)))]
         rows = selected
-    body = (body + [""] * height)[:height - 2] + [_footer(width, unicode), _status_line(state)]
+    body = (body + [""] * height)[:height - 2] + [_footer(width, unicode, explore_steps(state, state.names[state.selected])),
+                                              _status_line(state)]
     if not unicode:                     # as text_drawing's lines: anything else a '?'
         body = [line.translate(_ASCII_PANEL).encode("ascii", "replace").decode("ascii")
                 for line in body]
@@ -14127,7 +14187,7 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 26. Commands run, analyse and forces: each one's typed value, validated once, and its work ----
+# ---- 26. Commands run, analyse and forces: their typed values and handlers -----------------------
 #
 # Holds: the parsers of what is typed (numbers in each precision, kinds); what every command is
 # given (its one typed value, made of the parsed options once its "goes with" rules hold: Rule,
@@ -14356,9 +14416,9 @@ MADE_FOLDERS: list[str] = []     # the folders this command made (output_folder)
 
 def output_folder(option: str, path: str) -> None:
     """The one rule of every command's output folder (run's and scene's --dir, design's --dat):
-    made if missing, with its parents, before any work; refused (exit status 2)
-    where it cannot be, e.g. a file in the way (UsageError). Those it makes are in MADE_FOLDERS: a command
-    that fails leaves none of them behind (unmake_folders)."""
+    made if missing, with its parents, before any work; refused (UsageError, exit status 2)
+    where it cannot be, e.g. a file in the way. Those it makes are in MADE_FOLDERS: a command that
+    fails leaves none of them behind (unmake_folders)."""
     missing, head = [], os.path.abspath(path)
     while not os.path.lexists(head) and os.path.dirname(head) != head:
         missing.append(head)
@@ -14992,6 +15052,7 @@ class DesignOptions(NamedTuple):
     scene: str | None
     pictures: Pictures
     words: tuple[str, ...]
+    scale: float | None = None      # every length multiplied by it (scaled_design); None: 1
 
 
 def design_options(given: dict[str, Any]) -> DesignOptions:
@@ -15002,8 +15063,14 @@ def design_options(given: dict[str, Any]) -> DesignOptions:
     method = METHODS[given["method"]][1]
     data = {datum.name: given[datum.name] for datum in DATA[method]
             if given.get(datum.name) is not None}
+    scale = given.get("scale")
+    if scale is not None:
+        scale = typed_value(decimal_number, scale, "--scale")
+        if not 0.0 < scale < math.inf:
+            raise UsageError(f"--scale {scale:g}: expected a length > 0 (the fixed link's, in "
+                             "your units)")
     return DesignOptions(given["method"], data, given["analyze"], given["dat"], given["scene"],
-                         pictures, tuple(given["words"]))
+                         pictures, tuple(given["words"]), scale)
 
 
 def design_command(args: DesignOptions) -> int:
@@ -15014,7 +15081,7 @@ def design_command(args: DesignOptions) -> int:
         output_folder("--dat", args.dat)
     function, method = METHODS[args.method]
     try:
-        result = function(**args.data)
+        designed = function(**args.data)
     except DesignError as error:
         say(f"error: {error}", f"{PROG} design")
         return 1
@@ -15022,22 +15089,27 @@ def design_command(args: DesignOptions) -> int:
         say(f"error: {method}: the data cannot be computed in double precision ({error})",
             f"{PROG} design")
         return 1
+    result = designed._replace(solutions=tuple(scaled_design(design, args.scale or 1.0)
+                                               for design in designed.solutions))
     print(f"method = {result.method}")
     for key, value in result.design.data.items():
         print(f"data.{key} = {value_text(value)}")
     print(f"letters = {letters(result.design.linkage)} (as run takes them)")
+    if args.scale is not None:
+        print(f"scale = {value_text(args.scale)}  # every length multiplied by it"
+              + (": the fixed link a" if isinstance(result.design.linkage, FourBar) else ""))
     print(f"solutions = {len(result.solutions)}")
     print(f"preferred = {result.preferred + 1}")
     for reason in result.rejected:
         print(f"rejected = {reason}")
     code = 0
-    for number, design in enumerate(result.solutions, 1):
+    for number, (design, unscaled) in enumerate(zip(result.solutions, designed.solutions), 1):
         print(f"solution = {number}")
         for line in design_lines(design):
             print(line)
         if args.analyze:
-            checks = analyze_design(design)
-            bad = misses(design, checks)
+            checks = analyze_design(unscaled)        # against the data, in the data's units
+            bad = misses(unscaled, checks)
             for check in checks:
                 measured = "none" if check.measured is None else value_text(check.measured)
                 print(f"measured.{check.name} = {measured}  # expected {value_text(check.expected)}"
@@ -15050,7 +15122,7 @@ def design_command(args: DesignOptions) -> int:
                 print("\n".join(analysis_lines(analysis, "analysis.")))
             except ValueError as error:
                 print(f"analysis = none  # {error}")
-        for line in review_lines(design):
+        for line in design_commands(design) + review_lines(unscaled):
             print(line)
     pictures = args.pictures
     if (args.dat is not None or args.scene or pictures.svg or pictures.png or pictures.dxf
@@ -15063,8 +15135,8 @@ def design_command(args: DesignOptions) -> int:
 
 def _design_outputs(result: Synthesis, args: DesignOptions) -> int:
     """design's files - the DAT files (--dat), the scene (--scene), the drawings (--svg, --png,
-    --dxf) - put in place as one set (WrittenSet: all or none), then --text's terminal drawing. The status
-    (1: a DAT file that cannot be written)."""
+    --dxf) - put in place as one set (WrittenSet: all or none), then --text's terminal drawing.
+    The status (1: a DAT file that cannot be written)."""
     pictures = args.pictures
     if pictures.png:
         matplotlib_canvas()                               # fail before any work
@@ -15260,8 +15332,9 @@ class ExploreOptions(NamedTuple):
 
 def explore_options(given: dict[str, Any]) -> ExploreOptions:
     """explore's typed value: the kind and dimensions given (the kind's example's where not), or
-    a scene's linkage, branch, coupler point and [dynamics], or the plane four-bar's example. UsageError,
-    or CommandError (SceneError) for a scene or linkage it cannot show."""
+    a scene's linkage, branch, coupler point and [dynamics], or the plane four-bar's example;
+    --branch the branch it starts on (else 1, or the scene's). UsageError, or CommandError
+    (SceneError) for a scene or linkage it cannot show."""
     typed = dimensions_typed(given)
     target = given["target"] or PLANE_FOUR_BAR
     kind = kind_named(target)
@@ -15277,11 +15350,11 @@ def explore_options(given: dict[str, Any]) -> ExploreOptions:
     try:
         if kind is None:
             scene = load_scene(scene_path(target))
-            state = explorer_of(scene.kind, scene.dimensions,
-                                next((b for b in scene.branches if isinstance(b, int)), 1),
+            branch = next((b for b in scene.branches if isinstance(b, int)), 1)
+            state = explorer_of(scene.kind, scene.dimensions, int(given.get("branch") or branch),
                                 FOLLOW in scene.branches, scene.coupler, scene.dynamics)
         else:
-            state = explorer_of(kind, dims)
+            state = explorer_of(kind, dims, int(given.get("branch") or 1))
         ExploreViews()(state)                           # a linkage that can be drawn
     except ValueError as e:
         raise CommandError(str(e)) from None
@@ -15413,10 +15486,13 @@ DESIGN_OUTPUT_HELP = (
     "Prints, a `name = value` line each: the data; per solution the linkage in the program's "
     "letters, as `run` takes them (four-bars: a the fixed link = 1, b the input crank, c the "
     "coupler, d the output crank; slider-cranks: b the crank, c the rod, e the offset of the "
-    "slider's line y = e), its branch (run --branch), the design positions (phi the crank, psi "
-    "the output, x the slider; angles as the data give them), the transmission angle's extremes "
-    "mu_min and mu_max; then, labelled review, the review's own numbers in its letters. Exit 0, "
-    "1 for data no design meets, 2 for a usage error, 3 when --analyse finds a miss.")
+    "slider's line y = e; each length times --scale's L where it is given), its branch (run "
+    "--branch; analyse, forces and explore take branch 1 unless told), the design positions "
+    "(phi the crank, psi the output, x the slider; angles as the data give them), the transmission angle's extremes mu_min and "
+    "mu_max (analyse's mu_worst is the one further from 90); command.analyse and command.forces,"
+    " the next commands with the lengths in full precision and the branch, to paste (forces: "
+    "fill in RPM and each KG); then, labelled review, the review's own numbers in its letters. "
+    "Exit 0, 1 for data no design meets, 2 for a usage error, 3 when --analyse finds a miss.")
 
 
 def datum_help(datum: Datum) -> str:
@@ -15545,7 +15621,8 @@ PNG_OPTIONS = (
 )
 COMMANDS = {
     "run": Command(
-        run_options, run_command, "the original program driven by options",
+        run_options, run_command,
+        "the original program driven by options",
         "The original program given these answers: writes ANG.DAT, VEL.DAT and ACC.DAT exactly "
         "as the menu would. Dimensions are typed as in the menu (degrees for the spherical "
         "linkage's arcs). " + DIMENSIONS_HELP,
@@ -15598,7 +15675,8 @@ COMMANDS = {
          goes_with("--fast", "--precision double",
                    why="the original's numbers are computed one point at a time"))),
     "analyse": Command(
-        analyse_options, analyse_command, "the linkage's class, range of motion and transmission angle",
+        analyse_options, analyse_command,
+        "the linkage's class, range of motion and transmission angle",
         "The linkage's class (Grashof's for the plane four-bar, b + |e| against c for the "
         "plane slider-crank, the class its motion shows for the other kinds), the crank's range "
         "(full, or between its dead centres), the output's range and swing, the time ratio "
@@ -15630,32 +15708,40 @@ COMMANDS = {
          goes_with("--coupler", "--svg", "--png", "--dxf", why="it draws the coupler curve")),
         ("analyze",)),
     "forces": Command(
-        forces_options, forces_command, "what it takes to drive the linkage: torque, power, joint forces, "
-                        "shaking, flywheel",
+        forces_options, forces_command,
+        "what it takes to drive the linkage: torque, power, joint forces, shaking, flywheel",
         "The forces along a sweep (SI units: lengths in metres, masses in kg; the spherical "
-        "four-bar's arcs in degrees on a sphere of the scene's radius, or --radius): the "
-        "driving torque T on the crank (N m) at its peak and RMS with their input angles, the "
+        "four-bar's arcs in degrees on a sphere of the scene's radius, or --radius), the crank "
+        "turning at a constant speed, a positive one counter-clockwise (phi increasing): the "
+        "torque T the driver applies to the crank (N m, positive in the sense of phi), "
+        "torque_peak the largest |T| with its sign, and T's RMS, with their input angles; the "
         "mean power (T omega, W; omega = 2 pi rpm / 60, rad/s), each joint's peak force (N; the"
         " spherical four-bar's joints: their moment about the sphere's centre O, N m), the "
-        "frame's peak shaking force and moment, and the flywheel inertia (kg m^2) that holds "
-        "the speed within +-Cs/2 of its mean, Cs the speed fluctuation (max - min) / mean "
-        "(--fluctuation): the largest swing of the crank's energy over Cs omega^2, over a sweep"
-        " of one turn. Given a scene (data/scenes/forces-*.toml), its [dynamics] table; given a"
-        " KIND, its dimensions as for run and the options below, each link a uniform rod of its"
-        " mass. One `name = value` a line, as analyse prints.",
+        "frame's peak shaking force and moment, and flywheel_inertia (kg m^2): the whole "
+        "inertia at the crank that holds the speed within +-Cs/2 of its mean, Cs the speed "
+        "fluctuation (max - min) / mean (--fluctuation; within +-5 % is Cs = 0.10): the "
+        "largest swing of the energy T puts in, over Cs omega^2, over a sweep of one turn; "
+        "inertia_mean, the linkage's own inertia reduced to the crank and averaged over the "
+        "sweep, carries part of it, and flywheel_added is the rest, the flywheel to fit. No "
+        "gravity unless "
+        "asked (--gravity, a scene's gravity key). Given a scene (data/scenes/forces-*.toml), "
+        "its [dynamics] table; given a KIND, its dimensions as for run and the options below, "
+        "each link a uniform rod of its mass. One `name = value` a line, as analyse prints.",
         (option("target", metavar="SCENE|KIND",
                 help="a scene with [dynamics] (a file, or the name of one that comes with the "
                      "program), or a kind: " + ", ".join(KIND_NAMES) + " (or 1-5)"),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
          option("--speed", metavar="RPM",
-                help="a KIND: the crank's speed, revolutions a minute (default 0: static)"),
+                help="a KIND: the crank's speed, revolutions a minute, positive counter-"
+                     "clockwise: phi increasing (default 0: static)"),
          option("--mass-crank", metavar="KG", help="a KIND: the crank's mass, kg"),
          option("--mass-coupler", metavar="KG", help="a KIND: the coupler's mass, kg"),
          option("--mass-output", metavar="KG",
                 help="a KIND: the output crank's mass (a slider-crank: the slider's), kg"),
          option("--gravity", metavar="G",
                 help="a KIND: gravity, m/s^2 along the kind's down (-y for the plane kinds, -z "
-                     "for the spatial ones), e.g. 9.80665 (default none)"),
+                     "for the spatial ones), e.g. 9.80665 (default none: no gravity unless "
+                     "asked)"),
          option("--radius", metavar="M",
                 help="a KIND (spherical): the sphere's radius, metres (default 1)"),
          option("--output-torque", metavar="N_M",
@@ -15674,9 +15760,10 @@ COMMANDS = {
                 help="a KIND: the step, degrees (default 1)"),
          option("--fluctuation", type=float, default=0.05, metavar="CS",
                 help="the speed fluctuation Cs = (max - min) / mean speed the flywheel holds "
-                     "(default 0.05)"))),
+                     "(default 0.05: within +-2.5 %% of the mean; +-5 %% is 0.10)"))),
     "scene": Command(
-        scene_options, scene_command, "draw a scene of data/scenes: the paper's figures, the hard cases, the "
+        scene_options, scene_command,
+        "draw a scene of data/scenes: the paper's figures, the hard cases, the "
                        "linkage moving",
         "Compute a scene (a TOML file, see data/scenes), keep its DAT files (with --dir) and draw "
         "its figure: a plain-text plot of 80 x 24 characters unless --png is given. A mechanism "
@@ -15708,7 +15795,8 @@ COMMANDS = {
                      "scene that overlays several series writes one folder each"),
          *PNG_OPTIONS)),
     "plot": Command(
-        plot_options, plot_command, "draw the figure of ANG.DAT, VEL.DAT and ACC.DAT already written",
+        plot_options, plot_command,
+        "draw the figure of ANG.DAT, VEL.DAT and ACC.DAT already written",
         "Draw the figure of the DAT files in DIR (the menu program's, run's or a scene's): a "
         "plain-text plot of 80 x 24 characters unless --png is given. To see the linkage itself "
         "move, draw a mechanism scene: python3 linkage.py scene "
@@ -15722,7 +15810,8 @@ COMMANDS = {
                                      "the old spelling, still taken)"),
          *PNG_OPTIONS)),
     "design": Command(
-        design_options, design_command, "synthesise a linkage by one of the review's methods (python3 "
+        design_options, design_command,
+        "synthesise a linkage by one of the review's methods (python3 "
                         "linkage.py design --help)",
         "Synthesis of four-bar and slider-crank function generators (Pennestri & Valentini's "
         "review); angles in degrees.",
@@ -15745,9 +15834,17 @@ COMMANDS = {
                      "positions as still frames)"),
          option("--scene", metavar="OUT",
                 help="write that motion as a scene file (TOML) to edit and draw with python3 "
-                     "linkage.py scene OUT"))),
+                     "linkage.py scene OUT"),
+         option("--scale", metavar="L",
+                help="every length multiplied by L, in what it prints, its commands, --scene, "
+                     "--svg, --png, --dxf and --dat: a four-bar (designed with the fixed link a "
+                     "= 1) gets the fixed link L, e.g. --scale 0.2 for a 0.2 m frame; a "
+                     "slider-crank (designed in its data's units: ds, epsilon, s1, s2) has its "
+                     "lengths and slider positions multiplied, e.g. --scale 0.001 from mm to m. "
+                     "Angles, the data and the review's own numbers are not scaled"))),
     "listing": Command(
-        lambda given: ListingOptions(given["ocr"]), listing_command, "the original BASIC listing as corrected, with its errata",
+        lambda given: ListingOptions(given["ocr"]), listing_command,
+        "the original BASIC listing as corrected, with its errata",
         "The program of the paper's appendix as it must have run (legacy_basic/LINKAGE.BAS): "
         "each line that corrects the scan of the printed listing is marked * and followed by "
         "its erratum and the reason for it, each line where a bug of the original lives, kept "
@@ -15758,7 +15855,8 @@ COMMANDS = {
                 help="show the scan's text (legacy_basic/LINKAGE.OCR.txt) under each line it "
                      "prints otherwise (white space aside)"),)),
     "explore": Command(
-        explore_options, explore_command, "change a dimension and watch the linkage answer, in the terminal",
+        explore_options, explore_command,
+        "change a dimension and watch the linkage answer, in the terminal",
         "A full-screen view of the linkage moving, its coupler curve traced, and beside it its "
         "dimensions and what analyse answers (type, crank range, swing, time ratio, the "
         "transmission angle now, at its extremes and furthest from 90 degrees), all following "
@@ -15769,6 +15867,9 @@ COMMANDS = {
                      "rest the kind's example's); or a scene (a TOML file, or the name of one "
                      "of scene --list); default: the plane four-bar"),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
+         option("--branch", choices=("1", "2"), metavar="1|2",
+                help="the assembly it starts on: 1 (A+B, the default; a scene: its own) or 2 "
+                     "(A-B), as analyse --branch and design's branch (b toggles it)"),
          option("--keys", metavar="FILE",
                 help="replay the keys of FILE and print the last screen, no terminal needed: "
                      "one key a line, a character or one of " + ", ".join(EXPLORE_KEY_NAMES)
@@ -15778,7 +15879,8 @@ COMMANDS = {
         (goes_with("--size", "--keys",
                    why="it sets the screen of a replay; the terminal's is its own"),)),
     "bench": Command(
-        bench_options, bench_command, "measure speed, and what accuracy costs in time",
+        bench_options, bench_command,
+        "measure speed, and what accuracy costs in time",
         "Run the benchmarks and print their numbers (port runs PC-BASIC for minutes; accuracy, "
         "what each rung of the ladder - GW-BASIC single precision, the double engine, numpy, 50 "
         "digits - errs against 110 digits and costs a point). The tests' own ladder, against an "

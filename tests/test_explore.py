@@ -121,8 +121,9 @@ def test_a_saved_scene_reads_back_to_the_same_screen(tmp_path):
     before = replayed(["skew"], keys, tmp_path).split("\n")
     assert before[-1] == "saved explore-skew.toml"
     scene = linkage.load_scene(str(tmp_path / "explore-skew.toml"))
-    assert scene.dimensions == dict(a=4.1, b=1.5, c=4.0, d=2.5, f=2.0, ksi=40.0)
-    assert scene.branches == (2,) and scene.coupler == (3.0, 0.0)
+    # steps of 1 % of the longest other link, c = 4 (then a = 4.05): 0.05, and 0.5
+    assert scene.dimensions == dict(a=4.05, b=1.5, c=4.0, d=2.5, f=2.0, ksi=40.0)
+    assert scene.branches == (2,) and scene.coupler == (2.5, 0.0)
     after = replayed([str(tmp_path / "explore-skew.toml")], ["b", "b", "Tick", "Tick"],
                      tmp_path).split("\n")
     unmarked = [[line.replace(">", " ") for line in screen[:-4]] for screen in (before, after)]
@@ -148,17 +149,33 @@ def test_a_save_that_cannot_be_written_says_so(tmp_path):
     assert not list(tmp_path.glob("*.toml"))
 
 
+ONE_TWO_FIVE = sorted(m * 10.0 ** k for k in range(-9, 6) for m in (1, 2, 5))
+
+
+def small_step(kind, dims, name):
+    """The arrows' step as the explorer's help states it: an angle 1 degree; a length the least
+    of 1, 2, 5 times a power of ten at or above 1 % of the longest other link."""
+    if name == "ksi" or (kind == "spherical" and name in "abcduv"):
+        return 1.0
+    longest = max(abs(x) for n, x in dims if n != name and n != "ksi")
+    return next(step for step in ONE_TWO_FIVE if step >= 0.01 * longest * (1 - 1e-9))
+
+
 def test_every_dimension_of_every_kind_is_changed_by_its_keys(tmp_path):
-    """The change-KIND sessions: each dimension up 0.1 + 0.1 + 1, down 0.1 + 1 (degrees: 10
-    times that), then b typed as 2.5."""
+    """The change-KIND sessions: each dimension in turn up s + s + 10 s, down s + 10 s: up by s,
+    the small step (small_step: 1 degree, or 1 % of the longest other link, as changed so far,
+    to a 1-2-5 step, which the keys held do not change), then b typed as 2.5."""
     for kind in linkage.LINKAGE_DIMENSIONS:
         text = (SESSIONS_FOLDER / f"change-{kind}.screen").read_text(encoding="utf-8")
         start = linkage.explorer_of(kind)
+        dims = dict(start.dims)
         for name, value in start.dims + (("u", start.coupler[0]), ("v", start.coupler[1])):
             if name == "v" and kind in ("skew", "skew-slider"):
                 continue
-            degrees = name == "ksi" or (kind == "spherical" and name in "abcduv")
-            expected = 2.5 if name == "b" else value + (1.0 if degrees else 0.1)
+            changed = value + small_step(kind, tuple(dims.items()), name)
+            if name not in ("u", "v"):
+                dims[name] = changed
+            expected = 2.5 if name == "b" else changed
             shown = "ξ" if name == "ksi" else name
             assert re.search(rf"[ >] *{shown} = {expected:g} ", text), (kind, name, expected)
 
@@ -612,3 +629,15 @@ def test_a_rocking_crank_swings_back_and_forth_on_its_branch(dims, branch):
     ups = [b > a for a, b in zip(phis, phis[1:]) if b != a]
     turns = sum(1 for a, b in zip(ups, ups[1:]) if a != b)
     assert ups[0] and turns == 2 and ups[-1], phis
+
+
+def test_a_linkage_in_metres_steps_by_millimetres_and_back(tmp_path):
+    """Issue 34: with lengths in metres one Right turned a 0.097 m crank into 0.197. Now the step
+    is 1 % of the longest other link (0.2 m: 2 mm), shown in the footer; Right then Left is back,
+    and the large step is ten small ones."""
+    metres = ["plane", "--a", "0.2", "--b", "0.097", "--c", "0.11", "--d", "0.184"]
+    right = replayed(metres, ["B", "Right"], tmp_path)
+    assert "b = 0.099 " in right and "←→±0.002 []±0.02 " in right.split("\n")[-2], right
+    assert "b = 0.097 " in replayed(metres, ["B", "Right", "Left"], tmp_path)
+    assert "b = 0.117 " in replayed(metres, ["B", "]"], tmp_path)
+    assert "←→±0.1 []±1 " in replayed(["plane"], [], tmp_path)      # lengths of 2 to 9

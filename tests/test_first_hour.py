@@ -11,6 +11,7 @@ import math
 import os
 import random
 import re
+import shlex
 
 import pytest
 
@@ -330,3 +331,205 @@ def test_the_svg_says_what_its_curves_colours_and_dashes_mean():
     assert "behind the sphere" in legend and "followed" not in legend
     plane = linkage.Linkage("plane", a=6, b=2, c=7, d=9)
     assert 'class="legend"' not in linkage.svg_drawing(linkage.mechanism_drawing(plane, [0.0]))
+
+
+# -- design -> analyse -> forces: the user's units, the branch, the next commands ----------------
+
+def lines_of(out: str) -> dict[str, str]:
+    return dict(line.split(" = ", 1) for line in out.splitlines() if " = " in line)
+
+
+def pasted(command: str, capsys, **filled: str):
+    """A `command.*` line of design run as the user pastes it, placeholders filled."""
+    words = shlex.split(command)
+    assert words[:2] == ["python3", "linkage.py"], words
+    words = [filled.get(w, w) for w in words[2:]]
+    return output_of(words, capsys)
+
+
+@pytest.mark.parametrize("argv, scale, swing, time_ratio", [
+    (["fourb-cr-4", "--psi", "50", "--mu-min", "40"], "0.2", "50 deg", "1"),
+    (["fourb-cr-1", "--psi", "45", "--theta", "12", "--theta0", "60"], "0.35", "45 deg", "1.142857143"),
+    (["slid-fg2-1", "--dtheta", "160", "--ds", "40", "--epsilon", "5"], "0.001", "0.04", "1.25")])
+def test_design_prints_the_next_commands_in_the_users_units_on_its_branch(
+        argv, scale, swing, time_ratio, capsys):
+    """design --scale L prints its lengths times L and command.analyse, which - pasted - analyses
+    that very linkage on its branch: the swing the data asked (a slider's stroke ds times L), the
+    time ratio (180 + theta) / (180 - theta) or dtheta's, not 1.000000001 from 10-digit lengths
+    typed by hand; command.forces runs once RPM and KG are filled in."""
+    status, out, err = output_of(["design", *argv], capsys)
+    plain = lines_of(out)
+    status, out, err = output_of(["design", *argv, "--scale", scale], capsys)
+    got = lines_of(out)
+    assert status == 0, err
+    for letter in "abcde":
+        if letter in plain:
+            assert float(got[letter]) == pytest.approx(float(plain[letter]) * float(scale),
+                                                       rel=1e-9), letter
+    status, out, err = pasted(got["command.analyse"], capsys)
+    analysed = lines_of(out)
+    assert status == 0, err
+    assert analysed["branch"] == got["branch"] and analysed["swing"] == swing, analysed
+    assert analysed["time_ratio"] == time_ratio, analysed
+    status, out, err = pasted(got["command.forces"], capsys, RPM="60", KG="0.5")
+    assert status == 0 and "torque_peak" in out, err
+
+
+def test_design_scale_draws_and_writes_the_scene_in_the_users_units(tmp_path, capsys):
+    scene = tmp_path / "cr4.toml"
+    status, out, err = output_of(["design", "fourb-cr-4", "--psi", "50", "--mu-min", "40",
+                                  "--scale", "0.2", "--scene", str(scene)], capsys)
+    assert status == 0, err
+    loaded = linkage.load_scene(str(scene))
+    assert loaded.dimensions["a"] == 0.2 and loaded.branches == (2,), loaded
+
+
+@pytest.mark.parametrize("scale", ["0", "-1", "inf"])
+def test_design_refuses_a_scale_that_is_no_length(scale, capsys):
+    with pytest.raises(SystemExit) as done:
+        linkage.main(["design", "fourb-cr-4", "--psi", "50", "--mu-min", "40", "--scale", scale])
+    assert done.value.code == 2 and "--scale" in capsys.readouterr().err
+
+
+def test_explore_starts_on_the_branch_asked(tmp_path, capsys):
+    """explore --branch 2 is the screen of branch 1 and b pressed."""
+    ticks, toggled = tmp_path / "ticks.keys", tmp_path / "toggled.keys"
+    ticks.write_text("Tick\nTick\n", encoding="utf-8")
+    toggled.write_text("b\nTick\nTick\n", encoding="utf-8")
+    plane = ["explore", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9"]
+    asked = output_of([*plane, "--branch", "2", "--keys", str(ticks)], capsys)
+    pressed = output_of([*plane, "--keys", str(toggled)], capsys)
+    assert asked[0] == pressed[0] == 0 and asked[1] == pressed[1], asked
+    assert "branch 2 (A-B)" in asked[1]
+
+
+def test_mu_worst_of_a_design_whose_mu_is_40_to_140_is_mu_min(capsys):
+    """FOURB-CR-4 with mu_min 40 is centric: mu runs from 40 to 140, equally far from 90 but for
+    rounding (3.6e-14 here), and the README's rule - mu_min if equally far - holds to that
+    rounding (MU_TIE, 1e-9 degrees): mu_worst = 40 at mu_min's angle, not 140."""
+    status, out, err = output_of(["design", "fourb-cr-4", "--psi", "50", "--mu-min", "40"],
+                                 capsys)
+    command = lines_of(out)["command.analyse"]
+    words = shlex.split(command)[3:]
+    link = linkage.Linkage("plane", **{w[2:]: float(v) for w, v in zip(words[1::2], words[2::2])
+                                       if w[2:] in "abcd"})
+    analysis = linkage.analyse(link, 2)
+    apart = abs(analysis.mu_max.value - 90.0) - abs(analysis.mu_min.value - 90.0)
+    assert 0 < abs(apart) <= linkage.MU_TIE <= 1e-9, apart      # a tie only to rounding
+    status, out, err = pasted(command, capsys)
+    got = lines_of(out)
+    assert (got["mu_min"], got["mu_max"]) == ("40", "140"), got
+    assert (got["mu_worst"], got["mu_worst_at"]) == (got["mu_min"], got["mu_min_phi"]), got
+    assert got["mu_worst_deviation"] == "50"
+
+
+@pytest.mark.parametrize("phi, sign", [(0, 1), (90, 0), (180, -1)])
+def test_forces_help_and_readme_say_the_torques_sign_and_physics_agrees(phi, sign, capsys):
+    """forces --help and the README say T is the driver's torque, positive in the sense of phi,
+    the peak signed, the crank counter-clockwise for a positive speed, gravity off unless asked,
+    Cs = 0.10 for +-5 %; and a crank alone (a 2 kg rod of b = 0.5 m) held against gravity g = 10
+    at phi needs m g (b/2) cos(phi): +5 N m at 0 (gravity turns it clockwise), -5 at 180."""
+    text = help_text("forces")
+    for words in ("positive in the sense of phi", "the largest |T| with its sign",
+                  "counter- clockwise (phi increasing)", "No gravity unless asked",
+                  "within +-5 % is Cs = 0.10", "the flywheel's own inertia about the crank's axis"):
+        assert words in text, words
+    readme = " ".join(README.split())
+    for words in ("positive in the sense of φ", "*with its sign*", "`--fluctuation 0.10`",
+                  "gravity** is off unless asked", "on top of the links"):
+        assert words in readme, words
+    status, out, err = output_of(["forces", "plane", "--a", "2", "--b", "0.5", "--c", "2",
+                                  "--d", "1.5", "--mass-crank", "2", "--gravity", "10", "--from",
+                                  str(phi), "--to", str(phi), "--step", "1"], capsys)
+    torque = float(lines_of(out)["torque_peak"].split()[0])
+    assert status == 0 and torque == pytest.approx(sign * 5.0, abs=1e-9), out
+    status, out, err = output_of(["forces", "plane", "--a", "2", "--b", "0.5", "--c", "2",
+                                  "--d", "1.5", "--mass-crank", "2", "--from", "0", "--to", "0",
+                                  "--step", "1"], capsys)
+    assert float(lines_of(out)["torque_peak"].split()[0]) == 0.0, out   # no gravity unasked
+
+
+def test_every_centric_crank_rocker_has_mu_worst_mu_min():
+    """mu of a centric crank-rocker (FOURB-CR-4: c^2 + d^2 = a^2 + b^2 in run's letters, so cos mu
+    = +-a b / (c d)) runs from mu_min to 180 - mu_min exactly; however rounded, in whatever units
+    (random psi, mu_min, scale), analyse's mu_worst is mu_min (its rounding reached 187 ulps of 90
+    at mu_min 5 degrees: a few ulps would not do)."""
+    rng = random.Random(34)
+    for _ in range(40):
+        psi = rng.uniform(5, 120)
+        mu, scale = rng.uniform(3, 89 - psi / 2), 10 ** rng.uniform(-3, 3)
+        link = linkage.METHODS["fourb-cr-4"][0](psi=psi, mu_min=mu).design.linkage
+        dims = {n: getattr(link, n) * scale for n in "abcd"}
+        assert math.isclose(dims["c"] ** 2 + dims["d"] ** 2, dims["a"] ** 2 + dims["b"] ** 2)
+        analysis = linkage.analyse(linkage.Linkage("plane", **dims), link.branch)
+        assert analysis.mu_worst == analysis.mu_min, (psi, mu, scale, analysis.mu_max)
+
+
+# -- the pictures: the angle a label names is the angle drawn -----------------------------------
+
+@pytest.mark.parametrize("kind, dims, branch", [
+    ("plane", dict(a=0.2, b=0.0777847742781538, c=0.110337791896249, d=0.184054456042127), 2),
+    ("plane", dict(a=6, b=2, c=7, d=9), 1), ("slider", dict(b=2, c=7, e=1.5), 1),
+    ("plane", dict(a=6, b=5, c=7, d=9), 1)])
+def test_the_analyse_drawing_draws_the_output_at_its_extremes(kind, dims, branch):
+    """analyse --png labels the drawn position where the output is least and greatest (ψ min,
+    with its φ) and its header names analyse's angles: the position drawn is at that angle (56.52,
+    not the 55 of a 5-degree sweep), the output there the extreme's value - where the extreme
+    is on the branch drawn (a=6 b=5: the rocking crank's output least on its return, branch 2,
+    drawn faint and numbered)."""
+    analysis = linkage.analyse(linkage.Linkage(kind, **dims), branch)
+    drawing = linkage.analysis_drawing(analysis)
+    posed = [f.pose for f in drawing.frames if f.message is None]
+    on_branch = [e for e in (analysis.output_min, analysis.output_max) if abs(linkage.wrap_degrees(
+        linkage.Linkage(kind, **dims).sweep([e.phi], branch, 0)[0].output - e.value)) < 1e-9]
+    assert len(on_branch) == (1 if dims.get("b") == 5 else 2), on_branch
+    for extreme in on_branch:
+        pose = next((p for p in posed if abs(linkage.wrap_degrees(p.phi - extreme.phi)) < 1e-9),
+                    None)
+        assert pose is not None, (extreme, [p.phi for p in posed])
+        assert abs(linkage.wrap_degrees(pose.output - extreme.value)) < 1e-9, (pose, extreme)
+
+
+def test_the_design_pictures_name_crank_positions_within_a_turn():
+    """design --png's caption said "the last at φ = 386.517°": a crank position, named in
+    [0, 360)."""
+    result = linkage.METHODS["fourb-cr-4"][0](psi=50, mu_min=40)
+    drawing = linkage.scene_drawing(linkage.design_scene(result))
+    assert max(f.pose.phi for f in drawing.frames) > 360             # the sweep runs past a turn
+    for frame in drawing.frames:
+        phi = float(re.match(r"φ = ([-0-9.e]+)°", frame.caption)[1])
+        assert 0 <= phi < 360 and math.isclose(phi, frame.pose.phi % 360, abs_tol=1e-3), frame.caption
+
+
+def test_the_readmes_walk_through_pastes_what_design_prints_and_shows_what_it_answers(capsys):
+    """The README's crank-rocker from start to finish: its analyse and forces commands are
+    design's command.analyse and command.forces (RPM and KG filled in), and every `name = value`
+    line it shows under a command is one that command prints."""
+    section = README.split("## A crank-rocker from start to finish", 1)[1].split("\n## ", 1)[0]
+    commands: list[str] = []
+    shown: dict[str, list[str]] = {}
+    for paragraph in section.split("\n\n"):
+        lines = [line.strip() for line in paragraph.splitlines()]
+        if not paragraph.startswith("    "):
+            continue
+        if lines[0].startswith("python3 linkage.py"):
+            commands.append(lines[0])
+        else:                                            # the output of the command before
+            shown[commands[-1]] = lines
+    assert len(shown) == 3, shown
+    design, analyse, png, forces = commands
+    status, out, err = output_of(shlex.split(design)[2:], capsys)
+    printed = lines_of(out)
+    assert status == 0 and analyse == printed["command.analyse"], (analyse, printed)
+    assert png.startswith(analyse + " --png ")
+    speed = re.search(r"--speed (\S+) --mass-crank (\S+) --mass-coupler (\S+) --mass-output (\S+)",
+                      forces)
+    filled = printed["command.forces"].replace("--speed RPM", f"--speed {speed[1]}")
+    for role, mass in zip(("crank", "coupler", "output"), speed.groups()[1:]):
+        filled = filled.replace(f"--mass-{role} KG", f"--mass-{role} {mass}")
+    assert forces == filled, (forces, filled)
+    for command, lines in shown.items():
+        status, out, err = output_of(shlex.split(command)[2:], capsys)
+        for line in lines:
+            assert line == "..." or line in out.splitlines(), (command, line)
+
