@@ -184,7 +184,7 @@ def summary_rows(text):
     for line in lines[start + 2:]:
         if not line.startswith("|"):
             break
-        rows.append([cell.strip() for cell in line.strip().strip("|").split(" | ")])
+        rows.append([cell.strip() for cell in line.strip().strip("|").split("|")])
     return rows
 
 
