@@ -33,10 +33,10 @@ mechanism's renderers (terminal, SVG, PNG, DXF); 16. synthesis: what a design is
 the review's methods; 18. synthesis: designs measured and checked; 19. scenes (read and
 checked); 20. scenes computed (DAT files, forces, CSV); 21. plots; 22. simulation scenes (a run
 in time: its CSV, plots and motion); 23. the explorer (a dimension changed, the linkage watched
-in the terminal); 24. benchmarks of the program itself; 25. commands run, analyse and forces
-(each command's one typed value, validated once, and its handler); 26. commands scene, plot,
-design, listing, explore and bench; 27. the command line (argparse, from the table of commands),
-last. The engine, the view and
+in the terminal); 24. benchmarks of the program itself; 25. the speed table (every bench run,
+the README's figures); 26. commands run, analyse and forces (each command's one typed value,
+validated once, and its handler); 27. commands scene, plot, design, listing, explore and bench;
+28. the command line (argparse, from the table of commands), last. The engine, the view and
 synthesis never use the original program.
 """
 
@@ -12359,8 +12359,7 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
 #   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, bench_forces,
 #   FILES_TARGET, bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung,
 #   measure_accuracy, bench_accuracy, EXPLORE_TARGET, bench_explore, SIMULATION_TOLERANCES,
-#   bench_simulate, BENCHMARKS, PEERS_COMMAND, ACCURACY_COMMAND, SPEED_TABLE, run_benchmarks,
-#   machine.
+#   bench_simulate, BENCHMARKS, machine.
 
 
 BENCH_KEYS = b"12\r7\r9\r6\r0\r360\r.1\r1"     # the 3601-point session of data/golden
@@ -13116,6 +13115,35 @@ BENCHMARKS = {"mbf": bench_mbf, "port": bench_port, "engine": bench_engine, "sce
               "explore": bench_explore}
 
 
+def machine() -> str:
+    """This machine, as the README quotes it: CPU model (/proc/cpuinfo), the CPUs this process may
+    use (what nproc prints), Python's version."""
+    import platform
+    model = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as cpuinfo:
+            model = next((line.split(":", 1)[1].strip() for line in cpuinfo
+                          if line.startswith("model name")), model)
+    except OSError:
+        pass
+    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    load = f", load average {os.getloadavg()[0]:.2f}" if hasattr(os, "getloadavg") else ""
+    return (f"{model} ({platform.machine()}), nproc {usable}, "
+            f"{platform.python_implementation()} {platform.python_version()}{load}")
+
+
+
+# ---- 25. The speed table: every bench run, the README's figures beside the load ------------------
+#
+# Holds: `bench all` (run_benchmarks): every bench of BENCHMARKS run, each one's log, then the
+# README's speed table (data/BENCHMARKS.md, "Summary") from their figures, a row of SPEED_TABLE
+# each, with the load average before and after its bench; the rows the tests' scripts measure
+# (a C loop, pylinkage, mpmath) name their command.
+#
+# Uses: section 24.
+# Offers: PEERS_COMMAND, ACCURACY_COMMAND, SPEED_TABLE, run_benchmarks.
+
+
 PEERS_COMMAND = "PYTHONPATH=tests python3 -m support.bench_peers"          # from the root
 ACCURACY_COMMAND = "PYTHONPATH=tests python3 -m support.bench_accuracy"    # likewise
 # The README's speed table (data/BENCHMARKS.md, "Summary"), a row a figure: what is measured, the
@@ -13165,6 +13193,8 @@ def run_benchmarks(out: TextIO, names: Sequence[str] = (), quick: bool = False,
         figure = (bench_accuracy(out, quick=quick, png=png) if name == "accuracy"
                   else BENCHMARKS[name](out, quick=quick))
         figures[name] = (figure, f"{before}-{_load_average()}")
+    if not any(bench in figures for _, bench, _ in SPEED_TABLE):
+        return
     print(f"\n== the README's speed table: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
           f"{machine()}" + ("; --quick: its numbers mean nothing" if quick else ""), file=out)
     print("| what | figure | load average | command |\n|---|---|---|---|", file=out)
@@ -13181,24 +13211,8 @@ def _load_average() -> str:
     return f"{os.getloadavg()[0]:.1f}" if hasattr(os, "getloadavg") else "?"
 
 
-def machine() -> str:
-    """This machine, as the README quotes it: CPU model (/proc/cpuinfo), the CPUs this process may
-    use (what nproc prints), Python's version."""
-    import platform
-    model = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as cpuinfo:
-            model = next((line.split(":", 1)[1].strip() for line in cpuinfo
-                          if line.startswith("model name")), model)
-    except OSError:
-        pass
-    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    load = f", load average {os.getloadavg()[0]:.2f}" if hasattr(os, "getloadavg") else ""
-    return (f"{model} ({platform.machine()}), nproc {usable}, "
-            f"{platform.python_implementation()} {platform.python_version()}{load}")
 
-
-# ---- 25. Commands run, analyse and forces: each one's typed value, validated once, and its work ----
+# ---- 26. Commands run, analyse and forces: each one's typed value, validated once, and its work ----
 #
 # Holds: the parsers of what is typed (numbers in each precision, kinds); what every command is
 # given (its one typed value, made of the parsed options once its "goes with" rules hold: Rule,
@@ -13823,12 +13837,12 @@ def drawing_command(args: Pictures, make_drawing: Callable[[], Drawing]) -> int:
     return reported(draw)
 
 
-# ---- 26. Commands scene, plot, design, listing, explore and bench --------------------------------
+# ---- 27. Commands scene, plot, design, listing, explore and bench --------------------------------
 #
 # Holds: the other commands, each as the last section's: its typed value, the function that makes
 # it, its handler.
 #
-# Uses: sections 1, 2, 6, 8, 11, 12, 13, 14, 15, 16, 18, 19, 20, 21, 22, 23, 24 and 25.
+# Uses: sections 1, 2, 6, 8, 11, 12, 13, 14, 15, 16, 18, 19, 20, 21, 22, 23, 24, 25 and 26.
 # Offers: SceneOptions, scene_options, scene_command, PlotOptions, plot_options, plot_command,
 #   design_scene, DesignOptions, design_options, design_command, ERRATUM, KEPT_BUG, SCAN_LINE,
 #   scan_lines, erratum_reason, kept_bug_lines, annotated_listing, ListingOptions, listing_command,
@@ -14387,14 +14401,14 @@ def bench_command(args: BenchOptions) -> int:
     return 0
 
 
-# ---- 27. The command line: argparse from the table of commands -----------------------------------
+# ---- 28. The command line: argparse from the table of commands -----------------------------------
 #
 # Holds: the command line's words parsed (argparse): the parsers of what is typed in an option
 # (a number of a design's data, a kind, PNG sizes), the commands' help, and COMMANDS, the table of
 # every sub-command: its help, its options, its "goes with" rules and the functions that make its
 # typed value and do its work (section 23); build_parser turns it into argparse; main() last.
 #
-# Uses: sections 1, 2, 5, 6, 13, 15, 16, 18, 23, 24, 25 and 26.
+# Uses: sections 1, 2, 5, 6, 13, 15, 16, 18, 23, 24, 26 and 27.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, HIDDEN, Option, option, Command,
 #   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, DATUM_FLAGS, DXF_HELP, PNG_OPTIONS, COMMANDS,
 #   command_parser, add_options, build_parser, main.
