@@ -289,3 +289,27 @@ def test_bench_accuracy_ranks_the_ladder(tmp_path):
     out = tmp_path / "acc.png"
     assert linkage.main(["bench", "accuracy", "--quick", "--png", str(out)]) == 0
     assert out.read_bytes().startswith(b"\x89PNG")
+
+
+def test_the_screen_scores_the_points_random_draws(monkeypatch):
+    """`--screen N S` meets the linkages `--random N S` meets (so its worst points are of the
+    claim's distribution), and with every point kept for the reference it scores them all there;
+    what it finds is within the bounds test_engine holds random points to."""
+    from test_engine import random_bound
+    seen = {"random": set(), "screen": set()}
+    which = ["random"]
+    reference = bench_accuracy.engine_harness.ref
+
+    def recorded(kind, dims, phi, *args):
+        seen[which[0]].add((kind, tuple(sorted(dims.items())), phi))
+        return reference(kind, dims, phi, *args)
+    monkeypatch.setattr(bench_accuracy.engine_harness, "ref", recorded)
+    bench_accuracy.random_accuracy(io.StringIO(), points=3, seed=5)
+    which[0] = "screen"
+    found = bench_accuracy.screened_accuracy(io.StringIO(), points=3, seed=5, keep=3)
+    assert len(seen["random"]) == 15 and seen["screen"] == seen["random"]
+    assert set(found) == set(bench_accuracy.engine_harness.KINDS)
+    for kind, worst in found.items():
+        for quantity, (error, call, _) in worst.items():
+            if quantity != "conditioned":
+                assert error <= random_bound(kind, quantity), (kind, quantity, error, call)
