@@ -34,21 +34,20 @@ each question); 14. DAT and CSV files; 15. the mechanism drawn; 16. the mechanis
 methods; 19. synthesis: designs measured and checked; 20. scenes (read and checked); 21. scenes
 computed (DAT files, forces, CSV); 22. plots; 23. simulation scenes (a run in time: its CSV,
 plots and motion); 24. the explorer (a dimension changed, the linkage watched in the terminal);
-25. benchmarks of the program itself; 26. commands run, analyse and forces (each command's one
-typed value, validated once, and its handler); 27. commands scene, plot, design, listing,
-explore and bench; 28. the command line (argparse, from the table of commands), last. The
-engine, the view and synthesis never use the original program.
+25. benchmarks of the program itself; 26. the speed table (every bench run, the README's
+figures); 27. commands run, analyse and forces (each command's one typed value, validated once,
+and its handler); 28. commands scene, plot, design, listing, explore and bench; 29. the command
+line (argparse, from the table of commands), last. The engine, the view and synthesis never use
+the original program.
 """
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import contextvars
 import decimal
 import fractions
 import functools
-import heapq
 import io
 import itertools
 import math
@@ -57,14 +56,14 @@ import re
 import shutil
 import struct
 import sys
-import textwrap
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from decimal import Decimal
 from fractions import Fraction
 from typing import IO, TYPE_CHECKING, Any, BinaryIO, NamedTuple, ParamSpec, TextIO, TypeAlias, cast
 
-if TYPE_CHECKING:                       # for annotations only: numpy and matplotlib are imported
-    import numpy                        # where they are used
+if TYPE_CHECKING:                       # for annotations only: numpy, matplotlib and argparse are
+    import argparse                     # imported where they are used
+    import numpy
     import matplotlib.axes
     import matplotlib.backends.backend_agg
     import matplotlib.figure
@@ -8024,6 +8023,7 @@ def _spots(label: Label, letters: Letters, n: int
     """Where the label may go, as (cost, centre) nearest first - beside what it names, on both
     sides of it at points along it, then on rings about its middle - and how far from it the
     nearest (the first rows out) and all of them reach."""
+    import heapq
     names = label.names or (label.at,)
     hw, hh = n * letters.width / 2, letters.height / 2
     gap = 0.35 * letters.height + letters.line
@@ -12210,6 +12210,7 @@ def png_figure(figure: Figure, path: str, dpi: float | None = None,
                size: tuple[int, int] | None = None, outputs: WrittenSet | None = None) -> None:
     """Render the figure with matplotlib (the `plot` extra) into the PNG file `path`: 90 dots an
     inch (`dpi`), 648 pixels wide unless `size` (width, height in pixels) says otherwise."""
+    import textwrap
     MplFigure, FigureCanvasAgg = matplotlib_canvas()
     from matplotlib.ticker import MultipleLocator
     polar = [panel.quantities == ("joint_forces",) for panel in figure.panels]
@@ -13446,7 +13447,7 @@ def _best_of(repeats: int, function: Callable[[], object]) -> float:
     return _timed(repeats, function)[0]
 
 
-def bench_mbf(out: TextIO, quick: bool = False) -> None:
+def bench_mbf(out: TextIO, quick: bool = False) -> str:
     """Time each single-precision operation and one sweep point of lines 1060-1330."""
     import random
     rng, count, repeats = random.Random(1), 20 if quick else 1000, 1 if quick else 5
@@ -13482,9 +13483,10 @@ def bench_mbf(out: TextIO, quick: bool = False) -> None:
         seconds = _best_of(repeats, lambda: [point(phi) for phi in angles])
     print(f"{'sweep point':16} {seconds / len(angles) * 1e6:12.2f}   (lines 1060-1330 with "
           f"the three WRITE #, plane four-bar a=6 b=2 c=7 d=9)", file=out)
+    return f"{seconds / len(angles) * 1e6:.0f} us a sweep point"
 
 
-def bench_scene(out: TextIO, quick: bool = False) -> None:
+def bench_scene(out: TextIO, quick: bool = False) -> str:
     """A displacement-only scene against the same scene drawing velocity and acceleration."""
     import tempfile
     step, many, few = (10.0, 1, 1) if quick else (0.01, 15, 5)
@@ -13512,6 +13514,7 @@ def bench_scene(out: TextIO, quick: bool = False) -> None:
     saved = [1 - d / a for d, a in zip(times["displacement only"], times["all three"])]
     print(f"{'time saved':18} {saved[0]:8.0%} {saved[1]:12.0%} {saved[2]:12.0%}", file=out)
     _bench_mechanism_view(out, few)
+    return f"displacement only saves {saved[2]:.0%} of a scene with its text plot"
 
 
 def _bench_mechanism_view(out: TextIO, repeats: int) -> None:
@@ -13533,7 +13536,7 @@ def _bench_mechanism_view(out: TextIO, repeats: int) -> None:
               + f" {len(svg_drawing(drawing).encode()):10,}", file=out)
 
 
-def bench_port(out: TextIO, quick: bool = False, basic_command: list[str] | None = None) -> None:
+def bench_port(out: TextIO, quick: bool = False, basic_command: list[str] | None = None) -> str:
     """The port against PC-BASIC, both started as programs on the same keys, same bytes.
     The keys are the 3601-point session's (0 to 360 degrees by 0.1), PC-BASIC runs
     legacy_basic/LINKAGE.BAS; measured: CPU time (user and system of the child process:
@@ -13613,9 +13616,16 @@ def bench_port(out: TextIO, quick: bool = False, basic_command: list[str] | None
           "session alone: redirected_program, no start-up)", file=out)
     if basic is None:
         print("PC-BASIC: not installed (pip install pcbasic==2.0.8)", file=out)
+        return "PC-BASIC not installed"
+    wall, cpu = times["PC-BASIC"]
+    return (f"{cpu / times['python3 -m linkage'][1]:.0f}x by CPU as python3 -m linkage, "
+            f"{cpu / times['python3 linkage.py'][1]:.0f}x as python3 linkage.py "
+            f"({wall / times['python3 -m linkage'][0]:.0f}x and "
+            f"{wall / times['python3 linkage.py'][0]:.0f}x by wall time), "
+            + ("same bytes" if not differ else "DIFFERENT bytes"))
 
 
-def bench_startup(out: TextIO, quick: bool = False) -> None:
+def bench_startup(out: TextIO, quick: bool = False) -> str:
     """Start-up: a one-point session by the installed `linkage` command, the module and the script.
     Each (python3 -m linkage and the `linkage` command from cached bytecode, python3 linkage.py
     compiled every run) beside Python starting alone, runs alternated: the CPU time of the child
@@ -13662,6 +13672,10 @@ def bench_startup(out: TextIO, quick: bool = False) -> None:
               f"{cpu[name] / cpu['python3 -c pass']:22.2f}", file=out)
     print(f"{'compiling linkage.py':22} {compiling * 1e3:7.1f}   ({len(source.encode()):,} bytes, "
           f"in this process, best of {repeats}; the script pays it every run)", file=out)
+    ratio = {name: cpu[name] / cpu["python3 -c pass"] for name in cpu}
+    first = "linkage (the command)" if "linkage (the command)" in ratio else "python3 -m linkage"
+    return (f"{ratio[first]:.2f}x by CPU ({first}; python3 -m linkage {ratio['python3 -m linkage']:.2f}x, "
+            f"python3 linkage.py {ratio['python3 linkage.py']:.2f}x), median of {runs} alternated")
 
 
 ENGINE_TARGET = 100_000    # points per second, displacement, velocity and acceleration, one core
@@ -13684,7 +13698,7 @@ def _bench_angles(points: int) -> tuple[list[float], Any]:
     return evenly_spaced_angles(0.0, 360.0, step), array
 
 
-def bench_engine(out: TextIO, quick: bool = False, points: int = 100_001) -> None:
+def bench_engine(out: TextIO, quick: bool = False, points: int = 100_001) -> str:
     """The accurate engine's speed, scalar and vectorised (numpy). Beside other programs (a C
     loop of the same formulas, pylinkage): tests/support/bench_peers.py."""
     if quick:
@@ -13716,8 +13730,11 @@ def bench_engine(out: TextIO, quick: bool = False, points: int = 100_001) -> Non
         else:
             print(f"{kind:12} {'':>12} {rates[0]:12,.0f} {rates[1]:12,.0f} "
                   f"{'numpy not installed':>25}", file=out)
+    ratios = [fast[k][2] / scalar[k][2] for k in fast]
+    figure = (f"numpy {min(ratios):.0f}-{max(ratios):.0f}x the scalar engine with velocity and "
+              "acceleration" if fast else "numpy not installed")
     if quick:
-        return
+        return figure
     slowest = min(r[2] for r in scalar.values())
     print(f"target: scalar >= {ENGINE_TARGET:,} points/s with velocity and acceleration on one "
           f"core (one Python thread): {'met' if slowest >= ENGINE_TARGET else 'NOT MET'}, "
@@ -13731,9 +13748,10 @@ def bench_engine(out: TextIO, quick: bool = False, points: int = 100_001) -> Non
               + (f"NOT MET for {', '.join(short)}" if short else "met")
               + f", plane {full[PLANE_FOUR_BAR]:,.0f}, slowest other "
               f"{min(r for k, r in full.items() if k != PLANE_FOUR_BAR):,.0f}", file=out)
+    return figure
 
 
-def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> None:
+def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> str:
     """What the coupler point (with velocity and acceleration) and the transmission angle add
     to a sweep with velocity and acceleration, scalar and numpy: the time of the sweep with them
     over the sweep alone."""
@@ -13745,6 +13763,7 @@ def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> No
           "time without; best of 3 (numpy: of 9), one run", file=out)
     print(f"{'linkage':12} {'scalar sweep':>13} {'+coupler':>9} {'+mu':>6} {'+both':>6} "
           f"{'numpy sweep':>12} {'+coupler':>9} {'+mu':>6} {'+both':>6}", file=out)
+    both = []
     for kind, dims in BENCH_LINKAGES:
         linkage = Linkage(kind, **dims)
         u, v = dims["c"] / 2, 0.0 if PINS[kind].coupler == "line" else dims["c"] / 4
@@ -13756,6 +13775,7 @@ def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> No
                    linkage.sweep(angles)))]
         text = (f"{kind:12} {len(angles) / base:10,.0f}/s " + " ".join(
             f"{t / base:{w}.2f}x" for t, w in zip(row[1:], (8, 5, 5))))
+        both.append(row[3] / base)
         if array is not None:
             fast = _best_of(9, lambda: linkage.sweep_arrays(array))
             times = [_best_of(9, lambda: coupler_of_arrays(linkage, linkage.sweep_arrays(array),
@@ -13768,13 +13788,14 @@ def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> No
             text += f" {len(angles) / fast:9,.0f}/s " + " ".join(
                 f"{t / fast:{w}.2f}x" for t, w in zip(times, (8, 5, 5)))
         print(text, file=out)
+    return f"the scalar sweep with the coupler point and mu {min(both):.1f}-{max(both):.1f}x without"
 
 
 FORCES_ARRAYS_TARGET = 0.5     # forces_arrays' rate over sweep_arrays' (with v and a), at least
 
 
 def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601,
-                 array_points: int = 100_001) -> None:
+                 array_points: int = 100_001) -> str:
     """What the forces add to a sweep, scalar and numpy, per kind.
 
     Scalar: forces() over the sweep alone; numpy: forces_arrays' rate beside sweep_arrays' with
@@ -13794,7 +13815,7 @@ def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601,
           "the ratios", file=out)
     print(f"{'linkage':12} {'sweep':>12} {'forces':>12} {'ratio':>7}   {'sweep_arrays':>13} "
           f"{'forces_arrays':>14} {'rate ratio':>10}", file=out)
-    ratios = {}
+    ratios, slowdowns, rates = {}, [], []
     for kind, dims in BENCH_LINKAGES:
         linkage = Linkage(kind, **dims)
         base = _best_of(3, lambda: linkage.sweep(angles))
@@ -13813,18 +13834,26 @@ def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601,
         else:
             text += "   numpy not installed"
         print(text, file=out)
+        slowdowns.append(with_forces / base)
+        rates.append(len(angles) / with_forces)
     if ratios and not quick:
         short = [k for k, r in ratios.items() if r < FORCES_ARRAYS_TARGET]
         print(f"target: forces_arrays at >= {FORCES_ARRAYS_TARGET} of sweep_arrays' rate with "
               "velocity and acceleration: " + (f"NOT MET for {', '.join(short)}" if short
                                                  else "met")
               + f", lowest {min(ratios.values()):.2f}", file=out)
+    figure = (f"{min(slowdowns):.0f}-{max(slowdowns):.0f}x the sweep alone: {min(rates):,.0f}-"
+              f"{max(rates):,.0f} positions a second")
+    if ratios:
+        figure += (f"; forces_arrays at {min(ratios.values()):.2f}-{max(ratios.values()):.2f} of "
+                   "sweep_arrays' rate")
+    return figure
 
 
 FILES_TARGET = 1_000_000   # points a second of CPU: run --precision double --fast, DAT and CSV
 
 
-def bench_files(out: TextIO, quick: bool = False) -> None:
+def bench_files(out: TextIO, quick: bool = False) -> str:
     """run --precision double to the DAT files and a CSV, as a process: its CPU time, --fast and
     without, alternated (the CPU time is the process's, user and system, from getrusage)."""
     import resource
@@ -13857,10 +13886,12 @@ def bench_files(out: TextIO, quick: bool = False) -> None:
     for fast, (cpu, wall) in best.items():
         print(f"{fast or 'scalar':8} {cpu:7.2f} s CPU {wall:7.2f} s wall {points / cpu:12,.0f} "
               f"points/s of CPU {size / cpu / 1e6:8.1f} MB/s", file=out)
+    rate = points / best["--fast"][0]
     if not quick:
-        rate = points / best["--fast"][0]
         print(f"target: --fast >= {FILES_TARGET:,} points/s of CPU: "
               f"{'met' if rate >= FILES_TARGET else 'NOT MET'}, {rate:,.0f}", file=out)
+    return (f"--fast {rate / 1e6:.2f} M points a second of CPU ({best['--fast'][0]:.2f} s), "
+            f"without {best[''][0]:.2f} s: {best[''][0] / best['--fast'][0]:.1f}x; {points:,} points")
 
 
 ACCURACY_POINTS = 100           # random points a kind (the 110-digit reference: ~1 ms each)
@@ -14021,7 +14052,7 @@ def _typical(values: list[float]) -> float:
     return ordered[len(ordered) // 2] if ordered else math.nan
 
 
-def bench_accuracy(out: TextIO, quick: bool = False, png: str | None = None) -> None:
+def bench_accuracy(out: TextIO, quick: bool = False, png: str | None = None) -> str:
     """What accuracy costs in time: each rung's error against 110 digits and its time a point."""
     count = 5 if quick else ACCURACY_POINTS
     rungs = measure_accuracy(count)
@@ -14043,6 +14074,16 @@ def bench_accuracy(out: TextIO, quick: bool = False, png: str | None = None) -> 
     if png:
         _accuracy_png(rungs, png)
         print(f"wrote {png}", file=out)
+    return "; ".join(_rung_figure([r for r in rungs if r.name == name])
+                     for name in ACCURACY_RUNGS if any(r.name == name for r in rungs))
+
+
+def _rung_figure(rungs: list[Rung]) -> str:
+    """One rung's worst output error over the kinds and its time a point, as a range."""
+    worst = [max((e[0] for e in r.errors), default=math.nan) for r in rungs]
+    us = [r.seconds * 1e6 for r in rungs]
+    return (f"{rungs[0].name} {min(worst):.1e} to {max(worst):.1e} ({min(us):.3g}-{max(us):.3g} "
+            "us a point)")
 
 
 def _accuracy_png(rungs: list[Rung], path: str) -> None:
@@ -14074,7 +14115,7 @@ def _accuracy_png(rungs: list[Rung], path: str) -> None:
 EXPLORE_TARGET = 0.050     # seconds from a key to the next frame (issue 32)
 
 
-def bench_explore(out: TextIO, quick: bool = False) -> None:
+def bench_explore(out: TextIO, quick: bool = False) -> str:
     """The explorer's latency: a key to its frame, then the view made whole.
 
     A key's frame is explore_key then explore_screen at 80 x 24, each key changing a dimension
@@ -14089,6 +14130,7 @@ def bench_explore(out: TextIO, quick: bool = False) -> None:
           f"a key to its frame under {1e3 * EXPLORE_TARGET:.0f} ms", file=out)
     print(f"{'linkage':26} {'key median':>11} {'key worst':>10} {'whole median':>13} "
           f"{'whole worst':>12}", file=out)
+    worst_keys, worst_wholes = [], []
     scenes = [load_scene(scene_path(name)) for name in known_scenes()
               if name.startswith("forces-") and "arrows" not in name]
     starts = [(kind, explorer_of(kind)) for kind in LINKAGE_DIMENSIONS] + [
@@ -14113,12 +14155,17 @@ def bench_explore(out: TextIO, quick: bool = False) -> None:
         print(f"{name:26} {1e3 * key_times[len(keys) // 2]:11.1f} {1e3 * key_times[-1]:10.1f} "
               f"{1e3 * whole_times[len(keys) // 2]:13.1f} {1e3 * whole_times[-1]:12.1f}"
               + ("" if key_times[-1] < EXPLORE_TARGET else "   over the target"), file=out)
+        worst_keys.append(1e3 * key_times[-1])
+        worst_wholes.append(1e3 * whole_times[-1])
+    return (f"a key's frame worst {min(worst_keys):.0f}-{max(worst_keys):.0f} ms, target "
+            f"{1e3 * EXPLORE_TARGET:.0f} (the whole view {min(worst_wholes):.0f}-"
+            f"{max(worst_wholes):.0f} ms)")
 
 
 SIMULATION_TOLERANCES = (1e-6, 1e-8, 1e-10, 1e-12)
 
 
-def bench_simulate(out: TextIO, quick: bool = False) -> None:
+def bench_simulate(out: TextIO, quick: bool = False) -> str:
     """simulate's cost in CPU seconds: steps per CPU second by tolerance, and a motor's run-up.
 
     Times are this process's CPU time (time.process_time), the run-up's against the seconds
@@ -14135,6 +14182,7 @@ def bench_simulate(out: TextIO, quick: bool = False) -> None:
           "each across two dead centres); times are this process's CPU seconds", file=out)
     print(f"{'tolerance':>10} {'steps':>8} {'rejected':>9} {'evaluations':>12} {'CPU s':>8} "
           f"{'steps/CPU s':>12} {'energy error / E':>17}", file=out)
+    rates, drifts = [], []
     for tolerance in tolerances:
         cpu, sim = _cpu_timed(lambda: simulate(
             rocker, rods, Effects(gravity=9.81), initial=(320.0, 0.0), time=seconds,
@@ -14142,6 +14190,8 @@ def bench_simulate(out: TextIO, quick: bool = False) -> None:
         drift = sim.energy_error / abs(sim.rows[0].energy)
         print(f"{tolerance:10.0e} {sim.steps:8,} {sim.rejected:9,} {sim.evaluations:12,} "
               f"{cpu:8.2f} {sim.steps / cpu:12,.0f} {drift:17.2e}", file=out)
+        rates.append(sim.steps / cpu)
+        drifts.append(drift)
     crank_rocker = Linkage(PLANE_FOUR_BAR, a=4.0, b=1.0, c=4.0, d=3.0)
     motor = Driver(stall_torque=40.0, free_speed_rpm=120.0)
     cpu, sim = _cpu_timed(lambda: simulate(
@@ -14154,6 +14204,9 @@ def bench_simulate(out: TextIO, quick: bool = False) -> None:
           f"{last.phi / 360.0:,.0f} turns, {sim.steps:,} steps in {cpu:.2f} CPU seconds of this "
           f"process ({sim.steps / cpu:,.0f} steps per CPU second; {run_up / cpu:.0f} simulated "
           f"seconds per CPU second), |E - E(0) - W| / W = {balance:.1e}", file=out)
+    return (f"{min(rates):,.0f}-{max(rates):,.0f} steps a second of CPU, the energy's error "
+            f"{max(drifts):.1e} to {min(drifts):.1e} of E; the run-up ({run_up:g} s) in "
+            f"{cpu:.0f} s CPU")
 
 
 def _cpu_timed(function: Callable[[], Simulation]) -> tuple[float, Simulation]:
@@ -14187,7 +14240,85 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 26. Commands run, analyse and forces: their typed values and handlers -----------------------
+# ---- 26. The speed table: every bench run, the README's figures beside the load ------------------
+#
+# Holds: `bench all` (run_benchmarks): every bench of BENCHMARKS run, each one's log, then the
+# README's speed table (data/BENCHMARKS.md, "Summary") from their figures, a row of SPEED_TABLE
+# each, with the load average before and after its bench; the rows the tests' scripts measure
+# (a C loop, pylinkage, mpmath) name their command.
+#
+# Uses: section 25.
+# Offers: PEERS_COMMAND, ACCURACY_COMMAND, SPEED_TABLE, run_benchmarks.
+
+
+PEERS_COMMAND = "PYTHONPATH=tests python3 -m support.bench_peers"          # from the root
+ACCURACY_COMMAND = "PYTHONPATH=tests python3 -m support.bench_accuracy"    # likewise
+# The README's speed table (data/BENCHMARKS.md, "Summary"), a row a figure: what is measured, the
+# bench of BENCHMARKS that measures it as the README says (None: a script of the tests, which
+# measures the program beside a C loop, pylinkage or mpmath: the program compiles no C and
+# imports no peer), and the command that makes the figure.
+SPEED_TABLE = (
+    ("the faithful port against PC-BASIC 2.0.8, both as programs, 3,601 points, same bytes",
+     "port", "python3 linkage.py bench port"),
+    ("the numpy path against the scalar engine, 100,001 points, velocity and acceleration",
+     "engine", "python3 linkage.py bench engine"),
+    ("the numpy path against a C loop of its own formulas (`cc -O2`, CPython's correctly rounded "
+     "hypot copied), 1e4 to 1e7 points", None, PEERS_COMMAND),
+    ("against pylinkage 1.3 with numba (without), the plane four-bar with velocity and "
+     "acceleration", None, PEERS_COMMAND),
+    ("1e6 points to the DAT files and a CSV, `python3 linkage.py run --precision double --fast` "
+     "as a process (without `--fast`)", "files", "python3 linkage.py bench files"),
+    ("the installed `linkage` command's start-up (a one-point session) against "
+     "`python3 -c pass`", "startup", "python3 linkage.py bench startup"),
+    ("what accuracy costs: the worst output error against 110 digits on 100 random points a kind "
+     "(every fifth at phi = 180), and the time a point", "accuracy",
+     "python3 linkage.py bench accuracy"),
+    ("`explore`: a key to its frame at 80 x 24, each kind (the whole view, analysed, when the "
+     "keys stop)", "explore", "python3 linkage.py bench explore"),
+    ("the forces (torque, joints, shaking: one linear system a position) over the sweep alone, "
+     "3,601 points", "forces", "python3 linkage.py bench forces"),
+    ("the engine's output angle against 50-digit roots (mpmath), the hard catalogue and random "
+     "points", None, f"{ACCURACY_COMMAND} [--screen 20000 3]"),
+    ("the motion in time (`simulate`): 20 s of a double-rocker across its dead centres, "
+     "tolerance 1e-6 to 1e-12; a motor's 600 s run-up", "simulate",
+     "python3 linkage.py bench simulate"),
+)
+
+
+def run_benchmarks(out: TextIO, names: Sequence[str] = (), quick: bool = False,
+                   png: str | None = None) -> None:
+    """The benches `names` (all where none), each's log under `== NAME: ...`; then the rows of
+    SPEED_TABLE they measure, each with its figure and the load average (1 minute) before and
+    after it ran; with every bench, the whole table (the rows of the tests' scripts say so)."""
+    import time
+    every = not names
+    figures: dict[str, tuple[str, str]] = {}
+    for name in names or list(BENCHMARKS):
+        print(f"\n== {name}: {(BENCHMARKS[name].__doc__ or '').splitlines()[0]}", file=out,
+              flush=True)
+        before = _load_average()
+        figure = (bench_accuracy(out, quick=quick, png=png) if name == "accuracy"
+                  else BENCHMARKS[name](out, quick=quick))
+        figures[name] = (figure, f"{before}-{_load_average()}")
+    if not any(bench in figures for _, bench, _ in SPEED_TABLE):
+        return
+    print(f"\n== the README's speed table: {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
+          f"{machine()}" + ("; --quick: its numbers mean nothing" if quick else ""), file=out)
+    print("| what | figure | load average | command |\n|---|---|---|---|", file=out)
+    for what, bench, command in SPEED_TABLE:
+        if bench in figures:
+            figure, load = figures[bench]
+            print(f"| {what} | {figure} | {load} | `{command}` |", file=out)
+        elif bench is None and every:
+            print(f"| {what} | not measured by the program (it compiles no C, imports no peer "
+                  f"and no mpmath): run the command | | `{command}` |", file=out)
+
+
+def _load_average() -> str:
+    return f"{os.getloadavg()[0]:.1f}" if hasattr(os, "getloadavg") else "?"
+
+
+# ---- 27. Commands run, analyse and forces: their typed values and handlers -----------------------
 #
 # Holds: the parsers of what is typed (numbers in each precision, kinds); what every command is
 # given (its one typed value, made of the parsed options once its "goes with" rules hold: Rule,
@@ -14839,12 +14970,12 @@ def drawing_command(args: Pictures, make_drawing: Callable[[], Drawing]) -> int:
     return reported(draw)
 
 
-# ---- 27. Commands scene, plot, design, listing, explore and bench --------------------------------
+# ---- 28. Commands scene, plot, design, listing, explore and bench --------------------------------
 #
 # Holds: the other commands, each as the last section's: its typed value, the function that makes
 # it, its handler.
 #
-# Uses: sections 1, 2, 6, 8, 12, 13, 14, 15, 16, 17, 19, 20, 21, 22, 23, 24, 25 and 26.
+# Uses: sections 1, 2, 6, 8, 12, 13, 14, 15, 16, 17, 19, 20, 21, 22, 23, 24, 25, 26 and 27.
 # Offers: SceneOptions, scene_options, scene_command, PlotOptions, plot_options, plot_command,
 #   design_scene, DesignOptions, design_options, design_command, ERRATUM, KEPT_BUG, SCAN_LINE,
 #   scan_lines, erratum_reason, kept_bug_lines, annotated_listing, ListingOptions, listing_command,
@@ -15264,6 +15395,7 @@ def annotated_listing(listing: str, errata: str, scan: str | None = None,
     followed by its name (kept_bug_lines); with `scan` (LINKAGE.OCR.txt), each line whose text
     the scan prints otherwise (white space aside) followed by the scan's text. errata_path is
     where the reader finds ERRATA.md."""
+    import textwrap
     numbered = [(int(line.split(" ", 1)[0]), line) for line in listing.splitlines()]
     corrections: dict[int, list[str]] = {}
     renumbered = {}
@@ -15393,8 +15525,8 @@ def explore_command(args: ExploreOptions) -> int:
 
 
 class BenchOptions(NamedTuple):
-    """bench's command line, validated: the benchmarks' names (all where none), --quick's tiny
-    sizes, and bench accuracy's --png."""
+    """bench's command line, validated: the benchmarks' names (all where none, or `all`),
+    --quick's tiny sizes, and bench accuracy's --png."""
 
     names: tuple[str, ...]
     quick: bool
@@ -15403,9 +15535,12 @@ class BenchOptions(NamedTuple):
 
 def bench_options(given: dict[str, Any]) -> BenchOptions:
     """bench's typed value (see BenchOptions), or UsageError."""
-    if given["png"] and "accuracy" not in given["names"]:
+    names = tuple(n for n in given["names"] if n != "all")
+    if given["png"] and "accuracy" not in names:
         raise UsageError("--png goes with bench accuracy")
-    return BenchOptions(tuple(given["names"]), given["quick"], given["png"])
+    if names and len(names) < len(given["names"]):
+        raise UsageError(f"bench all runs every bench: name it alone, not with {names[0]}")
+    return BenchOptions(names, given["quick"], given["png"])
 
 
 def bench_command(args: BenchOptions) -> int:
@@ -15414,29 +15549,24 @@ def bench_command(args: BenchOptions) -> int:
     print(f"{PROG} {__version__} on {machine()}")
     if args.quick:
         print("--quick: a check that each runs, on tiny sizes; its numbers mean nothing")
-    for name in args.names or list(BENCHMARKS):
-        print(f"\n== {name}: {(BENCHMARKS[name].__doc__ or '').splitlines()[0]}")
-        try:
-            if name == "accuracy":
-                bench_accuracy(sys.stdout, quick=args.quick, png=args.png)
-            else:
-                BENCHMARKS[name](sys.stdout, quick=args.quick)
-        except (PlotUnavailable, WriteError) as e:
-            return said(e, 1)
+    try:
+        run_benchmarks(sys.stdout, args.names, args.quick, args.png)
+    except (PlotUnavailable, WriteError) as e:
+        return said(e, 1)
     return 0
 
 
-# ---- 28. The command line: argparse from the table of commands -----------------------------------
+# ---- 29. The command line: argparse from the table of commands -----------------------------------
 #
 # Holds: the command line's words parsed (argparse): the parsers of what is typed in an option
 # (a number of a design's data, a kind, PNG sizes), the commands' help, and COMMANDS, the table of
 # every sub-command: its help, its options, its "goes with" rules and the functions that make its
 # typed value and do its work (section 23); build_parser turns it into argparse; main() last.
 #
-# Uses: sections 1, 2, 5, 6, 14, 16, 17, 19, 24, 25, 26 and 27.
-# Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, Option, option, Command,
+# Uses: sections 1, 2, 5, 6, 14, 16, 17, 19, 24, 25, 27 and 28.
+# Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, HIDDEN, Option, option, Command,
 #   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, DATUM_FLAGS, DXF_HELP, PNG_OPTIONS, COMMANDS,
-#   CommandParser, build_parser, main.
+#   command_parser, add_options, build_parser, main.
 
 
 ANGLES_HELP = ("Angles in degrees, counter-clockwise from the frame line (the crank pivot A0 "
@@ -15503,6 +15633,13 @@ def datum_help(datum: Datum) -> str:
 
 # -- what is typed in an option: argparse's types --------------------------------------------------
 
+def _refused(message: str) -> Exception:
+    """argparse's refusal of what is typed (argparse is imported only where a command is parsed:
+    the menu program starts without it)."""
+    import argparse
+    return argparse.ArgumentTypeError(message)
+
+
 def _design_number(flag: str) -> Callable[[str], float]:
     """The argparse type of a datum: an ordinary decimal (decimal_number), its refusal naming
     the option."""
@@ -15510,7 +15647,7 @@ def _design_number(flag: str) -> Callable[[str], float]:
         try:
             return decimal_number(text, flag, basic_hint=False)
         except ValueError as e:
-            raise argparse.ArgumentTypeError(str(e).removeprefix(f"{flag}: ")) from None
+            raise _refused(str(e).removeprefix(f"{flag}: ")) from None
     number.__name__ = "number"
     return number
 
@@ -15518,7 +15655,7 @@ def _design_number(flag: str) -> Callable[[str], float]:
 def _kind_argument(text: str) -> str:
     name = kind_named(text)
     if name is None:
-        raise argparse.ArgumentTypeError(
+        raise _refused(
             f"{text!r} is not one of {', '.join(KIND_MENU)} (or 1-5)")
     return name
 
@@ -15527,36 +15664,39 @@ def _png_dpi(text: str) -> float:
     try:
         dpi = decimal_number(text, "--dpi")
     except ValueError as e:
-        raise argparse.ArgumentTypeError(str(e)) from None
+        raise _refused(str(e)) from None
     if not 10 <= dpi <= 1200:
-        raise argparse.ArgumentTypeError(f"{text} dots an inch: expected 10 to 1200")
+        raise _refused(f"{text} dots an inch: expected 10 to 1200")
     return dpi
 
 
 def _png_size(text: str) -> tuple[int, int]:
     match = re.fullmatch(r"([0-9]{1,5})[xX]([0-9]{1,5})", text.strip())
     if not match or not all(100 <= int(v) <= 20000 for v in match.groups()):
-        raise argparse.ArgumentTypeError(f"{text!r}: expected WIDTHxHEIGHT in pixels, each 100 "
+        raise _refused(f"{text!r}: expected WIDTHxHEIGHT in pixels, each 100 "
                                          "to 20000, e.g. 1600x1200")
     return int(match[1]), int(match[2])
 
 
 def _benchmark_name(text: str) -> str:
-    if text not in BENCHMARKS:
-        raise argparse.ArgumentTypeError(f"{text!r} is not one of {', '.join(BENCHMARKS)}")
+    if text not in BENCHMARKS and text != "all":
+        raise _refused(f"{text!r} is not one of all, {', '.join(BENCHMARKS)}")
     return text
 
 
 def _screen_size(text: str) -> tuple[int, int]:
     match = re.fullmatch(r"([0-9]{1,4})[xX]([0-9]{1,4})", text.strip())
     if not match or not (40 <= int(match[1]) <= 1000 and 12 <= int(match[2]) <= 1000):
-        raise argparse.ArgumentTypeError(f"{text!r}: expected COLUMNSxLINES, at least 40x12, "
+        raise _refused(f"{text!r}: expected COLUMNSxLINES, at least 40x12, "
                                          "e.g. 80x24")
     return int(match[1]), int(match[2])
 
 
 
 # -- the table: every sub-command, its help and its options -------------------------------------
+
+HIDDEN = "(hidden)"     # an option's help that leaves it out of --help (argparse.SUPPRESS)
+
 
 class Option(NamedTuple):
     """One argument of a sub-command: its name or flags, and what argparse's add_argument takes."""
@@ -15628,7 +15768,7 @@ COMMANDS = {
         "linkage's arcs). " + DIMENSIONS_HELP,
         (option("kind", type=_kind_argument, metavar="KIND", help=KINDS_HELP),
          *(option(f"--{name}", metavar="X", help=text) for name, text in DIMENSION_HELP.items()),
-         option("--skew", dest="old_skew", metavar="X", help=argparse.SUPPRESS),
+         option("--skew", dest="old_skew", metavar="X", help=HIDDEN),
          option("--from", dest="start", required=True, metavar="P1",
                 help="first bound of the input angle, degrees"),
          option("--to", dest="stop", required=True, metavar="P2",
@@ -15883,10 +16023,14 @@ COMMANDS = {
         "measure speed, and what accuracy costs in time",
         "Run the benchmarks and print their numbers (port runs PC-BASIC for minutes; accuracy, "
         "what each rung of the ladder - GW-BASIC single precision, the double engine, numpy, 50 "
-        "digits - errs against 110 digits and costs a point). The tests' own ladder, against an "
-        "mpmath reference: PYTHONPATH=tests python3 -m support.bench_accuracy.",
+        "digits - errs against 110 digits and costs a point). With no NAME, or all: every "
+        "bench, then the README's speed table from their figures, each with the load average. "
+        "The tests' own ladder, against an mpmath reference: PYTHONPATH=tests python3 -m "
+        "support.bench_accuracy; beside a C loop and pylinkage: PYTHONPATH=tests python3 -m "
+        "support.bench_peers.",
         (option("names", nargs="*", type=_benchmark_name, metavar="NAME",
-                help=f"which: {', '.join(BENCHMARKS)} (default: all)"),
+                help=f"which: all, {', '.join(BENCHMARKS)} (default: all, and the README's "
+                     "speed table)"),
          option("--quick", action="store_true",
                 help="tiny sizes: a check that each runs (its numbers mean nothing)"),
          option("--png", metavar="OUT",
@@ -15895,32 +16039,46 @@ COMMANDS = {
 }
 
 
-class CommandParser(argparse.ArgumentParser):
-    """argparse, taking a negative number in any form (-1e3, -.5, -1D3) as an option's value
-    (argparse before Python 3.13 takes -1e3 for an option and says "expected one argument")."""
+def command_parser() -> type[argparse.ArgumentParser]:
+    """The class of the program's parsers, made where a command is parsed (argparse is imported
+    there, not when the menu program starts)."""
+    import argparse
 
-    def __init__(self, *args: Any, **kwargs: Any) -> None:
-        super().__init__(*args, **kwargs)
-        self._negative_number_matcher = re.compile(r"-\.?\d")
+    class CommandParser(argparse.ArgumentParser):
+        """argparse, taking a negative number in any form (-1e3, -.5, -1D3) as an option's value
+        (argparse before Python 3.13 takes -1e3 for an option and says "expected one
+        argument")."""
 
-    def add_options(self, options: Iterable[Option]) -> None:
-        for o in options:
-            self.add_argument(*o.names, **o.settings)
+        def __init__(self, *args: Any, **kwargs: Any) -> None:
+            super().__init__(*args, **kwargs)
+            self._negative_number_matcher = re.compile(r"-\.?\d")
 
-    def _print_message(self, message: str, file: Any = None) -> None:
-        """As argparse's, but a failure of standard output (--help, --version into `| head`)
-        is raised, for main's one rule (reader_gone: 141), where argparse drops it (exit 0, or
-        Python's "Exception ignored" at exit, 120); standard error's is dropped, as argparse's."""
-        if message and file is not None and file is sys.stdout:
-            file.write(message)
-            file.flush()
-            return
-        super()._print_message(message, file)
+        def _print_message(self, message: str, file: Any = None) -> None:
+            """As argparse's, but a failure of standard output (--help, --version into `| head`)
+            is raised, for main's one rule (reader_gone: 141), where argparse drops it (exit 0,
+            or Python's "Exception ignored" at exit, 120); standard error's is dropped, as
+            argparse's."""
+            if message and file is not None and file is sys.stdout:
+                file.write(message)
+                file.flush()
+                return
+            super()._print_message(message, file)
+    return CommandParser
+
+
+def add_options(parser: argparse.ArgumentParser, options: Iterable[Option]) -> None:
+    """A command's options added to its parser; an option whose help is HIDDEN is left out of
+    --help."""
+    import argparse
+    for o in options:
+        hidden = {"help": argparse.SUPPRESS} if o.settings.get("help") is HIDDEN else {}
+        parser.add_argument(*o.names, **(o.settings | hidden))
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The program's parser, from COMMANDS; design has one sub-parser a method, its data from
     DATA (each an ordinary decimal, required unless optional), then design's own options."""
+    CommandParser = command_parser()
     parser = CommandParser(prog=PROG, description=__doc__.split("\n\n")[0],
                            epilog="With no command: the original menu program.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
@@ -15929,7 +16087,7 @@ def build_parser() -> argparse.ArgumentParser:
         if name != "design":
             sub = commands.add_parser(name, help=command.help, description=command.description,
                                       aliases=command.aliases)
-            sub.add_options(command.options)
+            add_options(sub, command.options)
             sub.set_defaults(command_row=command, parser=sub)
             continue
         design = commands.add_parser(name, help=command.help, description=command.description)
@@ -15945,7 +16103,7 @@ def build_parser() -> argparse.ArgumentParser:
                 counted: dict[str, Any] = {"nargs": 3} if datum.count == 3 else {}
                 sub.add_argument(*flags, dest=datum.name, type=_design_number(flags[0]),
                                  required=not datum.optional, help=datum_help(datum), **counted)
-            sub.add_options(command.options)
+            add_options(sub, command.options)
             sub.set_defaults(command_row=command, parser=sub)
     return parser
 

@@ -139,13 +139,14 @@ def test_missing_mpmath_and_pcbasic_are_said(monkeypatch, capsys):
     assert "mpmath is not installed" in printed and "PC-BASIC is not installed" in printed
 
 
-def test_the_programs_benchmarks_run_without_tests(tmp_path):
-    """linkage.py copied alone (with legacy_basic/ for PC-BASIC's run), run isolated (-I: neither
-    the folder nor PYTHONPATH on its path) and every module of tests/ and tests/support/ refused
-    at import: each bench name runs (--quick: tiny sizes), the port writes PC-BASIC's bytes,
-    and `bench accuracy` names the script that measures it."""
-    shutil.copy(linkage.__file__, tmp_path / "linkage.py")
-    shutil.copytree(ROOT / "legacy_basic", tmp_path / "legacy_basic")
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory):
+    """`bench all --quick` as a user runs it, from linkage.py copied alone (with legacy_basic/ for
+    PC-BASIC's run), isolated (-I: neither the folder nor PYTHONPATH on its path) and every
+    module of tests/ and tests/support/ refused at import: its standard output."""
+    folder = tmp_path_factory.mktemp("alone")
+    shutil.copy(linkage.__file__, folder / "linkage.py")
+    shutil.copytree(ROOT / "legacy_basic", folder / "legacy_basic")
     refused = sorted({p.stem for p in (ROOT / "tests").glob("**/*.py")} | {"support"})
     code = textwrap.dedent(f"""
         import importlib.abc, runpy, sys
@@ -157,14 +158,64 @@ def test_the_programs_benchmarks_run_without_tests(tmp_path):
         sys.argv = ["linkage.py"] + sys.argv[1:]
         runpy.run_path("linkage.py", run_name="__main__")
     """)
-    run = subprocess.run([sys.executable, "-I", "-c", code, "bench", "--quick"],
-                         capture_output=True, text=True, cwd=tmp_path, timeout=300)
+    run = subprocess.run([sys.executable, "-I", "-c", code, "bench", "all", "--quick"],
+                         capture_output=True, text=True, cwd=folder, timeout=300)
     assert run.returncode == 0 and "Traceback" not in run.stderr, run.stderr
+    return run.stdout
+
+
+def test_the_programs_benchmarks_run_without_tests(quick_run):
+    """Each bench name runs with nothing of tests/ (--quick: tiny sizes), the port writes
+    PC-BASIC's bytes, and `bench accuracy` names the script that measures it."""
     for name in linkage.BENCHMARKS:
-        assert f"\n== {name}: " in run.stdout, name
-    assert "the DAT files and the screen are identical" in run.stdout
+        assert f"\n== {name}: " in quick_run, name
+    assert "the DAT files and the screen are identical" in quick_run
     # bench accuracy, the program's own ladder, names the tests' (against mpmath) beside it
-    assert bench_accuracy.COMMAND in run.stdout
+    assert bench_accuracy.COMMAND in quick_run
+
+
+def summary_rows(text):
+    """The rows of the first markdown table after "## Summary" (data/BENCHMARKS.md) or after
+    "== the README's speed table" (bench all's output): lists of their cells."""
+    lines = text.split("\n## Summary\n" if "\n## Summary\n" in text
+                       else "\n== the README's speed table", 1)[1].splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("|"))
+    rows = []
+    for line in lines[start + 2:]:
+        if not line.startswith("|"):
+            break
+        rows.append([cell.strip() for cell in line.strip().strip("|").split("|")])
+    return rows
+
+
+def test_bench_all_prints_every_row_of_the_readmes_speed_table(quick_run):
+    """Every row of the table the README's "Speed and accuracy" points to (data/BENCHMARKS.md,
+    "Summary") has its line in `bench all`'s table, in order: what, a figure, the load average
+    where the program measured it, the command that makes it; the figures the program leaves to
+    the tests' scripts (a C loop, pylinkage, mpmath) name the script."""
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert "data/BENCHMARKS.md#summary" in readme
+    documented = summary_rows((ROOT / "data" / "BENCHMARKS.md").read_text(encoding="utf-8"))
+    printed = summary_rows(quick_run)
+    assert [row[0] for row in printed] == [row[0] for row in documented]
+    assert [row[0] for row in documented] == [row[0] for row in linkage.SPEED_TABLE]
+    for (what, bench, command), (_, figure, load, shown) in zip(linkage.SPEED_TABLE, printed):
+        assert figure and shown == f"`{command}`", what
+        if bench is None:
+            assert "run the command" in figure and "support." in command, what
+        else:
+            assert any(c.isdigit() for c in figure), what
+            low, high = load.split("-")
+            assert float(low) >= 0 and float(high) >= 0, what
+
+
+def test_bench_all_is_bench_without_a_name():
+    """`bench all` and `bench` are the same command; all named beside another bench is refused."""
+    given = dict(quick=True, png=None)
+    assert linkage.bench_options(given | {"names": ["all"]}) == \
+        linkage.bench_options(given | {"names": []})
+    with pytest.raises(linkage.UsageError, match="bench all runs every bench"):
+        linkage.bench_options(given | {"names": ["all", "port"]})
 
 
 def test_the_accuracy_script_runs_as_a_script():
@@ -238,3 +289,27 @@ def test_bench_accuracy_ranks_the_ladder(tmp_path):
     out = tmp_path / "acc.png"
     assert linkage.main(["bench", "accuracy", "--quick", "--png", str(out)]) == 0
     assert out.read_bytes().startswith(b"\x89PNG")
+
+
+def test_the_screen_scores_the_points_random_draws(monkeypatch):
+    """`--screen N S` meets the linkages `--random N S` meets (so its worst points are of the
+    claim's distribution), and with every point kept for the reference it scores them all there;
+    what it finds is within the bounds test_engine holds random points to."""
+    from test_engine import random_bound
+    seen = {"random": set(), "screen": set()}
+    which = ["random"]
+    reference = bench_accuracy.engine_harness.ref
+
+    def recorded(kind, dims, phi, *args):
+        seen[which[0]].add((kind, tuple(sorted(dims.items())), phi))
+        return reference(kind, dims, phi, *args)
+    monkeypatch.setattr(bench_accuracy.engine_harness, "ref", recorded)
+    bench_accuracy.random_accuracy(io.StringIO(), points=3, seed=5)
+    which[0] = "screen"
+    found = bench_accuracy.screened_accuracy(io.StringIO(), points=3, seed=5, keep=3)
+    assert len(seen["random"]) == 15 and seen["screen"] == seen["random"]
+    assert set(found) == set(bench_accuracy.engine_harness.KINDS)
+    for kind, worst in found.items():
+        for quantity, (error, call, _) in worst.items():
+            if quantity != "conditioned":
+                assert error <= random_bound(kind, quantity), (kind, quantity, error, call)

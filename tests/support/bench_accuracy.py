@@ -3,8 +3,11 @@ against the 50-digit reference.
 
     PYTHONPATH=tests python3 -m support.bench_accuracy                   (minutes: mpmath, PC-BASIC)
     PYTHONPATH=tests python3 -m support.bench_accuracy --random [POINTS [SEED]]   (random points)
+    PYTHONPATH=tests python3 -m support.bench_accuracy --screen [POINTS [SEED]]   (many of them)
 
-(from the repository's root; --random: the engine alone at random points).
+(from the repository's root; --random: the engine alone at random points; --screen: the same
+points, many more, each first scored against the program's 110-digit decimal redo and the worst
+of them against the 50-digit reference).
 
 The methods: GW-BASIC single precision (the port's own lines 250-930 and 1060-1330), the listing's
 formulas in double (listing_model.py), the accurate engine, mpmath at 30 and 50 digits, and PC-BASIC
@@ -505,10 +508,85 @@ def random_accuracy(out, points=RANDOM_POINTS, seed=1) -> None:
             print(f"    {quantity} {error:.2e}: {call}", file=out)
 
 
+SCREEN_POINTS = 20_000           # --screen: points a kind (the decimal redo: ~0.2-1.3 ms each)
+SCREEN_KEEP = 12                 # the worst this many a quantity and kind go to the reference
+
+
+def screened_accuracy(out, points=SCREEN_POINTS, seed=1, keep=SCREEN_KEEP) -> dict:
+    """random_accuracy's points (the same draws: `--screen N S` and `--random N S` meet the same
+    linkages), each scored first against Linkage.decimal_motion (the engine's formulas in 110
+    digits, exact to the double it rounds to: a screen, cheap enough for 10^5 points); the `keep`
+    worst of each quantity and kind, and every point whose status is not plainly assembled, are
+    then scored against the 50-digit reference (engine_reference.py), which decides. Prints, and
+    returns, {kind: {quantity: (error, call, velocity)}}; the output's error over 1 + |dpsi/dphi|
+    (its condition: the angle's rounding carried through the linkage) beside it."""
+    import heapq
+    import random
+    harness = engine_harness
+    rng = random.Random(seed)
+    print(f"random points: {points:,} a kind (seed {seed}), drawn as --random draws them; each "
+          f"screened against the 110-digit decimal redo, the {keep} worst a quantity and every "
+          "point not plainly assembled then scored against 50 digits as tests/test_engine.py "
+          "scores", file=out, flush=True)
+    found = {}
+    for kind in harness.KINDS:
+        worst = {q: [] for q in ("output", "velocity", "acceleration", "conditioned")}
+        odd, done = [], 0
+        while done < points:
+            dims, phi, branch = random_point(rng, kind)
+            link = Linkage(kind, **dims)
+            m = link.motion(phi, branch)
+            if m.status == NOT_ASSEMBLED:
+                continue
+            done += 1
+            d = link.decimal_motion(phi, branch, finest=True)
+            if m.status != ASSEMBLED or d.status != ASSEMBLED:
+                odd.append((dims, phi, branch))
+                continue
+            out_error = harness.output_error(kind, dims, m.output, d.output)
+            errors = {"output": out_error,
+                      "velocity": harness.ratio_error(m.velocity, d.velocity),
+                      "acceleration": harness.ratio_error(m.acceleration, d.acceleration),
+                      "conditioned": out_error / (1.0 + abs(d.velocity))}
+            for quantity, error in errors.items():
+                entry = (error, done, (dims, phi, branch))
+                if len(worst[quantity]) < keep:
+                    heapq.heappush(worst[quantity], entry)
+                else:
+                    heapq.heappushpop(worst[quantity], entry)
+        suspects = {(tuple(sorted(p[0].items())), p[1], p[2]): p
+                    for p in odd + [e[2] for q in worst.values() for e in q]}
+        confirmed, wrong = {}, []
+        for dims, phi, branch in suspects.values():
+            m = Linkage(kind, **dims).motion(phi, branch)
+            r = harness.ref(kind, dims, phi)[branch]
+            verdict, errors = harness.score(kind, dims, phi, branch, m.status, m.output,
+                                            m.velocity, m.acceleration, r)
+            if verdict != "ok":
+                wrong.append(verdict)
+            velocity = float(r.velocity) if r.velocity is not None else math.inf
+            if "output" in errors:
+                errors["conditioned"] = errors["output"] / (1.0 + abs(velocity))
+            call = f"Linkage({kind!r}, **{dims!r}).motion({phi!r}, {branch})"
+            for quantity, error in errors.items():
+                if error > confirmed.get(quantity, (-1.0,))[0]:
+                    confirmed[quantity] = (error, call, velocity)
+        found[kind] = confirmed
+        print(f"{kind}: " + ", ".join(f"{q} {e:.2e}" for q, (e, _, _) in confirmed.items())
+              + f"; {len(suspects)} points against 50 digits ({len(odd)} not plainly assembled)"
+              + (f"; {len(wrong)} wrong status: {wrong[0]}" if wrong else ""), file=out)
+        for quantity, (error, call, velocity) in confirmed.items():
+            print(f"    {quantity} {error:.3e} (d output/d phi {velocity:.3g}): {call}", file=out)
+        out.flush()
+    return found
+
+
 if __name__ == "__main__":
     print(f"$ {COMMAND} {' '.join(sys.argv[1:])}".rstrip())
     print(f"linkage.py {linkage.__version__} on {linkage.machine()}")
     if sys.argv[1:2] == ["--random"]:
         random_accuracy(sys.stdout, *map(int, sys.argv[2:4]))
+    elif sys.argv[1:2] == ["--screen"]:
+        screened_accuracy(sys.stdout, *map(int, sys.argv[2:4]))
     else:
         bench_accuracy(sys.stdout)
