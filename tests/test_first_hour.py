@@ -427,16 +427,18 @@ def test_mu_worst_of_a_design_whose_mu_is_40_to_140_is_mu_min(capsys):
 def test_forces_help_and_readme_say_the_torques_sign_and_physics_agrees(phi, sign, capsys):
     """forces --help and the README say T is the driver's torque, positive in the sense of phi,
     the peak signed, the crank counter-clockwise for a positive speed, gravity off unless asked,
-    Cs = 0.10 for +-5 %; and a crank alone (a 2 kg rod of b = 0.5 m) held against gravity g = 10
+    Cs = 0.10 for +-5 %, the flywheel to fit (the whole inertia less the links'); and a crank
+    alone (a 2 kg rod of b = 0.5 m) held against gravity g = 10
     at phi needs m g (b/2) cos(phi): +5 N m at 0 (gravity turns it clockwise), -5 at 180."""
     text = help_text("forces")
     for words in ("positive in the sense of phi", "the largest |T| with its sign",
                   "counter- clockwise (phi increasing)", "No gravity unless asked",
-                  "within +-5 % is Cs = 0.10", "the flywheel's own inertia about the crank's axis"):
+                  "within +-5 % is Cs = 0.10", "flywheel_added is the rest, the flywheel to fit"):
         assert words in text, words
     readme = " ".join(README.split())
     for words in ("positive in the sense of φ", "*with its sign*", "`--fluctuation 0.10`",
-                  "gravity** is off unless asked", "on top of the links"):
+                  "gravity** is off unless asked",
+                  "**`flywheel_added`** is the rest: the flywheel to fit"):
         assert words in readme, words
     status, out, err = output_of(["forces", "plane", "--a", "2", "--b", "0.5", "--c", "2",
                                   "--d", "1.5", "--mass-crank", "2", "--gravity", "10", "--from",
