@@ -669,16 +669,23 @@ EXPLORE_TARGETS = [[], ["plane"], ["slider", "--b", "2", "--c", "5", "--e", "1"]
        target=st.sampled_from(EXPLORE_TARGETS),
        size=st.sampled_from([[], ["--size", "80x24"], ["--size", "20x5"], ["--size", "200x60"],
                              ["--size", "0x0"], ["--size", "x"]]))
+@example(keys="s\nEnter", target=[], size=[])              # the long run's find: a scene saved
 def test_any_keys_through_the_explorer(keys, target, size, tmp_path_factory, monkeypatch, capsys,
                                        signals_kept, no_hang):
     """explore --keys FILE with random keys (names and characters: numbers typed after =, help,
     branches, play; and streams with lines that are no key): a last screen or a message naming
-    the file, never a traceback or a hang; nothing written ("s" saves a scene only after a
-    question, which a replay does not answer)."""
+    the file, never a traceback or a hang; nothing written but what the keys asked for: "s"
+    saves a scene once its question (the file's name) is answered, which the keys may do (the
+    long run's find: `s`, `Enter` wrote explore-plane.toml, as a user's keys would), and what
+    it writes is a whole scene that loads."""
     no_hang()
     folder = tmp_path_factory.mktemp("explore")
     monkeypatch.chdir(folder)
     (folder / "keys.txt").write_text(keys, encoding="utf-8")
     status = run_main(["explore", *target, "--keys", "keys.txt", *size], folder, capsys)
     assert status in (0, 1, 2)
-    assert os.listdir(folder) == ["keys.txt"]
+    saved = sorted(set(os.listdir(folder)) - {"keys.txt"})
+    assert not saved or "s" in keys.split("\n"), saved
+    for name in saved:                           # whole: a scene that loads, no hidden temporary
+        assert name.endswith(".toml") and not name.startswith("."), saved
+        assert linkage.load_scene(str(folder / name)).kind in linkage.KIND_NAMES
