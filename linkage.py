@@ -3876,8 +3876,8 @@ class _Strokes:
         """The time ratio as engineers quote it: the slower stroke's crank turn over the faster's
         (>= 1; slower_stroke says which); None without strokes."""
         forward, back = self.forward_stroke, self.return_stroke
-        if forward is None or back is None:
-            return None
+        if forward is None or back is None or min(forward, back) <= 0.0:
+            return None                     # a stroke of no crank turn (the long fuzz run's find)
         return max(forward, back) / min(forward, back)
 
     @property
@@ -4454,8 +4454,8 @@ def analysis_lines(analysis: Analysis, prefix: str = "") -> list[str]:
 # Uses: sections 2, 6, 7 and 8.
 # Offers: STANDARD_GRAVITY, UNBOUNDED, OUT_OF_RANGE, Matrix, Body, Bodies, Effects, Driver, Spring,
 #   Torsion, Reaction, Forces, BodyMass, spin_about_centre, checked_number, checked_numbers,
-#   ForcesSetup, forces_setup, body_masses, forces, PEAK_TOLERANCE, TorquePeak, torque_peak,
-#   ForcesSummary, forces_summary, forces_lines.
+#   ForcesSetup, RADIUS_RANGE, forces_setup, body_masses, forces, PEAK_TOLERANCE, TorquePeak,
+#   torque_peak, ForcesSummary, forces_summary, forces_lines.
 
 
 STANDARD_GRAVITY = 9.80665      # m/s^2: Effects(gravity=STANDARD_GRAVITY), the kind's "down"
@@ -4721,14 +4721,18 @@ class ForcesSetup(NamedTuple):
     axes: dict[str, tuple[Vector, Vector]]
 
 
+RADIUS_RANGE = (1e-100, 1e100)      # metres: a sphere's radius whose powers the forces can take
+
+
 def forces_setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float
                  ) -> ForcesSetup:
     """The checked bodies and effects of a forces() call (a ValueError says what is wrong)."""
     kind = linkage.kind
     spherical, plane = kind == SPHERICAL_FOUR_BAR, kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
     radius = checked_number(radius, "the sphere's radius")
-    if radius <= 0.0:
-        raise ValueError(f"the sphere's radius must be positive, not {radius:g}")
+    if not RADIUS_RANGE[0] <= radius <= RADIUS_RANGE[1]:       # its square neither 0 nor inf
+        raise ValueError(f"the sphere's radius must be {RADIUS_RANGE[0]:g} to "
+                         f"{RADIUS_RANGE[1]:g} metres, not {radius:g}")
     if radius != 1.0 and not spherical:
         raise ValueError("radius is the spherical four-bar's: the other kinds' dimensions are "
                          "their lengths in metres")
@@ -5124,7 +5128,8 @@ def forces_summary(results: Sequence[Forces], *, cs: float = 0.05) -> ForcesSumm
     rms = math.sqrt(sum(w * t * t for w, t in zip(weights, torques)))
     omega = 2.0 * math.pi * known[0].speed_rpm / 60.0
     flywheel = None
-    if len(known) == len(results) and len(known) > 1 and span and omega and cs > 0.0:
+    if (len(known) == len(results) and len(known) > 1 and span and cs > 0.0
+            and cs * omega * omega > 0.0):          # a speed whose square does not underflow
         energy, low, high = 0.0, 0.0, 0.0
         for i in range(1, len(known)):
             energy += (torques[i - 1] + torques[i] - 2.0 * mean) / 2.0 * (phis[i] - phis[i - 1])

@@ -1024,3 +1024,34 @@ def test_signals_held_within_signals_held_stay_held_until_the_outer_block_ends()
             assert blocked() == held
         assert blocked() == held
     assert blocked() == set()
+
+
+# -- the long fuzz run's finds (2026-11-28: LINKAGE_FUZZ=2000 tests/test_fuzz.py) ----------------
+
+def test_a_speed_whose_square_underflows_gives_no_flywheel_not_a_traceback(tmp_path):
+    """speed = 1e-300 rpm: omega^2 is 0 in doubles; forces_summary divided by it (a traceback)."""
+    result = run(["forces", "plane", "--a", "0.3", "--b", "0.1", "--c", "0.35", "--d", "0.45",
+                  "--speed", "1e-300", "--mass-crank", "1", "--gravity", "9.8"], tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert b"flywheel_inertia = none" in result.stdout and b"Traceback" not in result.stderr
+
+
+def test_a_sphere_too_small_for_the_forces_is_refused_in_one_line(tmp_path):
+    """radius = 1e-300: the links' positions underflowed to 0 and a unit vector divided by 0."""
+    scene = (basic_runner.ROOT / "data" / "scenes" / "forces-spherical-four-bar.toml").read_text()
+    (tmp_path / "s.toml").write_text(scene.replace("radius = 0.1", "radius = 1e-300"))
+    assert "radius = 1e-300" in (tmp_path / "s.toml").read_text()
+    result = run(["forces", "s.toml"], tmp_path)
+    assert result.returncode == 1 and b"Traceback" not in result.stderr, result.stderr
+    assert b"radius must be 1e-100 to 1e+100 metres" in result.stderr
+    assert sorted(os.listdir(tmp_path)) == ["s.toml"]
+
+
+def test_a_stroke_of_no_crank_turn_has_no_time_ratio():
+    """A circuit whose stroke takes no crank turn: the time ratio divided by 0 (analyse's
+    traceback in the long run); none is given."""
+    from types import SimpleNamespace
+    assert linkage.Circuit.time_ratio.fget(SimpleNamespace(forward_stroke=0.0,
+                                                           return_stroke=180.0)) is None
+    assert linkage.Circuit.time_ratio.fget(SimpleNamespace(forward_stroke=90.0,
+                                                           return_stroke=180.0)) == 2.0
