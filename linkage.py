@@ -6534,13 +6534,24 @@ def reduced(linkage: Closure, phi: float, branch: int = 1, bodies: Bodies = Bodi
     the listing's `branch` (see the section's notes; bodies, gravity and the spherical
     four-bar's radius as forces'; at a change point the branch's limits); None where there is
     no velocity (no position, a dead centre)."""
+    return _reduced_along(linkage, [phi], branch, bodies, gravity, radius)[0]
+
+
+def _reduced_along(linkage: Closure, phis: Iterable[float], branch: int, bodies: Bodies,
+                   gravity: float | Sequence[float] | None, radius: float
+                   ) -> list[Reduced | None]:
+    """reduced() at each of phis, the bodies checked and the view made once."""
     forces(linkage, [], branch, bodies, Effects(gravity=gravity), radius=radius)   # its errors
     view = _views(linkage, bodies, _gravity(gravity, linkage.kind), radius)[0]
-    m = linkage.motion(phi, branch)
-    if m.velocity is None or m.acceleration is None or m.output is None:
-        return None
-    pose = _Pose(m.phi, m.output, 1.0, 0.0, m.velocity, m.acceleration, 0.0, 0.0, 0.0)
-    return _reduced_at(view, pose, *_pins(view, pose))
+    found: list[Reduced | None] = []
+    for phi in phis:
+        m = linkage.motion(phi, branch)
+        if m.velocity is None or m.acceleration is None or m.output is None:
+            found.append(None)
+            continue
+        pose = _Pose(m.phi, m.output, 1.0, 0.0, m.velocity, m.acceleration, 0.0, 0.0, 0.0)
+        found.append(_reduced_at(view, pose, *_pins(view, pose)))
+    return found
 
 
 def mean_reduced_inertia(linkage: Closure, phis: Sequence[float], branch: int = 1,
@@ -6550,7 +6561,7 @@ def mean_reduced_inertia(linkage: Closure, phis: Sequence[float], branch: int = 
     forces_summary's flywheel_inertia, ΔE_max / (cs omega^2), is the whole inertia at the crank
     that holds the speed: the linkage's own J carries this much of it, and a flywheel of the
     rest holds it to within about cs/2 of cs (tests/test_simulate.py measures it so)."""
-    values = [reduced(linkage, phi, branch, bodies, radius=radius) for phi in phis]
+    values = _reduced_along(linkage, phis, branch, bodies, None, radius)
     if len(values) < 2 or any(v is None for v in values) or phis[-1] <= phis[0]:
         return None
     inertia = [cast(Reduced, v).inertia for v in values]
@@ -14512,11 +14523,11 @@ def dimensions_typed(given: dict[str, Any]) -> dict[str, str]:
     return {n: given[n] for n in DIMENSION_NAMES if given.get(n) is not None}
 
 
-def _coupler_typed(texts: Sequence[str] | None, most: int = 2) -> tuple[float, ...]:
+def _coupler_typed(texts: Sequence[str] | None) -> tuple[float, ...]:
     """--coupler's U (and V) as numbers: () where not given."""
     if texts is None:
         return ()
-    if not 1 <= len(texts) <= most:
+    if not 1 <= len(texts) <= 2:
         raise UsageError("--coupler takes U, or U and V")
     return tuple(typed_value(decimal_number, text, "--coupler") for text in texts)
 

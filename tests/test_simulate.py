@@ -322,6 +322,23 @@ def test_rhombus_keeps_its_parallelogram_through_its_change_points():
 
 # -- the input's dead centre, against the motion in the output's angle -----------------------------
 
+def released_times(start, inertia, potential):
+    """A motion in one coordinate q released from rest at `start` (1/2 J(q) q_dot^2 = V(start) -
+    V(q)): times(qs) the times at which it reaches each of qs, in the order it reaches them,
+    by quadrature of dt = sqrt(J / (2 (V(start) - V))) dq a piece at a time."""
+    v0 = potential(start)
+
+    def times(qs):
+        out, t, last = [], mpmath.mpf(0), start
+        for q in qs:
+            t += abs(mpmath.quad(lambda z: mpmath.sqrt(inertia(z) / (2 * (v0 - potential(z)))),
+                                 [last, q]))
+            out.append(float(t))
+            last = mpmath.mpf(q)
+        return out
+    return times
+
+
 def output_angle_motion(dims, masses, phi0, psi_near):
     """The double-rocker from rest at phi0 written in its output's angle psi: its joints solved
     here (B on its circle, A where the circles about A0 and B meet), J(psi) from each rod's
@@ -377,19 +394,7 @@ def output_angle_motion(dims, masses, phi0, psi_near):
         return (m1 * b * b / 3 * mpmath.diff(crank, psi) ** 2 + m2 * (gx * gx + gy * gy)
                 + m2 * c * c / 12 * mpmath.diff(coupler, psi) ** 2 + m3 * d * d / 3)
 
-    v0 = potential(psi0)
-
-    def times(psis):
-        """The times at psis, in the order the motion reaches them (one piece at a time)."""
-        out, t, last = [], mpmath.mpf(0), psi0
-        for psi in psis:
-            t += abs(mpmath.quad(lambda x: mpmath.sqrt(inertia(x) / (2 * (v0 - potential(x)))),
-                                 [last, psi]))
-            out.append(float(t))
-            last = mpmath.mpf(psi)
-        return out
-
-    return float(psi0), times
+    return float(psi0), released_times(psi0, inertia, potential)
 
 
 def test_double_rocker_across_its_input_dead_centre_against_the_output_angle_motion():
@@ -450,18 +455,7 @@ def slide_motion(b, c, masses, x0):
         ax = crank_pin(x)[0]
         return G * (m1 * ax / 2 + m2 * (ax + x) / 2 + m3 * x)
 
-    v0 = potential(x0)
-
-    def times(xs):
-        out, t, last = [], mpmath.mpf(0), x0
-        for x in xs:
-            t += abs(mpmath.quad(lambda z: mpmath.sqrt(inertia(z) / (2 * (v0 - potential(z)))),
-                                 [x, last]))
-            out.append(float(t))
-            last = mpmath.mpf(x)
-        return out
-
-    return times
+    return released_times(x0, inertia, potential)
 
 
 def test_a_rocking_slider_crank_swings_through_its_input_dead_centre_as_the_motion_in_x():
