@@ -24,7 +24,7 @@ import pytest
 
 from support import basic_runner
 import linkage
-from support import make_scene_snapshots
+from support import make_scene_pngs, make_scene_snapshots
 from support.peers import need
 from support.program import PROGRAM
 
@@ -811,3 +811,16 @@ def test_a_curve_scene_says_the_png_it_wrote(tmp_path):
                          text=True, cwd=tmp_path)
     assert got.returncode == 0, got.stderr
     assert got.stderr == "linkage.py: wrote f.png\n" and (tmp_path / "f.png").exists()
+
+
+def test_every_stored_png_is_drawn_by_its_scene_at_its_size():
+    """The README's PNGs under data/scenes are each redrawn by support.make_scene_pngs from the
+    scene beside it: none without its row and its scene, no row without its PNG, each at the size
+    its row names (a PNG drawn some other way, or a scene renamed, fails here)."""
+    stored = {png.stem for png in make_scene_snapshots.SCENES.glob("*.png")}
+    assert stored == set(make_scene_pngs.PNG_SIZES)
+    for name, size in make_scene_pngs.PNG_SIZES.items():
+        assert (make_scene_snapshots.SCENES / f"{name}.toml").exists(), name
+        data = (make_scene_snapshots.SCENES / f"{name}.png").read_bytes()
+        width, height = struct.unpack(">II", data[16:24])
+        assert not size or f"{width}x{height}" == size, (name, width, height)
