@@ -11796,8 +11796,9 @@ def _drawn_runs(path: str, points: Iterable[tuple[float, float]], angles: bool
     is +-3 (where the original clips). A file of up to PLOT_POINTS points is drawn as it is;
     a longer one, read a point at a time, is thinned to the figure's resolution: its points
     in at most PLOT_BINS bins of neighbouring points (a run's breaks kept, the typical step
-    that of its first PLOT_POINTS), each bin drawn as its first, lowest, highest and last
-    point, in their order, so that its lines cover the pixels the whole file's would. A value
+    that of its first PLOT_POINTS), each bin drawn as its first, lowest, highest, leftmost,
+    rightmost and last point, in their order, so that its lines cover the pixels the whole
+    file's would. A value
     beyond +-DRAWN_UP_TO is refused as soon as it is read."""
     touches_3 = False
 
@@ -11824,10 +11825,12 @@ def _drawn_runs(path: str, points: Iterable[tuple[float, float]], angles: bool
 def _thinned(path: str, points: Iterable[tuple[float, float, bool]]
              ) -> tuple[tuple[tuple[float, float], ...], ...]:
     """The runs of `points` ((x, y, whether it starts a run), _unbroken) kept in at most about
-    2 PLOT_BINS bins of neighbouring points of one run: each bin its first, lowest, highest and
-    last point (their index in the stream, x, y); when the bins reach 2 PLOT_BINS, neighbours of
-    a run are merged, two into one. More than PLOT_BINS runs: SceneError."""
-    bins: list[list[Any]] = []          # [starts a run, first, lowest, highest, last]
+    2 PLOT_BINS bins of neighbouring points of one run: each bin its first point, its lowest and
+    highest y, its leftmost and rightmost x (a curve whose x turns back, a rocking crank against
+    time, keeps its extremes too) and its last point (their index in the stream, x, y); when the
+    bins reach 2 PLOT_BINS, neighbours of a run are merged, two into one. More than PLOT_BINS
+    runs: SceneError."""
+    bins: list[list[Any]] = []  # [starts a run, first, lowest, highest, leftmost, rightmost, last]
     per, count, runs = 1, 0, 0
     bin_: list[Any] = []
     for i, (x, y, first) in enumerate(points):
@@ -11841,13 +11844,17 @@ def _thinned(path: str, points: Iterable[tuple[float, float, bool]]
             if runs > PLOT_BINS:
                 raise SceneError(f"{path}: its curve breaks into more than {PLOT_BINS:,} "
                                  "pieces (where the input angle skips): too many to draw")
-            bin_, count = [first, point, point, point, point], 1
+            bin_, count = [first, point, point, point, point, point, point], 1
             continue
         if y < bin_[2][2]:
             bin_[2] = point
         elif y > bin_[3][2]:
             bin_[3] = point
-        bin_[4] = point
+        if x < bin_[4][1]:
+            bin_[4] = point
+        elif x > bin_[5][1]:
+            bin_[5] = point
+        bin_[6] = point
         count += 1
     if bin_:
         bins.append(bin_)
@@ -11868,7 +11875,8 @@ def _merged(bins: list[list[Any]]) -> list[list[Any]]:
         if single and not b[0]:
             a = merged[-1]
             merged[-1] = [a[0], a[1], min(a[2], b[2], key=lambda p: p[2]),
-                          max(a[3], b[3], key=lambda p: p[2]), b[4]]
+                          max(a[3], b[3], key=lambda p: p[2]), min(a[4], b[4], key=lambda p: p[1]),
+                          max(a[5], b[5], key=lambda p: p[1]), b[6]]
             single = False
         else:
             merged.append(b)

@@ -9,6 +9,7 @@ temporary (.partial) file; every failure is a message on standard error, never a
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import random
 import resource
@@ -440,6 +441,25 @@ def test_a_thinned_curve_draws_the_whole_files_text_plot(gap, tmp_path, monkeypa
     whole = linkage.text_figure(linkage.dat_figure(str(tmp_path)))
     assert thinned == whole
     assert "*" in whole
+
+
+def test_a_thinned_curve_keeps_its_extremes_where_x_turns_back(tmp_path):
+    """A DAT file whose x rocks back and forth (its points in no order of x) at one y: a bin that
+    kept only its first, lowest, highest and last point lost the x where the rocking turned, so
+    the thinned curve fell short of the file's range in x. Each bin keeps its leftmost and
+    rightmost point too: every turn's x is drawn as far as it goes."""
+    lines = 300_001
+    xs = [90.0 + 80.0 * math.sin(2.0 * math.pi * i / 997.3 + 0.3) for i in range(lines)]
+    with open(tmp_path / "VEL.DAT", "wb") as out:
+        out.write("".join(f"{x!r},0.5\r\n" for x in xs).encode() + b"\x1a")
+    runs = [run for panel in linkage.dat_figure(str(tmp_path)).panels
+            for curve in panel.curves for run in curve.runs]
+    drawn = {x for run in runs for x, _ in run}         # no two turns share an x
+    assert len(drawn) < lines // 4                      # it was thinned
+    for turn in range(1, 300):                          # every turn, each way
+        left, right = round(997.3 * turn) + 249, round(997.3 * turn) + 748
+        piece = xs[left - 300:left + 300], xs[right - 300:right + 300]
+        assert max(piece[0]) in drawn and min(piece[1]) in drawn, turn
 
 
 @pytest.mark.parametrize("content, said", [
