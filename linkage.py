@@ -8811,8 +8811,9 @@ def _png_chart(ax: matplotlib.axes.Axes, chart: Sequence[tuple[float, float | No
     ax.annotate("90° best", (1.0, 90.0), xycoords=("axes fraction", "data"), xytext=(-3, 3),
                 textcoords="offset points", ha="right", fontsize=7, color="#1e7b45")
     worst = ""
-    if values:
-        mu, phi = max(values, key=lambda v: abs(v[0] - 90.0))
+    if values:                          # the worst as analyse's mu_worst: mu_min on a tie
+        lowest, highest = min(values), max(values, key=lambda v: (v[0], -v[1]))
+        mu, phi = highest if highest[0] + lowest[0] - 180.0 > MU_TIE else lowest
         ax.plot([phi], [mu], "o", markersize=7, markerfacecolor="none", color="#c0392b",
                 markeredgewidth=1.5)
         worst = f"\nworst μ (circled) {mu:.1f}° at {phi:g}°"

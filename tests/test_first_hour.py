@@ -303,6 +303,19 @@ def test_the_mu_chart_spans_mus_range_and_90_and_circles_the_worst():
     assert "worst μ (circled) 50.0° at 180°" in ax.get_xlabel()
 
 
+@pytest.mark.parametrize("high, circled", [(130.0, "50.0° at 90°"),            # a tie: mu_min
+                                           (130.0 + 1e-6, "130.0° at 270°")])   # beyond MU_TIE
+def test_the_mu_chart_circles_the_worst_as_analyse_names_it(high, circled):
+    """mu 50 at phi = 90 and `high` at 270: equally far from 90, analyse's mu_worst is mu_min
+    (the rule of MU_TIE), and the chart circles that one, not whichever comes first."""
+    Figure = need("matplotlib.figure").Figure
+    chart = [(0.0, 90.0), (90.0, 50.0), (180.0, 90.0), (270.0, high), (360.0, 90.0)]
+    chart = chart[2:] + chart[:2]                           # the highest before the lowest
+    ax = Figure().add_subplot()
+    linkage._png_chart(ax, chart, [])
+    assert f"worst μ (circled) {circled}" in ax.get_xlabel(), ax.get_xlabel()
+
+
 def test_a_scene_says_kind_and_still_takes_mechanism(tmp_path, capsys):
     """The scenes that come with the program say `kind = ...`; a file that says `mechanism = ...`
     (its old name) draws the same; one that says both is refused."""
