@@ -10870,11 +10870,15 @@ def _unknown_keys(path: str, table: Iterable[str], allowed: Iterable[str], prefi
 def load_scene(path: str) -> Scene:
     """Read and check a scene file; a SceneError names the file, the key and what it expects."""
     import tomllib
-    try:
-        with open(path, "rb") as fh:
+    try:        # opened without waiting: a FIFO that no program writes reads as empty
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        os.set_blocking(fd, True)       # then read as usual: a writer's text waited for
+        with open(fd, "rb") as fh:
             raw = fh.read(SCENE_LARGEST + 1)   # no more: /dev/zero is not read to the end
     except OSError as e:
         raise SceneError(f"{path}: cannot read the scene: {e.strerror}") from None
+    if not raw.strip():
+        raise SceneError(f"{path}: the scene is empty")
     if b"\0" in raw:
         raise SceneError(f"{path}: not a TOML file: binary data (a NUL byte at offset "
                          f"{raw.index(0):,})")
