@@ -272,6 +272,33 @@ def test_energy_kept_on_random_spatial_linkages(case):
     assert linkage.STUCK not in [e.kind for e in sim.events], sim.events
 
 
+INVERSE_KINDS = [
+    ("plane", DOUBLE_ROCKER), ("slider", dict(b=2.0, c=1.5, e=0.3)),
+    ("spherical", dict(a=60.0, b=70.0, c=30.0, d=50.0)),
+    ("skew", dict(a=3.0, b=2.5, c=1.0, d=2.0, f=0.3, ksi=20.0)),
+    ("skew-slider", dict(a=0.5, b=1.0, c=1.2, f=0.3, ksi=20.0))]
+
+
+@settings(max_examples=60, deadline=None)
+@given(case=st.sampled_from(INVERSE_KINDS), phi=st.floats(0.0, 360.0),
+       branch=st.sampled_from([1, 2]))
+def test_the_closure_solved_the_other_way_round_inverts_the_engine(case, phi, branch):
+    """Closure.input_angle (the run's output coordinate) at the engine's output at phi gives phi
+    back on one of its labels, with dphi/dy = 1 / psi' and d2phi/dy2 = -psi'' / psi'^3 (the
+    inverse function's derivatives), all five kinds."""
+    lk = Linkage(*case[:1], **case[1])
+    m = lk.motion(phi, branch)
+    assume(m.status == linkage.ASSEMBLED and abs(m.velocity) > 1e-2)
+    y = m.output if lk.is_slider else math.radians(m.output)
+    found = [lk.input_angle(y, label) for label in (1, 2)]
+    back = min((f for f in found if f is not None),
+               key=lambda f: abs(math.remainder(f[0] - math.radians(phi), 2.0 * math.pi)))
+    assert abs(math.remainder(back[0] - math.radians(phi), 2.0 * math.pi)) < 1e-9
+    assert abs(back[1] * m.velocity - 1.0) < 1e-8
+    curvature = -m.acceleration / m.velocity ** 3
+    assert abs(back[2] - curvature) < 1e-8 * (1.0 + abs(curvature))
+
+
 def spatial_output_motion(kind, dims, masses, phi0, near, gravity, radius=1.0):
     """A spatial double-rocker released from rest at phi0, written in its output's coordinate y
     (psi, or the skew slider's x): the output pin B(y) (the paper's geometry, as test_physics
@@ -442,6 +469,42 @@ def test_a_spatial_double_rocker_across_its_input_dead_centre_against_the_output
         assert worst < 1e-8, worst
     finally:
         mpmath.mp.dps = 15
+
+
+def test_a_coupler_force_on_a_spherical_double_rocker_does_the_work_of_its_point_moved():
+    """A constant force at the coupler point (u, v) (longitude and latitude in the coupler's
+    frame: x toward A, z along A x B) does the work F . (P(t) - P(0)) across the input's dead
+    centre too, where the run's coordinate is the output's angle: P placed here from each row's
+    phi and output on the sphere of 1.5 m. Fails with the point's rate taken per unit of the
+    crank's angle in the output's coordinate."""
+    r, (u, v), force = 1.5, (20.0, 10.0), (3.0, -5.0, 2.0)
+    a, b, c, d = 60.0, 70.0, 30.0, 50.0
+    sim = simulate(Linkage("spherical", a=a, b=b, c=c, d=d),
+                   Bodies(Body(1.0), Body(0.7), Body(1.2)), Effects(
+                       gravity=(0.0, -G, 0.0), coupler_force=((u, v), force)),
+                   initial=(50.0, 0.0), time=1.2, step=0.05, tolerance=1e-10, radius=r)
+    assert events(sim, linkage.DEAD_CENTRE) and linkage.STUCK not in [e.kind for e in sim.events]
+    a, b, d, u, v = (math.radians(x) for x in (a, b, d, u, v))
+
+    def point(row):
+        phi, psi = math.radians(row.phi), math.radians(row.output)
+        pa = (math.sin(b) * math.cos(phi), math.sin(b) * math.sin(phi), math.cos(b))
+        w = (math.sin(d) * math.cos(psi), math.sin(d) * math.sin(psi), math.cos(d))
+        pb = (math.cos(a) * w[0] + math.sin(a) * w[2], w[1], -math.sin(a) * w[0] + math.cos(a) * w[2])
+        k = sum(x * y for x, y in zip(pa, pb))
+        n = (pa[1] * pb[2] - pa[2] * pb[1], pa[2] * pb[0] - pa[0] * pb[2],
+             pa[0] * pb[1] - pa[1] * pb[0])
+        sn = math.sqrt(sum(x * x for x in n))
+        side = [(y - k * x) / sn for x, y in zip(pa, pb)]
+        return [r * (math.cos(v) * (math.cos(u) * x + math.sin(u) * y) + math.sin(v) * z / sn)
+                for x, y, z in zip(pa, side, n)]
+
+    p0 = point(sim.rows[0])
+    assert {row.coordinate for row in sim.rows} == {"input", "output"}
+    for row in sim.rows:
+        work = sum(f * (x - x0) for f, x, x0 in zip(force, point(row), p0))
+        assert abs(row.work - work) < 1e-8, (row, work)
+        assert abs(row.energy - row.work - sim.rows[0].energy) < 1e-8
 
 
 # -- the rhombus through its change points ---------------------------------------------------------
