@@ -6282,11 +6282,12 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
 # output phi + 180, gravity and the coupler's frame turned with it; its crank is the output body.
 # The other kinds are solved in their output's coordinate (psi, or the slider's x) as they are:
 # the crank's angle and its derivatives by it from the engine's closure solved the other way
-# round (Closure.input_angle), the bodies, gravity and loads unchanged. The run changes to the other coordinate after a step whose end has |d other / d q| > 2, so the
-# new coordinate's is under 1/2 and the change cannot flap. At each evaluation the output (or phi)
-# is the engine's root nearest the prediction (output, velocity) from the step's start by Taylor,
-# so that at a change point the motion keeps to the branch it follows (as sweep's "follow"),
-# never jumping: the branches cross there with different velocities.
+# round (Closure.input_angle), the bodies, gravity and loads unchanged. The run changes to the
+# other coordinate after a step whose end has |d other / d q| > 2, so the new coordinate's is
+# under 1/2 and the change cannot flap. At each evaluation the output (or phi) is the root
+# nearest the prediction (output, velocity) from the step's start by Taylor, so that at a change
+# point the motion keeps to the branch it follows (as sweep's "follow"), never jumping: the
+# branches cross there with different velocities.
 #
 # The integrator: Dormand and Prince's embedded Runge-Kutta 5(4) with its 4th-order dense output
 # (Hairer, Norsett and Wanner, Solving ODE I, II.5 and II.6), on (q, q_dot, W), W the work of the
