@@ -2820,6 +2820,42 @@ class Closure:
         loop = _sweep_slider if self.is_slider else _sweep_four_bar
         return loop(self, phis, sign, derivatives)
 
+    def input_angle(self, output: float, label: int) -> tuple[float, float, float] | None:
+        """The closure solved the other way round: the input angle phi (radians) where the
+        output is `output` (psi in radians; the slider's x), on label 1 (dE/dphi > 0, dG/dphi)
+        or 2, with dphi/doutput and d2phi/doutput2. With the output given, E (G) is
+        A cos phi + B sin phi + C, A, B and C each of cos psi, sin psi and 1 (x^2, x and 1),
+        solved as the four-bar sweep solves for psi; in double precision, for a coordinate
+        away from the output's own dead centres: None where it does not assemble, or at
+        dE/dphi = 0."""
+        k = self._constants
+        if self.is_slider:
+            m0, mc, ms, k0, kc, ks = k[:6]
+            x = output / self.unit
+            a, b, c = kc - 2.0 * mc * x, ks - 2.0 * ms * x, x * x - 2.0 * m0 * x + k0
+            a1, b1, c1 = -2.0 * mc, -2.0 * ms, 2.0 * x - 2.0 * m0       # d/dx
+            scale = 1.0 / self.unit
+        else:
+            p0, pc, ps, q0, qc, qs, s0, sc, ss = k
+            cq, sq = math.cos(output), math.sin(output)
+            a, b, c = pc * cq + qc * sq + sc, ps * cq + qs * sq + ss, p0 * cq + q0 * sq + s0
+            a1, b1, c1 = qc * cq - pc * sq, qs * cq - ps * sq, q0 * cq - p0 * sq
+            scale = 1.0
+        disc = (a * a + b * b) - c * c
+        if not disc > 0.0:
+            return None
+        root, sign, r2 = math.sqrt(disc), 1.0 if label == 1 else -1.0, a * a + b * b
+        sp, cp = (-b * c - sign * a * root) / r2, (-a * c + sign * b * root) / r2
+        e_phi = sign * root                 # -A sin phi + B cos phi on the root
+        e_y = a1 * cp + b1 * sp + c1
+        e_phiy = b1 * cp - a1 * sp
+        # E_phiphi = -(A cos phi + B sin phi) = C on the root; E_yy = 2 (G), or the constant
+        # terms of A, B, C (E less its psi-dependent part, E = 0 on the root)
+        e_yy = 2.0 if self.is_slider else sc * cp + ss * sp + s0
+        phi1 = -e_y / e_phi
+        phi2 = -(e_yy + 2.0 * e_phiy * phi1 + c * phi1 * phi1) / e_phi
+        return math.atan2(sp, cp), phi1 * scale, phi2 * scale * scale
+
     def decimal_motion(self, phi: float, branch: int = 1, finest: bool = False) -> Motion:
         """The Motion at phi on branch 1 or 2 in decimal arithmetic as the engine redoes a point
         near a dead centre (50 digits; 110 near a change point), or in 110 digits throughout
@@ -3239,7 +3275,7 @@ def _slider_point(k: tuple[Decimal, ...], zero: Decimal, fine: Decimal | None, p
 # Offers: Real, Vec3, Kinematics, Pins, PINS, COUPLER_REACH, pin_dimensions, weighted_sum,
 #   difference, cross, dot, unit_vector, rotated_y, check_coupler_point, joint_kinematics,
 #   output_pin_at, coupler_form, transmission_form, CouplerMotion, coupler_of, transmission_of,
-#   slider_crank_angle, Pose, joint_positions, pose_at.
+#   Pose, joint_positions, pose_at.
 
 
 # -- the joints, the coupler point and the transmission angle -----------------------------------
@@ -3542,28 +3578,6 @@ def transmission_of(linkage: Closure, motions: Iterable[Motion]) -> list[float |
     return out
 
 
-
-
-def slider_crank_angle(linkage: Closure, x: float, label: int
-                       ) -> tuple[float, float, float] | None:
-    """The plane slider-crank's crank angle phi (radians) at its slider's x, and dphi/dx and
-    d2phi/dx2: |A - C| = c with A = b (cos phi, sin phi), C = (x, e) is x cos phi + e sin phi = k,
-    k = (b^2 + x^2 + e^2 - c^2) / 2b, so phi = atan2(e, x) +- acos(k / |(x, e)|) (label 1: +);
-    the derivatives by differentiating F = x cos phi + e sin phi - k = 0. None where it does not
-    assemble, or at F_phi = 0 (crank and rod in line: the slider's own dead centre)."""
-    b, c, e = (linkage.dims[n] for n in "bce")
-    r = math.hypot(x, e)
-    k = (b * b + x * x + e * e - c * c) / (2.0 * b)
-    if not abs(k) < r:
-        return None
-    phi = math.atan2(e, x) + (1.0 if label == 1 else -1.0) * math.acos(k / r)
-    cp, sp = math.cos(phi), math.sin(phi)
-    f_phi = e * cp - x * sp
-    if f_phi == 0.0:
-        return None
-    phi1 = -(cp - x / b) / f_phi
-    phi2 = (1.0 / b + 2.0 * sp * phi1 + (x * cp + e * sp) * phi1 * phi1) / f_phi
-    return phi, phi1, phi2
 
 
 class Pose(NamedTuple):
@@ -6266,11 +6280,14 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
 # is solved as its inverse, the four-bar with input and output swapped: the plane turned half a
 # turn about the frame line's middle maps A0 to B0, its input angle is psi + 180 degrees and its
 # output phi + 180, gravity and the coupler's frame turned with it; its crank is the output body.
-# The run changes to the other coordinate after a step whose end has |d other / d q| > 2, so the
-# new coordinate's is under 1/2 and the change cannot flap. At each evaluation the output (or phi)
-# is the engine's root nearest the prediction (output, velocity) from the step's start by Taylor,
-# so that at a change point the motion keeps to the branch it follows (as sweep's "follow"),
-# never jumping: the branches cross there with different velocities.
+# The other kinds are solved in their output's coordinate (psi, or the slider's x) as they are:
+# the crank's angle and its derivatives by it from the engine's closure solved the other way
+# round (Closure.input_angle), the bodies, gravity and loads unchanged. The run changes to the
+# other coordinate after a step whose end has |d other / d q| > 2, so the new coordinate's is
+# under 1/2 and the change cannot flap. At each evaluation the output (or phi) is the root
+# nearest the prediction (output, velocity) from the step's start by Taylor, so that at a change
+# point the motion keeps to the branch it follows (as sweep's "follow"), never jumping: the
+# branches cross there with different velocities.
 #
 # The integrator: Dormand and Prince's embedded Runge-Kutta 5(4) with its 4th-order dense output
 # (Hairer, Norsett and Wanner, Solving ODE I, II.5 and II.6), on (q, q_dot, W), W the work of the
@@ -6283,9 +6300,8 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
 # springs, from the positions, is written along the run with W: E - W stays E(0) to the tolerance, a
 # check (Simulation.energy_error), not an assumption.
 #
-# The plane kinds only (plane four-bar, plane slider-crank), SI units as the forces section's. The
-# slider-crank is solved in phi alone: a rocking crank's run ends (STUCK) where |x'| passes 100
-# times the crank's length, its input's dead centre ahead, where phi cannot turn back.
+# All five kinds, SI units as the forces section's (the spherical four-bar on a sphere of
+# `radius` metres).
 #
 # Uses: sections 2, 6, 7 and 9.
 # Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, SimRow, SimEvent, Simulation, Reduced,
@@ -6298,9 +6314,6 @@ COORDINATE = "coordinate"            # the run changed its coordinate (text: to 
 STUCK = "stuck"                      # no step could be taken: the run ends
 END = "end"                          # the run's time is over
 _SWITCH_ABOVE = 2.0                  # |d other / d q| over which the coordinate changes
-_ALONE_ABOVE = 20.0                 # |psi'| (|x'| over b) where a spatial kind's run ends, its
-#                                      input's dead centre ahead (in phi alone, the crank
-#                                      could not turn back there)
 _CRAWL, _CRAWL_STEPS = 1e-9, 10_000  # so many steps in a row, each under this of the run: STUCK
 _SHORTEST = 1e-13                    # a step shorter than this (times 1 + t) fails: STUCK
 _LONGEST_RUN = 1e7                   # seconds: a longer run is refused
@@ -6444,21 +6457,23 @@ def _engine_solver(closure: Closure) -> Callable[[float, int], _Pose | None]:
     return solve
 
 
-def _slider_solver(closure: Closure) -> Callable[[float, int], _Pose | None]:
-    """The plane slider-crank's positions in its slider's x (slider_crank_angle)."""
-    def solve(x: float, label: int) -> _Pose | None:
-        found = slider_crank_angle(closure, x, label)
+def _output_solver(closure: Closure) -> Callable[[float, int], _Pose | None]:
+    """A view's positions in the output's coordinate q (psi in radians, or the slider's x): the
+    crank's angle by the closure solved the other way round (Closure.input_angle)."""
+    def solve(q: float, label: int) -> _Pose | None:
+        found = closure.input_angle(q, label)
         if found is None:
             return None
         phi, phi1, phi2 = found
-        return _Pose(phi * DEG, x, phi1, phi2, 1.0, 0.0, phi, phi1, phi2)
+        return _Pose(phi * DEG, q if closure.is_slider else q * DEG, phi1, phi2, 1.0, 0.0, phi,
+                     phi1, phi2)
     return solve
 
 
 def _views(linkage: Closure, bodies: Bodies, gravity: Vector, radius: float = 1.0
            ) -> tuple[_View, ...]:
-    """The linkage in its crank's angle, and (plane four-bar) as its inverse turned half a turn,
-    (plane slider-crank) in its slider's x."""
+    """The linkage in its crank's angle, and in its output's coordinate: (plane four-bar) as its
+    inverse turned half a turn, (the other kinds) in psi or the slider's x (_output_solver)."""
     same = {n: n for n in ("A0", "A", "B", "B0", "C")}
     kind = linkage.kind
     plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
@@ -6471,11 +6486,9 @@ def _views(linkage: Closure, bodies: Bodies, gravity: Vector, radius: float = 1.
                 joints, ground.axes, pin_dimensions(linkage.dims), radius,
                 None if plane else body_masses(linkage, bodies, radius),
                 _engine_solver(linkage), not linkage.is_slider, 1.0 / scale, 1.0)
-    if kind == PLANE_SLIDER_CRANK:
-        return own, own._replace(swapped=True, solve=_slider_solver(linkage), other_angle=True,
-                                 ratio=scale, scale=scale)
     if kind != PLANE_FOUR_BAR:
-        return (own,)
+        return own, own._replace(swapped=True, solve=_output_solver(linkage), other_angle=True,
+                                 ratio=scale, scale=scale)
     a, b, c, d = (linkage.dims[n] for n in "abcd")
     coupler = bodies.coupler
     if coupler.centre is not None:
@@ -6726,11 +6739,10 @@ def _mass_of(body: Body, length: float) -> tuple[float, float]:
 def _coupler_rate(view: _View, pose: _Pose, a: _Path, p: _Path, u: float, v: float) -> Vector:
     """The coupler point (u, v)'s derivative by q (Linkage.coupler's point)."""
     form = PINS[view.closure.kind].coupler
-    if form == "sphere":
-        m = Motion(pose.phi, pose.output, pose.out1, pose.out2, ASSEMBLED)
-        rate = coupler_of(view.closure, [m], u, v)[0].velocity
-        assert rate is not None
-        return weighted_sum((view.radius, rate))
+    if form == "sphere":                # on the unit sphere, by the pins' derivatives by q
+        r = view.radius
+        a1, p1 = ([weighted_sum((1.0 / r, x)) for x in pin[:2]] for pin in (a, p))
+        return weighted_sum((r, coupler_form(view.closure, a1, p1, u, v, math.sqrt)[1]))
     ab, ab1 = difference(p[0], a[0]), difference(p[1], a[1])
     span = dot(ab, ab)
     if form == "line":                  # A + u e, e' = (B' - A') / |AB| (|AB| fixed)
@@ -6967,7 +6979,7 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
     def phi_of(v: _View, p: _Point) -> float:
         return (p.other - v.shift if v.swapped else p.q) * DEG
 
-    if len(run.views) > 1 and abs(first.other1) * run.views[0].ratio > _SWITCH_ABOVE:
+    if abs(first.other1) * run.views[0].ratio > _SWITCH_ABOVE:
         index, moved = _switched(run, index, first)
         if moved is None:
             raise ValueError("the motion cannot start there (a dead centre)")
@@ -7049,13 +7061,7 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
                 t, y, p = t + h, new, p1
                 worst = max(worst, abs(p.energy - y[2] - energy0))
                 h *= min(5.0, max(0.2, 0.9 * max(error, 1e-10) ** -0.2))
-                if len(run.views) == 1 and abs(p.other1) * view.ratio > _ALONE_ABOVE:
-                    events.append(SimEvent(t, STUCK, phi_of(view, p), "the input's dead centre "
-                                           f"is ahead, and the {KIND_NAMES[run.linkage.kind]} "
-                                           "is simulated in its crank's angle alone: the run "
-                                           "ends"))
-                    break
-                if len(run.views) > 1 and abs(p.other1) * view.ratio > _SWITCH_ABOVE:
+                if abs(p.other1) * view.ratio > _SWITCH_ABOVE:
                     index, moved = _switched(run, index, p)
                     if moved is None:
                         events.append(SimEvent(t, STUCK, phi_of(view, p), "cannot change "

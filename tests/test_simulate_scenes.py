@@ -118,6 +118,31 @@ def test_the_released_double_rocker_keeps_its_energy_through_its_dead_centres(tm
     assert max(r["phi"] for r in rows) < 320.0 + 1e-6
 
 
+def test_the_spherical_double_rocker_swings_through_its_input_dead_centres(tmp_path_factory):
+    """The spatial kinds change coordinate as the plane ones do: released at 50 degrees, the
+    crank falls to its input's dead centre (coupler and rocker on one great circle: the arc
+    from A to B0 is d - c or d + c, solved here) and turns back, again and again, never past
+    it, the energy kept; once the run ended there (STUCK)."""
+    rows, err = scene_csv("simulate-released-spherical", tmp_path_factory)
+    e0 = rows[0]["energy"]
+    assert all(r["work"] == 0.0 for r in rows)
+    assert max(abs(r["drift"]) for r in rows) < 1e-8 * abs(e0)
+    assert {r["coordinate"] for r in rows} == {"input", "output"}
+    dead = re.search(r"dead centre of the input: (\d+) times, the first at t = \S+ s, "
+                     r"phi = (\S+) deg", err)
+    assert dead and int(dead[1]) >= 3 and "stuck" not in err, err
+    # A = (sin b cos phi, sin b sin phi, cos b), B0 = (sin a, 0, cos a): A . B0 = cos(d -+ c)
+    a, b, c, d = (math.radians(x) for x in (60.0, 70.0, 30.0, 50.0))
+    phis = [math.degrees(math.acos((math.cos(arc) - math.cos(a) * math.cos(b))
+                                   / (math.sin(a) * math.sin(b))))
+            for arc in (d - c, d + c) if abs(math.cos(arc) - math.cos(a) * math.cos(b))
+            <= math.sin(a) * math.sin(b)]
+    lowest = min(phis, key=lambda p: abs(p - 50.0))
+    assert abs(float(dead[2]) - lowest) < 1e-4, (dead[2], phis)
+    assert min(r["phi"] for r in rows) > lowest - 1e-9
+    assert max(r["phi"] for r in rows) < 50.5
+
+
 def test_the_rhombus_stays_a_parallelogram_through_its_change_points(tmp_path_factory):
     rows, err = scene_csv("simulate-rhombus", tmp_path_factory)
     assert max(abs(math.remainder(r["output"] - r["phi"], 360.0)) for r in rows) < 1e-7
