@@ -36,6 +36,7 @@ PNG_SIZES: dict[str, str] = {
     "simulate-engine-flywheel": "",
     "simulate-engine-run-up": "",
     "simulate-released-four-bar": "",
+    "simulate-released-spherical": "",
     "simulate-rhombus": "",
 }
 
