@@ -6283,6 +6283,14 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
 # springs, from the positions, is written along the run with W: E - W stays E(0) to the tolerance, a
 # check (Simulation.energy_error), not an assumption.
 #
+# Every step costs six evaluations (the last stage's is the next step's first), so the cost is the
+# evaluation's: the plane kinds' come in scalars (_four_bar_found, _slider_found: the closure solved
+# once for both branches by a copy of the engine's formulas, the pins from its cos and sin, and
+# _plane_sums, which reduced() uses too) unless a spring or coupler force asks for the pins as
+# points; near the discriminant's zero, at a start and in the slider's x they are the general
+# path's (tests/test_simulate.py holds the two to each other). bench simulate's 600 s run-up:
+# about 5 CPU seconds, where the general path took 21 (data/BENCHMARKS.md).
+#
 # The plane kinds only (plane four-bar, plane slider-crank), SI units as the forces section's. The
 # slider-crank is solved in phi alone: a rocking crank's run ends (STUCK) where |x'| passes 100
 # times the crank's length, its input's dead centre ahead, where phi cannot turn back.
@@ -6815,8 +6823,47 @@ def _four_bar_found(view: _View, q: float, near: _Near, label: int) -> _Found | 
         -dx * vel * vel - dy * acc, -dy * vel * vel + dx * acc, 1.0, 0.0, vel, acc), None
 
 
+def _slider_found(view: _View, q: float, near: _Near, label: int) -> _Found | None:
+    """_found for the plane slider-crank in its crank's angle, as _four_bar_found (a copy of
+    _sweep_slider's formulas for one angle); in its slider's x (view.swapped) it is _found."""
+    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = view.closure._constants
+    if near is None or view.swapped:
+        return _found(view, q, near, label)
+    c, s = cos_sin_degrees(q * DEG)
+    xm, xk = mc * c + ms * s, kc * c + ks * s
+    m, k = m0 + xm, k0 + xk
+    dist = math.hypot(u0 + uc * c + us * s, v0 + vc * c + vs * s)
+    disc = (rod - dist) * (rod + dist)
+    if disc <= view.closure.precise_below:
+        return _found(view, q, near, label)
+    root = math.sqrt(disc)
+    big = m + root if m >= 0.0 else m - root
+    dm, dk = ms * c - mc * s, ks * c - kc * s
+    unit = view.closure.unit
+    start, y0, rate0, ahead = near
+    h = q - start
+    guess, slope = y0 + h * rate0 + 0.5 * h * h * ahead, rate0 + h * ahead
+    best = math.inf
+    x = vel = sign = 0.0
+    branch = 0
+    for one, sg in ((1, 1.0), (2, -1.0)):
+        xi = big if (sg > 0.0) == (m >= 0.0) else k / big
+        v = sg * (dm * xi - 0.5 * dk) / root
+        misfit = abs(xi * unit - guess) + abs(h) * abs(v * unit - slope)
+        if misfit < best:
+            best, x, vel, sign, branch = misfit, xi, v, sg, one
+    acc = sign * (0.5 * xk - xm * x + 2.0 * dm * vel - vel * vel) / root * unit
+    x, vel = x * unit, vel * unit
+    radius = view.radius
+    b = radius * view.dims["b"]
+    ax, ay = b * c, b * s
+    return x, vel, acc, branch, _plane_sums(
+        view, ax, ay, -ay, ax, -ax, -ay, radius * x, radius * view.dims["e"], radius * vel, 0.0,
+        radius * acc, 0.0, 1.0, 0.0, vel, acc), None
+
+
 _FAST_FOUND: dict[str, Callable[[_View, float, _Near, int], _Found | None]] = {
-    PLANE_FOUR_BAR: _four_bar_found}
+    PLANE_FOUR_BAR: _four_bar_found, PLANE_SLIDER_CRANK: _slider_found}
 
 
 def _at(run: _Model, view: _View, q: float, rate: float, near: _Near, label: int
@@ -7838,13 +7885,11 @@ def _plane_ground(linkage: Linkage, poses: list[Pose], size: float, links: list[
     strokes = _pivot_symbol(a0, (_DOWN, _UP, _LEFT), links, size)         # not across a
     strokes += _pivot_symbol(b0, (_DOWN, _UP, _RIGHT), links, size)
     strokes.append(Stroke((a0, b0), "ground"))
-    strokes.append(Stroke(tuple(project(PLANE_FOUR_BAR, p) for p in _circle_3d(
-        (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), linkage.dims["b"])), "path"))
     turned = unwrapped([p.output for p in poses if p.output is not None] or [0.0], True)
-    if max(turned) - min(turned) >= 359.0:      # B's path where the output turns fully (a
-        strokes.append(Stroke(tuple(project(PLANE_FOUR_BAR, p) for p in _circle_3d(   # rocker's:
-            (b0[0], 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), linkage.dims["d"])),  # the
-            "path"))                                        # PNG marks its extremes instead)
+    fully = max(turned) - min(turned) >= 359.0         # the output turns: B's path as A's
+    for centre, radius in ((0.0, linkage.dims["b"]), (b0[0], linkage.dims["d"]))[:1 + fully]:
+        strokes.append(Stroke(tuple(project(PLANE_FOUR_BAR, p) for p in _circle_3d(
+            (centre, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), radius)), "path"))
     marks = (Mark(a0, "pivot", "A0"), Mark(b0, "pivot", "B0"))
     return Layer(tuple(strokes), marks, (_label_beside(a0, b0, "a", size, 0.6),))
 
