@@ -6288,8 +6288,8 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
 # once for both branches by a copy of the engine's formulas, the pins from its cos and sin, and
 # _plane_sums, which reduced() uses too) unless a spring or coupler force asks for the pins as
 # points; near the discriminant's zero, at a start and in the slider's x they are the general
-# path's (tests/test_simulate.py holds the two to each other). bench simulate's 600 s run-up:
-# about 5 CPU seconds, where the general path took 21 (data/BENCHMARKS.md).
+# path's (tests/test_simulate.py holds the two to each other). bench simulate's 600 s run-up: 5 to
+# 7 CPU seconds on a loaded machine, where the general path took 18 to 21 (data/BENCHMARKS.md).
 #
 # The plane kinds only (plane four-bar, plane slider-crank), SI units as the forces section's. The
 # slider-crank is solved in phi alone: a rocking crank's run ends (STUCK) where |x'| passes 100
