@@ -221,12 +221,11 @@ def frames_drawn(monkeypatch, drawing, seconds_a_frame, until):
     seconds_a_frame while each frame is drawn (a machine too loaded to keep the frames' pace)."""
     now = [0.0]
     drawn = []
-    real = linkage.text_drawing
 
     def text_drawing(d, index, *args):
         drawn.append((now[0], index))
         now[0] += seconds_a_frame
-        return real(d, index, *args)
+        return f"frame {index}"
 
     def key_within(fd, seconds):
         now[0] += seconds
