@@ -6781,10 +6781,10 @@ def _four_bar_found(view: _View, q: float, near: _Near, label: int) -> _Found | 
     once for both branches by the engine's formulas (a copy of _sweep_four_bar's for one angle:
     tests/test_simulate.py holds the two to each other), the root nearest the prediction as
     _root chooses it, the pins from the closure's cos and sin of phi and psi. Near the
-    discriminant's zero (a change point, a dead centre), and without a prediction, it is
-    _found."""
+    discriminant's zero (a change point, a dead centre), without a prediction, and at an angle not
+    finite (the engine's error), it is _found."""
     p0, pc, ps, q0, qc, qs, s0, sc, ss = view.closure._constants
-    if near is None:
+    if near is None or not math.isfinite(q * DEG):
         return _found(view, q, near, label)
     c, s = cos_sin_degrees(q * DEG)
     xp, xq, xs = pc * c + ps * s, qc * c + qs * s, sc * c + ss * s
@@ -6827,7 +6827,7 @@ def _slider_found(view: _View, q: float, near: _Near, label: int) -> _Found | No
     """_found for the plane slider-crank in its crank's angle, as _four_bar_found (a copy of
     _sweep_slider's formulas for one angle); in its slider's x (view.swapped) it is _found."""
     m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = view.closure._constants
-    if near is None or view.swapped:
+    if near is None or view.swapped or not math.isfinite(q * DEG):
         return _found(view, q, near, label)
     c, s = cos_sin_degrees(q * DEG)
     xm, xk = mc * c + ms * s, kc * c + ks * s
