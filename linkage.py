@@ -6300,6 +6300,14 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
 # springs, from the positions, is written along the run with W: E - W stays E(0) to the tolerance, a
 # check (Simulation.energy_error), not an assumption.
 #
+# Every step costs six evaluations (the last stage's is the next step's first), so the cost is the
+# evaluation's: the plane kinds' come in scalars (_four_bar_found, _slider_found: the closure solved
+# once for both branches by a copy of the engine's formulas, the pins from its cos and sin, and
+# _plane_sums, which reduced() uses too) unless a spring or coupler force asks for the pins as
+# points; near the discriminant's zero, at a start and in the slider's x they are the general
+# path's (tests/test_simulate.py holds the two to each other). bench simulate's 600 s run-up: 5 to
+# 7 CPU seconds on a loaded machine, where the general path took 18 to 21 (data/BENCHMARKS.md).
+#
 # All five kinds, SI units as the forces section's (the spherical four-bar on a sphere of
 # `radius` metres).
 #
@@ -6617,53 +6625,64 @@ def _reduced_at(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
 
 
 def _plane_reduced(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
-    """The plane kinds' Reduced: each body's centre and angle, and their first and second
-    derivatives by q, by the chain rule from the pins' (a body of a mass only is a uniform rod,
-    as forces' bodies; the plane's inertia about z)."""
-    closure = view.closure
-    g = view.gravity
+    """The plane kinds' Reduced from the pins' paths (_plane_sums)."""
+    return _plane_sums(view, a[0][0], a[0][1], a[1][0], a[1][1], a[2][0], a[2][1], p[0][0],
+                       p[0][1], p[1][0], p[1][1], p[2][0], p[2][1], pose.crank1, pose.crank2,
+                       pose.out1, pose.out2)
+
+
+def _plane_sums(view: _View, ax: float, ay: float, ax1: float, ay1: float, ax2: float,
+                ay2: float, px: float, py: float, px1: float, py1: float, px2: float, py2: float,
+                k1: float, k2: float, o1: float, o2: float) -> Reduced:
+    """The plane kinds' Reduced from the crank pin A (ax, ay), the output pin P (B, or the slider
+    C) and their first (1) and second (2) derivatives by q, with the crank's angle's (k1, k2) and
+    the output's (o1, o2): each body's centre and angle, and their first and second derivatives
+    by q, by the chain rule (a body of a mass only is a uniform rod, as forces' bodies; the
+    plane's inertia about z). In scalars: every evaluation of the run comes here."""
+    gx, gy = view.gravity[0], view.gravity[1]
     crank, coupler, output = view.bodies
-    inertia = slope = force = potential = 0.0
-
-    def body(mass: float, moment: float, centre: Sequence[Vector], turn: tuple[float, float]
-             ) -> None:
-        """Add a body of `mass` and `moment` about its centre (position, d/dq, d2/dq2) turning
-        at turn = (theta', theta'')."""
-        nonlocal inertia, slope, force, potential
-        inertia += mass * dot(centre[1], centre[1]) + moment * turn[0] ** 2
-        slope += 2.0 * (mass * dot(centre[1], centre[2]) + moment * turn[0] * turn[1])
-        force += mass * dot(g, centre[1])
-        potential -= mass * dot(g, centre[0])
-
-    length = math.sqrt(dot(a[0], a[0]))
+    length = math.sqrt(ax * ax + ay * ay)           # the crank: its centre r / |A| along A
     r, moment = _mass_of(crank, length)
-    body(crank.mass, moment, [weighted_sum((r / length, x)) for x in a], (pose.crank1, pose.crank2))
-    along = [difference(x, z) for x, z in zip(p, a)]
-    span = dot(along[0], along[0])
-    e = weighted_sum((1.0 / math.sqrt(span), along[0]))
-    n = (-e[1], e[0], 0.0)
-    w1 = cross(along[0], along[1])[2] / span
-    w2 = cross(along[0], along[2])[2] / span
+    f, m = r / length, crank.mass
+    inertia = m * f * f * (ax1 * ax1 + ay1 * ay1) + moment * k1 * k1
+    slope = 2.0 * (m * f * f * (ax1 * ax2 + ay1 * ay2) + moment * k1 * k2)
+    force = m * f * (gx * ax1 + gy * ay1)
+    potential = -m * f * (gx * ax + gy * ay)
+    lx, ly, lx1, ly1 = px - ax, py - ay, px1 - ax1, py1 - ay1     # the coupler, A to P
+    span = lx * lx + ly * ly
+    root = math.sqrt(span)
+    ex, ey = lx / root, ly / root                   # e along it, n = (-ey, ex)
+    w1 = (lx * ly1 - ly * lx1) / span               # its angle's derivatives
+    w2 = (lx * (py2 - ay2) - ly * (px2 - ax2)) / span
     if coupler.centre is None:
-        u, v, moment = 0.5 * math.sqrt(span), 0.0, coupler.mass * span / 12.0
+        u, v, moment = 0.5 * root, 0.0, coupler.mass * span / 12.0
     else:
         u, v = cast(Sequence[float], coupler.centre)
         moment = float(cast(float, coupler.inertia))
-    side = weighted_sum((u, n), (-v, e))                 # d(u e + v n)/dtheta
-    body(coupler.mass, moment,
-         (weighted_sum((1.0, a[0]), (u, e), (v, n)), weighted_sum((1.0, a[1]), (w1, side)),
-          weighted_sum((1.0, a[2]), (w2, side), (-w1 * w1 * u, e), (-w1 * w1 * v, n))), (w1, w2))
-    if closure.is_slider:
-        body(output.mass, 0.0, (weighted_sum((1.0, p[0]), (float(cast(float, output.centre or 0.0)),
-                                                     (1.0, 0.0, 0.0))), p[1], p[2]), (0.0, 0.0))
-    else:
-        pivot = view.ground["B0"]
-        arm = difference(p[0], pivot)
-        length = math.sqrt(dot(arm, arm))
+    ox, oy = u * ex - v * ey, u * ey + v * ex       # u e + v n, and its derivative by the angle
+    sx, sy = -oy, ox
+    cx1, cy1 = ax1 + w1 * sx, ay1 + w1 * sy
+    cx2, cy2 = ax2 + w2 * sx - w1 * w1 * ox, ay2 + w2 * sy - w1 * w1 * oy
+    m = coupler.mass
+    inertia += m * (cx1 * cx1 + cy1 * cy1) + moment * w1 * w1
+    slope += 2.0 * (m * (cx1 * cx2 + cy1 * cy2) + moment * w1 * w2)
+    force += m * (gx * cx1 + gy * cy1)
+    potential -= m * (gx * (ax + ox) + gy * (ay + oy))
+    m = output.mass
+    if view.closure.is_slider:                      # the slider: its centre offset along x
+        inertia += m * (px1 * px1 + py1 * py1)
+        slope += 2.0 * m * (px1 * px2 + py1 * py2)
+        force += m * (gx * px1 + gy * py1)
+        potential -= m * (gx * (px + float(cast(float, output.centre or 0.0))) + gy * py)
+    else:                                           # the output crank about B0
+        bx, by = view.ground["B0"][0], view.ground["B0"][1]
+        length = math.sqrt((px - bx) ** 2 + (py - by) ** 2)
         r, moment = _mass_of(output, length)
-        body(output.mass, moment, (weighted_sum((1.0, pivot), (r / length, arm)),
-                                   weighted_sum((r / length, p[1])), weighted_sum((r / length, p[2]))),
-             (pose.out1, pose.out2))
+        f = r / length
+        inertia += m * f * f * (px1 * px1 + py1 * py1) + moment * o1 * o1
+        slope += 2.0 * (m * f * f * (px1 * px2 + py1 * py2) + moment * o1 * o2)
+        force += m * f * (gx * px1 + gy * py1)
+        potential -= m * (gx * (bx + f * (px - bx)) + gy * (by + f * (py - by)))
     return Reduced(inertia, slope, force, potential)
 
 
@@ -6752,26 +6771,130 @@ def _coupler_rate(view: _View, pose: _Pose, a: _Path, p: _Path, u: float, v: flo
     return weighted_sum((1.0, a[1]), (-w1 * u, (e[1], -e[0], 0.0)), (-w1 * v, e))
 
 
-def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, float, float, float]
-        | None, label: int) -> _Point | None:
-    """The state (q, rate) in `view`, or None where it cannot be evaluated."""
+_Near: TypeAlias = "tuple[float, float, float, float] | None"     # see _root
+_Found: TypeAlias = "tuple[float, float, float, int, Reduced, tuple[_Pose, _Path, _Path] | None]"
+
+
+def _found(view: _View, q: float, near: _Near, label: int) -> _Found | None:
+    """The position at q on the branch followed (_root): the other coordinate and its first two
+    derivatives by q, the branch, Reduced there, and the pose with its pins; None where there is
+    no position."""
     found = _root(view, q, near, label)
     if found is None:
         return None
     pose, branch = found
     a, p = _pins(view, pose)
-    dynamics = _reduced_at(view, pose, a, p)
+    return pose.other, pose.other1, pose.other2, branch, _reduced_at(view, pose, a, p), \
+        (pose, a, p)
+
+
+def _four_bar_found(view: _View, q: float, near: _Near, label: int) -> _Found | None:
+    """_found for a plane four-bar, the pose and pins left out, in scalars: the closure solved
+    once for both branches by the engine's formulas (a copy of _sweep_four_bar's for one angle:
+    tests/test_simulate.py holds the two to each other), the root nearest the prediction as
+    _root chooses it, the pins from the closure's cos and sin of phi and psi. Near the
+    discriminant's zero (a change point, a dead centre), without a prediction, and at an angle not
+    finite (the engine's error), it is _found."""
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = view.closure._constants
+    if near is None or not math.isfinite(q * DEG):
+        return _found(view, q, near, label)
+    c, s = cos_sin_degrees(q * DEG)
+    xp, xq, xs = pc * c + ps * s, qc * c + qs * s, sc * c + ss * s
+    p, k, sv = p0 + xp, q0 + xq, s0 + xs
+    rr = math.hypot(p, k)
+    disc = (rr - sv) * (rr + sv)
+    if disc <= view.closure.precise_below:
+        return _found(view, q, near, label)
+    root = math.sqrt(disc)
+    r2 = rr * rr
+    dp, dq, ds = ps * c - pc * s, qs * c - qc * s, ss * c - sc * s
+    start, y0, v0, a0 = near
+    h = q - start
+    guess, slope = y0 + h * v0 + 0.5 * h * h * a0, v0 + h * a0
+    best = math.inf
+    y = vel = cp = sp = sign = 0.0
+    branch = 0
+    for one, sg in ((1, 1.0), (2, -1.0)):
+        sn, cn = -k * sv - sg * p * root, -p * sv + sg * k * root
+        psi = math.atan2(sn, cn) * DEG
+        if psi == -180.0:
+            psi = 180.0
+        other = guess + math.remainder(psi * RAD - guess, 2.0 * math.pi)
+        cpi, spi = cn / r2, sn / r2
+        v = -sg * (dp * cpi + dq * spi + ds) / root
+        misfit = abs(other - guess) + abs(h) * abs(v - slope)
+        if misfit < best:
+            best, y, vel, cp, sp, sign, branch = misfit, other, v, cpi, spi, sg, one
+    acc = -sign * (-(xp * cp + xq * sp + xs) + 2.0 * (dq * cp - dp * sp) * vel + sv * vel * vel) \
+        / root
+    dims, radius = view.dims, view.radius
+    b, d = radius * dims["b"], radius * dims["d"]
+    ax, ay, dx, dy = b * c, b * s, d * cp, d * sp
+    return y, vel, acc, branch, _plane_sums(
+        view, ax, ay, -ay, ax, -ax, -ay, radius * dims["a"] + dx, dy, -dy * vel, dx * vel,
+        -dx * vel * vel - dy * acc, -dy * vel * vel + dx * acc, 1.0, 0.0, vel, acc), None
+
+
+def _slider_found(view: _View, q: float, near: _Near, label: int) -> _Found | None:
+    """_found for the plane slider-crank in its crank's angle, as _four_bar_found (a copy of
+    _sweep_slider's formulas for one angle); in its slider's x (view.swapped) it is _found."""
+    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = view.closure._constants
+    if near is None or view.swapped or not math.isfinite(q * DEG):
+        return _found(view, q, near, label)
+    c, s = cos_sin_degrees(q * DEG)
+    xm, xk = mc * c + ms * s, kc * c + ks * s
+    m, k = m0 + xm, k0 + xk
+    dist = math.hypot(u0 + uc * c + us * s, v0 + vc * c + vs * s)
+    disc = (rod - dist) * (rod + dist)
+    if disc <= view.closure.precise_below:
+        return _found(view, q, near, label)
+    root = math.sqrt(disc)
+    big = m + root if m >= 0.0 else m - root
+    dm, dk = ms * c - mc * s, ks * c - kc * s
+    unit = view.closure.unit
+    start, y0, rate0, ahead = near
+    h = q - start
+    guess, slope = y0 + h * rate0 + 0.5 * h * h * ahead, rate0 + h * ahead
+    best = math.inf
+    x = vel = sign = 0.0
+    branch = 0
+    for one, sg in ((1, 1.0), (2, -1.0)):
+        xi = big if (sg > 0.0) == (m >= 0.0) else k / big
+        v = sg * (dm * xi - 0.5 * dk) / root
+        misfit = abs(xi * unit - guess) + abs(h) * abs(v * unit - slope)
+        if misfit < best:
+            best, x, vel, sign, branch = misfit, xi, v, sg, one
+    acc = sign * (0.5 * xk - xm * x + 2.0 * dm * vel - vel * vel) / root * unit
+    x, vel = x * unit, vel * unit
+    radius = view.radius
+    b = radius * view.dims["b"]
+    ax, ay = b * c, b * s
+    return x, vel, acc, branch, _plane_sums(
+        view, ax, ay, -ay, ax, -ax, -ay, radius * x, radius * view.dims["e"], radius * vel, 0.0,
+        radius * acc, 0.0, 1.0, 0.0, vel, acc), None
+
+
+_FAST_FOUND: dict[str, Callable[[_View, float, _Near, int], _Found | None]] = {
+    PLANE_FOUR_BAR: _four_bar_found, PLANE_SLIDER_CRANK: _slider_found}
+
+
+def _at(run: _Model, view: _View, q: float, rate: float, near: _Near, label: int
+        ) -> _Point | None:
+    """The state (q, rate) in `view`, or None where it cannot be evaluated (in scalars, where
+    the kind has a _FAST_FOUND and no spring or coupler force asks for the pins)."""
+    fast = _FAST_FOUND.get(view.closure.kind, _found) \
+        if not run.springs and run.coupler_force is None else _found
+    found = fast(view, q, near, label)
+    if found is None:
+        return None
+    y, y1, y2, branch, dynamics, pins = found
     if not dynamics.inertia > 0.0:
         return None
-    y, y1, y2 = pose.other, pose.other1, pose.other2
     # the linkage's angles by q: the crank's phi and the output's psi (or x)
     if view.swapped:
         phi, phi1, psi, psi1 = y - view.shift, y1, q - view.shift, 1.0
     else:
         phi, phi1, psi, psi1 = q, 1.0, y, y1
-    still = (0.0, 0.0, 0.0)
-    points = {name: (at, still) for name, at in view.ground.items()}
-    points.update({"A": (a[0], a[1]), PINS[view.closure.kind].output_joint: (p[0], p[1])})
     applied = dynamics.gravity_force - 0.5 * dynamics.slope * rate * rate
     potential = dynamics.potential
     omega = phi1 * rate
@@ -6785,6 +6908,11 @@ def _at(run: _Model, view: _View, q: float, rate: float, near: tuple[float, floa
         potential += 0.5 * t.stiffness * (angle - t.free_angle * RAD) ** 2
         applied -= t.stiffness * (angle - t.free_angle * RAD) * angle1
         free -= t.damping * angle1 * angle1 * rate
+    if run.springs or run.coupler_force is not None:
+        pose, a, p = cast(tuple[_Pose, _Path, _Path], pins)
+        still = (0.0, 0.0, 0.0)
+        points = {name: (at, still) for name, at in view.ground.items()}
+        points.update({"A": (a[0], a[1]), PINS[view.closure.kind].output_joint: (p[0], p[1])})
     for s in run.springs:
         (pa, va), (pb, vb) = (points[view.names[x]] if isinstance(x, str)
                               else (view.frame(x), still) for x in (s.point_a, s.point_b))
@@ -7447,7 +7575,7 @@ def dat_precision(directory: str) -> str:
 # on the side the links cross least, axes), drawn once, and one Frame a pose with its letters. The
 # letters go where no mark, link, hatching or other letter covers them (place_labels).
 #
-# Uses: sections 2, 6, 7 and 13.
+# Uses: sections 2, 6, 7, 8 and 13.
 # Offers: Point, Box, Stroke, Mark, Label, Letters, Layer, Frame, Drawing, MECHANISM_EXAMPLES,
 #   STROKE_STYLES, FAR_SIDE, VIEWS, project, Segment, stroke_segments, place_labels,
 #   mechanism_drawing, spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale,
@@ -7763,8 +7891,11 @@ def _plane_ground(linkage: Linkage, poses: list[Pose], size: float, links: list[
     strokes = _pivot_symbol(a0, (_DOWN, _UP, _LEFT), links, size)         # not across a
     strokes += _pivot_symbol(b0, (_DOWN, _UP, _RIGHT), links, size)
     strokes.append(Stroke((a0, b0), "ground"))
-    strokes.append(Stroke(tuple(project(PLANE_FOUR_BAR, p) for p in _circle_3d(
-        (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), linkage.dims["b"])), "path"))
+    turned = unwrapped([p.output for p in poses if p.output is not None] or [0.0], True)
+    fully = max(turned) - min(turned) >= 359.0         # the output turns: B's path as A's
+    for centre, radius in ((0.0, linkage.dims["b"]), (b0[0], linkage.dims["d"]))[:1 + fully]:
+        strokes.append(Stroke(tuple(project(PLANE_FOUR_BAR, p) for p in _circle_3d(
+            (centre, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), radius)), "path"))
     marks = (Mark(a0, "pivot", "A0"), Mark(b0, "pivot", "B0"))
     return Layer(tuple(strokes), marks, (_label_beside(a0, b0, "a", size, 0.6),))
 
@@ -8489,10 +8620,17 @@ def _text_size() -> tuple[int, int]:
     return sizes[0], sizes[1]
 
 
-def _animate(drawing: Drawing, out: TextIO, fps: float, unicode: bool) -> int:
+def _animate(drawing: Drawing, out: TextIO, fps: float, unicode: bool,
+             clock: Callable[[], float] | None = None,
+             key_within: Callable[[int | None, float | None], bytes | None] | None = None) -> int:
     """The frames redrawn in place on the terminal's alternate screen until q (or Ctrl-C), the
-    last one shown left on the screen afterwards; the space bar pauses."""
+    last one shown left on the screen afterwards; the space bar pauses. In real time: each frame
+    drawn is the one due at the clock's time, `fps` frames a second from the start (or the
+    pause's end), so where drawing falls behind, frames are dropped rather than the motion
+    slowed. clock and key_within: time.monotonic and _key_within unless a test gives its own."""
     import time
+    clock = clock or time.monotonic
+    key_within = key_within or _key_within
     keys = sys.stdin.fileno() if sys.stdin.isatty() else None
     shown, paused = _still_frames(drawing, None)[0], False
 
@@ -8503,8 +8641,12 @@ def _animate(drawing: Drawing, out: TextIO, fps: float, unicode: bool) -> int:
         out.write("\x1b[H" + text.replace("\n", "\x1b[K\n") + "\x1b[K\x1b[J")
         out.flush()
 
+    start = 0.0                             # when the frame `first` below was due
+
     def enter() -> None:
+        nonlocal start
         out.write("\x1b[?1049h\x1b[?25l")
+        start = clock()
         draw()
 
     def leave() -> None:
@@ -8512,16 +8654,18 @@ def _animate(drawing: Drawing, out: TextIO, fps: float, unicode: bool) -> int:
         out.flush()
 
     with single_keys(keys, enter, leave):                # enter() draws the first frame
-        due = time.monotonic() + 1.0 / fps
+        index = first = shown               # frames counted on past the last (shown: modulo)
         while True:
-            key = _key_within(keys, None if paused else max(0.0, due - time.monotonic()))
+            due = start + (index - first + 1) / fps
+            key = key_within(keys, None if paused else max(0.0, due - clock()))
             if key in (b"q", b"Q", b""):
                 break
             if key == b" ":
                 paused = not paused
+                start, first = clock(), index
             elif key is None:
-                shown = (shown + 1) % len(drawing.frames)
-                due = max(due + 1.0 / fps, time.monotonic())
+                index = max(index + 1, first + math.floor((clock() - start) * fps))
+                shown = index % len(drawing.frames)
                 draw()
     width, height = shutil.get_terminal_size()
     out.write(text_drawing(drawing, shown, width, height, unicode) + "\n")

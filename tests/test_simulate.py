@@ -155,6 +155,32 @@ def test_energy_kept_over_ten_thousand_periods():
     assert len(events(sim, linkage.DEAD_CENTRE)) >= 2 * 10 ** 4 - 2
 
 
+MOTOR = Driver(stall_torque=40.0, free_speed_rpm=120.0)
+
+
+@pytest.mark.parametrize("kind, dims, initial, driver, branch", [
+    ("plane", DOUBLE_ROCKER, (320.0, 0.0), None, 1),        # across dead centres: both coordinates
+    ("plane", CRANK_ROCKER, (0.0, 0.0), MOTOR, 1),
+    ("plane", dict(a=1.0, b=1.0, c=1.0, d=1.0), (90.0, -30.0 / math.pi), None, 2),   # change points
+    ("slider", dict(b=1.0, c=3.0, e=0.5), (0.0, 0.0), MOTOR, 1),
+    ("slider", dict(b=2.0, c=1.5, e=0.3), (20.0, 0.0), None, 1)])    # rocking: both coordinates
+def test_the_plane_kinds_scalar_path_is_the_general_one(kind, dims, initial, driver, branch):
+    """The plane kinds' evaluations come from their closure and pins in scalars unless a spring
+    asks for the pins as points: the same runs, with and without a spring of no stiffness, to
+    the rounding."""
+    lk, bodies = Linkage(kind, **dims), Bodies(Body(2.0), Body(3.0, (0.7, 0.2), 0.4), Body(2.5))
+    runs = [simulate(lk, bodies, Effects(gravity=(2.0, -G, 0.0)), driver=driver,
+                     initial=initial, time=3.0, step=0.25, tolerance=1e-9, branch=branch,
+                     springs=springs)
+            for springs in ((), [Spring("A", "C" if kind == "slider" else "B", 0.0, 1.0)])]
+    fast, general = runs
+    assert abs(fast.steps - general.steps) <= 1
+    assert len(fast.rows) == len(general.rows) == 13
+    for a, b in zip(fast.rows, general.rows):
+        assert a.coordinate == b.coordinate and a.t == b.t
+        for x, y in zip(a[1:8], b[1:8]):
+            assert abs(x - y) < 1e-9 * max(1.0, abs(y)), (a, b)
+
 SPATIAL = [("spherical", dict(a=80.0, b=20.0, c=75.0, d=60.0)),        # crank-rockers
            ("skew", dict(a=2.0, b=1.0, c=3.0, d=2.5, f=0.5, ksi=30.0)),
            ("skew-slider", dict(a=1.5, b=1.0, c=3.0, f=0.5, ksi=30.0))]

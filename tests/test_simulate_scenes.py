@@ -212,6 +212,80 @@ def test_the_mechanism_moves_in_real_time(tmp_path):
     assert status == 0 and out.count("t = ") == 3
 
 
+def path_circles(drawing):
+    """The (centre, radius) of each closed "path" stroke of the drawing's ground (page units)."""
+    found = []
+    for s in drawing.ground.strokes:
+        if s.style == "path" and s.points[0] == pytest.approx(s.points[-1], abs=1e-9):
+            xs, ys = zip(*s.points[:-1])
+            centre = (sum(xs) / len(xs), sum(ys) / len(ys))
+            radii = [math.dist(centre, p) for p in s.points]
+            assert max(radii) - min(radii) < 1e-9          # a circle
+            found.append((centre, radii[0]))
+    return sorted(found)
+
+
+def test_the_rhombus_is_drawn_with_both_pins_paths():
+    """The rhombus's output turns fully: its pin B's path, the circle of d = 1 about B0 = (1, 0),
+    is drawn beside A's about A0; a rocker's output (the released double-rocker's) has only A's
+    circle, its swing shown by its extremes."""
+    scene = linkage.load_scene(str(SCENES / "simulate-rhombus-moving.toml"))
+    drawing = linkage.simulation_drawing(scene, linkage.scene_run(scene))
+    circles = path_circles(drawing)
+    assert [c for c, _ in circles] == [pytest.approx((0.0, 0.0), abs=1e-9),
+                                        pytest.approx((1.0, 0.0), abs=1e-9)]
+    assert [r for _, r in circles] == [pytest.approx(1.0, abs=1e-9)] * 2
+    rocker = Linkage("plane", a=3.0, b=2.5, c=1.0, d=2.0)
+    drawn = linkage.mechanism_drawing(rocker, [300.0 + 5.0 * i for i in range(9)])
+    assert [r for _, r in path_circles(drawn)] == [pytest.approx(2.5)]
+
+
+def frames_drawn(monkeypatch, drawing, seconds_a_frame, until):
+    """(clock, frame) of each frame the terminal animation draws while the clock runs to `until`
+    seconds, the clock a fake: it moves by the seconds the animation waits, and by
+    seconds_a_frame while each frame is drawn (a machine too loaded to keep the frames' pace)."""
+    now = [0.0]
+    drawn = []
+
+    def text_drawing(d, index, *args):
+        drawn.append((now[0], index))
+        now[0] += seconds_a_frame
+        return f"frame {index}"
+
+    def key_within(fd, seconds):
+        now[0] += seconds
+        return b"q" if now[0] >= until else None
+
+    monkeypatch.setattr(linkage, "text_drawing", text_drawing)
+    monkeypatch.setattr("sys.stdin", io.StringIO())          # no keys: no terminal to read
+    fps = 1.0 / drawing.seconds
+    assert linkage._animate(drawing, io.StringIO(), fps, True, lambda: now[0], key_within) == 0
+    return drawn[:-1]                   # the last: the frame left on the screen after q
+
+
+def test_the_terminal_animation_drops_frames_rather_than_fall_behind_real_time(monkeypatch):
+    """The rhombus's 4 s run, 101 frames 0.04 s apart (the row's t = 0.04 i), animated for two
+    passes: each frame drawn is the one due at the clock's time; where each takes 3.3 frames'
+    time to draw, two or three frames in four are dropped and a pass still takes 4.04 s."""
+    scene = linkage.load_scene(str(SCENES / "simulate-rhombus-moving.toml"))
+    drawing = linkage.simulation_drawing(scene, linkage.scene_run(scene))
+    count, seconds = len(drawing.frames), drawing.seconds
+    assert count == 101 and seconds == pytest.approx(0.04)
+    unloaded = frames_drawn(monkeypatch, drawing, 0.0, 2 * count * seconds)
+    assert [i for _, i in unloaded] == list(range(count)) * 2
+    assert all(abs(t - k * seconds) < 1e-9 for k, (t, _) in enumerate(unloaded))
+    loaded = frames_drawn(monkeypatch, drawing, 3.3 * seconds, 2 * count * seconds)
+    for t, i in loaded:             # the frame due at t: frame i shows the run's t = 0.04 i
+        late = (t / seconds - i + 1e-6) % count         # frames since frame i was due
+        assert late < 1.0 + 2e-6, (t, i)
+    gaps = {(j - i) % count for (_, i), (_, j) in zip(loaded, loaded[1:])}
+    assert gaps == {3, 4}
+    wrap = next(k for k in range(1, len(loaded)) if loaded[k][1] < loaded[k - 1][1])
+    assert loaded[wrap - 1][1] >= count - 4                     # the whole span shown ...
+    assert count * seconds <= loaded[wrap][0] < (count + 4) * seconds   # ... in its 4.04 s
+    assert len(loaded) == pytest.approx(2 * count / 3.3, abs=2)
+
+
 def test_a_fast_run_is_drawn_at_most_25_frames_a_second():
     scene = linkage.load_scene(str(SCENES / "simulate-rhombus-moving.toml"))
     settings = scene.simulation._replace(step=0.01, time=1.0)
