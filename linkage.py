@@ -25,20 +25,20 @@ them): 1. files, messages and the terminal (the one writer of files, say, signal
 2. the five linkages (their kinds, dimensions and names: the one table); 3. GW-BASIC single
 precision; 4. the listing's computation; 5. the original program (screen, keys, INPUT, the menu
 session); 6. the accurate engine (the closure solved, swept and followed); 7. what the engine
-derives (joints, coupler point, transmission angle); 8. the linkage analysed (analyse);
-9. forces (driving torque, joint reactions, shaking); 10. the numpy path (the engine and what it
-derives, on arrays); 11. the numpy path: forces on arrays; 12. simulation (the motion in time
-under forces, through dead centres and change points); 13. the linkage (Linkage, a method for
-each question); 14. DAT and CSV files; 15. the mechanism drawn; 16. the mechanism's renderers
-(terminal, SVG, PNG, DXF); 17. synthesis: what a design is; 18. synthesis: the review's
-methods; 19. synthesis: designs measured and checked; 20. scenes (read and checked); 21. scenes
-computed (DAT files, forces, CSV); 22. plots; 23. simulation scenes (a run in time: its CSV,
-plots and motion); 24. the explorer (a dimension changed, the linkage watched in the terminal);
-25. benchmarks of the program itself; 26. the speed table (every bench run, the README's
-figures); 27. commands run, analyse and forces (each command's one typed value, validated once,
-and its handler); 28. commands scene, plot, design, listing, explore and bench; 29. the command
-line (argparse, from the table of commands), last. The engine, the view and synthesis never use
-the original program.
+derives (joints, coupler point, transmission angle); 8. the linkage analysed (analyse); 9.
+forces (driving torque, joint reactions, shaking); 10. the numpy path (the engine and what it
+derives, on arrays); 11. the numpy path: forces on arrays; 12. simulation: the equation of
+motion in its coordinates (through dead centres and change points); 13. simulation: the run,
+stepped in time and its events; 14. the linkage (Linkage, a method for each question); 15. DAT
+and CSV files; 16. the mechanism drawn; 17. the mechanism's renderers (terminal, SVG, PNG, DXF);
+18. synthesis: what a design is; 19. synthesis: the review's methods; 20. synthesis: designs
+measured and checked; 21. scenes (read and checked); 22. scenes computed (DAT files, forces,
+CSV); 23. plots; 24. simulation scenes (a run in time: its CSV, plots and motion); 25. the
+explorer (a dimension changed, the linkage watched in the terminal); 26. benchmarks of the
+program itself; 27. the speed table (every bench run, the README's figures); 28. commands run,
+analyse and forces (each command's one typed value, validated once, and its handler); 29.
+commands scene, plot, design, listing, explore and bench; 30. the command line (argparse, from
+the table of commands), last. The engine, the view and synthesis never use the original program.
 """
 
 from __future__ import annotations
@@ -6254,7 +6254,7 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                         shaking[1].T, status, setup.speed_rpm)
 
 
-# ---- 12. Simulation: the motion in time under the scene's effects --------------------------------
+# ---- 12. Simulation: the equation of motion in its coordinates -----------------------------------
 #
 # The linkage has one degree of freedom; in a coordinate q (an angle, radians) every point moves
 # with X'(q) q_dot, and Lagrange's equation is
@@ -6289,17 +6289,6 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
 # point the motion keeps to the branch it follows (as sweep's "follow"), never jumping: the
 # branches cross there with different velocities.
 #
-# The integrator: Dormand and Prince's embedded Runge-Kutta 5(4) with its 4th-order dense output
-# (Hairer, Norsett and Wanner, Solving ODE I, II.5 and II.6), on (q, q_dot, W), W the work of the
-# driver, the loads and the dampers, the error of q held to `tolerance` radians and q_dot's to
-# `tolerance` of its size (at least 1/s) each step. Events, located on the dense output by bisection
-# to 2^-60 of a step: the input's dead centre (phi_dot changes sign while psi_dot does not), a
-# change point (the engine's labels of the followed branch swap), rest (q_dot = 0: every point
-# stops), an angle reached (until_angle). A step whose evaluation fails (no position, J = 0) is
-# retried at a quarter of its length. The total energy E = 1/2 J q_dot^2 + potential of gravity and
-# springs, from the positions, is written along the run with W: E - W stays E(0) to the tolerance, a
-# check (Simulation.energy_error), not an assumption.
-#
 # Every step costs six evaluations (the last stage's is the next step's first), so the cost is the
 # evaluation's: the plane kinds' come in scalars (_four_bar_found, _slider_found: the closure solved
 # once for both branches by a copy of the engine's formulas, the pins from its cos and sin, and
@@ -6312,8 +6301,571 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
 # `radius` metres).
 #
 # Uses: sections 2, 6, 7 and 9.
-# Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, SimRow, SimEvent, Simulation, Reduced,
-#   reduced, mean_reduced_inertia, simulate.
+# Offers: SimPose, SimView, SimPoint, SimModel, views_of, root_near, Reduced, reduced,
+#   mean_reduced_inertia, gravity_vector, state_at.
+
+
+class SimPose(NamedTuple):
+    """A position a view found at q: its closure's input angle phi (degrees) and output (degrees,
+    or the slider's x), the derivatives by q of the closure's crank angle (radians) and of its
+    output (radians, or length), and the other coordinate (radians, or x) with its derivatives."""
+    phi: float
+    output: float
+    crank1: float
+    crank2: float
+    out1: float
+    out2: float
+    other: float
+    other1: float
+    other2: float
+
+
+class SimView(NamedTuple):
+    """The linkage as the run solves it in one coordinate q: its closure, bodies (and the spatial
+    kinds' BodyMass), how its frame maps to the linkage's, and how it finds a position."""
+    closure: Closure
+    bodies: Bodies
+    swapped: bool               # q is not the crank's angle: the inverse four-bar's input
+    #                             (psi + shift), or the plane slider's x (shift 0)
+    shift: float
+    gravity: Vector
+    names: dict[str, str]       # the linkage's joint names as this view's
+    frame: Callable[[Sequence[float]], Vector]     # a point of the linkage's frame in the view's
+    ground: dict[str, Vector]   # the view's fixed joints
+    axes: dict[str, tuple[Vector, Vector]]         # the view's shafts and guide
+    dims: dict[str, float]      # pin_dimensions of the closure's
+    radius: float               # the spherical four-bar's sphere (m), else 1
+    masses: tuple[BodyMass, BodyMass, BodyMass] | None     # the spatial kinds'
+    solve: Callable[[float, int], SimPose | None]    # the position at q on the label 1 or 2
+    other_angle: bool           # the other coordinate is an angle (unwrapped by 2 pi)
+    ratio: float                # q's scale over the other's: |other'| ratio over 2 changes them
+    scale: float                # q's scale (1 rad, or the crank's length), the tolerance's unit
+
+
+class SimPoint(NamedTuple):
+    """The state at one instant in a view: q, q_dot, the other coordinate (radians unwrapped, or
+    the slider's x) and its derivatives by q, its label, J, q_ddot, the energy and the power of
+    the non-conservative forces."""
+    q: float
+    rate: float
+    other: float
+    other1: float
+    other2: float
+    label: int
+    inertia: float
+    acceleration: float
+    energy: float
+    power: float
+
+
+class SimModel(NamedTuple):
+    """What a run keeps fixed: the linkage, its views (coordinates), the driver and the loads."""
+    linkage: Closure
+    views: tuple[SimView, ...]
+    driver: Driver
+    springs: tuple[Spring, ...]
+    torsions: tuple[Torsion, ...]
+    output_torque: float
+    output_force: float
+    coupler_force: tuple[tuple[float, float], Vector] | None
+
+
+def _engine_solver(closure: Closure) -> Callable[[float, int], SimPose | None]:
+    """A view's positions from the engine: q the closure's input angle (radians)."""
+    def solve(q: float, label: int) -> SimPose | None:
+        m = closure.motion(q * DEG, label)
+        if m.status not in (ASSEMBLED, CHANGE_POINT) or m.output is None:
+            return None
+        assert m.velocity is not None and m.acceleration is not None
+        y = m.output if closure.is_slider else m.output * RAD
+        return SimPose(m.phi, m.output, 1.0, 0.0, m.velocity, m.acceleration, y, m.velocity,
+                     m.acceleration)
+    return solve
+
+
+def _output_solver(closure: Closure) -> Callable[[float, int], SimPose | None]:
+    """A view's positions in the output's coordinate q (psi in radians, or the slider's x): the
+    crank's angle by the closure solved the other way round (Closure.input_angle)."""
+    def solve(q: float, label: int) -> SimPose | None:
+        found = closure.input_angle(q, label)
+        if found is None:
+            return None
+        phi, phi1, phi2 = found
+        return SimPose(phi * DEG, q if closure.is_slider else q * DEG, phi1, phi2, 1.0, 0.0, phi,
+                     phi1, phi2)
+    return solve
+
+
+def views_of(linkage: Closure, bodies: Bodies, gravity: Vector, radius: float = 1.0
+           ) -> tuple[SimView, ...]:
+    """The linkage in its crank's angle, and in its output's coordinate: (plane four-bar) as its
+    inverse turned half a turn, (the other kinds) in psi or the slider's x (_output_solver)."""
+    same = {n: n for n in ("A0", "A", "B", "B0", "C")}
+    kind = linkage.kind
+    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
+    ground = joint_positions(linkage, 0.0)
+    joints = {n: cast(Vector, tuple(radius * x for x in p)) for n, p in ground.joints.items()}
+    scale = abs(linkage.dims["b"]) if linkage.is_slider else 1.0
+    own = SimView(linkage, bodies, False, 0.0, gravity, same,
+                (lambda p: (float(p[0]), float(p[1]), 0.0)) if plane else
+                (lambda p: (float(p[0]), float(p[1]), float(p[2]))),
+                joints, ground.axes, pin_dimensions(linkage.dims), radius,
+                None if plane else body_masses(linkage, bodies, radius),
+                _engine_solver(linkage), not linkage.is_slider, 1.0 / scale, 1.0)
+    if kind != PLANE_FOUR_BAR:
+        return own, own._replace(swapped=True, solve=_output_solver(linkage), other_angle=True,
+                                 ratio=scale, scale=scale)
+    a, b, c, d = (linkage.dims[n] for n in "abcd")
+    coupler = bodies.coupler
+    if coupler.centre is not None:
+        u, v = cast(Sequence[float], coupler.centre)
+        coupler = coupler._replace(centre=(abs(c) - u, -v))
+    turned = (-gravity[0], -gravity[1], gravity[2])
+    closure = Closure(PLANE_FOUR_BAR, a=a, b=d, c=c, d=b)
+    inverse = own._replace(
+        closure=closure, bodies=Bodies(bodies.output, coupler, bodies.crank), swapped=True,
+        shift=math.pi, gravity=turned, names={"A0": "B0", "B0": "A0", "A": "B", "B": "A"},
+        frame=lambda p: (a - float(p[0]), -float(p[1]), 0.0),
+        ground=joint_positions(closure, 0.0).joints, dims=pin_dimensions(closure.dims),
+        solve=_engine_solver(closure))
+    return own, inverse
+
+
+def root_near(view: SimView, q: float, near: tuple[float, float, float, float] | None,
+          label: int) -> tuple[SimPose, int] | None:
+    """The position at q on the branch the motion follows: the root nearest the prediction from
+    near = (q0, other, other', other'') (None: the label `label`); with the other coordinate
+    unwrapped, and its label. None where the linkage does not assemble (or its output is free)."""
+    best = None
+    for branch in (1, 2):
+        if near is None and branch != label:
+            continue
+        pose = view.solve(q, branch)
+        if pose is None:
+            continue
+        if near is None:
+            return pose, branch
+        q0, y0, v0, a0 = near
+        h = q - q0
+        guess, slope = y0 + h * v0 + 0.5 * h * h * a0, v0 + h * a0
+        if view.other_angle:
+            pose = pose._replace(other=guess + math.remainder(pose.other - guess, 2.0 * math.pi))
+        misfit = abs(pose.other - guess) + abs(h) * abs(pose.other1 - slope)
+        if best is None or misfit < best[0]:
+            best = (misfit, pose, branch)
+    return None if best is None else best[1:]
+
+
+class Reduced(NamedTuple):
+    """The linkage's dynamics reduced to its input angle phi (radians): the reduced inertia J
+    (kg m^2; the kinetic energy is 1/2 J phi_dot^2), dJ/dphi, gravity's generalised force
+    Q = -dV/dphi (N m) and potential V (J)."""
+    inertia: float
+    slope: float
+    gravity_force: float
+    potential: float
+
+
+def reduced(linkage: Closure, phi: float, branch: int = 1, bodies: Bodies = Bodies(),
+            gravity: float | Sequence[float] | None = None, *, radius: float = 1.0
+            ) -> Reduced | None:
+    """J, dJ/dphi, gravity's generalised force and potential at input angle phi (degrees) on
+    the listing's `branch` (see the section's notes; bodies, gravity and the spherical
+    four-bar's radius as forces'; at a change point the branch's limits); None where there is
+    no velocity (no position, a dead centre)."""
+    return _reduced_along(linkage, [phi], branch, bodies, gravity, radius)[0]
+
+
+def _reduced_along(linkage: Closure, phis: Iterable[float], branch: int, bodies: Bodies,
+                   gravity: float | Sequence[float] | None, radius: float
+                   ) -> list[Reduced | None]:
+    """reduced() at each of phis, the bodies checked and the view made once."""
+    forces(linkage, [], branch, bodies, Effects(gravity=gravity), radius=radius)   # its errors
+    view = views_of(linkage, bodies, gravity_vector(gravity, linkage.kind), radius)[0]
+    found: list[Reduced | None] = []
+    for phi in phis:
+        m = linkage.motion(phi, branch)
+        if m.velocity is None or m.acceleration is None or m.output is None:
+            found.append(None)
+            continue
+        pose = SimPose(m.phi, m.output, 1.0, 0.0, m.velocity, m.acceleration, 0.0, 0.0, 0.0)
+        found.append(_reduced_at(view, pose, *_pins(view, pose)))
+    return found
+
+
+def mean_reduced_inertia(linkage: Closure, phis: Sequence[float], branch: int = 1,
+                         bodies: Bodies = Bodies(), *, radius: float = 1.0) -> float | None:
+    """The reduced inertia J averaged over the input angles phis (degrees, increasing; the
+    trapezoid rule in phi), None where any has none (a dead centre) or phis are fewer than two.
+    forces_summary's flywheel_inertia, ΔE_max / (cs omega^2), is the whole inertia at the crank
+    that holds the speed: the linkage's own J carries this much of it, and a flywheel of the
+    rest holds it to within about cs/2 of cs (tests/test_simulate.py measures it so)."""
+    values = _reduced_along(linkage, phis, branch, bodies, None, radius)
+    if len(values) < 2 or any(v is None for v in values) or phis[-1] <= phis[0]:
+        return None
+    inertia = [cast(Reduced, v).inertia for v in values]
+    area = sum((inertia[i] + inertia[i + 1]) * (phis[i + 1] - phis[i])
+               for i in range(len(phis) - 1))
+    return 0.5 * area / (phis[-1] - phis[0])
+
+
+def gravity_vector(gravity: float | Sequence[float] | None, kind: str) -> Vector:
+    """Gravity as forces() takes it: a number g along -y (plane kinds) or -z (spatial)."""
+    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
+    if gravity is None:
+        return (0.0, 0.0, 0.0)
+    if isinstance(gravity, (int, float)):
+        g = checked_number(gravity, "gravity")
+        return (0.0, -g, 0.0) if plane else (0.0, 0.0, -g)
+    v = checked_numbers(gravity, 3, "gravity (gx, gy, gz)")
+    if plane and v[2]:
+        raise ValueError("the plane kinds are simulated in their plane: gravity must have no z "
+                         "component")
+    return v[0], v[1], v[2]
+
+
+_Path: TypeAlias = tuple[Vector, Vector, Vector]       # a point and its derivatives by q
+
+
+def _pins(view: SimView, pose: SimPose) -> tuple[_Path, _Path]:
+    """The crank pin A and the output pin (B, or the slider C) with their derivatives by q."""
+    closure, dims, r = view.closure, view.dims, view.radius
+    a = PINS[closure.kind].crank_pin(dims, *cos_sin_degrees(pose.phi))
+    p = output_pin_at(closure, dims, pose.output, cos_sin_degrees)
+    k1, k2, o1, o2 = pose.crank1, pose.crank2, pose.out1, pose.out2
+    return ((weighted_sum((r, a[0])), weighted_sum((r * k1, a[1])), weighted_sum((r * k1 * k1, a[2]), (r * k2, a[1]))),
+            (weighted_sum((r, p[0])), weighted_sum((r * o1, p[1])), weighted_sum((r * o1 * o1, p[2]), (r * o2, p[1]))))
+
+
+def _reduced_at(view: SimView, pose: SimPose, a: _Path, p: _Path) -> Reduced:
+    """Reduced at the position `pose` with pins a and p in `view`, by the kind's table."""
+    return _REDUCERS[view.closure.kind](view, pose, a, p)
+
+
+def _plane_reduced(view: SimView, pose: SimPose, a: _Path, p: _Path) -> Reduced:
+    """The plane kinds' Reduced from the pins' paths (_plane_sums)."""
+    return _plane_sums(view, a[0][0], a[0][1], a[1][0], a[1][1], a[2][0], a[2][1], p[0][0],
+                       p[0][1], p[1][0], p[1][1], p[2][0], p[2][1], pose.crank1, pose.crank2,
+                       pose.out1, pose.out2)
+
+
+def _plane_sums(view: SimView, ax: float, ay: float, ax1: float, ay1: float, ax2: float,
+                ay2: float, px: float, py: float, px1: float, py1: float, px2: float, py2: float,
+                k1: float, k2: float, o1: float, o2: float) -> Reduced:
+    """The plane kinds' Reduced from the crank pin A (ax, ay), the output pin P (B, or the slider
+    C) and their first (1) and second (2) derivatives by q, with the crank's angle's (k1, k2) and
+    the output's (o1, o2): each body's centre and angle, and their first and second derivatives
+    by q, by the chain rule (a body of a mass only is a uniform rod, as forces' bodies; the
+    plane's inertia about z). In scalars: every evaluation of the run comes here."""
+    gx, gy = view.gravity[0], view.gravity[1]
+    crank, coupler, output = view.bodies
+    length = math.sqrt(ax * ax + ay * ay)           # the crank: its centre r / |A| along A
+    r, moment = _mass_of(crank, length)
+    f, m = r / length, crank.mass
+    inertia = m * f * f * (ax1 * ax1 + ay1 * ay1) + moment * k1 * k1
+    slope = 2.0 * (m * f * f * (ax1 * ax2 + ay1 * ay2) + moment * k1 * k2)
+    force = m * f * (gx * ax1 + gy * ay1)
+    potential = -m * f * (gx * ax + gy * ay)
+    lx, ly, lx1, ly1 = px - ax, py - ay, px1 - ax1, py1 - ay1     # the coupler, A to P
+    span = lx * lx + ly * ly
+    root = math.sqrt(span)
+    ex, ey = lx / root, ly / root                   # e along it, n = (-ey, ex)
+    w1 = (lx * ly1 - ly * lx1) / span               # its angle's derivatives
+    w2 = (lx * (py2 - ay2) - ly * (px2 - ax2)) / span
+    if coupler.centre is None:
+        u, v, moment = 0.5 * root, 0.0, coupler.mass * span / 12.0
+    else:
+        u, v = cast(Sequence[float], coupler.centre)
+        moment = float(cast(float, coupler.inertia))
+    ox, oy = u * ex - v * ey, u * ey + v * ex       # u e + v n, and its derivative by the angle
+    sx, sy = -oy, ox
+    cx1, cy1 = ax1 + w1 * sx, ay1 + w1 * sy
+    cx2, cy2 = ax2 + w2 * sx - w1 * w1 * ox, ay2 + w2 * sy - w1 * w1 * oy
+    m = coupler.mass
+    inertia += m * (cx1 * cx1 + cy1 * cy1) + moment * w1 * w1
+    slope += 2.0 * (m * (cx1 * cx2 + cy1 * cy2) + moment * w1 * w2)
+    force += m * (gx * cx1 + gy * cy1)
+    potential -= m * (gx * (ax + ox) + gy * (ay + oy))
+    m = output.mass
+    if view.closure.is_slider:                      # the slider: its centre offset along x
+        inertia += m * (px1 * px1 + py1 * py1)
+        slope += 2.0 * m * (px1 * px2 + py1 * py2)
+        force += m * (gx * px1 + gy * py1)
+        potential -= m * (gx * (px + float(cast(float, output.centre or 0.0))) + gy * py)
+    else:                                           # the output crank about B0
+        bx, by = view.ground["B0"][0], view.ground["B0"][1]
+        length = math.sqrt((px - bx) ** 2 + (py - by) ** 2)
+        r, moment = _mass_of(output, length)
+        f = r / length
+        inertia += m * f * f * (px1 * px1 + py1 * py1) + moment * o1 * o1
+        slope += 2.0 * (m * f * f * (px1 * px2 + py1 * py2) + moment * o1 * o2)
+        force += m * f * (gx * px1 + gy * py1)
+        potential -= m * (gx * (bx + f * (px - bx)) + gy * (by + f * (py - by)))
+    return Reduced(inertia, slope, force, potential)
+
+
+def _spatial_reduced(view: SimView, pose: SimPose, a: _Path, p: _Path) -> Reduced:
+    """The spatial kinds' Reduced: each body in forces' frame (see section 10's notes), its
+    origin's path, its angular velocity per unit q_dot w' and that's derivative w'', its centre
+    G = origin + rho: J = sum m |G'|^2 + w'.I w' and J' = 2 sum (m G'.G'' + w''.I w') (the
+    inertia I turning with the body adds w'.(w' x I w' - I (w' x w')) = 0)."""
+    g = view.gravity
+    crank, coupler, output = cast(tuple[BodyMass, BodyMass, BodyMass], view.masses)
+    totals = [0.0, 0.0, 0.0, 0.0]
+    nought = (0.0, 0.0, 0.0)
+
+    def body(mass: BodyMass, axes: Sequence[Vector], origin: _Path, w1: Vector, w2: Vector
+             ) -> None:
+        rho = weighted_sum(*zip(mass.centre, axes))
+        g1 = weighted_sum((1.0, origin[1]), (1.0, cross(w1, rho)))
+        g2 = weighted_sum((1.0, origin[2]), (1.0, cross(w2, rho)), (1.0, cross(w1, cross(w1, rho))))
+        local = (dot(axes[0], w1), dot(axes[1], w1), dot(axes[2], w1))
+        iw1 = weighted_sum(*zip((dot(row, local) for row in mass.inertia), axes))
+        totals[0] += mass.mass * dot(g1, g1) + dot(w1, iw1)
+        totals[1] += 2.0 * (mass.mass * dot(g1, g2) + dot(w2, iw1))
+        totals[2] += mass.mass * dot(g, g1)
+        totals[3] -= mass.mass * dot(g, weighted_sum((1.0, origin[0]), (1.0, rho)))
+
+    z = (0.0, 0.0, 1.0)
+    x = unit_vector((a[0][0], a[0][1], 0.0))
+    body(crank, (x, cross(z, x), z), (nought, nought, nought), (0.0, 0.0, pose.crank1),
+         (0.0, 0.0, pose.crank2))
+    if PINS[view.closure.kind].coupler == "sphere":
+        w1 = spin_about_centre(a[0], p[0], a[1], p[1])
+        w2 = spin_about_centre(a[0], p[0], difference(a[2], cross(w1, a[1])),
+                               difference(p[2], cross(w1, p[1])))
+        x, normal = unit_vector(a[0]), unit_vector(cross(a[0], p[0]))
+        body(coupler, (x, cross(normal, x), normal), (nought, nought, nought), w1, w2)
+    else:                   # a line: no spin about it, and |AB| fixed, so AB . (B' - A') = 0
+        ab = difference(p[0], a[0])
+        span = dot(ab, ab)
+        w1 = weighted_sum((1.0 / span, cross(ab, difference(p[1], a[1]))))
+        w2 = weighted_sum((1.0 / span, cross(ab, difference(p[2], a[2]))))
+        x = unit_vector(ab)
+        least = min(range(3), key=lambda i: abs(x[i]))
+        y = unit_vector(cross(x, ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), z)[least]))
+        body(coupler, (x, y, cross(x, y)), a, w1, w2)
+    if view.closure.is_slider:
+        guide = view.axes["guide"][1]
+        side = (1.0, 0.0, 0.0)
+        body(output, (guide, side, cross(guide, side)), p, nought, nought)
+    else:
+        k = view.axes["output"][1]
+        pivot = view.ground.get("B0", nought) if view.closure.kind == SKEW_FOUR_BAR else nought
+        arm = difference(p[0], pivot)
+        x = unit_vector(weighted_sum((1.0, arm), (-dot(arm, k), k)))
+        body(output, (x, cross(k, x), k), (pivot, nought, nought), weighted_sum((pose.out1, k)),
+             weighted_sum((pose.out2, k)))
+    return Reduced(*totals)
+
+
+_REDUCERS: dict[str, Callable[[SimView, SimPose, _Path, _Path], Reduced]] = {
+    PLANE_FOUR_BAR: _plane_reduced, PLANE_SLIDER_CRANK: _plane_reduced,
+    SPHERICAL_FOUR_BAR: _spatial_reduced, SKEW_FOUR_BAR: _spatial_reduced,
+    SKEW_SLIDER_CRANK: _spatial_reduced}
+
+
+def _mass_of(body: Body, length: float) -> tuple[float, float]:
+    """A crank's centre (its distance from the pivot toward the pin) and moment of inertia
+    about it: as given, or a uniform rod's of `length`."""
+    if body.centre is None:
+        return 0.5 * length, body.mass * length * length / 12.0
+    return float(cast(float, body.centre)), float(cast(float, body.inertia))
+
+
+def _coupler_rate(view: SimView, pose: SimPose, a: _Path, p: _Path, u: float, v: float) -> Vector:
+    """The coupler point (u, v)'s derivative by q (Linkage.coupler's point)."""
+    form = PINS[view.closure.kind].coupler
+    if form == "sphere":                # on the unit sphere, by the pins' derivatives by q
+        r = view.radius
+        a1, p1 = ([weighted_sum((1.0 / r, x)) for x in pin[:2]] for pin in (a, p))
+        return weighted_sum((r, coupler_form(view.closure, a1, p1, u, v, math.sqrt)[1]))
+    ab, ab1 = difference(p[0], a[0]), difference(p[1], a[1])
+    span = dot(ab, ab)
+    if form == "line":                  # A + u e, e' = (B' - A') / |AB| (|AB| fixed)
+        return weighted_sum((1.0, a[1]), (u / math.sqrt(span), ab1))
+    w1 = cross(ab, ab1)[2] / span
+    e = weighted_sum((1.0 / math.sqrt(span), ab))
+    return weighted_sum((1.0, a[1]), (-w1 * u, (e[1], -e[0], 0.0)), (-w1 * v, e))
+
+
+_Near: TypeAlias = "tuple[float, float, float, float] | None"     # see root_near
+_Found: TypeAlias = "tuple[float, float, float, int, Reduced, tuple[SimPose, _Path, _Path] | None]"
+
+
+def _found(view: SimView, q: float, near: _Near, label: int) -> _Found | None:
+    """The position at q on the branch followed (root_near): the other coordinate and its first two
+    derivatives by q, the branch, Reduced there, and the pose with its pins; None where there is
+    no position."""
+    found = root_near(view, q, near, label)
+    if found is None:
+        return None
+    pose, branch = found
+    a, p = _pins(view, pose)
+    return pose.other, pose.other1, pose.other2, branch, _reduced_at(view, pose, a, p), \
+        (pose, a, p)
+
+
+def _four_bar_found(view: SimView, q: float, near: _Near, label: int) -> _Found | None:
+    """_found for a plane four-bar, the pose and pins left out, in scalars: the closure solved
+    once for both branches by the engine's formulas (a copy of _sweep_four_bar's for one angle:
+    tests/test_simulate.py holds the two to each other), the root nearest the prediction as
+    root_near chooses it, the pins from the closure's cos and sin of phi and psi. Near the
+    discriminant's zero (a change point, a dead centre), without a prediction, and at an angle not
+    finite (the engine's error), it is _found."""
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = view.closure._constants
+    if near is None or not math.isfinite(q * DEG):
+        return _found(view, q, near, label)
+    c, s = cos_sin_degrees(q * DEG)
+    xp, xq, xs = pc * c + ps * s, qc * c + qs * s, sc * c + ss * s
+    p, k, sv = p0 + xp, q0 + xq, s0 + xs
+    rr = math.hypot(p, k)
+    disc = (rr - sv) * (rr + sv)
+    if disc <= view.closure.precise_below:
+        return _found(view, q, near, label)
+    root = math.sqrt(disc)
+    r2 = rr * rr
+    dp, dq, ds = ps * c - pc * s, qs * c - qc * s, ss * c - sc * s
+    start, y0, v0, a0 = near
+    h = q - start
+    guess, slope = y0 + h * v0 + 0.5 * h * h * a0, v0 + h * a0
+    best = math.inf
+    y = vel = cp = sp = sign = 0.0
+    branch = 0
+    for one, sg in ((1, 1.0), (2, -1.0)):
+        sn, cn = -k * sv - sg * p * root, -p * sv + sg * k * root
+        psi = math.atan2(sn, cn) * DEG
+        if psi == -180.0:
+            psi = 180.0
+        other = guess + math.remainder(psi * RAD - guess, 2.0 * math.pi)
+        cpi, spi = cn / r2, sn / r2
+        v = -sg * (dp * cpi + dq * spi + ds) / root
+        misfit = abs(other - guess) + abs(h) * abs(v - slope)
+        if misfit < best:
+            best, y, vel, cp, sp, sign, branch = misfit, other, v, cpi, spi, sg, one
+    acc = -sign * (-(xp * cp + xq * sp + xs) + 2.0 * (dq * cp - dp * sp) * vel + sv * vel * vel) \
+        / root
+    dims, radius = view.dims, view.radius
+    b, d = radius * dims["b"], radius * dims["d"]
+    ax, ay, dx, dy = b * c, b * s, d * cp, d * sp
+    return y, vel, acc, branch, _plane_sums(
+        view, ax, ay, -ay, ax, -ax, -ay, radius * dims["a"] + dx, dy, -dy * vel, dx * vel,
+        -dx * vel * vel - dy * acc, -dy * vel * vel + dx * acc, 1.0, 0.0, vel, acc), None
+
+
+def _slider_found(view: SimView, q: float, near: _Near, label: int) -> _Found | None:
+    """_found for the plane slider-crank in its crank's angle, as _four_bar_found (a copy of
+    _sweep_slider's formulas for one angle); in its slider's x (view.swapped) it is _found."""
+    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = view.closure._constants
+    if near is None or view.swapped or not math.isfinite(q * DEG):
+        return _found(view, q, near, label)
+    c, s = cos_sin_degrees(q * DEG)
+    xm, xk = mc * c + ms * s, kc * c + ks * s
+    m, k = m0 + xm, k0 + xk
+    dist = math.hypot(u0 + uc * c + us * s, v0 + vc * c + vs * s)
+    disc = (rod - dist) * (rod + dist)
+    if disc <= view.closure.precise_below:
+        return _found(view, q, near, label)
+    root = math.sqrt(disc)
+    big = m + root if m >= 0.0 else m - root
+    dm, dk = ms * c - mc * s, ks * c - kc * s
+    unit = view.closure.unit
+    start, y0, rate0, ahead = near
+    h = q - start
+    guess, slope = y0 + h * rate0 + 0.5 * h * h * ahead, rate0 + h * ahead
+    best = math.inf
+    x = vel = sign = 0.0
+    branch = 0
+    for one, sg in ((1, 1.0), (2, -1.0)):
+        xi = big if (sg > 0.0) == (m >= 0.0) else k / big
+        v = sg * (dm * xi - 0.5 * dk) / root
+        misfit = abs(xi * unit - guess) + abs(h) * abs(v * unit - slope)
+        if misfit < best:
+            best, x, vel, sign, branch = misfit, xi, v, sg, one
+    acc = sign * (0.5 * xk - xm * x + 2.0 * dm * vel - vel * vel) / root * unit
+    x, vel = x * unit, vel * unit
+    radius = view.radius
+    b = radius * view.dims["b"]
+    ax, ay = b * c, b * s
+    return x, vel, acc, branch, _plane_sums(
+        view, ax, ay, -ay, ax, -ax, -ay, radius * x, radius * view.dims["e"], radius * vel, 0.0,
+        radius * acc, 0.0, 1.0, 0.0, vel, acc), None
+
+
+_FAST_FOUND: dict[str, Callable[[SimView, float, _Near, int], _Found | None]] = {
+    PLANE_FOUR_BAR: _four_bar_found, PLANE_SLIDER_CRANK: _slider_found}
+
+
+def state_at(run: SimModel, view: SimView, q: float, rate: float, near: _Near, label: int
+        ) -> SimPoint | None:
+    """The state (q, rate) in `view`, or None where it cannot be evaluated (in scalars, where
+    the kind has a _FAST_FOUND and no spring or coupler force asks for the pins)."""
+    fast = _FAST_FOUND.get(view.closure.kind, _found) \
+        if not run.springs and run.coupler_force is None else _found
+    found = fast(view, q, near, label)
+    if found is None:
+        return None
+    y, y1, y2, branch, dynamics, pins = found
+    if not dynamics.inertia > 0.0:
+        return None
+    # the linkage's angles by q: the crank's phi and the output's psi (or x)
+    if view.swapped:
+        phi, phi1, psi, psi1 = y - view.shift, y1, q - view.shift, 1.0
+    else:
+        phi, phi1, psi, psi1 = q, 1.0, y, y1
+    applied = dynamics.gravity_force - 0.5 * dynamics.slope * rate * rate
+    potential = dynamics.potential
+    omega = phi1 * rate
+    driver = run.driver
+    torque = driver.torque
+    if driver.free_speed_rpm:
+        torque += driver.stall_torque * (1.0 - omega * 30.0 / math.pi / driver.free_speed_rpm)
+    free = torque * phi1 + run.output_torque * psi1 + run.output_force * psi1
+    for t in run.torsions:
+        angle, angle1 = (phi, phi1) if t.pivot == "A0" else (psi, psi1)
+        potential += 0.5 * t.stiffness * (angle - t.free_angle * RAD) ** 2
+        applied -= t.stiffness * (angle - t.free_angle * RAD) * angle1
+        free -= t.damping * angle1 * angle1 * rate
+    if run.springs or run.coupler_force is not None:
+        pose, a, p = cast(tuple[SimPose, _Path, _Path], pins)
+        still = (0.0, 0.0, 0.0)
+        points = {name: (at, still) for name, at in view.ground.items()}
+        points.update({"A": (a[0], a[1]), PINS[view.closure.kind].output_joint: (p[0], p[1])})
+    for s in run.springs:
+        (pa, va), (pb, vb) = (points[view.names[x]] if isinstance(x, str)
+                              else (view.frame(x), still) for x in (s.point_a, s.point_b))
+        gap = difference(pa, pb)
+        length = math.sqrt(dot(gap, gap))
+        stretch = length - s.free_length
+        potential += 0.5 * s.stiffness * stretch * stretch
+        if length:
+            applied -= s.stiffness * stretch * dot(gap, difference(va, vb)) / length
+    if run.coupler_force is not None:
+        (u, v), f = run.coupler_force
+        if view.shift:                  # the inverse four-bar: its coupler's frame turned
+            u, v, f = abs(view.closure.dims["c"]) - u, -v, (-f[0], -f[1], f[2])
+        free += dot(f, _coupler_rate(view, pose, a, p, u, v))
+    applied += free
+    energy = 0.5 * dynamics.inertia * rate * rate + potential
+    return SimPoint(q, rate, y, y1, y2, branch, dynamics.inertia, applied / dynamics.inertia,
+                  energy, free * rate)
+
+
+# ---- 13. Simulation: the run, stepped in time and its events -------------------------------------
+#
+# The integrator: Dormand and Prince's embedded Runge-Kutta 5(4) with its 4th-order dense output
+# (Hairer, Norsett and Wanner, Solving ODE I, II.5 and II.6), on (q, q_dot, W), W the work of the
+# driver, the loads and the dampers, the error of q held to `tolerance` radians and q_dot's to
+# `tolerance` of its size (at least 1/s) each step. Events, located on the dense output by bisection
+# to 2^-60 of a step: the input's dead centre (phi_dot changes sign while psi_dot does not), a
+# change point (the engine's labels of the followed branch swap), rest (q_dot = 0: every point
+# stops), an angle reached (until_angle). A step whose evaluation fails (no position, J = 0) is
+# retried at a quarter of its length. The total energy E = 1/2 J q_dot^2 + potential of gravity and
+# springs, from the positions, is written along the run with W: E - W stays E(0) to the tolerance, a
+# check (Simulation.energy_error), not an assumption.
+#
+# Uses: sections 2, 6, 7, 9 and 12.
+# Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, SimRow, SimEvent, Simulation, simulate.
 
 
 REST = "rest"                        # SimEvent.kind: every point at rest (q_dot = 0)
@@ -6387,566 +6939,20 @@ class Simulation(NamedTuple):
     energy_error: float
 
 
-class _Pose(NamedTuple):
-    """A position a view found at q: its closure's input angle phi (degrees) and output (degrees,
-    or the slider's x), the derivatives by q of the closure's crank angle (radians) and of its
-    output (radians, or length), and the other coordinate (radians, or x) with its derivatives."""
-    phi: float
-    output: float
-    crank1: float
-    crank2: float
-    out1: float
-    out2: float
-    other: float
-    other1: float
-    other2: float
-
-
-class _View(NamedTuple):
-    """The linkage as the run solves it in one coordinate q: its closure, bodies (and the spatial
-    kinds' BodyMass), how its frame maps to the linkage's, and how it finds a position."""
-    closure: Closure
-    bodies: Bodies
-    swapped: bool               # q is not the crank's angle: the inverse four-bar's input
-    #                             (psi + shift), or the plane slider's x (shift 0)
-    shift: float
-    gravity: Vector
-    names: dict[str, str]       # the linkage's joint names as this view's
-    frame: Callable[[Sequence[float]], Vector]     # a point of the linkage's frame in the view's
-    ground: dict[str, Vector]   # the view's fixed joints
-    axes: dict[str, tuple[Vector, Vector]]         # the view's shafts and guide
-    dims: dict[str, float]      # pin_dimensions of the closure's
-    radius: float               # the spherical four-bar's sphere (m), else 1
-    masses: tuple[BodyMass, BodyMass, BodyMass] | None     # the spatial kinds'
-    solve: Callable[[float, int], _Pose | None]    # the position at q on the label 1 or 2
-    other_angle: bool           # the other coordinate is an angle (unwrapped by 2 pi)
-    ratio: float                # q's scale over the other's: |other'| ratio over 2 changes them
-    scale: float                # q's scale (1 rad, or the crank's length), the tolerance's unit
-
-
-class _Point(NamedTuple):
-    """The state at one instant in a view: q, q_dot, the other coordinate (radians unwrapped, or
-    the slider's x) and its derivatives by q, its label, J, q_ddot, the energy and the power of
-    the non-conservative forces."""
-    q: float
-    rate: float
-    other: float
-    other1: float
-    other2: float
-    label: int
-    inertia: float
-    acceleration: float
-    energy: float
-    power: float
-
-
-class _Model(NamedTuple):
-    """What a run keeps fixed: the linkage, its views (coordinates), the driver and the loads."""
-    linkage: Closure
-    views: tuple[_View, ...]
-    driver: Driver
-    springs: tuple[Spring, ...]
-    torsions: tuple[Torsion, ...]
-    output_torque: float
-    output_force: float
-    coupler_force: tuple[tuple[float, float], Vector] | None
-
-
-def _engine_solver(closure: Closure) -> Callable[[float, int], _Pose | None]:
-    """A view's positions from the engine: q the closure's input angle (radians)."""
-    def solve(q: float, label: int) -> _Pose | None:
-        m = closure.motion(q * DEG, label)
-        if m.status not in (ASSEMBLED, CHANGE_POINT) or m.output is None:
-            return None
-        assert m.velocity is not None and m.acceleration is not None
-        y = m.output if closure.is_slider else m.output * RAD
-        return _Pose(m.phi, m.output, 1.0, 0.0, m.velocity, m.acceleration, y, m.velocity,
-                     m.acceleration)
-    return solve
-
-
-def _output_solver(closure: Closure) -> Callable[[float, int], _Pose | None]:
-    """A view's positions in the output's coordinate q (psi in radians, or the slider's x): the
-    crank's angle by the closure solved the other way round (Closure.input_angle)."""
-    def solve(q: float, label: int) -> _Pose | None:
-        found = closure.input_angle(q, label)
-        if found is None:
-            return None
-        phi, phi1, phi2 = found
-        return _Pose(phi * DEG, q if closure.is_slider else q * DEG, phi1, phi2, 1.0, 0.0, phi,
-                     phi1, phi2)
-    return solve
-
-
-def _views(linkage: Closure, bodies: Bodies, gravity: Vector, radius: float = 1.0
-           ) -> tuple[_View, ...]:
-    """The linkage in its crank's angle, and in its output's coordinate: (plane four-bar) as its
-    inverse turned half a turn, (the other kinds) in psi or the slider's x (_output_solver)."""
-    same = {n: n for n in ("A0", "A", "B", "B0", "C")}
-    kind = linkage.kind
-    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
-    ground = joint_positions(linkage, 0.0)
-    joints = {n: cast(Vector, tuple(radius * x for x in p)) for n, p in ground.joints.items()}
-    scale = abs(linkage.dims["b"]) if linkage.is_slider else 1.0
-    own = _View(linkage, bodies, False, 0.0, gravity, same,
-                (lambda p: (float(p[0]), float(p[1]), 0.0)) if plane else
-                (lambda p: (float(p[0]), float(p[1]), float(p[2]))),
-                joints, ground.axes, pin_dimensions(linkage.dims), radius,
-                None if plane else body_masses(linkage, bodies, radius),
-                _engine_solver(linkage), not linkage.is_slider, 1.0 / scale, 1.0)
-    if kind != PLANE_FOUR_BAR:
-        return own, own._replace(swapped=True, solve=_output_solver(linkage), other_angle=True,
-                                 ratio=scale, scale=scale)
-    a, b, c, d = (linkage.dims[n] for n in "abcd")
-    coupler = bodies.coupler
-    if coupler.centre is not None:
-        u, v = cast(Sequence[float], coupler.centre)
-        coupler = coupler._replace(centre=(abs(c) - u, -v))
-    turned = (-gravity[0], -gravity[1], gravity[2])
-    closure = Closure(PLANE_FOUR_BAR, a=a, b=d, c=c, d=b)
-    inverse = own._replace(
-        closure=closure, bodies=Bodies(bodies.output, coupler, bodies.crank), swapped=True,
-        shift=math.pi, gravity=turned, names={"A0": "B0", "B0": "A0", "A": "B", "B": "A"},
-        frame=lambda p: (a - float(p[0]), -float(p[1]), 0.0),
-        ground=joint_positions(closure, 0.0).joints, dims=pin_dimensions(closure.dims),
-        solve=_engine_solver(closure))
-    return own, inverse
-
-
-def _root(view: _View, q: float, near: tuple[float, float, float, float] | None,
-          label: int) -> tuple[_Pose, int] | None:
-    """The position at q on the branch the motion follows: the root nearest the prediction from
-    near = (q0, other, other', other'') (None: the label `label`); with the other coordinate
-    unwrapped, and its label. None where the linkage does not assemble (or its output is free)."""
-    best = None
-    for branch in (1, 2):
-        if near is None and branch != label:
-            continue
-        pose = view.solve(q, branch)
-        if pose is None:
-            continue
-        if near is None:
-            return pose, branch
-        q0, y0, v0, a0 = near
-        h = q - q0
-        guess, slope = y0 + h * v0 + 0.5 * h * h * a0, v0 + h * a0
-        if view.other_angle:
-            pose = pose._replace(other=guess + math.remainder(pose.other - guess, 2.0 * math.pi))
-        misfit = abs(pose.other - guess) + abs(h) * abs(pose.other1 - slope)
-        if best is None or misfit < best[0]:
-            best = (misfit, pose, branch)
-    return None if best is None else best[1:]
-
-
-class Reduced(NamedTuple):
-    """The linkage's dynamics reduced to its input angle phi (radians): the reduced inertia J
-    (kg m^2; the kinetic energy is 1/2 J phi_dot^2), dJ/dphi, gravity's generalised force
-    Q = -dV/dphi (N m) and potential V (J)."""
-    inertia: float
-    slope: float
-    gravity_force: float
-    potential: float
-
-
-def reduced(linkage: Closure, phi: float, branch: int = 1, bodies: Bodies = Bodies(),
-            gravity: float | Sequence[float] | None = None, *, radius: float = 1.0
-            ) -> Reduced | None:
-    """J, dJ/dphi, gravity's generalised force and potential at input angle phi (degrees) on
-    the listing's `branch` (see the section's notes; bodies, gravity and the spherical
-    four-bar's radius as forces'; at a change point the branch's limits); None where there is
-    no velocity (no position, a dead centre)."""
-    return _reduced_along(linkage, [phi], branch, bodies, gravity, radius)[0]
-
-
-def _reduced_along(linkage: Closure, phis: Iterable[float], branch: int, bodies: Bodies,
-                   gravity: float | Sequence[float] | None, radius: float
-                   ) -> list[Reduced | None]:
-    """reduced() at each of phis, the bodies checked and the view made once."""
-    forces(linkage, [], branch, bodies, Effects(gravity=gravity), radius=radius)   # its errors
-    view = _views(linkage, bodies, _gravity(gravity, linkage.kind), radius)[0]
-    found: list[Reduced | None] = []
-    for phi in phis:
-        m = linkage.motion(phi, branch)
-        if m.velocity is None or m.acceleration is None or m.output is None:
-            found.append(None)
-            continue
-        pose = _Pose(m.phi, m.output, 1.0, 0.0, m.velocity, m.acceleration, 0.0, 0.0, 0.0)
-        found.append(_reduced_at(view, pose, *_pins(view, pose)))
-    return found
-
-
-def mean_reduced_inertia(linkage: Closure, phis: Sequence[float], branch: int = 1,
-                         bodies: Bodies = Bodies(), *, radius: float = 1.0) -> float | None:
-    """The reduced inertia J averaged over the input angles phis (degrees, increasing; the
-    trapezoid rule in phi), None where any has none (a dead centre) or phis are fewer than two.
-    forces_summary's flywheel_inertia, ΔE_max / (cs omega^2), is the whole inertia at the crank
-    that holds the speed: the linkage's own J carries this much of it, and a flywheel of the
-    rest holds it to within about cs/2 of cs (tests/test_simulate.py measures it so)."""
-    values = _reduced_along(linkage, phis, branch, bodies, None, radius)
-    if len(values) < 2 or any(v is None for v in values) or phis[-1] <= phis[0]:
-        return None
-    inertia = [cast(Reduced, v).inertia for v in values]
-    area = sum((inertia[i] + inertia[i + 1]) * (phis[i + 1] - phis[i])
-               for i in range(len(phis) - 1))
-    return 0.5 * area / (phis[-1] - phis[0])
-
-
-def _gravity(gravity: float | Sequence[float] | None, kind: str) -> Vector:
-    """Gravity as forces() takes it: a number g along -y (plane kinds) or -z (spatial)."""
-    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
-    if gravity is None:
-        return (0.0, 0.0, 0.0)
-    if isinstance(gravity, (int, float)):
-        g = checked_number(gravity, "gravity")
-        return (0.0, -g, 0.0) if plane else (0.0, 0.0, -g)
-    v = checked_numbers(gravity, 3, "gravity (gx, gy, gz)")
-    if plane and v[2]:
-        raise ValueError("the plane kinds are simulated in their plane: gravity must have no z "
-                         "component")
-    return v[0], v[1], v[2]
-
-
-_Path: TypeAlias = tuple[Vector, Vector, Vector]       # a point and its derivatives by q
-
-
-def _pins(view: _View, pose: _Pose) -> tuple[_Path, _Path]:
-    """The crank pin A and the output pin (B, or the slider C) with their derivatives by q."""
-    closure, dims, r = view.closure, view.dims, view.radius
-    a = PINS[closure.kind].crank_pin(dims, *cos_sin_degrees(pose.phi))
-    p = output_pin_at(closure, dims, pose.output, cos_sin_degrees)
-    k1, k2, o1, o2 = pose.crank1, pose.crank2, pose.out1, pose.out2
-    return ((weighted_sum((r, a[0])), weighted_sum((r * k1, a[1])), weighted_sum((r * k1 * k1, a[2]), (r * k2, a[1]))),
-            (weighted_sum((r, p[0])), weighted_sum((r * o1, p[1])), weighted_sum((r * o1 * o1, p[2]), (r * o2, p[1]))))
-
-
-def _reduced_at(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
-    """Reduced at the position `pose` with pins a and p in `view`, by the kind's table."""
-    return _REDUCERS[view.closure.kind](view, pose, a, p)
-
-
-def _plane_reduced(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
-    """The plane kinds' Reduced from the pins' paths (_plane_sums)."""
-    return _plane_sums(view, a[0][0], a[0][1], a[1][0], a[1][1], a[2][0], a[2][1], p[0][0],
-                       p[0][1], p[1][0], p[1][1], p[2][0], p[2][1], pose.crank1, pose.crank2,
-                       pose.out1, pose.out2)
-
-
-def _plane_sums(view: _View, ax: float, ay: float, ax1: float, ay1: float, ax2: float,
-                ay2: float, px: float, py: float, px1: float, py1: float, px2: float, py2: float,
-                k1: float, k2: float, o1: float, o2: float) -> Reduced:
-    """The plane kinds' Reduced from the crank pin A (ax, ay), the output pin P (B, or the slider
-    C) and their first (1) and second (2) derivatives by q, with the crank's angle's (k1, k2) and
-    the output's (o1, o2): each body's centre and angle, and their first and second derivatives
-    by q, by the chain rule (a body of a mass only is a uniform rod, as forces' bodies; the
-    plane's inertia about z). In scalars: every evaluation of the run comes here."""
-    gx, gy = view.gravity[0], view.gravity[1]
-    crank, coupler, output = view.bodies
-    length = math.sqrt(ax * ax + ay * ay)           # the crank: its centre r / |A| along A
-    r, moment = _mass_of(crank, length)
-    f, m = r / length, crank.mass
-    inertia = m * f * f * (ax1 * ax1 + ay1 * ay1) + moment * k1 * k1
-    slope = 2.0 * (m * f * f * (ax1 * ax2 + ay1 * ay2) + moment * k1 * k2)
-    force = m * f * (gx * ax1 + gy * ay1)
-    potential = -m * f * (gx * ax + gy * ay)
-    lx, ly, lx1, ly1 = px - ax, py - ay, px1 - ax1, py1 - ay1     # the coupler, A to P
-    span = lx * lx + ly * ly
-    root = math.sqrt(span)
-    ex, ey = lx / root, ly / root                   # e along it, n = (-ey, ex)
-    w1 = (lx * ly1 - ly * lx1) / span               # its angle's derivatives
-    w2 = (lx * (py2 - ay2) - ly * (px2 - ax2)) / span
-    if coupler.centre is None:
-        u, v, moment = 0.5 * root, 0.0, coupler.mass * span / 12.0
-    else:
-        u, v = cast(Sequence[float], coupler.centre)
-        moment = float(cast(float, coupler.inertia))
-    ox, oy = u * ex - v * ey, u * ey + v * ex       # u e + v n, and its derivative by the angle
-    sx, sy = -oy, ox
-    cx1, cy1 = ax1 + w1 * sx, ay1 + w1 * sy
-    cx2, cy2 = ax2 + w2 * sx - w1 * w1 * ox, ay2 + w2 * sy - w1 * w1 * oy
-    m = coupler.mass
-    inertia += m * (cx1 * cx1 + cy1 * cy1) + moment * w1 * w1
-    slope += 2.0 * (m * (cx1 * cx2 + cy1 * cy2) + moment * w1 * w2)
-    force += m * (gx * cx1 + gy * cy1)
-    potential -= m * (gx * (ax + ox) + gy * (ay + oy))
-    m = output.mass
-    if view.closure.is_slider:                      # the slider: its centre offset along x
-        inertia += m * (px1 * px1 + py1 * py1)
-        slope += 2.0 * m * (px1 * px2 + py1 * py2)
-        force += m * (gx * px1 + gy * py1)
-        potential -= m * (gx * (px + float(cast(float, output.centre or 0.0))) + gy * py)
-    else:                                           # the output crank about B0
-        bx, by = view.ground["B0"][0], view.ground["B0"][1]
-        length = math.sqrt((px - bx) ** 2 + (py - by) ** 2)
-        r, moment = _mass_of(output, length)
-        f = r / length
-        inertia += m * f * f * (px1 * px1 + py1 * py1) + moment * o1 * o1
-        slope += 2.0 * (m * f * f * (px1 * px2 + py1 * py2) + moment * o1 * o2)
-        force += m * f * (gx * px1 + gy * py1)
-        potential -= m * (gx * (bx + f * (px - bx)) + gy * (by + f * (py - by)))
-    return Reduced(inertia, slope, force, potential)
-
-
-def _spatial_reduced(view: _View, pose: _Pose, a: _Path, p: _Path) -> Reduced:
-    """The spatial kinds' Reduced: each body in forces' frame (see section 10's notes), its
-    origin's path, its angular velocity per unit q_dot w' and that's derivative w'', its centre
-    G = origin + rho: J = sum m |G'|^2 + w'.I w' and J' = 2 sum (m G'.G'' + w''.I w') (the
-    inertia I turning with the body adds w'.(w' x I w' - I (w' x w')) = 0)."""
-    g = view.gravity
-    crank, coupler, output = cast(tuple[BodyMass, BodyMass, BodyMass], view.masses)
-    totals = [0.0, 0.0, 0.0, 0.0]
-    nought = (0.0, 0.0, 0.0)
-
-    def body(mass: BodyMass, axes: Sequence[Vector], origin: _Path, w1: Vector, w2: Vector
-             ) -> None:
-        rho = weighted_sum(*zip(mass.centre, axes))
-        g1 = weighted_sum((1.0, origin[1]), (1.0, cross(w1, rho)))
-        g2 = weighted_sum((1.0, origin[2]), (1.0, cross(w2, rho)), (1.0, cross(w1, cross(w1, rho))))
-        local = (dot(axes[0], w1), dot(axes[1], w1), dot(axes[2], w1))
-        iw1 = weighted_sum(*zip((dot(row, local) for row in mass.inertia), axes))
-        totals[0] += mass.mass * dot(g1, g1) + dot(w1, iw1)
-        totals[1] += 2.0 * (mass.mass * dot(g1, g2) + dot(w2, iw1))
-        totals[2] += mass.mass * dot(g, g1)
-        totals[3] -= mass.mass * dot(g, weighted_sum((1.0, origin[0]), (1.0, rho)))
-
-    z = (0.0, 0.0, 1.0)
-    x = unit_vector((a[0][0], a[0][1], 0.0))
-    body(crank, (x, cross(z, x), z), (nought, nought, nought), (0.0, 0.0, pose.crank1),
-         (0.0, 0.0, pose.crank2))
-    if PINS[view.closure.kind].coupler == "sphere":
-        w1 = spin_about_centre(a[0], p[0], a[1], p[1])
-        w2 = spin_about_centre(a[0], p[0], difference(a[2], cross(w1, a[1])),
-                               difference(p[2], cross(w1, p[1])))
-        x, normal = unit_vector(a[0]), unit_vector(cross(a[0], p[0]))
-        body(coupler, (x, cross(normal, x), normal), (nought, nought, nought), w1, w2)
-    else:                   # a line: no spin about it, and |AB| fixed, so AB . (B' - A') = 0
-        ab = difference(p[0], a[0])
-        span = dot(ab, ab)
-        w1 = weighted_sum((1.0 / span, cross(ab, difference(p[1], a[1]))))
-        w2 = weighted_sum((1.0 / span, cross(ab, difference(p[2], a[2]))))
-        x = unit_vector(ab)
-        least = min(range(3), key=lambda i: abs(x[i]))
-        y = unit_vector(cross(x, ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), z)[least]))
-        body(coupler, (x, y, cross(x, y)), a, w1, w2)
-    if view.closure.is_slider:
-        guide = view.axes["guide"][1]
-        side = (1.0, 0.0, 0.0)
-        body(output, (guide, side, cross(guide, side)), p, nought, nought)
-    else:
-        k = view.axes["output"][1]
-        pivot = view.ground.get("B0", nought) if view.closure.kind == SKEW_FOUR_BAR else nought
-        arm = difference(p[0], pivot)
-        x = unit_vector(weighted_sum((1.0, arm), (-dot(arm, k), k)))
-        body(output, (x, cross(k, x), k), (pivot, nought, nought), weighted_sum((pose.out1, k)),
-             weighted_sum((pose.out2, k)))
-    return Reduced(*totals)
-
-
-_REDUCERS: dict[str, Callable[[_View, _Pose, _Path, _Path], Reduced]] = {
-    PLANE_FOUR_BAR: _plane_reduced, PLANE_SLIDER_CRANK: _plane_reduced,
-    SPHERICAL_FOUR_BAR: _spatial_reduced, SKEW_FOUR_BAR: _spatial_reduced,
-    SKEW_SLIDER_CRANK: _spatial_reduced}
-
-
-def _mass_of(body: Body, length: float) -> tuple[float, float]:
-    """A crank's centre (its distance from the pivot toward the pin) and moment of inertia
-    about it: as given, or a uniform rod's of `length`."""
-    if body.centre is None:
-        return 0.5 * length, body.mass * length * length / 12.0
-    return float(cast(float, body.centre)), float(cast(float, body.inertia))
-
-
-def _coupler_rate(view: _View, pose: _Pose, a: _Path, p: _Path, u: float, v: float) -> Vector:
-    """The coupler point (u, v)'s derivative by q (Linkage.coupler's point)."""
-    form = PINS[view.closure.kind].coupler
-    if form == "sphere":                # on the unit sphere, by the pins' derivatives by q
-        r = view.radius
-        a1, p1 = ([weighted_sum((1.0 / r, x)) for x in pin[:2]] for pin in (a, p))
-        return weighted_sum((r, coupler_form(view.closure, a1, p1, u, v, math.sqrt)[1]))
-    ab, ab1 = difference(p[0], a[0]), difference(p[1], a[1])
-    span = dot(ab, ab)
-    if form == "line":                  # A + u e, e' = (B' - A') / |AB| (|AB| fixed)
-        return weighted_sum((1.0, a[1]), (u / math.sqrt(span), ab1))
-    w1 = cross(ab, ab1)[2] / span
-    e = weighted_sum((1.0 / math.sqrt(span), ab))
-    return weighted_sum((1.0, a[1]), (-w1 * u, (e[1], -e[0], 0.0)), (-w1 * v, e))
-
-
-_Near: TypeAlias = "tuple[float, float, float, float] | None"     # see _root
-_Found: TypeAlias = "tuple[float, float, float, int, Reduced, tuple[_Pose, _Path, _Path] | None]"
-
-
-def _found(view: _View, q: float, near: _Near, label: int) -> _Found | None:
-    """The position at q on the branch followed (_root): the other coordinate and its first two
-    derivatives by q, the branch, Reduced there, and the pose with its pins; None where there is
-    no position."""
-    found = _root(view, q, near, label)
-    if found is None:
-        return None
-    pose, branch = found
-    a, p = _pins(view, pose)
-    return pose.other, pose.other1, pose.other2, branch, _reduced_at(view, pose, a, p), \
-        (pose, a, p)
-
-
-def _four_bar_found(view: _View, q: float, near: _Near, label: int) -> _Found | None:
-    """_found for a plane four-bar, the pose and pins left out, in scalars: the closure solved
-    once for both branches by the engine's formulas (a copy of _sweep_four_bar's for one angle:
-    tests/test_simulate.py holds the two to each other), the root nearest the prediction as
-    _root chooses it, the pins from the closure's cos and sin of phi and psi. Near the
-    discriminant's zero (a change point, a dead centre), without a prediction, and at an angle not
-    finite (the engine's error), it is _found."""
-    p0, pc, ps, q0, qc, qs, s0, sc, ss = view.closure._constants
-    if near is None or not math.isfinite(q * DEG):
-        return _found(view, q, near, label)
-    c, s = cos_sin_degrees(q * DEG)
-    xp, xq, xs = pc * c + ps * s, qc * c + qs * s, sc * c + ss * s
-    p, k, sv = p0 + xp, q0 + xq, s0 + xs
-    rr = math.hypot(p, k)
-    disc = (rr - sv) * (rr + sv)
-    if disc <= view.closure.precise_below:
-        return _found(view, q, near, label)
-    root = math.sqrt(disc)
-    r2 = rr * rr
-    dp, dq, ds = ps * c - pc * s, qs * c - qc * s, ss * c - sc * s
-    start, y0, v0, a0 = near
-    h = q - start
-    guess, slope = y0 + h * v0 + 0.5 * h * h * a0, v0 + h * a0
-    best = math.inf
-    y = vel = cp = sp = sign = 0.0
-    branch = 0
-    for one, sg in ((1, 1.0), (2, -1.0)):
-        sn, cn = -k * sv - sg * p * root, -p * sv + sg * k * root
-        psi = math.atan2(sn, cn) * DEG
-        if psi == -180.0:
-            psi = 180.0
-        other = guess + math.remainder(psi * RAD - guess, 2.0 * math.pi)
-        cpi, spi = cn / r2, sn / r2
-        v = -sg * (dp * cpi + dq * spi + ds) / root
-        misfit = abs(other - guess) + abs(h) * abs(v - slope)
-        if misfit < best:
-            best, y, vel, cp, sp, sign, branch = misfit, other, v, cpi, spi, sg, one
-    acc = -sign * (-(xp * cp + xq * sp + xs) + 2.0 * (dq * cp - dp * sp) * vel + sv * vel * vel) \
-        / root
-    dims, radius = view.dims, view.radius
-    b, d = radius * dims["b"], radius * dims["d"]
-    ax, ay, dx, dy = b * c, b * s, d * cp, d * sp
-    return y, vel, acc, branch, _plane_sums(
-        view, ax, ay, -ay, ax, -ax, -ay, radius * dims["a"] + dx, dy, -dy * vel, dx * vel,
-        -dx * vel * vel - dy * acc, -dy * vel * vel + dx * acc, 1.0, 0.0, vel, acc), None
-
-
-def _slider_found(view: _View, q: float, near: _Near, label: int) -> _Found | None:
-    """_found for the plane slider-crank in its crank's angle, as _four_bar_found (a copy of
-    _sweep_slider's formulas for one angle); in its slider's x (view.swapped) it is _found."""
-    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = view.closure._constants
-    if near is None or view.swapped or not math.isfinite(q * DEG):
-        return _found(view, q, near, label)
-    c, s = cos_sin_degrees(q * DEG)
-    xm, xk = mc * c + ms * s, kc * c + ks * s
-    m, k = m0 + xm, k0 + xk
-    dist = math.hypot(u0 + uc * c + us * s, v0 + vc * c + vs * s)
-    disc = (rod - dist) * (rod + dist)
-    if disc <= view.closure.precise_below:
-        return _found(view, q, near, label)
-    root = math.sqrt(disc)
-    big = m + root if m >= 0.0 else m - root
-    dm, dk = ms * c - mc * s, ks * c - kc * s
-    unit = view.closure.unit
-    start, y0, rate0, ahead = near
-    h = q - start
-    guess, slope = y0 + h * rate0 + 0.5 * h * h * ahead, rate0 + h * ahead
-    best = math.inf
-    x = vel = sign = 0.0
-    branch = 0
-    for one, sg in ((1, 1.0), (2, -1.0)):
-        xi = big if (sg > 0.0) == (m >= 0.0) else k / big
-        v = sg * (dm * xi - 0.5 * dk) / root
-        misfit = abs(xi * unit - guess) + abs(h) * abs(v * unit - slope)
-        if misfit < best:
-            best, x, vel, sign, branch = misfit, xi, v, sg, one
-    acc = sign * (0.5 * xk - xm * x + 2.0 * dm * vel - vel * vel) / root * unit
-    x, vel = x * unit, vel * unit
-    radius = view.radius
-    b = radius * view.dims["b"]
-    ax, ay = b * c, b * s
-    return x, vel, acc, branch, _plane_sums(
-        view, ax, ay, -ay, ax, -ax, -ay, radius * x, radius * view.dims["e"], radius * vel, 0.0,
-        radius * acc, 0.0, 1.0, 0.0, vel, acc), None
-
-
-_FAST_FOUND: dict[str, Callable[[_View, float, _Near, int], _Found | None]] = {
-    PLANE_FOUR_BAR: _four_bar_found, PLANE_SLIDER_CRANK: _slider_found}
-
-
-def _at(run: _Model, view: _View, q: float, rate: float, near: _Near, label: int
-        ) -> _Point | None:
-    """The state (q, rate) in `view`, or None where it cannot be evaluated (in scalars, where
-    the kind has a _FAST_FOUND and no spring or coupler force asks for the pins)."""
-    fast = _FAST_FOUND.get(view.closure.kind, _found) \
-        if not run.springs and run.coupler_force is None else _found
-    found = fast(view, q, near, label)
-    if found is None:
-        return None
-    y, y1, y2, branch, dynamics, pins = found
-    if not dynamics.inertia > 0.0:
-        return None
-    # the linkage's angles by q: the crank's phi and the output's psi (or x)
-    if view.swapped:
-        phi, phi1, psi, psi1 = y - view.shift, y1, q - view.shift, 1.0
-    else:
-        phi, phi1, psi, psi1 = q, 1.0, y, y1
-    applied = dynamics.gravity_force - 0.5 * dynamics.slope * rate * rate
-    potential = dynamics.potential
-    omega = phi1 * rate
-    driver = run.driver
-    torque = driver.torque
-    if driver.free_speed_rpm:
-        torque += driver.stall_torque * (1.0 - omega * 30.0 / math.pi / driver.free_speed_rpm)
-    free = torque * phi1 + run.output_torque * psi1 + run.output_force * psi1
-    for t in run.torsions:
-        angle, angle1 = (phi, phi1) if t.pivot == "A0" else (psi, psi1)
-        potential += 0.5 * t.stiffness * (angle - t.free_angle * RAD) ** 2
-        applied -= t.stiffness * (angle - t.free_angle * RAD) * angle1
-        free -= t.damping * angle1 * angle1 * rate
-    if run.springs or run.coupler_force is not None:
-        pose, a, p = cast(tuple[_Pose, _Path, _Path], pins)
-        still = (0.0, 0.0, 0.0)
-        points = {name: (at, still) for name, at in view.ground.items()}
-        points.update({"A": (a[0], a[1]), PINS[view.closure.kind].output_joint: (p[0], p[1])})
-    for s in run.springs:
-        (pa, va), (pb, vb) = (points[view.names[x]] if isinstance(x, str)
-                              else (view.frame(x), still) for x in (s.point_a, s.point_b))
-        gap = difference(pa, pb)
-        length = math.sqrt(dot(gap, gap))
-        stretch = length - s.free_length
-        potential += 0.5 * s.stiffness * stretch * stretch
-        if length:
-            applied -= s.stiffness * stretch * dot(gap, difference(va, vb)) / length
-    if run.coupler_force is not None:
-        (u, v), f = run.coupler_force
-        if view.shift:                  # the inverse four-bar: its coupler's frame turned
-            u, v, f = abs(view.closure.dims["c"]) - u, -v, (-f[0], -f[1], f[2])
-        free += dot(f, _coupler_rate(view, pose, a, p, u, v))
-    applied += free
-    energy = 0.5 * dynamics.inertia * rate * rate + potential
-    return _Point(q, rate, y, y1, y2, branch, dynamics.inertia, applied / dynamics.inertia,
-                  energy, free * rate)
-
-
 _Phase: TypeAlias = tuple[float, float, float]         # q, q_dot and the work W
 _Slopes: TypeAlias = list[_Phase]
 
 
-def _reference(p: _Point) -> tuple[float, float, float, float]:
+def _reference(p: SimPoint) -> tuple[float, float, float, float]:
     return p.q, p.other, p.other1, p.other2
 
 
-def _slope(p: _Point) -> _Phase:
+def _slope(p: SimPoint) -> _Phase:
     return p.rate, p.acceleration, p.power
 
 
-def _dp_step(run: _Model, view: _View, y: _Phase, first: _Point, h: float
-             ) -> tuple[_Phase, _Slopes, _Point, float, float] | None:
+def _dp_step(run: SimModel, view: SimView, y: _Phase, first: SimPoint, h: float
+             ) -> tuple[_Phase, _Slopes, SimPoint, float, float] | None:
     """One Dormand-Prince step of length h from y (at the point `first`): the new state, the
     stages' slopes, the new point, and the error estimates of q and q_dot; None where a stage
     cannot be evaluated."""
@@ -6957,7 +6963,7 @@ def _dp_step(run: _Model, view: _View, y: _Phase, first: _Point, h: float
         for ai, k in zip(a, slopes):
             dq, dr, dw = dq + ai * k[0], dr + ai * k[1], dw + ai * k[2]
         new = (y[0] + h * dq, y[1] + h * dr, y[2] + h * dw)
-        found = _at(run, view, new[0], new[1], near, first.label)
+        found = state_at(run, view, new[0], new[1], near, first.label)
         if found is None:
             return None
         point = found
@@ -6976,7 +6982,7 @@ def _dense(y: _Phase, slopes: _Slopes, h: float, theta: float) -> _Phase:
                               for j in range(3)))
 
 
-def _row(view: _View, t: float, p: _Point) -> SimRow:
+def _row(view: SimView, t: float, p: SimPoint) -> SimRow:
     """A SimRow of the point p in `view` at time t."""
     if view.swapped:
         phi, phi1, phi2, psi, psi1, psi2 = p.other - view.shift, p.other1, p.other2, \
@@ -7071,7 +7077,7 @@ def simulate(linkage: Closure, bodies: Bodies, effects: Effects = Effects(), *,
     if effects.coupler_force is not None:
         at, f = effects.coupler_force
         load = ((float(at[0]), float(at[1])), cast(Vector, tuple(float(x) for x in f)))
-    run = _Model(linkage, _views(linkage, bodies, _gravity(effects.gravity, linkage.kind),
+    run = SimModel(linkage, views_of(linkage, bodies, gravity_vector(effects.gravity, linkage.kind),
                                  radius), driver,
                  tuple(springs), tuple(torsions), float(effects.output_torque),
                  float(effects.output_force), load)
@@ -7083,28 +7089,28 @@ def simulate(linkage: Closure, bodies: Bodies, effects: Effects = Effects(), *,
     if start.velocity is None:
         raise ValueError(f"the linkage does not assemble at the initial angle {angle:g} "
                          f"degrees on branch {branch}")
-    first = _at(run, view, angle * RAD, omega, None, branch)
+    first = state_at(run, view, angle * RAD, omega, None, branch)
     if first is None:                   # it assembles: J is zero
         raise ValueError("the reduced inertia at the initial angle is zero: give the crank, "
                          "coupler or output a mass")
     return _integrate(run, first, time, step, tolerance, target, stop_at_rest)
 
 
-def _switched(run: _Model, index: int, p: _Point) -> tuple[int, _Point | None]:
+def _switched(run: SimModel, index: int, p: SimPoint) -> tuple[int, SimPoint | None]:
     """The point p of view `index` in the other view (the other coordinate)."""
     to = 1 - index
     shift = run.views[1].shift if to == 1 else -run.views[1].shift
     near = (p.other + shift, p.q + shift, 1.0 / p.other1, -p.other2 / p.other1 ** 3)
-    return to, _at(run, run.views[to], p.other + shift, p.other1 * p.rate, near, 1)
+    return to, state_at(run, run.views[to], p.other + shift, p.other1 * p.rate, near, 1)
 
 
-def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: float,
+def _integrate(run: SimModel, first: SimPoint, time: float, step: float, tolerance: float,
                target: float | None, stop_at_rest: bool) -> Simulation:
     """simulate's run from the point `first` (see there)."""
     index = 0
     events: list[SimEvent] = []
 
-    def phi_of(v: _View, p: _Point) -> float:
+    def phi_of(v: SimView, p: SimPoint) -> float:
         return (p.other - v.shift if v.swapped else p.q) * DEG
 
     if abs(first.other1) * run.views[0].ratio > _SWITCH_ABOVE:
@@ -7140,12 +7146,12 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
                 end, stop = 1.0, False
                 near, label0 = _reference(p), p.label
 
-                def at(theta: float) -> _Point | None:
+                def at(theta: float) -> SimPoint | None:
                     s = _dense(y, slopes, h, theta)
-                    return _at(run, view, s[0], s[1], near, label0)
+                    return state_at(run, view, s[0], s[1], near, label0)
 
-                def other_at(theta: float) -> tuple[_Pose, int] | None:
-                    return _root(view, _dense(y, slopes, h, theta)[0], near, label0)
+                def other_at(theta: float) -> tuple[SimPose, int] | None:
+                    return root_near(view, _dense(y, slopes, h, theta)[0], near, label0)
 
                 found: list[tuple[float, str, str]] = []
                 if p1.label != p.label:
@@ -7216,7 +7222,7 @@ def _integrate(run: _Model, first: _Point, time: float, step: float, tolerance: 
     return Simulation(rows, events, steps, rejected, evaluations, worst)
 
 
-# ---- 13. The linkage: one class for all that can be asked of it ----------------------------------
+# ---- 14. The linkage: one class for all that can be asked of it ----------------------------------
 #
 # Holds: Linkage, the engine's Closure with a method for each question the sections before answer:
 # motion and sweep (the engine), coupler and transmission (what it derives), the same on numpy
@@ -7292,7 +7298,7 @@ class Linkage(Closure):
                                 effects, radius=radius)
 
 
-# ---- 14. DAT and CSV files: the sweep's formats, written and read --------------------------------
+# ---- 15. DAT and CSV files: the sweep's formats, written and read --------------------------------
 #
 # Holds: the accurate engine's files: ANG.DAT, VEL.DAT, ACC.DAT (and MU.DAT) in the listing's format
 # ("phi,value" CR LF lines, the end byte 1A) at full precision, the CSV's columns, a sweep's angles,
@@ -7567,7 +7573,7 @@ def dat_precision(directory: str) -> str:
     return ""
 
 
-# ---- 15. The mechanism drawn: poses projected onto the page --------------------------------------
+# ---- 16. The mechanism drawn: poses projected onto the page --------------------------------------
 #
 # Holds: mechanism_drawing(), which projects the poses of a sweep onto the page - plane linkages as
 # they are, the spherical linkage on its sphere seen obliquely, the skew linkages in a fixed
@@ -7575,7 +7581,7 @@ def dat_precision(directory: str) -> str:
 # on the side the links cross least, axes), drawn once, and one Frame a pose with its letters. The
 # letters go where no mark, link, hatching or other letter covers them (place_labels).
 #
-# Uses: sections 2, 6, 7, 8 and 13.
+# Uses: sections 2, 6, 7, 8 and 14.
 # Offers: Point, Box, Stroke, Mark, Label, Letters, Layer, Frame, Drawing, MECHANISM_EXAMPLES,
 #   STROKE_STYLES, FAR_SIDE, VIEWS, project, Segment, stroke_segments, place_labels,
 #   mechanism_drawing, spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale,
@@ -8417,14 +8423,14 @@ def svg_letters(bounds: Box, size: float) -> Letters:
                    (svg_radius(size, scale) + 1.0) / scale, 1.6 / scale)
 
 
-# ---- 16. The mechanism's renderers: terminal, SVG, PNG and DXF -----------------------------------
+# ---- 17. The mechanism's renderers: terminal, SVG, PNG and DXF -----------------------------------
 #
 # Holds: what draws a Drawing: the terminal (Unicode braille, or ASCII; still or animated until a
 # key), an animated SVG, a PNG (matplotlib); and the DXF of its linkage for CAD (ezdxf). The SVG's
 # letters are those placed in the Drawing; the terminal and the PNG place them again for the sizes
 # they draw letters at.
 #
-# Uses: sections 1, 2, 6, 7, 8 and 15.
+# Uses: sections 1, 2, 6, 7, 8 and 16.
 # Offers: text_drawing, frame_seconds, show_drawing, svg_drawing, PlotUnavailable,
 #   matplotlib_canvas, png_drawing, DXF_LINKS, DXF_POSITIONS, dxf_module, dxf_drawing.
 
@@ -9183,7 +9189,7 @@ def dxf_drawing(drawing: Drawing, positions: int = DXF_POSITIONS) -> bytes:
     return text.getvalue().encode("utf-8")
 
 
-# ---- 17. Synthesis: what a design is, its data and its linkage -----------------------------------
+# ---- 18. Synthesis: what a design is, its data and its linkage -----------------------------------
 #
 # The classical analytical synthesis methods collected by E. Pennestrì and P. P. Valentini, "A
 # review of simple analytical methods for the kinematic synthesis of four-bar and slider-crank
@@ -9591,14 +9597,14 @@ def scaled_design(design: Design, factor: float) -> Design:
         positions=tuple((phi, x * factor) for phi, x in design.positions))
 
 
-# ---- 18. Synthesis: the review's methods ---------------------------------------------------------
+# ---- 19. Synthesis: the review's methods ---------------------------------------------------------
 #
 # Holds: the review's methods, each a function of its data returning a Synthesis: the crank-rockers
 # FOURB-CR-1..4 and Volmer's, the drag-links DRAGLINK-1 and -2, the function generators FOURB-FG2-1,
 # FOURB-FG3-1, SLID-FG2-1 and SLID-FG2-2. Corrections to the review are marked `# ERRATUM Sn` and
 # justified in data/SYNTHESIS_ERRATA.md.
 #
-# Uses: sections 2 and 17.
+# Uses: sections 2 and 18.
 # Offers: fourb_cr_1, fourb_cr_2, fourb_cr_3, fourb_cr_4, volmer_crank_rocker, draglink_1,
 #   draglink_2, limit_angles, fourb_fg2_1, fourb_fg3_1, slid_fg2_1, slid_fg2_2.
 
@@ -10339,7 +10345,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
     return _one(design)
 
 
-# ---- 19. Synthesis: designs measured and checked by the engine -----------------------------------
+# ---- 20. Synthesis: designs measured and checked by the engine -----------------------------------
 #
 # Holds: every design run through engine_outputs, the one adapter to the analysis (the accurate
 # engine, never the synthesis formulas); analyze_design measures on the analysed linkage what it
@@ -10347,7 +10353,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
 # or missed, the transmission-angle extremes. METHODS, the table of the methods, and a design's
 # lines of text.
 #
-# Uses: sections 2, 8, 13, 17 and 18.
+# Uses: sections 2, 8, 14, 18 and 19.
 # Offers: engine_outputs, kind_and_dimensions, measured_transmission_angle, Measured, measure,
 #   output_change, velocity_ratio, Check, analyze_design, ANGLE_TOLERANCE, LENGTH_TOLERANCE,
 #   RATIO_TOLERANCE, conditioning, rounding_floor, misses, METHODS, ASKED_ANGLES, REVIEW_LETTERS,
@@ -10855,7 +10861,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     return below + step / 2, above - step / 2, step
 
 
-# ---- 20. Scenes: a figure's data, read and checked -----------------------------------------------
+# ---- 21. Scenes: a figure's data, read and checked -----------------------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a linkage's kind and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -10863,10 +10869,10 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # acceleration against the input angle - as a plain-text plot (80 x 24, no dependency) or a PNG
 # (matplotlib, the `plot` extra). `plot` draws the same figure from DAT files already written.
 #
-# A scene with [simulation] is a run in time instead (section 22 runs it): its keys are read
+# A scene with [simulation] is a run in time instead (section 24 runs it): its keys are read
 # here, as [dynamics]' are, each value's shape checked where the file is read.
 #
-# Uses: sections 1, 2, 6, 7, 9, 13 and 14.
+# Uses: sections 1, 2, 6, 7, 9, 14 and 15.
 # Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, FORCE_QUANTITIES, QUANTITY_FILES,
 #   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, SCENE_LARGEST, AXIS_LABELS,
 #   INPUT_AXIS, DRAWN_UP_TO, DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene,
@@ -11580,9 +11586,9 @@ def _simulation_scene(path: str, data: dict[str, Any], kind_key: str) -> Scene:
                  simulation=settings)
 
 
-# ---- 21. Scenes computed: their DAT files, forces and CSV ----------------------------------------
+# ---- 22. Scenes computed: their DAT files, forces and CSV ----------------------------------------
 #
-# A scene read (section 19) computed: the DAT files its panels need, its forces along the sweep
+# A scene read (section 21) computed: the DAT files its panels need, its forces along the sweep
 # for [dynamics], and its numbers as one CSV.
 #
 # The numbers come from the two places that already make them, never from a copy of a formula:
@@ -11592,7 +11598,7 @@ def _simulation_scene(path: str, data: dict[str, Any], kind_key: str) -> Scene:
 # (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
 # those files are written.
 #
-# Uses: sections 1, 2, 5, 6, 7, 9, 10, 13, 14 and 20.
+# Uses: sections 1, 2, 5, 6, 7, 9, 10, 14, 15 and 21.
 # Offers: check_assembles, Series, branch_text, compute_scene, scene_forces, forces_columns,
 #   FORCES_COLUMNS, forces_row, scene_csv, csv_forces_series.
 
@@ -11836,7 +11842,7 @@ def csv_forces_series(path: str) -> list[Series]:
     return series
 
 
-# ---- 22. Plots: a figure drawn as text or PNG ----------------------------------------------------
+# ---- 23. Plots: a figure drawn as text or PNG ----------------------------------------------------
 #
 # Holds: a figure built from DAT files (scene_figure, dat_figure: its panels and curves) and drawn
 # as a plain-text plot (80 x 24, no dependency) or a PNG (matplotlib, the `plot` extra); a mechanism
@@ -11849,7 +11855,7 @@ def csv_forces_series(path: str) -> list[Series]:
 # added so that a curve is continuous across +-180 degrees, and so that the curves of a panel lie
 # within half a turn of the first one.
 #
-# Uses: sections 1, 2, 6, 7, 9, 13, 14, 15, 16, 20 and 21.
+# Uses: sections 1, 2, 6, 7, 9, 14, 15, 16, 17, 21 and 22.
 # Offers: dat_series, Curve, Panel, Figure, PLOT_POINTS, PLOT_BINS, FORCE_LABELS, POLAR_MOMENTS,
 #   CLIPPED, build_figure, scene_figure, dat_figure, csv_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS,
 #   OVERLAP, ANGLE_STEPS, text_figure, png_figure, force_arrows, scene_drawing, scene_text.
@@ -12607,7 +12613,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ---- 23. Simulation scenes: a run written, plotted against time and drawn moving -----------------
+# ---- 24. Simulation scenes: a run written, plotted against time and drawn moving -----------------
 #
 # A scene with a [simulation] table (read by scene_simulation) is one run of simulate(): its
 # linkage and [dynamics] (bodies, gravity, the output's load, a coupler force; no speed: the motion
@@ -12627,12 +12633,12 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 # The run's rows go to the CSV (SIMULATION_COLUMNS: phi and output in degrees as everywhere, or
 # the slider's x; the energy with the work done and the drift E - W - E0, the check that the
 # integrator kept to its tolerance), its events to the user in a few lines (simulation_report),
-# its quantities against time to a figure (a scene of curves: text or PNG, as section 20 draws),
+# its quantities against time to a figure (a scene of curves: text or PNG, as section 23 draws),
 # and its positions to a Drawing whose frames are the rows every 1/ANIMATION_FPS s or more
-# (a mechanism panel: the terminal, SVG and PNG of section 15), each shown for the time between
+# (a mechanism panel: the terminal, SVG and PNG of section 17), each shown for the time between
 # them: the linkage moves in real time.
 #
-# Uses: sections 1, 2, 7, 12, 13, 14, 15, 20 and 22.
+# Uses: sections 1, 2, 7, 13, 14, 15, 16, 21 and 23.
 # Offers: scene_run, SIMULATION_COLUMNS, simulation_rows, simulation_csv, EVENT_WORDS,
 #   simulation_report, SIMULATION_LABELS, simulation_figure, ANIMATION_FPS, simulation_drawing.
 
@@ -12776,7 +12782,7 @@ def simulation_drawing(scene: Scene, run: Simulation) -> Drawing:
     return drawing._replace(frames=frames, seconds=every * settings.step)
 
 
-# ---- 24. The explorer: a linkage changed and watched in the terminal -----------------------------
+# ---- 25. The explorer: a linkage changed and watched in the terminal -----------------------------
 #
 # Holds: `python3 linkage.py explore`: a full-screen view of the linkage moving, its coupler curve
 # traced, and beside it its dimensions and what analyse answers, all following each key. The
@@ -12791,7 +12797,7 @@ def simulation_drawing(scene: Scene, run: Simulation) -> Drawing:
 # A change that cannot be drawn (a length of 0, an arc of 180 degrees) is refused on the status
 # line, the state as it was.
 #
-# Uses: sections 1, 2, 6, 7, 8, 9, 13, 15, 16, 17, 20 and 22.
+# Uses: sections 1, 2, 6, 7, 8, 9, 14, 16, 17, 18, 21 and 23.
 # Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
 #   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_steps,
 #   explore_key, explore_screen, explore_scene, terminal_keys, key_file, explore_saved,
@@ -13591,13 +13597,13 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
     return state
 
 
-# ---- 25. Benchmarks of the program itself --------------------------------------------------------
+# ---- 26. Benchmarks of the program itself --------------------------------------------------------
 #
 # Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS. What
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 12, 13, 14, 15, 16, 20, 21, 22 and 24.
+# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 13, 14, 15, 16, 17, 21, 22, 23 and 25.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
 #   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, FORCES_ARRAYS_TARGET,
 #   bench_forces, FILES_TARGET, bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung,
@@ -14419,14 +14425,14 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 26. The speed table: every bench run, the README's figures beside the load ------------------
+# ---- 27. The speed table: every bench run, the README's figures beside the load ------------------
 #
 # Holds: `bench all` (run_benchmarks): every bench of BENCHMARKS run, each one's log, then the
 # README's speed table (data/BENCHMARKS.md, "Summary") from their figures, a row of SPEED_TABLE
 # each, with the load average before and after its bench; the rows the tests' scripts measure
 # (a C loop, pylinkage, mpmath) name their command.
 #
-# Uses: section 25.
+# Uses: section 26.
 # Offers: PEERS_COMMAND, ACCURACY_COMMAND, SPEED_TABLE, run_benchmarks.
 
 
@@ -14497,7 +14503,7 @@ def _load_average() -> str:
     return f"{os.getloadavg()[0]:.1f}" if hasattr(os, "getloadavg") else "?"
 
 
-# ---- 27. Commands run, analyse and forces: their typed values and handlers -----------------------
+# ---- 28. Commands run, analyse and forces: their typed values and handlers -----------------------
 #
 # Holds: the parsers of what is typed (numbers in each precision, kinds); what every command is
 # given (its one typed value, made of the parsed options once its "goes with" rules hold: Rule,
@@ -14505,7 +14511,7 @@ def _load_average() -> str:
 # command shares; then run, analyse and forces, each its typed value, the function that makes it
 # (run_options, ...) and its handler (run_command, ...), and the drawing every command shares.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 12, 13, 14, 15, 16, 20, 21, 22 and 24.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 12, 14, 15, 16, 17, 21, 22, 23 and 25.
 # Offers: DECIMAL, LONGEST_NUMBER, decimal_number, basic_answer, kind_named, UsageError,
 #   CommandError, Rule, goes_with, broken_rule, Pictures, pictures_typed, unwritten, reported,
 #   printed, dimensions_typed, typed_value, check_outputs, MADE_FOLDERS, output_folder,
@@ -15149,12 +15155,12 @@ def drawing_command(args: Pictures, make_drawing: Callable[[], Drawing]) -> int:
     return reported(draw)
 
 
-# ---- 28. Commands scene, plot, design, listing, explore and bench --------------------------------
+# ---- 29. Commands scene, plot, design, listing, explore and bench --------------------------------
 #
 # Holds: the other commands, each as the last section's: its typed value, the function that makes
 # it, its handler.
 #
-# Uses: sections 1, 2, 6, 8, 12, 13, 14, 15, 16, 17, 19, 20, 21, 22, 23, 24, 25, 26 and 27.
+# Uses: sections 1, 2, 6, 8, 13, 14, 15, 16, 17, 18, 20, 21, 22, 23, 24, 25, 26, 27 and 28.
 # Offers: SceneOptions, scene_options, scene_command, PlotOptions, plot_options, plot_command,
 #   design_scene, DesignOptions, design_options, design_command, ERRATUM, KEPT_BUG, SCAN_LINE,
 #   scan_lines, erratum_reason, kept_bug_lines, annotated_listing, ListingOptions, listing_command,
@@ -15735,14 +15741,14 @@ def bench_command(args: BenchOptions) -> int:
     return 0
 
 
-# ---- 29. The command line: argparse from the table of commands -----------------------------------
+# ---- 30. The command line: argparse from the table of commands -----------------------------------
 #
 # Holds: the command line's words parsed (argparse): the parsers of what is typed in an option
 # (a number of a design's data, a kind, PNG sizes), the commands' help, and COMMANDS, the table of
 # every sub-command: its help, its options, its "goes with" rules and the functions that make its
-# typed value and do its work (section 23); build_parser turns it into argparse; main() last.
+# typed value and do its work (sections 28 and 29); build_parser turns it into argparse; main() last.
 #
-# Uses: sections 1, 2, 5, 6, 14, 16, 17, 19, 24, 25, 27 and 28.
+# Uses: sections 1, 2, 5, 6, 15, 17, 18, 20, 25, 26, 28 and 29.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, HIDDEN, Option, option, Command,
 #   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, DATUM_FLAGS, DXF_HELP, PNG_OPTIONS, COMMANDS,
 #   command_parser, add_options, build_parser, main.

@@ -185,12 +185,7 @@ def test_the_files_and_messages_use_nothing_and_the_modern_program_never_the_ori
 
 
 SIZE = 850          # lines: "about 800", a room a newcomer can hold
-LARGER: dict[str, str] = {      # a section over SIZE: its title, and the reason it is one room
-    "Simulation: the motion in time under the scene's effects":
-        "the equation of motion in its views and the integrator that steps it share the views' "
-        "and points' private types; the plane kinds' scalar evaluation (issue 31, speed) sits "
-        "beside the general one a test holds it to. To be cut in two (the model in one "
-        "coordinate; the run) once the spatial kinds' change of coordinate has landed in it"}
+LARGER: dict[str, str] = {}     # a section over SIZE: its title, and the reason it is one room
 
 
 def section_sizes(lines=LINES) -> dict[str, int]:
