@@ -43,6 +43,7 @@ the original program.
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import contextvars
 import decimal
@@ -59,16 +60,40 @@ import sys
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from decimal import Decimal
 from fractions import Fraction
-from typing import IO, TYPE_CHECKING, Any, BinaryIO, NamedTuple, ParamSpec, TextIO, TypeAlias, cast
+from typing import IO, TYPE_CHECKING, Any, BinaryIO, ParamSpec, TextIO, TypeAlias, cast
 
 if TYPE_CHECKING:                       # for annotations only: numpy, matplotlib and argparse are
-    import argparse                     # imported where they are used
+    from typing import NamedTuple       # imported where they are used; NamedTuple: see below
+    import argparse
     import numpy
     import matplotlib.axes
     import matplotlib.backends.backend_agg
     import matplotlib.figure
     import tempfile
     from types import ModuleType
+else:
+    class _NamedTupleType(type):
+        """What `class X(NamedTuple):` makes at run time: collections.namedtuple of the annotated
+        fields, with their defaults, and the class body's docstring and methods; the annotations
+        are kept as written (strings). typing.NamedTuple makes the same class but first compiles
+        each annotation into a ForwardRef, which took twice as long as the rest: 0.15x of
+        `python3 -c pass` for the module's 76 classes (data/BENCHMARKS.md, "Start-up"). mypy
+        checks these classes as typing's (the branch above); it also checks what typing would
+        refuse at run time (a field without a default after one with)."""
+
+        def __new__(cls, name: str, bases: tuple[type, ...], body: dict[str, Any]) -> type:
+            if not bases:                                       # NamedTuple itself
+                return super().__new__(cls, name, bases, body)
+            fields = body.get("__annotations__", {})
+            made = collections.namedtuple(name, fields, module=body["__module__"],
+                                          defaults=[body[f] for f in fields if f in body])
+            for key, value in body.items():
+                if key not in fields and key != "__module__":
+                    setattr(made, key, value)
+            return made
+
+    class NamedTuple(metaclass=_NamedTupleType):
+        """typing.NamedTuple at run time: see _NamedTupleType."""
 
 __version__ = "0.2.0"
 PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linkage.py"
