@@ -5850,17 +5850,18 @@ def _float_texts(np, x) -> list:
     text[:, lead + 2:] &= (t["first"].take(kept + skip, axis=0)[:, :groups]
                            & ~t["first"][skip, :groups])
     text = text.view(np.uint8)
-    others = np.flatnonzero(~good)
-    if not len(others):                  # the columns that can hold a byte, to be joined
-        return [text[:, 3:4 * lead + 5], text[:, 4 * lead + 8 + skip:]]
-    words = [repr(v).encode("ascii") for v in x[others].tolist()]     # repr's own, whole rows
-    longest = max(map(len, words))
-    if longest > text.shape[1]:
-        text = np.concatenate([text, np.zeros((n, longest - text.shape[1]), np.uint8)], 1)
-    text[others] = 0
-    for i, word in zip(others.tolist(), words):
-        text[i, :len(word)] = np.frombuffer(word, dtype=np.uint8)
-    return [text]
+    head, tail = text[:, 3:4 * lead + 5], text[:, 4 * lead + 8 + skip:]   # the bytes that can
+    others = np.flatnonzero(~good)                                         # hold a character
+    if len(others):                      # repr's own texts, split across head and tail (their
+        #                                  NULs are dropped when joined)
+        words = [repr(v).encode("ascii") for v in x[others].tolist()]
+        cut = head.shape[1]
+        width = max(cut + tail.shape[1], *map(len, words))
+        if width > cut + tail.shape[1]:
+            tail = np.concatenate([tail, np.zeros((n, width - cut - tail.shape[1]), np.uint8)], 1)
+        matrix = np.array(words, dtype=f"S{width}").view(np.uint8).reshape(len(words), width)
+        head[others], tail[others] = matrix[:, :cut], matrix[:, cut:]
+    return [head, tail]
 
 
 def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[bool], zero: bool,
