@@ -43,6 +43,7 @@ the table of commands), last. The engine, the view and synthesis never use the o
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import contextvars
 import decimal
@@ -59,16 +60,41 @@ import sys
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from decimal import Decimal
 from fractions import Fraction
-from typing import IO, TYPE_CHECKING, Any, BinaryIO, NamedTuple, ParamSpec, TextIO, TypeAlias, cast
+from typing import IO, TYPE_CHECKING, Any, BinaryIO, ParamSpec, TextIO, TypeAlias, cast
 
 if TYPE_CHECKING:                       # for annotations only: numpy, matplotlib and argparse are
-    import argparse                     # imported where they are used
+    from typing import NamedTuple       # imported where they are used; NamedTuple: see below
+    import argparse
     import numpy
     import matplotlib.axes
     import matplotlib.backends.backend_agg
     import matplotlib.figure
     import tempfile
     from types import ModuleType
+else:
+    class _NamedTupleType(type):
+        """What `class X(NamedTuple):` makes at run time: collections.namedtuple of the annotated
+        fields, with their defaults, and the class body's docstring and methods; the annotations
+        are kept as written (strings). typing.NamedTuple makes the same class but first compiles
+        each annotation into a ForwardRef, which doubled the time: 14 ms against 7 for the
+        module's 76 classes, a seventh of `python3 -c pass` (data/BENCHMARKS.md, "Start-up as
+        users run it"). mypy checks these classes as typing's (the branch above), and what typing
+        would refuse at run time (a field without a default after one with); tests/test_layout.py
+        holds each class to the one typing makes."""
+
+        def __new__(cls, name: str, bases: tuple[type, ...], body: dict[str, Any]) -> type:
+            if not bases:                                       # NamedTuple itself
+                return super().__new__(cls, name, bases, body)
+            fields = body.get("__annotations__", {})
+            made = collections.namedtuple(name, fields, module=body["__module__"],
+                                          defaults=[body[f] for f in fields if f in body])
+            for key, value in body.items():
+                if key not in fields and key != "__module__":
+                    setattr(made, key, value)
+            return made
+
+    class NamedTuple(metaclass=_NamedTupleType):
+        """typing.NamedTuple at run time: see _NamedTupleType."""
 
 __version__ = "0.2.0"
 PROG = "linkage" if os.path.basename(sys.argv[0] or "") == "linkage" else "linkage.py"
@@ -5838,17 +5864,18 @@ def _float_texts(np, x) -> list:
     text[:, lead + 2:] &= (t["first"].take(kept + skip, axis=0)[:, :groups]
                            & ~t["first"][skip, :groups])
     text = text.view(np.uint8)
-    others = np.flatnonzero(~good)
-    if not len(others):                  # the columns that can hold a byte, to be joined
-        return [text[:, 3:4 * lead + 5], text[:, 4 * lead + 8 + skip:]]
-    words = [repr(v).encode("ascii") for v in x[others].tolist()]     # repr's own, whole rows
-    longest = max(map(len, words))
-    if longest > text.shape[1]:
-        text = np.concatenate([text, np.zeros((n, longest - text.shape[1]), np.uint8)], 1)
-    text[others] = 0
-    for i, word in zip(others.tolist(), words):
-        text[i, :len(word)] = np.frombuffer(word, dtype=np.uint8)
-    return [text]
+    head, tail = text[:, 3:4 * lead + 5], text[:, 4 * lead + 8 + skip:]   # the bytes that can
+    others = np.flatnonzero(~good)                                         # hold a character
+    if len(others):                      # repr's own texts, split across head and tail (their
+        #                                  NULs are dropped when joined)
+        words = [repr(v).encode("ascii") for v in x[others].tolist()]
+        cut = head.shape[1]
+        width = max(cut + tail.shape[1], *map(len, words))
+        if width > cut + tail.shape[1]:
+            tail = np.concatenate([tail, np.zeros((n, width - cut - tail.shape[1]), np.uint8)], 1)
+        matrix = np.array(words, dtype=f"S{width}").view(np.uint8).reshape(len(words), width)
+        head[others], tail[others] = matrix[:, :cut], matrix[:, cut:]
+    return [head, tail]
 
 
 def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[bool], zero: bool,
@@ -16295,7 +16322,14 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Iterable[str] | None = None) -> int:
     """The command line (COMMANDS): the exit status. Every way a run can fail is a line on
-    standard error and a non-zero status, never a traceback."""
+    standard error and a non-zero status, never a traceback. argv None: this process's own
+    command line, the process the program's: what is alive now (the module and what it
+    imported) lives to its end, so the cyclic collector is told not to walk it again (gc.freeze):
+    Python's exit collects once more, and a collection of these 16,000 objects took a fifth of
+    `python3 -c pass`."""
+    if argv is None:
+        import gc
+        gc.freeze()
     argv = sys.argv[1:] if argv is None else list(argv)
     _reopen_closed_streams()
     MADE_FOLDERS.clear()

@@ -491,3 +491,40 @@ def test_pyflakes_can_fail(tmp_path):
     made_up.write_text("import os\n\n\ndef f():\n    return undefined_name\n")
     said = pyflakes(made_up)
     assert "'os' imported but unused" in said and "undefined name 'undefined_name'" in said
+
+
+def test_each_named_tuple_is_the_class_typing_makes():
+    """linkage makes `class X(NamedTuple):` at run time without typing (_NamedTupleType, for the
+    start-up): each of its classes, its source made again by typing.NamedTuple, has the same
+    fields, defaults, docstring, methods, module and annotations (as written: typing keeps
+    them as ForwardRefs of the same text)."""
+    import __future__
+    import typing
+    space = dict(vars(linkage), NamedTuple=typing.NamedTuple)
+    classes = [node for node in TREE.body if isinstance(node, ast.ClassDef)
+               and [ast.unparse(base) for base in node.bases] == ["NamedTuple"]]
+    assert len(classes) > 70
+    for node in classes:
+        exec(compile(ast.Module([node], []), "linkage.py", "exec",
+                     __future__.annotations.compiler_flag, dont_inherit=True), space)
+        want, got = space[node.name], getattr(linkage, node.name)
+        assert got is not want and issubclass(got, tuple), node.name
+        for attribute in ("_fields", "_field_defaults", "__doc__", "__module__", "__qualname__",
+                          "__new__.__defaults__"):
+            first, _, second = attribute.partition(".")
+            assert (getattr(getattr(got, first), second) if second else getattr(got, first)) == (
+                getattr(getattr(want, first), second) if second else getattr(want, first)), (
+                    node.name, attribute)
+        assert set(vars(got)) == set(vars(want)) - {"__orig_bases__"}, node.name   # typing's
+        #   record of the bases as written (typing.NamedTuple, a function): nothing reads it
+        assert got.__annotations__ == {
+            k: v.__forward_arg__ for k, v in want.__annotations__.items()}, node.name
+
+
+def test_main_freezes_the_collector_only_as_the_process_command_line():
+    """main(argv) called in a process of its own making (tests, a caller) leaves the cyclic
+    collector as it was: gc.freeze is for the process's own command line (argv None) only."""
+    import gc
+    before = gc.get_freeze_count()
+    assert linkage.main(["scene", "--list"]) == 0
+    assert gc.get_freeze_count() == before
