@@ -5511,8 +5511,12 @@ _FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "x
 
 
 def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
-                     derivatives: int) -> MotionArrays:
-    """Linkage.sweep_arrays: see there."""
+                     derivatives: int, trig: dict[str, numpy.ndarray] | None = None
+                     ) -> MotionArrays:
+    """Linkage.sweep_arrays: see there. trig, where given, receives the cosines and sines the
+    sweep computes on its way (for forces_of_arrays): "phi" the (2, n) cos and sin of the input
+    angles, "output" a four-bar's of its output angles (derivatives 1 or 2); NaN at a point
+    handed to the scalar sweep."""
     np = numpy_module()
     if branch not in (1, 2):
         raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
@@ -5543,6 +5547,9 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
     line = FAST_MARGIN * linkage.precise_below
     last = ("output", "velocity", "acceleration")[level]
     redo = []
+    if trig is not None:
+        trig.update({key: np.empty((2, count)) for key in ("phi", "output")[
+            :1 if linkage.is_slider or not level else 2]})
     with np.errstate(all="ignore"):        # a block at a time: memory bounded, in the cache
         for start in range(0, count, block):
             stop = min(start + block, count)
@@ -5552,6 +5559,10 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
             part["disc"] = work["disc"]
             c, s = _fast_cos_sin(np, phi[start:stop], reduce, work)
             step(np, k, c, s, sign, level, part, work)
+            if trig is not None:         # the four-bar's cos and sin of psi: cn, sn (cp, sp)
+                for key, pair in (("phi", (c, s)), ("output", (work["cn"], work["sn"]))):
+                    if key in trig:
+                        trig[key][0, start:stop], trig[key][1, start:stop] = pair
             disc, missing, again = part["disc"], work["missing"], work["redo"]
             np.less(disc, -line, out=missing)
             np.less_equal(np.abs(disc, out=disc), line, out=again)
@@ -5565,6 +5576,8 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
                         np.multiply(part[key], linkage.unit, out=part[key])
     where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
     if len(where):
+        for pairs in (trig or {}).values():
+            pairs[:, where] = math.nan
         columns = [res[key] for key in ("output", "velocity", "acceleration")]
         for i, m in zip(where.tolist(), linkage.sweep(phi[where].tolist(), branch, level)):
             for column, value in zip(columns, m[1:4]):
@@ -5946,119 +5959,235 @@ class ForcesArrays(NamedTuple):
         return out
 
 
-# Numbers that are floats or arrays: a float 0.0 (a component the kind's geometry makes zero) is
-# left out of sums and products, so that a plane kind costs what its plane needs.
-def _nought(x: Any) -> bool:
-    return type(x) is float and x == 0.0
+# -- the recipe: the formulas traced once, replayed a block at a time -----------------------------
+#
+# forces_of_arrays runs the formulas below once a call on _Terms, which record each operation
+# rather than do it: a float stays a float (the constants fold, a term times 0.0 is 0.0 and drops
+# out of its sum, x * 1.0 is x, x - (-y) is x + y), and an operation already recorded is not
+# recorded again. _Plan then replays the record on each block of angles, each operation one numpy
+# call into a buffer kept from block to block (reused once its value is no longer needed), the
+# answers straight into the result's arrays: the work is the formulas' operations, no more.
+
+class _Term:
+    """A number of the recipe: an array of the block, known only when the plan runs."""
+    __slots__ = ("recipe", "index", "op", "args")
+
+    def __init__(self, recipe: _Recipe, index: int, op: str, args: tuple[Any, ...]) -> None:
+        self.recipe, self.index, self.op, self.args = recipe, index, op, args
+
+    def __add__(self, other: Any) -> Any:
+        return self.recipe.add(self, other)
+
+    __radd__ = __add__
+
+    def __sub__(self, other: Any) -> Any:
+        return self.recipe.subtract(self, other)
+
+    def __rsub__(self, other: Any) -> Any:
+        return self.recipe.subtract(other, self)
+
+    def __mul__(self, other: Any) -> Any:
+        return self.recipe.multiply(self, other)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, other: Any) -> Any:
+        return self.recipe.divide(self, other)
+
+    def __rtruediv__(self, other: Any) -> Any:
+        return self.recipe.divide(other, self)
+
+    def __neg__(self) -> Any:
+        return self.recipe.multiply(self, -1.0)
 
 
-def _times(k: Any, x: Any) -> Any:
-    if _nought(k) or _nought(x):
-        return 0.0
-    if type(k) is float and k == 1.0:
-        return x
-    return k if type(x) is float and x == 1.0 else k * x
+class _Recipe:
+    """The operations on _Terms in the order made (each one's arguments before it)."""
+
+    def __init__(self) -> None:
+        self.terms: list[_Term] = []
+        self.seen: dict[tuple[Any, ...], _Term] = {}
+
+    def term(self, op: str, *args: Any) -> _Term:
+        key = (op,) + tuple(a.index if type(a) is _Term else ("number", a) for a in args)
+        if op in ("add", "multiply") and type(args[1]) is _Term and key[1] > key[2]:
+            key = (op, key[2], key[1])
+        if op == "input" or key not in self.seen:
+            self.terms.append(_Term(self, len(self.terms), op, args))
+            self.seen[key] = self.terms[-1]
+        return self.seen[key] if op != "input" else self.terms[-1]
+
+    def add(self, x: Any, y: Any) -> Any:
+        if type(x) is not _Term:
+            x, y = y, x
+        if type(y) is not _Term:
+            return x if y == 0.0 else self.term("add", x, float(y))
+        if y.op == "negative":
+            return self.subtract(x, y.args[0])
+        return self.subtract(y, x.args[0]) if x.op == "negative" else self.term("add", x, y)
+
+    def subtract(self, x: Any, y: Any) -> Any:
+        if type(y) is not _Term:
+            return self.add(x, -float(y))
+        if type(x) is not _Term and x == 0.0:
+            return self.multiply(y, -1.0)
+        if y.op == "negative":
+            return self.add(x, y.args[0])
+        return self.term("subtract", x if type(x) is _Term else float(x), y)
+
+    def multiply(self, x: Any, y: Any) -> Any:
+        if type(x) is not _Term:
+            x, y = y, x
+        if type(y) is _Term:
+            return self.term("multiply", x, y)
+        if y == 0.0:
+            return 0.0
+        if y == 1.0:
+            return x
+        if x.op == "negative" or (x.op == "multiply" and type(x.args[1]) is not _Term):
+            return self.multiply(x.args[0], (-1.0 if x.op == "negative" else x.args[1]) * y)
+        return self.term("negative", x) if y == -1.0 else self.term("multiply", x, float(y))
+
+    def divide(self, x: Any, y: Any) -> Any:
+        if type(y) is not _Term:
+            return self.multiply(x, 1.0 / y)
+        if type(x) is not _Term and x == 0.0:
+            return 0.0
+        return self.term("divide", x if type(x) is _Term else float(x), y)
+
+    def sqrt(self, x: Any) -> Any:
+        return self.term("sqrt", x) if type(x) is _Term else math.sqrt(x)
+
+    def abs(self, x: Any) -> Any:
+        return self.term("absolute", x) if type(x) is _Term else abs(x)
 
 
-def _total(*xs: Any) -> Any:
-    out: Any = 0.0
-    for x in xs:
-        if not _nought(x):
-            out = x if _nought(out) else out + x
-    return out
+class _Plan(NamedTuple):
+    """A recipe made into numpy calls: steps (ufunc, argument, argument or -1, result), each an
+    index into registers (the inputs', the buffers', the results', the constants' places)."""
+    steps: list[tuple[Any, int, int, int]]
+    registers: list[Any]
+    inputs: list[int]
+    results: list[int]
 
 
-def _minus(x: Any, y: Any) -> Any:
-    return x if _nought(y) else -y if _nought(x) else x - y
+def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Sequence[_Term],
+          block: int) -> _Plan:
+    """The steps that compute `results` (terms, each its own place) from `inputs`: only the
+    operations they need, each value's buffer free for another once its last use has run."""
+    needed = {r.index for r in results}
+    for term in reversed(recipe.terms):
+        if term.index in needed:
+            needed.update(a.index for a in term.args if type(a) is _Term)
+    order = [term for term in recipe.terms if term.index in needed and term.op != "input"]
+    last = {a.index: i for i, term in enumerate(order) for a in term.args if type(a) is _Term}
+    registers: list[Any] = [None] * (len(inputs) + len(results))
+    place = {term.index: i for i, term in enumerate(inputs)}
+    outputs = {}
+    for i, term in enumerate(results):
+        outputs.setdefault(term.index, len(inputs) + i)
+    free: list[int] = []
+    steps = []
+    for i, term in enumerate(order):
+        args = []
+        for a in term.args:
+            if type(a) is not _Term:
+                registers.append(a)
+                args.append(len(registers) - 1)
+                continue
+            args.append(place[a.index])
+            if last[a.index] == i and a.index not in outputs and place[a.index] >= len(
+                    inputs) + len(results) and place[a.index] not in free:   # x * x: once
+                free.append(place[a.index])
+        if term.index in outputs:
+            place[term.index] = outputs[term.index]
+        elif free:
+            place[term.index] = free.pop()
+        else:
+            registers.append(np.empty(block))
+            place[term.index] = len(registers) - 1
+        ufunc = getattr(np, term.op)
+        steps.append((ufunc, args[0], args[1] if len(args) > 1 else -1, place[term.index]))
+    for i, term in enumerate(results):           # a result that is an input, or another's
+        if place[term.index] != len(inputs) + i:
+            steps.append((np.positive, place[term.index], -1, len(inputs) + i))
+    return _Plan(steps, registers, list(range(len(inputs))),
+                 list(range(len(inputs), len(inputs) + len(results))))
 
 
-def _vlin(*terms: tuple[Any, Vec3]) -> Vec3:
-    """The sum of (coefficient, 3-vector) terms (a term of coefficient -1 subtracted)."""
-    out = []
-    for i in range(3):
-        value: Any = 0.0
-        for k, v in terms:
-            if type(k) is float and k == -1.0:
-                value = _minus(value, v[i])
-            else:
-                value = _total(value, _times(k, v[i]))
-        out.append(value)
-    return cast(Vec3, tuple(out))
-
-
-def _vcross(u: Vec3, v: Vec3) -> Vec3:
-    return (_minus(_times(u[1], v[2]), _times(u[2], v[1])),
-            _minus(_times(u[2], v[0]), _times(u[0], v[2])),
-            _minus(_times(u[0], v[1]), _times(u[1], v[0])))
-
-
-def _vdot(u: Vec3, v: Vec3) -> Any:
-    return _total(_times(u[0], v[0]), _times(u[1], v[1]), _times(u[2], v[2]))
-
-
-def _vunit(np: ModuleType, v: Vec3) -> Vec3:
-    return _vlin((1.0 / np.sqrt(_vdot(v, v)), v))
+def _run(plan: _Plan, registers: list[Any]) -> None:
+    """The plan's steps on registers (its own, with the inputs and the results in place)."""
+    for ufunc, a, b, out in plan.steps:
+        if b < 0:
+            ufunc(registers[a], out=registers[out])
+        else:
+            ufunc(registers[a], registers[b], out=registers[out])
 
 
 class _BodyArrays(NamedTuple):
+    """A body on a block of positions (forces()' _State): its frame's origin, the point its
+    wrench is taken about; its axes (None: the skew coupler's, of which only its line is fixed);
+    its line (the x axis); the origin's acceleration; its spin and spin rate, and for a body
+    turning about a fixed axis (the crank, a four-bar's output) that axis and the two rates."""
     origin: Vec3
-    axes: tuple[Vec3, Vec3, Vec3] | None        # None: the skew coupler's (only x: line)
+    axes: tuple[Vec3, Vec3, Vec3] | None
     line: Vec3
     acceleration: Vec3
     spin: Vec3
     spin_rate: Vec3
-    axial: bool = False         # spin and spin_rate along axes[2] (the crank; a four-bar's output)
+    axis: Vec3 | None = None
+    rates: tuple[Any, Any] = (0.0, 0.0)
 
 
-def _inertia_times_arrays(body: _BodyArrays, inertia: Matrix, w: Vec3) -> Vec3:
-    """The body-frame inertia, in the fixed frame, times w (_inertia_times on arrays); the skew
-    coupler's axisymmetric about its line."""
-    if body.axes is None:
-        along = _vdot(body.line, w)
-        transverse = (inertia[1][1] + inertia[2][2]) / 2.0
-        return _vlin((inertia[0][0] - transverse, _vlin((along, body.line))), (transverse, w))
-    local = [0.0, 0.0, _vdot(body.axes[2], w)] if body.axial else [
-        _vdot(axis, w) for axis in body.axes]
-    rows = [_total(*(_times(row[j], local[j]) for j in range(3))) for row in inertia]
-    return _vlin(*zip(rows, body.axes))
+def _inertia_times_arrays(axes: tuple[Vec3, Vec3, Vec3], inertia: Matrix, w: Vec3) -> Vec3:
+    """The body-frame inertia, in the fixed frame, times w (_inertia_times on arrays)."""
+    local = [dot(axis, w) for axis in axes]
+    return weighted_sum(*zip([sum(row[j] * local[j] for j in range(3)) for row in inertia],
+                             axes))
 
 
-def _body_frames(np: ModuleType, setup: ForcesSetup, phi: Any, out: Any, q1: Any, q2: Any
+def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], out: Any,
+                 q1: Any, q2: Any
                  ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3]:
-    """_states on arrays: the three bodies, and the pins A and P."""
+    """_states on arrays, from the cosines and sines of phi and the output angle (a four-bar's):
+    the three bodies, and the pins A and P. Where _states measures a length the linkage fixes
+    (|A - P| = c, the output's arm d, the spherical coupler's sin c), this takes the dimension."""
     linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
     kind = linkage.kind
-    cos_sin = functools.partial(cos_sin_degrees_array, np)
-    a = PINS[kind].crank_pin(dims, *cos_sin(phi))
-    p = output_pin_at(linkage, dims, out, cos_sin)
-    p1, p2 = _vlin((q1, p[1])), _vlin((_times(q1, q1), p[2]), (q2, p[1]))
-    pa, va, aa = _vlin((r, a[0])), _vlin((r * w, a[1])), _vlin((r * w * w, a[2]), (r * al, a[1]))
-    pp, vp, ap = _vlin((r, p[0])), _vlin((r * w, p1)), _vlin((r * w * w, p2), (r * al, p1))
-    x = _vunit(np, (pa[0], pa[1], 0.0))
-    crank = _BodyArrays(_ZERO3, (x, _vcross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
-                        (0.0, 0.0, al), True)
-    form = PINS[kind].coupler
-    if form == "sphere":
-        n = _vcross(pa, pp)
-        nn = _vdot(n, n)
-        z = _vlin((1.0 / np.sqrt(nn), n))
+    spherical = kind == SPHERICAL_FOUR_BAR
+    a = PINS[kind].crank_pin(dims, *cos_sin[:2])
+    p = PINS[kind].output_pin(dims, *(cos_sin[2:] or (None, None)), out)
+    p1, p2 = weighted_sum((q1, p[1])), weighted_sum((q1 * q1, p[2]), (q2, p[1]))
+    pa, va, aa = weighted_sum((r, a[0])), weighted_sum((r * w, a[1])), weighted_sum(
+        (r * w * w, a[2]), (r * al, a[1]))
+    pp, vp, ap = weighted_sum((r, p[0])), weighted_sum((r * w, p1)), weighted_sum(
+        (r * w * w, p2), (r * al, p1))
+    toward = 1.0 if (dims["sin b"] if spherical else dims["b"]) > 0.0 else -1.0
+    x = (toward * cos_sin[0], toward * cos_sin[1], 0.0)       # (A_x, A_y) = b (cos, sin)
+    crank = _BodyArrays(_ZERO3, (x, cross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
+                        (0.0, 0.0, al), _EZ, (w, al))
+    if spherical:
+        n = cross(pa, pp)
+        nn = (r * r * cos_sin_degrees(dims["c"])[1]) ** 2          # |A x B| = r^2 |sin c|
+        z = weighted_sum((1.0 / math.sqrt(nn), n))
 
         def about_o(va_: Vec3, vb_: Vec3) -> Vec3:     # spin_about_centre
-            return _vlin((_vdot(vb_, n) / nn, pa), (-_vdot(va_, n) / nn, pp),
-                         (_vdot(va_, pp) / nn, n))
+            return weighted_sum((dot(vb_, n) / nn, pa), (-dot(va_, n) / nn, pp),
+                                (dot(va_, pp) / nn, n))
         spin = about_o(va, vp)
-        rate = about_o(_vlin((1.0, aa), (-1.0, _vcross(spin, va))),
-                       _vlin((1.0, ap), (-1.0, _vcross(spin, vp))))
-        x = _vunit(np, pa)
-        coupler = _BodyArrays(_ZERO3, (x, _vcross(z, x), z), x, _ZERO3, spin, rate)
+        rate = about_o(weighted_sum((1.0, aa), (-1.0, cross(spin, va))),
+                       weighted_sum((1.0, ap), (-1.0, cross(spin, vp))))
+        x = weighted_sum((1.0 / r, pa))
+        coupler = _BodyArrays(_ZERO3, (x, cross(z, x), z), x, _ZERO3, spin, rate)
     else:
-        ab, dv, da = _vlin((1.0, pp), (-1.0, pa)), _vlin((1.0, vp), (-1.0, va)), \
-            _vlin((1.0, ap), (-1.0, aa))
-        inverse = 1.0 / _vdot(ab, ab)
-        spin = _vlin((inverse, _vcross(ab, dv)))
-        rate = _vlin((inverse, _vcross(ab, _vlin((1.0, da), (-1.0, _vcross(spin, dv))))))
-        x = _vlin((np.sqrt(inverse), ab))
-        axes = (x, _vcross(_EZ, x), _EZ) if form == "plane" else None
+        ab, dv, da = difference(pp, pa), difference(vp, va), difference(ap, aa)
+        inverse = 1.0 / (dims["c"] * dims["c"])
+        spin = weighted_sum((inverse, cross(ab, dv)))
+        # _states' rate less its term in ab x (spin x dv) = spin (ab . dv) / |ab|^2: 0, the
+        # coupler rigid
+        rate = weighted_sum((inverse, cross(ab, da)))
+        x = weighted_sum((1.0 / abs(dims["c"]), ab))
+        axes = (x, cross(_EZ, x), _EZ) if PINS[kind].coupler == "plane" else None
         coupler = _BodyArrays(pa, axes, x, aa, spin, rate)
     if linkage.is_slider:
         g = setup.axes["guide"][1]
@@ -6066,164 +6195,193 @@ def _body_frames(np: ModuleType, setup: ForcesSetup, phi: Any, out: Any, q1: Any
         output = _BodyArrays(pp, (g, y, cross(g, y)), g, ap, _ZERO3, _ZERO3)
     else:
         k = setup.axes["output"][1]
-        pivot = _vlin((r, setup.ground["B0"])) if kind != SPHERICAL_FOUR_BAR else _ZERO3
-        arm = _vlin((1.0, pp), (-1.0, pivot))
-        x = _vunit(np, _vlin((1.0, arm), (-_vdot(arm, k), k)))
-        output = _BodyArrays(pivot, (x, _vcross(k, x), k), x, _ZERO3, _vlin((_times(q1, w), k)),
-                             _vlin((_total(_times(q2, w * w), _times(q1, al)), k)), True)
+        pivot = weighted_sum((r, setup.ground["B0"])) if not spherical else _ZERO3
+        if spherical:                   # B . k = cos d
+            x = weighted_sum((1.0 / (r * abs(dims["sin d"])), pp),
+                             (-dims["cos d"] / abs(dims["sin d"]), k))
+        else:                           # the arm B - B0 across k, of length d
+            x = weighted_sum((1.0 / abs(dims["d"]), difference(pp, pivot)))
+        turn, turn_rate = q1 * w, q2 * (w * w) + q1 * al
+        output = _BodyArrays(pivot, (x, cross(k, x), k), x, _ZERO3, weighted_sum((turn, k)),
+                             weighted_sum((turn_rate, k)), k, (turn, turn_rate))
     return (crank, coupler, output), pa, pp
 
 
 def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays]
                    ) -> list[tuple[Vec3, Vec3]]:
-    """Each body's wrench about the origin that the reactions and the torque make up (as in
-    _forces_at): the rate of its momenta less gravity and the loads."""
+    """Each body's wrench about its frame's origin that the reactions and the torque make up
+    (as in _forces_at, which takes it about the fixed origin): the rate of its momenta less
+    gravity and the loads."""
     needed = []
     for i, (mass, body) in enumerate(zip(setup.masses, bodies)):
         axes = body.axes or (body.line, _ZERO3, _ZERO3)
-        rho = _vlin(*zip(mass.centre, axes))
-        centre = _vlin((1.0, body.origin), (1.0, rho))
-        a_g = _vlin((1.0, body.acceleration), (1.0, _vcross(body.spin_rate, rho)),
-                    (1.0, _vcross(body.spin, _vcross(body.spin, rho))))
-        net = _vlin((mass.mass, a_g), (-mass.mass, setup.gravity))
-        turning = _vlin((1.0, _vcross(centre, net)),
-                        (1.0, _inertia_times_arrays(body, mass.inertia, body.spin_rate)),
-                        (1.0, _vcross(body.spin, _inertia_times_arrays(body, mass.inertia,
-                                                                       body.spin))))
+        rho = weighted_sum(*zip(mass.centre, axes))
+        if body.axis is not None:       # spin = turn k, its rate turn_rate k; k the body's z
+            k, (turn, turn_rate) = body.axis, body.rates
+            k_rho, squared = cross(k, rho), turn * turn
+            a_g = weighted_sum((1.0, body.acceleration), (turn_rate, k_rho),
+                               (squared, cross(k, k_rho)))
+            i_k = weighted_sum(*zip([row[2] for row in mass.inertia], axes))
+            inertial = weighted_sum((turn_rate, i_k), (squared, cross(k, i_k)))
+        else:
+            a_g = weighted_sum((1.0, body.acceleration), (1.0, cross(body.spin_rate, rho)),
+                               (1.0, cross(body.spin, cross(body.spin, rho))))
+            if body.axes is None:       # the skew coupler's spin and its rate are across its
+                #                         line, where its inertia is the transverse moment
+                inertial = weighted_sum(((mass.inertia[1][1] + mass.inertia[2][2]) / 2.0,
+                                         body.spin_rate))
+            else:
+                inertial = weighted_sum(
+                    (1.0, _inertia_times_arrays(body.axes, mass.inertia, body.spin_rate)),
+                    (1.0, cross(body.spin, _inertia_times_arrays(body.axes, mass.inertia,
+                                                                 body.spin))))
+        net = weighted_sum((mass.mass, a_g), (-mass.mass, setup.gravity))
+        turning = weighted_sum((1.0, cross(rho, net)), (1.0, inertial))
         if i == 1 and setup.coupler_point is not None:
-            at = _vlin((1.0, body.origin), (1.0, _vlin(*zip(setup.coupler_point, axes))))
-            net = _vlin((1.0, net), (-1.0, setup.coupler_force))
-            turning = _vlin((1.0, turning), (-1.0, _vcross(at, setup.coupler_force)))
+            at = weighted_sum(*zip(setup.coupler_point, axes))
+            net = difference(net, setup.coupler_force)
+            turning = difference(turning, cross(at, setup.coupler_force))
         if i == 2 and setup.output_torque:
             assert body.axes is not None
-            turning = _vlin((1.0, turning), (-setup.output_torque, body.axes[2]))
-        if i == 2 and setup.output_force:
-            load = _vlin((setup.output_force, body.line))
-            net = _vlin((1.0, net), (-1.0, load))
-            turning = _vlin((1.0, turning), (-1.0, _vcross(body.origin, load)))
+            turning = weighted_sum((1.0, turning), (-setup.output_torque, body.axes[2]))
+        if i == 2 and setup.output_force:           # along the guide, through C
+            net = weighted_sum((1.0, net), (-setup.output_force, body.line))
         needed.append((net, turning))
     return needed
 
 
-def _reactions_arrays(np: ModuleType, setup: ForcesSetup,
+def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
                       bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3
                       ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any]:
     """The torque, each joint's (force, moment), the shaking force and moment, and how far
     each position is from the elimination's singularity (its divisor, relative): see the
     notes above."""
-    kind = setup.linkage.kind
+    kind, dims = setup.linkage.kind, setup.dims
     (n0, t0), (n1, t1), (n2, t2) = _needed_arrays(setup, bodies)
     out = PINS[kind].output_joint
     ground = "guide" if setup.linkage.is_slider else "B0"
     joints: dict[str, tuple[Vec3 | None, Vec3 | None]]
-    if kind == SPHERICAL_FOUR_BAR:
-        a, b, k = _vunit(np, pa), _vunit(np, pp), setup.axes["output"][1]
-        divisor = _vdot(b, _vcross(a, k))
-        m_b = _vlin((-_vdot(a, t1) / divisor, _vcross(k, b)),
-                    (_vdot(k, t2) / divisor, _vcross(b, a)))
-        m_a, m_b0 = _vlin((1.0, t1), (1.0, m_b)), _vlin((1.0, t2), (-1.0, m_b))
-        v = _vlin((1.0, t0), (1.0, m_a))
-        m_a0 = (v[0], v[1], 0.0)
-        shaking_force = _vlin((-1.0, n0), (-1.0, n1), (-1.0, n2))
-        shaking_moment = _vlin((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
-        joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
-        return v[2], joints, shaking_force, shaking_moment, np.abs(divisor)
-    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
-    ab = _vlin((1.0, pp), (-1.0, pa))
-    squared = _vdot(ab, ab)
-    t1a = _vlin((1.0, t1), (-1.0, _vcross(pa, n1)))
-    across = _vlin((1.0 / squared, _vcross(ab, t1a)))
-    output = bodies[2]
-    if setup.linkage.is_slider:
-        g = output.line
-        divisor = _vdot(g, ab)
-        along = _minus(_vdot(g, n2), _vdot(g, across)) / divisor
-        size = np.sqrt(squared)
-    else:
+    if kind == SPHERICAL_FOUR_BAR:      # every wrench about O
         k = setup.axes["output"][1]
-        arm = _vlin((1.0, pp), (-1.0, output.origin))
-        t2o = _vlin((1.0, t2), (-1.0, _vcross(output.origin, n2)))
-        h = _vcross(k, arm)
-        divisor = _vdot(h, ab)
-        along = _minus(_vdot(k, t2o), _vdot(h, across)) / divisor
-        size = np.sqrt(squared * _vdot(h, h))
-    r_b = _vlin((along, ab), (1.0, across))
-    r_a = _vlin((1.0, n1), (1.0, r_b))
-    r_g = _vlin((1.0, n2), (-1.0, r_b))
+        a, b = weighted_sum((1.0 / setup.radius, pa)), weighted_sum((1.0 / setup.radius, pp))
+        divisor = dot(b, cross(a, k))
+        m_b = weighted_sum((-dot(a, t1) / divisor, cross(k, b)),
+                           (dot(k, t2) / divisor, cross(b, a)))
+        m_a, m_b0 = weighted_sum((1.0, t1), (1.0, m_b)), difference(t2, m_b)
+        v = weighted_sum((1.0, t0), (1.0, m_a))
+        m_a0 = (v[0], v[1], 0.0)
+        shaking_force = weighted_sum((-1.0, n0), (-1.0, n1), (-1.0, n2))
+        shaking_moment = weighted_sum((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
+        joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
+        return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor)
+    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
+    ab = difference(pp, pa)
+    across = weighted_sum((1.0 / (dims["c"] * dims["c"]), cross(ab, t1)))   # t1 about A
+    output = bodies[2]
+    if setup.linkage.is_slider:         # t2 about C
+        g = output.line
+        divisor = dot(g, ab)
+        along = (dot(g, n2) - dot(g, across)) / divisor
+        size = abs(dims["c"])
+    else:                               # t2 about B0
+        k = setup.axes["output"][1]
+        arm = difference(pp, output.origin)
+        h = cross(k, arm)
+        divisor = dot(h, ab)
+        along = (dot(k, t2) - dot(h, across)) / divisor
+        size = abs(dims["c"] * dims["d"])                     # |h| |ab|
+    r_b = weighted_sum((along, ab), (1.0, across))
+    r_a = weighted_sum((1.0, n1), (1.0, r_b))
+    r_g = difference(n2, r_b)
     if setup.linkage.is_slider:
-        m_g = _vlin((1.0, t2), (-1.0, _vcross(pp, n2)))
+        m_g = t2
         if plane:
             r_g, m_g = (0.0, r_g[1], 0.0), (0.0, 0.0, m_g[2])
         at = pp
     else:
-        m_g = _vlin((1.0, t2o), (-1.0, _vcross(arm, r_b)))
+        m_g = difference(t2, cross(arm, r_b))
         at = output.origin
-    r_a0 = _vlin((1.0, n0), (1.0, r_a))
-    v = _vlin((1.0, t0), (1.0, _vcross(pa, r_a)))
+    r_a0 = weighted_sum((1.0, n0), (1.0, r_a))
+    v = weighted_sum((1.0, t0), (1.0, cross(pa, r_a)))
     torque = v[2]
     m_a0 = (v[0], v[1], 0.0)
-    shaking_force = _vlin((-1.0, r_a0), (-1.0, r_g))
-    shaking_moment = _vlin((1.0, (0.0, 0.0, -torque)), (-1.0, _vcross(at, r_g)))
+    shaking_force = weighted_sum((-1.0, r_a0), (-1.0, r_g))
+    shaking_moment = weighted_sum((1.0, (0.0, 0.0, -torque)), (-1.0, cross(at, r_g)),
+                                  (-1.0, m_g), (-1.0, m_a0))
     if plane and not setup.linkage.is_slider:
         joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, None)}
     elif plane:
-        shaking_moment = _vlin((1.0, shaking_moment), (-1.0, m_g))
         joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
     else:
-        shaking_moment = _vlin((1.0, shaking_moment), (-1.0, m_a0), (-1.0, m_g))
         joints = {"A0": (r_a0, m_a0), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
-    return torque, joints, shaking_force, shaking_moment, np.abs(divisor) / size
+    return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor) * (1.0 / size)
 
 
 def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                      bodies: Bodies = Bodies(), effects: Effects = Effects(), *,
-                     radius: float = 1.0) -> ForcesArrays:
+                     radius: float = 1.0, trig: dict[str, Any] | None = None) -> ForcesArrays:
     """forces() on a MotionArrays of `branch` with velocity and acceleration (Linkage.sweep_arrays'
-    answer): a ForcesArrays (see Linkage.forces_arrays)."""
+    answer): a ForcesArrays (see Linkage.forces_arrays). trig: the sweep's cosines and sines
+    (motion_arrays_of's), computed here where not given."""
     np = numpy_module()
     setup = forces_setup(linkage, bodies, effects, radius)
     if arrays.velocity is None or arrays.acceleration is None:
         raise ValueError("the forces need the sweep's velocity and acceleration (derivatives 2)")
+    trig = dict(trig or {})
+    for key, angles in (("phi", arrays.phi), ("output", arrays.output))[
+            :1 if linkage.is_slider else 2]:
+        if key not in trig:
+            trig[key] = cos_sin_degrees_array(np, angles)
+            continue
+        stale = np.isnan(trig[key][0]) & ~np.isnan(angles)    # handed to the scalar sweep
+        if stale.any():
+            trig[key][0][stale], trig[key][1][stale] = cos_sin_degrees_array(np, angles[stale])
+    sources = [pair[j] for pair in trig.values() for j in (0, 1)] + [
+        arrays.output, arrays.velocity, arrays.acceleration]
+    recipe = _Recipe()
+    inputs = [recipe.term("input") for _ in sources]
+    states, pa, pp = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
+    t, reactions, force, moment, apart = _reactions_arrays(recipe, setup, states, pa, pp)
+    # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
+    # carries through + and x): all are finite where these seven are
+    check = t + sum(force) + sum(moment)
     count = len(arrays.phi)
-    torque = np.full(count, math.nan)
-    status = arrays.status.copy()
-    columns: dict[str, list[Any]] = {}      # each vector's components in a row: (3, count)
-    shaking = np.full((2, 3, count), math.nan)
-    handed = []
-    assembled = STATUS_CODES.index(ASSEMBLED)
+    torque, shaking, near = np.empty(count), np.empty((2, 3, count)), np.empty((2, count))
+    joints = {name: ReactionArrays(*(None if v is None else np.empty((3, count)) for v in pair))
+              for name, pair in reactions.items()}
+    rows = [(torque, t), (near[0], apart), (near[1], check)] + [
+        (into[j], v[j]) for pair, into in [((force, moment), shaking)] + [
+            (reactions[name], r) for name, r in joints.items()]
+        for v, into in zip(pair, into) if v is not None for j in range(3)]
+    results = [(row, value) for row, value in rows if type(value) is _Term]
+    for row, value in rows:
+        if type(value) is not _Term:
+            row.fill(value)
+    block = min(FAST_BLOCK, max(count, 1))
+    plan = _plan(np, recipe, inputs, [value for _, value in results], block)
+    registers = list(plan.registers)
     with np.errstate(all="ignore"):
-        for start in range(0, count, FAST_BLOCK):
-            part = slice(start, min(start + FAST_BLOCK, count))
-            states, pa, pp = _body_frames(np, setup, arrays.phi[part], arrays.output[part],
-                                          arrays.velocity[part], arrays.acceleration[part])
-            t, reactions, force, moment, apart = _reactions_arrays(np, setup, states, pa, pp)
-            torque[part] = t
-            for name, pair in reactions.items():
-                into = columns.setdefault(name, [None if v is None else
-                                                 np.full((3, count), math.nan) for v in pair])
-                for v, rows in zip(pair, into):
-                    if v is not None:
-                        for j in range(3):
-                            rows[j, part] = v[j]
-            for v, rows in zip((force, moment), shaking):
-                for j in range(3):
-                    rows[j, part] = v[j]
-            # every number the elimination makes reaches the torque or the shaking (an inf or
-            # a NaN carries through + and x): all are finite where these seven are
-            check = torque[part] + shaking[:, :, part].sum(axis=(0, 1))
-            plain = arrays.status[part]
-            redo = ((plain != assembled) & (plain != STATUS_CODES.index(NOT_ASSEMBLED))) | (
-                (plain == assembled) & ~((apart >= FORCES_HANDOFF) & np.isfinite(check)))
-            if redo.any():
-                handed.append(np.flatnonzero(redo) + start)
-    joints = {name: ReactionArrays(*(None if rows is None else rows.T for rows in into))
-              for name, into in columns.items()}
+        for start in range(0, count, block):
+            part = slice(start, min(start + block, count))
+            if part.stop - start < block:           # the last block, shorter
+                registers = [r[:part.stop - start] if isinstance(r, np.ndarray) else r
+                             for r in plan.registers]
+            for i, source in zip(plan.inputs, sources):
+                registers[i] = source[part]
+            for i, (row, _) in zip(plan.results, results):
+                registers[i] = row[part]
+            _run(plan, registers)
+        plain = arrays.status
+        assembled = STATUS_CODES.index(ASSEMBLED)
+        redo = ((plain != assembled) & (plain != STATUS_CODES.index(NOT_ASSEMBLED))) | (
+            (plain == assembled) & ~((near[0] >= FORCES_HANDOFF) & np.isfinite(near[1])))
+    status = plain.copy()
     unknown = status != assembled
     if unknown.any():
         torque[unknown] = math.nan
-        for rows in [shaking] + [v for r in columns.values() for v in r if v is not None]:
-            rows[..., unknown] = math.nan
-    where = np.concatenate(handed) if handed else np.empty(0, dtype=np.intp)
+        for r in [shaking] + [v for r in joints.values() for v in r if v is not None]:
+            r[..., unknown] = math.nan
+    where = np.flatnonzero(redo)
     if len(where):
         for i, f in zip(where.tolist(), forces(linkage, arrays.phi[where].tolist(), branch,
                                                  bodies, effects, radius=radius)):
@@ -6233,11 +6391,13 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                 reaction = f.joints[name] if f.joints is not None else Reaction(None, None)
                 for v, column in zip(reaction, arrays_of):
                     if column is not None:
-                        column[i] = math.nan if v is None else v
-            for v, rows in zip((f.shaking_force, f.shaking_moment), shaking):
-                rows[:, i] = math.nan if v is None else v
-    return ForcesArrays(arrays.phi, torque, torque * setup.omega, joints, shaking[0].T,
-                        shaking[1].T, status, setup.speed_rpm)
+                        column[:, i] = math.nan if v is None else v
+            for v, r in zip((f.shaking_force, f.shaking_moment), shaking):
+                r[:, i] = math.nan if v is None else v
+    return ForcesArrays(arrays.phi, torque, torque * setup.omega,
+                        {name: ReactionArrays(*(None if v is None else v.T for v in r))
+                         for name, r in joints.items()}, shaking[0].T, shaking[1].T, status,
+                        setup.speed_rpm)
 
 
 # ---- 12. Simulation: the motion in time under the scene's effects --------------------------------
@@ -7154,8 +7314,9 @@ class Linkage(Closure):
         power, each joint's reaction and the shaking, NaN where unknown, with status codes; the
         same numbers as forces to rounding and the same statuses (tests/test_forces_numpy.py): a
         position near a dead centre is computed by forces itself."""
-        return forces_of_arrays(self, self.sweep_arrays(phis, branch, 2), branch, bodies,
-                                effects, radius=radius)
+        trig: dict[str, numpy.ndarray] = {}
+        return forces_of_arrays(self, motion_arrays_of(self, phis, branch, 2, trig), branch,
+                                bodies, effects, radius=radius, trig=trig)
 
 
 # ---- 14. DAT and CSV files: the sweep's formats, written and read --------------------------------
