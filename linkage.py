@@ -6009,13 +6009,16 @@ class _Recipe:
         self.seen: dict[tuple[Any, ...], _Term] = {}
 
     def term(self, op: str, *args: Any) -> _Term:
-        key = (op,) + tuple(a.index if type(a) is _Term else ("number", a) for a in args)
-        if op in ("add", "multiply") and type(args[1]) is _Term and key[1] > key[2]:
-            key = (op, key[2], key[1])
-        if op == "input" or key not in self.seen:
-            self.terms.append(_Term(self, len(self.terms), op, args))
-            self.seen[key] = self.terms[-1]
-        return self.seen[key] if op != "input" else self.terms[-1]
+        key = (op,) + args          # a _Term is itself (its identity), a float its value
+        found = self.seen.get(key)
+        if found is None:
+            found = self.seen[key] = _Term(self, len(self.terms), op, args)
+            self.terms.append(found)
+        return found
+
+    def input(self) -> _Term:
+        self.terms.append(_Term(self, len(self.terms), "input", ()))
+        return self.terms[-1]
 
     def add(self, x: Any, y: Any) -> Any:
         if type(x) is not _Term:
@@ -6024,7 +6027,9 @@ class _Recipe:
             return x if y == 0.0 else self.term("add", x, float(y))
         if y.op == "negative":
             return self.subtract(x, y.args[0])
-        return self.subtract(y, x.args[0]) if x.op == "negative" else self.term("add", x, y)
+        if x.op == "negative":
+            return self.subtract(y, x.args[0])
+        return self.term("add", *((x, y) if x.index < y.index else (y, x)))
 
     def subtract(self, x: Any, y: Any) -> Any:
         if type(y) is not _Term:
@@ -6039,7 +6044,7 @@ class _Recipe:
         if type(x) is not _Term:
             x, y = y, x
         if type(y) is _Term:
-            return self.term("multiply", x, y)
+            return self.term("multiply", *((x, y) if x.index < y.index else (y, x)))
         if y == 0.0:
             return 0.0
         if y == 1.0:
@@ -6075,11 +6080,15 @@ def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Seq
           block: int) -> _Plan:
     """The steps that compute `results` (terms, each its own place) from `inputs`: only the
     operations they need, each value's buffer free for another once its last use has run."""
-    needed = {r.index for r in results}
+    needed = [False] * len(recipe.terms)
+    for term in results:
+        needed[term.index] = True
     for term in reversed(recipe.terms):
-        if term.index in needed:
-            needed.update(a.index for a in term.args if type(a) is _Term)
-    order = [term for term in recipe.terms if term.index in needed and term.op != "input"]
+        if needed[term.index]:
+            for a in term.args:
+                if type(a) is _Term:
+                    needed[a.index] = True
+    order = [term for term in recipe.terms if needed[term.index] and term.op != "input"]
     last = {a.index: i for i, term in enumerate(order) for a in term.args if type(a) is _Term}
     registers: list[Any] = [None] * (len(inputs) + len(results))
     place = {term.index: i for i, term in enumerate(inputs)}
@@ -6333,23 +6342,26 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
         if key not in trig:
             trig[key] = cos_sin_degrees_array(np, angles)
             continue
-        stale = np.isnan(trig[key][0]) & ~np.isnan(angles)    # handed to the scalar sweep
-        if stale.any():
+        stale = np.flatnonzero(np.isnan(trig[key][0]))    # handed to the scalar sweep
+        stale = stale[~np.isnan(angles[stale])]
+        if len(stale):
             trig[key][0][stale], trig[key][1][stale] = cos_sin_degrees_array(np, angles[stale])
     sources = [pair[j] for pair in trig.values() for j in (0, 1)] + [
         arrays.output, arrays.velocity, arrays.acceleration]
     recipe = _Recipe()
-    inputs = [recipe.term("input") for _ in sources]
+    inputs = [recipe.input() for _ in sources]
     states, pa, pp = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
     t, reactions, force, moment, apart = _reactions_arrays(recipe, setup, states, pa, pp)
     # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
-    # carries through + and x): all are finite where these seven are
+    # carries through + and x): all are finite where these seven are, and there check - check
+    # is 0; NaN elsewhere, and then so is near, which no number passes
     check = t + sum(force) + sum(moment)
+    near = apart + (check - check)
     count = len(arrays.phi)
-    torque, shaking, near = np.empty(count), np.empty((2, 3, count)), np.empty((2, count))
+    torque, shaking, apart_of = np.empty(count), np.empty((2, 3, count)), np.empty(count)
     joints = {name: ReactionArrays(*(None if v is None else np.empty((3, count)) for v in pair))
               for name, pair in reactions.items()}
-    rows = [(torque, t), (near[0], apart), (near[1], check)] + [
+    rows = [(torque, t), (apart_of, near)] + [
         (into[j], v[j]) for pair, into in [((force, moment), shaking)] + [
             (reactions[name], r) for name, r in joints.items()]
         for v, into in zip(pair, into) if v is not None for j in range(3)]
@@ -6371,12 +6383,11 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
             for i, (row, _) in zip(plan.results, results):
                 registers[i] = row[part]
             _run(plan, registers)
-        plain = arrays.status
-        assembled = STATUS_CODES.index(ASSEMBLED)
-        redo = ((plain != assembled) & (plain != STATUS_CODES.index(NOT_ASSEMBLED))) | (
-            (plain == assembled) & ~((near[0] >= FORCES_HANDOFF) & np.isfinite(near[1])))
+    plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)
+    unknown = plain != assembled
+    redo = (unknown | ~(apart_of >= FORCES_HANDOFF)) & (plain != STATUS_CODES.index(
+        NOT_ASSEMBLED))
     status = plain.copy()
-    unknown = status != assembled
     if unknown.any():
         torque[unknown] = math.nan
         for r in [shaking] + [v for r in joints.values() for v in r if v is not None]:
