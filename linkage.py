@@ -6166,28 +6166,34 @@ def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], 
     spherical = kind == SPHERICAL_FOUR_BAR
     a = PINS[kind].crank_pin(dims, *cos_sin[:2])
     p = PINS[kind].output_pin(dims, *(cos_sin[2:] or (None, None)), out)
-    p1, p2 = weighted_sum((q1, p[1])), weighted_sum((q1 * q1, p[2]), (q2, p[1]))
+    turn, turn_rate = q1 * w, q2 * (w * w) + q1 * al        # the output's: psi' w, its rate
     pa, va, aa = weighted_sum((r, a[0])), weighted_sum((r * w, a[1])), weighted_sum(
         (r * w * w, a[2]), (r * al, a[1]))
-    pp, vp, ap = weighted_sum((r, p[0])), weighted_sum((r * w, p1)), weighted_sum(
-        (r * w * w, p2), (r * al, p1))
+    pp, vp, ap = weighted_sum((r, p[0])), weighted_sum((r * turn, p[1])), weighted_sum(
+        (r * (turn * turn), p[2]), (r * turn_rate, p[1]))
     toward = 1.0 if (dims["sin b"] if spherical else dims["b"]) > 0.0 else -1.0
     x = (toward * cos_sin[0], toward * cos_sin[1], 0.0)       # (A_x, A_y) = b (cos, sin)
     crank = _BodyArrays(_ZERO3, (x, cross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
                         (0.0, 0.0, al), _EZ, (w, al))
     if spherical:
-        n = cross(pa, pp)
-        nn = (r * r * cos_sin_degrees(dims["c"])[1]) ** 2          # |A x B| = r^2 |sin c|
-        z = weighted_sum((1.0 / math.sqrt(nn), n))
-
-        def about_o(va_: Vec3, vb_: Vec3) -> Vec3:     # spin_about_centre
-            return weighted_sum((dot(vb_, n) / nn, pa), (-dot(va_, n) / nn, pp),
-                                (dot(va_, pp) / nn, n))
-        spin = about_o(va, vp)
-        rate = about_o(weighted_sum((1.0, aa), (-1.0, cross(spin, va))),
-                       weighted_sum((1.0, ap), (-1.0, cross(spin, vp))))
-        x = weighted_sum((1.0 / r, pa))
-        coupler = _BodyArrays(_ZERO3, (x, cross(z, x), z), x, _ZERO3, spin, rate)
+        # the coupler turns about OA on the crank and about OB on the output: its spin
+        # w z + l a = turn k + m b, whence (. k x b) l = -w (z . k x b) / (a . k x b) (the
+        # reactions' divisor), and its rate alpha z + l' a + l a' with a' = w z x a
+        a_, b_, k = weighted_sum((1.0 / r, pa)), weighted_sum((1.0 / r, pp)), \
+            setup.axes["output"][1]
+        a_k = cross(a_, k)
+        divisor = dot(b_, a_k)
+        f = k[0] * b_[1] - k[1] * b_[0]                         # z . k x b
+        turning = -w * f / divisor
+        a_dot, b_dot = weighted_sum((1.0 / r, va)), weighted_sum((1.0 / r, vp))
+        f_dot = k[0] * b_dot[1] - k[1] * b_dot[0]
+        divisor_dot = dot(b_dot, a_k) + dot(b_, cross(a_dot, k))
+        turning_rate = (-al * f - w * f_dot - turning * divisor_dot) / divisor
+        spin = weighted_sum((w, _EZ), (turning, a_))
+        rate = weighted_sum((al, _EZ), (turning_rate, a_), (turning, a_dot))
+        cc, sc = cos_sin_degrees(dims["c"])                     # a . b = cos c
+        y = weighted_sum((1.0 / abs(sc), b_), (-cc / abs(sc), a_))    # (a x b) x a / |a x b|
+        coupler = _BodyArrays(_ZERO3, (a_, y, cross(a_, y)), a_, _ZERO3, spin, rate)
     else:
         ab, dv, da = difference(pp, pa), difference(vp, va), difference(ap, aa)
         inverse = 1.0 / (dims["c"] * dims["c"])
@@ -6210,7 +6216,6 @@ def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], 
                              (-dims["cos d"] / abs(dims["sin d"]), k))
         else:                           # the arm B - B0 across k, of length d
             x = weighted_sum((1.0 / abs(dims["d"]), difference(pp, pivot)))
-        turn, turn_rate = q1 * w, q2 * (w * w) + q1 * al
         output = _BodyArrays(pivot, (x, cross(k, x), k), x, _ZERO3, weighted_sum((turn, k)),
                              weighted_sum((turn_rate, k)), k, (turn, turn_rate))
     return (crank, coupler, output), pa, pp
