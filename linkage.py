@@ -6136,14 +6136,17 @@ def _run(plan: _Plan, registers: list[Any]) -> None:
 class _BodyArrays(NamedTuple):
     """A body on a block of positions (forces()' _State): its frame's origin, the point its
     wrench is taken about; its axes (None: the skew coupler's, of which only its line is fixed);
-    its line (the x axis); the origin's acceleration; its spin and spin rate, and for a body
-    turning about a fixed axis (the crank, a four-bar's output) that axis and the two rates."""
+    its line (the x axis); the origin's acceleration; its spin and spin rate; each axis's second
+    derivative in time (a point (u, v, w) of the body accelerates at the origin's plus u x'' +
+    v y'' + w z''), None where it is not known so simply; and for a body turning about a fixed
+    axis (the crank, a four-bar's output) that axis and the two rates."""
     origin: Vec3
     axes: tuple[Vec3, Vec3, Vec3] | None
     line: Vec3
     acceleration: Vec3
     spin: Vec3
     spin_rate: Vec3
+    axes_rates: tuple[Vec3 | None, Vec3 | None, Vec3 | None]
     axis: Vec3 | None = None
     rates: tuple[Any, Any] = (0.0, 0.0)
 
@@ -6171,10 +6174,11 @@ def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], 
         (r * w * w, a[2]), (r * al, a[1]))
     pp, vp, ap = weighted_sum((r, p[0])), weighted_sum((r * turn, p[1])), weighted_sum(
         (r * (turn * turn), p[2]), (r * turn_rate, p[1]))
-    toward = 1.0 if (dims["sin b"] if spherical else dims["b"]) > 0.0 else -1.0
-    x = (toward * cos_sin[0], toward * cos_sin[1], 0.0)       # (A_x, A_y) = b (cos, sin)
+    arm = dims["sin b"] if spherical else dims["b"]
+    x = (math.copysign(1.0, arm) * cos_sin[0], math.copysign(1.0, arm) * cos_sin[1], 0.0)
+    x2 = weighted_sum((1.0 / abs(r * arm), (aa[0], aa[1], 0.0)))     # (A_x, A_y) = r b x
     crank = _BodyArrays(_ZERO3, (x, cross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
-                        (0.0, 0.0, al), _EZ, (w, al))
+                        (0.0, 0.0, al), (x2, cross(_EZ, x2), _ZERO3), _EZ, (w, al))
     if spherical:
         # the coupler turns about OA on the crank and about OB on the output: its spin
         # w z + l a = turn k + m b, whence (. k x b) l = -w (z . k x b) / (a . k x b) (the
@@ -6193,7 +6197,9 @@ def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], 
         rate = weighted_sum((al, _EZ), (turning_rate, a_), (turning, a_dot))
         cc, sc = cos_sin_degrees(dims["c"])                     # a . b = cos c
         y = weighted_sum((1.0 / abs(sc), b_), (-cc / abs(sc), a_))    # (a x b) x a / |a x b|
-        coupler = _BodyArrays(_ZERO3, (a_, y, cross(a_, y)), a_, _ZERO3, spin, rate)
+        x2 = weighted_sum((1.0 / r, aa))
+        coupler = _BodyArrays(_ZERO3, (a_, y, cross(a_, y)), a_, _ZERO3, spin, rate, (
+            x2, weighted_sum((1.0 / (r * abs(sc)), ap), (-cc / abs(sc), x2)), None))
     else:
         ab, dv, da = difference(pp, pa), difference(vp, va), difference(ap, aa)
         inverse = 1.0 / (dims["c"] * dims["c"])
@@ -6201,23 +6207,26 @@ def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], 
         # _states' rate less its term in ab x (spin x dv) = spin (ab . dv) / |ab|^2: 0, the
         # coupler rigid
         rate = weighted_sum((inverse, cross(ab, da)))
-        x = weighted_sum((1.0 / abs(dims["c"]), ab))
-        axes = (x, cross(_EZ, x), _EZ) if PINS[kind].coupler == "plane" else None
-        coupler = _BodyArrays(pa, axes, x, aa, spin, rate)
+        x, x2 = weighted_sum((1.0 / abs(dims["c"]), ab)), weighted_sum((1.0 / abs(dims["c"]), da))
+        plane = PINS[kind].coupler == "plane"
+        coupler = _BodyArrays(pa, (x, cross(_EZ, x), _EZ) if plane else None, x, aa, spin, rate,
+                              (x2, cross(_EZ, x2) if plane else None, _ZERO3))
     if linkage.is_slider:
         g = setup.axes["guide"][1]
         y = _EY if kind == PLANE_SLIDER_CRANK else _EX
-        output = _BodyArrays(pp, (g, y, cross(g, y)), g, ap, _ZERO3, _ZERO3)
+        output = _BodyArrays(pp, (g, y, cross(g, y)), g, ap, _ZERO3, _ZERO3, (_ZERO3,) * 3)
     else:
         k = setup.axes["output"][1]
         pivot = weighted_sum((r, setup.ground["B0"])) if not spherical else _ZERO3
+        arm = r * abs(dims["sin d"]) if spherical else abs(dims["d"])
         if spherical:                   # B . k = cos d
-            x = weighted_sum((1.0 / (r * abs(dims["sin d"])), pp),
-                             (-dims["cos d"] / abs(dims["sin d"]), k))
+            x = weighted_sum((1.0 / arm, pp), (-dims["cos d"] / abs(dims["sin d"]), k))
         else:                           # the arm B - B0 across k, of length d
-            x = weighted_sum((1.0 / abs(dims["d"]), difference(pp, pivot)))
+            x = weighted_sum((1.0 / arm, difference(pp, pivot)))
+        x2 = weighted_sum((1.0 / arm, ap))
         output = _BodyArrays(pivot, (x, cross(k, x), k), x, _ZERO3, weighted_sum((turn, k)),
-                             weighted_sum((turn_rate, k)), k, (turn, turn_rate))
+                             weighted_sum((turn_rate, k)), (x2, cross(k, x2), _ZERO3), k,
+                             (turn, turn_rate))
     return (crank, coupler, output), pa, pp
 
 
@@ -6230,16 +6239,17 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
     for i, (mass, body) in enumerate(zip(setup.masses, bodies)):
         axes = body.axes or (body.line, _ZERO3, _ZERO3)
         rho = weighted_sum(*zip(mass.centre, axes))
-        if body.axis is not None:       # spin = turn k, its rate turn_rate k; k the body's z
-            k, (turn, turn_rate) = body.axis, body.rates
-            k_rho, squared = cross(k, rho), turn * turn
-            a_g = weighted_sum((1.0, body.acceleration), (turn_rate, k_rho),
-                               (squared, cross(k, k_rho)))
-            i_k = weighted_sum(*zip([row[2] for row in mass.inertia], axes))
-            inertial = weighted_sum((turn_rate, i_k), (squared, cross(k, i_k)))
-        else:
+        terms = [(u, rate) for u, rate in zip(mass.centre, body.axes_rates) if u]
+        if all(rate is not None for _, rate in terms):
+            a_g = weighted_sum((1.0, body.acceleration), *terms)
+        else:                           # the spherical coupler's centre off its plane
             a_g = weighted_sum((1.0, body.acceleration), (1.0, cross(body.spin_rate, rho)),
                                (1.0, cross(body.spin, cross(body.spin, rho))))
+        if body.axis is not None:       # spin = turn k, its rate turn_rate k; k the body's z
+            k, (turn, turn_rate) = body.axis, body.rates
+            i_k = weighted_sum(*zip([row[2] for row in mass.inertia], axes))
+            inertial = weighted_sum((turn_rate, i_k), (turn * turn, cross(k, i_k)))
+        else:
             if body.axes is None:       # the skew coupler's spin and its rate are across its
                 #                         line, where its inertia is the transverse moment
                 inertial = weighted_sum(((mass.inertia[1][1] + mass.inertia[2][2]) / 2.0,
