@@ -6245,10 +6245,20 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
         else:                           # the spherical coupler's centre off its plane
             a_g = weighted_sum((1.0, body.acceleration), (1.0, cross(body.spin_rate, rho)),
                                (1.0, cross(body.spin, cross(body.spin, rho))))
+        inertial: Vec3
+        net = weighted_sum((mass.mass, a_g), (-mass.mass, setup.gravity))
         if body.axis is not None:       # spin = turn k, its rate turn_rate k; k the body's z
             k, (turn, turn_rate) = body.axis, body.rates
             i_k = weighted_sum(*zip([row[2] for row in mass.inertia], axes))
-            inertial = weighted_sum((turn_rate, i_k), (turn * turn, cross(k, i_k)))
+            # rho x m a_g, a_g = turn_rate k x rho - turn^2 (rho - (k . rho) k), where
+            # |rho|^2 and k . rho are the centre's: the centripetal part has no moment but
+            # through the centre's height along k
+            along, squared = mass.centre[2], dot(mass.centre, mass.centre)
+            turning = weighted_sum(
+                (mass.mass * turn_rate, weighted_sum((squared, k), (-along, rho))),
+                (mass.mass * along * (turn * turn), cross(rho, k)),
+                (-mass.mass, cross(rho, setup.gravity)),
+                (turn_rate, i_k), (turn * turn, cross(k, i_k)))
         else:
             if body.axes is None:       # the skew coupler's spin and its rate are across its
                 #                         line, where its inertia is the transverse moment
@@ -6259,8 +6269,7 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
                     (1.0, _inertia_times_arrays(body.axes, mass.inertia, body.spin_rate)),
                     (1.0, cross(body.spin, _inertia_times_arrays(body.axes, mass.inertia,
                                                                  body.spin))))
-        net = weighted_sum((mass.mass, a_g), (-mass.mass, setup.gravity))
-        turning = weighted_sum((1.0, cross(rho, net)), (1.0, inertial))
+            turning = weighted_sum((1.0, cross(rho, net)), (1.0, inertial))
         if i == 1 and setup.coupler_point is not None:
             at = weighted_sum(*zip(setup.coupler_point, axes))
             net = difference(net, setup.coupler_force)
@@ -6330,8 +6339,8 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
     torque = v[2]
     m_a0 = (v[0], v[1], 0.0)
     shaking_force = weighted_sum((-1.0, r_a0), (-1.0, r_g))
-    shaking_moment = weighted_sum((1.0, (0.0, 0.0, -torque)), (-1.0, cross(at, r_g)),
-                                  (-1.0, m_g), (-1.0, m_a0))
+    shaking_moment = weighted_sum((1.0, cross(r_g, at)), (-1.0, m_g), (-1.0, m_a0),
+                                  (1.0, (0.0, 0.0, -torque)))
     if plane and not setup.linkage.is_slider:
         joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, None)}
     elif plane:
