@@ -6149,6 +6149,7 @@ class _BodyArrays(NamedTuple):
     axes_rates: tuple[Vec3 | None, Vec3 | None, Vec3 | None]
     axis: Vec3 | None = None
     rates: tuple[Any, Any] = (0.0, 0.0)
+    local: tuple[Vec3, Vec3] | None = None      # spin and spin rate in the body's axes
 
 
 def _inertia_times_arrays(axes: tuple[Vec3, Vec3, Vec3], inertia: Matrix, w: Vec3) -> Vec3:
@@ -6197,9 +6198,13 @@ def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], 
         rate = weighted_sum((al, _EZ), (turning_rate, a_), (turning, a_dot))
         cc, sc = cos_sin_degrees(dims["c"])                     # a . b = cos c
         y = weighted_sum((1.0 / abs(sc), b_), (-cc / abs(sc), a_))    # (a x b) x a / |a x b|
-        x2 = weighted_sum((1.0 / r, aa))
-        coupler = _BodyArrays(_ZERO3, (a_, y, cross(a_, y)), a_, _ZERO3, spin, rate, (
-            x2, weighted_sum((1.0 / (r * abs(sc)), ap), (-cc / abs(sc), x2)), None))
+        x2, z = weighted_sum((1.0 / r, aa)), cross(a_, y)
+        local = ((w * a_[2] + turning, w * y[2], w * z[2]),       # a . a' = 0, a . y = 0 ...
+                 (al * a_[2] + turning_rate, al * y[2] + turning * dot(y, a_dot),
+                  al * z[2] + turning * dot(z, a_dot)))
+        coupler = _BodyArrays(_ZERO3, (a_, y, z), a_, _ZERO3, spin, rate, (
+            x2, weighted_sum((1.0 / (r * abs(sc)), ap), (-cc / abs(sc), x2)), None),
+            local=local)
     else:
         ab, dv, da = difference(pp, pa), difference(vp, va), difference(ap, aa)
         inverse = 1.0 / (dims["c"] * dims["c"])
@@ -6264,6 +6269,13 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
                 #                         line, where its inertia is the transverse moment
                 inertial = weighted_sum(((mass.inertia[1][1] + mass.inertia[2][2]) / 2.0,
                                          body.spin_rate))
+            elif body.local is not None:        # I spin' + spin x I spin in the body's axes
+                spin, rate = body.local
+                i_spin = [sum(row[j] * spin[j] for j in range(3)) for row in mass.inertia]
+                i_rate = [sum(row[j] * rate[j] for j in range(3)) for row in mass.inertia]
+                inertial = weighted_sum(*zip(weighted_sum(
+                    (1.0, cast(Vec3, tuple(i_rate))), (1.0, cross(spin, cast(Vec3, tuple(
+                        i_spin))))), body.axes))
             else:
                 inertial = weighted_sum(
                     (1.0, _inertia_times_arrays(body.axes, mass.inertia, body.spin_rate)),
