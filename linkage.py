@@ -6024,7 +6024,12 @@ class _Recipe:
         if type(x) is not _Term:
             x, y = y, x
         if type(y) is not _Term:
+            if x.op == "add" and type(x.args[1]) is not _Term:      # (x + k) + h
+                return self.add(x.args[0], x.args[1] + y)
             return x if y == 0.0 else self.term("add", x, float(y))
+        (u, j), (v, k) = _scaled(x), _scaled(y)
+        if u is v:                                                  # j u + k u
+            return self.multiply(u, j + k)
         if y.op == "negative":
             return self.subtract(x, y.args[0])
         if x.op == "negative":
@@ -6034,11 +6039,14 @@ class _Recipe:
     def subtract(self, x: Any, y: Any) -> Any:
         if type(y) is not _Term:
             return self.add(x, -float(y))
-        if type(x) is not _Term and x == 0.0:
-            return self.multiply(y, -1.0)
+        if type(x) is not _Term:
+            return self.multiply(y, -1.0) if x == 0.0 else self.term("subtract", float(x), y)
+        (u, j), (v, k) = _scaled(x), _scaled(y)
+        if u is v:
+            return self.multiply(u, j - k)
         if y.op == "negative":
             return self.add(x, y.args[0])
-        return self.term("subtract", x if type(x) is _Term else float(x), y)
+        return self.term("subtract", x, y)
 
     def multiply(self, x: Any, y: Any) -> Any:
         if type(x) is not _Term:
@@ -6065,6 +6073,15 @@ class _Recipe:
 
     def abs(self, x: Any) -> Any:
         return self.term("absolute", x) if type(x) is _Term else abs(x)
+
+
+def _scaled(x: _Term) -> tuple[_Term, float]:
+    """x as (term, k) with x = k term: a constant's multiple, or x itself times 1."""
+    if x.op == "negative":
+        return x.args[0], -1.0
+    if x.op == "multiply" and type(x.args[1]) is not _Term:
+        return x.args[0], x.args[1]
+    return x, 1.0
 
 
 class _Plan(NamedTuple):
@@ -6390,9 +6407,10 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
     t, reactions, force, moment, apart = _reactions_arrays(recipe, setup, states, pa, pp)
     # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
     # carries through + and x): all are finite where these seven are, and there check - check
-    # is 0; NaN elsewhere, and then so is near, which no number passes
+    # is 0 (recorded as it is, not folded); NaN elsewhere, and then so is near, which no
+    # number passes
     check = t + sum(force) + sum(moment)
-    near = apart + (check - check)
+    near = apart + recipe.term("subtract", check, check) if type(check) is _Term else apart
     count = len(arrays.phi)
     torque, shaking, apart_of = np.empty(count), np.empty((2, 3, count)), np.empty(count)
     joints = {name: ReactionArrays(*(None if v is None else np.empty((3, count)) for v in pair))
