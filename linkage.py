@@ -6178,9 +6178,10 @@ def _inertia_times_arrays(axes: tuple[Vec3, Vec3, Vec3], inertia: Matrix, w: Vec
 
 def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], out: Any,
                  q1: Any, q2: Any
-                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3]:
+                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3, Vec3]:
     """_states on arrays, from the cosines and sines of phi and the output angle (a four-bar's):
-    the three bodies, and the pins A and P. Where _states measures a length the linkage fixes
+    the three bodies, the pins A and P, and P's derivative by the output (k x (B - B0), or the
+    slider's guide). Where _states measures a length the linkage fixes
     (|A - P| = c, the output's arm d, the spherical coupler's sin c), this takes the dimension."""
     linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
     kind = linkage.kind
@@ -6249,7 +6250,7 @@ def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], 
         output = _BodyArrays(pivot, (x, cross(k, x), k), x, _ZERO3, weighted_sum((turn, k)),
                              weighted_sum((turn_rate, k)), (x2, cross(k, x2), _ZERO3), k,
                              (turn, turn_rate))
-    return (crank, coupler, output), pa, pp
+    return (crank, coupler, output), pa, pp, weighted_sum((r, p[1]))
 
 
 def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays]
@@ -6313,7 +6314,8 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
 
 
 def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
-                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3
+                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3,
+                      h: Vec3
                       ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any]:
     """The torque, each joint's (force, moment), the shaking force and moment, and how far
     each position is from the elimination's singularity (its divisor, relative): see the
@@ -6339,18 +6341,13 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
     plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
     ab = difference(pp, pa)
     across = weighted_sum((1.0 / (dims["c"] * dims["c"]), cross(ab, t1)))   # t1 about A
-    output = bodies[2]
-    if setup.linkage.is_slider:         # t2 about C
-        g = output.line
-        divisor = dot(g, ab)
-        along = (dot(g, n2) - dot(g, across)) / divisor
+    output, divisor = bodies[2], dot(h, ab)             # h: P's derivative by the output
+    if setup.linkage.is_slider:         # t2 about C; h the guide
+        along = (dot(h, n2) - dot(h, across)) / divisor
         size = abs(dims["c"])
-    else:                               # t2 about B0
-        k = setup.axes["output"][1]
+    else:                               # t2 about B0; h = k x (B - B0)
         arm = difference(pp, output.origin)
-        h = cross(k, arm)
-        divisor = dot(h, ab)
-        along = (dot(k, t2) - dot(h, across)) / divisor
+        along = (dot(setup.axes["output"][1], t2) - dot(h, across)) / divisor
         size = abs(dims["c"] * dims["d"])                     # |h| |ab|
     r_b = weighted_sum((along, ab), (1.0, across))
     r_a = weighted_sum((1.0, n1), (1.0, r_b))
@@ -6403,8 +6400,8 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
         arrays.output, arrays.velocity, arrays.acceleration]
     recipe = _Recipe()
     inputs = [recipe.input() for _ in sources]
-    states, pa, pp = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
-    t, reactions, force, moment, apart = _reactions_arrays(recipe, setup, states, pa, pp)
+    states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
+    t, reactions, force, moment, apart = _reactions_arrays(recipe, setup, states, pa, pp, h)
     # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
     # carries through + and x): all are finite where these seven are, and there check - check
     # is 0 (recorded as it is, not folded); NaN elsewhere, and then so is near, which no
