@@ -6096,22 +6096,31 @@ class _Plan(NamedTuple):
 def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Sequence[_Term],
           block: int) -> _Plan:
     """The steps that compute `results` (terms, each its own place) from `inputs`: only the
-    operations they need, each value's buffer free for another once its last use has run."""
-    needed = [False] * len(recipe.terms)
+    operations they need, each value's buffer (one allocation for all) free for another once
+    its last use has run."""
+    terms = recipe.terms
+    needed = [False] * len(terms)
     for term in results:
         needed[term.index] = True
-    for term in reversed(recipe.terms):
+    for term in reversed(terms):
         if needed[term.index]:
             for a in term.args:
                 if type(a) is _Term:
                     needed[a.index] = True
-    order = [term for term in recipe.terms if needed[term.index] and term.op != "input"]
-    last = {a.index: i for i, term in enumerate(order) for a in term.args if type(a) is _Term}
-    registers: list[Any] = [None] * (len(inputs) + len(results))
-    place = {term.index: i for i, term in enumerate(inputs)}
-    outputs = {}
-    for i, term in enumerate(results):
-        outputs.setdefault(term.index, len(inputs) + i)
+    order = [term for term in terms if needed[term.index] and term.op != "input"]
+    last = [0] * len(terms)
+    for i, term in enumerate(order):
+        for a in term.args:
+            if type(a) is _Term:
+                last[a.index] = i
+    fixed = len(inputs) + len(results)
+    place, owner = [-1] * len(terms), [-1] * len(terms)
+    for i, term in enumerate(inputs):
+        place[term.index] = i
+    for i in reversed(range(len(results))):
+        owner[results[i].index] = len(inputs) + i
+    registers: list[Any] = [None] * fixed
+    buffers: list[int] = []
     free: list[int] = []
     steps = []
     for i, term in enumerate(order):
@@ -6121,24 +6130,26 @@ def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Seq
                 registers.append(a)
                 args.append(len(registers) - 1)
                 continue
-            args.append(place[a.index])
-            if last[a.index] == i and a.index not in outputs and place[a.index] >= len(
-                    inputs) + len(results) and place[a.index] not in free:   # x * x: once
-                free.append(place[a.index])
-        if term.index in outputs:
-            place[term.index] = outputs[term.index]
+            at = place[a.index]
+            args.append(at)
+            if last[a.index] == i and at >= fixed and at not in free:    # x * x: once
+                free.append(at)
+        if owner[term.index] >= 0:
+            place[term.index] = owner[term.index]
         elif free:
             place[term.index] = free.pop()
         else:
-            registers.append(np.empty(block))
-            place[term.index] = len(registers) - 1
-        ufunc = getattr(np, term.op)
-        steps.append((ufunc, args[0], args[1] if len(args) > 1 else -1, place[term.index]))
+            registers.append(None)
+            buffers.append(len(registers) - 1)
+            place[term.index] = buffers[-1]
+        steps.append((getattr(np, term.op), args[0], args[1] if len(args) > 1 else -1,
+                      place[term.index]))
     for i, term in enumerate(results):           # a result that is an input, or another's
         if place[term.index] != len(inputs) + i:
             steps.append((np.positive, place[term.index], -1, len(inputs) + i))
-    return _Plan(steps, registers, list(range(len(inputs))),
-                 list(range(len(inputs), len(inputs) + len(results))))
+    for at, row in zip(buffers, np.empty((len(buffers), block))):
+        registers[at] = row
+    return _Plan(steps, registers, list(range(len(inputs))), list(range(len(inputs), fixed)))
 
 
 def _run(plan: _Plan, registers: list[Any]) -> None:
