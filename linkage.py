@@ -5890,24 +5890,35 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # -- the forces on arrays ---------------------------------------------------------------------------
 #
 # Linkage.forces_arrays is forces() on a sweep_arrays answer: each body's wrench as forces() finds
-# it (the same formulas, a block of angles at a time, each body's frame as the forces section's
-# notes give it), but the system solved by elimination along the chain, body by body, in closed
-# form, rather than by Gaussian elimination on the whole (the same square system, so the same
-# solution to rounding; tests/test_forces_numpy.py holds the two together). With T_1 the coupler's
-# wrench about A, R_B the force the coupler exerts on the output at its pin P, e = P - A:
+# it (the same formulas, each body's frame as the forces section's notes give it, its wrench taken
+# about the frame's own origin), but the system solved by elimination along the chain, body by
+# body, in closed form, rather than by Gaussian elimination on the whole (the same square system,
+# so the same solution to rounding; tests/test_forces_numpy.py holds the two together). With T_1
+# the coupler's wrench about A, R_B the force the coupler exerts on the output at its pin P,
+# e = P - A:
 #   the coupler's moments about A (all but the one about e: 0 = 0 for the skew kinds' line, and
 #   in the plane the one about z) fix R_B across e: R_B - (R_B . e) e/|e|^2 = e x T_1 / |e|^2;
 #   the output's moment about its axis k through its pivot (a four-bar), or its force along the
-#   guide g (a slider), fixes the rest: divided by h . e, h = k x (P - B0) or g;
+#   guide g (a slider), fixes the rest: divided by h . e, h = dP/d(output) = k x (P - B0) or g;
 #   then the coupler's Newton gives R_A, the output's its ground reaction (force, and moment
 #   where it carries one), the crank's the torque about z and A0's reaction.
 # The spherical four-bar (moments about O only): M_B, perpendicular to its axis b, is fixed by
 #   what the two other bodies ask: a . M_A = 0 (M_A = T_1 + M_B) and k . M_B0 = 0 (M_B0 =
 #   T_2 - M_B), three equations in rows b, a, k, solved by Cramer's rule over b . (a x k); then
 #   M_A, M_B0, the torque and M_A0 as above.
-# What it costs: bench forces (the sweep's work again and several times over: each body's frame,
-#   its wrench and the elimination are some 110 (slider) to 460 (spherical) operations on arrays
-#   a position, the trigonometry of phi and the output again among them).
+# What _states measures that the linkage fixes, this takes from its dimensions (|e| = c, the
+#   output's arm, the spherical coupler's a . b = cos c), and what is zero by the motion it leaves
+#   out: a point of a body accelerates as its axes' second derivatives say (each a fixed
+#   combination of its pins' accelerations), so spin x (spin x rho) is not formed; the skew
+#   coupler's spin and rate are across its line, where its inertia is the transverse moment; the
+#   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler; the spherical coupler's
+#   spin is w z + l a = turn k + m b, its two joints' axes (l by the divisor above). The numbers
+#   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
+# What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig)
+#   and each position takes some 56 (slider) to 290 (spherical) operations on arrays, each about
+#   0.4 ns an element here (a numpy call's floor in the cache): with the sweep, at 100,001 points,
+#   a rate of 0.5 to 0.56 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.45 for
+#   the skew four-bar and 0.37 for the spherical (data/BENCHMARKS.md, 2026-11-28).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
@@ -6198,7 +6209,8 @@ def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], 
     kind = linkage.kind
     spherical = kind == SPHERICAL_FOUR_BAR
     a = PINS[kind].crank_pin(dims, *cos_sin[:2])
-    p = PINS[kind].output_pin(dims, *(cos_sin[2:] or (None, None)), out)
+    cq, sq = cos_sin[2:] or (None, None)
+    p = PINS[kind].output_pin(dims, cq, sq, out)
     turn, turn_rate = q1 * w, q2 * (w * w) + q1 * al        # the output's: psi' w, its rate
     pa, va, aa = weighted_sum((r, a[0])), weighted_sum((r * w, a[1])), weighted_sum(
         (r * w * w, a[2]), (r * al, a[1]))
@@ -6275,7 +6287,7 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
         rho = weighted_sum(*zip(mass.centre, axes))
         terms = [(u, rate) for u, rate in zip(mass.centre, body.axes_rates) if u]
         if all(rate is not None for _, rate in terms):
-            a_g = weighted_sum((1.0, body.acceleration), *terms)
+            a_g = weighted_sum((1.0, body.acceleration), *cast(list[tuple[Any, Vec3]], terms))
         else:                           # the spherical coupler's centre off its plane
             a_g = weighted_sum((1.0, body.acceleration), (1.0, cross(body.spin_rate, rho)),
                                (1.0, cross(body.spin, cross(body.spin, rho))))
