@@ -6107,8 +6107,7 @@ class _Plan(NamedTuple):
 def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Sequence[_Term],
           block: int) -> _Plan:
     """The steps that compute `results` (terms, each its own place) from `inputs`: only the
-    operations they need, each value's buffer (one allocation for all) free for another once
-    its last use has run."""
+    operations they need, each value's buffer free for another once its last use has run."""
     terms = recipe.terms
     needed = [False] * len(terms)
     for term in results:
@@ -6158,8 +6157,9 @@ def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Seq
     for i, term in enumerate(results):           # a result that is an input, or another's
         if place[term.index] != len(inputs) + i:
             steps.append((np.positive, place[term.index], -1, len(inputs) + i))
-    for at, row in zip(buffers, np.empty((len(buffers), block))):
-        registers[at] = row
+    for at in buffers:              # each its own: freed and made again a call at a time, the
+        registers[at] = np.empty(block)     # allocator's reuse, where one block of them all
+        #                                     would be new pages (3.5 MB) each call
     return _Plan(steps, registers, list(range(len(inputs))), list(range(len(inputs), fixed)))
 
 
