@@ -6432,9 +6432,15 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
     check = t + sum(force) + sum(moment)
     near = apart + recipe.term("subtract", check, check) if type(check) is _Term else apart
     count = len(arrays.phi)
-    torque, shaking, apart_of = np.empty(count), np.empty((2, 3, count)), np.empty(count)
-    joints = {name: ReactionArrays(*(None if v is None else np.empty((3, count)) for v in pair))
-              for name, pair in reactions.items()}
+    # one allocation for the answer's arrays: freed whole, it is the allocator's to reuse at
+    # the next call (in parts, glibc gave them back to the system and faulted in new pages, 16
+    # MB of them a call, as much again as the forces' work: python3 linkage.py bench forces)
+    kept = [v for pair in reactions.values() for v in pair if v is not None]
+    whole = np.empty((8 + 3 * len(kept), count))
+    torque, apart_of, shaking = whole[0], whole[1], whole[2:8].reshape(2, 3, count)
+    parts = iter(range(8, len(whole), 3))
+    joints = {name: ReactionArrays(*(None if v is None else whole[(i := next(parts)):i + 3]
+                                     for v in pair)) for name, pair in reactions.items()}
     rows = [(torque, t), (apart_of, near)] + [
         (into[j], v[j]) for pair, into in [((force, moment), shaking)] + [
             (reactions[name], r) for name, r in joints.items()]
@@ -14061,7 +14067,10 @@ def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601,
     """What the forces add to a sweep, scalar and numpy, per kind.
 
     Scalar: forces() over the sweep alone; numpy: forces_arrays' rate beside sweep_arrays' with
-    velocity and acceleration (the target: FORCES_ARRAYS_TARGET of it).
+    velocity and acceleration (the target: FORCES_ARRAYS_TARGET of it), each timed in this
+    process's CPU time: on a shared machine the wall time of a run that outlasts a time slice
+    (forces_arrays, 10-25 ms) counts the other processes' turns too, where a shorter one (the
+    sweep, 4-8 ms) often runs between them, and the ratio showed 0.3 where the work was 0.5.
 
     The torque, every joint's reaction and the shaking at each angle of a sweep with velocity and
     acceleration, each link a rod of 1 kg, at 100 rpm under gravity."""
@@ -14070,11 +14079,17 @@ def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601,
     angles, _ = _bench_angles(points)
     _, array = _bench_angles(array_points)
     bodies, effects = Bodies(Body(1.0), Body(1.0), Body(1.0)), Effects(100.0, gravity=9.80665)
+    import time
     print(f"scalar: {points:,} input angles, 0 to 360 degrees, branch 1, velocity and "
           "acceleration; forces() (the sweep, then one linear system a position) over the sweep "
           f"alone, best of 3. numpy: {array_points:,} angles, sweep_arrays (derivatives 2) and "
-          "forces_arrays (the sweep, then the forces) alternated, best of 5; one run, compare "
-          "the ratios", file=out)
+          "forces_arrays (the sweep, then the forces) alternated, best of 9 by CPU time; one "
+          "run, compare the ratios", file=out)
+
+    def cpu_seconds(function: Callable[[], object]) -> float:
+        start = time.process_time()
+        function()
+        return time.process_time() - start
     print(f"{'linkage':12} {'sweep':>12} {'forces':>12} {'ratio':>7}   {'sweep_arrays':>13} "
           f"{'forces_arrays':>14} {'rate ratio':>10}", file=out)
     ratios, slowdowns, rates = {}, [], []
@@ -14086,9 +14101,9 @@ def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601,
                 f"{with_forces / base:6.1f}x")
         if array is not None:
             sweep_time = forces_time = math.inf
-            for _ in range(5):
-                sweep_time = min(sweep_time, _best_of(1, lambda: linkage.sweep_arrays(array)))
-                forces_time = min(forces_time, _best_of(1, lambda: linkage.forces_arrays(
+            for _ in range(9):
+                sweep_time = min(sweep_time, cpu_seconds(lambda: linkage.sweep_arrays(array)))
+                forces_time = min(forces_time, cpu_seconds(lambda: linkage.forces_arrays(
                     array, 1, bodies, effects)))
             ratios[kind] = sweep_time / forces_time
             text += (f"   {len(array) / sweep_time:11,.0f}/s {len(array) / forces_time:12,.0f}/s "
