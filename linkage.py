@@ -5917,8 +5917,8 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig)
 #   and each position takes some 56 (slider) to 290 (spherical) operations on arrays, each about
 #   0.4 ns an element here (a numpy call's floor in the cache): with the sweep, at 100,001 points,
-#   a rate of 0.5 to 0.56 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.45 for
-#   the skew four-bar and 0.37 for the spherical (data/BENCHMARKS.md, 2026-11-28).
+#   a rate of 0.53 to 0.60 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.46 to
+#   0.49 for the skew four-bar and 0.38 for the spherical (data/BENCHMARKS.md, 2026-11-28).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
