@@ -5551,8 +5551,12 @@ _FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "x
 
 
 def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
-                     derivatives: int) -> MotionArrays:
-    """Linkage.sweep_arrays: see there."""
+                     derivatives: int, trig: dict[str, numpy.ndarray] | None = None
+                     ) -> MotionArrays:
+    """Linkage.sweep_arrays: see there. trig, where given, receives the cosines and sines the
+    sweep computes on its way (for forces_of_arrays): "phi" the (2, n) cos and sin of the input
+    angles, "output" a four-bar's of its output angles (derivatives 1 or 2); NaN at a point
+    handed to the scalar sweep."""
     np = numpy_module()
     if branch not in (1, 2):
         raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
@@ -5583,6 +5587,9 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
     line = FAST_MARGIN * linkage.precise_below
     last = ("output", "velocity", "acceleration")[level]
     redo = []
+    if trig is not None:
+        trig.update({key: np.empty((2, count)) for key in ("phi", "output")[
+            :1 if linkage.is_slider or not level else 2]})
     with np.errstate(all="ignore"):        # a block at a time: memory bounded, in the cache
         for start in range(0, count, block):
             stop = min(start + block, count)
@@ -5592,6 +5599,10 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
             part["disc"] = work["disc"]
             c, s = _fast_cos_sin(np, phi[start:stop], reduce, work)
             step(np, k, c, s, sign, level, part, work)
+            if trig is not None:         # the four-bar's cos and sin of psi: cn, sn (cp, sp)
+                for key, pair in (("phi", (c, s)), ("output", (work["cn"], work["sn"]))):
+                    if key in trig:
+                        trig[key][0, start:stop], trig[key][1, start:stop] = pair
             disc, missing, again = part["disc"], work["missing"], work["redo"]
             np.less(disc, -line, out=missing)
             np.less_equal(np.abs(disc, out=disc), line, out=again)
@@ -5605,6 +5616,8 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
                         np.multiply(part[key], linkage.unit, out=part[key])
     where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
     if len(where):
+        for pairs in (trig or {}).values():
+            pairs[:, where] = math.nan
         columns = [res[key] for key in ("output", "velocity", "acceleration")]
         for i, m in zip(where.tolist(), linkage.sweep(phi[where].tolist(), branch, level)):
             for column, value in zip(columns, m[1:4]):
@@ -5918,24 +5931,35 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # -- the forces on arrays ---------------------------------------------------------------------------
 #
 # Linkage.forces_arrays is forces() on a sweep_arrays answer: each body's wrench as forces() finds
-# it (the same formulas, a block of angles at a time, each body's frame as the forces section's
-# notes give it), but the system solved by elimination along the chain, body by body, in closed
-# form, rather than by Gaussian elimination on the whole (the same square system, so the same
-# solution to rounding; tests/test_forces_numpy.py holds the two together). With T_1 the coupler's
-# wrench about A, R_B the force the coupler exerts on the output at its pin P, e = P - A:
+# it (the same formulas, each body's frame as the forces section's notes give it, its wrench taken
+# about the frame's own origin), but the system solved by elimination along the chain, body by
+# body, in closed form, rather than by Gaussian elimination on the whole (the same square system,
+# so the same solution to rounding; tests/test_forces_numpy.py holds the two together). With T_1
+# the coupler's wrench about A, R_B the force the coupler exerts on the output at its pin P,
+# e = P - A:
 #   the coupler's moments about A (all but the one about e: 0 = 0 for the skew kinds' line, and
 #   in the plane the one about z) fix R_B across e: R_B - (R_B . e) e/|e|^2 = e x T_1 / |e|^2;
 #   the output's moment about its axis k through its pivot (a four-bar), or its force along the
-#   guide g (a slider), fixes the rest: divided by h . e, h = k x (P - B0) or g;
+#   guide g (a slider), fixes the rest: divided by h . e, h = dP/d(output) = k x (P - B0) or g;
 #   then the coupler's Newton gives R_A, the output's its ground reaction (force, and moment
 #   where it carries one), the crank's the torque about z and A0's reaction.
 # The spherical four-bar (moments about O only): M_B, perpendicular to its axis b, is fixed by
 #   what the two other bodies ask: a . M_A = 0 (M_A = T_1 + M_B) and k . M_B0 = 0 (M_B0 =
 #   T_2 - M_B), three equations in rows b, a, k, solved by Cramer's rule over b . (a x k); then
 #   M_A, M_B0, the torque and M_A0 as above.
-# What it costs: bench forces (the sweep's work again and several times over: each body's frame,
-#   its wrench and the elimination are some 110 (slider) to 460 (spherical) operations on arrays
-#   a position, the trigonometry of phi and the output again among them).
+# What _states measures that the linkage fixes, this takes from its dimensions (|e| = c, the
+#   output's arm, the spherical coupler's a . b = cos c), and what is zero by the motion it leaves
+#   out: a point of a body accelerates as its axes' second derivatives say (each a fixed
+#   combination of its pins' accelerations), so spin x (spin x rho) is not formed; the skew
+#   coupler's spin and rate are across its line, where its inertia is the transverse moment; the
+#   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler; the spherical coupler's
+#   spin is w z + l a = turn k + m b, its two joints' axes (l by the divisor above). The numbers
+#   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
+# What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig)
+#   and each position takes some 56 (slider) to 290 (spherical) operations on arrays, each about
+#   0.4 ns an element here (a numpy call's floor in the cache): with the sweep, at 100,001 points,
+#   a rate of 0.53 to 0.60 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.46 to
+#   0.49 for the skew four-bar and 0.38 for the spherical (data/BENCHMARKS.md, 2026-11-28).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
@@ -5987,284 +6011,509 @@ class ForcesArrays(NamedTuple):
         return out
 
 
-# Numbers that are floats or arrays: a float 0.0 (a component the kind's geometry makes zero) is
-# left out of sums and products, so that a plane kind costs what its plane needs.
-def _nought(x: Any) -> bool:
-    return type(x) is float and x == 0.0
+# -- the recipe: the formulas traced once, replayed a block at a time -----------------------------
+#
+# forces_of_arrays runs the formulas below once a call on _Terms, which record each operation
+# rather than do it: a float stays a float (the constants fold, a term times 0.0 is 0.0 and drops
+# out of its sum, x * 1.0 is x, x - (-y) is x + y), and an operation already recorded is not
+# recorded again. _Plan then replays the record on each block of angles, each operation one numpy
+# call into a buffer kept from block to block (reused once its value is no longer needed), the
+# answers straight into the result's arrays: the work is the formulas' operations, no more.
+
+class _Term:
+    """A number of the recipe: an array of the block, known only when the plan runs."""
+    __slots__ = ("recipe", "index", "op", "args")
+
+    def __init__(self, recipe: _Recipe, index: int, op: str, args: tuple[Any, ...]) -> None:
+        self.recipe, self.index, self.op, self.args = recipe, index, op, args
+
+    def __add__(self, other: Any) -> Any:
+        return self.recipe.add(self, other)
+
+    __radd__ = __add__
+
+    def __sub__(self, other: Any) -> Any:
+        return self.recipe.subtract(self, other)
+
+    def __rsub__(self, other: Any) -> Any:
+        return self.recipe.subtract(other, self)
+
+    def __mul__(self, other: Any) -> Any:
+        return self.recipe.multiply(self, other)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, other: Any) -> Any:
+        return self.recipe.divide(self, other)
+
+    def __rtruediv__(self, other: Any) -> Any:
+        return self.recipe.divide(other, self)
+
+    def __neg__(self) -> Any:
+        return self.recipe.multiply(self, -1.0)
 
 
-def _times(k: Any, x: Any) -> Any:
-    if _nought(k) or _nought(x):
-        return 0.0
-    if type(k) is float and k == 1.0:
-        return x
-    return k if type(x) is float and x == 1.0 else k * x
+class _Recipe:
+    """The operations on _Terms in the order made (each one's arguments before it)."""
+
+    def __init__(self) -> None:
+        self.terms: list[_Term] = []
+        self.seen: dict[tuple[Any, ...], _Term] = {}
+
+    def term(self, op: str, *args: Any) -> _Term:
+        key = (op,) + args          # a _Term is itself (its identity), a float its value
+        found = self.seen.get(key)
+        if found is None:
+            found = self.seen[key] = _Term(self, len(self.terms), op, args)
+            self.terms.append(found)
+        return found
+
+    def input(self) -> _Term:
+        self.terms.append(_Term(self, len(self.terms), "input", ()))
+        return self.terms[-1]
+
+    def add(self, x: Any, y: Any) -> Any:
+        if type(x) is not _Term:
+            x, y = y, x
+        if type(y) is not _Term:
+            if x.op == "add" and type(x.args[1]) is not _Term:      # (x + k) + h
+                return self.add(x.args[0], x.args[1] + y)
+            return x if y == 0.0 else self.term("add", x, float(y))
+        (u, j), (v, k) = _scaled(x), _scaled(y)
+        if u is v:                                                  # j u + k u
+            return self.multiply(u, j + k)
+        if y.op == "negative":
+            return self.subtract(x, y.args[0])
+        if x.op == "negative":
+            return self.subtract(y, x.args[0])
+        return self.term("add", *((x, y) if x.index < y.index else (y, x)))
+
+    def subtract(self, x: Any, y: Any) -> Any:
+        if type(y) is not _Term:
+            return self.add(x, -float(y))
+        if type(x) is not _Term:
+            return self.multiply(y, -1.0) if x == 0.0 else self.term("subtract", float(x), y)
+        (u, j), (v, k) = _scaled(x), _scaled(y)
+        if u is v:
+            return self.multiply(u, j - k)
+        if y.op == "negative":
+            return self.add(x, y.args[0])
+        return self.term("subtract", x, y)
+
+    def multiply(self, x: Any, y: Any) -> Any:
+        if type(x) is not _Term:
+            x, y = y, x
+        if type(y) is _Term:
+            return self.term("multiply", *((x, y) if x.index < y.index else (y, x)))
+        if y == 0.0:
+            return 0.0
+        if y == 1.0:
+            return x
+        if x.op == "negative" or (x.op == "multiply" and type(x.args[1]) is not _Term):
+            return self.multiply(x.args[0], (-1.0 if x.op == "negative" else x.args[1]) * y)
+        return self.term("negative", x) if y == -1.0 else self.term("multiply", x, float(y))
+
+    def divide(self, x: Any, y: Any) -> Any:
+        if type(y) is not _Term:
+            return self.multiply(x, 1.0 / y)
+        if type(x) is not _Term and x == 0.0:
+            return 0.0
+        return self.term("divide", x if type(x) is _Term else float(x), y)
+
+    def sqrt(self, x: Any) -> Any:
+        return self.term("sqrt", x) if type(x) is _Term else math.sqrt(x)
+
+    def abs(self, x: Any) -> Any:
+        return self.term("absolute", x) if type(x) is _Term else abs(x)
 
 
-def _total(*xs: Any) -> Any:
-    out: Any = 0.0
-    for x in xs:
-        if not _nought(x):
-            out = x if _nought(out) else out + x
-    return out
+def _scaled(x: _Term) -> tuple[_Term, float]:
+    """x as (term, k) with x = k term: a constant's multiple, or x itself times 1."""
+    if x.op == "negative":
+        return x.args[0], -1.0
+    if x.op == "multiply" and type(x.args[1]) is not _Term:
+        return x.args[0], x.args[1]
+    return x, 1.0
 
 
-def _minus(x: Any, y: Any) -> Any:
-    return x if _nought(y) else -y if _nought(x) else x - y
+class _Plan(NamedTuple):
+    """A recipe made into numpy calls: steps (ufunc, argument, argument or -1, result), each an
+    index into registers (the inputs', the buffers', the results', the constants' places)."""
+    steps: list[tuple[Any, int, int, int]]
+    registers: list[Any]
+    inputs: list[int]
+    results: list[int]
 
 
-def _vlin(*terms: tuple[Any, Vec3]) -> Vec3:
-    """The sum of (coefficient, 3-vector) terms (a term of coefficient -1 subtracted)."""
-    out = []
-    for i in range(3):
-        value: Any = 0.0
-        for k, v in terms:
-            if type(k) is float and k == -1.0:
-                value = _minus(value, v[i])
-            else:
-                value = _total(value, _times(k, v[i]))
-        out.append(value)
-    return cast(Vec3, tuple(out))
+def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Sequence[_Term],
+          block: int) -> _Plan:
+    """The steps that compute `results` (terms, each its own place) from `inputs`: only the
+    operations they need, each value's buffer free for another once its last use has run."""
+    terms = recipe.terms
+    needed = [False] * len(terms)
+    for term in results:
+        needed[term.index] = True
+    for term in reversed(terms):
+        if needed[term.index]:
+            for a in term.args:
+                if type(a) is _Term:
+                    needed[a.index] = True
+    order = [term for term in terms if needed[term.index] and term.op != "input"]
+    last = [0] * len(terms)
+    for i, term in enumerate(order):
+        for a in term.args:
+            if type(a) is _Term:
+                last[a.index] = i
+    fixed = len(inputs) + len(results)
+    place, owner = [-1] * len(terms), [-1] * len(terms)
+    for i, term in enumerate(inputs):
+        place[term.index] = i
+    for i in reversed(range(len(results))):
+        owner[results[i].index] = len(inputs) + i
+    registers: list[Any] = [None] * fixed
+    buffers: list[int] = []
+    free: list[int] = []
+    steps = []
+    for i, term in enumerate(order):
+        args = []
+        for a in term.args:
+            if type(a) is not _Term:
+                registers.append(a)
+                args.append(len(registers) - 1)
+                continue
+            at = place[a.index]
+            args.append(at)
+            if last[a.index] == i and at >= fixed and at not in free:    # x * x: once
+                free.append(at)
+        if owner[term.index] >= 0:
+            place[term.index] = owner[term.index]
+        elif free:
+            place[term.index] = free.pop()
+        else:
+            registers.append(None)
+            buffers.append(len(registers) - 1)
+            place[term.index] = buffers[-1]
+        steps.append((getattr(np, term.op), args[0], args[1] if len(args) > 1 else -1,
+                      place[term.index]))
+    for i, term in enumerate(results):           # a result that is an input, or another's
+        if place[term.index] != len(inputs) + i:
+            steps.append((np.positive, place[term.index], -1, len(inputs) + i))
+    for at in buffers:              # each its own: freed and made again a call at a time, the
+        registers[at] = np.empty(block)     # allocator's reuse, where one block of them all
+        #                                     would be new pages (3.5 MB) each call
+    return _Plan(steps, registers, list(range(len(inputs))), list(range(len(inputs), fixed)))
 
 
-def _vcross(u: Vec3, v: Vec3) -> Vec3:
-    return (_minus(_times(u[1], v[2]), _times(u[2], v[1])),
-            _minus(_times(u[2], v[0]), _times(u[0], v[2])),
-            _minus(_times(u[0], v[1]), _times(u[1], v[0])))
-
-
-def _vdot(u: Vec3, v: Vec3) -> Any:
-    return _total(_times(u[0], v[0]), _times(u[1], v[1]), _times(u[2], v[2]))
-
-
-def _vunit(np: ModuleType, v: Vec3) -> Vec3:
-    return _vlin((1.0 / np.sqrt(_vdot(v, v)), v))
+def _run(plan: _Plan, registers: list[Any]) -> None:
+    """The plan's steps on registers (its own, with the inputs and the results in place)."""
+    for ufunc, a, b, out in plan.steps:
+        if b < 0:
+            ufunc(registers[a], out=registers[out])
+        else:
+            ufunc(registers[a], registers[b], out=registers[out])
 
 
 class _BodyArrays(NamedTuple):
+    """A body on a block of positions (forces()' _State): its frame's origin, the point its
+    wrench is taken about; its axes (None: the skew coupler's, of which only its line is fixed);
+    its line (the x axis); the origin's acceleration; its spin and spin rate; each axis's second
+    derivative in time (a point (u, v, w) of the body accelerates at the origin's plus u x'' +
+    v y'' + w z''), None where it is not known so simply; and for a body turning about a fixed
+    axis (the crank, a four-bar's output) that axis and the two rates."""
     origin: Vec3
-    axes: tuple[Vec3, Vec3, Vec3] | None        # None: the skew coupler's (only x: line)
+    axes: tuple[Vec3, Vec3, Vec3] | None
     line: Vec3
     acceleration: Vec3
     spin: Vec3
     spin_rate: Vec3
-    axial: bool = False         # spin and spin_rate along axes[2] (the crank; a four-bar's output)
+    axes_rates: tuple[Vec3 | None, Vec3 | None, Vec3 | None]
+    axis: Vec3 | None = None
+    rates: tuple[Any, Any] = (0.0, 0.0)
+    local: tuple[Vec3, Vec3] | None = None      # spin and spin rate in the body's axes
 
 
-def _inertia_times_arrays(body: _BodyArrays, inertia: Matrix, w: Vec3) -> Vec3:
-    """The body-frame inertia, in the fixed frame, times w (_inertia_times on arrays); the skew
-    coupler's axisymmetric about its line."""
-    if body.axes is None:
-        along = _vdot(body.line, w)
-        transverse = (inertia[1][1] + inertia[2][2]) / 2.0
-        return _vlin((inertia[0][0] - transverse, _vlin((along, body.line))), (transverse, w))
-    local = [0.0, 0.0, _vdot(body.axes[2], w)] if body.axial else [
-        _vdot(axis, w) for axis in body.axes]
-    rows = [_total(*(_times(row[j], local[j]) for j in range(3))) for row in inertia]
-    return _vlin(*zip(rows, body.axes))
+def _inertia_times_arrays(axes: tuple[Vec3, Vec3, Vec3], inertia: Matrix, w: Vec3) -> Vec3:
+    """The body-frame inertia, in the fixed frame, times w (_inertia_times on arrays)."""
+    local = [dot(axis, w) for axis in axes]
+    return weighted_sum(*zip([sum(row[j] * local[j] for j in range(3)) for row in inertia],
+                             axes))
 
 
-def _body_frames(np: ModuleType, setup: ForcesSetup, phi: Any, out: Any, q1: Any, q2: Any
-                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3]:
-    """_states on arrays: the three bodies, and the pins A and P."""
+def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], out: Any,
+                 q1: Any, q2: Any
+                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3, Vec3]:
+    """_states on arrays, from the cosines and sines of phi and the output angle (a four-bar's):
+    the three bodies, the pins A and P, and P's derivative by the output (k x (B - B0), or the
+    slider's guide). Where _states measures a length the linkage fixes
+    (|A - P| = c, the output's arm d, the spherical coupler's sin c), this takes the dimension."""
     linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
     kind = linkage.kind
-    cos_sin = functools.partial(cos_sin_degrees_array, np)
-    a = PINS[kind].crank_pin(dims, *cos_sin(phi))
-    p = output_pin_at(linkage, dims, out, cos_sin)
-    p1, p2 = _vlin((q1, p[1])), _vlin((_times(q1, q1), p[2]), (q2, p[1]))
-    pa, va, aa = _vlin((r, a[0])), _vlin((r * w, a[1])), _vlin((r * w * w, a[2]), (r * al, a[1]))
-    pp, vp, ap = _vlin((r, p[0])), _vlin((r * w, p1)), _vlin((r * w * w, p2), (r * al, p1))
-    x = _vunit(np, (pa[0], pa[1], 0.0))
-    crank = _BodyArrays(_ZERO3, (x, _vcross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
-                        (0.0, 0.0, al), True)
-    form = PINS[kind].coupler
-    if form == "sphere":
-        n = _vcross(pa, pp)
-        nn = _vdot(n, n)
-        z = _vlin((1.0 / np.sqrt(nn), n))
-
-        def about_o(va_: Vec3, vb_: Vec3) -> Vec3:     # spin_about_centre
-            return _vlin((_vdot(vb_, n) / nn, pa), (-_vdot(va_, n) / nn, pp),
-                         (_vdot(va_, pp) / nn, n))
-        spin = about_o(va, vp)
-        rate = about_o(_vlin((1.0, aa), (-1.0, _vcross(spin, va))),
-                       _vlin((1.0, ap), (-1.0, _vcross(spin, vp))))
-        x = _vunit(np, pa)
-        coupler = _BodyArrays(_ZERO3, (x, _vcross(z, x), z), x, _ZERO3, spin, rate)
+    spherical = kind == SPHERICAL_FOUR_BAR
+    a = PINS[kind].crank_pin(dims, *cos_sin[:2])
+    cq, sq = cos_sin[2:] or (None, None)
+    p = PINS[kind].output_pin(dims, cq, sq, out)
+    turn, turn_rate = q1 * w, q2 * (w * w) + q1 * al        # the output's: psi' w, its rate
+    pa, va, aa = weighted_sum((r, a[0])), weighted_sum((r * w, a[1])), weighted_sum(
+        (r * w * w, a[2]), (r * al, a[1]))
+    pp, vp, ap = weighted_sum((r, p[0])), weighted_sum((r * turn, p[1])), weighted_sum(
+        (r * (turn * turn), p[2]), (r * turn_rate, p[1]))
+    arm = dims["sin b"] if spherical else dims["b"]
+    x = (math.copysign(1.0, arm) * cos_sin[0], math.copysign(1.0, arm) * cos_sin[1], 0.0)
+    x2 = weighted_sum((1.0 / abs(r * arm), (aa[0], aa[1], 0.0)))     # (A_x, A_y) = r b x
+    crank = _BodyArrays(_ZERO3, (x, cross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
+                        (0.0, 0.0, al), (x2, cross(_EZ, x2), _ZERO3), _EZ, (w, al))
+    if spherical:
+        # the coupler turns about OA on the crank and about OB on the output: its spin
+        # w z + l a = turn k + m b, whence (. k x b) l = -w (z . k x b) / (a . k x b) (the
+        # reactions' divisor), and its rate alpha z + l' a + l a' with a' = w z x a
+        a_, b_, k = weighted_sum((1.0 / r, pa)), weighted_sum((1.0 / r, pp)), \
+            setup.axes["output"][1]
+        a_k = cross(a_, k)
+        divisor = dot(b_, a_k)
+        f = k[0] * b_[1] - k[1] * b_[0]                         # z . k x b
+        turning = -w * f / divisor
+        a_dot, b_dot = weighted_sum((1.0 / r, va)), weighted_sum((1.0 / r, vp))
+        f_dot = k[0] * b_dot[1] - k[1] * b_dot[0]
+        divisor_dot = dot(b_dot, a_k) + dot(b_, cross(a_dot, k))
+        turning_rate = (-al * f - w * f_dot - turning * divisor_dot) / divisor
+        spin = weighted_sum((w, _EZ), (turning, a_))
+        rate = weighted_sum((al, _EZ), (turning_rate, a_), (turning, a_dot))
+        cc, sc = cos_sin_degrees(dims["c"])                     # a . b = cos c
+        y = weighted_sum((1.0 / abs(sc), b_), (-cc / abs(sc), a_))    # (a x b) x a / |a x b|
+        x2, z = weighted_sum((1.0 / r, aa)), cross(a_, y)
+        local = ((w * a_[2] + turning, w * y[2], w * z[2]),       # a . a' = 0, a . y = 0 ...
+                 (al * a_[2] + turning_rate, al * y[2] + turning * dot(y, a_dot),
+                  al * z[2] + turning * dot(z, a_dot)))
+        coupler = _BodyArrays(_ZERO3, (a_, y, z), a_, _ZERO3, spin, rate, (
+            x2, weighted_sum((1.0 / (r * abs(sc)), ap), (-cc / abs(sc), x2)), None),
+            local=local)
     else:
-        ab, dv, da = _vlin((1.0, pp), (-1.0, pa)), _vlin((1.0, vp), (-1.0, va)), \
-            _vlin((1.0, ap), (-1.0, aa))
-        inverse = 1.0 / _vdot(ab, ab)
-        spin = _vlin((inverse, _vcross(ab, dv)))
-        rate = _vlin((inverse, _vcross(ab, _vlin((1.0, da), (-1.0, _vcross(spin, dv))))))
-        x = _vlin((np.sqrt(inverse), ab))
-        axes = (x, _vcross(_EZ, x), _EZ) if form == "plane" else None
-        coupler = _BodyArrays(pa, axes, x, aa, spin, rate)
+        ab, dv, da = difference(pp, pa), difference(vp, va), difference(ap, aa)
+        inverse = 1.0 / (dims["c"] * dims["c"])
+        spin = weighted_sum((inverse, cross(ab, dv)))
+        # _states' rate less its term in ab x (spin x dv) = spin (ab . dv) / |ab|^2: 0, the
+        # coupler rigid
+        rate = weighted_sum((inverse, cross(ab, da)))
+        x, x2 = weighted_sum((1.0 / abs(dims["c"]), ab)), weighted_sum((1.0 / abs(dims["c"]), da))
+        plane = PINS[kind].coupler == "plane"
+        coupler = _BodyArrays(pa, (x, cross(_EZ, x), _EZ) if plane else None, x, aa, spin, rate,
+                              (x2, cross(_EZ, x2) if plane else None, _ZERO3))
     if linkage.is_slider:
         g = setup.axes["guide"][1]
         y = _EY if kind == PLANE_SLIDER_CRANK else _EX
-        output = _BodyArrays(pp, (g, y, cross(g, y)), g, ap, _ZERO3, _ZERO3)
+        output = _BodyArrays(pp, (g, y, cross(g, y)), g, ap, _ZERO3, _ZERO3, (_ZERO3,) * 3)
     else:
         k = setup.axes["output"][1]
-        pivot = _vlin((r, setup.ground["B0"])) if kind != SPHERICAL_FOUR_BAR else _ZERO3
-        arm = _vlin((1.0, pp), (-1.0, pivot))
-        x = _vunit(np, _vlin((1.0, arm), (-_vdot(arm, k), k)))
-        output = _BodyArrays(pivot, (x, _vcross(k, x), k), x, _ZERO3, _vlin((_times(q1, w), k)),
-                             _vlin((_total(_times(q2, w * w), _times(q1, al)), k)), True)
-    return (crank, coupler, output), pa, pp
+        pivot = weighted_sum((r, setup.ground["B0"])) if not spherical else _ZERO3
+        arm = r * abs(dims["sin d"]) if spherical else abs(dims["d"])
+        if spherical:                   # B . k = cos d
+            x = weighted_sum((1.0 / arm, pp), (-dims["cos d"] / abs(dims["sin d"]), k))
+        else:                           # the arm B - B0 across k, of length d
+            x = weighted_sum((1.0 / arm, difference(pp, pivot)))
+        x2 = weighted_sum((1.0 / arm, ap))
+        output = _BodyArrays(pivot, (x, cross(k, x), k), x, _ZERO3, weighted_sum((turn, k)),
+                             weighted_sum((turn_rate, k)), (x2, cross(k, x2), _ZERO3), k,
+                             (turn, turn_rate))
+    return (crank, coupler, output), pa, pp, weighted_sum((r, p[1]))
 
 
 def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays]
                    ) -> list[tuple[Vec3, Vec3]]:
-    """Each body's wrench about the origin that the reactions and the torque make up (as in
-    _forces_at): the rate of its momenta less gravity and the loads."""
+    """Each body's wrench about its frame's origin that the reactions and the torque make up
+    (as in _forces_at, which takes it about the fixed origin): the rate of its momenta less
+    gravity and the loads."""
     needed = []
     for i, (mass, body) in enumerate(zip(setup.masses, bodies)):
         axes = body.axes or (body.line, _ZERO3, _ZERO3)
-        rho = _vlin(*zip(mass.centre, axes))
-        centre = _vlin((1.0, body.origin), (1.0, rho))
-        a_g = _vlin((1.0, body.acceleration), (1.0, _vcross(body.spin_rate, rho)),
-                    (1.0, _vcross(body.spin, _vcross(body.spin, rho))))
-        net = _vlin((mass.mass, a_g), (-mass.mass, setup.gravity))
-        turning = _vlin((1.0, _vcross(centre, net)),
-                        (1.0, _inertia_times_arrays(body, mass.inertia, body.spin_rate)),
-                        (1.0, _vcross(body.spin, _inertia_times_arrays(body, mass.inertia,
-                                                                       body.spin))))
+        rho = weighted_sum(*zip(mass.centre, axes))
+        terms = [(u, rate) for u, rate in zip(mass.centre, body.axes_rates) if u]
+        if all(rate is not None for _, rate in terms):
+            a_g = weighted_sum((1.0, body.acceleration), *cast(list[tuple[Any, Vec3]], terms))
+        else:                           # the spherical coupler's centre off its plane
+            a_g = weighted_sum((1.0, body.acceleration), (1.0, cross(body.spin_rate, rho)),
+                               (1.0, cross(body.spin, cross(body.spin, rho))))
+        inertial: Vec3
+        net = weighted_sum((mass.mass, a_g), (-mass.mass, setup.gravity))
+        if body.axis is not None:       # spin = turn k, its rate turn_rate k; k the body's z
+            k, (turn, turn_rate) = body.axis, body.rates
+            i_k = weighted_sum(*zip([row[2] for row in mass.inertia], axes))
+            # rho x m a_g, a_g = turn_rate k x rho - turn^2 (rho - (k . rho) k), where
+            # |rho|^2 and k . rho are the centre's: the centripetal part has no moment but
+            # through the centre's height along k
+            along, squared = mass.centre[2], dot(mass.centre, mass.centre)
+            turning = weighted_sum(
+                (mass.mass * turn_rate, weighted_sum((squared, k), (-along, rho))),
+                (mass.mass * along * (turn * turn), cross(rho, k)),
+                (-mass.mass, cross(rho, setup.gravity)),
+                (turn_rate, i_k), (turn * turn, cross(k, i_k)))
+        else:
+            if body.axes is None:       # the skew coupler's spin and its rate are across its
+                #                         line, where its inertia is the transverse moment
+                inertial = weighted_sum(((mass.inertia[1][1] + mass.inertia[2][2]) / 2.0,
+                                         body.spin_rate))
+            elif body.local is not None:        # I spin' + spin x I spin in the body's axes
+                spin, rate = body.local
+                i_spin = [sum(row[j] * spin[j] for j in range(3)) for row in mass.inertia]
+                i_rate = [sum(row[j] * rate[j] for j in range(3)) for row in mass.inertia]
+                inertial = weighted_sum(*zip(weighted_sum(
+                    (1.0, cast(Vec3, tuple(i_rate))), (1.0, cross(spin, cast(Vec3, tuple(
+                        i_spin))))), body.axes))
+            else:
+                inertial = weighted_sum(
+                    (1.0, _inertia_times_arrays(body.axes, mass.inertia, body.spin_rate)),
+                    (1.0, cross(body.spin, _inertia_times_arrays(body.axes, mass.inertia,
+                                                                 body.spin))))
+            turning = weighted_sum((1.0, cross(rho, net)), (1.0, inertial))
         if i == 1 and setup.coupler_point is not None:
-            at = _vlin((1.0, body.origin), (1.0, _vlin(*zip(setup.coupler_point, axes))))
-            net = _vlin((1.0, net), (-1.0, setup.coupler_force))
-            turning = _vlin((1.0, turning), (-1.0, _vcross(at, setup.coupler_force)))
+            at = weighted_sum(*zip(setup.coupler_point, axes))
+            net = difference(net, setup.coupler_force)
+            turning = difference(turning, cross(at, setup.coupler_force))
         if i == 2 and setup.output_torque:
             assert body.axes is not None
-            turning = _vlin((1.0, turning), (-setup.output_torque, body.axes[2]))
-        if i == 2 and setup.output_force:
-            load = _vlin((setup.output_force, body.line))
-            net = _vlin((1.0, net), (-1.0, load))
-            turning = _vlin((1.0, turning), (-1.0, _vcross(body.origin, load)))
+            turning = weighted_sum((1.0, turning), (-setup.output_torque, body.axes[2]))
+        if i == 2 and setup.output_force:           # along the guide, through C
+            net = weighted_sum((1.0, net), (-setup.output_force, body.line))
         needed.append((net, turning))
     return needed
 
 
-def _reactions_arrays(np: ModuleType, setup: ForcesSetup,
-                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3
+def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
+                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3,
+                      h: Vec3
                       ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any]:
     """The torque, each joint's (force, moment), the shaking force and moment, and how far
     each position is from the elimination's singularity (its divisor, relative): see the
     notes above."""
-    kind = setup.linkage.kind
+    kind, dims = setup.linkage.kind, setup.dims
     (n0, t0), (n1, t1), (n2, t2) = _needed_arrays(setup, bodies)
     out = PINS[kind].output_joint
     ground = "guide" if setup.linkage.is_slider else "B0"
     joints: dict[str, tuple[Vec3 | None, Vec3 | None]]
-    if kind == SPHERICAL_FOUR_BAR:
-        a, b, k = _vunit(np, pa), _vunit(np, pp), setup.axes["output"][1]
-        divisor = _vdot(b, _vcross(a, k))
-        m_b = _vlin((-_vdot(a, t1) / divisor, _vcross(k, b)),
-                    (_vdot(k, t2) / divisor, _vcross(b, a)))
-        m_a, m_b0 = _vlin((1.0, t1), (1.0, m_b)), _vlin((1.0, t2), (-1.0, m_b))
-        v = _vlin((1.0, t0), (1.0, m_a))
-        m_a0 = (v[0], v[1], 0.0)
-        shaking_force = _vlin((-1.0, n0), (-1.0, n1), (-1.0, n2))
-        shaking_moment = _vlin((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
-        joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
-        return v[2], joints, shaking_force, shaking_moment, np.abs(divisor)
-    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
-    ab = _vlin((1.0, pp), (-1.0, pa))
-    squared = _vdot(ab, ab)
-    t1a = _vlin((1.0, t1), (-1.0, _vcross(pa, n1)))
-    across = _vlin((1.0 / squared, _vcross(ab, t1a)))
-    output = bodies[2]
-    if setup.linkage.is_slider:
-        g = output.line
-        divisor = _vdot(g, ab)
-        along = _minus(_vdot(g, n2), _vdot(g, across)) / divisor
-        size = np.sqrt(squared)
-    else:
+    if kind == SPHERICAL_FOUR_BAR:      # every wrench about O
         k = setup.axes["output"][1]
-        arm = _vlin((1.0, pp), (-1.0, output.origin))
-        t2o = _vlin((1.0, t2), (-1.0, _vcross(output.origin, n2)))
-        h = _vcross(k, arm)
-        divisor = _vdot(h, ab)
-        along = _minus(_vdot(k, t2o), _vdot(h, across)) / divisor
-        size = np.sqrt(squared * _vdot(h, h))
-    r_b = _vlin((along, ab), (1.0, across))
-    r_a = _vlin((1.0, n1), (1.0, r_b))
-    r_g = _vlin((1.0, n2), (-1.0, r_b))
+        a, b = weighted_sum((1.0 / setup.radius, pa)), weighted_sum((1.0 / setup.radius, pp))
+        divisor = dot(b, cross(a, k))
+        m_b = weighted_sum((-dot(a, t1) / divisor, cross(k, b)),
+                           (dot(k, t2) / divisor, cross(b, a)))
+        m_a, m_b0 = weighted_sum((1.0, t1), (1.0, m_b)), difference(t2, m_b)
+        v = weighted_sum((1.0, t0), (1.0, m_a))
+        m_a0 = (v[0], v[1], 0.0)
+        shaking_force = weighted_sum((-1.0, n0), (-1.0, n1), (-1.0, n2))
+        shaking_moment = weighted_sum((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
+        joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
+        return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor)
+    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
+    ab = difference(pp, pa)
+    across = weighted_sum((1.0 / (dims["c"] * dims["c"]), cross(ab, t1)))   # t1 about A
+    output, divisor = bodies[2], dot(h, ab)             # h: P's derivative by the output
+    if setup.linkage.is_slider:         # t2 about C; h the guide
+        along = (dot(h, n2) - dot(h, across)) / divisor
+        size = abs(dims["c"])
+    else:                               # t2 about B0; h = k x (B - B0)
+        arm = difference(pp, output.origin)
+        along = (dot(setup.axes["output"][1], t2) - dot(h, across)) / divisor
+        size = abs(dims["c"] * dims["d"])                     # |h| |ab|
+    r_b = weighted_sum((along, ab), (1.0, across))
+    r_a = weighted_sum((1.0, n1), (1.0, r_b))
+    r_g = difference(n2, r_b)
     if setup.linkage.is_slider:
-        m_g = _vlin((1.0, t2), (-1.0, _vcross(pp, n2)))
+        m_g = t2
         if plane:
             r_g, m_g = (0.0, r_g[1], 0.0), (0.0, 0.0, m_g[2])
         at = pp
     else:
-        m_g = _vlin((1.0, t2o), (-1.0, _vcross(arm, r_b)))
+        m_g = difference(t2, cross(arm, r_b))
         at = output.origin
-    r_a0 = _vlin((1.0, n0), (1.0, r_a))
-    v = _vlin((1.0, t0), (1.0, _vcross(pa, r_a)))
+    r_a0 = weighted_sum((1.0, n0), (1.0, r_a))
+    v = weighted_sum((1.0, t0), (1.0, cross(pa, r_a)))
     torque = v[2]
     m_a0 = (v[0], v[1], 0.0)
-    shaking_force = _vlin((-1.0, r_a0), (-1.0, r_g))
-    shaking_moment = _vlin((1.0, (0.0, 0.0, -torque)), (-1.0, _vcross(at, r_g)))
+    shaking_force = weighted_sum((-1.0, r_a0), (-1.0, r_g))
+    shaking_moment = weighted_sum((1.0, cross(r_g, at)), (-1.0, m_g), (-1.0, m_a0),
+                                  (1.0, (0.0, 0.0, -torque)))
     if plane and not setup.linkage.is_slider:
         joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, None)}
     elif plane:
-        shaking_moment = _vlin((1.0, shaking_moment), (-1.0, m_g))
         joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
     else:
-        shaking_moment = _vlin((1.0, shaking_moment), (-1.0, m_a0), (-1.0, m_g))
         joints = {"A0": (r_a0, m_a0), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
-    return torque, joints, shaking_force, shaking_moment, np.abs(divisor) / size
+    return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor) * (1.0 / size)
 
 
 def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                      bodies: Bodies = Bodies(), effects: Effects = Effects(), *,
-                     radius: float = 1.0) -> ForcesArrays:
+                     radius: float = 1.0, trig: dict[str, Any] | None = None) -> ForcesArrays:
     """forces() on a MotionArrays of `branch` with velocity and acceleration (Linkage.sweep_arrays'
-    answer): a ForcesArrays (see Linkage.forces_arrays)."""
+    answer): a ForcesArrays (see Linkage.forces_arrays). trig: the sweep's cosines and sines
+    (motion_arrays_of's), computed here where not given."""
     np = numpy_module()
     setup = forces_setup(linkage, bodies, effects, radius)
     if arrays.velocity is None or arrays.acceleration is None:
         raise ValueError("the forces need the sweep's velocity and acceleration (derivatives 2)")
+    trig = dict(trig or {})
+    for key, angles in (("phi", arrays.phi), ("output", arrays.output))[
+            :1 if linkage.is_slider else 2]:
+        if key not in trig:
+            trig[key] = cos_sin_degrees_array(np, angles)
+            continue
+        stale = np.flatnonzero(np.isnan(trig[key][0]))    # handed to the scalar sweep
+        stale = stale[~np.isnan(angles[stale])]
+        if len(stale):
+            trig[key][0][stale], trig[key][1][stale] = cos_sin_degrees_array(np, angles[stale])
+    sources = [pair[j] for pair in trig.values() for j in (0, 1)] + [
+        arrays.output, arrays.velocity, arrays.acceleration]
+    recipe = _Recipe()
+    inputs = [recipe.input() for _ in sources]
+    states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
+    t, reactions, force, moment, apart = _reactions_arrays(recipe, setup, states, pa, pp, h)
+    # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
+    # carries through + and x): all are finite where these seven are, and there check - check
+    # is 0 (recorded as it is, not folded); NaN elsewhere, and then so is near, which no
+    # number passes
+    check = t + sum(force) + sum(moment)
+    near = apart + recipe.term("subtract", check, check) if type(check) is _Term else apart
     count = len(arrays.phi)
-    torque = np.full(count, math.nan)
-    status = arrays.status.copy()
-    columns: dict[str, list[Any]] = {}      # each vector's components in a row: (3, count)
-    shaking = np.full((2, 3, count), math.nan)
-    handed = []
-    assembled = STATUS_CODES.index(ASSEMBLED)
+    # one allocation for the answer's arrays: freed whole, it is the allocator's to reuse at
+    # the next call (in parts, glibc gave them back to the system and faulted in new pages, 16
+    # MB of them a call, as much again as the forces' work: python3 linkage.py bench forces)
+    kept = [v for pair in reactions.values() for v in pair if v is not None]
+    whole = np.empty((8 + 3 * len(kept), count))
+    torque, apart_of, shaking = whole[0], whole[1], whole[2:8].reshape(2, 3, count)
+    parts = iter(range(8, len(whole), 3))
+    joints = {name: ReactionArrays(*(None if v is None else whole[(i := next(parts)):i + 3]
+                                     for v in pair)) for name, pair in reactions.items()}
+    rows = [(torque, t), (apart_of, near)] + [
+        (into[j], v[j]) for pair, into in [((force, moment), shaking)] + [
+            (reactions[name], r) for name, r in joints.items()]
+        for v, into in zip(pair, into) if v is not None for j in range(3)]
+    results = [(row, value) for row, value in rows if type(value) is _Term]
+    for row, value in rows:
+        if type(value) is not _Term:
+            row.fill(value)
+    block = min(FAST_BLOCK, max(count, 1))
+    plan = _plan(np, recipe, inputs, [value for _, value in results], block)
+    registers = list(plan.registers)
     with np.errstate(all="ignore"):
-        for start in range(0, count, FAST_BLOCK):
-            part = slice(start, min(start + FAST_BLOCK, count))
-            states, pa, pp = _body_frames(np, setup, arrays.phi[part], arrays.output[part],
-                                          arrays.velocity[part], arrays.acceleration[part])
-            t, reactions, force, moment, apart = _reactions_arrays(np, setup, states, pa, pp)
-            torque[part] = t
-            for name, pair in reactions.items():
-                into = columns.setdefault(name, [None if v is None else
-                                                 np.full((3, count), math.nan) for v in pair])
-                for v, rows in zip(pair, into):
-                    if v is not None:
-                        for j in range(3):
-                            rows[j, part] = v[j]
-            for v, rows in zip((force, moment), shaking):
-                for j in range(3):
-                    rows[j, part] = v[j]
-            # every number the elimination makes reaches the torque or the shaking (an inf or
-            # a NaN carries through + and x): all are finite where these seven are
-            check = torque[part] + shaking[:, :, part].sum(axis=(0, 1))
-            plain = arrays.status[part]
-            redo = ((plain != assembled) & (plain != STATUS_CODES.index(NOT_ASSEMBLED))) | (
-                (plain == assembled) & ~((apart >= FORCES_HANDOFF) & np.isfinite(check)))
-            if redo.any():
-                handed.append(np.flatnonzero(redo) + start)
-    joints = {name: ReactionArrays(*(None if rows is None else rows.T for rows in into))
-              for name, into in columns.items()}
-    unknown = status != assembled
+        for start in range(0, count, block):
+            part = slice(start, min(start + block, count))
+            if part.stop - start < block:           # the last block, shorter
+                registers = [r[:part.stop - start] if isinstance(r, np.ndarray) else r
+                             for r in plan.registers]
+            for i, source in zip(plan.inputs, sources):
+                registers[i] = source[part]
+            for i, (row, _) in zip(plan.results, results):
+                registers[i] = row[part]
+            _run(plan, registers)
+    plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)
+    unknown = plain != assembled
+    redo = (unknown | ~(apart_of >= FORCES_HANDOFF)) & (plain != STATUS_CODES.index(
+        NOT_ASSEMBLED))
+    status = plain.copy()
     if unknown.any():
         torque[unknown] = math.nan
-        for rows in [shaking] + [v for r in columns.values() for v in r if v is not None]:
-            rows[..., unknown] = math.nan
-    where = np.concatenate(handed) if handed else np.empty(0, dtype=np.intp)
+        for r in [shaking] + [v for r in joints.values() for v in r if v is not None]:
+            r[..., unknown] = math.nan
+    where = np.flatnonzero(redo)
     if len(where):
         for i, f in zip(where.tolist(), forces(linkage, arrays.phi[where].tolist(), branch,
                                                  bodies, effects, radius=radius)):
@@ -6274,11 +6523,13 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                 reaction = f.joints[name] if f.joints is not None else Reaction(None, None)
                 for v, column in zip(reaction, arrays_of):
                     if column is not None:
-                        column[i] = math.nan if v is None else v
-            for v, rows in zip((f.shaking_force, f.shaking_moment), shaking):
-                rows[:, i] = math.nan if v is None else v
-    return ForcesArrays(arrays.phi, torque, torque * setup.omega, joints, shaking[0].T,
-                        shaking[1].T, status, setup.speed_rpm)
+                        column[:, i] = math.nan if v is None else v
+            for v, r in zip((f.shaking_force, f.shaking_moment), shaking):
+                r[:, i] = math.nan if v is None else v
+    return ForcesArrays(arrays.phi, torque, torque * setup.omega,
+                        {name: ReactionArrays(*(None if v is None else v.T for v in r))
+                         for name, r in joints.items()}, shaking[0].T, shaking[1].T, status,
+                        setup.speed_rpm)
 
 
 # ---- 12. Simulation: the equation of motion in its coordinates -----------------------------------
@@ -7321,8 +7572,9 @@ class Linkage(Closure):
         power, each joint's reaction and the shaking, NaN where unknown, with status codes; the
         same numbers as forces to rounding and the same statuses (tests/test_forces_numpy.py): a
         position near a dead centre is computed by forces itself."""
-        return forces_of_arrays(self, self.sweep_arrays(phis, branch, 2), branch, bodies,
-                                effects, radius=radius)
+        trig: dict[str, numpy.ndarray] = {}
+        return forces_of_arrays(self, motion_arrays_of(self, phis, branch, 2, trig), branch,
+                                bodies, effects, radius=radius, trig=trig)
 
 
 # ---- 15. DAT and CSV files: the sweep's formats, written and read --------------------------------
@@ -14011,7 +14263,10 @@ def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601,
     """What the forces add to a sweep, scalar and numpy, per kind.
 
     Scalar: forces() over the sweep alone; numpy: forces_arrays' rate beside sweep_arrays' with
-    velocity and acceleration (the target: FORCES_ARRAYS_TARGET of it).
+    velocity and acceleration (the target: FORCES_ARRAYS_TARGET of it), each timed in this
+    process's CPU time: on a shared machine the wall time of a run that outlasts a time slice
+    (forces_arrays, 10-25 ms) counts the other processes' turns too, where a shorter one (the
+    sweep, 4-8 ms) often runs between them, and the ratio showed 0.3 where the work was 0.5.
 
     The torque, every joint's reaction and the shaking at each angle of a sweep with velocity and
     acceleration, each link a rod of 1 kg, at 100 rpm under gravity."""
@@ -14020,11 +14275,17 @@ def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601,
     angles, _ = _bench_angles(points)
     _, array = _bench_angles(array_points)
     bodies, effects = Bodies(Body(1.0), Body(1.0), Body(1.0)), Effects(100.0, gravity=9.80665)
+    import time
     print(f"scalar: {points:,} input angles, 0 to 360 degrees, branch 1, velocity and "
           "acceleration; forces() (the sweep, then one linear system a position) over the sweep "
           f"alone, best of 3. numpy: {array_points:,} angles, sweep_arrays (derivatives 2) and "
-          "forces_arrays (the sweep, then the forces) alternated, best of 5; one run, compare "
-          "the ratios", file=out)
+          "forces_arrays (the sweep, then the forces) alternated, best of 9 by CPU time; one "
+          "run, compare the ratios", file=out)
+
+    def cpu_seconds(function: Callable[[], object]) -> float:
+        start = time.process_time()
+        function()
+        return time.process_time() - start
     print(f"{'linkage':12} {'sweep':>12} {'forces':>12} {'ratio':>7}   {'sweep_arrays':>13} "
           f"{'forces_arrays':>14} {'rate ratio':>10}", file=out)
     ratios, slowdowns, rates = {}, [], []
@@ -14036,9 +14297,9 @@ def bench_forces(out: TextIO, quick: bool = False, points: int = 3_601,
                 f"{with_forces / base:6.1f}x")
         if array is not None:
             sweep_time = forces_time = math.inf
-            for _ in range(5):
-                sweep_time = min(sweep_time, _best_of(1, lambda: linkage.sweep_arrays(array)))
-                forces_time = min(forces_time, _best_of(1, lambda: linkage.forces_arrays(
+            for _ in range(9):
+                sweep_time = min(sweep_time, cpu_seconds(lambda: linkage.sweep_arrays(array)))
+                forces_time = min(forces_time, cpu_seconds(lambda: linkage.forces_arrays(
                     array, 1, bodies, effects)))
             ratios[kind] = sweep_time / forces_time
             text += (f"   {len(array) / sweep_time:11,.0f}/s {len(array) / forces_time:12,.0f}/s "
