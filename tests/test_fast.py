@@ -123,6 +123,22 @@ def test_the_hard_catalogue(case):
                 assert error <= bound, (case["name"], phi, branch, what, error)
 
 
+NEAR_LOCKING = [("plane", dict(a=5.0, b=2.0, c=4.0, d=3.0), -186.084, 1),
+                ("plane", dict(a=4.0, b=1.0, c=1.5, d=3.0), -112.968, 2),
+                ("spherical", dict(a=70.0, b=30.0, c=60.0, d=40.0), -175.932, 1)]
+
+
+@pytest.mark.parametrize("kind, dims, phi0, branch", NEAR_LOCKING)
+def test_just_outside_the_hand_over_the_scalar_engines_hypot_is_kept(kind, dims, phi0, branch):
+    """Where the transmission angle is small but the point is not handed over, rr's last place
+    is magnified (the engine's CPython hypot kept there: linkage._fast_rr_disc); taking
+    sqrt(p^2 + q^2) everywhere puts these sweeps 2e-13 degree and 1.2e-12 in the acceleration
+    from the scalar engine (found so, 2026-11-28)."""
+    phis = [phi0 + 0.009 * j for j in range(-200, 201)]
+    for level in LEVELS:
+        check(kind, dims, phis, branch, level)
+
+
 def test_points_the_scalar_engine_redoes_in_decimal_are_handed_to_it(monkeypatch):
     """Every point where Linkage.sweep calls _precise (the 50-digit redo) was given to
     Linkage.sweep by sweep_arrays, over the catalogue and around it: 101 angles 1e-6 degree
