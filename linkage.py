@@ -5235,10 +5235,12 @@ def forces_lines(results: Sequence[Forces], *, cs: float = 0.05, prefix: str = "
 # -- the vectorised path: numpy, a block of angles at a time ------------------------------------
 #
 # Linkage.sweep_arrays is _sweep_four_bar and _sweep_slider written on numpy arrays: the same
-# formulas with the same operations in the same order, hypot computed as CPython's math.hypot
-# (_fast_hypot), so the same numbers: here (numpy 2.4.6) the velocity and acceleration to the bit,
-# the output within a unit in the last place (numpy's arctan2 is not libm's; where numpy's cos
-# and sin are not libm's either, a few). The angles go through in
+# formulas with the same operations in the same order, so the same numbers: the output within a
+# unit in the last place (numpy's arctan2 is not libm's; where numpy's cos and sin are not
+# libm's either, a few). hypot is computed as CPython's math.hypot (_fast_hypot) wherever its
+# last place matters (the slider's; the four-bar's near a dead centre: _fast_rr_disc), and there
+# the velocity and acceleration are the scalar engine's to the bit; well off a dead centre the
+# four-bar takes sqrt(p^2 + q^2), within 1e-14 of them. The angles go through in
 # blocks of FAST_BLOCK, every operation written into a preallocated array (out=) so that the
 # working set stays in the cache; a term whose constant is zero is left out (it adds nothing but
 # the sign of a zero). The vectorised path decides only "assembled" and the plainly "not
@@ -5348,12 +5350,24 @@ def _fast_cos_sin(np, phi, reduce, w):
         if q == 2:
             return np.negative(cy, out=cy), np.negative(sy, out=sy)
         return (np.negative(sy, out=sy), cy) if q == 1 else (sy, np.negative(cy, out=cy))
+    c, s, spare = w["c"], w["s"], w["spare"]
+    edges = np.flatnonzero(n[1:] != n[:-1]) if lo == lo else n[:0]      # NaN: lo != lo
+    if 0 < 256 * len(edges) < len(n):       # a few runs of one quarter turn (a sweep): each
+        ends = [0, *(edges + 1).tolist(), len(n)]    # copied or negated, no table looked up
+        for a, b in zip(ends, ends[1:]):
+            q = int(n[a]) & 3
+            for out, source, negate in ((c, sy if q & 1 else cy, q in (1, 2)),
+                                        (s, cy if q & 1 else sy, q >= 2)):
+                if negate:
+                    np.negative(source[a:b], out=out[a:b])
+                else:
+                    out[a:b] = source[a:b]
+        return c, s
     quarter = w["quarter"]
     np.copyto(quarter, n, casting="unsafe")
-    np.bitwise_and(quarter, 3, out=quarter)
-    turn_c = np.take(_QUARTER_COS, quarter, out=w["tc"])
-    turn_s = np.take(_QUARTER_SIN, quarter, out=w["ts"])
-    c, s, spare = w["c"], w["s"], w["spare"]
+    np.bitwise_and(quarter, 3, out=quarter)         # (not take's mode="wrap": it counts a NaN's
+    turn_c = np.take(_QUARTER_COS, quarter, out=w["tc"], mode="clip")     # -2^63 up by 4s)
+    turn_s = np.take(_QUARTER_SIN, quarter, out=w["ts"], mode="clip")
     np.multiply(cy, turn_c, out=c)
     np.subtract(c, np.multiply(sy, turn_s, out=spare), out=c)
     np.multiply(sy, turn_c, out=s)
@@ -5363,6 +5377,8 @@ def _fast_cos_sin(np, phi, reduce, w):
 
 _QUARTER_COS = (1.0, 0.0, -1.0, 0.0)     # cos and sin of n quarter turns
 _QUARTER_SIN = (0.0, 1.0, 0.0, -1.0)
+_FAST_WELL_OFF = 0.5     # D / (P^2 + Q^2) above which a point is well off a dead centre,
+_FAST_TINY = 2.0 ** -900  # D this far above the underflow (_fast_rr_disc)
 
 
 def _fast_square(np, x, hi, lo, t, u):
@@ -5423,9 +5439,47 @@ def _fast_hypot(np, x, y, out, w):
     return np.ldexp(h, exponent, out=h)
 
 
-def _fast_four_bar(np, k, c, s, sign, level, res, w):
+def _fast_rr_disc(np, p, q, sv, line, w, disc):
+    """hypot(p, q) and the discriminant D = (rr - sv)(rr + sv) into w["rr"] and disc, as
+    _sweep_four_bar has them wherever it matters. rr = sqrt(p^2 + q^2), within 3 units of
+    roundoff (3.3e-16) of CPython's hypot, where D is over _FAST_WELL_OFF of p^2 + q^2 (there
+    sv <= root, so psi moves by at most 3.3e-16 rad = 1.9e-14 degree, psi' and psi'' by about
+    1e-15 of themselves, 1.1e-14 at worst on 600 random linkages) or plainly under -line (not
+    assembled either way); CPython's hypot itself (_fast_hypot) at the points between, near a
+    dead centre, where rr's last place is magnified (on the whole block where they are more
+    than half of it)."""
+    h2, rr, spare, doubt, below = w["h2"], w["rr"], w["spare"], w["missing"], w["flag"]
+    np.multiply(p, p, out=h2)
+    np.add(h2, np.multiply(q, q, out=spare), out=h2)
+    np.sqrt(h2, out=rr)
+    np.subtract(rr, sv, out=disc)
+    np.multiply(disc, np.add(rr, sv, out=spare), out=disc)
+    np.multiply(h2, _FAST_WELL_OFF, out=spare)
+    np.add(spare, _FAST_TINY, out=spare)
+    np.less_equal(disc, spare, out=doubt)                   # not well off a dead centre
+    np.greater_equal(disc, -(line + _FAST_TINY), out=below)  # nor plainly not assembled
+    np.logical_and(doubt, below, out=doubt)
+    if not doubt.any():
+        return rr, disc
+    where = np.flatnonzero(doubt)
+    if 2 * len(where) > len(rr):
+        _fast_hypot(np, p, q, rr, w)
+    else:
+        part = {key: w[key][:len(where)] for key in _HYPOT_WORK}
+        x, y = np.take(p, where, out=part["h2"]), np.take(q, where, out=part["spare"])
+        rr[where] = _fast_hypot(np, x, y, part["root"], part)
+    np.subtract(rr, sv, out=disc)
+    np.multiply(disc, np.add(rr, sv, out=spare), out=disc)
+    return rr, disc
+
+
+_HYPOT_WORK = ("h2", "spare", "root", "ax", "ay", "hi", "lo", "t", "t2", "csum", "f1", "f2",
+               "exponent")
+
+
+def _fast_four_bar(np, k, c, s, sign, level, line, res, w):
     """_sweep_four_bar on one block: psi, psi', psi'' into res, the discriminant into
-    res["disc"]."""
+    res["disc"] (exact where it is within `line` of zero: _fast_rr_disc)."""
     p0, pc, ps, q0, qc, qs, s0, sc, ss = k
     spare = w["spare"]
     xp = _fast_lin(np, pc, c, ps, s, w["xp"], spare)
@@ -5433,9 +5487,7 @@ def _fast_four_bar(np, k, c, s, sign, level, res, w):
     xs = _fast_lin(np, sc, c, ss, s, w["xs"], spare)
     p, q, sv = _fast_plus(np, p0, xp, w["p"]), _fast_plus(np, q0, xq, w["q"]), \
         _fast_plus(np, s0, xs, w["sv"])
-    rr = _fast_hypot(np, p, q, w["rr"], w)
-    disc = np.subtract(rr, sv, out=res["disc"])
-    np.multiply(disc, np.add(rr, sv, out=spare), out=disc)
+    rr, disc = _fast_rr_disc(np, p, q, sv, line, w, res["disc"])
     root = np.sqrt(disc, out=w["root"])      # NaN where not assembled: found by the caller
     sn, cn = w["sn"], w["cn"]
     np.multiply(q, sv, out=sn)               # sn = -q sv - sign p root
@@ -5448,7 +5500,8 @@ def _fast_four_bar(np, k, c, s, sign, level, res, w):
     np.negative(cn, out=cn)
     psi = np.arctan2(sn, cn, out=res["output"])
     np.multiply(psi, DEG, out=psi)
-    np.copyto(psi, 180.0, where=np.equal(psi, -180.0, out=w["flag"]))
+    if np.equal(psi, -180.0, out=w["flag"]).any():
+        np.copyto(psi, 180.0, where=w["flag"])
     if level == 0:
         return
     r2 = np.multiply(rr, rr, out=w["r2"])
@@ -5481,7 +5534,7 @@ def _fast_four_bar(np, k, c, s, sign, level, res, w):
         np.negative(acc, out=acc)
 
 
-def _fast_slider(np, k, c, s, sign, level, res, w):
+def _fast_slider(np, k, c, s, sign, level, line, res, w):
     """_sweep_slider on one block, in the linkage's scaled lengths (the caller multiplies by the
     unit): x, x', x'' into res, the discriminant into res["disc"]."""
     m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = k
@@ -5547,7 +5600,7 @@ def _fast_affine(np, k0, kc, c, ks, s, out, spare):
 _FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "xq", "xs", "p",
               "q", "sv", "rr", "root", "sn", "cn", "r2", "dp", "dq", "ds", "e", "fp", "xm", "xk",
               "m", "u", "v", "dist", "big", "dm", "dk", "ax", "ay", "hi", "lo", "t", "t2", "csum",
-              "f1", "f2", "disc")
+              "f1", "f2", "disc", "h2")
 
 
 def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
@@ -5574,18 +5627,19 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
     count, sign, level = len(phi), 1.0 if branch == 1 else -1.0, derivatives
     res = {"output": np.empty(count), "velocity": np.empty(count) if level >= 1 else None,
            "acceleration": np.empty(count) if level >= 2 else None}
-    status = np.zeros(count, dtype=np.int8)
+    status = np.empty(count, dtype=np.int8)
     block = min(FAST_BLOCK, max(count, 1))
     w = dict(zip(_FAST_WORK, np.empty((len(_FAST_WORK), block))))   # one allocation: the
     #                                     allocator keeps it for the next call, not new pages
     w["flag"], w["missing"], w["redo"] = np.empty((3, block), dtype=bool)
     w["quarter"] = np.empty(block, dtype=np.intp)
     w["exponent"] = np.empty(block, dtype=np.intc)
-    reduce = not max(-low, high) < 360.0
+    reduce = not max(-low, high) <= 360.0      # +-360 itself: fmod's 0 to the same bits
     step = _fast_slider if linkage.is_slider else _fast_four_bar
     k = linkage._constants
     line = FAST_MARGIN * linkage.precise_below
     last = ("output", "velocity", "acceleration")[level]
+    not_assembled = np.int8(STATUS_CODES.index(NOT_ASSEMBLED))
     redo = []
     if trig is not None:
         trig.update({key: np.empty((2, count)) for key in ("phi", "output")[
@@ -5598,16 +5652,18 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
             work = w if n == block else {key: a[:n] for key, a in w.items()}
             part["disc"] = work["disc"]
             c, s = _fast_cos_sin(np, phi[start:stop], reduce, work)
-            step(np, k, c, s, sign, level, part, work)
+            step(np, k, c, s, sign, level, line, part, work)
             if trig is not None:         # the four-bar's cos and sin of psi: cn, sn (cp, sp)
                 for key, pair in (("phi", (c, s)), ("output", (work["cn"], work["sn"]))):
                     if key in trig:
                         trig[key][0, start:stop], trig[key][1, start:stop] = pair
             disc, missing, again = part["disc"], work["missing"], work["redo"]
-            np.less(disc, -line, out=missing)
-            np.less_equal(np.abs(disc, out=disc), line, out=again)
-            again |= ~(np.isfinite(part[last], out=work["flag"]) | missing)
-            status[start:stop][missing] = STATUS_CODES.index(NOT_ASSEMBLED)
+            np.greater(disc, line, out=again)                # plainly assembled, and finite
+            np.logical_and(again, np.isfinite(part[last], out=work["flag"]), out=again)
+            np.less(disc, -line, out=missing)                # plainly not assembled
+            np.logical_or(again, missing, out=again)
+            np.logical_not(again, out=again)                 # neither: the scalar engine's
+            np.multiply(missing, not_assembled, out=status[start:stop])
             if again.any():
                 redo.append(np.flatnonzero(again) + start)
             if linkage.is_slider:
@@ -14736,9 +14792,11 @@ SPEED_TABLE = (
     ("the numpy path against the scalar engine, 100,001 points, velocity and acceleration",
      "engine", "python3 linkage.py bench engine"),
     ("the numpy path against a C loop of its own formulas (`cc -O2`, CPython's correctly rounded "
-     "hypot copied), 1e4 to 1e7 points", None, PEERS_COMMAND),
-    ("against pylinkage 1.3 with numba (without), the plane four-bar with velocity and "
-     "acceleration", None, PEERS_COMMAND),
+     "hypot copied), 1e4 to 1e7 points; against a plain C loop of the same half-tangent formula "
+     "(`cc -O2`, libm's hypot), the angle alone and with velocity and acceleration", None,
+     PEERS_COMMAND),
+    ("against pylinkage 1.3 with numba (without), the plane four-bar: positions, and with "
+     "velocity and acceleration", None, PEERS_COMMAND),
     ("1e6 points to the DAT files and a CSV, `python3 linkage.py run --precision double --fast` "
      "as a process (without `--fast`)", "files", "python3 linkage.py bench files"),
     ("the installed `linkage` command's start-up (a one-point session) against "

@@ -1,11 +1,13 @@
 """The engine beside other programs: the numpy path against a C loop of the same formulas
-(C_SWEEP, built with cc -O2 and loaded with ctypes) and against pylinkage (with numba where it is
-installed). Not part of the shipped program (`python3 linkage.py bench` measures the program
-itself); run from the repository's root as the other studies are:
+(C_SWEEP, built with cc -O2 and loaded with ctypes), against a plain C loop of the same
+half-tangent formula (C_PLAIN: libm's hypot, no correctly rounded copy) and against pylinkage
+(with numba where it is installed). Not part of the shipped program (`python3 linkage.py
+bench` measures the program itself); run from the repository's root as the other studies are,
+with an interpreter that has numba to time pylinkage as its users run it:
 
-    PYTHONPATH=tests python3 -m support.bench_peers [--quick]
+    PYTHONPATH=tests python3 -m support.bench_peers [--quick] [c] [plain] [pylinkage]
 
-It prints its numbers and how they were taken; tests/test_bench.py runs it on tiny sizes."""
+It prints its numbers and how they were taken; tests/test_fast.py runs it on tiny sizes."""
 
 from __future__ import annotations
 
@@ -30,13 +32,28 @@ def best_of(repeats: int, function: Callable[[], object]) -> float:
     return best
 
 
-def pylinkage_rates(points: int) -> dict[str, Any] | str:
-    """pylinkage's points per second on the plane four-bar and slider-crank of BENCH_LINKAGES,
-    with numba where it is installed (NUMBA_DISABLE_JIT=1: without), or why it cannot be
-    measured. The four-bar with velocity and acceleration (its fastest way,
-    Mechanism.step_fast_with_kinematics, the input at 1 rad/s); the slider-crank positions only
-    (Mechanism.step): pylinkage 1.3.0 gives no slider velocity (step_with_derivatives leaves it
-    None, and step_fast_with_kinematics does not move the slider; tests/test_pylinkage.py)."""
+def median_rates(points: int, runs: list[Callable[[], object]], calls: int) -> list[float]:
+    """Points per second of CPU time (process time) of each of `runs`, called in turn `calls`
+    times (alternated, so that a change of the machine's speed falls on all alike): medians."""
+    times: list[list[float]] = [[] for _ in runs]
+    for _ in range(calls):
+        for run, spent in zip(runs, times):
+            start = time.process_time()
+            run()
+            spent.append(time.process_time() - start)
+    return [points / sorted(spent)[len(spent) // 2] for spent in times]
+
+
+def pylinkage_runs(points: int) -> dict[str, Any] | str:
+    """pylinkage on the plane four-bar and slider-crank of BENCH_LINKAGES, `points` steps a call,
+    with numba where it is installed (NUMBA_DISABLE_JIT=1: without), or why it cannot be run.
+    The four-bar by its fast ways, numba's where it has it: Mechanism.step_fast (positions) and
+    step_fast_with_kinematics (and velocity and acceleration, the input at 1 rad/s), each
+    called once before, so that numba's compiling is not timed; the four-bar with a coupler
+    point (add_point_tracker) by step, the one way that moves the point (coupler_still); the
+    slider-crank positions only (Mechanism.step): pylinkage 1.3.0 gives no slider velocity
+    (step_with_derivatives leaves it None, and step_fast_with_kinematics does not move the
+    slider; tests/test_pylinkage.py)."""
     try:
         import pylinkage
         from pylinkage import _numba_compat
@@ -46,16 +63,56 @@ def pylinkage_rates(points: int) -> dict[str, Any] | str:
     step = math.radians(360.0 / (points - 1))
     four_bar = fourbar(crank=2.0, coupler=7.0, rocker=9.0, ground=6.0, omega=step)
     four_bar.set_input_velocity(four_bar._driver_links[0], 1.0, 0.0)
+    traced = pylinkage_coupler(step)
     slider = slider_crank(crank=2.0, rod=7.0, omega=step, slide_through=(0.0, 1.5))
     jit = _numba_compat.HAS_NUMBA and os.environ.get("NUMBA_DISABLE_JIT", "0") in ("", "0")
-    if jit:
-        four_bar.step_fast_with_kinematics(3)          # compiled here, not in the timing
+    four_bar.step_fast(3)                          # numba compiles here, not in the timing
+    four_bar.step_fast_with_kinematics(3)
     return {"version": f"pylinkage {pylinkage.__version__}, "
-                       + ("with numba (its solver compiled)" if jit else "without numba (not "
-                          "installed, or NUMBA_DISABLE_JIT=1: its solver runs as plain Python)"),
-            linkage.PLANE_FOUR_BAR: points / best_of(
-                3, lambda: four_bar.step_fast_with_kinematics(points)),
-            linkage.PLANE_SLIDER_CRANK: points / best_of(3, lambda: list(slider.step(points)))}
+                       + ("with numba (its solver compiled before the timing: the compile time "
+                          "is not in the rates)" if jit else "without numba (not installed, "
+                          "or NUMBA_DISABLE_JIT=1: its solver runs as plain Python)"),
+            "positions": lambda: four_bar.step_fast(points),
+            "kinematics": lambda: four_bar.step_fast_with_kinematics(points),
+            "coupler": lambda: list(traced.step(points)),
+            "slider": lambda: list(slider.step(points))}
+
+
+def pylinkage_coupler(step: float) -> Any:
+    """pylinkage's four-bar of BENCH_LINKAGES with a coupler point (a point tracker 3.5 from the
+    crank pin along the coupler, turned 0.3 rad), `step` radians a step."""
+    from pylinkage.mechanism.builder import MechanismBuilder
+    builder = MechanismBuilder(name="four-bar with a coupler point")
+    builder.add_ground_link("ground", ports={"A": (0.0, 0.0), "D": (6.0, 0.0)})
+    builder.add_driver_link("crank", length=2.0, motor_port="A", omega=step)
+    builder.add_link("coupler", length=7.0)
+    builder.add_link("rocker", length=9.0)
+    builder.connect("crank.tip", "coupler.0")
+    builder.connect("coupler.1", "rocker.0")
+    builder.connect("rocker.1", "ground.D")
+    builder.set_branch("coupler.1", 1)
+    builder.add_point_tracker("P", "coupler.0", "coupler.1", distance=3.5, angle=0.3)
+    return builder.build()
+
+
+def coupler_still(steps: int = 36) -> dict[str, list[int]] | str:
+    """How many of pylinkage's joints each way moves over `steps` steps of 10 degrees on the
+    four-bar with a coupler point (pylinkage_coupler: five joints, three of them moving with the
+    crank): {way: [joints that move, joints]}; or why it cannot be run."""
+    try:
+        import numpy
+        pylinkage_coupler(0.0)
+    except ImportError:
+        return "not installed (pip install pylinkage)"
+    moved = {}
+    for way in ("step", "step_fast", "step_fast_with_kinematics"):
+        mechanism = pylinkage_coupler(math.radians(10.0))
+        frames = (numpy.array(list(mechanism.step(steps)), dtype=float) if way == "step"
+                  else getattr(mechanism, way)(steps))
+        frames = frames[0] if isinstance(frames, tuple) else frames      # (positions, v, a)
+        span = numpy.abs(frames - frames[:1]).max(axis=(0, 2))          # a joint's largest move
+        moved[way] = [int((span > 1e-9).sum()), len(span)]
+    return moved
 
 
 C_SWEEP = r"""
@@ -165,10 +222,9 @@ void slider(long n, const double *phi, const double *k, double sign, int reduce,
 """
 
 
-def c_loop() -> Callable[..., list[Any]] | str:
-    """C_SWEEP built with the C compiler (cc, or $CC) -O2 in a temporary folder and loaded with
-    ctypes: a function (linkage, angles, branch) -> (phi, output, velocity, acceleration,
-    status) arrays; or why it cannot be built (a str)."""
+def built(source: str) -> Any:
+    """The C `source` built with the C compiler (cc, or $CC) -O2 in a temporary folder and loaded
+    with ctypes (a ctypes.CDLL), or why it cannot be (a str)."""
     import ctypes
     import subprocess
     import tempfile
@@ -176,15 +232,25 @@ def c_loop() -> Callable[..., list[Any]] | str:
     if not compiler:
         return "no C compiler (cc) found"
     with tempfile.TemporaryDirectory() as folder:
-        source, built = os.path.join(folder, "sweep.c"), os.path.join(folder, "sweep.so")
-        with open(source, "w", encoding="ascii") as f:
-            f.write(C_SWEEP)
+        path, library = os.path.join(folder, "loop.c"), os.path.join(folder, "loop.so")
+        with open(path, "w", encoding="ascii") as f:
+            f.write(source)
         try:
-            subprocess.run([compiler, "-O2", "-shared", "-fPIC", "-o", built, source, "-lm"],
+            subprocess.run([compiler, "-O2", "-shared", "-fPIC", "-o", library, path, "-lm"],
                            check=True, capture_output=True, timeout=120)
-            library = ctypes.CDLL(built)          # mapped: the file may go with its folder
+            return ctypes.CDLL(library)           # mapped: the file may go with its folder
         except (OSError, subprocess.SubprocessError) as e:
             return f"{compiler} -O2 failed: {getattr(e, 'stderr', b'').decode(errors='replace')[:200] or e}"
+
+
+def c_loop() -> Callable[..., list[Any]] | str:
+    """C_SWEEP built with the C compiler (cc, or $CC) -O2 in a temporary folder and loaded with
+    ctypes: a function (linkage, angles, branch) -> (phi, output, velocity, acceleration,
+    status) arrays; or why it cannot be built (a str)."""
+    import ctypes
+    library = built(C_SWEEP)
+    if isinstance(library, str):
+        return library
     np = linkage.numpy_module()
     double_p, status_p = (np.ctypeslib.ndpointer(dtype=t, flags="C_CONTIGUOUS")
                           for t in (np.float64, np.int8))
@@ -258,40 +324,192 @@ def bench_c_loop(out: TextIO, sizes: tuple[int, ...]) -> None:
               file=out)
 
 
-def bench_pylinkage(out: TextIO, points: int) -> None:
-    """pylinkage's rates beside ours (the scalar engine and the numpy path) on the same angles."""
-    theirs = pylinkage_rates(points)
+C_PLAIN = r"""
+/* The plane four-bar's output angle as anyone would write the engine's half-tangent formula in C
+   (the root of P cos psi + Q sin psi = -S that _sweep_four_bar takes): libm's cos, sin, hypot
+   and atan2, the angle turned into radians without reduction, no point classified or handed
+   over (NaN where not assembled, as sqrt gives it). angle: psi alone; motion: psi, psi', psi''. */
+#include <math.h>
+
+#define TERMS(k) double p0 = k[0], pc = k[1], ps = k[2], q0 = k[3], qc = k[4], qs = k[5], \
+                        s0 = k[6], sc = k[7], ss = k[8]
+
+void angle(long n, const double *phi, const double *k, double sign, double *out)
+{
+    TERMS(k);
+    for (long i = 0; i < n; i++) {
+        double t = phi[i] * (M_PI / 180.0), c = cos(t), s = sin(t);
+        double p = p0 + pc * c + ps * s, q = q0 + qc * c + qs * s, sv = s0 + sc * c + ss * s;
+        double rr = hypot(p, q), root = sqrt((rr - sv) * (rr + sv));
+        out[i] = atan2(-q * sv - sign * p * root, -p * sv + sign * q * root) * (180.0 / M_PI);
+    }
+}
+
+void motion(long n, const double *phi, const double *k, double sign, double *out, double *vel,
+            double *acc)
+{
+    TERMS(k);
+    for (long i = 0; i < n; i++) {
+        double t = phi[i] * (M_PI / 180.0), c = cos(t), s = sin(t);
+        double xp = pc * c + ps * s, xq = qc * c + qs * s, xs = sc * c + ss * s;
+        double p = p0 + xp, q = q0 + xq, sv = s0 + xs;
+        double rr = hypot(p, q), root = sqrt((rr - sv) * (rr + sv));
+        double sn = -q * sv - sign * p * root, cn = -p * sv + sign * q * root;
+        out[i] = atan2(sn, cn) * (180.0 / M_PI);
+        double cp = cn / (rr * rr), sp = sn / (rr * rr);
+        double dp = ps * c - pc * s, dq = qs * c - qc * s, ds = ss * c - sc * s;
+        double v = -sign * (dp * cp + dq * sp + ds) / root;
+        vel[i] = v;
+        acc[i] = -sign * (-(xp * cp + xq * sp + xs) + 2.0 * (dq * cp - dp * sp) * v
+                          + sv * v * v) / root;
+    }
+}
+"""
+
+
+def plain_loop() -> Callable[..., list[Any]] | str:
+    """C_PLAIN built as C_SWEEP is: a function (linkage, angles, derivatives 0 or 2) -> its
+    output arrays, made anew as sweep_arrays makes its own (psi; or psi, psi', psi''); or why it
+    cannot be built (a str)."""
+    import ctypes
+    library = built(C_PLAIN)
+    if isinstance(library, str):
+        return library
+    np = linkage.numpy_module()
+    double_p = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
+    common = [ctypes.c_long, double_p, double_p, ctypes.c_double]
+    library.angle.argtypes = common + [double_p]
+    library.motion.argtypes = common + [double_p] * 3
+
+    def plain_sweep(link: linkage.Linkage, angles: Any, derivatives: int = 0,
+                    branch: int = 1) -> list[Any]:
+        """C_PLAIN's answer for the plane four-bar `link` at `angles` (a float64 array)."""
+        n = len(angles)
+        answer = [np.empty(n) for _ in range(1 if derivatives == 0 else 3)]
+        (library.angle if derivatives == 0 else library.motion)(
+            n, angles, np.array(link._constants), 1.0 if branch == 1 else -1.0, *answer)
+        return answer
+    return plain_sweep
+
+
+PLAIN_TARGET = 0.8       # sweep_arrays' rate over C_PLAIN's, the angle alone, 1e4 points and more
+
+
+def bench_plain_loop(out: TextIO, sizes: tuple[int, ...],
+                     calls: int | None = None) -> dict[tuple[int, int], float]:
+    """sweep_arrays against C_PLAIN on the plane four-bar of BENCH_LINKAGES, branch 1, the angle
+    alone and with velocity and acceleration, at each of `sizes` points (0 to 360 degrees): the
+    CPU time of every call (`calls` of each, or 5 to 201 by the size), the two alternated, and
+    the ratio of their medians; the load average before and after each row. Returns the ratios
+    by (derivatives, points)."""
+    plain = plain_loop()
+    if isinstance(plain, str):
+        print(f"plain C loop: skipped ({plain})", file=out)
+        return {}
+    np = linkage.numpy_module()
+    print("\nsweep_arrays against a plain C loop of the same half-tangent formula (C_PLAIN: libm's "
+          "hypot and atan2, no reduction of the angle, nothing classified; cc -O2, called with "
+          "ctypes), the plane four-bar, branch 1, angles 0 to 360; points per second of CPU time, "
+          "medians of 5 to 201 calls each (more for fewer points), the two alternated; agree "
+          "to: the largest difference of their numbers where both have them (degrees; the "
+          "velocity and acceleration ratios); load: the load average before and after", file=out)
+    print(f"{'points':>11} {'what':>11} {'numpy':>12} {'plain C':>12} {'numpy/C':>8} "
+          f"{'agree to':>9} {'load':>9}", file=out)
+    kind, dims = linkage.BENCH_LINKAGES[0]
+    link = linkage.Linkage(kind, **dims)
+    ratios = {}
+    for level in (0, 2):
+        for n in sizes:
+            angles = np.linspace(0.0, 360.0, n)
+            load = os.getloadavg()[0] if hasattr(os, "getloadavg") else math.nan
+            fast, c = link.sweep_arrays(angles, 1, level), plain(link, angles, level)
+            numpy_rate, c_rate = median_rates(n, [lambda: link.sweep_arrays(angles, 1, level),
+                                                  lambda: plain(link, angles, level)],
+                                              calls or max(5, min(201, 2_000_000 // n) | 1))
+            both = (fast.status == 0) & np.isfinite(c[0])
+            gaps = [np.abs(got - want)[both] for got, want in zip(c, fast[1:4])]
+            gaps[0] = np.minimum(gaps[0], 360.0 - gaps[0])          # psi = 180 and -180
+            agree = max(float(np.max(g, initial=0.0)) for g in gaps)
+            ratios[level, n] = numpy_rate / c_rate
+            after = os.getloadavg()[0] if hasattr(os, "getloadavg") else math.nan
+            print(f"{n:11,} {('angle', '', '+vel., acc.')[level]:>11} {numpy_rate:12,.0f} "
+                  f"{c_rate:12,.0f} {numpy_rate / c_rate:8.2f} {agree:9.1e} "
+                  f"{load:4.1f}-{after:<4.1f}", file=out, flush=True)
+    wide = [(level, n) for level, n in ratios if n >= 10_000 and level == 0]
+    if wide:
+        low = min(ratios[key] for key in wide)
+        print(f"target: numpy >= {PLAIN_TARGET} of the plain C loop for the angle alone from "
+              f"10,000 points to {max(sizes):,}: {'met' if low >= PLAIN_TARGET else 'NOT MET'}, "
+              f"lowest {low:.2f}", file=out)
+    return ratios
+
+
+def bench_pylinkage(out: TextIO, points: int, calls: int = 5) -> None:
+    """pylinkage beside us (the numpy path and the scalar engine) on the same angles, like with
+    like: their four-bar positions (step_fast) against our output angle alone, with velocity
+    and acceleration (step_fast_with_kinematics) against ours with them, its coupler point (step)
+    against our coupler point, the slider-crank's positions (step) against our displacement;
+    CPU time, medians of `calls` calls, theirs and ours alternated."""
+    theirs = pylinkage_runs(points)
     if isinstance(theirs, str):
         print(f"pylinkage: {theirs}", file=out)
         return
-    print(f"\n{theirs['version']}; {points:,} angles; ours/pylinkage compares like with like "
-          "(the slider: our displacement-only rates)", file=out)
+    print(f"\n{theirs['version']}; {points:,} angles; points per second of CPU time, medians of "
+          f"{calls} calls each, theirs and ours alternated", file=out)
     angles = linkage.evenly_spaced_angles(0.0, 360.0, 360.0 / (points - 1))
-    for kind, what in ((linkage.PLANE_FOUR_BAR, "with velocity and acceleration "
-                        "(step_fast_with_kinematics)"),
-                       (linkage.PLANE_SLIDER_CRANK, "positions only (step; no slider velocity)")):
-        level = 2 if kind == linkage.PLANE_FOUR_BAR else 0
+    try:
+        array = linkage.angle_array(0.0, 360.0 / (points - 1), 0, points)
+    except linkage.FastUnavailable:
+        array = None
+    u, v = 3.5 * math.cos(0.3), 3.5 * math.sin(0.3)
+    rows: tuple[tuple[str, str, str, int], ...] = (
+            (linkage.PLANE_FOUR_BAR, "positions", "positions (step_fast)", 0),
+            (linkage.PLANE_FOUR_BAR, "kinematics", "with velocity and acceleration "
+             "(step_fast_with_kinematics)", 2),
+            (linkage.PLANE_FOUR_BAR, "coupler", "a coupler point's positions (step: "
+             "step_fast leaves the point still)", 0),
+            (linkage.PLANE_SLIDER_CRANK, "slider", "positions only (step; no slider velocity)",
+             0))
+    for kind, key, what, level in rows:
         link = linkage.Linkage(kind, **dict(linkage.BENCH_LINKAGES)[kind])
-        scalar = points / best_of(3, lambda: link.sweep(angles, 1, level))
-        try:
-            array = linkage.angle_array(0.0, 360.0 / (points - 1), 0, points)
-            fast = points / best_of(3, lambda: link.sweep_arrays(array, 1, level))
-            ours = f"numpy path {fast / theirs[kind]:,.0f}x, "
-        except linkage.FastUnavailable:
-            ours = ""
-        print(f"{kind:12} {theirs[kind]:12,.0f} points/s {what}; ours/pylinkage: {ours}"
-              f"scalar engine {scalar / theirs[kind]:,.1f}x", file=out)
+        ours: list[Callable[[], object]]
+        if key == "coupler":
+            ours = [lambda: link.coupler(angles, u, v, 1, level)] + (
+                [lambda: link.coupler_arrays(array, u, v, 1, level)] if array is not None else [])
+        else:
+            ours = [lambda: link.sweep(angles, 1, level)] + (
+                [lambda: link.sweep_arrays(array, 1, level)] if array is not None else [])
+        rates = median_rates(points, [theirs[key]] + ours, calls)
+        fast = f"numpy path {rates[2] / rates[0]:,.1f}x, " if len(rates) > 2 else ""
+        print(f"{kind:12} {rates[0]:12,.0f} points/s {what}; ours/pylinkage: {fast}"
+              f"scalar engine {rates[1] / rates[0]:,.2f}x", file=out, flush=True)
+    moved = coupler_still()
+    if not isinstance(moved, str):
+        still = [way for way, (n, _) in moved.items() if n < moved["step"][0]]
+        print(f"the coupler point, over 36 steps of 10 degrees: of the four-bar's "
+              f"{moved['step'][1]} joints " + ", ".join(f"{way} moves {n}" for way, (n, _) in
+                                                        moved.items())
+              + (f": {' and '.join(still)} leave the coupler point where it was built" if still
+                 else ""), file=out)
 
 
 def main(argv: list[str] | None = None) -> int:
-    quick = "--quick" in (sys.argv[1:] if argv is None else argv)
-    print(f"{linkage.machine()}; CPU time, this process", flush=True)
+    """[--quick] [c] [plain] [pylinkage]: the benches named (all where none), tiny with --quick."""
+    args = sys.argv[1:] if argv is None else argv
+    quick, names = "--quick" in args, [a for a in args if a != "--quick"] or ["c", "plain",
+                                                                               "pylinkage"]
+    print(f"{linkage.machine()}; CPU time, this process; {sys.executable}", flush=True)
+    sizes = C_SIZES[:2] if quick else C_SIZES
     try:
         linkage.numpy_module()
-        bench_c_loop(sys.stdout, C_SIZES[:2] if quick else C_SIZES)
+        if "c" in names:
+            bench_c_loop(sys.stdout, sizes)
+        if "plain" in names:
+            bench_plain_loop(sys.stdout, sizes)
     except linkage.FastUnavailable as e:
         print(f"C loop: skipped ({e})")
-    bench_pylinkage(sys.stdout, 101 if quick else 100_001)
+    if "pylinkage" in names:
+        bench_pylinkage(sys.stdout, 101 if quick else 100_001)
     return 0
 
 
