@@ -4,7 +4,7 @@
     PYTHONPATH=tests python3 -m support.make_scene_pngs NAME ...  # only these scenes
 
 Each PNG is what `python3 linkage.py scene data/scenes/<scene>.toml --png <scene>.png` draws, at
-the size PNG_SIZES gives it (the README's two-column pictures are 720 x 500; the rest take the
+the options PNG_OPTIONS gives it (the README's two-column pictures are 720 x 500; the rest take the
 scene's own size). This script is the only thing that writes them: run it when a drawing changes,
 and look at every PNG it rewrote before committing (matplotlib is needed; the tests check only
 that every stored PNG has its row here and its scene beside it).
@@ -19,15 +19,15 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "data" / "scenes"
 
-# The stored PNGs, each with the --size it is drawn at ("" for the scene's own size).
-PNG_SIZES: dict[str, str] = {
+# The stored PNGs, each with the options it is drawn with ("" for the scene's own size).
+PNG_OPTIONS: dict[str, str] = {
     "coupler-plane-four-bar": "720x500",
     "coupler-plane-slider-crank": "720x500",
     "coupler-skew-four-bar": "720x500",
     "coupler-skew-slider-crank": "720x500",
     "coupler-spherical-four-bar": "720x500",
     "fig3-plane-four-bar": "",
-    "forces-arrows-crank-rocker": "720x500",
+    "forces-arrows-crank-rocker": "720x500 --dpi 72",
     "forces-follow-change-point": "",
     "forces-plane-crank-rocker": "",
     "forces-skew-four-bar": "",
@@ -43,17 +43,23 @@ PNG_SIZES: dict[str, str] = {
 
 def command(name: str) -> list[str]:
     """The command that draws the scene's stored PNG, as a user would type it."""
-    size = PNG_SIZES[name]
     return ([sys.executable, str(ROOT / "linkage.py"), "scene", str(SCENES / f"{name}.toml"),
-             "--png", str(SCENES / f"{name}.png")] + (["--size", size] if size else []))
+             "--png", str(SCENES / f"{name}.png")]
+            + size_option(name) + PNG_OPTIONS[name].split()[1:])
+
+
+def size_option(name: str) -> list[str]:
+    """The --size a stored PNG is drawn at, or none (the scene's own)."""
+    size = PNG_OPTIONS[name].split()[:1]
+    return ["--size"] + size if size else []
 
 
 def main(names: list[str]) -> int:
-    unknown = [name for name in names if name not in PNG_SIZES]
+    unknown = [name for name in names if name not in PNG_OPTIONS]
     if unknown:
         print(f"no stored PNG for: {', '.join(unknown)}", file=sys.stderr)
         return 2
-    for name in names or list(PNG_SIZES):
+    for name in names or list(PNG_OPTIONS):
         print(" ".join(command(name)[1:]), flush=True)
         subprocess.run(command(name), check=True, stdout=subprocess.DEVNULL)
     return 0
