@@ -107,7 +107,7 @@ GRID = [0.25 * i for i in range(1441)]          # 0 to 360 by 0.25, both ends
 LENGTH = st.floats(0.2, 10.0)
 
 
-@examples(300)
+@examples(100)
 @given(a=LENGTH, b=LENGTH, c=LENGTH, d=LENGTH, branch=st.sampled_from([1, 2]))
 def test_grashof_says_what_the_sampled_motion_does(a, b, c, d, branch):
     """The plane four-bar's D is least at phi = 0 or 180 (it is a concave quadratic in cos phi),

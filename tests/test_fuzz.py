@@ -394,7 +394,7 @@ class Outputs:
             assert not reader.is_alive(), f"{path}: the FIFO is still open"
 
 
-@fuzz(80)
+@fuzz(40)
 @given(writer=st.sampled_from(list(WRITERS)), kinds=st.lists(st.sampled_from(OUTPUTS),
                                                              min_size=2, max_size=2))
 @example(writer="run double", kinds=["fifo", "new"])                       # issue 22, item 3
@@ -615,7 +615,7 @@ class DxfOutputs(Outputs):
             fifo.read(10)
 
 
-@fuzz(80)
+@fuzz(40)
 @given(writer=st.sampled_from(list(DXF_WRITERS)),
        kinds=st.lists(st.sampled_from(DXF_OUTPUTS), min_size=2, max_size=2))
 @example(writer="mechanism scene", kinds=["/dev/full", "new"])
@@ -662,7 +662,7 @@ EXPLORE_TARGETS = [[], ["plane"], ["slider", "--b", "2", "--c", "5", "--e", "1"]
                                            "--d", "1"], ["x"], ["/dev/zero"]]
 
 
-@fuzz(600)
+@fuzz(150)
 @given(keys=st.lists(st.sampled_from(EXPLORE_KEYS), max_size=80).map("\n".join)
        | st.lists(st.sampled_from(EXPLORE_KEYS + EXPLORE_JUNK) | st.text(max_size=3), max_size=40)
        .map("\n".join),

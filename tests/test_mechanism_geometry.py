@@ -189,7 +189,7 @@ LINKAGES = {
     "slider": st.fixed_dictionaries(dict(b=length, c=length, e=offset)),
     "skew-slider": st.fixed_dictionaries(dict(a=length, b=length, c=length, f=offset, ksi=ksi)),
 }
-DRAWS = 500
+DRAWS = 150
 
 
 @pytest.mark.parametrize("kind", list(LINKAGES))

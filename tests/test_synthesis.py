@@ -1225,7 +1225,7 @@ def design_argv(draw):
     return argv + ["--analyze"]
 
 
-@settings(SETTINGS, max_examples=int(os.environ.get("SYNTHESIS_FUZZ_EXAMPLES", "60")))
+@settings(SETTINGS, max_examples=int(os.environ.get("SYNTHESIS_FUZZ_EXAMPLES", "25")))
 @seed(11)
 @example(["fourb-cr-4", "--psi", "1e-9", "--mu-min", "40", "--analyze"])
 @example(["fourb-cr-4", "--psi", "1e-6", "--mu-min", "40", "--analyze"])
