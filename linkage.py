@@ -2784,10 +2784,13 @@ class Closure:
     that power is `unit`, the dimensions so divided `scaled` (angles as given; what the sections
     that derive joints and forces from the closure compute with), and `precise_below` the
     discriminant under which a position is solved in 50-digit decimal (decimal_motion; the
-    numpy path hands such positions back, with a margin: FAST_MARGIN).
+    numpy path hands such positions back, with a margin: FAST_MARGIN). `constants` are the
+    closure's coefficients in double (_closure_constants of the scaled dimensions: the plane
+    four-bar's p0 pc ps q0 qc qs s0 sc ss, each kind's as it lists them), which the numpy path and
+    the simulation's scalar evaluations solve with.
     """
 
-    __slots__ = ("kind", "dims", "is_slider", "unit", "scaled", "_constants", "precise_below",
+    __slots__ = ("kind", "dims", "is_slider", "unit", "scaled", "constants", "precise_below",
                  "_decimal")
 
     def __init__(self, kind: str, **dims: float) -> None:
@@ -2800,7 +2803,7 @@ class Closure:
         self.scaled = {k: v if k == "ksi" or kind == SPHERICAL_FOUR_BAR else v / self.unit
                         for k, v in self.dims.items()}
         exact = _closure_constants(kind, self.scaled, _trig_double)
-        self._constants = tuple(float(v) for v in exact)
+        self.constants = tuple(float(v) for v in exact)
         self.precise_below = _PRECISE_BELOW * float(_size_squared(kind, exact))
         # the 50-digit (and 110-digit) constants by precision, made at the first use: the
         # closure's constants, the discriminant's zero and the line under which 110 digits serve
@@ -2854,7 +2857,7 @@ class Closure:
         solved as the four-bar sweep solves for psi; in double precision, for a coordinate
         away from the output's own dead centres: None where it does not assemble, or at
         dE/dphi = 0."""
-        k = self._constants
+        k = self.constants
         if self.is_slider:
             m0, mc, ms, k0, kc, ks = k[:6]
             x = output / self.unit
@@ -2929,7 +2932,7 @@ def _sweep_four_bar(linkage: Closure, phis: list[float], sign: float, level: int
     """The four-bar loop: psi on branch `sign` (+1: dE/dpsi > 0) from P cos psi + Q sin psi = -S,
     psi' = -E_phi / E_psi and psi'' = -(E_phiphi + 2 E_phipsi psi' + E_psipsi psi'^2) / E_psi,
     with E_psi = sign sqrt(D), D = P^2 + Q^2 - S^2, and E_psipsi = S on the root."""
-    p0, pc, ps, q0, qc, qs, s0, sc, ss = linkage._constants
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = linkage.constants
     precise_below = linkage.precise_below
     hypot, sqrt, atan2 = math.hypot, math.sqrt, math.atan2
     deg, new = DEG, tuple.__new__
@@ -2989,7 +2992,7 @@ def _sweep_slider(linkage: Closure, phis: list[float], sign: float, level: int) 
     """The slider-crank loop: x = m + sign sqrt(D), D = c^2 - u^2 - v^2, by the stable quadratic
     formula (the root away from zero first, the other as q over it); x' = -G_phi / G_x and x''
     likewise, with G_x = 2 sign sqrt(D)."""
-    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = linkage._constants
+    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = linkage.constants
     precise_below, unit = linkage.precise_below, linkage.unit
     hypot, sqrt = math.hypot, math.sqrt
     new = tuple.__new__
@@ -3811,8 +3814,8 @@ def _discriminant(linkage: Closure
                   ) -> tuple[Callable[[float], float], Callable[[float], float]]:
     """D(phi) and D'(phi) (phi in degrees, D' by radians) over the scale of D, in double: each
     term divided by the scale's root before it is squared (no overflow, no underflow)."""
-    root = closure_scale(linkage.kind, linkage._constants) or 1.0
-    k = tuple(v / root for v in linkage._constants)
+    root = closure_scale(linkage.kind, linkage.constants) or 1.0
+    k = tuple(v / root for v in linkage.constants)
 
     def terms(phi: float) -> tuple[float, float]:
         c, s = cos_sin_degrees(phi)
@@ -5636,7 +5639,7 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
     w["exponent"] = np.empty(block, dtype=np.intc)
     reduce = not max(-low, high) <= 360.0      # +-360 itself: fmod's 0 to the same bits
     step = _fast_slider if linkage.is_slider else _fast_four_bar
-    k = linkage._constants
+    k = linkage.constants
     line = FAST_MARGIN * linkage.precise_below
     last = ("output", "velocity", "acceleration")[level]
     not_assembled = np.int8(STATUS_CODES.index(NOT_ASSEMBLED))
@@ -7047,7 +7050,7 @@ def _four_bar_found(view: SimView, q: float, near: _Near, label: int) -> _Found 
     root_near chooses it, the pins from the closure's cos and sin of phi and psi. Near the
     discriminant's zero (a change point, a dead centre), without a prediction, and at an angle not
     finite (the engine's error), it is _found."""
-    p0, pc, ps, q0, qc, qs, s0, sc, ss = view.closure._constants
+    p0, pc, ps, q0, qc, qs, s0, sc, ss = view.closure.constants
     if near is None or not math.isfinite(q * DEG):
         return _found(view, q, near, label)
     c, s = cos_sin_degrees(q * DEG)
@@ -7090,7 +7093,7 @@ def _four_bar_found(view: SimView, q: float, near: _Near, label: int) -> _Found 
 def _slider_found(view: SimView, q: float, near: _Near, label: int) -> _Found | None:
     """_found for the plane slider-crank in its crank's angle, as _four_bar_found (a copy of
     _sweep_slider's formulas for one angle); in its slider's x (view.swapped) it is _found."""
-    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = view.closure._constants
+    m0, mc, ms, k0, kc, ks, u0, uc, us, v0, vc, vs, rod = view.closure.constants
     if near is None or view.swapped or not math.isfinite(q * DEG):
         return _found(view, q, near, label)
     c, s = cos_sin_degrees(q * DEG)

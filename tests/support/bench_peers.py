@@ -262,7 +262,7 @@ def c_loop() -> Callable[..., list[Any]] | str:
         """sweep_arrays' answer (its five arrays, new, as it makes them) by C_SWEEP."""
         n = len(angles)
         answer = [np.empty(n) for _ in range(3)] + [np.empty(n, dtype=np.int8)]
-        args = [n, angles, np.array(link._constants), 1.0 if branch == 1 else -1.0,
+        args = [n, angles, np.array(link.constants), 1.0 if branch == 1 else -1.0,
                 int(not max(-angles.min(), angles.max()) < 360.0),
                 linkage.FAST_MARGIN * link.precise_below]
         if link.is_slider:
@@ -387,7 +387,7 @@ def plain_loop() -> Callable[..., list[Any]] | str:
         n = len(angles)
         answer = [np.empty(n) for _ in range(1 if derivatives == 0 else 3)]
         (library.angle if derivatives == 0 else library.motion)(
-            n, angles, np.array(link._constants), 1.0 if branch == 1 else -1.0, *answer)
+            n, angles, np.array(link.constants), 1.0 if branch == 1 else -1.0, *answer)
         return answer
     return plain_sweep
 
