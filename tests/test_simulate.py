@@ -567,15 +567,17 @@ def test_a_coupler_force_on_a_spherical_double_rocker_does_the_work_of_its_point
 def test_rhombus_keeps_its_parallelogram_through_its_change_points():
     """All links 1 m, 1 kg rods: the parallelogram's coupler translates, so J = 1/3 + 1 + 1/3 and
     the potential is 2 g sin phi: a pendulum theta = phi + 90 with J theta'' = -2 g sin theta,
-    solved by Jacobi's sn. Started at 150 degrees with the coupler's pins at 1 m/s, it swings
-    through phi = 180 (the change point, folded) and phi = 0 (A on B0) on each side."""
+    solved by Jacobi's sn. Started at 150 degrees with the coupler's pins at 1 m/s, it turns
+    through phi = 180 (the change point, folded) and phi = 0 (A on B0): 100 passes in 64 s, a
+    parallelogram at every row (never the kite), its pin on the pendulum's to 1e-6 m (seen:
+    3.7e-7, the phase error of 64 s at the tolerance; 1.3 s of CPU)."""
     lk = Linkage("plane", a=1.0, b=1.0, c=1.0, d=1.0)
     branch = next(k for k in (1, 2) if abs(lk.motion(150.0, k).output - 150.0) < 1e-9)
     sim = simulate(lk, Bodies(Body(1.0), Body(1.0), Body(1.0)), Effects(gravity=G),
-                   initial=(150.0, 30.0 / math.pi), time=5.0, step=0.05, tolerance=1e-10,
+                   initial=(150.0, 30.0 / math.pi), time=64.0, step=0.05, tolerance=1e-10,
                    branch=branch)
     crossings = events(sim, linkage.CHANGE_POINT)
-    assert len(crossings) >= 6
+    assert len(crossings) >= 100
     assert all(abs(math.sin(math.radians(e.phi))) < 1e-9 for e in crossings)
     assert {round(math.cos(math.radians(e.phi))) for e in crossings} == {-1, 1}
     assert max(abs(math.remainder(r.output - r.phi, 360.0)) for r in sim.rows) < 1e-9
@@ -591,7 +593,7 @@ def test_rhombus_keeps_its_parallelogram_through_its_change_points():
         pin = (math.cos(theta - math.pi / 2.0), math.sin(theta - math.pi / 2.0))
         got = (math.cos(math.radians(r.phi)), math.sin(math.radians(r.phi)))
         worst = max(worst, math.dist(pin, got))
-    assert worst < 1e-7, worst
+    assert worst < 1e-6, worst
 
 
 # -- the input's dead centre, against the motion in the output's angle -----------------------------
