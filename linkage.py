@@ -6194,15 +6194,17 @@ def _scaled(x: _Term) -> tuple[_Term, float]:
 
 class _Plan(NamedTuple):
     """A recipe made into numpy calls: steps (ufunc, argument, argument or -1, result), each an
-    index into registers (the inputs', the buffers', the results', the constants' places)."""
-    steps: list[tuple[Any, int, int, int]]
-    registers: list[Any]
-    inputs: list[int]
-    results: list[int]
+    index into registers (the inputs', the buffers', the results', the constants' places: the
+    buffers' and those of inputs and results None, filled by each call)."""
+    steps: tuple[tuple[Any, int, int, int], ...]
+    registers: tuple[Any, ...]
+    inputs: range
+    results: range
+    buffers: tuple[int, ...]
 
 
-def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Sequence[_Term],
-          block: int) -> _Plan:
+def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Sequence[_Term]
+          ) -> _Plan:
     """The steps that compute `results` (terms, each its own place) from `inputs`: only the
     operations they need, each value's buffer free for another once its last use has run."""
     terms = recipe.terms
@@ -6254,10 +6256,8 @@ def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Seq
     for i, term in enumerate(results):           # a result that is an input, or another's
         if place[term.index] != len(inputs) + i:
             steps.append((np.positive, place[term.index], -1, len(inputs) + i))
-    for at in buffers:              # each its own: freed and made again a call at a time, the
-        registers[at] = np.empty(block)     # allocator's reuse, where one block of them all
-        #                                     would be new pages (3.5 MB) each call
-    return _Plan(steps, registers, list(range(len(inputs))), list(range(len(inputs), fixed)))
+    return _Plan(tuple(steps), tuple(registers), range(len(inputs)), range(len(inputs), fixed),
+                 tuple(buffers))
 
 
 def _run(plan: _Plan, registers: list[Any]) -> None:
@@ -6496,30 +6496,27 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
     return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor) * (1.0 / size)
 
 
-def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
-                     bodies: Bodies = Bodies(), effects: Effects = Effects(), *,
-                     radius: float = 1.0, trig: dict[str, Any] | None = None) -> ForcesArrays:
-    """forces() on a MotionArrays of `branch` with velocity and acceleration (Linkage.sweep_arrays'
-    answer): a ForcesArrays (see Linkage.forces_arrays). trig: the sweep's cosines and sines
-    (motion_arrays_of's), computed here where not given."""
-    np = numpy_module()
+class _ForcesTrace(NamedTuple):
+    """What forces_of_arrays records once for a linkage, its bodies and effects: the plan; the
+    answer's rows (the torque, near, the shaking force's three and its moment's, then each
+    joint's force and moment where it carries one), each a constant or None where the plan
+    computes it (its results in the rows' order); the joints, each with whether it carries a
+    force and a moment; the crank's speed (rad/s and rpm)."""
+    plan: _Plan
+    rows: tuple[float | None, ...]
+    joints: tuple[tuple[str, bool, bool], ...]
+    omega: float
+    speed_rpm: float
+
+
+@functools.lru_cache(maxsize=16)
+def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: float
+                  ) -> _ForcesTrace:
+    """The formulas traced for forces_of_arrays (the same for every call with these: kept, as
+    the plan holds no arrays of a call; the bench's repeated calls took 0.5 to 1.2 ms less)."""
     setup = forces_setup(linkage, bodies, effects, radius)
-    if arrays.velocity is None or arrays.acceleration is None:
-        raise ValueError("the forces need the sweep's velocity and acceleration (derivatives 2)")
-    trig = dict(trig or {})
-    for key, angles in (("phi", arrays.phi), ("output", arrays.output))[
-            :1 if linkage.is_slider else 2]:
-        if key not in trig:
-            trig[key] = cos_sin_degrees_array(np, angles)
-            continue
-        stale = np.flatnonzero(np.isnan(trig[key][0]))    # handed to the scalar sweep
-        stale = stale[~np.isnan(angles[stale])]
-        if len(stale):
-            trig[key][0][stale], trig[key][1][stale] = cos_sin_degrees_array(np, angles[stale])
-    sources = [pair[j] for pair in trig.values() for j in (0, 1)] + [
-        arrays.output, arrays.velocity, arrays.acceleration]
     recipe = _Recipe()
-    inputs = [recipe.input() for _ in sources]
+    inputs = [recipe.input() for _ in range(5 if linkage.is_slider else 7)]
     states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
     t, reactions, force, moment, apart = _reactions_arrays(recipe, setup, states, pa, pp, h)
     # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
@@ -6528,36 +6525,67 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
     # number passes
     check = t + sum(force) + sum(moment)
     near = apart + recipe.term("subtract", check, check) if type(check) is _Term else apart
+    values = [t, near, *force, *moment] + [x for pair in reactions.values()
+                                           for v in pair if v is not None for x in v]
+    plan = _plan(numpy_module(), recipe, inputs, [v for v in values if type(v) is _Term])
+    return _ForcesTrace(plan, tuple(None if type(v) is _Term else float(v) for v in values),
+                        tuple((name, f is not None, m is not None)
+                              for name, (f, m) in reactions.items()),
+                        setup.omega, setup.speed_rpm)
+
+
+def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
+                     bodies: Bodies = Bodies(), effects: Effects = Effects(), *,
+                     radius: float = 1.0, trig: dict[str, Any] | None = None) -> ForcesArrays:
+    """forces() on a MotionArrays of `branch` with velocity and acceleration (Linkage.sweep_arrays'
+    answer): a ForcesArrays (see Linkage.forces_arrays). trig: the sweep's cosines and sines
+    (motion_arrays_of's), computed here where not given."""
+    np = numpy_module()
+    try:
+        trace = _forces_trace(linkage, bodies, effects, radius)
+    except TypeError:                   # a body's or an effect's list: not to be kept
+        trace = _forces_trace.__wrapped__(linkage, bodies, effects, radius)
+    if arrays.velocity is None or arrays.acceleration is None:
+        raise ValueError("the forces need the sweep's velocity and acceleration (derivatives 2)")
+    trig = dict(trig or {})
+    keys = (("phi", arrays.phi), ("output", arrays.output))[:1 if linkage.is_slider else 2]
+    for key, angles in keys:
+        if key not in trig:
+            trig[key] = cos_sin_degrees_array(np, angles)
+            continue
+        stale = np.flatnonzero(np.isnan(trig[key][0]))    # handed to the scalar sweep
+        stale = stale[~np.isnan(angles[stale])]
+        if len(stale):
+            trig[key][0][stale], trig[key][1][stale] = cos_sin_degrees_array(np, angles[stale])
+    sources = [trig[key][j] for key, _ in keys for j in (0, 1)] + [
+        arrays.output, arrays.velocity, arrays.acceleration]
     count = len(arrays.phi)
     # one allocation for the answer's arrays: freed whole, it is the allocator's to reuse at
     # the next call (in parts, glibc gave them back to the system and faulted in new pages, 16
     # MB of them a call, as much again as the forces' work: python3 linkage.py bench forces)
-    kept = [v for pair in reactions.values() for v in pair if v is not None]
-    whole = np.empty((8 + 3 * len(kept), count))
+    whole = np.empty((len(trace.rows), count))
     torque, apart_of, shaking = whole[0], whole[1], whole[2:8].reshape(2, 3, count)
     parts = iter(range(8, len(whole), 3))
-    joints = {name: ReactionArrays(*(None if v is None else whole[(i := next(parts)):i + 3]
-                                     for v in pair)) for name, pair in reactions.items()}
-    rows = [(torque, t), (apart_of, near)] + [
-        (into[j], v[j]) for pair, into in [((force, moment), shaking)] + [
-            (reactions[name], r) for name, r in joints.items()]
-        for v, into in zip(pair, into) if v is not None for j in range(3)]
-    results = [(row, value) for row, value in rows if type(value) is _Term]
-    for row, value in rows:
-        if type(value) is not _Term:
+    joints = {name: ReactionArrays(*(whole[(i := next(parts)):i + 3] if kept else None
+                                     for kept in pair)) for name, *pair in trace.joints}
+    for row, value in zip(whole, trace.rows):
+        if value is not None:
             row.fill(value)
-    block = min(FAST_BLOCK, max(count, 1))
-    plan = _plan(np, recipe, inputs, [value for _, value in results], block)
+    results = [row for row, value in zip(whole, trace.rows) if value is None]
+    block, plan = min(FAST_BLOCK, max(count, 1)), trace.plan
     registers = list(plan.registers)
+    for at in plan.buffers:         # each its own: freed and made again a call at a time, the
+        registers[at] = np.empty(block)     # allocator's reuse, where one block of them all
+        #                                     would be new pages (3.5 MB) each call
     with np.errstate(all="ignore"):
         for start in range(0, count, block):
             part = slice(start, min(start + block, count))
             if part.stop - start < block:           # the last block, shorter
-                registers = [r[:part.stop - start] if isinstance(r, np.ndarray) else r
-                             for r in plan.registers]
+                registers = [registers[i][:part.stop - start] if i in plan.buffers else r
+                             for i, r in enumerate(registers)]
             for i, source in zip(plan.inputs, sources):
                 registers[i] = source[part]
-            for i, (row, _) in zip(plan.results, results):
+            for i, row in zip(plan.results, results):
                 registers[i] = row[part]
             _run(plan, registers)
     plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)
@@ -6582,10 +6610,10 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                         column[:, i] = math.nan if v is None else v
             for v, r in zip((f.shaking_force, f.shaking_moment), shaking):
                 r[:, i] = math.nan if v is None else v
-    return ForcesArrays(arrays.phi, torque, torque * setup.omega,
+    return ForcesArrays(arrays.phi, torque, torque * trace.omega,
                         {name: ReactionArrays(*(None if v is None else v.T for v in r))
                          for name, r in joints.items()}, shaking[0].T, shaking[1].T, status,
-                        setup.speed_rpm)
+                        trace.speed_rpm)
 
 
 # ---- 12. Simulation: the equation of motion in its coordinates -----------------------------------
