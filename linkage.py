@@ -6436,10 +6436,11 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
 def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
                       bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3,
                       h: Vec3
-                      ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any]:
+                      ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3,
+                                 Any, float]:
     """The torque, each joint's (force, moment), the shaking force and moment, and how far
-    each position is from the elimination's singularity (its divisor, relative): see the
-    notes above."""
+    each position is from the elimination's singularity: its divisor's size, and the size it
+    is measured against (see the notes above)."""
     kind, dims = setup.linkage.kind, setup.dims
     (n0, t0), (n1, t1), (n2, t2) = _needed_arrays(setup, bodies)
     out = PINS[kind].output_joint
@@ -6457,10 +6458,10 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
         shaking_force = weighted_sum((-1.0, n0), (-1.0, n1), (-1.0, n2))
         shaking_moment = weighted_sum((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
         joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
-        return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor)
+        return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor), 1.0
     plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
     ab = difference(pp, pa)
-    across = weighted_sum((1.0 / (dims["c"] * dims["c"]), cross(ab, t1)))   # t1 about A
+    across = cross(ab, weighted_sum((1.0 / (dims["c"] * dims["c"]), t1)))   # t1 about A
     output, divisor = bodies[2], dot(h, ab)             # h: P's derivative by the output
     if setup.linkage.is_slider:         # t2 about C; h the guide
         along = (dot(h, n2) - dot(h, across)) / divisor
@@ -6477,6 +6478,8 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
         if plane:
             r_g, m_g = (0.0, r_g[1], 0.0), (0.0, 0.0, m_g[2])
         at = pp
+    elif plane:                         # the pin's moment about z: 0 (along is what makes it
+        m_g, at = _ZERO3, output.origin    # so), and no other
     else:
         m_g = difference(t2, cross(arm, r_b))
         at = output.origin
@@ -6493,7 +6496,7 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
         joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
     else:
         joints = {"A0": (r_a0, m_a0), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
-    return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor) * (1.0 / size)
+    return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
 
 
 class _ForcesTrace(NamedTuple):
@@ -6501,10 +6504,12 @@ class _ForcesTrace(NamedTuple):
     answer's rows (the torque, near, the shaking force's three and its moment's, then each
     joint's force and moment where it carries one), each a constant or None where the plan
     computes it (its results in the rows' order); the joints, each with whether it carries a
-    force and a moment; the crank's speed (rad/s and rpm)."""
+    force and a moment; near's least to stay (FORCES_HANDOFF times the divisor's factors); the
+    crank's speed (rad/s and rpm)."""
     plan: _Plan
     rows: tuple[float | None, ...]
     joints: tuple[tuple[str, bool, bool], ...]
+    handoff: float
     omega: float
     speed_rpm: float
 
@@ -6520,7 +6525,8 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
     recipe = _Recipe()
     inputs = [recipe.input() for _ in range(5 if linkage.is_slider else 7)]
     states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
-    t, reactions, force, moment, apart = _reactions_arrays(recipe, setup, states, pa, pp, h)
+    t, reactions, force, moment, apart, size = _reactions_arrays(recipe, setup, states, pa,
+                                                                pp, h)
     # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
     # carries through + and x): all are finite where these seven are, and there check - check
     # is 0 (recorded as it is, not folded); NaN elsewhere, and then so is near, which no
@@ -6533,7 +6539,7 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
     return _ForcesTrace(plan, tuple(None if type(v) is _Term else float(v) for v in values),
                         tuple((name, f is not None, m is not None)
                               for name, (f, m) in reactions.items()),
-                        setup.omega, setup.speed_rpm)
+                        FORCES_HANDOFF * size, setup.omega, setup.speed_rpm)
 
 
 def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
@@ -6594,7 +6600,7 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
             _run(plan, registers)
     plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)
     unknown = plain != assembled
-    redo = (unknown | ~(apart_of >= FORCES_HANDOFF)) & (plain != STATUS_CODES.index(
+    redo = (unknown | ~(apart_of >= trace.handoff)) & (plain != STATUS_CODES.index(
         NOT_ASSEMBLED))
     status = plain.copy()
     if unknown.any():
