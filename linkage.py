@@ -6405,11 +6405,14 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
             # |rho|^2 and k . rho are the centre's: the centripetal part has no moment but
             # through the centre's height along k
             along, squared = mass.centre[2], dot(mass.centre, mass.centre)
+            # (the rate's two parts, about the centre and of the centre about the axis, one
+            # sum: the plane kinds' a number, one multiple of the rate, not two)
             turning = weighted_sum(
-                (mass.mass * turn_rate, weighted_sum((squared, k), (-along, rho))),
+                (turn_rate, weighted_sum((mass.mass * squared, k), (-mass.mass * along, rho),
+                                         (1.0, i_k))),
                 (mass.mass * along * (turn * turn), cross(rho, k)),
                 (-mass.mass, cross(rho, setup.gravity)),
-                (turn_rate, i_k), (turn * turn, cross(k, i_k)))
+                (turn * turn, cross(k, i_k)))
         else:
             if body.axes is None:       # the skew coupler's spin and its rate are across its
                 #                         line, where its inertia is the transverse moment
