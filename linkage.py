@@ -6013,17 +6013,17 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
 # What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
 #   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.5 to 1.2
-#   ms, a later call skips it); each position takes 54 (slider), 87 (plane), 118 (skew slider-
-#   crank), 164 (skew) and 287 (spherical) operations on arrays, each about 0.37 ns an element here
+#   ms, a later call skips it); each position takes 54 (slider), 85 (plane), 118 (skew slider-
+#   crank), 162 (skew) and 282 (spherical) operations on arrays, each about 0.37 ns an element here
 #   (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the answer's
-#   constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate of 0.53 to
-#   0.56 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.41 for the skew
-#   four-bar and 0.34 for the spherical (data/BENCHMARKS.md, 2026-11-28, round two). Where the
-#   operations go (plane, skew, spherical): the bodies' frames 27, 42, 97; their wrenches 22, 35,
-#   123; the elimination and the answer 33, 79, 58; near's check 5, 8, 9. Tried and given up:
-#   constant factors carried through products to the sums (k u + m v pays one back, and so does
-#   each answer: 95 for the plane's 88), signs carried (-1 to +2 a kind), blocks of 4,096 to
-#   65,536 (16,384 the fastest).
+#   constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate of 0.51 to
+#   0.56 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.40 to 0.42 for the skew
+#   four-bar and 0.33 to 0.34 for the spherical (data/BENCHMARKS.md, 2026-11-28, round two).
+#   Where the operations go (plane, skew, spherical): the bodies' frames 27, 42, 97; their
+#   wrenches 20, 33, 118; the elimination and the answer 33, 79, 58; near's check 5, 8, 9. Tried
+#   and given up: constant factors carried through products to the sums (k u + m v pays one
+#   back, and so does each answer: 95 for the plane's 88), signs carried (-1 to +2 a kind), like
+#   terms gathered across nested sums (-2 to +1), blocks of 4,096 to 65,536 (16,384 the fastest).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
