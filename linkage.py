@@ -6014,11 +6014,19 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler; the spherical coupler's
 #   spin is w z + l a = turn k + m b, its two joints' axes (l by the divisor above). The numbers
 #   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
-# What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig)
-#   and each position takes some 56 (slider) to 290 (spherical) operations on arrays, each about
-#   0.4 ns an element here (a numpy call's floor in the cache): with the sweep, at 100,001 points,
-#   a rate of 0.53 to 0.60 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.46 to
-#   0.49 for the skew four-bar and 0.38 for the spherical (data/BENCHMARKS.md, 2026-11-28).
+# What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
+#   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.5 to 1.2
+#   ms, a later call skips it); each position takes 54 (slider), 85 (plane), 118 (skew slider-
+#   crank), 162 (skew) and 282 (spherical) operations on arrays, each about 0.37 ns an element here
+#   (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the answer's
+#   constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate of 0.51 to
+#   0.56 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.40 to 0.42 for the skew
+#   four-bar and 0.33 to 0.34 for the spherical (data/BENCHMARKS.md, 2026-11-28, round two).
+#   Where the operations go (plane, skew, spherical): the bodies' frames 27, 42, 97; their
+#   wrenches 20, 33, 118; the elimination and the answer 33, 79, 58; near's check 5, 8, 9. Tried
+#   and given up: constant factors carried through products to the sums (k u + m v pays one
+#   back, and so does each answer: 95 for the plane's 88), signs carried (-1 to +2 a kind), like
+#   terms gathered across nested sums (-2 to +1), blocks of 4,096 to 65,536 (16,384 the fastest).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
@@ -6197,15 +6205,17 @@ def _scaled(x: _Term) -> tuple[_Term, float]:
 
 class _Plan(NamedTuple):
     """A recipe made into numpy calls: steps (ufunc, argument, argument or -1, result), each an
-    index into registers (the inputs', the buffers', the results', the constants' places)."""
-    steps: list[tuple[Any, int, int, int]]
-    registers: list[Any]
-    inputs: list[int]
-    results: list[int]
+    index into registers (the inputs', the buffers', the results', the constants' places: the
+    buffers' and those of inputs and results None, filled by each call)."""
+    steps: tuple[tuple[Any, int, int, int], ...]
+    registers: tuple[Any, ...]
+    inputs: range
+    results: range
+    buffers: tuple[int, ...]
 
 
-def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Sequence[_Term],
-          block: int) -> _Plan:
+def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Sequence[_Term]
+          ) -> _Plan:
     """The steps that compute `results` (terms, each its own place) from `inputs`: only the
     operations they need, each value's buffer free for another once its last use has run."""
     terms = recipe.terms
@@ -6257,10 +6267,8 @@ def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Seq
     for i, term in enumerate(results):           # a result that is an input, or another's
         if place[term.index] != len(inputs) + i:
             steps.append((np.positive, place[term.index], -1, len(inputs) + i))
-    for at in buffers:              # each its own: freed and made again a call at a time, the
-        registers[at] = np.empty(block)     # allocator's reuse, where one block of them all
-        #                                     would be new pages (3.5 MB) each call
-    return _Plan(steps, registers, list(range(len(inputs))), list(range(len(inputs), fixed)))
+    return _Plan(tuple(steps), tuple(registers), range(len(inputs)), range(len(inputs), fixed),
+                 tuple(buffers))
 
 
 def _run(plan: _Plan, registers: list[Any]) -> None:
@@ -6400,11 +6408,14 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
             # |rho|^2 and k . rho are the centre's: the centripetal part has no moment but
             # through the centre's height along k
             along, squared = mass.centre[2], dot(mass.centre, mass.centre)
+            # (the rate's two parts, about the centre and of the centre about the axis, one
+            # sum: the plane kinds' a number, one multiple of the rate, not two)
             turning = weighted_sum(
-                (mass.mass * turn_rate, weighted_sum((squared, k), (-along, rho))),
+                (turn_rate, weighted_sum((mass.mass * squared, k), (-mass.mass * along, rho),
+                                         (1.0, i_k))),
                 (mass.mass * along * (turn * turn), cross(rho, k)),
                 (-mass.mass, cross(rho, setup.gravity)),
-                (turn_rate, i_k), (turn * turn, cross(k, i_k)))
+                (turn * turn, cross(k, i_k)))
         else:
             if body.axes is None:       # the skew coupler's spin and its rate are across its
                 #                         line, where its inertia is the transverse moment
@@ -6439,10 +6450,11 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
 def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
                       bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3,
                       h: Vec3
-                      ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any]:
+                      ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3,
+                                 Any, float]:
     """The torque, each joint's (force, moment), the shaking force and moment, and how far
-    each position is from the elimination's singularity (its divisor, relative): see the
-    notes above."""
+    each position is from the elimination's singularity: its divisor's size, and the size it
+    is measured against (see the notes above)."""
     kind, dims = setup.linkage.kind, setup.dims
     (n0, t0), (n1, t1), (n2, t2) = _needed_arrays(setup, bodies)
     out = PINS[kind].output_joint
@@ -6460,10 +6472,10 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
         shaking_force = weighted_sum((-1.0, n0), (-1.0, n1), (-1.0, n2))
         shaking_moment = weighted_sum((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
         joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
-        return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor)
+        return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor), 1.0
     plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
     ab = difference(pp, pa)
-    across = weighted_sum((1.0 / (dims["c"] * dims["c"]), cross(ab, t1)))   # t1 about A
+    across = cross(ab, weighted_sum((1.0 / (dims["c"] * dims["c"]), t1)))   # t1 about A
     output, divisor = bodies[2], dot(h, ab)             # h: P's derivative by the output
     if setup.linkage.is_slider:         # t2 about C; h the guide
         along = (dot(h, n2) - dot(h, across)) / divisor
@@ -6480,6 +6492,8 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
         if plane:
             r_g, m_g = (0.0, r_g[1], 0.0), (0.0, 0.0, m_g[2])
         at = pp
+    elif plane:                         # the pin's moment about z: 0 (along is what makes it
+        m_g, at = _ZERO3, output.origin    # so), and no other
     else:
         m_g = difference(t2, cross(arm, r_b))
         at = output.origin
@@ -6496,7 +6510,50 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
         joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
     else:
         joints = {"A0": (r_a0, m_a0), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
-    return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor) * (1.0 / size)
+    return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
+
+
+class _ForcesTrace(NamedTuple):
+    """What forces_of_arrays records once for a linkage, its bodies and effects: the plan; the
+    answer's rows (the torque, near, the shaking force's three and its moment's, then each
+    joint's force and moment where it carries one), each a constant or None where the plan
+    computes it (its results in the rows' order); the joints, each with whether it carries a
+    force and a moment; near's least to stay (FORCES_HANDOFF times the divisor's factors); the
+    crank's speed (rad/s and rpm)."""
+    plan: _Plan
+    rows: tuple[float | None, ...]
+    joints: tuple[tuple[str, bool, bool], ...]
+    handoff: float
+    omega: float
+    speed_rpm: float
+
+
+@functools.lru_cache(maxsize=16)
+def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: float
+                  ) -> _ForcesTrace:
+    """The formulas traced for forces_of_arrays: the same for every call with these (a linkage
+    object's dimensions are fixed once it is made), so kept; the plan holds no array of a call.
+    Tracing took 0.5 to 1.2 ms a call (python3 linkage.py bench forces: 5 to 15% of the forces'
+    time at 100,001 angles)."""
+    setup = forces_setup(linkage, bodies, effects, radius)
+    recipe = _Recipe()
+    inputs = [recipe.input() for _ in range(5 if linkage.is_slider else 7)]
+    states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
+    t, reactions, force, moment, apart, size = _reactions_arrays(recipe, setup, states, pa,
+                                                                pp, h)
+    # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
+    # carries through + and x): all are finite where these seven are, and there check - check
+    # is 0 (recorded as it is, not folded); NaN elsewhere, and then so is near, which no
+    # number passes
+    check = t + sum(force) + sum(moment)
+    near = apart + recipe.term("subtract", check, check) if type(check) is _Term else apart
+    values = [t, near, *force, *moment] + [x for pair in reactions.values()
+                                           for v in pair if v is not None for x in v]
+    plan = _plan(numpy_module(), recipe, inputs, [v for v in values if type(v) is _Term])
+    return _ForcesTrace(plan, tuple(None if type(v) is _Term else float(v) for v in values),
+                        tuple((name, f is not None, m is not None)
+                              for name, (f, m) in reactions.items()),
+                        FORCES_HANDOFF * size, setup.omega, setup.speed_rpm)
 
 
 def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
@@ -6506,12 +6563,17 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
     answer): a ForcesArrays (see Linkage.forces_arrays). trig: the sweep's cosines and sines
     (motion_arrays_of's), computed here where not given."""
     np = numpy_module()
-    setup = forces_setup(linkage, bodies, effects, radius)
+    try:
+        hash((bodies, effects, radius))
+    except TypeError:                   # a body's or an effect's list: not to be kept
+        trace = _forces_trace.__wrapped__(linkage, bodies, effects, radius)
+    else:
+        trace = _forces_trace(linkage, bodies, effects, radius)
     if arrays.velocity is None or arrays.acceleration is None:
         raise ValueError("the forces need the sweep's velocity and acceleration (derivatives 2)")
     trig = dict(trig or {})
-    for key, angles in (("phi", arrays.phi), ("output", arrays.output))[
-            :1 if linkage.is_slider else 2]:
+    keys = (("phi", arrays.phi), ("output", arrays.output))[:1 if linkage.is_slider else 2]
+    for key, angles in keys:
         if key not in trig:
             trig[key] = cos_sin_degrees_array(np, angles)
             continue
@@ -6519,53 +6581,40 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
         stale = stale[~np.isnan(angles[stale])]
         if len(stale):
             trig[key][0][stale], trig[key][1][stale] = cos_sin_degrees_array(np, angles[stale])
-    sources = [pair[j] for pair in trig.values() for j in (0, 1)] + [
+    sources = [trig[key][j] for key, _ in keys for j in (0, 1)] + [
         arrays.output, arrays.velocity, arrays.acceleration]
-    recipe = _Recipe()
-    inputs = [recipe.input() for _ in sources]
-    states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
-    t, reactions, force, moment, apart = _reactions_arrays(recipe, setup, states, pa, pp, h)
-    # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
-    # carries through + and x): all are finite where these seven are, and there check - check
-    # is 0 (recorded as it is, not folded); NaN elsewhere, and then so is near, which no
-    # number passes
-    check = t + sum(force) + sum(moment)
-    near = apart + recipe.term("subtract", check, check) if type(check) is _Term else apart
     count = len(arrays.phi)
     # one allocation for the answer's arrays: freed whole, it is the allocator's to reuse at
     # the next call (in parts, glibc gave them back to the system and faulted in new pages, 16
     # MB of them a call, as much again as the forces' work: python3 linkage.py bench forces)
-    kept = [v for pair in reactions.values() for v in pair if v is not None]
-    whole = np.empty((8 + 3 * len(kept), count))
+    whole = np.empty((len(trace.rows), count))
     torque, apart_of, shaking = whole[0], whole[1], whole[2:8].reshape(2, 3, count)
     parts = iter(range(8, len(whole), 3))
-    joints = {name: ReactionArrays(*(None if v is None else whole[(i := next(parts)):i + 3]
-                                     for v in pair)) for name, pair in reactions.items()}
-    rows = [(torque, t), (apart_of, near)] + [
-        (into[j], v[j]) for pair, into in [((force, moment), shaking)] + [
-            (reactions[name], r) for name, r in joints.items()]
-        for v, into in zip(pair, into) if v is not None for j in range(3)]
-    results = [(row, value) for row, value in rows if type(value) is _Term]
-    for row, value in rows:
-        if type(value) is not _Term:
+    joints = {name: ReactionArrays(*(whole[(i := next(parts)):i + 3] if kept else None
+                                     for kept in pair)) for name, *pair in trace.joints}
+    for row, value in zip(whole, trace.rows):
+        if value is not None:
             row.fill(value)
-    block = min(FAST_BLOCK, max(count, 1))
-    plan = _plan(np, recipe, inputs, [value for _, value in results], block)
+    results = [row for row, value in zip(whole, trace.rows) if value is None]
+    block, plan = min(FAST_BLOCK, max(count, 1)), trace.plan
     registers = list(plan.registers)
+    for at in plan.buffers:         # each its own: freed and made again a call at a time, the
+        registers[at] = np.empty(block)     # allocator's reuse, where one block of them all
+        #                                     would be new pages (3.5 MB) each call
     with np.errstate(all="ignore"):
         for start in range(0, count, block):
             part = slice(start, min(start + block, count))
             if part.stop - start < block:           # the last block, shorter
-                registers = [r[:part.stop - start] if isinstance(r, np.ndarray) else r
-                             for r in plan.registers]
+                registers = [registers[i][:part.stop - start] if i in plan.buffers else r
+                             for i, r in enumerate(registers)]
             for i, source in zip(plan.inputs, sources):
                 registers[i] = source[part]
-            for i, (row, _) in zip(plan.results, results):
+            for i, row in zip(plan.results, results):
                 registers[i] = row[part]
             _run(plan, registers)
     plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)
     unknown = plain != assembled
-    redo = (unknown | ~(apart_of >= FORCES_HANDOFF)) & (plain != STATUS_CODES.index(
+    redo = (unknown | ~(apart_of >= trace.handoff)) & (plain != STATUS_CODES.index(
         NOT_ASSEMBLED))
     status = plain.copy()
     if unknown.any():
@@ -6585,10 +6634,10 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                         column[:, i] = math.nan if v is None else v
             for v, r in zip((f.shaking_force, f.shaking_moment), shaking):
                 r[:, i] = math.nan if v is None else v
-    return ForcesArrays(arrays.phi, torque, torque * setup.omega,
+    return ForcesArrays(arrays.phi, torque, torque * trace.omega,
                         {name: ReactionArrays(*(None if v is None else v.T for v in r))
                          for name, r in joints.items()}, shaking[0].T, shaking[1].T, status,
-                        setup.speed_rpm)
+                        trace.speed_rpm)
 
 
 # ---- 12. Simulation: the equation of motion in its coordinates -----------------------------------

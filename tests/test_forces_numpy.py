@@ -131,6 +131,20 @@ def test_toward_a_limit_of_assembly(kind, monkeypatch):
     assert handed and limit - 30.0 not in handed and limit - 0.1 not in handed, handed
 
 
+def test_a_kept_plan_is_the_one_for_its_call():
+    """forces_of_arrays keeps the traced formulas per linkage object, bodies, effects and
+    radius: calls on one linkage alternating two sets of bodies and two speeds each agree with
+    forces(), and bodies given as lists (not to be kept) are taken all the same."""
+    lk = Linkage("skew", a=2.0, b=1.5, c=2.0, d=1.5, f=0.3, ksi=20.0)
+    light, heavy = Bodies(Body(1.0), Body(2.0), Body(0.5)), Bodies(Body(3.0), Body(0.1), Body(1.0))
+    listed = Bodies(Body(1.0, [0.5, 0.1, 0.0], [[0.1, 0, 0], [0, 0.2, 0], [0, 0, 0.3]]))
+    phis = [0.0, 40.0, 80.0, 200.0]
+    for b, e in [(light, Effects(60.0)), (heavy, Effects(60.0)), (light, Effects(90.0)),
+                 (light, Effects(60.0)), (listed, Effects(60.0, gravity=9.81))]:
+        scalar, _ = check_alike(lk, phis, 1, b, e)
+        assert all(f.status == linkage.ASSEMBLED for f in scalar)
+
+
 def test_bad_input_is_refused_as_forces_refuses_it():
     lk = Linkage("plane", a=4.0, b=1.0, c=3.5, d=3.0)
     with pytest.raises(ValueError, match="mass must not be negative"):
