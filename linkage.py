@@ -5925,13 +5925,14 @@ def _float_texts(np, x) -> list:
             text[:, j] = t["quads"].take(whole - q * 10_000)
             whole = q
         text[:, 1:lead + 1] &= t["last"].take(count, axis=0)[:, 4 - lead:]
-    for j in range(1 + lead + groups, 1 + lead, -1):
-        q = fraction // 10_000
-        text[:, j] = t["quads"].take(fraction - q * 10_000)
-        fraction = q
     skip = 4 * groups - width                              # the first group's leading zeros
-    text[:, lead + 2:] &= (t["first"].take(kept + skip, axis=0)[:, :groups]
-                           & ~t["first"][skip, :groups])
+    kept += skip
+    for g in range(groups - 1, -1, -1):                    # a group's bytes kept: a column of
+        q = fraction // 10_000                             # masks taken (not rows of them)
+        word = t["quads"].take(fraction - q * 10_000)
+        word &= (t["first"][:, g] & ~t["first"][skip, g]).take(kept)
+        text[:, lead + 2 + g] = word
+        fraction = q
     text = text.view(np.uint8)
     head, tail = text[:, 3:4 * lead + 5], text[:, 4 * lead + 8 + skip:]   # the bytes that can
     others = np.flatnonzero(~good)                                         # hold a character
