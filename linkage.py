@@ -5779,24 +5779,35 @@ def _lines(np, outputs):
     them, _float_texts, NUMBER_ROWS at a time; a column that several outputs share is formatted
     once) or a uint8 matrix (a text a row, NUL-padded); the fields of a row are joined by commas
     and ended by CR LF, and only the rows where `keep` (a bool array, or None: every row) are
-    written."""
+    written. A line is a row of a byte matrix: its texts copied in as one void item a row each
+    (a copy a text, not a byte), the commas and line ends written once."""
     count = len(outputs[0][0][0])
-    comma, end = np.full((LINE_ROWS, 1), 44, np.uint8), np.tile(np.uint8([13, 10]),
-                                                                (LINE_ROWS, 1))
     for start in range(0, count, NUMBER_ROWS):
         stop = min(start + NUMBER_ROWS, count)
         fields = {id(field): field for fields, _ in outputs for field in fields}
         texts = {key: [field[start:stop]] if field.dtype == np.uint8
                  else _float_texts(np, field[start:stop]) for key, field in fields.items()}
+        layouts = []                                       # each output's width, texts, commas
+        for fields, keep in outputs:
+            places, commas, at = [], [], 0
+            for field in fields:
+                for text in texts[id(field)]:
+                    places.append((text, at, text.shape[1]))
+                    at += text.shape[1]
+                commas.append(at)
+                at += 1
+            layouts.append((at + 1, places, commas[:-1], keep))   # the last comma: CR LF
         for first in range(start, stop, LINE_ROWS):
             last = min(first + LINE_ROWS, stop)
             rows, n = slice(first - start, last - start), last - first
             lines = []
-            for fields, keep in outputs:
-                pieces = [piece for field in fields for piece in [
-                    text[rows] for text in texts[id(field)]] + [comma[:n]]]
-                pieces[-1] = end[:n]
-                matrix = np.concatenate(pieces, axis=1)
+            for width, places, commas, keep in layouts:
+                matrix = np.empty((n, width), np.uint8)
+                for text, at, w in places:
+                    matrix[:, at:at + w].view(f"V{w}")[:, 0] = text[rows].view(f"V{w}")[:, 0]
+                matrix[:, commas] = 44
+                matrix[:, width - 2] = 13
+                matrix[:, width - 1] = 10
                 if keep is not None and not keep[first:last].all():
                     matrix = matrix[keep[first:last]]
                 lines.append(matrix.tobytes().translate(None, b"\0"))
