@@ -5879,7 +5879,8 @@ def _float_texts(np, x) -> list:
     r = np.rint(lo)
     f17 = lo - r
     d17 = hi.astype(np.int64) + r.astype(np.int64)
-    half = np.spacing(a) * 0.5
+    bits = a.view(np.int64)
+    half = (((bits >> 52) - 53) << 52).view(np.float64)   # ulp/2: a is normal, >= 2^-969
     q1 = d17 // 10
     t16 = (d17 - q1 * 10) + f17
     up16 = t16 > 5.0
@@ -5893,10 +5894,12 @@ def _float_texts(np, x) -> list:
     margin = 1e-12
     ok15 = f15 < h15 - margin
     ok16 = f16 < h16 - margin
-    good = (fast & (d17 >= 10 ** 16) & (d17 < 10 ** 17) & (np.frexp(a)[0] != 0.5)
+    good = (fast & (d17 >= 10 ** 16) & (d17 < 10 ** 17) & ((bits & (1 << 52) - 1) != 0)
             & (t16 != 5.0) & (np.abs(f17) != 0.5)
             & (ok15 | (f15 > h15 + margin)) & (ok15 | ok16 | (f16 > h16 + margin)))
-    digits = np.where(ok15, q2 + up15, np.where(ok16, q1 + up16, d17))
+    digits = d17.copy()
+    np.copyto(digits, q1 + up16, where=ok16)
+    np.copyto(digits, q2 + up15, where=ok15)
     places = m - 2 * ok15 - (ok16 & ~ok15)                 # digits after the point
     zero = x == 0.0                                        # 0.0, -0.0
     good |= zero
