@@ -5840,7 +5840,8 @@ _POW10 = tuple(10.0 ** k for k in range(23))      # exact doubles
 @functools.cache
 def _digit_tables(np: ModuleType) -> dict[str, Any]:
     """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as int64;
-    the 10,000 four-digit texts as uint32, with leading zeros and without (NULs for them); masks
+    the 10,000 four-digit texts as uint32, with leading zeros and without (NULs for them, and
+    then -0 to -999 so: 10,000 + i is "-i"); masks
     of the first k of 20 bytes and of the last k of 16, as uint32; "." and three NULs; three
     NULs and "-"."""
     pow10 = np.array(_POW10)
@@ -5850,8 +5851,9 @@ def _digit_tables(np: ModuleType) -> dict[str, Any]:
         pow10=pow10, high=high, low=pow10 - high,
         pow10i=np.array([10 ** k for k in range(19)], dtype=np.int64),
         quads=np.frombuffer(b"".join(b"%04d" % i for i in range(10_000)), dtype=np.uint32),
-        leading=np.frombuffer(b"".join(b"%4d" % i for i in range(10_000)).replace(b" ", b"\0"),
-                              dtype=np.uint32),
+        leading=np.frombuffer(b"".join([b"%4d" % i for i in range(10_000)]
+                                       + [b"%4s" % (b"-%d" % i) for i in range(1000)]
+                                       + [b"    "] * 9000).replace(b" ", b"\0"), dtype=np.uint32),
         first=np.array([[255 * (c < k) for c in range(20)] for k in range(21)],
                        dtype=np.uint8).view(np.uint32),
         last=np.array([[255 * (c >= 16 - k) for c in range(16)] for k in range(17)],
@@ -5922,15 +5924,22 @@ def _float_texts(np, x) -> list:
     #                                                        number lies within ulp/2 of x
     width = int(places.max()) if n else 1
     fraction = (digits - whole * t["pow10i"].take(places)) * t["pow10i"].take(width - places)
-    lead = -(-len(str(int(whole.max()) if n else 0)) // 4)
+    biggest = int(whole.max()) if n else 0
+    lead = -(-len(str(biggest)) // 4)
     groups = -(-width // 4)
     text = np.empty((n, 2 + lead + groups), dtype=np.uint32)   # words of 4 bytes: NULs, "-";
     #                                           the whole part; "." and NULs; the fraction
-    np.multiply(np.signbit(x), t["minus"], out=text[:, 0], casting="unsafe")
+    sign = np.signbit(x)
     text[:, lead + 1] = t["point"]
-    if lead == 1:
-        text[:, 1] = t["leading"].take(whole)              # "   7" with NULs for the spaces
+    start = 4 if biggest < 1000 else 3                     # the text's first byte
+    if biggest < 1000:                                     # "  -7" with NULs for the spaces:
+        np.add(whole, 10_000, out=whole, where=sign)       # the sign beside the digits
+        text[:, 1] = t["leading"].take(whole)
+    elif lead == 1:
+        np.multiply(sign, t["minus"], out=text[:, 0], casting="unsafe")
+        text[:, 1] = t["leading"].take(whole)              # "-", "7000"
     else:
+        np.multiply(sign, t["minus"], out=text[:, 0], casting="unsafe")
         count = np.ones(n, dtype=np.intp)                  # the whole part's digits
         for k in range(1, 4 * lead):
             count += whole >= 10 ** k
@@ -5948,7 +5957,7 @@ def _float_texts(np, x) -> list:
         text[:, lead + 2 + g] = word
         fraction = q
     text = text.view(np.uint8)
-    head, tail = text[:, 3:4 * lead + 5], text[:, 4 * lead + 8 + skip:]   # the bytes that can
+    head, tail = text[:, start:4 * lead + 5], text[:, 4 * lead + 8 + skip:]   # the bytes that can
     others = np.flatnonzero(~good)                                         # hold a character
     if len(others):                      # repr's own texts, split across head and tail (their
         #                                  NULs are dropped when joined)
