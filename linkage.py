@@ -5787,7 +5787,7 @@ def _lines(np, outputs):
         fields = {id(field): field for fields, _ in outputs for field in fields}
         texts = {key: [field[start:stop]] if field.dtype == np.uint8
                  else _float_texts(np, field[start:stop]) for key, field in fields.items()}
-        layouts = []                                       # each output's width, texts, commas
+        layouts = []                                       # each output's line matrix, texts
         for fields, keep in outputs:
             places, commas, at = [], [], 0
             for field in fields:
@@ -5796,18 +5796,19 @@ def _lines(np, outputs):
                     at += text.shape[1]
                 commas.append(at)
                 at += 1
-            layouts.append((at + 1, places, commas[:-1], keep))   # the last comma: CR LF
+            matrix = np.empty((min(LINE_ROWS, stop - start), at + 1), np.uint8)
+            matrix[:, commas[:-1]] = 44                    # written once: the texts' bytes
+            matrix[:, at - 1] = 13                         # alone are copied a LINE_ROWS
+            matrix[:, at] = 10                             # rows at a time
+            layouts.append((matrix, places, keep))
         for first in range(start, stop, LINE_ROWS):
             last = min(first + LINE_ROWS, stop)
             rows, n = slice(first - start, last - start), last - first
             lines = []
-            for width, places, commas, keep in layouts:
-                matrix = np.empty((n, width), np.uint8)
+            for matrix, places, keep in layouts:
+                matrix = matrix[:n]
                 for text, at, w in places:
                     matrix[:, at:at + w].view(f"V{w}")[:, 0] = text[rows].view(f"V{w}")[:, 0]
-                matrix[:, commas] = 44
-                matrix[:, width - 2] = 13
-                matrix[:, width - 1] = 10
                 if keep is not None and not keep[first:last].all():
                     matrix = matrix[keep[first:last]]
                 lines.append(matrix.tobytes().translate(None, b"\0"))
