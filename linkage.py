@@ -5819,7 +5819,7 @@ def _lines(np, outputs):
 #
 # repr writes a double as the shortest decimal that reads back as it (David Gay's dtoa, mode 0),
 # the nearest to it where two are as short; positional from 1e-4 to 1e16. _float_texts does the
-# same for a numpy block at once, exactly, where 1e-2 <= |x| < 1e13 (the other numbers, and the
+# same for a numpy block at once, exactly, where 1e-3 <= |x| < 1e13 (the other numbers, and the
 # few cases it cannot decide, are repr's own). The argument, with ulp the spacing of doubles at x
 # and m = 16 - floor(log10 |x|):
 # - x 10^m = hi + lo exactly (Dekker's product: 10^m is a double for m <= 22), so d17, the
@@ -5840,17 +5840,16 @@ _POW10 = tuple(10.0 ** k for k in range(23))      # exact doubles
 
 @functools.cache
 def _digit_tables(np: ModuleType) -> dict[str, Any]:
-    """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as int64;
-    the 10,000 four-digit texts as uint32, with leading zeros and without (NULs for them, and
-    then -0 to -999 so: 10,000 + i is "-i"); masks
-    of the first k of 20 bytes and of the last k of 16, as uint32; "." and three NULs; three
-    NULs and "-"."""
+    """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as uint64
+    (to 10^19); the 10,000 four-digit texts as uint32, with leading zeros and without (NULs for
+    them; then -0 to -999 so: 10,000 + i is "-i"); masks of the first k of 20 bytes and of the
+    last k of 16, as uint32; "." and three NULs; three NULs and "-"."""
     pow10 = np.array(_POW10)
     big = pow10 * 134217729.0                     # 2^27 + 1
     high = big - (big - pow10)
     return dict(
         pow10=pow10, high=high, low=pow10 - high,
-        pow10i=np.array([10 ** k for k in range(19)], dtype=np.int64),
+        pow10i=np.array([10 ** k for k in range(20)], dtype=np.uint64),
         quads=np.frombuffer(b"".join(b"%04d" % i for i in range(10_000)), dtype=np.uint32),
         leading=np.frombuffer(b"".join([b"%4d" % i for i in range(10_000)]
                                        + [b"%4s" % (b"-%d" % i) for i in range(1000)]
@@ -5869,7 +5868,7 @@ def _float_texts(np, x) -> list:
     t = _digit_tables(np)
     n = len(x)
     a = np.abs(x)
-    fast = (a >= 1e-2) & (a < 1e13)                        # NaN is not
+    fast = (a >= 1e-3) & (a < 1e13)                        # NaN is not
     np.copyto(a, 1.0, where=~fast)
     m = 16 - np.floor(np.log10(a)).astype(np.intp)
     scale = t["pow10"].take(m)
@@ -5924,7 +5923,8 @@ def _float_texts(np, x) -> list:
     whole = np.floor(a).astype(np.int64)                   # the decimal's whole part: no whole
     #                                                        number lies within ulp/2 of x
     width = int(places.max()) if n else 1
-    fraction = (digits - whole * t["pow10i"].take(places)) * t["pow10i"].take(width - places)
+    fraction = ((digits.view(np.uint64) - whole.view(np.uint64) * t["pow10i"].take(places))
+                * t["pow10i"].take(width - places))        # < 10^19: unsigned
     biggest = int(whole.max()) if n else 0
     lead = -(-len(str(biggest)) // 4)
     groups = -(-width // 4)
