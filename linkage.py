@@ -5782,24 +5782,36 @@ def _lines(np, outputs):
     them, _float_texts, NUMBER_ROWS at a time; a column that several outputs share is formatted
     once) or a uint8 matrix (a text a row, NUL-padded); the fields of a row are joined by commas
     and ended by CR LF, and only the rows where `keep` (a bool array, or None: every row) are
-    written."""
+    written. A line is a row of a byte matrix: its texts copied in as one void item a row each
+    (a copy a text, not a byte), the commas and line ends written once."""
     count = len(outputs[0][0][0])
-    comma, end = np.full((LINE_ROWS, 1), 44, np.uint8), np.tile(np.uint8([13, 10]),
-                                                                (LINE_ROWS, 1))
     for start in range(0, count, NUMBER_ROWS):
         stop = min(start + NUMBER_ROWS, count)
         fields = {id(field): field for fields, _ in outputs for field in fields}
         texts = {key: [field[start:stop]] if field.dtype == np.uint8
                  else _float_texts(np, field[start:stop]) for key, field in fields.items()}
+        layouts = []                                       # each output's line matrix, texts
+        for fields, keep in outputs:
+            places, commas, at = [], [], 0
+            for field in fields:
+                for text in texts[id(field)]:
+                    places.append((text, at, text.shape[1]))
+                    at += text.shape[1]
+                commas.append(at)
+                at += 1
+            matrix = np.empty((min(LINE_ROWS, stop - start), at + 1), np.uint8)
+            matrix[:, commas[:-1]] = 44                    # written once: the texts' bytes
+            matrix[:, at - 1] = 13                         # alone are copied a LINE_ROWS
+            matrix[:, at] = 10                             # rows at a time
+            layouts.append((matrix, places, keep))
         for first in range(start, stop, LINE_ROWS):
             last = min(first + LINE_ROWS, stop)
             rows, n = slice(first - start, last - start), last - first
             lines = []
-            for fields, keep in outputs:
-                pieces = [piece for field in fields for piece in [
-                    text[rows] for text in texts[id(field)]] + [comma[:n]]]
-                pieces[-1] = end[:n]
-                matrix = np.concatenate(pieces, axis=1)
+            for matrix, places, keep in layouts:
+                matrix = matrix[:n]
+                for text, at, w in places:
+                    matrix[:, at:at + w].view(f"V{w}")[:, 0] = text[rows].view(f"V{w}")[:, 0]
                 if keep is not None and not keep[first:last].all():
                     matrix = matrix[keep[first:last]]
                 lines.append(matrix.tobytes().translate(None, b"\0"))
@@ -5810,7 +5822,7 @@ def _lines(np, outputs):
 #
 # repr writes a double as the shortest decimal that reads back as it (David Gay's dtoa, mode 0),
 # the nearest to it where two are as short; positional from 1e-4 to 1e16. _float_texts does the
-# same for a numpy block at once, exactly, where 1e-2 <= |x| < 1e13 (the other numbers, and the
+# same for a numpy block at once, exactly, where 1e-3 <= |x| < 1e13 (the other numbers, and the
 # few cases it cannot decide, are repr's own). The argument, with ulp the spacing of doubles at x
 # and m = 16 - floor(log10 |x|):
 # - x 10^m = hi + lo exactly (Dekker's product: 10^m is a double for m <= 22), so d17, the
@@ -5831,19 +5843,20 @@ _POW10 = tuple(10.0 ** k for k in range(23))      # exact doubles
 
 @functools.cache
 def _digit_tables(np: ModuleType) -> dict[str, Any]:
-    """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as int64;
-    the 10,000 four-digit texts as uint32, with leading zeros and without (NULs for them); masks
-    of the first k of 20 bytes and of the last k of 16, as uint32; "." and three NULs; three
-    NULs and "-"."""
+    """numpy's tables, made once: 10^k as doubles with Dekker's halves of each, and as uint64
+    (to 10^19); the 10,000 four-digit texts as uint32, with leading zeros and without (NULs for
+    them; then -0 to -999 so: 10,000 + i is "-i"); masks of the first k of 20 bytes and of the
+    last k of 16, as uint32; "." and three NULs; three NULs and "-"."""
     pow10 = np.array(_POW10)
     big = pow10 * 134217729.0                     # 2^27 + 1
     high = big - (big - pow10)
     return dict(
         pow10=pow10, high=high, low=pow10 - high,
-        pow10i=np.array([10 ** k for k in range(19)], dtype=np.int64),
+        pow10i=np.array([10 ** k for k in range(20)], dtype=np.uint64),
         quads=np.frombuffer(b"".join(b"%04d" % i for i in range(10_000)), dtype=np.uint32),
-        leading=np.frombuffer(b"".join(b"%4d" % i for i in range(10_000)).replace(b" ", b"\0"),
-                              dtype=np.uint32),
+        leading=np.frombuffer(b"".join([b"%4d" % i for i in range(10_000)]
+                                       + [b"%4s" % (b"-%d" % i) for i in range(1000)]
+                                       + [b"    "] * 9000).replace(b" ", b"\0"), dtype=np.uint32),
         first=np.array([[255 * (c < k) for c in range(20)] for k in range(21)],
                        dtype=np.uint8).view(np.uint32),
         last=np.array([[255 * (c >= 16 - k) for c in range(16)] for k in range(17)],
@@ -5858,7 +5871,7 @@ def _float_texts(np, x) -> list:
     t = _digit_tables(np)
     n = len(x)
     a = np.abs(x)
-    fast = (a >= 1e-2) & (a < 1e13)                        # NaN is not
+    fast = (a >= 1e-3) & (a < 1e13)                        # NaN is not
     np.copyto(a, 1.0, where=~fast)
     m = 16 - np.floor(np.log10(a)).astype(np.intp)
     scale = t["pow10"].take(m)
@@ -5871,7 +5884,8 @@ def _float_texts(np, x) -> list:
     r = np.rint(lo)
     f17 = lo - r
     d17 = hi.astype(np.int64) + r.astype(np.int64)
-    half = np.spacing(a) * 0.5
+    bits = a.view(np.int64)
+    half = (((bits >> 52) - 53) << 52).view(np.float64)   # ulp/2: a is normal, >= 2^-969
     q1 = d17 // 10
     t16 = (d17 - q1 * 10) + f17
     up16 = t16 > 5.0
@@ -5885,10 +5899,12 @@ def _float_texts(np, x) -> list:
     margin = 1e-12
     ok15 = f15 < h15 - margin
     ok16 = f16 < h16 - margin
-    good = (fast & (d17 >= 10 ** 16) & (d17 < 10 ** 17) & (np.frexp(a)[0] != 0.5)
+    good = (fast & (d17 >= 10 ** 16) & (d17 < 10 ** 17) & ((bits & (1 << 52) - 1) != 0)
             & (t16 != 5.0) & (np.abs(f17) != 0.5)
             & (ok15 | (f15 > h15 + margin)) & (ok15 | ok16 | (f16 > h16 + margin)))
-    digits = np.where(ok15, q2 + up15, np.where(ok16, q1 + up16, d17))
+    digits = d17.copy()
+    np.copyto(digits, q1 + up16, where=ok16)
+    np.copyto(digits, q2 + up15, where=ok15)
     places = m - 2 * ok15 - (ok16 & ~ok15)                 # digits after the point
     zero = x == 0.0                                        # 0.0, -0.0
     good |= zero
@@ -5910,16 +5926,24 @@ def _float_texts(np, x) -> list:
     whole = np.floor(a).astype(np.int64)                   # the decimal's whole part: no whole
     #                                                        number lies within ulp/2 of x
     width = int(places.max()) if n else 1
-    fraction = (digits - whole * t["pow10i"].take(places)) * t["pow10i"].take(width - places)
-    lead = -(-len(str(int(whole.max()) if n else 0)) // 4)
+    fraction = ((digits.view(np.uint64) - whole.view(np.uint64) * t["pow10i"].take(places))
+                * t["pow10i"].take(width - places))        # < 10^19: unsigned
+    biggest = int(whole.max()) if n else 0
+    lead = -(-len(str(biggest)) // 4)
     groups = -(-width // 4)
     text = np.empty((n, 2 + lead + groups), dtype=np.uint32)   # words of 4 bytes: NULs, "-";
     #                                           the whole part; "." and NULs; the fraction
-    np.multiply(np.signbit(x), t["minus"], out=text[:, 0], casting="unsafe")
+    sign = np.signbit(x)
     text[:, lead + 1] = t["point"]
-    if lead == 1:
-        text[:, 1] = t["leading"].take(whole)              # "   7" with NULs for the spaces
+    start = 4 if biggest < 1000 else 3                     # the text's first byte
+    if biggest < 1000:                                     # "  -7" with NULs for the spaces:
+        np.add(whole, 10_000, out=whole, where=sign)       # the sign beside the digits
+        text[:, 1] = t["leading"].take(whole)
+    elif lead == 1:
+        np.multiply(sign, t["minus"], out=text[:, 0], casting="unsafe")
+        text[:, 1] = t["leading"].take(whole)              # "-", "7000"
     else:
+        np.multiply(sign, t["minus"], out=text[:, 0], casting="unsafe")
         count = np.ones(n, dtype=np.intp)                  # the whole part's digits
         for k in range(1, 4 * lead):
             count += whole >= 10 ** k
@@ -5928,15 +5952,16 @@ def _float_texts(np, x) -> list:
             text[:, j] = t["quads"].take(whole - q * 10_000)
             whole = q
         text[:, 1:lead + 1] &= t["last"].take(count, axis=0)[:, 4 - lead:]
-    for j in range(1 + lead + groups, 1 + lead, -1):
-        q = fraction // 10_000
-        text[:, j] = t["quads"].take(fraction - q * 10_000)
-        fraction = q
     skip = 4 * groups - width                              # the first group's leading zeros
-    text[:, lead + 2:] &= (t["first"].take(kept + skip, axis=0)[:, :groups]
-                           & ~t["first"][skip, :groups])
+    kept += skip
+    for g in range(groups - 1, -1, -1):                    # a group's bytes kept: a column of
+        q = fraction // 10_000                             # masks taken (not rows of them)
+        word = t["quads"].take(fraction - q * 10_000)
+        word &= (t["first"][:, g] & ~t["first"][skip, g]).take(kept)
+        text[:, lead + 2 + g] = word
+        fraction = q
     text = text.view(np.uint8)
-    head, tail = text[:, 3:4 * lead + 5], text[:, 4 * lead + 8 + skip:]   # the bytes that can
+    head, tail = text[:, start:4 * lead + 5], text[:, 4 * lead + 8 + skip:]   # the bytes that can
     others = np.flatnonzero(~good)                                         # hold a character
     if len(others):                      # repr's own texts, split across head and tail (their
         #                                  NULs are dropped when joined)
