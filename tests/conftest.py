@@ -14,6 +14,7 @@ pytest and hypothesis: the optional peers are imported where used (support/peers
 needs a missing one is skipped, or failed where CI is set). pytest-xdist is optional too."""
 
 import os
+import signal
 
 import pytest
 from hypothesis import HealthCheck, settings
@@ -51,6 +52,11 @@ def pytest_configure(config):
                             "PNGs, big sweeps, the 50-digit reference on the hard catalogue)")
     if not hasattr(config, "workerinput"):
         program.compile_once()
+    if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+        # started in the background of a shell (`cmd &`) or by nohup, SIGINT comes ignored and
+        # every program the tests start would inherit that: the Ctrl-C tests would see a program
+        # that cannot be interrupted. Python's own handler is reset to the default by exec.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 @pytest.hookimpl(optionalhook=True)
