@@ -822,12 +822,13 @@ def single_keys(fd: int | None, enter: Callable[[], object] | None = None,
 # Holds: the one table of the five kinds (plane, spherical and skew four-bar, plane and skew
 # slider-crank): their names, their dimensions in the engine's order and in the order the listing
 # asks for them (KIND_MENU, the menu's key), what each dimension is, the status a computed
-# position can have, and degrees against radians.
+# position can have, degrees against radians, and an ordinary decimal number as typed (DECIMAL: the
+# commands' and the explorer's one pattern).
 #
 # Uses: nothing.
 # Offers: PLANE_FOUR_BAR, SPHERICAL_FOUR_BAR, SKEW_FOUR_BAR, PLANE_SLIDER_CRANK, SKEW_SLIDER_CRANK,
 #   LINKAGE_DIMENSIONS, KIND_NAMES, SLIDER_CRANKS, DIMENSION_NAMES, ASSEMBLED, DEAD_CENTRE,
-#   CHANGE_POINT, NOT_ASSEMBLED, INDETERMINATE, STOPPED, RAD, DEG, KIND_MENU, typed_number,
+#   CHANGE_POINT, NOT_ASSEMBLED, INDETERMINATE, STOPPED, RAD, DEG, KIND_MENU, DECIMAL, typed_number,
 #   typed_dimensions, letters_defined.
 
 
@@ -885,6 +886,9 @@ KIND_MENU = {
     PLANE_SLIDER_CRANK: ("4", ("b", "c", "e")),
     SKEW_SLIDER_CRANK: ("5", ("b", "c", "a", "f", "ksi")),
 }
+
+
+DECIMAL = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")  # 2, -0.5, 1e-3 as typed
 
 
 def typed_number(x: float) -> str:
@@ -13252,7 +13256,6 @@ _ASCII_PANEL = str.maketrans({"φ": "phi", "ψ": "psi", "ξ": "ksi", "μ": "mu",
 _STEP_KEYS = ("Left", "Right", "S-Left", "S-Right", "[", "]")
 _UNDO_DEPTH = 100
 _INSIDE = 1e-9          # degrees: a rocking crank's motion ends this far inside its dead centres
-_TYPED_NUMBER = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
 
 
 class Explorer(NamedTuple):
@@ -13578,7 +13581,7 @@ def _typed_key(state: Explorer, key: str, views: ExploreViews
     if key == "Backspace":
         return state._replace(typing=typed[:-1])
     if key == "Enter":
-        if not _TYPED_NUMBER.fullmatch(typed) or not math.isfinite(float(typed)):
+        if not DECIMAL.fullmatch(typed) or not math.isfinite(float(typed)):
             return state._replace(typing=None, status=f"refused: {name} = {typed!r} is not a "
                                                       "number (e.g. 6.5, -2, 1e-3)")
         return _set_value(state, name, float(typed), views)
@@ -14935,17 +14938,16 @@ def _load_average() -> str:
 # (run_options, ...) and its handler (run_command, ...), and the drawing every command shares.
 #
 # Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 12, 14, 15, 16, 17, 21, 22, 23 and 25.
-# Offers: DECIMAL, LONGEST_NUMBER, decimal_number, basic_answer, kind_named, UsageError,
-#   CommandError, Rule, goes_with, broken_rule, Pictures, pictures_typed, unwritten, reported,
-#   printed, dimensions_typed, typed_value, check_outputs, MADE_FOLDERS, output_folder,
-#   unmake_folders, RunOptions, run_options, run_command, CSV_CLIPPED, AnalyseOptions,
-#   analyse_options, analyse_command, ForcesOptions, forces_options, forces_command, FORCES_OPTIONS,
-#   figure_command, drawing_command.
+# Offers: LONGEST_NUMBER, decimal_number, basic_answer, kind_named, UsageError, CommandError, Rule,
+#   goes_with, broken_rule, Pictures, pictures_typed, unwritten, reported, printed,
+#   dimensions_typed, typed_value, check_outputs, MADE_FOLDERS, output_folder, unmake_folders,
+#   RunOptions, run_options, run_command, CSV_CLIPPED, AnalyseOptions, analyse_options,
+#   analyse_command, ForcesOptions, forces_options, forces_command, FORCES_OPTIONS, figure_command,
+#   drawing_command.
 
 
 # -- what is typed: one parser a kind of value, shared by every command -------------------------
 
-DECIMAL = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
 LONGEST_NUMBER = 100        # characters of an ordinary decimal (a typed answer: INPUT_LINE)
 
 
