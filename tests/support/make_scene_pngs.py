@@ -19,39 +19,32 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "data" / "scenes"
 
-# The stored PNGs, each with the options it is drawn with ("" for the scene's own size).
-PNG_OPTIONS: dict[str, str] = {
-    "coupler-plane-four-bar": "720x500",
-    "coupler-plane-slider-crank": "720x500",
-    "coupler-skew-four-bar": "720x500",
-    "coupler-skew-slider-crank": "720x500",
-    "coupler-spherical-four-bar": "720x500",
-    "fig3-plane-four-bar": "",
-    "forces-arrows-crank-rocker": "720x500 --dpi 72",
-    "forces-follow-change-point": "",
-    "forces-plane-crank-rocker": "",
-    "forces-skew-four-bar": "",
-    "forces-slider-crank-engine": "",
-    "forces-spherical-four-bar": "",
-    "simulate-engine-flywheel": "",
-    "simulate-engine-run-up": "",
-    "simulate-released-four-bar": "",
-    "simulate-released-spherical": "",
-    "simulate-rhombus": "",
+# The stored PNGs, each with the options it is drawn with (none: the scene's own size).
+PNG_OPTIONS: dict[str, tuple[str, ...]] = {
+    "coupler-plane-four-bar": ("--size", "720x500"),
+    "coupler-plane-slider-crank": ("--size", "720x500"),
+    "coupler-skew-four-bar": ("--size", "720x500"),
+    "coupler-skew-slider-crank": ("--size", "720x500"),
+    "coupler-spherical-four-bar": ("--size", "720x500"),
+    "fig3-plane-four-bar": (),
+    "forces-arrows-crank-rocker": ("--size", "720x500", "--dpi", "72"),
+    "forces-follow-change-point": (),
+    "forces-plane-crank-rocker": (),
+    "forces-skew-four-bar": (),
+    "forces-slider-crank-engine": (),
+    "forces-spherical-four-bar": (),
+    "simulate-engine-flywheel": (),
+    "simulate-engine-run-up": (),
+    "simulate-released-four-bar": (),
+    "simulate-released-spherical": (),
+    "simulate-rhombus": (),
 }
 
 
 def command(name: str) -> list[str]:
     """The command that draws the scene's stored PNG, as a user would type it."""
     return ([sys.executable, str(ROOT / "linkage.py"), "scene", str(SCENES / f"{name}.toml"),
-             "--png", str(SCENES / f"{name}.png")]
-            + size_option(name) + PNG_OPTIONS[name].split()[1:])
-
-
-def size_option(name: str) -> list[str]:
-    """The --size a stored PNG is drawn at, or none (the scene's own)."""
-    size = PNG_OPTIONS[name].split()[:1]
-    return ["--size"] + size if size else []
+             "--png", str(SCENES / f"{name}.png"), *PNG_OPTIONS[name]])
 
 
 def main(names: list[str]) -> int:
