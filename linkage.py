@@ -5730,10 +5730,19 @@ def coupler_of_arrays(linkage: Closure, arrays: MotionArrays, u: float,
     return CouplerArrays(arrays.phi, position, velocity, acceleration, arrays.status)
 
 
-def transmission_of_arrays(linkage: Closure, arrays: MotionArrays) -> numpy.ndarray:
-    """transmission_of on a MotionArrays: a float64 array, NaN where there is no position."""
+def transmission_of_arrays(linkage: Closure, arrays: MotionArrays,
+                           trig: dict[str, numpy.ndarray] | None = None) -> numpy.ndarray:
+    """transmission_of on a MotionArrays: a float64 array, NaN where there is no position.
+    trig: what motion_arrays_of gave for these arrays, whose cosines and sines of phi are those
+    this would compute (the same function), but at a point handed to the scalar sweep (NaN)."""
     np = numpy_module()
-    c, s = cos_sin_degrees_array(np, arrays.phi)
+    if trig is None:
+        c, s = cos_sin_degrees_array(np, arrays.phi)
+    else:
+        c, s = trig["phi"]
+        redo = np.flatnonzero(np.isnan(c))
+        if len(redo):
+            c[redo], s[redo] = cos_sin_degrees_array(np, arrays.phi[redo])
     with np.errstate(all="ignore"):
         a, p, p_q = joint_kinematics(linkage, pin_dimensions(linkage.scaled), c, s,
                                       arrays.output, 0, None, None,
@@ -14463,45 +14472,58 @@ FILES_TARGET = 1_000_000   # points a second of CPU: run --precision double --fa
 
 
 def bench_files(out: TextIO, quick: bool = False) -> str:
-    """run --precision double to the DAT files and a CSV, as a process: its CPU time, --fast and
-    without, alternated (the CPU time is the process's, user and system, from getrusage)."""
+    """run --precision double to the DAT files and a CSV, as a process: CPU time, with --fast.
+
+    The CPU time is the process's (user and system, from getrusage); --fast by the README's
+    `python3 linkage.py` (which compiles the module every run) and by `python3 -m linkage` (from
+    cached bytecode, as the installed `linkage` command runs), and without --fast; alternated."""
     import resource
     import subprocess
     import tempfile
     import time
     points, repeats = (10_001, 1) if quick else (1_000_001, 3)
     step = 360.0 / (points - 1)
-    command = [sys.executable, os.path.abspath(__file__), "run", "plane", "--a", "6", "--b", "2",
-               "--c", "7", "--d", "9", "--from", "0", "--to", "360", "--step", repr(step),
-               "--branch", "1", "--precision", "double"]
+    here = os.path.dirname(os.path.abspath(__file__))
+    words = ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
+             "--to", "360", "--step", repr(step), "--branch", "1", "--precision", "double"]
+    script, module = [sys.executable, os.path.join(here, "linkage.py")], [sys.executable, "-m",
+                                                                          "linkage"]
+    forms = {"--fast": script + words + ["--fast"], "-m --fast": module + words + ["--fast"],
+             "scalar": script + words}
+    env = dict(os.environ, PYTHONPATH=here)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)         # as where bytecode is kept, the default
     best: dict[str, tuple[float, float]] = {}
     with tempfile.TemporaryDirectory() as folder:
+        subprocess.run([sys.executable, "-c", "import linkage"], env=env, cwd=folder, check=True)
         for _ in range(repeats):
-            for fast in ("--fast", ""):
+            for form, command in forms.items():
                 before = resource.getrusage(resource.RUSAGE_CHILDREN)
                 start = time.perf_counter()
-                subprocess.run(command + ["--dir", folder, "--csv", os.path.join(folder, "o.csv")]
-                               + [fast] * bool(fast), check=True, capture_output=True)
+                subprocess.run(command + ["--dir", folder, "--csv", os.path.join(folder, "o.csv")],
+                               check=True, capture_output=True, cwd=folder, env=env)
                 wall = time.perf_counter() - start
                 after = resource.getrusage(resource.RUSAGE_CHILDREN)
                 cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-                best[fast] = min(best.get(fast, (math.inf, math.inf)), (cpu, wall))
+                best[form] = min(best.get(form, (math.inf, math.inf)), (cpu, wall))
         size = sum(os.path.getsize(os.path.join(folder, n)) for n in DatFiles.NAMES + ("o.csv",))
     print(f"python3 linkage.py run plane --a 6 --b 2 --c 7 --d 9 --from 0 --to 360 --step "
           f"{step!r} --branch 1 --precision double --dir D --csv D/o.csv [--fast]: {points:,} "
           f"points, {size / 1e6:,.1f} MB of files; CPU time of the process (its start-up, "
-          f"numpy's import and the files' flushing to the disk included), best of {repeats}",
-          file=out)
-    for fast, (cpu, wall) in best.items():
-        print(f"{fast or 'scalar':8} {cpu:7.2f} s CPU {wall:7.2f} s wall {points / cpu:12,.0f} "
+          f"numpy's import and the files' flushing to the disk included), best of {repeats}; "
+          "-m --fast: the same by python3 -m linkage (the installed command's way: cached "
+          "bytecode, where the script compiles the module every run)", file=out)
+    for form, (cpu, wall) in best.items():
+        print(f"{form:10} {cpu:7.2f} s CPU {wall:7.2f} s wall {points / cpu:12,.0f} "
               f"points/s of CPU {size / cpu / 1e6:8.1f} MB/s", file=out)
-    rate = points / best["--fast"][0]
+    rate, module_rate = (points / best[form][0] for form in ("--fast", "-m --fast"))
     if not quick:
-        print(f"target: --fast >= {FILES_TARGET:,} points/s of CPU: "
-              f"{'met' if rate >= FILES_TARGET else 'NOT MET'}, {rate:,.0f}", file=out)
-    return (f"--fast {rate / 1e6:.2f} M points a second of CPU ({best['--fast'][0]:.2f} s), "
-            f"without {best[''][0]:.2f} s: {best[''][0] / best['--fast'][0]:.1f}x; {points:,} points")
-
+        print(f"target: --fast >= {FILES_TARGET:,} points/s of CPU: " + ", ".join(
+            f"{'met' if r >= FILES_TARGET else 'NOT MET'} by {how}, {r:,.0f}" for how, r in (
+                ("python3 linkage.py", rate), ("python3 -m linkage", module_rate))), file=out)
+    return (f"--fast {rate / 1e6:.2f} M points a second of CPU ({best['--fast'][0]:.2f} s; by "
+            f"python3 -m linkage {module_rate / 1e6:.2f} M, {best['-m --fast'][0]:.2f} s), "
+            f"without {best['scalar'][0]:.2f} s: {best['scalar'][0] / best['--fast'][0]:.1f}x; "
+            f"{points:,} points")
 
 ACCURACY_POINTS = 100           # random points a kind (the 110-digit reference: ~1 ms each)
 ACCURACY_SWEEP = 2001           # the engine's and numpy's time a point: a sweep of this many angles
@@ -14878,7 +14900,8 @@ SPEED_TABLE = (
     ("against pylinkage 1.3 with numba (without), the plane four-bar: positions, and with "
      "velocity and acceleration", None, PEERS_COMMAND),
     ("1e6 points to the DAT files and a CSV, `python3 linkage.py run --precision double --fast` "
-     "as a process (without `--fast`)", "files", "python3 linkage.py bench files"),
+     "as a process (the same by `python3 -m linkage`; without `--fast`)", "files",
+     "python3 linkage.py bench files"),
     ("the installed `linkage` command's start-up (a one-point session) against "
      "`python3 -c pass`", "startup", "python3 linkage.py bench startup"),
     ("what accuracy costs: the worst output error against 110 digits on 100 random points a kind "
@@ -15297,12 +15320,13 @@ def _run_double(args: RunOptions) -> int:
         return said(f"{count:,} points is more than 100 million: choose a larger step", 1)
     assembled, points = 0, None
 
-    def extra_columns(swept, arrays):
+    def extra_columns(swept, arrays, trig=None):
         """The CSV's columns after the Motion's: mu, and the coupler point's if asked; for the
-        vectorised path as arrays, else a tuple a row."""
+        vectorised path as arrays (trig: the sweep's, see motion_arrays_of), else a tuple a
+        row."""
         if arrays is not None:
             point = coupler_of_arrays(linkage, arrays, *coupler)[1:4] if coupler else ()
-            return (transmission_of_arrays(linkage, arrays),) + tuple(
+            return (transmission_of_arrays(linkage, arrays, trig),) + tuple(
                 a[:, axis] for a in point if a is not None for axis in range(3))   # all asked
         mus = transmission_of(linkage, swept)
         if not coupler:
@@ -15322,13 +15346,15 @@ def _run_double(args: RunOptions) -> int:
             for first in range(0, count, block):
                 last = min(first + block, count)
                 if args.fast:                  # start + i * step, as below, in numpy
-                    arrays: MotionArrays = linkage.sweep_arrays(
-                        angle_array(start, step, first, last), int(args.branch))
+                    trig: dict[str, Any] = {}    # the sweep's cosines of phi, for mu
+                    arrays: MotionArrays = motion_arrays_of(
+                        linkage, angle_array(start, step, first, last), int(args.branch), 2,
+                        trig if table else None)
                     assembled += assembled_count(arrays)
                     assert arrays.velocity is not None and arrays.acceleration is not None
                     yield SweepColumns(arrays.phi, arrays.output, arrays.velocity,
                                        arrays.acceleration, arrays.status,
-                                       extra_columns(None, arrays) if table else ())
+                                       extra_columns(None, arrays, trig) if table else ())
                 else:
                     angles = [start + i * step for i in range(first, last)]
                     swept = (linkage.sweep(angles, FOLLOW, start=args.start_branch)

@@ -255,6 +255,26 @@ def test_run_fast_writes_the_scalar_paths_files(tmp_path, kind, dims, branch, cl
     assert_same_files(kind, dims, tmp_path / "scalar", tmp_path / "fast")
 
 
+@pytest.mark.parametrize("kind, dims, branch", RUNS[:3], ids=[r[0] for r in RUNS[:3]])
+def test_run_fast_csv_gives_the_transmission_of_its_arrays(tmp_path, kind, dims, branch):
+    """run --fast --csv takes mu's cosines of phi from its sweep (which computes them the same
+    way), and at a point the sweep hands to the scalar engine computes them itself: its column is
+    Linkage.transmission_arrays' to the last bit (the plane's sweep has such points)."""
+    args = ["run", kind] + [f"--{k}={v}" for k, v in dims.items()] + [
+        "--from", "-10", "--to", "370", "--step", "0.05", "--branch", branch,
+        "--precision", "double", "--fast", "--dir", str(tmp_path), "--csv", str(tmp_path / "o.csv")]
+    assert engine.main(args) == 0
+    lines = (tmp_path / "o.csv").read_text().splitlines()[1:]
+    phis = [float(line.split(",")[0]) for line in lines]
+    got = [float(line.split(",")[5]) for line in lines]
+    link = engine.Linkage(kind, **{("ksi" if k == "skew" else k): float(v) for k, v in dims.items()})
+    engine.motion_arrays_of(link, phis, int(branch), 2, trig := {})
+    handed = np.isnan(trig["phi"][0]).sum()
+    assert handed > 0 or kind != "plane"            # the plane's dead centres: points handed over
+    want = link.transmission_arrays(phis, int(branch))
+    assert len(got) == len(phis) and np.array_equal(np.array(got), want, equal_nan=True)
+
+
 def test_run_fast_goes_with_double(capsys):
     with pytest.raises(SystemExit):
         engine.main(["run", "plane", "--a=6", "--b=2", "--c=7", "--d=9", "--from=0", "--to=10",
