@@ -8,16 +8,28 @@ physics tests and the errata mutation test all run the listing the same way:
 in a fresh directory, which is where the program's OPEN "O" files land (started as NO_YIELD,
 below). Standard output is the
 screen transcript (PC-BASIC's --output=FILE loses the end of the screen text, so it is not used).
+
+Each run is that command line, run by a PC-BASIC server (SERVER, below): a Python process that
+has imported PC-BASIC once and calls its command line's entry point once a run, so that a run
+does not pay for starting Python and importing PC-BASIC again (0.15 s of CPU of the 0.2 s a
+trivial run costs). Every run is a fresh call of the entry point, which makes a fresh session:
+tests/test_golden.py holds the runs to the bytes `pcbasic` wrote, and
+tests/test_basic_runner.py a run after another to the same run in a process of its own.
 """
 
 from __future__ import annotations
 
+import atexit
 import dataclasses
+import json
 import os
 import re
+import select
+import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 from pathlib import Path
 
 from support.peers import need
@@ -37,12 +49,12 @@ HARD_ERROR = re.compile(rb"^[A-Z][A-Za-z ]+ in \d+", re.MULTILINE)
 # machine each yield gives up the core, so that a run took twice its CPU time in wall time.
 # Every other sleep is kept; what the program computes, prints and writes is the same bytes
 # (tests/test_golden.py holds those to data/golden).
-NO_YIELD = ("import sys, time\n"
-            "sleep = time.sleep\n"
-            "time.sleep = lambda seconds: sleep(seconds) if seconds else None\n"
-            "from pcbasic.main import main, script_entry_point_guard\n"
-            "with script_entry_point_guard():\n"
-            "    main()\n")
+_UNYIELDING = ("import sys, time\n"
+               "sleep = time.sleep\n"
+               "time.sleep = lambda seconds: sleep(seconds) if seconds else None\n"
+               "from pcbasic.main import main, script_entry_point_guard\n")
+NO_YIELD = _UNYIELDING + ("with script_entry_point_guard():\n"
+                          "    main()\n")
 
 
 def pcbasic_command() -> list[str]:
@@ -60,6 +72,122 @@ def _environment() -> dict[str, str]:
     env = dict(os.environ)
     env.update(LANG="C.UTF-8", LC_ALL="C.UTF-8", PYTHONIOENCODING="utf-8", SDL_VIDEODRIVER="dummy")
     return env
+
+
+# The PC-BASIC server, run as `python3 -c SERVER JOBS REPLIES` (two pipes' descriptors). Its
+# standard input is /dev/null, as a run's was (PC-BASIC reads a standard input that is no
+# terminal as typed keys). It reads one job a line from JOBS: the folder, the arguments of
+# `pcbasic` and the files for standard output and error; it runs the command line there, with
+# those files as descriptors 1 and 2, and writes the exit status to REPLIES. EOF on JOBS ends it.
+SERVER = _UNYIELDING + """\
+import json, os, traceback
+jobs = os.fdopen(int(sys.argv[1]), "rb")
+replies = os.fdopen(int(sys.argv[2]), "wb", buffering=0)
+for line in jobs:
+    job = json.loads(line)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    kept = os.dup(1), os.dup(2)
+    for fd, name in ((1, "out"), (2, "err")):
+        opened = os.open(job[name], os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
+        os.dup2(opened, fd)
+        os.close(opened)
+    os.chdir(job["cwd"])
+    try:
+        with script_entry_point_guard():
+            main(*job["args"])
+        status = 0
+    except SystemExit as end:
+        status = end.code if isinstance(end.code, int) else 0 if end.code is None else 1
+    except BaseException:
+        traceback.print_exc()
+        status = 1
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except Exception:
+        status = status or 1
+    for fd, old in zip((1, 2), kept):
+        os.dup2(old, fd)
+        os.close(old)
+    os.chdir("/")
+    replies.write(b"%d\\n" % status)
+"""
+
+
+class _Server:
+    """One PC-BASIC server process and its two pipes."""
+
+    def __init__(self) -> None:
+        need("pcbasic", load=False)
+        self.files = tempfile.mkdtemp(prefix="linkage-pcbasic-server-")
+        jobs_in, self.jobs = os.pipe()
+        self.replies, replies_out = os.pipe()
+        self.proc = subprocess.Popen(
+            [sys.executable, "-c", SERVER, str(jobs_in), str(replies_out)],
+            pass_fds=(jobs_in, replies_out), stdin=subprocess.DEVNULL,
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=_environment(), cwd="/")
+        os.close(jobs_in)
+        os.close(replies_out)
+
+    def run(self, args: list[str], cwd: Path, timeout: float) -> tuple[bytes, int, bool]:
+        """Run `pcbasic ARGS` in `cwd`: its standard output, its exit status, and whether this
+        server can take another run (not after a run that failed or ended the server)."""
+        out, err = os.path.join(self.files, "stdout"), os.path.join(self.files, "stderr")
+        job = json.dumps({"args": args, "cwd": str(cwd), "out": out, "err": err})
+        os.write(self.jobs, job.encode() + b"\n")
+        reply = b""
+        while not reply.endswith(b"\n"):
+            ready, _, _ = select.select([self.replies], [], [], timeout)
+            if not ready:
+                self.close(kill=True)
+                raise subprocess.TimeoutExpired(["pcbasic"] + args, timeout)
+            chunk = os.read(self.replies, 64)
+            if not chunk:
+                break
+            reply += chunk
+        status = int(reply) if reply.endswith(b"\n") else self.proc.wait()
+        with open(out, "rb") as screen:
+            return screen.read(), status, status == 0 and reply.endswith(b"\n")
+
+    def close(self, kill: bool = False) -> None:
+        if kill:
+            self.proc.kill()
+        for fd in (self.jobs, self.replies):
+            os.close(fd)
+        self.proc.wait()
+        shutil.rmtree(self.files, ignore_errors=True)
+
+
+class _Servers:
+    """The idle servers: a run takes one (or starts one) and gives it back after a clean run, so
+    that runs from several threads at once each have a server of their own."""
+
+    def __init__(self) -> None:
+        self.idle: list[_Server] = []
+        self.lock = threading.Lock()
+        atexit.register(self.close)
+
+    def run(self, args: list[str], cwd: Path, timeout: float) -> tuple[bytes, int]:
+        with self.lock:
+            server = self.idle.pop() if self.idle else None
+        server = server or _Server()
+        screen, status, reusable = server.run(args, cwd, timeout)
+        if reusable:
+            with self.lock:
+                self.idle.append(server)
+        else:
+            server.close()
+        return screen, status
+
+    def close(self) -> None:
+        with self.lock:
+            idle, self.idle = self.idle, []
+        for server in idle:
+            server.close()
+
+
+_SERVERS = _Servers()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -99,17 +227,16 @@ def run_program(source: bytes, keys: bytes = b"", inputs: dict[str, bytes] | Non
         (work / "keys.txt").write_bytes(keys)
         for name, data in inputs.items():
             (work / name).write_bytes(data)
-        args = pcbasic_command() + ["PROGRAM.BAS", "--interface=none", "--input=keys.txt",
-                                    "--output=STDOUT", "--sound=False"]
+        args = ["PROGRAM.BAS", "--interface=none", "--input=keys.txt", "--output=STDOUT",
+                "--sound=False"]
         if quit_at_end:
             args.append("-q")
         if double:
             args.append("--double")
-        proc = subprocess.run(args, cwd=work, capture_output=True, timeout=timeout,
-                              env=_environment(), stdin=subprocess.DEVNULL)
+        screen, status = _SERVERS.run(args, work, timeout)
         files = {p.name: p.read_bytes() for p in sorted(work.iterdir())
                  if p.name not in ("PROGRAM.BAS", "keys.txt") and p.name not in inputs}
-    return Run(screen=proc.stdout, files=files, returncode=proc.returncode)
+    return Run(screen=screen, files=files, returncode=status)
 
 
 def _batch_name(session: int, name: str) -> str:
