@@ -13,8 +13,8 @@ Each run is that command line, run by a PC-BASIC server (SERVER, below): a Pytho
 has imported PC-BASIC once and calls its command line's entry point once a run, so that a run
 does not pay for starting Python and importing PC-BASIC again (0.15 s of CPU of the 0.2 s a
 trivial run costs). Every run is a fresh call of the entry point, which makes a fresh session:
-tests/test_golden.py holds the runs to the bytes `pcbasic` wrote, and
-tests/test_basic_runner.py a run after another to the same run in a process of its own.
+tests/test_golden.py holds the runs to the bytes `pcbasic` wrote, and a run after one that leaves
+all it can behind to the same run in a process of its own.
 """
 
 from __future__ import annotations
@@ -190,6 +190,12 @@ class _Servers:
 _SERVERS = _Servers()
 
 
+def server_pids() -> list[int]:
+    """The process ids of the idle PC-BASIC servers; the next run takes the last one."""
+    with _SERVERS.lock:
+        return [server.proc.pid for server in _SERVERS.idle]
+
+
 @dataclasses.dataclass(frozen=True)
 class Run:
     """What one PC-BASIC run left behind: the screen text and every file it wrote."""
@@ -216,10 +222,12 @@ def run_listing(keys: bytes, listing: bytes | None = None, *, double: bool = Fal
 
 
 def run_program(source: bytes, keys: bytes = b"", inputs: dict[str, bytes] | None = None, *,
-                double: bool = False, quit_at_end: bool = True, timeout: float = 600.0) -> Run:
+                double: bool = False, quit_at_end: bool = True, timeout: float = 600.0,
+                alone: bool = False) -> Run:
     """Run the GW-BASIC program `source` (CRLF lines) in a fresh directory holding the files
     `inputs`, typing `keys`; return the screen and every file the program left (the program,
-    the keys and the input files excluded)."""
+    the keys and the input files excluded). `alone` runs it in a process of its own, `pcbasic`
+    as a user starts it, instead of by a server."""
     inputs = inputs or {}
     with tempfile.TemporaryDirectory(prefix="linkage-pcbasic-") as tmp:
         work = Path(tmp)
@@ -233,7 +241,12 @@ def run_program(source: bytes, keys: bytes = b"", inputs: dict[str, bytes] | Non
             args.append("-q")
         if double:
             args.append("--double")
-        screen, status = _SERVERS.run(args, work, timeout)
+        if alone:
+            proc = subprocess.run(pcbasic_command() + args, cwd=work, capture_output=True,
+                                  timeout=timeout, env=_environment(), stdin=subprocess.DEVNULL)
+            screen, status = proc.stdout, proc.returncode
+        else:
+            screen, status = _SERVERS.run(args, work, timeout)
         files = {p.name: p.read_bytes() for p in sorted(work.iterdir())
                  if p.name not in ("PROGRAM.BAS", "keys.txt") and p.name not in inputs}
     return Run(screen=screen, files=files, returncode=status)
@@ -246,7 +259,7 @@ def _batch_name(session: int, name: str) -> str:
 
 def run_batch(sessions: list[bytes], listing: bytes | None = None, *, double: bool = False,
               timeout: float = 600.0) -> list[dict[str, bytes]]:
-    """Run several sessions in one interpreter (start-up is a third of a short run's time).
+    """Run several sessions in one run of the interpreter (one screen for all).
 
     After each session the three DAT files are renamed in direct mode (NAME ... AS ...) and
     the program is started again with RUN, which clears all variables as a fresh start does.
