@@ -12,7 +12,7 @@ import pytest
 
 from support import basic_runner
 import test_physics
-from support.program import SCRIPT
+from support.program import PROGRAM
 
 pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
@@ -210,7 +210,7 @@ def test_every_deviation_of_the_port_is_tagged_in_the_code():
 # -- `linkage.py listing`: the corrected listing for the historical reader ---------------------
 
 def _listing(*options):
-    got = subprocess.run(SCRIPT + ["listing", *options], capture_output=True,
+    got = subprocess.run(PROGRAM + ["listing", *options], capture_output=True,
                          text=True, encoding="utf-8")
     assert got.returncode == 0 and not got.stderr, got.stderr
     return got.stdout.splitlines()
