@@ -116,7 +116,7 @@ for line in jobs:
 
 
 class _Server:
-    """One PC-BASIC server process and its two pipes."""
+    """One PC-BASIC server process, its two pipes and the runs it has made."""
 
     def __init__(self) -> None:
         need("pcbasic", load=False)
@@ -129,6 +129,7 @@ class _Server:
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=_environment(), cwd="/")
         os.close(jobs_in)
         os.close(replies_out)
+        self.runs = 0
 
     def run(self, args: list[str], cwd: Path, timeout: float) -> tuple[bytes, int, bool]:
         """Run `pcbasic ARGS` in `cwd`: its standard output, its exit status, and whether this
@@ -136,11 +137,10 @@ class _Server:
         out, err = os.path.join(self.files, "stdout"), os.path.join(self.files, "stderr")
         job = json.dumps({"args": args, "cwd": str(cwd), "out": out, "err": err})
         os.write(self.jobs, job.encode() + b"\n")
+        self.runs += 1
         reply = b""
         while not reply.endswith(b"\n"):
-            ready, _, _ = select.select([self.replies], [], [], timeout)
-            if not ready:
-                self.close(kill=True)
+            if not select.select([self.replies], [], [], timeout)[0]:
                 raise subprocess.TimeoutExpired(["pcbasic"] + args, timeout)
             chunk = os.read(self.replies, 64)
             if not chunk:
@@ -161,7 +161,10 @@ class _Server:
 
 class _Servers:
     """The idle servers: a run takes one (or starts one) and gives it back after a clean run, so
-    that runs from several threads at once each have a server of their own."""
+    that runs from several threads at once each have a server of their own. A server makes at
+    most RUNS runs (the memory it holds grows by about half a megabyte a run)."""
+
+    RUNS = 50
 
     def __init__(self) -> None:
         self.idle: list[_Server] = []
@@ -172,8 +175,12 @@ class _Servers:
         with self.lock:
             server = self.idle.pop() if self.idle else None
         server = server or _Server()
-        screen, status, reusable = server.run(args, cwd, timeout)
-        if reusable:
+        try:
+            screen, status, reusable = server.run(args, cwd, timeout)
+        except BaseException:                   # the time is up, or the run was interrupted
+            server.close(kill=True)
+            raise
+        if reusable and server.runs < self.RUNS:
             with self.lock:
                 self.idle.append(server)
         else:
