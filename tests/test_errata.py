@@ -160,9 +160,9 @@ QUICK = test_physics.sweeps(
 # caught if any run finds a problem, as in one run (every session starts as RUN does, its
 # variables cleared). The order only saves time. Each revert's sessions run one by one: the skew
 # slider-crank's stencil (it runs most of the formula lines, and five points cost less than a
-# sweep) fails 19 of the 26 physics reverts; the plane four-bar's sweep, which takes the DETOUR
+# sweep) fails 19 of the 29 physics reverts; the plane four-bar's sweep, which takes the DETOUR
 # through the menu, 5 of the others; the stencils of the skew four-bar with an imaginary coupler
-# and of the spherical four-bar the last 2. Only the neutral revert and the fixed listing's check
+# and of the spherical four-bar the last 5. Only the neutral revert and the fixed listing's check
 # run the rest.
 LEADING = [[("skew-slider", "stencil")], [("plane-crank-rocker", "coarse")],
            [("skew-imaginary", "stencil"), ("spherical", "stencil")]]
