@@ -156,9 +156,9 @@ QUICK = test_physics.sweeps(
     centres=(41.0,), branches=(1,), coarse=(3.0, 357.0, 48.0))
 
 
-# QUICK in four PC-BASIC runs, each only if the runs before it found no problem; a revert is
-# caught if any run finds a problem (each session of a run starts as RUN does, its variables
-# cleared: what it writes does not depend on the sessions before it). The order only saves time. Each revert's sessions run one by one: the skew
+# QUICK in four PC-BASIC runs, each only if the runs before it found no problem. A revert is
+# caught if any session has a problem, however the sessions are grouped into runs (a session
+# after sessions without one starts as RUN does, its variables cleared); the order only saves time. Each revert's sessions run one by one: the skew
 # slider-crank's stencil (it runs most of the formula lines, and five points cost less than a
 # sweep) fails 19 of the 29 physics reverts; the plane four-bar's sweep, which takes the DETOUR
 # through the menu, 5 of the others; the stencils of the skew four-bar with an imaginary coupler
