@@ -158,12 +158,12 @@ QUICK = test_physics.sweeps(
 
 # QUICK in four PC-BASIC runs, each only if the runs before it found no problem. A revert is
 # caught if any session has a problem, however the sessions are grouped into runs (a session
-# after sessions without one starts as RUN does, its variables cleared); the order only saves time. Each revert's sessions run one by one: the skew
-# slider-crank's stencil (it runs most of the formula lines, and five points cost less than a
-# sweep) fails 19 of the 29 physics reverts; the plane four-bar's sweep, which takes the DETOUR
-# through the menu, 5 of the others; the stencils of the skew four-bar with an imaginary coupler
-# and of the spherical four-bar the last 5. Only the neutral revert and the fixed listing's check
-# run the rest.
+# after sessions without one starts as RUN does, its variables cleared); the order only saves
+# time. Each revert's sessions run one by one: the skew slider-crank's stencil (it runs most of
+# the formula lines, and five points cost less than a sweep) fails 19 of the 29 physics reverts;
+# the plane four-bar's sweep, which takes the DETOUR through the menu, 5 of the others; the
+# stencils of the skew four-bar with an imaginary coupler and of the spherical four-bar the last
+# 5. Only the neutral revert and the fixed listing's check run the rest.
 LEADING = [[("skew-slider", "stencil")], [("plane-crank-rocker", "coarse")],
            [("skew-imaginary", "stencil"), ("spherical", "stencil")]]
 STAGES = [[s for s in QUICK if (s.case, s.kind) in stage] for stage in LEADING] + [
