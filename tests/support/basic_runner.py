@@ -9,12 +9,13 @@ in a fresh directory, which is where the program's OPEN "O" files land (started 
 below). Standard output is the
 screen transcript (PC-BASIC's --output=FILE loses the end of the screen text, so it is not used).
 
-Each run is that command line, run by a PC-BASIC server (SERVER, below): a Python process that
-has imported PC-BASIC once and calls its command line's entry point once a run, so that a run
-does not pay for starting Python and importing PC-BASIC again (0.15 s of CPU of the 0.2 s a
+The tests' runs are that command line run by a PC-BASIC server (SERVER, below): a Python process
+that has imported PC-BASIC once and calls its command line's entry point once a run, so that a
+run does not pay for starting Python and importing PC-BASIC again (0.15 s of CPU of the 0.2 s a
 trivial run costs). Every run is a fresh call of the entry point, which makes a fresh session:
 tests/test_golden.py holds the runs to the bytes `pcbasic` wrote, and a run after one that leaves
-all it can behind to the same run in a process of its own.
+all it can behind to the same run in a process of its own. What makes data (make_golden.py,
+make_text_table.py) and the accuracy bench, which times the run, start `pcbasic` alone.
 """
 
 from __future__ import annotations
@@ -217,7 +218,7 @@ class Run:
 
 
 def run_listing(keys: bytes, listing: bytes | None = None, *, double: bool = False,
-                quit_at_end: bool = True, timeout: float = 600.0) -> Run:
+                quit_at_end: bool = True, timeout: float = 600.0, alone: bool = False) -> Run:
     """Type `keys` into the listing (LINKAGE.BAS unless given) and collect screen and files.
 
     `double` passes --double (double-precision SIN/COS/TAN/ATN, GW-BASIC's /d switch).
@@ -225,7 +226,8 @@ def run_listing(keys: bytes, listing: bytes | None = None, *, double: bool = Fal
     the rest of `keys` as commands, which is how `run_batch` chains sessions.
     """
     source = LISTING.read_bytes() if listing is None else listing
-    return run_program(source, keys, double=double, quit_at_end=quit_at_end, timeout=timeout)
+    return run_program(source, keys, double=double, quit_at_end=quit_at_end, timeout=timeout,
+                       alone=alone)
 
 
 def run_program(source: bytes, keys: bytes = b"", inputs: dict[str, bytes] | None = None, *,
@@ -265,7 +267,7 @@ def _batch_name(session: int, name: str) -> str:
 
 
 def run_batch(sessions: list[bytes], listing: bytes | None = None, *, double: bool = False,
-              timeout: float = 600.0) -> list[dict[str, bytes]]:
+              timeout: float = 600.0, alone: bool = False) -> list[dict[str, bytes]]:
     """Run several sessions in one run of the interpreter (one screen for all).
 
     After each session the three DAT files are renamed in direct mode (NAME ... AS ...) and
@@ -279,7 +281,8 @@ def run_batch(sessions: list[bytes], listing: bytes | None = None, *, double: bo
         for name in DAT_FILES:
             keys += b'NAME "%s" AS "%s"\r' % (name.encode(), _batch_name(i, name).encode())
         keys += b"RUN\r" if i + 1 < len(sessions) else b"SYSTEM\r"
-    run = run_listing(keys, listing, double=double, quit_at_end=False, timeout=timeout)
+    run = run_listing(keys, listing, double=double, quit_at_end=False, timeout=timeout,
+                      alone=alone)
     results = []
     for i in range(len(sessions)):
         got = {"SCREEN": run.screen}
