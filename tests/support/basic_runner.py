@@ -172,7 +172,8 @@ class _Servers:
         self.lock = threading.Lock()
         atexit.register(self.close)
 
-    def run(self, args: list[str], cwd: Path, timeout: float) -> tuple[bytes, int]:
+    def run(self, args: list[str], cwd: Path, timeout: float) -> tuple[bytes, int, int]:
+        """The standard output and exit status of `pcbasic ARGS` in `cwd`, and the server's id."""
         with self.lock:
             server = self.idle.pop() if self.idle else None
         server = server or _Server()
@@ -186,7 +187,7 @@ class _Servers:
                 self.idle.append(server)
         else:
             server.close()
-        return screen, status
+        return screen, status, server.proc.pid
 
     def close(self) -> None:
         with self.lock:
@@ -198,12 +199,6 @@ class _Servers:
 _SERVERS = _Servers()
 
 
-def server_pids() -> list[int]:
-    """The process ids of the idle PC-BASIC servers; the next run takes the last one."""
-    with _SERVERS.lock:
-        return [server.proc.pid for server in _SERVERS.idle]
-
-
 @dataclasses.dataclass(frozen=True)
 class Run:
     """What one PC-BASIC run left behind: the screen text and every file it wrote."""
@@ -211,6 +206,7 @@ class Run:
     screen: bytes
     files: dict[str, bytes]
     returncode: int
+    server: int = dataclasses.field(default=0, compare=False)   # its process id; 0: run alone
 
     @property
     def hard_errors(self) -> list[bytes]:
@@ -253,12 +249,12 @@ def run_program(source: bytes, keys: bytes = b"", inputs: dict[str, bytes] | Non
         if alone:
             proc = subprocess.run(pcbasic_command() + args, cwd=work, capture_output=True,
                                   timeout=timeout, env=_environment(), stdin=subprocess.DEVNULL)
-            screen, status = proc.stdout, proc.returncode
+            screen, status, server = proc.stdout, proc.returncode, 0
         else:
-            screen, status = _SERVERS.run(args, work, timeout)
+            screen, status, server = _SERVERS.run(args, work, timeout)
         files = {p.name: p.read_bytes() for p in sorted(work.iterdir())
                  if p.name not in ("PROGRAM.BAS", "keys.txt") and p.name not in inputs}
-    return Run(screen=screen, files=files, returncode=status)
+    return Run(screen=screen, files=files, returncode=status, server=server)
 
 
 def _batch_name(session: int, name: str) -> str:
