@@ -15,6 +15,7 @@ needs a missing one is skipped, or failed where CI is set). pytest-xdist is opti
 
 import os
 import signal
+import sys
 
 import pytest
 from hypothesis import HealthCheck, settings
@@ -67,6 +68,19 @@ def pytest_xdist_make_scheduler(config, log):
         from xdist.scheduler import WorkStealingScheduling
         return WorkStealingScheduling(config, log)
     return None
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_collection(session):
+    """The test modules' bytecode (their asserts rewritten by pytest) is kept in __pycache__ even
+    where PYTHONDONTWRITEBYTECODE is set, as linkage.py's is (program.compile_once): each worker
+    would otherwise rewrite and compile every module at every run (about 3 s of CPU a worker)."""
+    kept = sys.dont_write_bytecode
+    sys.dont_write_bytecode = False
+    try:
+        return (yield)
+    finally:
+        sys.dont_write_bytecode = kept
 
 
 def pytest_ignore_collect(collection_path, config):

@@ -2,8 +2,8 @@
 
 Hypothesis draws whole sessions: any of the five mechanisms, dimensions that assemble or not
 (and skew couplers that are imaginary), answers PC-BASIC must refuse ("?Redo from start"), stray
-menu and branch keys, bounds, steps and branches. Each session is run by PC-BASIC in its own
-process (two at a time) and by the port in-process; files and screen must be identical.
+menu and branch keys, bounds, steps and branches. Each session is run by PC-BASIC in a run of
+its own (two at a time) and by the port in-process; files and screen must be identical.
 LINKAGE_DIFFERENTIAL=N draws N sessions per example instead of 8.
 """
 

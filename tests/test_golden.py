@@ -7,6 +7,7 @@ sweep alone takes about two minutes).
 from __future__ import annotations
 
 import os
+import subprocess
 
 import pytest
 
@@ -87,3 +88,37 @@ def test_the_corpus_covers_what_the_issue_asks():
     assert rows("plane-reversed-range", "ANG.DAT") == []
     assert not any(n.endswith(".DAT") for n in os.listdir(make_golden.GOLDEN / "exit"))
     assert [round(v, 4) for _, v in rows("plane-spike-180", "VEL.DAT")][1:4] == [.2545, .545, .2448]
+
+
+# A program that leaves behind all it can: variables, an array, a function, a file open, the
+# screen's width and colours, the key bar, memory poked, the random numbers' seed, keys not read.
+LEAVER = (b'10 A=42:B$="LEFT":DIM C(20):C(5)=7:DEF FNQ(X)=2*X\r\n'
+          b'20 OPEN "O",#1,"LEFT.DAT":PRINT #1,"open"\r\n'
+          b'30 KEY ON:WIDTH 40:COLOR 2,1:LOCATE 10,10:DEF SEG=&H1000:POKE 5,99\r\n'
+          b'40 RANDOMIZE 77:R=RND(1):INPUT X:STOP\r\n')
+# ... and one that prints what it finds (FNQ is "Undefined user function", error 18, when new).
+FINDER = (b'10 ON ERROR GOTO 100:DEF SEG=&H1000\r\n'
+          b'20 PRINT A;B$;C(5);X;FRE(0);RND(1);PEEK(5);CSRLIN;POS(0);INKEY$\r\n'
+          b'30 OPEN "O",#1,"F.DAT":PRINT #1,"f":CLOSE:PRINT FNQ(1):END\r\n'
+          b'100 PRINT "error";ERR;"in";ERL:RESUME NEXT\r\n')
+
+
+def test_a_run_leaves_nothing_to_the_next():
+    """The runs share a PC-BASIC server process (support/basic_runner.py). The finder run after
+    the leaver, in the same process, prints and writes what it does in a process of its own,
+    started as `pcbasic` is; the leaver's file stays in its own folder."""
+    left = basic_runner.run_program(LEAVER, b"5\rLEFTOVER KEYS")
+    assert b"Break in 40" in left.screen and left.files == {"LEFT.DAT": b"open\r\n\x1a"}
+    found = basic_runner.run_program(FINDER)
+    if found.server != left.server:              # the leaver's server had made its last run
+        left = basic_runner.run_program(LEAVER, b"5\rLEFTOVER KEYS")
+        found = basic_runner.run_program(FINDER)
+    assert found.server == left.server != 0
+    assert found == basic_runner.run_program(FINDER, alone=True)
+    assert b"error 18 in 30" in found.screen and list(found.files) == ["F.DAT"]
+
+
+def test_a_run_that_hangs_is_stopped_and_the_next_one_runs():
+    with pytest.raises(subprocess.TimeoutExpired):
+        basic_runner.run_program(b"10 GOTO 10\r\n", timeout=0.3)
+    assert basic_runner.run_program(b'10 PRINT "next"\r\n').screen == b"next\r\n"

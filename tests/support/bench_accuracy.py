@@ -243,7 +243,8 @@ def _mpmath_method(cases, reference, dps):
 def _pcbasic_method(cases, runner):
     """legacy_basic/LINKAGE.BAS under PC-BASIC, one session per point (menu key, dimensions,
     --from PHI --to PHI, branch) in one interpreter (tests/basic_runner.run_batch, at most
-    PCBASIC_TIMEOUT seconds); the time is the whole run's, start-up and menus included. Soft
+    PCBASIC_TIMEOUT seconds, in a process of its own); the time is the whole run's, start-up
+    and menus included. Soft
     errors are read from each session's part of the screen. Linkages the listing refuses (line
     480) are not typed in: the program would return to its menu and swallow the next session's
     keys."""
@@ -263,7 +264,7 @@ def _pcbasic_method(cases, runner):
     if not sessions:
         return 0.0, 0, answers
     start = time.perf_counter()
-    results = runner.run_batch(sessions, timeout=PCBASIC_TIMEOUT)
+    results = runner.run_batch(sessions, timeout=PCBASIC_TIMEOUT, alone=True)
     seconds = time.perf_counter() - start
     screens = results[0]["SCREEN"].split(b'NAME "ANG.DAT" AS')
     for i, (point, files) in enumerate(zip(where, results)):

@@ -54,8 +54,9 @@ def case_keys(case: dict) -> bytes:
 
 
 def generate(case: dict) -> basic_runner.Run:
-    """Run one case and replace its folder's contents with what PC-BASIC produced."""
-    run = basic_runner.run_listing(case_keys(case))
+    """Run one case (`pcbasic` in a process of its own) and replace its folder's contents with
+    what PC-BASIC produced."""
+    run = basic_runner.run_listing(case_keys(case), alone=True)
     if run.returncode != 0 or run.hard_errors:
         raise SystemExit(f"case {case['name']}: PC-BASIC stopped with {run.hard_errors} "
                          f"(exit {run.returncode}); fix the keys in {CASES_FILE.name}")

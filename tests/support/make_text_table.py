@@ -49,7 +49,7 @@ def sample(seed: int = 7) -> list[bytes]:
 
 def main() -> None:
     values = sample()
-    run = basic_runner.run_program(PROGRAM, inputs={"IN.DAT": b"".join(values)})
+    run = basic_runner.run_program(PROGRAM, inputs={"IN.DAT": b"".join(values)}, alone=True)
     write = run.files["W.DAT"].decode("ascii").rstrip("\x1a").split("\r\n")
     printed = run.files["P.DAT"].decode("ascii").rstrip("\x1a").split("\r\n")
     TABLE.parent.mkdir(parents=True, exist_ok=True)
