@@ -6542,6 +6542,157 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
     return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
 
 
+# -- the skew four-bar in closed form -------------------------------------------------------------
+#
+# The skew four-bar's wrenches are written out rather than built from its bodies' frames: the
+# crank turns about z, the output about its fixed axis k through B0, so each wrench is a fixed
+# combination of a few arrays (the trace's constants folded into it), and the coupler is a rod
+# along e = B - A, whose wrench about A is e x W, W = w_A A'' + w_B B'' + W_0 (its centre's
+# acceleration a fixed mix of the pins', its rate e x e''/c^2 with the transverse moment only).
+# With e1 = x and m = (0, cos ksi, sin ksi), B = B0 + d u, u = cos psi e1 + sin psi m and
+# v = k x u; the output's rates turn^2 and turn' enter only as
+#   BX = turn^2 cos psi + turn' sin psi and Bm = turn' cos psi - turn^2 sin psi
+# (so B'' = d (-BX e1 + Bm m), and the output's axes' second derivatives likewise); the crank's
+# as (cos phi, sin phi, 0) and its quarter turn. The coupler's moments fix R_B = mu e - W, the
+# output's moment about k fixes mu: mu (v . e) = k . T_2 / d + v . W, where v . e = v . (B0 - A)
+# (v . u = 0), v . B'' = d turn' and v . A'' is b (-w^2 G + alpha H), G = v . (cos phi, sin phi,
+# 0), H its quarter turn's. A sum of arrays' multiples is kept as a _Form, like terms gathered,
+# and made into the recipe's operations once.
+
+_Form: TypeAlias = "dict[str, float]"     # each named array's multiple; "1" the constant
+_Forms: TypeAlias = "tuple[_Form, _Form, _Form]"
+
+
+def _form_sum(*pairs: tuple[float, _Form]) -> _Form:
+    """The sum of (coefficient, form) terms, each array's multiples gathered into one."""
+    out: _Form = {}
+    for k, form in pairs:
+        for name, x in form.items():
+            out[name] = out.get(name, 0.0) + k * x
+    return {name: x for name, x in out.items() if x}
+
+
+def _forms_sum(*pairs: tuple[float, _Forms]) -> _Forms:
+    """The sum of (coefficient, vector of forms) terms, componentwise."""
+    x, y, z = (_form_sum(*((k, v[i]) for k, v in pairs)) for i in range(3))
+    return x, y, z
+
+
+def _arrays_along(*pairs: tuple[str, Vec3]) -> _Forms:
+    """The sum of (array's name, fixed vector) products: each array times its vector."""
+    x, y, z = (_form_sum(*((v[i], {name: 1.0}) for name, v in pairs)) for i in range(3))
+    return x, y, z
+
+
+def _cross_fixed(u: _Forms, v: Vec3) -> _Forms:
+    """u x v, v a fixed vector."""
+    return (_form_sum((v[2], u[1]), (-v[1], u[2])), _form_sum((v[0], u[2]), (-v[2], u[0])),
+            _form_sum((v[1], u[0]), (-v[0], u[1])))
+
+
+def _dot_fixed(u: _Forms, v: Vec3) -> _Form:
+    """u . v, v a fixed vector."""
+    return _form_sum((v[0], u[0]), (v[1], u[1]), (v[2], u[2]))
+
+
+def _plus(x: Any, form: _Form, named: dict[str, Any]) -> Any:
+    """x + form, on the recipe's terms (x a term or a number)."""
+    for name, k in form.items():
+        x = x + (k if name == "1" else named[name] * k)
+    return x
+
+
+def _times_plus(named: dict[str, Any], name: str, y: Any, sign: float, form: _Form) -> Any:
+    """form + sign named[name] y, the form's own multiple of that array taken into y: one
+    product, not two."""
+    rest = {n: k for n, k in form.items() if n != name}
+    product = named[name] * (y + sign * form.get(name, 0.0))
+    return _plus(product, rest, named) if sign > 0 else _plus(0.0, rest, named) - product
+
+
+def _skew_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
+                    ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3,
+                               Any, float]:
+    """_reactions_arrays for the skew four-bar (see the notes above), from the inputs (the
+    cosines and sines of phi and psi, psi, psi' and psi'')."""
+    c, s, cq, sq, _, q1, q2 = inputs
+    dims, w, al, g, named = setup.dims, setup.omega, setup.alpha, setup.gravity, {}
+    (m0, rho0, i0), (m1, rho1, i1), (m2, rho2, i2) = setup.masses
+    b, d, length = dims["b"], dims["d"], abs(dims["c"])
+    sb, sd = math.copysign(1.0, b), math.copysign(1.0, d)
+    e1, m, k, b0 = _EX, (0.0, dims["cos ksi"], dims["sin ksi"]), setup.axes["output"][1], \
+        setup.ground["B0"]
+    if w:                               # the output's turn^2 = scale s2, turn' = scale rate
+        scale, s2, rate = w * w, q1 * q1, q2 + q1 * (al / (w * w))
+    else:
+        scale, s2, rate = al, 0.0, q1
+    named = {"C": c, "S": s, "cq": cq, "sq": sq, "rate": rate, "BX": s2 * cq + rate * sq,
+             "Bm": rate * cq - s2 * sq}
+    hat_c = _arrays_along(("C", _EX), ("S", _EY))                      # (cos phi, sin phi, 0)
+    hat_s = _forms_sum((1.0, _arrays_along(("C", _EY))), (-1.0, _arrays_along(("S", _EX))))   # z x hat_c
+    u, fixed_g = _arrays_along(("cq", e1), ("sq", m)), _arrays_along(("1", g))
+    v = _forms_sum((1.0, _arrays_along(("cq", m))), (-1.0, _arrays_along(("sq", e1))))
+    u2 = _forms_sum((-1.0, _arrays_along(("BX", e1))), (1.0, _arrays_along(("Bm", m))))     # u'' / scale
+    v2 = _forms_sum((-1.0, _arrays_along(("Bm", e1))), (-1.0, _arrays_along(("BX", m))))    # v'' / scale
+    a2 = _forms_sum((-b * w * w, hat_c), (b * al, hat_s))                      # A''
+    b2 = _forms_sum((d * scale, u2),)                                          # B''
+    # the crank: x = sb hat_c, y = sb hat_s; its wrench about A0 (_needed_arrays' turning)
+    rx, ry, rz = rho0
+    p, q, r = i0[0][2] - m0 * rx * rz, i0[1][2] - m0 * ry * rz, i0[2][2] + m0 * (rx * rx + ry * ry)
+    n0 = _forms_sum((m0 * sb * (-w * w * rx - al * ry), hat_c),
+                    (m0 * sb * (al * rx - w * w * ry), hat_s), (-m0, fixed_g))
+    t0 = _forms_sum((sb * (al * p - w * w * q), hat_c), (sb * (al * q + w * w * p), hat_s),
+                    (al * r, _arrays_along(("1", _EZ))), (-m0, _cross_fixed(_forms_sum(
+                        (sb * rx, hat_c), (sb * ry, hat_s), (rz, _arrays_along(("1", _EZ)))), g)))
+    # the coupler: its centre at A + lam e, its wrench about A is e x W
+    lam, spin = rho1[0] / length, (i1[1][1] + i1[2][2]) / 2.0 / (length * length)
+    w_a, w_b = lam * m1 * (1.0 - lam) - spin, lam * lam * m1 + spin
+    at = setup.coupler_point[0] / length if setup.coupler_point is not None else 0.0
+    w0 = weighted_sum((-lam * m1, g), (-at, setup.coupler_force))
+    n1 = _forms_sum((m1 * (1.0 - lam), a2), (m1 * lam, b2), (-m1, fixed_g),
+                    (-1.0, _arrays_along(("1", setup.coupler_force))))
+    # the output: x = sd u, y = sd v, z = k; its wrench about B0
+    rx, ry, rz = rho2
+    p, q, r = i2[0][2] - m2 * rx * rz, i2[1][2] - m2 * ry * rz, i2[2][2] + m2 * (rx * rx + ry * ry)
+    n2 = _forms_sum((m2 * sd * scale * rx, u2), (m2 * sd * scale * ry, v2), (-m2, fixed_g))
+    t2 = _forms_sum((-sd * scale * p, v2), (sd * scale * q, u2), (scale * r, _arrays_along(("rate", k))),
+                    (-m2, _cross_fixed(_forms_sum((sd * rx, u), (sd * ry, v), (rz, _arrays_along(
+                        ("1", k)))), g)), (-setup.output_torque, _arrays_along(("1", k))))
+    # the elimination: mu (v . e) = k . T_2 / d + v . W
+    named["G"] = cq * _plus(0.0, _dot_fixed(hat_c, m), named) - sq * _plus(
+        0.0, _dot_fixed(hat_c, e1), named)
+    named["H"] = cq * _plus(0.0, _dot_fixed(hat_s, m), named) - sq * _plus(
+        0.0, _dot_fixed(hat_s, e1), named)
+    divisor = _plus(0.0, {"cq": dot(m, b0), "sq": -dot(e1, b0), "G": -b}, named)
+    mu = _plus(0.0, _form_sum((1.0 / d, _dot_fixed(t2, k)), (1.0, {
+        "G": -w_a * b * w * w, "H": w_a * b * al, "rate": w_b * d * scale, "cq": dot(m, w0),
+        "sq": -dot(e1, w0)})), named) / divisor
+    # R_B = mu e - W = mu B - M hat_c - (W's other terms), M = b (mu - w_a w^2)
+    big = mu * b - w_a * b * w * w
+    rest = _forms_sum((w_a * b * al, hat_s), (w_b, b2), (1.0, _arrays_along(("1", w0))))
+    whole = _forms_sum((1.0, _arrays_along(("1", b0))), (d, u))                      # B
+    r_b = [_plus(mu * _plus(0.0, whole[i], named) - big * _plus(0.0, hat_c[i], named),
+                 _form_sum((-1.0, rest[i])), named) for i in range(3)]
+    r_a = [_plus(r_b[i], n1[i], named) for i in range(3)]
+    r_a0 = [_plus(r_a[i], n0[i], named) for i in range(3)]
+    r_g = [_plus(0.0, n2[i], named) - r_b[i] for i in range(3)]
+    # B0's moment: T_2 - d u x R_B, along e1 and m (along k: 0, what mu is for)
+    along = sum((r_b[i] * (d * k[i]) for i in range(3) if k[i]), 0.0)          # d k . R_B
+    m_g = weighted_sum((_times_plus(named, "sq", along, -1.0, _dot_fixed(t2, e1)), e1),
+                       (_times_plus(named, "cq", along, 1.0, _dot_fixed(t2, m)), m))
+    arm = r_a[2] * b                                                          # A x R_A
+    v_a0 = (_times_plus(named, "S", arm, 1.0, t0[0]), _times_plus(named, "C", arm, -1.0, t0[1]))
+    torque = _plus((c * r_a[1] - s * r_a[0]) * b, t0[2], named)
+    m_a0 = (v_a0[0], v_a0[1], 0.0)
+    shaking_force = weighted_sum((-1.0, cast(Vec3, tuple(r_a0))), (-1.0, cast(Vec3, tuple(r_g))))
+    shaking_moment = weighted_sum((1.0, cross(cast(Vec3, tuple(r_g)), b0)), (-1.0, m_g),
+                                  (-1.0, m_a0), (1.0, (0.0, 0.0, -torque)))
+    joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
+        "A0": (cast(Vec3, tuple(r_a0)), m_a0), "A": (cast(Vec3, tuple(r_a)), None),
+        "B": (cast(Vec3, tuple(r_b)), None), "B0": (cast(Vec3, tuple(r_g)), m_g)}
+    return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), length
+
+
 class _ForcesTrace(NamedTuple):
     """What forces_of_arrays records once for a linkage, its bodies and effects: the plan; the
     answer's rows (the torque, near, the shaking force's three and its moment's, then each
@@ -6567,9 +6718,12 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
     setup = forces_setup(linkage, bodies, effects, radius)
     recipe = _Recipe()
     inputs = [recipe.input() for _ in range(5 if linkage.is_slider else 7)]
-    states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
-    t, reactions, force, moment, apart, size = _reactions_arrays(recipe, setup, states, pa,
-                                                                pp, h)
+    if linkage.kind == SKEW_FOUR_BAR:
+        t, reactions, force, moment, apart, size = _skew_reactions(recipe, setup, inputs)
+    else:
+        states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
+        t, reactions, force, moment, apart, size = _reactions_arrays(recipe, setup, states, pa,
+                                                                    pp, h)
     # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
     # carries through + and x): all are finite where these seven are, and there check - check
     # is 0 (recorded as it is, not folded); NaN elsewhere, and then so is near, which no
