@@ -6603,11 +6603,17 @@ def _plus(x: Any, form: _Form, named: dict[str, Any]) -> Any:
 
 
 def _times_plus(named: dict[str, Any], name: str, y: Any, sign: float, form: _Form) -> Any:
-    """form + sign named[name] y, the form's own multiple of that array taken into y: one
-    product, not two."""
-    rest = {n: k for n, k in form.items() if n != name}
-    product = named[name] * (y + sign * form.get(name, 0.0))
-    return _plus(product, rest, named) if sign > 0 else _plus(0.0, rest, named) - product
+    """form + sign named[name] y, the form's own multiple of that array taken into the factor:
+    one product, not two (and k - y rather than -(y - k))."""
+    k = form.get(name, 0.0)
+    product = named[name] * (y + k if sign > 0 else k - y)
+    return _plus(product, {n: x for n, x in form.items() if n != name}, named)
+
+
+def _in_frame(v: _Forms, axes: tuple[Vec3, Vec3, Vec3]) -> _Forms:
+    """A vector given by its components along `axes`, in the frame's."""
+    x, y, z = (_form_sum(*((axes[j][i], v[j]) for j in range(3))) for i in range(3))
+    return x, y, z
 
 
 def _skew_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
@@ -6616,34 +6622,34 @@ def _skew_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
     """_reactions_arrays for the skew four-bar (see the notes above), from the inputs (the
     cosines and sines of phi and psi, psi, psi' and psi'')."""
     c, s, cq, sq, _, q1, q2 = inputs
-    dims, w, al, g, named = setup.dims, setup.omega, setup.alpha, setup.gravity, {}
+    dims, w, al, g = setup.dims, setup.omega, setup.alpha, setup.gravity
     (m0, rho0, i0), (m1, rho1, i1), (m2, rho2, i2) = setup.masses
     b, d, length = dims["b"], dims["d"], abs(dims["c"])
     sb, sd = math.copysign(1.0, b), math.copysign(1.0, d)
     e1, m, k, b0 = _EX, (0.0, dims["cos ksi"], dims["sin ksi"]), setup.axes["output"][1], \
         setup.ground["B0"]
+    plane = (e1, m, k)                  # the output's axes: its vectors' components along them
     if w:                               # the output's turn^2 = scale s2, turn' = scale rate
         scale, s2, rate = w * w, q1 * q1, q2 + q1 * (al / (w * w))
     else:
         scale, s2, rate = al, 0.0, q1
     named = {"C": c, "S": s, "cq": cq, "sq": sq, "rate": rate, "BX": s2 * cq + rate * sq,
              "Bm": rate * cq - s2 * sq}
-    hat_c = _arrays_along(("C", _EX), ("S", _EY))                      # (cos phi, sin phi, 0)
-    hat_s = _forms_sum((1.0, _arrays_along(("C", _EY))), (-1.0, _arrays_along(("S", _EX))))   # z x hat_c
-    u, fixed_g = _arrays_along(("cq", e1), ("sq", m)), _arrays_along(("1", g))
-    v = _forms_sum((1.0, _arrays_along(("cq", m))), (-1.0, _arrays_along(("sq", e1))))
-    u2 = _forms_sum((-1.0, _arrays_along(("BX", e1))), (1.0, _arrays_along(("Bm", m))))     # u'' / scale
-    v2 = _forms_sum((-1.0, _arrays_along(("Bm", e1))), (-1.0, _arrays_along(("BX", m))))    # v'' / scale
+    hat_c = _arrays_along(("C", _EX), ("S", _EY))                          # (cos phi, sin phi, 0)
+    hat_s = _forms_sum((1.0, _arrays_along(("C", _EY))), (-1.0, _arrays_along(("S", _EX))))
+    fixed_g, fixed_z = _arrays_along(("1", g)), _arrays_along(("1", _EZ))
+    u, v = ({"cq": 1.0}, {"sq": 1.0}, {}), ({"sq": -1.0}, {"cq": 1.0}, {})   # along e1, m, k
+    u2, v2 = ({"BX": -1.0}, {"Bm": 1.0}, {}), ({"Bm": -1.0}, {"BX": -1.0}, {})  # u'', v'' / scale
     a2 = _forms_sum((-b * w * w, hat_c), (b * al, hat_s))                      # A''
-    b2 = _forms_sum((d * scale, u2),)                                          # B''
+    b2 = _in_frame(_forms_sum((d * scale, u2)), plane)                         # B''
     # the crank: x = sb hat_c, y = sb hat_s; its wrench about A0 (_needed_arrays' turning)
     rx, ry, rz = rho0
     p, q, r = i0[0][2] - m0 * rx * rz, i0[1][2] - m0 * ry * rz, i0[2][2] + m0 * (rx * rx + ry * ry)
     n0 = _forms_sum((m0 * sb * (-w * w * rx - al * ry), hat_c),
                     (m0 * sb * (al * rx - w * w * ry), hat_s), (-m0, fixed_g))
     t0 = _forms_sum((sb * (al * p - w * w * q), hat_c), (sb * (al * q + w * w * p), hat_s),
-                    (al * r, _arrays_along(("1", _EZ))), (-m0, _cross_fixed(_forms_sum(
-                        (sb * rx, hat_c), (sb * ry, hat_s), (rz, _arrays_along(("1", _EZ)))), g)))
+                    (al * r, fixed_z), (-m0, _cross_fixed(_forms_sum(
+                        (sb * rx, hat_c), (sb * ry, hat_s), (rz, fixed_z)), g)))
     # the coupler: its centre at A + lam e, its wrench about A is e x W
     lam, spin = rho1[0] / length, (i1[1][1] + i1[2][2]) / 2.0 / (length * length)
     w_a, w_b = lam * m1 * (1.0 - lam) - spin, lam * lam * m1 + spin
@@ -6651,26 +6657,31 @@ def _skew_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
     w0 = weighted_sum((-lam * m1, g), (-at, setup.coupler_force))
     n1 = _forms_sum((m1 * (1.0 - lam), a2), (m1 * lam, b2), (-m1, fixed_g),
                     (-1.0, _arrays_along(("1", setup.coupler_force))))
-    # the output: x = sd u, y = sd v, z = k; its wrench about B0
+    # the output: x = sd u, y = sd v, z = k; its wrench about B0, along e1, m and k
     rx, ry, rz = rho2
     p, q, r = i2[0][2] - m2 * rx * rz, i2[1][2] - m2 * ry * rz, i2[2][2] + m2 * (rx * rx + ry * ry)
-    n2 = _forms_sum((m2 * sd * scale * rx, u2), (m2 * sd * scale * ry, v2), (-m2, fixed_g))
-    t2 = _forms_sum((-sd * scale * p, v2), (sd * scale * q, u2), (scale * r, _arrays_along(("rate", k))),
-                    (-m2, _cross_fixed(_forms_sum((sd * rx, u), (sd * ry, v), (rz, _arrays_along(
-                        ("1", k)))), g)), (-setup.output_torque, _arrays_along(("1", k))))
-    # the elimination: mu (v . e) = k . T_2 / d + v . W
-    named["G"] = cq * _plus(0.0, _dot_fixed(hat_c, m), named) - sq * _plus(
-        0.0, _dot_fixed(hat_c, e1), named)
+    g_out = (dot(g, e1), dot(g, m), dot(g, k))
+    n2 = _forms_sum((1.0, _in_frame(_forms_sum((m2 * sd * scale * rx, u2), (
+        m2 * sd * scale * ry, v2)), plane)), (-m2, fixed_g))
+    t2 = _forms_sum((-sd * scale * p, v2), (sd * scale * q, u2), (scale * r, _arrays_along(
+        ("rate", _EZ))), (-m2, _cross_fixed(_forms_sum((sd * rx, u), (sd * ry, v), (
+            rz, fixed_z)), g_out)), (-setup.output_torque, fixed_z))
+    # the elimination: mu (v . e) = k . T_2 / d + v . W, where v . e = v . B0 - b G, G =
+    # v . hat_c, so that mu = w_a w^2 + ratio, ratio = (the rest) / (v . e) (no G in it)
     named["H"] = cq * _plus(0.0, _dot_fixed(hat_s, m), named) - sq * _plus(
-        0.0, _dot_fixed(hat_s, e1), named)
-    divisor = _plus(0.0, {"cq": dot(m, b0), "sq": -dot(e1, b0), "G": -b}, named)
-    mu = _plus(0.0, _form_sum((1.0 / d, _dot_fixed(t2, k)), (1.0, {
-        "G": -w_a * b * w * w, "H": w_a * b * al, "rate": w_b * d * scale, "cq": dot(m, w0),
-        "sq": -dot(e1, w0)})), named) / divisor
-    # R_B = mu e - W = mu B - M hat_c - (W's other terms), M = b (mu - w_a w^2)
-    big = mu * b - w_a * b * w * w
+        0.0, _dot_fixed(hat_s, e1), named)                                     # v . hat_s
+    divisor = cq * _plus(0.0, _form_sum((1.0, _dot_fixed(hat_c, m)), (-1.0 / b, {"1": dot(
+        m, b0)})), named) - sq * _plus(0.0, _form_sum((1.0, _dot_fixed(hat_c, e1)), (
+            -1.0 / b, {"1": dot(e1, b0)})), named)                             # v . e / -b
+    ratio = _plus(0.0, _form_sum((-1.0 / (b * d), t2[2]), (-1.0 / b, {
+        "H": w_a * b * al, "rate": w_b * d * scale,
+        "cq": dot(m, w0) - w_a * w * w * dot(m, b0), "sq": w_a * w * w * dot(e1, b0) - dot(
+            e1, w0)})), named) / divisor
+    mu = ratio + w_a * w * w
+    # R_B = mu e - W = mu B - b ratio hat_c - (W's other terms)
     rest = _forms_sum((w_a * b * al, hat_s), (w_b, b2), (1.0, _arrays_along(("1", w0))))
-    whole = _forms_sum((1.0, _arrays_along(("1", b0))), (d, u))                      # B
+    whole = _forms_sum((1.0, _arrays_along(("1", b0))), (d, _in_frame(u, plane)))   # B
+    big = ratio * b
     r_b = [_plus(mu * _plus(0.0, whole[i], named) - big * _plus(0.0, hat_c[i], named),
                  _form_sum((-1.0, rest[i])), named) for i in range(3)]
     r_a = [_plus(r_b[i], n1[i], named) for i in range(3)]
@@ -6678,19 +6689,20 @@ def _skew_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
     r_g = [_plus(0.0, n2[i], named) - r_b[i] for i in range(3)]
     # B0's moment: T_2 - d u x R_B, along e1 and m (along k: 0, what mu is for)
     along = sum((r_b[i] * (d * k[i]) for i in range(3) if k[i]), 0.0)          # d k . R_B
-    m_g = weighted_sum((_times_plus(named, "sq", along, -1.0, _dot_fixed(t2, e1)), e1),
-                       (_times_plus(named, "cq", along, 1.0, _dot_fixed(t2, m)), m))
+    m_g = weighted_sum((_times_plus(named, "sq", along, -1.0, t2[0]), e1),
+                       (_times_plus(named, "cq", along, 1.0, t2[1]), m))
     arm = r_a[2] * b                                                          # A x R_A
-    v_a0 = (_times_plus(named, "S", arm, 1.0, t0[0]), _times_plus(named, "C", arm, -1.0, t0[1]))
     torque = _plus((c * r_a[1] - s * r_a[0]) * b, t0[2], named)
-    m_a0 = (v_a0[0], v_a0[1], 0.0)
-    shaking_force = weighted_sum((-1.0, cast(Vec3, tuple(r_a0))), (-1.0, cast(Vec3, tuple(r_g))))
-    shaking_moment = weighted_sum((1.0, cross(cast(Vec3, tuple(r_g)), b0)), (-1.0, m_g),
-                                  (-1.0, m_a0), (1.0, (0.0, 0.0, -torque)))
+    m_a0 = (_times_plus(named, "S", arm, 1.0, t0[0]), _times_plus(named, "C", arm, -1.0, t0[1]),
+            0.0)
+    v_a0 = (m_a0[0], m_a0[1], torque)
+    crossed = cross(cast(Vec3, tuple(r_g)), b0)
+    shaking_force = cast(Vec3, tuple(-(r_a0[i] + r_g[i]) for i in range(3)))
+    shaking_moment = cast(Vec3, tuple(crossed[i] - m_g[i] - v_a0[i] for i in range(3)))
     joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
         "A0": (cast(Vec3, tuple(r_a0)), m_a0), "A": (cast(Vec3, tuple(r_a)), None),
         "B": (cast(Vec3, tuple(r_b)), None), "B0": (cast(Vec3, tuple(r_g)), m_g)}
-    return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), length
+    return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), length / abs(b)
 
 
 class _ForcesTrace(NamedTuple):
