@@ -6736,11 +6736,11 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
         states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
         t, reactions, force, moment, apart, size = _reactions_arrays(recipe, setup, states, pa,
                                                                     pp, h)
-    # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
-    # carries through + and x): all are finite where these seven are, and there check - check
-    # is 0 (recorded as it is, not folded); NaN elsewhere, and then so is near, which no
-    # number passes
-    check = t + sum(force) + sum(moment)
+    # every number the elimination makes reaches the shaking (an inf or a NaN carries through
+    # + and x; the torque through the moment's z, less it): all are finite where these six
+    # are, and there check - check is 0 (recorded as it is, not folded); NaN elsewhere, and
+    # then so is near, which no number passes
+    check = sum(force) + sum(moment)
     near = apart + recipe.term("subtract", check, check) if type(check) is _Term else apart
     values = [t, near, *force, *moment] + [x for pair in reactions.values()
                                            for v in pair if v is not None for x in v]
