@@ -6311,13 +6311,12 @@ def _run(plan: _Plan, registers: list[Any]) -> None:
 
 class _BodyArrays(NamedTuple):
     """A body on a block of positions (forces()' _State): its frame's origin, the point its
-    wrench is taken about; its axes (None: the skew coupler's, of which only its line is fixed);
-    its line (the x axis); the origin's acceleration; its spin and spin rate; each axis's second
+    wrench is taken about; its axes; its line (the x axis); the origin's acceleration; its spin and spin rate; each axis's second
     derivative in time (a point (u, v, w) of the body accelerates at the origin's plus u x'' +
     v y'' + w z''), None where it is not known so simply; and for a body turning about a fixed
     axis (the crank, a four-bar's output) that axis and the two rates."""
     origin: Vec3
-    axes: tuple[Vec3, Vec3, Vec3] | None
+    axes: tuple[Vec3, Vec3, Vec3]
     line: Vec3
     acceleration: Vec3
     spin: Vec3
@@ -6391,13 +6390,11 @@ def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], 
         # coupler rigid
         rate = weighted_sum((inverse, cross(ab, da)))
         x, x2 = weighted_sum((1.0 / abs(dims["c"]), ab)), weighted_sum((1.0 / abs(dims["c"]), da))
-        plane = PINS[kind].coupler == "plane"
-        coupler = _BodyArrays(pa, (x, cross(_EZ, x), _EZ) if plane else None, x, aa, spin, rate,
-                              (x2, cross(_EZ, x2) if plane else None, _ZERO3))
+        coupler = _BodyArrays(pa, (x, cross(_EZ, x), _EZ), x, aa, spin, rate,
+                              (x2, cross(_EZ, x2), _ZERO3))
     if linkage.is_slider:
         g = setup.axes["guide"][1]
-        y = _EY if kind == PLANE_SLIDER_CRANK else _EX
-        output = _BodyArrays(pp, (g, y, cross(g, y)), g, ap, _ZERO3, _ZERO3, (_ZERO3,) * 3)
+        output = _BodyArrays(pp, (g, _EY, cross(g, _EY)), g, ap, _ZERO3, _ZERO3, (_ZERO3,) * 3)
     else:
         k = setup.axes["output"][1]
         pivot = weighted_sum((r, setup.ground["B0"])) if not spherical else _ZERO3
@@ -6420,7 +6417,7 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
     gravity and the loads."""
     needed = []
     for i, (mass, body) in enumerate(zip(setup.masses, bodies)):
-        axes = body.axes or (body.line, _ZERO3, _ZERO3)
+        axes = body.axes
         rho = weighted_sum(*zip(mass.centre, axes))
         terms = [(u, rate) for u, rate in zip(mass.centre, body.axes_rates) if u]
         if all(rate is not None for _, rate in terms):
@@ -6446,11 +6443,7 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
                 (-mass.mass, cross(rho, setup.gravity)),
                 (turn * turn, cross(k, i_k)))
         else:
-            if body.axes is None:       # the skew coupler's spin and its rate are across its
-                #                         line, where its inertia is the transverse moment
-                inertial = weighted_sum(((mass.inertia[1][1] + mass.inertia[2][2]) / 2.0,
-                                         body.spin_rate))
-            elif body.local is not None:        # I spin' + spin x I spin in the body's axes
+            if body.local is not None:          # I spin' + spin x I spin in the body's axes
                 spin, rate = body.local
                 i_spin = [sum(row[j] * spin[j] for j in range(3)) for row in mass.inertia]
                 i_rate = [sum(row[j] * rate[j] for j in range(3)) for row in mass.inertia]
@@ -6468,7 +6461,6 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
             net = difference(net, setup.coupler_force)
             turning = difference(turning, cross(at, setup.coupler_force))
         if i == 2 and setup.output_torque:
-            assert body.axes is not None
             turning = weighted_sum((1.0, turning), (-setup.output_torque, body.axes[2]))
         if i == 2 and setup.output_force:           # along the guide, through C
             net = weighted_sum((1.0, net), (-setup.output_force, body.line))
@@ -6502,7 +6494,6 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
         shaking_moment = weighted_sum((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
         joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
         return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor), 1.0
-    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
     ab = difference(pp, pa)
     across = cross(ab, weighted_sum((1.0 / (dims["c"] * dims["c"]), t1)))   # t1 about A
     output, divisor = bodies[2], dot(h, ab)             # h: P's derivative by the output
@@ -6510,22 +6501,15 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
         along = (dot(h, n2) - dot(h, across)) / divisor
         size = abs(dims["c"])
     else:                               # t2 about B0; h = k x (B - B0)
-        arm = difference(pp, output.origin)
         along = (dot(setup.axes["output"][1], t2) - dot(h, across)) / divisor
         size = abs(dims["c"] * dims["d"])                     # |h| |ab|
     r_b = weighted_sum((along, ab), (1.0, across))
     r_a = weighted_sum((1.0, n1), (1.0, r_b))
     r_g = difference(n2, r_b)
     if setup.linkage.is_slider:
-        m_g = t2
-        if plane:
-            r_g, m_g = (0.0, r_g[1], 0.0), (0.0, 0.0, m_g[2])
-        at = pp
-    elif plane:                         # the pin's moment about z: 0 (along is what makes it
+        r_g, m_g, at = (0.0, r_g[1], 0.0), (0.0, 0.0, t2[2]), pp
+    else:                               # the pin's moment about z: 0 (along is what makes it
         m_g, at = _ZERO3, output.origin    # so), and no other
-    else:
-        m_g = difference(t2, cross(arm, r_b))
-        at = output.origin
     r_a0 = weighted_sum((1.0, n0), (1.0, r_a))
     v = weighted_sum((1.0, t0), (1.0, cross(pa, r_a)))
     torque = v[2]
@@ -6533,12 +6517,8 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
     shaking_force = weighted_sum((-1.0, r_a0), (-1.0, r_g))
     shaking_moment = weighted_sum((1.0, cross(r_g, at)), (-1.0, m_g), (-1.0, m_a0),
                                   (1.0, (0.0, 0.0, -torque)))
-    if plane and not setup.linkage.is_slider:
-        joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, None)}
-    elif plane:
-        joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
-    else:
-        joints = {"A0": (r_a0, m_a0), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
+    joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None),
+              ground: (r_g, m_g if setup.linkage.is_slider else None)}
     return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
 
 
