@@ -6025,12 +6025,13 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # so the same solution to rounding; tests/test_forces_numpy.py holds the two together). With T_1
 # the coupler's wrench about A, R_B the force the coupler exerts on the output at its pin P,
 # e = P - A:
-#   the coupler's moments about A (all but the one about e: 0 = 0 for the skew kinds' line, and
-#   in the plane the one about z) fix R_B across e: R_B - (R_B . e) e/|e|^2 = e x T_1 / |e|^2;
-#   the output's moment about its axis k through its pivot (a four-bar), or its force along the
-#   guide g (a slider), fixes the rest: divided by h . e, h = dP/d(output) = k x (P - B0) or g;
-#   then the coupler's Newton gives R_A, the output's its ground reaction (force, and moment
-#   where it carries one), the crank's the torque about z and A0's reaction.
+#   the coupler's moments about A (in the plane the one about z) fix R_B across e:
+#   R_B - (R_B . e) e/|e|^2 = e x T_1 / |e|^2; the output's moment about its axis k through its
+#   pivot (a four-bar), or its force along the guide g (a slider), fixes the rest: divided by
+#   h . e, h = dP/d(output) = k x (P - B0) or g; then the coupler's Newton gives R_A, the
+#   output's its ground reaction (force, and moment where it carries one), the crank's the
+#   torque about z and A0's reaction. The skew kinds, the same in another form: see "the skew
+#   kinds in closed form" below.
 # The spherical four-bar (moments about O only): M_B, perpendicular to its axis b, is fixed by
 #   what the two other bodies ask: a . M_A = 0 (M_A = T_1 + M_B) and k . M_B0 = 0 (M_B0 =
 #   T_2 - M_B), three equations in rows b, a, k, solved by Cramer's rule over b . (a x k); then
@@ -6038,24 +6039,25 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # What _states measures that the linkage fixes, this takes from its dimensions (|e| = c, the
 #   output's arm, the spherical coupler's a . b = cos c), and what is zero by the motion it leaves
 #   out: a point of a body accelerates as its axes' second derivatives say (each a fixed
-#   combination of its pins' accelerations), so spin x (spin x rho) is not formed; the skew
-#   coupler's spin and rate are across its line, where its inertia is the transverse moment; the
+#   combination of its pins' accelerations), so spin x (spin x rho) is not formed; the
 #   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler; the spherical coupler's
 #   spin is w z + l a = turn k + m b, its two joints' axes (l by the divisor above). The numbers
 #   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
 # What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
 #   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.5 to 1.2
-#   ms, a later call skips it); each position takes 54 (slider), 85 (plane), 118 (skew slider-
-#   crank), 162 (skew) and 282 (spherical) operations on arrays, each about 0.37 ns an element here
-#   (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the answer's
-#   constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate of 0.51 to
-#   0.56 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.40 to 0.42 for the skew
-#   four-bar and 0.33 to 0.34 for the spherical (data/BENCHMARKS.md, 2026-11-28, round two).
-#   Where the operations go (plane, skew, spherical): the bodies' frames 27, 42, 97; their
-#   wrenches 20, 33, 118; the elimination and the answer 33, 79, 58; near's check 5, 8, 9. Tried
-#   and given up: constant factors carried through products to the sums (k u + m v pays one
-#   back, and so does each answer: 95 for the plane's 88), signs carried (-1 to +2 a kind), like
-#   terms gathered across nested sums (-2 to +1), blocks of 4,096 to 65,536 (16,384 the fastest).
+#   ms, a later call skips it); each position takes 53 (slider), 75 (skew slider-crank), 84
+#   (plane), 101 (skew) and 281 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
+#   element here (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the
+#   answer's constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate
+#   of RATES (data/BENCHMARKS.md, 2026-11-28, round three).
+#   Where the operations go (plane, spherical): the bodies' frames 27, 97; their wrenches 20,
+#   118; the elimination and the answer 33, 58; near's check 4, 8; the skew four-bar's 101: the
+#   output's rates 7, the elimination 14, the pins' forces and the shaking force 43, B0's moment
+#   9, A0's and the torque 9, the shaking moment 11, near's check 8. Tried and given up: constant
+#   factors carried through products to the sums (k u + m v pays one back, and so does each
+#   answer: 95 for the plane's 88), signs carried (-1 to +2 a kind), like terms gathered across
+#   nested sums by the recipe (-2 to +1: the skew kinds' _Forms gather them where written),
+#   blocks of 4,096 to 65,536 (16,384 the fastest).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
@@ -6522,22 +6524,23 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
     return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
 
 
-# -- the skew four-bar in closed form -------------------------------------------------------------
+# -- the skew kinds in closed form ----------------------------------------------------------------
 #
-# The skew four-bar's wrenches are written out rather than built from its bodies' frames: the
-# crank turns about z, the output about its fixed axis k through B0, so each wrench is a fixed
-# combination of a few arrays (the trace's constants folded into it), and the coupler is a rod
-# along e = B - A, whose wrench about A is e x W, W = w_A A'' + w_B B'' + W_0 (its centre's
-# acceleration a fixed mix of the pins', its rate e x e''/c^2 with the transverse moment only).
-# With e1 = x and m = (0, cos ksi, sin ksi), B = B0 + d u, u = cos psi e1 + sin psi m and
-# v = k x u; the output's rates turn^2 and turn' enter only as
-#   BX = turn^2 cos psi + turn' sin psi and Bm = turn' cos psi - turn^2 sin psi
-# (so B'' = d (-BX e1 + Bm m), and the output's axes' second derivatives likewise); the crank's
-# as (cos phi, sin phi, 0) and its quarter turn. The coupler's moments fix R_B = mu e - W, the
-# output's moment about k fixes mu: mu (v . e) = k . T_2 / d + v . W, where v . e = v . (B0 - A)
-# (v . u = 0), v . B'' = d turn' and v . A'' is b (-w^2 G + alpha H), G = v . (cos phi, sin phi,
-# 0), H its quarter turn's. A sum of arrays' multiples is kept as a _Form, like terms gathered,
-# and made into the recipe's operations once.
+# The skew kinds' wrenches are written out rather than built from their bodies' frames: the crank
+# turns about z, the four-bar's output about its fixed axis k through B0 and the slider along its
+# guide g, so each wrench is a fixed combination of a few arrays, the trace's constants folded
+# in; the coupler (a ball at each end, its idle spin left out) is a rod along e = P - A, its
+# spin and rate across it (e x e'' / c^2, where its inertia is the transverse moment), its
+# centre's acceleration a fixed mix of its pins', so its wrench about A is e x W, W = w_a A'' +
+# w_b P'' + w0. Its moments fix R_B = mu e - W, and the output's moment about k (mu (v . e) =
+# k . T_2 / d + v . W, v = k x u, B = B0 + d u) or the slider's force along g (mu (g . e) =
+# g . n2 + g . W) fixes mu; v . e = v . B0 - b G, G = v . (cos phi, sin phi, 0) (the same with g),
+# so mu = w_a w^2 + ratio with no G in ratio's top, and mu e - W = mu P - b ratio (cos phi,
+# sin phi, 0) - (W's other terms). The four-bar's output is taken along e1 = x, m = (0, cos ksi,
+# sin ksi) and k, with u = cos psi e1 + sin psi m; its rates turn^2 and turn' enter only as
+# BX = turn^2 cos psi + turn' sin psi and Bm = turn' cos psi - turn^2 sin psi (B'' = d (-BX e1 +
+# Bm m), its axes' second derivatives likewise). A sum of arrays' constant multiples is a _Form,
+# like terms gathered, made into the recipe's operations once it is whole.
 
 _Form: TypeAlias = "dict[str, float]"     # each named array's multiple; "1" the constant
 _Forms: TypeAlias = "tuple[_Form, _Form, _Form]"
