@@ -6601,13 +6601,14 @@ def _in_frame(v: _Forms, axes: tuple[Vec3, Vec3, Vec3]) -> _Forms:
     return x, y, z
 
 
-def _skew_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
-                    ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3,
-                               Any, float]:
-    """_reactions_arrays for the skew kinds (see the notes above), from the inputs: the cosine
-    and sine of phi, then the four-bar's of psi and psi, or the slider's x; the output's first
-    and second derivatives."""
-    slider = setup.linkage.is_slider
+def _pin_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
+                   ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any,
+                              float]:
+    """_reactions_arrays for the plane and skew kinds (see the notes above), from the inputs:
+    the cosine and sine of phi, then the four-bar's of psi and psi, or the slider's x; the
+    output's first and second derivatives."""
+    kind, slider = setup.linkage.kind, setup.linkage.is_slider
+    plane = PINS[kind].coupler == "plane"
     c, s, *output, q1, q2 = inputs
     dims, w, al, g = setup.dims, setup.omega, setup.alpha, setup.gravity
     (m0, rho0, i0), (m1, rho1, i1), (m2, rho2, i2) = setup.masses
@@ -6630,50 +6631,54 @@ def _skew_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
     t0 = _forms_sum((sb * (al * p - w * w * q), hat_c), (sb * (al * q + w * w * p), hat_s),
                     (al * r, fixed_z), (-m0, _cross_fixed(_forms_sum(
                         (sb * rx, hat_c), (sb * ry, hat_s), (rz, fixed_z)), g)))
-    # the coupler: its centre at A + lam e, its wrench about A is e x W, W = w_a A'' + w_b P''
-    # + w0, P the output's pin
-    lam, spin = rho1[0] / length, (i1[1][1] + i1[2][2]) / 2.0 / (length * length)
-    w_a, w_b = lam * m1 * (1.0 - lam) - spin, lam * lam * m1 + spin
-    at = setup.coupler_point[0] / length if setup.coupler_point is not None else 0.0
-    w0 = weighted_sum((-lam * m1, g), (-at, setup.coupler_force))
+    # the coupler: its centre at A + lam e + nu z x e (nu: the plane kinds'), its wrench about A
+    # is e x W, W = w_a A'' + w_b P'' + w_r z x A'' + w0, P the output's pin
+    lam, nu = rho1[0] / length, rho1[1] / length
+    spin = (i1[2][2] if plane else (i1[1][1] + i1[2][2]) / 2.0) / (length * length)
+    w_a, w_b = m1 * (lam * (1.0 - lam) - nu * nu) - spin, m1 * (lam * lam + nu * nu) + spin
+    w_r, c_g = -nu * m1, w_a * w * w - nu * m1 * al       # c_g: W's part in -b hat_c
+    at = weighted_sum((1.0 / length, setup.coupler_point or _ZERO3))
+    w0 = weighted_sum((-lam * m1, g), (nu * m1, cross(_EZ, g)), (-at[0], setup.coupler_force),
+                      (at[1], cross(_EZ, setup.coupler_force)))
     # the output: its pin P, P'', its force n2 and moment t2 (about its frame's origin); the
     # elimination's mu (v . e) = k . t2 / d + v . W (four-bar), mu (g . e) = g . n2 + g . W
     # (slider, g the guide), each v . e = v . P0 - b v . hat_c (P0 the pin less its motion
-    # along v), so that mu = w_a w^2 + ratio, ratio = (the rest) / (v . e)
+    # along v), so that mu = c_g + ratio, ratio = (the rest) / (v . e)
     if slider:
         (x,), guide = output, setup.axes["guide"][1]
         named["x"], gg = x, dot(guide, guide)
-        start = PINS[SKEW_SLIDER_CRANK].output_pin(dims, None, None, 0.0)[0]     # C at x = 0
+        start = PINS[kind].output_pin(dims, None, None, 0.0)[0]              # C at x = 0
         pin = _forms_sum((1.0, _arrays_along(("1", start))), (1.0, _arrays_along(("x", guide))))
         p2 = _arrays_along(("rate", weighted_sum((scale, guide))))
         n2 = _forms_sum((m2, p2), (-m2, fixed_g), (-setup.output_force, _arrays_along(
             ("1", guide))))
-        centre = weighted_sum(*zip(rho2, (guide, _EX, cross(guide, _EX))))
+        across = _EY if kind == PLANE_SLIDER_CRANK else _EX
+        centre = weighted_sum(*zip(rho2, (guide, across, cross(guide, across))))
         t2 = _cross_fixed(_forms_sum((m2, p2), (-m2, fixed_g)), weighted_sum((-1.0, centre)))
         divisor = _plus(0.0, _form_sum((1.0, {"x": gg, "1": dot(guide, start)}), (
             -b, _dot_fixed(hat_c, guide))), named)                             # g . e
-        top = _form_sum((1.0, _dot_fixed(n2, guide)), (w_a * b * al, _dot_fixed(hat_s, guide)), (
-            1.0, {"rate": w_b * scale * gg, "x": -w_a * w * w * gg,
-                  "1": dot(guide, w0) - w_a * w * w * dot(guide, start)}))
+        top = _form_sum((1.0, _dot_fixed(n2, guide)), (b * (w_a * al - w_r * w * w), _dot_fixed(
+            hat_s, guide)), (1.0, {"rate": w_b * scale * gg, "x": -c_g * gg,
+                                   "1": dot(guide, w0) - c_g * dot(guide, start)}))
         size = length
     else:
         cq, sq, _ = output
         d, sd = dims["d"], math.copysign(1.0, dims["d"])
-        e1, m, k, b0 = _EX, (0.0, dims["cos ksi"], dims["sin ksi"]), setup.axes["output"][1], \
-            setup.ground["B0"]
-        plane = (e1, m, k)              # the output's axes: its vectors' components along them
+        e1, k, b0 = _EX, setup.axes["output"][1], setup.ground["B0"]
+        m = (0.0, dims["cos ksi"], dims["sin ksi"]) if "ksi" in dims else _EY   # the plane's
+        plane_axes = (e1, m, k)         # the output's axes: its vectors' components along them
         named.update({"cq": cq, "sq": sq, "BX": s2 * cq + rate * sq, "Bm": rate * cq - s2 * sq})
         u = _arrays_along(("cq", _EX), ("sq", _EY))                        # along e1, m, k
         v = _forms_sum((1.0, _arrays_along(("cq", _EY))), (-1.0, _arrays_along(("sq", _EX))))
         u2 = _forms_sum((1.0, _arrays_along(("Bm", _EY))), (-1.0, _arrays_along(("BX", _EX))))
         v2 = _forms_sum((-1.0, _arrays_along(("Bm", _EX), ("BX", _EY))))     # u'', v'' / scale
-        pin = _forms_sum((1.0, _arrays_along(("1", b0))), (d, _in_frame(u, plane)))     # B
-        p2 = _in_frame(_forms_sum((d * scale, u2)), plane)                      # B''
+        pin = _forms_sum((1.0, _arrays_along(("1", b0))), (d, _in_frame(u, plane_axes)))   # B
+        p2 = _in_frame(_forms_sum((d * scale, u2)), plane_axes)                 # B''
         rx, ry, rz = rho2               # x = sd u, y = sd v, z = k; about B0, along e1, m, k
         p, q, r = (i2[0][2] - m2 * rx * rz, i2[1][2] - m2 * ry * rz,
                    i2[2][2] + m2 * (rx * rx + ry * ry))
         n2 = _forms_sum((1.0, _in_frame(_forms_sum((m2 * sd * scale * rx, u2), (
-            m2 * sd * scale * ry, v2)), plane)), (-m2, fixed_g))
+            m2 * sd * scale * ry, v2)), plane_axes)), (-m2, fixed_g))
         t2 = _forms_sum((-sd * scale * p, v2), (sd * scale * q, u2), (scale * r, _arrays_along(
             ("rate", _EZ))), (-m2, _cross_fixed(_forms_sum((sd * rx, u), (sd * ry, v), (
                 rz, fixed_z)), (dot(g, e1), dot(g, m), dot(g, k)))),
@@ -6684,16 +6689,17 @@ def _skew_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
             m, b0)})), named) - sq * _plus(0.0, _form_sum((1.0, _dot_fixed(hat_c, e1)), (
                 -1.0 / b, {"1": dot(e1, b0)})), named)                         # v . e / -b
         top = _form_sum((-1.0 / (b * d), t2[2]), (-1.0 / b, {
-            "H": w_a * b * al, "rate": w_b * d * scale,
-            "cq": dot(m, w0) - w_a * w * w * dot(m, b0),
-            "sq": w_a * w * w * dot(e1, b0) - dot(e1, w0)}))
+            "H": b * (w_a * al - w_r * w * w), "rate": w_b * d * scale,
+            "cq": dot(m, w0) - c_g * dot(m, b0), "sq": c_g * dot(e1, b0) - dot(e1, w0)}))
         size = length / abs(b)
     ratio = _plus(0.0, top, named) / divisor
-    mu = ratio + w_a * w * w
+    mu = ratio + c_g
     # R_B = mu e - W = mu P - b ratio hat_c - (W's other terms)
-    rest = _forms_sum((w_a * b * al, hat_s), (w_b, p2), (1.0, _arrays_along(("1", w0))))
-    n1 = _forms_sum((m1 * (1.0 - lam), a2), (m1 * lam, p2), (-m1, fixed_g),
-                    (-1.0, _arrays_along(("1", setup.coupler_force))))
+    rest = _forms_sum((b * (w_a * al - w_r * w * w), hat_s), (w_b, p2), (1.0, _arrays_along(
+        ("1", w0))))
+    n1 = _forms_sum((m1 * (1.0 - lam), a2), (m1 * lam, p2), (-nu * m1, _cross_fixed(_forms_sum(
+        (1.0, p2), (-1.0, a2)), _EZ)), (-m1, fixed_g), (-1.0, _arrays_along(
+            ("1", setup.coupler_force))))                                       # z x (P'' - A'')
     where = [_plus(0.0, pin[i], named) for i in range(3)]
     big = ratio * b
     r_b = [_plus(mu * where[i] - big * _plus(0.0, hat_c[i], named),
@@ -6701,9 +6707,10 @@ def _skew_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
     r_a = [_plus(r_b[i], n1[i], named) for i in range(3)]
     r_a0 = [_plus(r_a[i], n0[i], named) for i in range(3)]
     r_g = [_plus(0.0, n2[i], named) - r_b[i] for i in range(3)]
-    if slider:                          # the guide's moment at C: the slider's about C
-        m_g = cast(Vec3, tuple(_plus(0.0, t2[i], named) for i in range(3)))
-        centred = cast(Vec3, tuple(where))
+    if slider:                          # the guide's moment at C: the slider's about C; its
+        m_g = cast(Vec3, tuple(_plus(0.0, t2[i], named) for i in range(3)))    # force along
+        centred = cast(Vec3, tuple(where))                                     # it: 0
+        r_g = [0.0 if abs(guide[i]) == 1.0 else r_g[i] for i in range(3)]
     else:                               # B0's: t2 - d u x R_B, along e1 and m (along k: 0)
         along = sum((r_b[i] * (d * k[i]) for i in range(3) if k[i]), 0.0)      # d k . R_B
         m_g = weighted_sum((_times_plus(named, "sq", along, -1.0, t2[0]), e1),
@@ -6715,12 +6722,12 @@ def _skew_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
             0.0)
     v_a0 = (m_a0[0], m_a0[1], torque)
     crossed = cross(cast(Vec3, tuple(r_g)), centred)
-    shaking_force = cast(Vec3, tuple(-(r_a0[i] + r_g[i]) for i in range(3)))
+    shaking_force = cast(Vec3, tuple((0.0 - r_a0[i]) - r_g[i] for i in range(3)))  # 0, not -0
     shaking_moment = cast(Vec3, tuple(crossed[i] - m_g[i] - v_a0[i] for i in range(3)))
     joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
-        "A0": (cast(Vec3, tuple(r_a0)), m_a0), "A": (cast(Vec3, tuple(r_a)), None),
-        PINS[setup.linkage.kind].output_joint: (cast(Vec3, tuple(r_b)), None),
-        "guide" if slider else "B0": (cast(Vec3, tuple(r_g)), m_g)}
+        "A0": (cast(Vec3, tuple(r_a0)), None if plane else m_a0),
+        "A": (cast(Vec3, tuple(r_a)), None), PINS[kind].output_joint: (cast(Vec3, tuple(r_b)), None),
+        "guide" if slider else "B0": (cast(Vec3, tuple(r_g)), m_g if slider or not plane else None)}
     return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
 
 
@@ -6749,8 +6756,8 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
     setup = forces_setup(linkage, bodies, effects, radius)
     recipe = _Recipe()
     inputs = [recipe.input() for _ in range(5 if linkage.is_slider else 7)]
-    if linkage.kind in (SKEW_FOUR_BAR, SKEW_SLIDER_CRANK):
-        t, reactions, force, moment, apart, size = _skew_reactions(recipe, setup, inputs)
+    if linkage.kind != SPHERICAL_FOUR_BAR:
+        t, reactions, force, moment, apart, size = _pin_reactions(recipe, setup, inputs)
     else:
         states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
         t, reactions, force, moment, apart, size = _reactions_arrays(recipe, setup, states, pa,
