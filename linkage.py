@@ -6314,11 +6314,12 @@ def _run(plan: _Plan, registers: list[Any]) -> None:
 
 
 class _BodyArrays(NamedTuple):
-    """A body on a block of positions (forces()' _State): its frame's origin, the point its
-    wrench is taken about; its axes; its line (the x axis); the origin's acceleration; its spin and spin rate; each axis's second
-    derivative in time (a point (u, v, w) of the body accelerates at the origin's plus u x'' +
-    v y'' + w z''), None where it is not known so simply; and for a body turning about a fixed
-    axis (the crank, a four-bar's output) that axis and the two rates."""
+    """A body of the spherical four-bar on a block of positions (forces()' _State): its frame's
+    origin, the point its wrench is taken about; its axes; its line (the x axis); the origin's
+    acceleration; its spin and spin rate; each axis's second derivative in time (a point
+    (u, v, w) of the body accelerates at the origin's plus u x'' + v y'' + w z''), None where it
+    is not known so simply; and for a body turning about a fixed axis (the crank, the output)
+    that axis and the two rates."""
     origin: Vec3
     axes: tuple[Vec3, Vec3, Vec3]
     line: Vec3
@@ -6331,87 +6332,58 @@ class _BodyArrays(NamedTuple):
     local: tuple[Vec3, Vec3] | None = None      # spin and spin rate in the body's axes
 
 
-def _inertia_times_arrays(axes: tuple[Vec3, Vec3, Vec3], inertia: Matrix, w: Vec3) -> Vec3:
-    """The body-frame inertia, in the fixed frame, times w (_inertia_times on arrays)."""
-    local = [dot(axis, w) for axis in axes]
-    return weighted_sum(*zip([sum(row[j] * local[j] for j in range(3)) for row in inertia],
-                             axes))
-
-
 def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], out: Any,
                  q1: Any, q2: Any
-                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3, Vec3]:
-    """_states on arrays, from the cosines and sines of phi and the output angle (a four-bar's):
-    the three bodies, the pins A and P, and P's derivative by the output (k x (B - B0), or the
-    slider's guide). Where _states measures a length the linkage fixes
-    (|A - P| = c, the output's arm d, the spherical coupler's sin c), this takes the dimension."""
+                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3]:
+    """_states on arrays for the spherical four-bar, from the cosines and sines of phi and the
+    output angle: the three bodies and the pins A and B. Where _states measures a length the
+    linkage fixes (the output's arm, the coupler's sin c), this takes the dimension."""
     linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
     kind = linkage.kind
-    spherical = kind == SPHERICAL_FOUR_BAR
     a = PINS[kind].crank_pin(dims, *cos_sin[:2])
-    cq, sq = cos_sin[2:] or (None, None)
+    cq, sq = cos_sin[2:]
     p = PINS[kind].output_pin(dims, cq, sq, out)
     turn, turn_rate = q1 * w, q2 * (w * w) + q1 * al        # the output's: psi' w, its rate
     pa, va, aa = weighted_sum((r, a[0])), weighted_sum((r * w, a[1])), weighted_sum(
         (r * w * w, a[2]), (r * al, a[1]))
     pp, vp, ap = weighted_sum((r, p[0])), weighted_sum((r * turn, p[1])), weighted_sum(
         (r * (turn * turn), p[2]), (r * turn_rate, p[1]))
-    arm = dims["sin b"] if spherical else dims["b"]
+    arm = dims["sin b"]
     x = (math.copysign(1.0, arm) * cos_sin[0], math.copysign(1.0, arm) * cos_sin[1], 0.0)
     x2 = weighted_sum((1.0 / abs(r * arm), (aa[0], aa[1], 0.0)))     # (A_x, A_y) = r b x
     crank = _BodyArrays(_ZERO3, (x, cross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
                         (0.0, 0.0, al), (x2, cross(_EZ, x2), _ZERO3), _EZ, (w, al))
-    if spherical:
-        # the coupler turns about OA on the crank and about OB on the output: its spin
-        # w z + l a = turn k + m b, whence (. k x b) l = -w (z . k x b) / (a . k x b) (the
-        # reactions' divisor), and its rate alpha z + l' a + l a' with a' = w z x a
-        a_, b_, k = weighted_sum((1.0 / r, pa)), weighted_sum((1.0 / r, pp)), \
-            setup.axes["output"][1]
-        a_k = cross(a_, k)
-        divisor = dot(b_, a_k)
-        f = k[0] * b_[1] - k[1] * b_[0]                         # z . k x b
-        turning = -w * f / divisor
-        a_dot, b_dot = weighted_sum((1.0 / r, va)), weighted_sum((1.0 / r, vp))
-        f_dot = k[0] * b_dot[1] - k[1] * b_dot[0]
-        divisor_dot = dot(b_dot, a_k) + dot(b_, cross(a_dot, k))
-        turning_rate = (-al * f - w * f_dot - turning * divisor_dot) / divisor
-        spin = weighted_sum((w, _EZ), (turning, a_))
-        rate = weighted_sum((al, _EZ), (turning_rate, a_), (turning, a_dot))
-        cc, sc = cos_sin_degrees(dims["c"])                     # a . b = cos c
-        y = weighted_sum((1.0 / abs(sc), b_), (-cc / abs(sc), a_))    # (a x b) x a / |a x b|
-        x2, z = weighted_sum((1.0 / r, aa)), cross(a_, y)
-        local = ((w * a_[2] + turning, w * y[2], w * z[2]),       # a . a' = 0, a . y = 0 ...
-                 (al * a_[2] + turning_rate, al * y[2] + turning * dot(y, a_dot),
-                  al * z[2] + turning * dot(z, a_dot)))
-        coupler = _BodyArrays(_ZERO3, (a_, y, z), a_, _ZERO3, spin, rate, (
-            x2, weighted_sum((1.0 / (r * abs(sc)), ap), (-cc / abs(sc), x2)), None),
-            local=local)
-    else:
-        ab, dv, da = difference(pp, pa), difference(vp, va), difference(ap, aa)
-        inverse = 1.0 / (dims["c"] * dims["c"])
-        spin = weighted_sum((inverse, cross(ab, dv)))
-        # _states' rate less its term in ab x (spin x dv) = spin (ab . dv) / |ab|^2: 0, the
-        # coupler rigid
-        rate = weighted_sum((inverse, cross(ab, da)))
-        x, x2 = weighted_sum((1.0 / abs(dims["c"]), ab)), weighted_sum((1.0 / abs(dims["c"]), da))
-        coupler = _BodyArrays(pa, (x, cross(_EZ, x), _EZ), x, aa, spin, rate,
-                              (x2, cross(_EZ, x2), _ZERO3))
-    if linkage.is_slider:
-        g = setup.axes["guide"][1]
-        output = _BodyArrays(pp, (g, _EY, cross(g, _EY)), g, ap, _ZERO3, _ZERO3, (_ZERO3,) * 3)
-    else:
-        k = setup.axes["output"][1]
-        pivot = weighted_sum((r, setup.ground["B0"])) if not spherical else _ZERO3
-        arm = r * abs(dims["sin d"]) if spherical else abs(dims["d"])
-        if spherical:                   # B . k = cos d
-            x = weighted_sum((1.0 / arm, pp), (-dims["cos d"] / abs(dims["sin d"]), k))
-        else:                           # the arm B - B0 across k, of length d
-            x = weighted_sum((1.0 / arm, difference(pp, pivot)))
-        x2 = weighted_sum((1.0 / arm, ap))
-        output = _BodyArrays(pivot, (x, cross(k, x), k), x, _ZERO3, weighted_sum((turn, k)),
-                             weighted_sum((turn_rate, k)), (x2, cross(k, x2), _ZERO3), k,
-                             (turn, turn_rate))
-    return (crank, coupler, output), pa, pp, weighted_sum((r, p[1]))
+    # the coupler turns about OA on the crank and about OB on the output: its spin
+    # w z + l a = turn k + m b, whence (. k x b) l = -w (z . k x b) / (a . k x b) (the
+    # reactions' divisor), and its rate alpha z + l' a + l a' with a' = w z x a
+    a_, b_, k = weighted_sum((1.0 / r, pa)), weighted_sum((1.0 / r, pp)), \
+        setup.axes["output"][1]
+    a_k = cross(a_, k)
+    divisor = dot(b_, a_k)
+    f = k[0] * b_[1] - k[1] * b_[0]                         # z . k x b
+    turning = -w * f / divisor
+    a_dot, b_dot = weighted_sum((1.0 / r, va)), weighted_sum((1.0 / r, vp))
+    f_dot = k[0] * b_dot[1] - k[1] * b_dot[0]
+    divisor_dot = dot(b_dot, a_k) + dot(b_, cross(a_dot, k))
+    turning_rate = (-al * f - w * f_dot - turning * divisor_dot) / divisor
+    spin = weighted_sum((w, _EZ), (turning, a_))
+    rate = weighted_sum((al, _EZ), (turning_rate, a_), (turning, a_dot))
+    cc, sc = cos_sin_degrees(dims["c"])                     # a . b = cos c
+    y = weighted_sum((1.0 / abs(sc), b_), (-cc / abs(sc), a_))    # (a x b) x a / |a x b|
+    x2, z = weighted_sum((1.0 / r, aa)), cross(a_, y)
+    local = ((w * a_[2] + turning, w * y[2], w * z[2]),       # a . a' = 0, a . y = 0 ...
+             (al * a_[2] + turning_rate, al * y[2] + turning * dot(y, a_dot),
+              al * z[2] + turning * dot(z, a_dot)))
+    coupler = _BodyArrays(_ZERO3, (a_, y, z), a_, _ZERO3, spin, rate, (
+        x2, weighted_sum((1.0 / (r * abs(sc)), ap), (-cc / abs(sc), x2)), None),
+        local=local)
+    arm = r * abs(dims["sin d"])
+    x = weighted_sum((1.0 / arm, pp), (-dims["cos d"] / abs(dims["sin d"]), k))   # B . k = cos d
+    x2 = weighted_sum((1.0 / arm, ap))
+    output = _BodyArrays(_ZERO3, (x, cross(k, x), k), x, _ZERO3, weighted_sum((turn, k)),
+                         weighted_sum((turn_rate, k)), (x2, cross(k, x2), _ZERO3), k,
+                         (turn, turn_rate))
+    return (crank, coupler, output), pa, pp
 
 
 def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays]
@@ -6447,18 +6419,13 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
                 (-mass.mass, cross(rho, setup.gravity)),
                 (turn * turn, cross(k, i_k)))
         else:
-            if body.local is not None:          # I spin' + spin x I spin in the body's axes
-                spin, rate = body.local
-                i_spin = [sum(row[j] * spin[j] for j in range(3)) for row in mass.inertia]
-                i_rate = [sum(row[j] * rate[j] for j in range(3)) for row in mass.inertia]
-                inertial = weighted_sum(*zip(weighted_sum(
-                    (1.0, cast(Vec3, tuple(i_rate))), (1.0, cross(spin, cast(Vec3, tuple(
-                        i_spin))))), body.axes))
-            else:
-                inertial = weighted_sum(
-                    (1.0, _inertia_times_arrays(body.axes, mass.inertia, body.spin_rate)),
-                    (1.0, cross(body.spin, _inertia_times_arrays(body.axes, mass.inertia,
-                                                                 body.spin))))
+            assert body.local is not None       # I spin' + spin x I spin in the body's axes
+            spin, rate = body.local
+            i_spin = [sum(row[j] * spin[j] for j in range(3)) for row in mass.inertia]
+            i_rate = [sum(row[j] * rate[j] for j in range(3)) for row in mass.inertia]
+            inertial = weighted_sum(*zip(weighted_sum(
+                (1.0, cast(Vec3, tuple(i_rate))), (1.0, cross(spin, cast(Vec3, tuple(
+                    i_spin))))), body.axes))
             turning = weighted_sum((1.0, cross(rho, net)), (1.0, inertial))
         if i == 1 and setup.coupler_point is not None:
             at = weighted_sum(*zip(setup.coupler_point, axes))
@@ -6466,64 +6433,31 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
             turning = difference(turning, cross(at, setup.coupler_force))
         if i == 2 and setup.output_torque:
             turning = weighted_sum((1.0, turning), (-setup.output_torque, body.axes[2]))
-        if i == 2 and setup.output_force:           # along the guide, through C
-            net = weighted_sum((1.0, net), (-setup.output_force, body.line))
         needed.append((net, turning))
     return needed
 
 
 def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
-                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3,
-                      h: Vec3
+                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3
                       ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3,
                                  Any, float]:
-    """The torque, each joint's (force, moment), the shaking force and moment, and how far
-    each position is from the elimination's singularity: its divisor's size, and the size it
-    is measured against (see the notes above)."""
-    kind, dims = setup.linkage.kind, setup.dims
+    """The spherical four-bar's torque, each joint's moment about O, the shaking force and
+    moment, and how far each position is from the elimination's singularity: its divisor's
+    size, and the size it is measured against (see the notes above)."""
     (n0, t0), (n1, t1), (n2, t2) = _needed_arrays(setup, bodies)
-    out = PINS[kind].output_joint
-    ground = "guide" if setup.linkage.is_slider else "B0"
-    joints: dict[str, tuple[Vec3 | None, Vec3 | None]]
-    if kind == SPHERICAL_FOUR_BAR:      # every wrench about O
-        k = setup.axes["output"][1]
-        a, b = weighted_sum((1.0 / setup.radius, pa)), weighted_sum((1.0 / setup.radius, pp))
-        divisor = dot(b, cross(a, k))
-        m_b = weighted_sum((-dot(a, t1) / divisor, cross(k, b)),
-                           (dot(k, t2) / divisor, cross(b, a)))
-        m_a, m_b0 = weighted_sum((1.0, t1), (1.0, m_b)), difference(t2, m_b)
-        v = weighted_sum((1.0, t0), (1.0, m_a))
-        m_a0 = (v[0], v[1], 0.0)
-        shaking_force = weighted_sum((-1.0, n0), (-1.0, n1), (-1.0, n2))
-        shaking_moment = weighted_sum((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
-        joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
-        return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor), 1.0
-    ab = difference(pp, pa)
-    across = cross(ab, weighted_sum((1.0 / (dims["c"] * dims["c"]), t1)))   # t1 about A
-    output, divisor = bodies[2], dot(h, ab)             # h: P's derivative by the output
-    if setup.linkage.is_slider:         # t2 about C; h the guide
-        along = (dot(h, n2) - dot(h, across)) / divisor
-        size = abs(dims["c"])
-    else:                               # t2 about B0; h = k x (B - B0)
-        along = (dot(setup.axes["output"][1], t2) - dot(h, across)) / divisor
-        size = abs(dims["c"] * dims["d"])                     # |h| |ab|
-    r_b = weighted_sum((along, ab), (1.0, across))
-    r_a = weighted_sum((1.0, n1), (1.0, r_b))
-    r_g = difference(n2, r_b)
-    if setup.linkage.is_slider:
-        r_g, m_g, at = (0.0, r_g[1], 0.0), (0.0, 0.0, t2[2]), pp
-    else:                               # the pin's moment about z: 0 (along is what makes it
-        m_g, at = _ZERO3, output.origin    # so), and no other
-    r_a0 = weighted_sum((1.0, n0), (1.0, r_a))
-    v = weighted_sum((1.0, t0), (1.0, cross(pa, r_a)))
-    torque = v[2]
+    k = setup.axes["output"][1]         # every wrench about O
+    a, b = weighted_sum((1.0 / setup.radius, pa)), weighted_sum((1.0 / setup.radius, pp))
+    divisor = dot(b, cross(a, k))
+    m_b = weighted_sum((-dot(a, t1) / divisor, cross(k, b)),
+                       (dot(k, t2) / divisor, cross(b, a)))
+    m_a, m_b0 = weighted_sum((1.0, t1), (1.0, m_b)), difference(t2, m_b)
+    v = weighted_sum((1.0, t0), (1.0, m_a))
     m_a0 = (v[0], v[1], 0.0)
-    shaking_force = weighted_sum((-1.0, r_a0), (-1.0, r_g))
-    shaking_moment = weighted_sum((1.0, cross(r_g, at)), (-1.0, m_g), (-1.0, m_a0),
-                                  (1.0, (0.0, 0.0, -torque)))
-    joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None),
-              ground: (r_g, m_g if setup.linkage.is_slider else None)}
-    return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
+    shaking_force = weighted_sum((-1.0, n0), (-1.0, n1), (-1.0, n2))
+    shaking_moment = weighted_sum((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
+    joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
+        "A0": (None, m_a0), "A": (None, m_a), "B": (None, m_b), "B0": (None, m_b0)}
+    return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor), 1.0
 
 
 # -- the skew kinds in closed form ----------------------------------------------------------------
@@ -6759,9 +6693,9 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
     if linkage.kind != SPHERICAL_FOUR_BAR:
         t, reactions, force, moment, apart, size = _pin_reactions(recipe, setup, inputs)
     else:
-        states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
+        states, pa, pp = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
         t, reactions, force, moment, apart, size = _reactions_arrays(recipe, setup, states, pa,
-                                                                    pp, h)
+                                                                    pp)
     # every number the elimination makes reaches the shaking (an inf or a NaN carries through
     # + and x; the torque through the moment's z, less it): all are finite where these six
     # are, and there check - check is 0 (recorded as it is, not folded); NaN elsewhere, and
