@@ -6019,23 +6019,22 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # -- the forces on arrays ---------------------------------------------------------------------------
 #
 # Linkage.forces_arrays is forces() on a sweep_arrays answer: each body's wrench as forces() finds
-# it (the same formulas, each body's frame as the forces section's notes give it, its wrench taken
-# about the frame's own origin), but the system solved by elimination along the chain, body by
-# body, in closed form, rather than by Gaussian elimination on the whole (the same square system,
-# so the same solution to rounding; tests/test_forces_numpy.py holds the two together). With T_1
-# the coupler's wrench about A, R_B the force the coupler exerts on the output at its pin P,
-# e = P - A:
-#   the coupler's moments about A (in the plane the one about z) fix R_B across e:
-#   R_B - (R_B . e) e/|e|^2 = e x T_1 / |e|^2; the output's moment about its axis k through its
-#   pivot (a four-bar), or its force along the guide g (a slider), fixes the rest: divided by
-#   h . e, h = dP/d(output) = k x (P - B0) or g; then the coupler's Newton gives R_A, the
-#   output's its ground reaction (force, and moment where it carries one), the crank's the
-#   torque about z and A0's reaction. The skew kinds, the same in another form: see "the skew
-#   kinds in closed form" below.
-# The spherical four-bar (moments about O only): M_B, perpendicular to its axis b, is fixed by
-#   what the two other bodies ask: a . M_A = 0 (M_A = T_1 + M_B) and k . M_B0 = 0 (M_B0 =
-#   T_2 - M_B), three equations in rows b, a, k, solved by Cramer's rule over b . (a x k); then
-#   M_A, M_B0, the torque and M_A0 as above.
+# it (the same formulas, each body's frame as the forces section's notes give it), but the system
+# solved by elimination along the chain, body by body, in closed form, rather than by Gaussian
+# elimination on the whole (the same square system, so the same solution to rounding;
+# tests/test_forces_numpy.py holds the two together). With R_B the force the coupler exerts on
+# the output at its pin P, e = P - A:
+#   the plane and skew kinds (_pin_reactions, "in closed form" below): the coupler's moments
+#   about A fix R_B = mu e - W, W fixed by the coupler's motion; the output's moment about its
+#   axis k through its pivot (a four-bar), or its force along the guide g (a slider), fixes mu,
+#   divided by h . e, h = dP/d(output) = k x (P - B0) or g; then the coupler's Newton gives R_A,
+#   the output's its ground reaction (force, and moment where it carries one), the crank's the
+#   torque about z and A0's reaction.
+#   The spherical four-bar (_body_frames, _needed_arrays, _reactions_arrays; moments about O
+#   only): M_B, perpendicular to its axis b, is fixed by what the two other bodies ask: a . M_A
+#   = 0 (M_A = T_1 + M_B, T_1 the coupler's wrench) and k . M_B0 = 0 (M_B0 = T_2 - M_B), three
+#   equations in rows b, a, k, solved by Cramer's rule over b . (a x k); then M_A, M_B0, the
+#   torque and M_A0 as above.
 # What _states measures that the linkage fixes, this takes from its dimensions (|e| = c, the
 #   output's arm, the spherical coupler's a . b = cos c), and what is zero by the motion it leaves
 #   out: a point of a body accelerates as its axes' second derivatives say (each a fixed
@@ -6045,21 +6044,18 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
 # What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
 #   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.5 to 1.2
-#   ms, a later call skips it); each position takes 53 (slider), 75 (skew slider-crank), 84
-#   (plane), 101 (skew) and 281 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
+#   ms, a later call skips it); each position takes 45 (slider), 65 (plane), 74 (skew slider-
+#   crank), 101 (skew) and 281 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
 #   element here (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the
 #   answer's constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate
-#   of 0.51 to 0.53 of sweep_arrays' for the skew four-bar, 0.58 to 0.62 for the skew slider-
-#   crank, 0.53 to 0.58 for the plane kinds and 0.32 to 0.34 for the spherical, under a load of
-#   4 to 6 on 2 cores (data/BENCHMARKS.md, 2026-11-28, round three).
-#   Where the operations go (plane, spherical): the bodies' frames 27, 97; their wrenches 20,
-#   118; the elimination and the answer 33, 58; near's check 4, 8; the skew four-bar's 101: the
-#   output's rates 7, the elimination 14, the pins' forces and the shaking force 43, B0's moment
-#   9, A0's and the torque 9, the shaking moment 11, near's check 8. Tried and given up: constant
-#   factors carried through products to the sums (k u + m v pays one back, and so does each
-#   answer: 95 for the plane's 88), signs carried (-1 to +2 a kind), like terms gathered across
-#   nested sums by the recipe (-2 to +1: the skew kinds' _Forms gather them where written),
-#   blocks of 4,096 to 65,536 (16,384 the fastest).
+#   of RATES (data/BENCHMARKS.md, 2026-11-28, round three).
+#   Where the operations go: the spherical's bodies' frames 97, their wrenches 118, the
+#   elimination and the answer 58, near's check 8; the skew four-bar's output's rates 7, its
+#   elimination 14, the pins' forces and the shaking force 43, B0's moment 9, A0's and the
+#   torque 9, the shaking moment 11, near's check 8. Tried and given up: constant factors
+#   carried through products to the sums (k u + m v pays one back, and so does each answer),
+#   signs carried (-1 to +2 a kind), like terms gathered across nested sums by the recipe (-2 to
+#   +1: _Forms gather them where written), blocks of 4,096 to 65,536 (16,384 the fastest).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
@@ -6460,23 +6456,23 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
     return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor), 1.0
 
 
-# -- the skew kinds in closed form ----------------------------------------------------------------
+# -- the plane and skew kinds in closed form -------------------------------------------------------
 #
-# The skew kinds' wrenches are written out rather than built from their bodies' frames: the crank
-# turns about z, the four-bar's output about its fixed axis k through B0 and the slider along its
-# guide g, so each wrench is a fixed combination of a few arrays, the trace's constants folded
-# in; the coupler (a ball at each end, its idle spin left out) is a rod along e = P - A, its
-# spin and rate across it (e x e'' / c^2, where its inertia is the transverse moment), its
-# centre's acceleration a fixed mix of its pins', so its wrench about A is e x W, W = w_a A'' +
-# w_b P'' + w0. Its moments fix R_B = mu e - W, and the output's moment about k (mu (v . e) =
-# k . T_2 / d + v . W, v = k x u, B = B0 + d u) or the slider's force along g (mu (g . e) =
-# g . n2 + g . W) fixes mu; v . e = v . B0 - b G, G = v . (cos phi, sin phi, 0) (the same with g),
-# so mu = w_a w^2 + ratio with no G in ratio's top, and mu e - W = mu P - b ratio (cos phi,
-# sin phi, 0) - (W's other terms). The four-bar's output is taken along e1 = x, m = (0, cos ksi,
-# sin ksi) and k, with u = cos psi e1 + sin psi m; its rates turn^2 and turn' enter only as
-# BX = turn^2 cos psi + turn' sin psi and Bm = turn' cos psi - turn^2 sin psi (B'' = d (-BX e1 +
-# Bm m), its axes' second derivatives likewise). A sum of arrays' constant multiples is a _Form,
-# like terms gathered, made into the recipe's operations once it is whole.
+# Their wrenches are written out rather than built from their bodies' frames: the crank turns about
+# z, the four-bar's output about its fixed axis k through B0 and the slider along its guide g, so
+# each wrench is a fixed combination of a few arrays, the trace's constants folded in. The
+# coupler's centre is at A + lam e + nu z x e (nu 0 for the skew kinds' rod, whose idle spin is
+# left out: its spin and rate across e, e x e'' / c^2, where its inertia is the transverse moment;
+# the plane coupler's inertia its moment about z), a fixed mix of its pins' accelerations, so its
+# wrench about A is e x W, W = w_a A'' + w_b P'' + w_r z x A'' + w0. Its moments fix R_B = mu e -
+# W, and the output's moment about k (mu (v . e) = k . T_2 / d + v . W, v = k x u, B = B0 + d u) or
+# the slider's force along g (mu (g . e) = g . n2 + g . W) fixes mu; v . e = v . B0 - b G, G = v .
+# (cos phi, sin phi, 0) (the same with g), so mu = c_g + ratio with no G in ratio's top, and mu e -
+# W = mu P - b ratio (cos phi, sin phi, 0) - (the rest). The four-bar's output is taken along e1 =
+# x, m = (0, cos ksi, sin ksi) and k (ksi = 0 in the plane), u = cos psi e1 + sin psi m; its rates
+# turn^2 and turn' enter only as BX = turn^2 cos psi + turn' sin psi and Bm = turn' cos psi -
+# turn^2 sin psi (B'' = d (-BX e1 + Bm m), its axes' second derivatives likewise). A sum of arrays'
+# constant multiples is a _Form, like terms gathered, made into operations once whole.
 
 _Form: TypeAlias = "dict[str, float]"     # each named array's multiple; "1" the constant
 _Forms: TypeAlias = "tuple[_Form, _Form, _Form]"
@@ -6660,7 +6656,8 @@ def _pin_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
     shaking_moment = cast(Vec3, tuple(crossed[i] - m_g[i] - v_a0[i] for i in range(3)))
     joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
         "A0": (cast(Vec3, tuple(r_a0)), None if plane else m_a0),
-        "A": (cast(Vec3, tuple(r_a)), None), PINS[kind].output_joint: (cast(Vec3, tuple(r_b)), None),
+        "A": (cast(Vec3, tuple(r_a)), None),
+        PINS[kind].output_joint: (cast(Vec3, tuple(r_b)), None),
         "guide" if slider else "B0": (cast(Vec3, tuple(r_g)), m_g if slider or not plane else None)}
     return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
 
