@@ -6536,9 +6536,10 @@ def _in_frame(v: _Forms, axes: tuple[Vec3, Vec3, Vec3]) -> _Forms:
 def _pin_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
                    ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any,
                               float]:
-    """_reactions_arrays for the plane and skew kinds (see the notes above), from the inputs:
-    the cosine and sine of phi, then the four-bar's of psi and psi, or the slider's x; the
-    output's first and second derivatives."""
+    """What _reactions_arrays gives the spherical four-bar, for the plane and skew kinds (see
+    the notes above), from the inputs: the cosine and sine of phi, then the four-bar's cosine
+    and sine of psi and psi itself, or the slider's x; the output's first and second
+    derivatives."""
     kind, slider = setup.linkage.kind, setup.linkage.is_slider
     plane = PINS[kind].coupler == "plane"
     c, s, *output, q1, q2 = inputs
