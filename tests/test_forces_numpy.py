@@ -144,6 +144,18 @@ def test_from_rest_the_crank_accelerating(kind):
     assert any(f.status == linkage.ASSEMBLED and f.torque for f in scalar)
 
 
+def test_the_plane_slider_s_guide_pushes_across_it_only():
+    """The plane slider-crank's guide (along x) carries no force along itself nor out of the
+    plane: those parts of its reaction are 0 exactly, as in forces(), not 0 to rounding."""
+    lk = Linkage("slider", **ROCKERS["slider"])
+    arrays = lk.forces_arrays(np.linspace(0.0, 360.0, 37), 1, Bodies(Body(1.0), Body(2.0),
+                                                                    Body(0.5)),
+                              Effects(120.0, gravity=9.81, output_force=3.0))
+    assembled = arrays.status == linkage.FORCES_STATUS_CODES.index(linkage.ASSEMBLED)
+    force = arrays.joints["guide"].force[assembled]
+    assert len(force) and (force[:, [0, 2]] == 0.0).all() and (force[:, 1] != 0.0).all()
+
+
 def test_a_kept_plan_is_the_one_for_its_call():
     """forces_of_arrays keeps the traced formulas per linkage object, bodies, effects and
     radius: calls on one linkage alternating two sets of bodies and two speeds each agree with
