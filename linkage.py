@@ -6043,7 +6043,7 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   spin is w z + l a = turn k + m b, its two joints' axes (l by the divisor above). The numbers
 #   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
 # What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
-#   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.5 to 1.2
+#   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.2 to 0.7
 #   ms, a later call skips it); each position takes 45 (slider), 65 (plane), 74 (skew slider-
 #   crank), 101 (skew) and 281 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
 #   element here (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the
@@ -6685,7 +6685,7 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
                   ) -> _ForcesTrace:
     """The formulas traced for forces_of_arrays: the same for every call with these (a linkage
     object's dimensions are fixed once it is made), so kept; the plan holds no array of a call.
-    Tracing took 0.5 to 1.2 ms a call (python3 linkage.py bench forces: 5 to 15% of the forces'
+    Tracing took 0.2 to 0.7 ms a call (python3 linkage.py bench forces: 4 to 5% of the forces'
     time at 100,001 angles)."""
     setup = forces_setup(linkage, bodies, effects, radius)
     recipe = _Recipe()
