@@ -6049,8 +6049,8 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   element here (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the
 #   answer's constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate
 #   of 0.49 to 0.53 of sweep_arrays' for the skew four-bar, 0.59 to 0.62 for the skew slider-
-#   crank, 0.55 to 0.59 for the plane kinds and 0.31 to 0.34 for the spherical, under a load of
-#   3.6 to 4.4 on 2 cores (data/BENCHMARKS.md, 2026-11-28, round three).
+#   crank, 0.55 to 0.61 for the plane kinds and 0.31 to 0.35 for the spherical, under a load of
+#   1.7 to 4.4 on 2 cores (data/BENCHMARKS.md, 2026-11-28, round three).
 #   Where the operations go: the spherical's bodies' frames 97, their wrenches 118, the
 #   elimination and the answer 58, near's check 8; the skew four-bar's output's rates 7, its
 #   elimination 14, the pins' forces and the shaking force 43, B0's moment 9, A0's and the
