@@ -6028,43 +6028,45 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 # -- the forces on arrays ---------------------------------------------------------------------------
 #
 # Linkage.forces_arrays is forces() on a sweep_arrays answer: each body's wrench as forces() finds
-# it (the same formulas, each body's frame as the forces section's notes give it, its wrench taken
-# about the frame's own origin), but the system solved by elimination along the chain, body by
-# body, in closed form, rather than by Gaussian elimination on the whole (the same square system,
-# so the same solution to rounding; tests/test_forces_numpy.py holds the two together). With T_1
-# the coupler's wrench about A, R_B the force the coupler exerts on the output at its pin P,
-# e = P - A:
-#   the coupler's moments about A (all but the one about e: 0 = 0 for the skew kinds' line, and
-#   in the plane the one about z) fix R_B across e: R_B - (R_B . e) e/|e|^2 = e x T_1 / |e|^2;
-#   the output's moment about its axis k through its pivot (a four-bar), or its force along the
-#   guide g (a slider), fixes the rest: divided by h . e, h = dP/d(output) = k x (P - B0) or g;
-#   then the coupler's Newton gives R_A, the output's its ground reaction (force, and moment
-#   where it carries one), the crank's the torque about z and A0's reaction.
-# The spherical four-bar (moments about O only): M_B, perpendicular to its axis b, is fixed by
-#   what the two other bodies ask: a . M_A = 0 (M_A = T_1 + M_B) and k . M_B0 = 0 (M_B0 =
-#   T_2 - M_B), three equations in rows b, a, k, solved by Cramer's rule over b . (a x k); then
-#   M_A, M_B0, the torque and M_A0 as above.
+# it (the same formulas, each body's frame as the forces section's notes give it), but the system
+# solved by elimination along the chain, body by body, in closed form, rather than by Gaussian
+# elimination on the whole (the same square system, so the same solution to rounding;
+# tests/test_forces_numpy.py holds the two together). With R_B the force the coupler exerts on
+# the output at its pin P, e = P - A:
+#   the plane and skew kinds (_pin_reactions, "in closed form" below): the coupler's moments
+#   about A fix R_B = mu e - W, W fixed by the coupler's motion; the output's moment about its
+#   axis k through its pivot (a four-bar), or its force along the guide g (a slider), fixes mu,
+#   divided by h . e, h = dP/d(output) = k x (P - B0) or g; then the coupler's Newton gives R_A,
+#   the output's its ground reaction (force, and moment where it carries one), the crank's the
+#   torque about z and A0's reaction.
+#   The spherical four-bar (_body_frames, _needed_arrays, _reactions_arrays; moments about O
+#   only): M_B, perpendicular to its axis b, is fixed by what the two other bodies ask: a . M_A
+#   = 0 (M_A = T_1 + M_B, T_1 the coupler's wrench) and k . M_B0 = 0 (M_B0 = T_2 - M_B), three
+#   equations in rows b, a, k, solved by Cramer's rule over b . (a x k); then M_A, M_B0, the
+#   torque and M_A0 as above.
 # What _states measures that the linkage fixes, this takes from its dimensions (|e| = c, the
 #   output's arm, the spherical coupler's a . b = cos c), and what is zero by the motion it leaves
 #   out: a point of a body accelerates as its axes' second derivatives say (each a fixed
-#   combination of its pins' accelerations), so spin x (spin x rho) is not formed; the skew
-#   coupler's spin and rate are across its line, where its inertia is the transverse moment; the
+#   combination of its pins' accelerations), so spin x (spin x rho) is not formed; the
 #   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler; the spherical coupler's
 #   spin is w z + l a = turn k + m b, its two joints' axes (l by the divisor above). The numbers
 #   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
 # What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
-#   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.5 to 1.2
-#   ms, a later call skips it); each position takes 54 (slider), 85 (plane), 118 (skew slider-
-#   crank), 162 (skew) and 282 (spherical) operations on arrays, each about 0.37 ns an element here
-#   (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the answer's
-#   constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate of 0.51 to
-#   0.56 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.40 to 0.42 for the skew
-#   four-bar and 0.33 to 0.34 for the spherical (data/BENCHMARKS.md, 2026-11-28, round two).
-#   Where the operations go (plane, skew, spherical): the bodies' frames 27, 42, 97; their
-#   wrenches 20, 33, 118; the elimination and the answer 33, 79, 58; near's check 5, 8, 9. Tried
-#   and given up: constant factors carried through products to the sums (k u + m v pays one
-#   back, and so does each answer: 95 for the plane's 88), signs carried (-1 to +2 a kind), like
-#   terms gathered across nested sums (-2 to +1), blocks of 4,096 to 65,536 (16,384 the fastest).
+#   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.2 to 0.7
+#   ms, a later call skips it); each position takes 45 (slider), 65 (plane), 74 (skew slider-
+#   crank), 101 (skew) and 281 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
+#   element here (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the
+#   answer's constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate
+#   of 0.49 to 0.53 of sweep_arrays' for the skew four-bar, 0.59 to 0.62 for the skew slider-
+#   crank, 0.55 to 0.61 for the plane kinds and 0.31 to 0.35 for the spherical, under a load of
+#   1.7 to 4.4 on 2 cores (data/BENCHMARKS.md, 2026-11-28, round three).
+#   Where the operations go: the spherical's bodies' frames 97, their wrenches 118, the
+#   elimination and the answer 58, near's check 8; the skew four-bar's output's rates 7, its
+#   elimination 14, the pins' forces and the shaking force 43, B0's moment 9, A0's and the
+#   torque 9, the shaking moment 11, near's check 8. Tried and given up: constant factors
+#   carried through products to the sums (k u + m v pays one back, and so does each answer),
+#   signs carried (-1 to +2 a kind), like terms gathered across nested sums by the recipe (-2 to
+#   +1: _Forms gather them where written), blocks of 4,096 to 65,536 (16,384 the fastest).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
@@ -6319,14 +6321,14 @@ def _run(plan: _Plan, registers: list[Any]) -> None:
 
 
 class _BodyArrays(NamedTuple):
-    """A body on a block of positions (forces()' _State): its frame's origin, the point its
-    wrench is taken about; its axes (None: the skew coupler's, of which only its line is fixed);
-    its line (the x axis); the origin's acceleration; its spin and spin rate; each axis's second
-    derivative in time (a point (u, v, w) of the body accelerates at the origin's plus u x'' +
-    v y'' + w z''), None where it is not known so simply; and for a body turning about a fixed
-    axis (the crank, a four-bar's output) that axis and the two rates."""
+    """A body of the spherical four-bar on a block of positions (forces()' _State): its frame's
+    origin, the point its wrench is taken about; its axes; its line (the x axis); the origin's
+    acceleration; its spin and spin rate; each axis's second derivative in time (a point
+    (u, v, w) of the body accelerates at the origin's plus u x'' + v y'' + w z''), None where it
+    is not known so simply; and for a body turning about a fixed axis (the crank, the output)
+    that axis and the two rates."""
     origin: Vec3
-    axes: tuple[Vec3, Vec3, Vec3] | None
+    axes: tuple[Vec3, Vec3, Vec3]
     line: Vec3
     acceleration: Vec3
     spin: Vec3
@@ -6337,89 +6339,58 @@ class _BodyArrays(NamedTuple):
     local: tuple[Vec3, Vec3] | None = None      # spin and spin rate in the body's axes
 
 
-def _inertia_times_arrays(axes: tuple[Vec3, Vec3, Vec3], inertia: Matrix, w: Vec3) -> Vec3:
-    """The body-frame inertia, in the fixed frame, times w (_inertia_times on arrays)."""
-    local = [dot(axis, w) for axis in axes]
-    return weighted_sum(*zip([sum(row[j] * local[j] for j in range(3)) for row in inertia],
-                             axes))
-
-
 def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], out: Any,
                  q1: Any, q2: Any
-                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3, Vec3]:
-    """_states on arrays, from the cosines and sines of phi and the output angle (a four-bar's):
-    the three bodies, the pins A and P, and P's derivative by the output (k x (B - B0), or the
-    slider's guide). Where _states measures a length the linkage fixes
-    (|A - P| = c, the output's arm d, the spherical coupler's sin c), this takes the dimension."""
+                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3]:
+    """_states on arrays for the spherical four-bar, from the cosines and sines of phi and the
+    output angle: the three bodies and the pins A and B. Where _states measures a length the
+    linkage fixes (the output's arm, the coupler's sin c), this takes the dimension."""
     linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
     kind = linkage.kind
-    spherical = kind == SPHERICAL_FOUR_BAR
     a = PINS[kind].crank_pin(dims, *cos_sin[:2])
-    cq, sq = cos_sin[2:] or (None, None)
+    cq, sq = cos_sin[2:]
     p = PINS[kind].output_pin(dims, cq, sq, out)
     turn, turn_rate = q1 * w, q2 * (w * w) + q1 * al        # the output's: psi' w, its rate
     pa, va, aa = weighted_sum((r, a[0])), weighted_sum((r * w, a[1])), weighted_sum(
         (r * w * w, a[2]), (r * al, a[1]))
     pp, vp, ap = weighted_sum((r, p[0])), weighted_sum((r * turn, p[1])), weighted_sum(
         (r * (turn * turn), p[2]), (r * turn_rate, p[1]))
-    arm = dims["sin b"] if spherical else dims["b"]
+    arm = dims["sin b"]
     x = (math.copysign(1.0, arm) * cos_sin[0], math.copysign(1.0, arm) * cos_sin[1], 0.0)
     x2 = weighted_sum((1.0 / abs(r * arm), (aa[0], aa[1], 0.0)))     # (A_x, A_y) = r b x
     crank = _BodyArrays(_ZERO3, (x, cross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
                         (0.0, 0.0, al), (x2, cross(_EZ, x2), _ZERO3), _EZ, (w, al))
-    if spherical:
-        # the coupler turns about OA on the crank and about OB on the output: its spin
-        # w z + l a = turn k + m b, whence (. k x b) l = -w (z . k x b) / (a . k x b) (the
-        # reactions' divisor), and its rate alpha z + l' a + l a' with a' = w z x a
-        a_, b_, k = weighted_sum((1.0 / r, pa)), weighted_sum((1.0 / r, pp)), \
-            setup.axes["output"][1]
-        a_k = cross(a_, k)
-        divisor = dot(b_, a_k)
-        f = k[0] * b_[1] - k[1] * b_[0]                         # z . k x b
-        turning = -w * f / divisor
-        a_dot, b_dot = weighted_sum((1.0 / r, va)), weighted_sum((1.0 / r, vp))
-        f_dot = k[0] * b_dot[1] - k[1] * b_dot[0]
-        divisor_dot = dot(b_dot, a_k) + dot(b_, cross(a_dot, k))
-        turning_rate = (-al * f - w * f_dot - turning * divisor_dot) / divisor
-        spin = weighted_sum((w, _EZ), (turning, a_))
-        rate = weighted_sum((al, _EZ), (turning_rate, a_), (turning, a_dot))
-        cc, sc = cos_sin_degrees(dims["c"])                     # a . b = cos c
-        y = weighted_sum((1.0 / abs(sc), b_), (-cc / abs(sc), a_))    # (a x b) x a / |a x b|
-        x2, z = weighted_sum((1.0 / r, aa)), cross(a_, y)
-        local = ((w * a_[2] + turning, w * y[2], w * z[2]),       # a . a' = 0, a . y = 0 ...
-                 (al * a_[2] + turning_rate, al * y[2] + turning * dot(y, a_dot),
-                  al * z[2] + turning * dot(z, a_dot)))
-        coupler = _BodyArrays(_ZERO3, (a_, y, z), a_, _ZERO3, spin, rate, (
-            x2, weighted_sum((1.0 / (r * abs(sc)), ap), (-cc / abs(sc), x2)), None),
-            local=local)
-    else:
-        ab, dv, da = difference(pp, pa), difference(vp, va), difference(ap, aa)
-        inverse = 1.0 / (dims["c"] * dims["c"])
-        spin = weighted_sum((inverse, cross(ab, dv)))
-        # _states' rate less its term in ab x (spin x dv) = spin (ab . dv) / |ab|^2: 0, the
-        # coupler rigid
-        rate = weighted_sum((inverse, cross(ab, da)))
-        x, x2 = weighted_sum((1.0 / abs(dims["c"]), ab)), weighted_sum((1.0 / abs(dims["c"]), da))
-        plane = PINS[kind].coupler == "plane"
-        coupler = _BodyArrays(pa, (x, cross(_EZ, x), _EZ) if plane else None, x, aa, spin, rate,
-                              (x2, cross(_EZ, x2) if plane else None, _ZERO3))
-    if linkage.is_slider:
-        g = setup.axes["guide"][1]
-        y = _EY if kind == PLANE_SLIDER_CRANK else _EX
-        output = _BodyArrays(pp, (g, y, cross(g, y)), g, ap, _ZERO3, _ZERO3, (_ZERO3,) * 3)
-    else:
-        k = setup.axes["output"][1]
-        pivot = weighted_sum((r, setup.ground["B0"])) if not spherical else _ZERO3
-        arm = r * abs(dims["sin d"]) if spherical else abs(dims["d"])
-        if spherical:                   # B . k = cos d
-            x = weighted_sum((1.0 / arm, pp), (-dims["cos d"] / abs(dims["sin d"]), k))
-        else:                           # the arm B - B0 across k, of length d
-            x = weighted_sum((1.0 / arm, difference(pp, pivot)))
-        x2 = weighted_sum((1.0 / arm, ap))
-        output = _BodyArrays(pivot, (x, cross(k, x), k), x, _ZERO3, weighted_sum((turn, k)),
-                             weighted_sum((turn_rate, k)), (x2, cross(k, x2), _ZERO3), k,
-                             (turn, turn_rate))
-    return (crank, coupler, output), pa, pp, weighted_sum((r, p[1]))
+    # the coupler turns about OA on the crank and about OB on the output: its spin
+    # w z + l a = turn k + m b, whence (. k x b) l = -w (z . k x b) / (a . k x b) (the
+    # reactions' divisor), and its rate alpha z + l' a + l a' with a' = w z x a
+    a_, b_, k = weighted_sum((1.0 / r, pa)), weighted_sum((1.0 / r, pp)), \
+        setup.axes["output"][1]
+    a_k = cross(a_, k)
+    divisor = dot(b_, a_k)
+    f = k[0] * b_[1] - k[1] * b_[0]                         # z . k x b
+    turning = -w * f / divisor
+    a_dot, b_dot = weighted_sum((1.0 / r, va)), weighted_sum((1.0 / r, vp))
+    f_dot = k[0] * b_dot[1] - k[1] * b_dot[0]
+    divisor_dot = dot(b_dot, a_k) + dot(b_, cross(a_dot, k))
+    turning_rate = (-al * f - w * f_dot - turning * divisor_dot) / divisor
+    spin = weighted_sum((w, _EZ), (turning, a_))
+    rate = weighted_sum((al, _EZ), (turning_rate, a_), (turning, a_dot))
+    cc, sc = cos_sin_degrees(dims["c"])                     # a . b = cos c
+    y = weighted_sum((1.0 / abs(sc), b_), (-cc / abs(sc), a_))    # (a x b) x a / |a x b|
+    x2, z = weighted_sum((1.0 / r, aa)), cross(a_, y)
+    local = ((w * a_[2] + turning, w * y[2], w * z[2]),       # a . a' = 0, a . y = 0 ...
+             (al * a_[2] + turning_rate, al * y[2] + turning * dot(y, a_dot),
+              al * z[2] + turning * dot(z, a_dot)))
+    coupler = _BodyArrays(_ZERO3, (a_, y, z), a_, _ZERO3, spin, rate, (
+        x2, weighted_sum((1.0 / (r * abs(sc)), ap), (-cc / abs(sc), x2)), None),
+        local=local)
+    arm = r * abs(dims["sin d"])
+    x = weighted_sum((1.0 / arm, pp), (-dims["cos d"] / abs(dims["sin d"]), k))   # B . k = cos d
+    x2 = weighted_sum((1.0 / arm, ap))
+    output = _BodyArrays(_ZERO3, (x, cross(k, x), k), x, _ZERO3, weighted_sum((turn, k)),
+                         weighted_sum((turn_rate, k)), (x2, cross(k, x2), _ZERO3), k,
+                         (turn, turn_rate))
+    return (crank, coupler, output), pa, pp
 
 
 def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays]
@@ -6429,7 +6400,7 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
     gravity and the loads."""
     needed = []
     for i, (mass, body) in enumerate(zip(setup.masses, bodies)):
-        axes = body.axes or (body.line, _ZERO3, _ZERO3)
+        axes = body.axes
         rho = weighted_sum(*zip(mass.centre, axes))
         terms = [(u, rate) for u, rate in zip(mass.centre, body.axes_rates) if u]
         if all(rate is not None for _, rate in terms):
@@ -6455,99 +6426,251 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
                 (-mass.mass, cross(rho, setup.gravity)),
                 (turn * turn, cross(k, i_k)))
         else:
-            if body.axes is None:       # the skew coupler's spin and its rate are across its
-                #                         line, where its inertia is the transverse moment
-                inertial = weighted_sum(((mass.inertia[1][1] + mass.inertia[2][2]) / 2.0,
-                                         body.spin_rate))
-            elif body.local is not None:        # I spin' + spin x I spin in the body's axes
-                spin, rate = body.local
-                i_spin = [sum(row[j] * spin[j] for j in range(3)) for row in mass.inertia]
-                i_rate = [sum(row[j] * rate[j] for j in range(3)) for row in mass.inertia]
-                inertial = weighted_sum(*zip(weighted_sum(
-                    (1.0, cast(Vec3, tuple(i_rate))), (1.0, cross(spin, cast(Vec3, tuple(
-                        i_spin))))), body.axes))
-            else:
-                inertial = weighted_sum(
-                    (1.0, _inertia_times_arrays(body.axes, mass.inertia, body.spin_rate)),
-                    (1.0, cross(body.spin, _inertia_times_arrays(body.axes, mass.inertia,
-                                                                 body.spin))))
+            assert body.local is not None       # I spin' + spin x I spin in the body's axes
+            spin, rate = body.local
+            i_spin = [sum(row[j] * spin[j] for j in range(3)) for row in mass.inertia]
+            i_rate = [sum(row[j] * rate[j] for j in range(3)) for row in mass.inertia]
+            inertial = weighted_sum(*zip(weighted_sum(
+                (1.0, cast(Vec3, tuple(i_rate))), (1.0, cross(spin, cast(Vec3, tuple(
+                    i_spin))))), body.axes))
             turning = weighted_sum((1.0, cross(rho, net)), (1.0, inertial))
         if i == 1 and setup.coupler_point is not None:
             at = weighted_sum(*zip(setup.coupler_point, axes))
             net = difference(net, setup.coupler_force)
             turning = difference(turning, cross(at, setup.coupler_force))
         if i == 2 and setup.output_torque:
-            assert body.axes is not None
             turning = weighted_sum((1.0, turning), (-setup.output_torque, body.axes[2]))
-        if i == 2 and setup.output_force:           # along the guide, through C
-            net = weighted_sum((1.0, net), (-setup.output_force, body.line))
         needed.append((net, turning))
     return needed
 
 
 def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
-                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3,
-                      h: Vec3
+                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3
                       ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3,
                                  Any, float]:
-    """The torque, each joint's (force, moment), the shaking force and moment, and how far
-    each position is from the elimination's singularity: its divisor's size, and the size it
-    is measured against (see the notes above)."""
-    kind, dims = setup.linkage.kind, setup.dims
+    """The spherical four-bar's torque, each joint's moment about O, the shaking force and
+    moment, and how far each position is from the elimination's singularity: its divisor's
+    size, and the size it is measured against (see the notes above)."""
     (n0, t0), (n1, t1), (n2, t2) = _needed_arrays(setup, bodies)
-    out = PINS[kind].output_joint
-    ground = "guide" if setup.linkage.is_slider else "B0"
-    joints: dict[str, tuple[Vec3 | None, Vec3 | None]]
-    if kind == SPHERICAL_FOUR_BAR:      # every wrench about O
-        k = setup.axes["output"][1]
-        a, b = weighted_sum((1.0 / setup.radius, pa)), weighted_sum((1.0 / setup.radius, pp))
-        divisor = dot(b, cross(a, k))
-        m_b = weighted_sum((-dot(a, t1) / divisor, cross(k, b)),
-                           (dot(k, t2) / divisor, cross(b, a)))
-        m_a, m_b0 = weighted_sum((1.0, t1), (1.0, m_b)), difference(t2, m_b)
-        v = weighted_sum((1.0, t0), (1.0, m_a))
-        m_a0 = (v[0], v[1], 0.0)
-        shaking_force = weighted_sum((-1.0, n0), (-1.0, n1), (-1.0, n2))
-        shaking_moment = weighted_sum((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
-        joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
-        return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor), 1.0
-    plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
-    ab = difference(pp, pa)
-    across = cross(ab, weighted_sum((1.0 / (dims["c"] * dims["c"]), t1)))   # t1 about A
-    output, divisor = bodies[2], dot(h, ab)             # h: P's derivative by the output
-    if setup.linkage.is_slider:         # t2 about C; h the guide
-        along = (dot(h, n2) - dot(h, across)) / divisor
-        size = abs(dims["c"])
-    else:                               # t2 about B0; h = k x (B - B0)
-        arm = difference(pp, output.origin)
-        along = (dot(setup.axes["output"][1], t2) - dot(h, across)) / divisor
-        size = abs(dims["c"] * dims["d"])                     # |h| |ab|
-    r_b = weighted_sum((along, ab), (1.0, across))
-    r_a = weighted_sum((1.0, n1), (1.0, r_b))
-    r_g = difference(n2, r_b)
-    if setup.linkage.is_slider:
-        m_g = t2
-        if plane:
-            r_g, m_g = (0.0, r_g[1], 0.0), (0.0, 0.0, m_g[2])
-        at = pp
-    elif plane:                         # the pin's moment about z: 0 (along is what makes it
-        m_g, at = _ZERO3, output.origin    # so), and no other
-    else:
-        m_g = difference(t2, cross(arm, r_b))
-        at = output.origin
-    r_a0 = weighted_sum((1.0, n0), (1.0, r_a))
-    v = weighted_sum((1.0, t0), (1.0, cross(pa, r_a)))
-    torque = v[2]
+    k = setup.axes["output"][1]         # every wrench about O
+    a, b = weighted_sum((1.0 / setup.radius, pa)), weighted_sum((1.0 / setup.radius, pp))
+    divisor = dot(b, cross(a, k))
+    m_b = weighted_sum((-dot(a, t1) / divisor, cross(k, b)),
+                       (dot(k, t2) / divisor, cross(b, a)))
+    m_a, m_b0 = weighted_sum((1.0, t1), (1.0, m_b)), difference(t2, m_b)
+    v = weighted_sum((1.0, t0), (1.0, m_a))
     m_a0 = (v[0], v[1], 0.0)
-    shaking_force = weighted_sum((-1.0, r_a0), (-1.0, r_g))
-    shaking_moment = weighted_sum((1.0, cross(r_g, at)), (-1.0, m_g), (-1.0, m_a0),
-                                  (1.0, (0.0, 0.0, -torque)))
-    if plane and not setup.linkage.is_slider:
-        joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, None)}
-    elif plane:
-        joints = {"A0": (r_a0, None), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
+    shaking_force = weighted_sum((-1.0, n0), (-1.0, n1), (-1.0, n2))
+    shaking_moment = weighted_sum((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
+    joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
+        "A0": (None, m_a0), "A": (None, m_a), "B": (None, m_b), "B0": (None, m_b0)}
+    return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor), 1.0
+
+
+# -- the plane and skew kinds in closed form -------------------------------------------------------
+#
+# Their wrenches are written out rather than built from their bodies' frames: the crank turns about
+# z, the four-bar's output about its fixed axis k through B0 and the slider along its guide g, so
+# each wrench is a fixed combination of a few arrays, the trace's constants folded in. The
+# coupler's centre is at A + lam e + nu z x e (nu 0 for the skew kinds' rod, whose idle spin is
+# left out: its spin and rate across e, e x e'' / c^2, where its inertia is the transverse moment;
+# the plane coupler's inertia its moment about z), a fixed mix of its pins' accelerations, so its
+# wrench about A is e x W, W = w_a A'' + w_b P'' + w_r z x A'' + w0. Its moments fix R_B = mu e -
+# W, and the output's moment about k (mu (v . e) = k . T_2 / d + v . W, v = k x u, B = B0 + d u) or
+# the slider's force along g (mu (g . e) = g . n2 + g . W) fixes mu; v . e = v . B0 - b G, G = v .
+# (cos phi, sin phi, 0) (the same with g), so mu = c_g + ratio with no G in ratio's top, and mu e -
+# W = mu P - b ratio (cos phi, sin phi, 0) - (the rest). The four-bar's output is taken along e1 =
+# x, m = (0, cos ksi, sin ksi) and k (ksi = 0 in the plane), u = cos psi e1 + sin psi m; its rates
+# turn^2 and turn' enter only as BX = turn^2 cos psi + turn' sin psi and Bm = turn' cos psi -
+# turn^2 sin psi (B'' = d (-BX e1 + Bm m), its axes' second derivatives likewise). A sum of arrays'
+# constant multiples is a _Form, like terms gathered, made into operations once whole.
+
+_Form: TypeAlias = "dict[str, float]"     # each named array's multiple; "1" the constant
+_Forms: TypeAlias = "tuple[_Form, _Form, _Form]"
+
+
+def _form_sum(*pairs: tuple[float, _Form]) -> _Form:
+    """The sum of (coefficient, form) terms, each array's multiples gathered into one."""
+    out: _Form = {}
+    for k, form in pairs:
+        for name, x in form.items():
+            out[name] = out.get(name, 0.0) + k * x
+    return {name: x for name, x in out.items() if x}
+
+
+def _forms_sum(*pairs: tuple[float, _Forms]) -> _Forms:
+    """The sum of (coefficient, vector of forms) terms, componentwise."""
+    x, y, z = (_form_sum(*((k, v[i]) for k, v in pairs)) for i in range(3))
+    return x, y, z
+
+
+def _arrays_along(*pairs: tuple[str, Vec3]) -> _Forms:
+    """The sum of (array's name, fixed vector) products: each array times its vector."""
+    x, y, z = (_form_sum(*((v[i], {name: 1.0}) for name, v in pairs)) for i in range(3))
+    return x, y, z
+
+
+def _cross_fixed(u: _Forms, v: Vec3) -> _Forms:
+    """u x v, v a fixed vector."""
+    return (_form_sum((v[2], u[1]), (-v[1], u[2])), _form_sum((v[0], u[2]), (-v[2], u[0])),
+            _form_sum((v[1], u[0]), (-v[0], u[1])))
+
+
+def _dot_fixed(u: _Forms, v: Vec3) -> _Form:
+    """u . v, v a fixed vector."""
+    return _form_sum((v[0], u[0]), (v[1], u[1]), (v[2], u[2]))
+
+
+def _plus(x: Any, form: _Form, named: dict[str, Any]) -> Any:
+    """x + form, on the recipe's terms (x a term or a number)."""
+    for name, k in form.items():
+        x = x + (k if name == "1" else named[name] * k)
+    return x
+
+
+def _times_plus(named: dict[str, Any], name: str, y: Any, sign: float, form: _Form) -> Any:
+    """form + sign named[name] y, the form's own multiple of that array taken into the factor:
+    one product, not two (and k - y rather than -(y - k))."""
+    k = form.get(name, 0.0)
+    product = named[name] * (y + k if sign > 0 else k - y)
+    return _plus(product, {n: x for n, x in form.items() if n != name}, named)
+
+
+def _in_frame(v: _Forms, axes: tuple[Vec3, Vec3, Vec3]) -> _Forms:
+    """A vector given by its components along `axes`, in the frame's."""
+    x, y, z = (_form_sum(*((axes[j][i], v[j]) for j in range(3))) for i in range(3))
+    return x, y, z
+
+
+def _pin_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
+                   ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any,
+                              float]:
+    """What _reactions_arrays gives the spherical four-bar, for the plane and skew kinds (see
+    the notes above), from the inputs: the cosine and sine of phi, then the four-bar's cosine
+    and sine of psi and psi itself, or the slider's x; the output's first and second
+    derivatives."""
+    kind, slider = setup.linkage.kind, setup.linkage.is_slider
+    plane = PINS[kind].coupler == "plane"
+    c, s, *output, q1, q2 = inputs
+    dims, w, al, g = setup.dims, setup.omega, setup.alpha, setup.gravity
+    (m0, rho0, i0), (m1, rho1, i1), (m2, rho2, i2) = setup.masses
+    b, length = dims["b"], abs(dims["c"])
+    sb = math.copysign(1.0, b)
+    if w:                               # the output's turn^2 = scale s2, turn' = scale rate
+        scale, s2, rate = w * w, q1 * q1, q2 + q1 * (al / (w * w))
     else:
-        joints = {"A0": (r_a0, m_a0), "A": (r_a, None), out: (r_b, None), ground: (r_g, m_g)}
+        scale, s2, rate = al, 0.0, q1
+    named = {"C": c, "S": s, "rate": rate}
+    hat_c = _arrays_along(("C", _EX), ("S", _EY))                          # (cos phi, sin phi, 0)
+    hat_s = _forms_sum((1.0, _arrays_along(("C", _EY))), (-1.0, _arrays_along(("S", _EX))))
+    fixed_g, fixed_z = _arrays_along(("1", g)), _arrays_along(("1", _EZ))
+    a2 = _forms_sum((-b * w * w, hat_c), (b * al, hat_s))                      # A''
+    # the crank: x = sb hat_c, y = sb hat_s; its wrench about A0 (_needed_arrays' turning)
+    rx, ry, rz = rho0
+    p, q, r = i0[0][2] - m0 * rx * rz, i0[1][2] - m0 * ry * rz, i0[2][2] + m0 * (rx * rx + ry * ry)
+    n0 = _forms_sum((m0 * sb * (-w * w * rx - al * ry), hat_c),
+                    (m0 * sb * (al * rx - w * w * ry), hat_s), (-m0, fixed_g))
+    t0 = _forms_sum((sb * (al * p - w * w * q), hat_c), (sb * (al * q + w * w * p), hat_s),
+                    (al * r, fixed_z), (-m0, _cross_fixed(_forms_sum(
+                        (sb * rx, hat_c), (sb * ry, hat_s), (rz, fixed_z)), g)))
+    # the coupler: its centre at A + lam e + nu z x e (nu: the plane kinds'), its wrench about A
+    # is e x W, W = w_a A'' + w_b P'' + w_r z x A'' + w0, P the output's pin
+    lam, nu = rho1[0] / length, rho1[1] / length
+    spin = (i1[2][2] if plane else (i1[1][1] + i1[2][2]) / 2.0) / (length * length)
+    w_a, w_b = m1 * (lam * (1.0 - lam) - nu * nu) - spin, m1 * (lam * lam + nu * nu) + spin
+    w_r, c_g = -nu * m1, w_a * w * w - nu * m1 * al       # c_g: W's part in -b hat_c
+    at = weighted_sum((1.0 / length, setup.coupler_point or _ZERO3))
+    w0 = weighted_sum((-lam * m1, g), (nu * m1, cross(_EZ, g)), (-at[0], setup.coupler_force),
+                      (at[1], cross(_EZ, setup.coupler_force)))
+    # the output: its pin P, P'', its force n2 and moment t2 (about its frame's origin); the
+    # elimination's mu (v . e) = k . t2 / d + v . W (four-bar), mu (g . e) = g . n2 + g . W
+    # (slider, g the guide), each v . e = v . P0 - b v . hat_c (P0 the pin less its motion
+    # along v), so that mu = c_g + ratio, ratio = (the rest) / (v . e)
+    if slider:
+        (x,), guide = output, setup.axes["guide"][1]
+        named["x"], gg = x, dot(guide, guide)
+        start = PINS[kind].output_pin(dims, None, None, 0.0)[0]              # C at x = 0
+        pin = _forms_sum((1.0, _arrays_along(("1", start))), (1.0, _arrays_along(("x", guide))))
+        p2 = _arrays_along(("rate", weighted_sum((scale, guide))))
+        n2 = _forms_sum((m2, p2), (-m2, fixed_g), (-setup.output_force, _arrays_along(
+            ("1", guide))))
+        across = _EY if kind == PLANE_SLIDER_CRANK else _EX
+        centre = weighted_sum(*zip(rho2, (guide, across, cross(guide, across))))
+        t2 = _cross_fixed(_forms_sum((m2, p2), (-m2, fixed_g)), weighted_sum((-1.0, centre)))
+        divisor = _plus(0.0, _form_sum((1.0, {"x": gg, "1": dot(guide, start)}), (
+            -b, _dot_fixed(hat_c, guide))), named)                             # g . e
+        top = _form_sum((1.0, _dot_fixed(n2, guide)), (b * (w_a * al - w_r * w * w), _dot_fixed(
+            hat_s, guide)), (1.0, {"rate": w_b * scale * gg, "x": -c_g * gg,
+                                   "1": dot(guide, w0) - c_g * dot(guide, start)}))
+        size = length
+    else:
+        cq, sq, _ = output
+        d, sd = dims["d"], math.copysign(1.0, dims["d"])
+        e1, k, b0 = _EX, setup.axes["output"][1], setup.ground["B0"]
+        m = (0.0, dims["cos ksi"], dims["sin ksi"]) if "ksi" in dims else _EY   # the plane's
+        plane_axes = (e1, m, k)         # the output's axes: its vectors' components along them
+        named.update({"cq": cq, "sq": sq, "BX": s2 * cq + rate * sq, "Bm": rate * cq - s2 * sq})
+        u = _arrays_along(("cq", _EX), ("sq", _EY))                        # along e1, m, k
+        v = _forms_sum((1.0, _arrays_along(("cq", _EY))), (-1.0, _arrays_along(("sq", _EX))))
+        u2 = _forms_sum((1.0, _arrays_along(("Bm", _EY))), (-1.0, _arrays_along(("BX", _EX))))
+        v2 = _forms_sum((-1.0, _arrays_along(("Bm", _EX), ("BX", _EY))))     # u'', v'' / scale
+        pin = _forms_sum((1.0, _arrays_along(("1", b0))), (d, _in_frame(u, plane_axes)))   # B
+        p2 = _in_frame(_forms_sum((d * scale, u2)), plane_axes)                 # B''
+        rx, ry, rz = rho2               # x = sd u, y = sd v, z = k; about B0, along e1, m, k
+        p, q, r = (i2[0][2] - m2 * rx * rz, i2[1][2] - m2 * ry * rz,
+                   i2[2][2] + m2 * (rx * rx + ry * ry))
+        n2 = _forms_sum((1.0, _in_frame(_forms_sum((m2 * sd * scale * rx, u2), (
+            m2 * sd * scale * ry, v2)), plane_axes)), (-m2, fixed_g))
+        t2 = _forms_sum((-sd * scale * p, v2), (sd * scale * q, u2), (scale * r, _arrays_along(
+            ("rate", _EZ))), (-m2, _cross_fixed(_forms_sum((sd * rx, u), (sd * ry, v), (
+                rz, fixed_z)), (dot(g, e1), dot(g, m), dot(g, k)))),
+            (-setup.output_torque, fixed_z))
+        named["H"] = cq * _plus(0.0, _dot_fixed(hat_s, m), named) - sq * _plus(
+            0.0, _dot_fixed(hat_s, e1), named)                                 # v . hat_s
+        divisor = cq * _plus(0.0, _form_sum((1.0, _dot_fixed(hat_c, m)), (-1.0 / b, {"1": dot(
+            m, b0)})), named) - sq * _plus(0.0, _form_sum((1.0, _dot_fixed(hat_c, e1)), (
+                -1.0 / b, {"1": dot(e1, b0)})), named)                         # v . e / -b
+        top = _form_sum((-1.0 / (b * d), t2[2]), (-1.0 / b, {
+            "H": b * (w_a * al - w_r * w * w), "rate": w_b * d * scale,
+            "cq": dot(m, w0) - c_g * dot(m, b0), "sq": c_g * dot(e1, b0) - dot(e1, w0)}))
+        size = length / abs(b)
+    ratio = _plus(0.0, top, named) / divisor
+    mu = ratio + c_g
+    # R_B = mu e - W = mu P - b ratio hat_c - (W's other terms)
+    rest = _forms_sum((b * (w_a * al - w_r * w * w), hat_s), (w_b, p2), (1.0, _arrays_along(
+        ("1", w0))))
+    n1 = _forms_sum((m1 * (1.0 - lam), a2), (m1 * lam, p2), (-nu * m1, _cross_fixed(_forms_sum(
+        (1.0, p2), (-1.0, a2)), _EZ)), (-m1, fixed_g), (-1.0, _arrays_along(
+            ("1", setup.coupler_force))))                                       # z x (P'' - A'')
+    where = [_plus(0.0, pin[i], named) for i in range(3)]
+    big = ratio * b
+    r_b = [_plus(mu * where[i] - big * _plus(0.0, hat_c[i], named),
+                 _form_sum((-1.0, rest[i])), named) for i in range(3)]
+    r_a = [_plus(r_b[i], n1[i], named) for i in range(3)]
+    r_a0 = [_plus(r_a[i], n0[i], named) for i in range(3)]
+    r_g = [_plus(0.0, n2[i], named) - r_b[i] for i in range(3)]
+    if slider:                          # the guide's moment at C: the slider's about C; its
+        m_g = cast(Vec3, tuple(_plus(0.0, t2[i], named) for i in range(3)))    # force along
+        centred = cast(Vec3, tuple(where))                                     # it: 0
+        r_g = [0.0 if abs(guide[i]) == 1.0 else r_g[i] for i in range(3)]
+    else:                               # B0's: t2 - d u x R_B, along e1 and m (along k: 0)
+        along = sum((r_b[i] * (d * k[i]) for i in range(3) if k[i]), 0.0)      # d k . R_B
+        m_g = weighted_sum((_times_plus(named, "sq", along, -1.0, t2[0]), e1),
+                           (_times_plus(named, "cq", along, 1.0, t2[1]), m))
+        centred = b0
+    arm = r_a[2] * b                                                          # A x R_A
+    torque = _plus((c * r_a[1] - s * r_a[0]) * b, t0[2], named)
+    m_a0 = (_times_plus(named, "S", arm, 1.0, t0[0]), _times_plus(named, "C", arm, -1.0, t0[1]),
+            0.0)
+    v_a0 = (m_a0[0], m_a0[1], torque)
+    crossed = cross(cast(Vec3, tuple(r_g)), centred)
+    shaking_force = cast(Vec3, tuple((0.0 - r_a0[i]) - r_g[i] for i in range(3)))  # 0, not -0
+    shaking_moment = cast(Vec3, tuple(crossed[i] - m_g[i] - v_a0[i] for i in range(3)))
+    joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
+        "A0": (cast(Vec3, tuple(r_a0)), None if plane else m_a0),
+        "A": (cast(Vec3, tuple(r_a)), None),
+        PINS[kind].output_joint: (cast(Vec3, tuple(r_b)), None),
+        "guide" if slider else "B0": (cast(Vec3, tuple(r_g)), m_g if slider or not plane else None)}
     return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
 
 
@@ -6571,19 +6694,22 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
                   ) -> _ForcesTrace:
     """The formulas traced for forces_of_arrays: the same for every call with these (a linkage
     object's dimensions are fixed once it is made), so kept; the plan holds no array of a call.
-    Tracing took 0.5 to 1.2 ms a call (python3 linkage.py bench forces: 5 to 15% of the forces'
-    time at 100,001 angles)."""
+    Tracing took 0.2 to 0.7 ms a call (bench forces' linkages, bodies and effects, best of 30
+    by CPU: 4 to 5% of the forces' time at 100,001 angles)."""
     setup = forces_setup(linkage, bodies, effects, radius)
     recipe = _Recipe()
     inputs = [recipe.input() for _ in range(5 if linkage.is_slider else 7)]
-    states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
-    t, reactions, force, moment, apart, size = _reactions_arrays(recipe, setup, states, pa,
-                                                                pp, h)
-    # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
-    # carries through + and x): all are finite where these seven are, and there check - check
-    # is 0 (recorded as it is, not folded); NaN elsewhere, and then so is near, which no
-    # number passes
-    check = t + sum(force) + sum(moment)
+    if linkage.kind != SPHERICAL_FOUR_BAR:
+        t, reactions, force, moment, apart, size = _pin_reactions(recipe, setup, inputs)
+    else:
+        states, pa, pp = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
+        t, reactions, force, moment, apart, size = _reactions_arrays(recipe, setup, states, pa,
+                                                                    pp)
+    # every number the elimination makes reaches the shaking (an inf or a NaN carries through
+    # + and x; the torque through the moment's z, less it): all are finite where these six
+    # are, and there check - check is 0 (recorded as it is, not folded); NaN elsewhere, and
+    # then so is near, which no number passes
+    check = sum(force) + sum(moment)
     near = apart + recipe.term("subtract", check, check) if type(check) is _Term else apart
     values = [t, near, *force, *moment] + [x for pair in reactions.values()
                                            for v in pair if v is not None for x in v]

@@ -131,6 +131,31 @@ def test_toward_a_limit_of_assembly(kind, monkeypatch):
     assert handed and limit - 30.0 not in handed and limit - 0.1 not in handed, handed
 
 
+@pytest.mark.parametrize("kind", KINDS)
+def test_from_rest_the_crank_accelerating(kind):
+    """At speed 0 with the crank accelerating (the output's rates then its acceleration's alone:
+    the skew kinds' closed form takes them from psi' times alpha, not psi'' times w^2), under
+    gravity, with an output load: the numbers are forces()'."""
+    lk = Linkage(kind, **ROCKERS[kind])
+    load = dict(output_force=3.0) if kind in linkage.SLIDER_CRANKS else dict(output_torque=2.0)
+    scalar, _ = check_alike(lk, [7.0 + 10.0 * i for i in range(36)], 1,
+                            Bodies(Body(1.0), Body(2.0), Body(0.5)),
+                            Effects(speed_rpm=0.0, crank_acceleration=50.0, gravity=9.81, **load))
+    assert any(f.status == linkage.ASSEMBLED and f.torque for f in scalar)
+
+
+def test_the_plane_slider_s_guide_pushes_across_it_only():
+    """The plane slider-crank's guide (along x) carries no force along itself nor out of the
+    plane: those parts of its reaction are 0 exactly, as in forces(), not 0 to rounding."""
+    lk = Linkage("slider", **ROCKERS["slider"])
+    arrays = lk.forces_arrays(np.linspace(0.0, 360.0, 37), 1, Bodies(Body(1.0), Body(2.0),
+                                                                    Body(0.5)),
+                              Effects(120.0, gravity=9.81, output_force=3.0))
+    assembled = arrays.status == linkage.FORCES_STATUS_CODES.index(linkage.ASSEMBLED)
+    force = arrays.joints["guide"].force[assembled]
+    assert len(force) and (force[:, [0, 2]] == 0.0).all() and (force[:, 1] != 0.0).all()
+
+
 def test_a_kept_plan_is_the_one_for_its_call():
     """forces_of_arrays keeps the traced formulas per linkage object, bodies, effects and
     radius: calls on one linkage alternating two sets of bodies and two speeds each agree with
