@@ -6542,6 +6542,200 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
     return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
 
 
+# -- the spherical four-bar: scalars times known vectors --------------------------------------------
+#
+# Every body of the spherical four-bar turns about O, and only moments about O enter (the notes
+# above), so its wrenches are worked out here as scalars, each a sum of known arrays (the
+# sweep's cosines and sines, psi' and psi'', and their products) times constants: _Sum gathers
+# like terms and folds the constants while tracing, so that an array operation is recorded only
+# where two arrays meet. Each body's moment about O is I spin' + spin x I spin, I its inertia
+# about O, in the body's own axes, where I is constant: the crank's and the output's spins are
+# their speeds about their axes; the coupler's (turning about a = OA on the crank, so spin =
+# w z + l a) has components (spin . a, w y_z, w n_z) on its axes a, y, n (y = (b - cos c a) /
+# |sin c|, n = a x y), spin . a = (psi' w Q + cos c w (b_z - cos b cos c)) / sin^2 c with
+# Q = k . a - cos d cos c (from a' and b', spin_about_centre), and its rate's components are
+# theirs differentiated (the axes turn with the body). The elimination as for the others, in
+# the bodies' own axes: M_B = m1 y2 + m2 (|sin d| k - cos d x2) on the output's axes (k . M_B =
+# k . T_2, a . M_B = -a . T_1), M_A = T_1 + M_B across a, turned onto the crank's axes at A
+# (u1 = (-sin phi, cos phi, 0), u2 = a x u1) by the angle whose cosine and sine are n_z and y_z
+# over sin b; the output's M_B0 = T_2 - M_B on x2 and y2; the shaking moment -(T_0 + T_1 + T_2).
+
+class _Sum:
+    """A number of the recipe as constants times known arrays (its terms, or floats for
+    constants), plus a constant: like terms gathered while tracing."""
+    __slots__ = ("recipe", "parts", "constant", "atom")
+
+    def __init__(self, recipe: _Recipe, parts: dict[_Term, float], constant: float = 0.0
+                 ) -> None:
+        self.recipe, self.constant = recipe, constant
+        self.parts = {t: k for t, k in parts.items() if k != 0.0}
+        self.atom: _Sum | None = None
+
+    def __add__(self, other: Any) -> _Sum:
+        if not isinstance(other, _Sum):
+            return _Sum(self.recipe, self.parts, self.constant + other)
+        parts = dict(self.parts)
+        for t, k in other.parts.items():
+            parts[t] = parts.get(t, 0.0) + k
+        return _Sum(self.recipe, parts, self.constant + other.constant)
+
+    __radd__ = __add__
+
+    def __neg__(self) -> _Sum:
+        return self * -1.0
+
+    def __sub__(self, other: Any) -> _Sum:
+        return self + other * -1.0
+
+    def __rsub__(self, other: Any) -> _Sum:
+        return self * -1.0 + other
+
+    def __mul__(self, other: Any) -> _Sum:
+        if not isinstance(other, _Sum):
+            return _Sum(self.recipe, {t: k * other for t, k in self.parts.items()},
+                        self.constant * other)
+        x, y = self.gathered(), other.gathered()
+        parts: dict[_Term, float] = {}
+        for t, k in x.parts.items():
+            for u, j in y.parts.items():
+                p = self.recipe.multiply(t, u)
+                parts[p] = parts.get(p, 0.0) + k * j
+            parts[t] = parts.get(t, 0.0) + k * y.constant
+        for u, j in y.parts.items():
+            parts[u] = parts.get(u, 0.0) + j * x.constant
+        return _Sum(self.recipe, parts, x.constant * y.constant)
+
+    __rmul__ = __mul__
+
+    def gathered(self, whole: bool = False) -> _Sum:
+        """self as one term times a constant (itself where it has at most one term, and no
+        constant unless whole): what a product takes, lest it multiply out."""
+        if not self.parts or len(self.parts) == 1 and not (whole and self.constant):
+            return self
+        if self.atom is None:
+            pivot = next((t for t, k in self.parts.items() if abs(k) == 1.0),
+                         next(iter(self.parts)))
+            scale = self.parts[pivot]
+            self.atom = _Sum(self.recipe, {(self * (1.0 / scale)).term(): scale})
+        return self.atom
+
+    def term(self) -> Any:
+        """The recipe's term (or a float) for the sum: each constant factor one operation, each
+        sum one."""
+        total: Any = 0.0
+        for t, k in self.parts.items():
+            total = total + t * k
+        return total + self.constant if type(total) is _Term else self.constant
+
+
+def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], q1: Any,
+                      q2: Any) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3,
+                                        Vec3, Any, float]:
+    """The spherical four-bar's answer as _reactions_arrays gives the others' (see the notes
+    above): from the cosines and sines of phi and psi, psi' and psi''."""
+    dims, w, al = setup.dims, setup.omega, setup.alpha
+    c, s, cq, sq, v1, v2 = (_Sum(recipe, {t: 1.0}) for t in (*cos_sin, q1, q2))
+    cb, sb, cd, sd, ca, sa = (dims[f"{f} {n}"] for n in "bda" for f in ("cos", "sin"))
+    cc, sc = cos_sin_degrees(dims["c"])
+    (m0, m1, m2), g = setup.masses, setup.gravity
+
+    def vec(*parts: tuple[Any, Vec3]) -> tuple[_Sum, _Sum, _Sum]:
+        return cast(Any, weighted_sum(*parts))
+
+    def about_o(mass: BodyMass) -> list[list[float]]:
+        """The body's inertia about O (its frame's origin), in its axes."""
+        rr = dot(mass.centre, mass.centre)
+        return [[mass.inertia[i][j] + mass.mass * (rr * (i == j) - mass.centre[i] * mass.centre[j])
+                 for j in range(3)] for i in range(3)]
+
+    def euler(inertia: list[list[float]], spin: Any, rate: Any) -> list[_Sum]:
+        """I spin' + spin x I spin in the body's axes."""
+        i_spin = [sum((row[j] * spin[j] for j in range(3)), 0.0) for row in inertia]
+        turning = cross(spin, i_spin)
+        return [sum((row[j] * rate[j] for j in range(3)), turning[i])
+                for i, row in enumerate(inertia)]
+
+    def in_axes(v: Any, axes: Any) -> list[Any]:
+        return [dot(v, axis) for axis in axes]
+
+    t, rate = v1 * w, v2 * (w * w) + v1 * al          # the output's speed psi' w and its rate
+    a = vec((sb, (c, s, 0.0)), (1.0, (0.0, 0.0, cb)))
+    k = setup.axes["output"][1]
+    x2 = vec((math.copysign(1.0, sd), rotated_y(ca, sa, (cq, sq, 0.0))))
+    y2 = cross(k, x2)
+    b = vec((cd, k), (abs(sd), x2))
+    # the crank: spin w z about its axis z, its axes x0 = +-(cos phi, sin phi, 0), y0, z
+    x0 = vec((math.copysign(1.0, sb), (c, s, 0.0)))
+    crank_axes = (x0, cross(_EZ, x0), _EZ)
+    rho0 = weighted_sum(*zip(m0.centre, crank_axes))
+    t0 = weighted_sum(*zip(euler(about_o(m0), (0.0, 0.0, w), (0.0, 0.0, al)), crank_axes),
+                      (-m0.mass, cross(rho0, g)))
+    a_g0 = weighted_sum((-w * w, (rho0[0], rho0[1], 0.0)), (al, cross(_EZ, rho0)))
+    # the output: spin t k
+    out_axes = (x2, y2, k)
+    rho2 = weighted_sum(*zip(m2.centre, out_axes))
+    t2 = [x - y for x, y in zip(euler(about_o(m2), (0.0, 0.0, t), (0.0, 0.0, rate)),
+                               cross(m2.centre, in_axes(weighted_sum((m2.mass, g)), out_axes)))]
+    t2[2] = t2[2] - setup.output_torque
+    a_g2 = weighted_sum((-1.0 * (t * t), vec((m2.centre[0], x2), (m2.centre[1], y2))),
+                        (1.0, cross(vec((rate, k)), rho2)))
+    # the coupler: axes a, y, n; its spin (spin . a, w y_z, w n_z)
+    y = vec((1.0 / abs(sc), b), (-cc / abs(sc), a))
+    n = cross(a, y)
+    y_z, n_z = y[2].gathered(True), n[2].gathered(True)
+    q = (a[0] * sa + cb * ca - cd * cc).gathered(True)      # k . a - cos d cos c
+    along = (t * q + y_z * (cc * abs(sc) * w)) * (1.0 / (sc * sc))
+    turning = along - w * cb                            # l: its spin about a on the crank's
+    along_rate = (rate * q + y_z * (al * cc * abs(sc))
+                  + t * (w * sa) * (b[1] * cc - a[1])) * (1.0 / (sc * sc))
+    spin = (along, y_z * w, n_z * w)
+    spin_rate = (along_rate, y_z * al + turning * n_z * w, n_z * al - turning * y_z * w)
+    coupler_axes = (a, y, n)
+    t1 = [x - z for x, z in zip(euler(about_o(m1), spin, spin_rate),
+                               cross(m1.centre, in_axes(weighted_sum((m1.mass, g)),
+                                                        coupler_axes)))]
+    a_g1 = weighted_sum((m1.centre[0] - m1.centre[1] * cc / abs(sc), (
+        (-w * w) * a[0] - al * a[1], (-w * w) * a[1] + al * a[0], 0.0)), (
+        m1.centre[1] / abs(sc), weighted_sum((t * t, difference(vec((cd, k)), b)),
+                                             (1.0, cross(vec((rate, k)), b)))))
+    if m1.centre[2]:            # the coupler's centre off its arc: n'' on its axes
+        turned = weighted_sum(*zip((spin_rate[1] + spin[0] * spin[2],
+                                    spin[1] * spin[2] - spin_rate[0],
+                                    -1.0 * (spin[0] * spin[0]) - spin[1] * spin[1]),
+                                   coupler_axes))
+        a_g1 = weighted_sum((1.0, a_g1), (m1.centre[2], turned))
+    net1 = weighted_sum((m1.mass, a_g1))
+    if setup.coupler_point is not None:
+        t1 = [x - z for x, z in zip(t1, cross(setup.coupler_point, in_axes(
+            setup.coupler_force, coupler_axes)))]
+        net1 = difference(net1, setup.coupler_force)
+    # the elimination
+    divisor = dot(a, cross(k, b)).gathered()            # b . (a x k)
+    inverse = _Sum(recipe, {recipe.divide(1.0, divisor.term()): 1.0})
+    along_a, along_k = t1[0], t2[2]
+    m_b2 = along_k * (1.0 / abs(sd))
+    m_b1 = -1.0 * (along_a * abs(sd) + along_k * q * (1.0 / abs(sd))) * inverse
+    m_b = weighted_sum((m_b1, y2), (m_b2, vec((abs(sd), k), (-cd, x2))))
+    m_b0 = weighted_sum((t2[0] + m_b2 * cd, x2), (t2[1] - m_b1, y2))
+    across = t1[1] + along_a * (cc / abs(sc))           # M_A . y, M_A . n
+    up = t1[2] - (along_a * q + along_k * (sc * sc)) * inverse * (1.0 / abs(sc))
+    u1 = (-1.0 * s, c, 0.0)
+    u2 = (c * -cb, s * -cb, sb)
+    m_a = weighted_sum(((across * n_z - up * y_z) * (1.0 / sb), u1),
+                       ((across * y_z + up * n_z) * (1.0 / sb), u2))
+    v = weighted_sum((1.0, t0), (1.0, m_a))
+    shaking_moment = weighted_sum((-1.0, v), (-1.0, m_b0))
+    shaking_force = weighted_sum((-m0.mass, a_g0), (-1.0, net1), (-m2.mass, a_g2),
+                                 (m0.mass + m1.mass + m2.mass, g))
+    terms = [x.term() if isinstance(x, _Sum) else x for x in (
+        v[2], *m_a, *m_b, *m_b0, v[0], v[1], *shaking_force, *shaking_moment)]
+    joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
+        "A0": (None, (terms[10], terms[11], 0.0)), "A": (None, tuple(terms[1:4])),
+        "B": (None, tuple(terms[4:7])), "B0": (None, tuple(terms[7:10]))}
+    return (terms[0], joints, tuple(terms[12:15]), tuple(terms[15:18]),
+            recipe.abs(divisor.term()), 1.0)
+
+
 class _ForcesTrace(NamedTuple):
     """What forces_of_arrays records once for a linkage, its bodies and effects: the plan; the
     answer's rows (the torque, near, the shaking force's three and its moment's, then each
@@ -6567,9 +6761,13 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
     setup = forces_setup(linkage, bodies, effects, radius)
     recipe = _Recipe()
     inputs = [recipe.input() for _ in range(5 if linkage.is_slider else 7)]
-    states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
-    t, reactions, force, moment, apart, size = _reactions_arrays(recipe, setup, states, pa,
-                                                                pp, h)
+    if linkage.kind == SPHERICAL_FOUR_BAR:
+        t, reactions, force, moment, apart, size = _spherical_arrays(
+            recipe, setup, tuple(inputs[:4]), *inputs[-2:])
+    else:
+        states, pa, pp, h = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
+        t, reactions, force, moment, apart, size = _reactions_arrays(recipe, setup, states, pa,
+                                                                    pp, h)
     # every number the elimination makes reaches the torque or the shaking (an inf or a NaN
     # carries through + and x): all are finite where these seven are, and there check - check
     # is 0 (recorded as it is, not folded); NaN elsewhere, and then so is near, which no
