@@ -6561,28 +6561,34 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
 # over sin b; the output's M_B0 = T_2 - M_B on x2 and y2; the shaking moment -(T_0 + T_1 + T_2).
 
 class _Sum:
-    """A number of the recipe as constants times known arrays (its terms, or floats for
-    constants), plus a constant: like terms gathered while tracing."""
-    __slots__ = ("recipe", "parts", "constant", "atom")
+    """A number of the recipe as constants times known arrays (its terms), plus a constant:
+    like terms gathered while tracing, each product of two terms recorded once. Each
+    coefficient keeps the size of what made it up: one that rounding alone left (under 16
+    epsilons of that: I22 - I11 - I00 of a body in its xy plane) is 0."""
+    __slots__ = ("recipe", "parts", "constant", "atoms")
 
-    def __init__(self, recipe: _Recipe, parts: dict[_Term, float], constant: float = 0.0
-                 ) -> None:
-        self.recipe, self.constant = recipe, constant
-        self.parts = {t: k for t, k in parts.items() if k != 0.0}
-        self.atom: _Sum | None = None
+    def __init__(self, recipe: _Recipe, parts: dict[_Term, tuple[float, float]],
+                 constant: tuple[float, float] = (0.0, 0.0)) -> None:
+        self.recipe = recipe
+        self.parts = {t: km for t, km in parts.items() if abs(km[0]) > 3.6e-15 * km[1]}
+        self.constant = constant if abs(constant[0]) > 3.6e-15 * constant[1] else (0.0, 0.0)
+        self.atoms: dict[float | None, _Sum] = {}
+
+    @staticmethod
+    def of(recipe: _Recipe, term: _Term) -> _Sum:
+        return _Sum(recipe, {term: (1.0, 1.0)})
 
     def __add__(self, other: Any) -> _Sum:
         if not isinstance(other, _Sum):
-            return _Sum(self.recipe, self.parts, self.constant + other)
+            other = _Sum(self.recipe, {}, (float(other), abs(other)))
         parts = dict(self.parts)
-        for t, k in other.parts.items():
-            parts[t] = parts.get(t, 0.0) + k
-        return _Sum(self.recipe, parts, self.constant + other.constant)
+        for t, (k, m) in other.parts.items():
+            j, n = parts.get(t, (0.0, 0.0))
+            parts[t] = (j + k, n + m)
+        (k, m), (j, n) = self.constant, other.constant
+        return _Sum(self.recipe, parts, (k + j, m + n))
 
     __radd__ = __add__
-
-    def __neg__(self) -> _Sum:
-        return self * -1.0
 
     def __sub__(self, other: Any) -> _Sum:
         return self + other * -1.0
@@ -6592,40 +6598,46 @@ class _Sum:
 
     def __mul__(self, other: Any) -> _Sum:
         if not isinstance(other, _Sum):
-            return _Sum(self.recipe, {t: k * other for t, k in self.parts.items()},
-                        self.constant * other)
-        x, y = self.gathered(), other.gathered()
-        parts: dict[_Term, float] = {}
-        for t, k in x.parts.items():
-            for u, j in y.parts.items():
-                p = self.recipe.multiply(t, u)
-                parts[p] = parts.get(p, 0.0) + k * j
-            parts[t] = parts.get(t, 0.0) + k * y.constant
-        for u, j in y.parts.items():
-            parts[u] = parts.get(u, 0.0) + j * x.constant
-        return _Sum(self.recipe, parts, x.constant * y.constant)
+            f = float(other)
+            return _Sum(self.recipe, {t: (k * f, m * abs(f)) for t, (k, m) in self.parts.items()},
+                        (self.constant[0] * f, self.constant[1] * abs(f)))
+        x, y = self, other
+        if len(x.parts) > 1 and len(y.parts) > 1:       # each one term, lest they multiply out
+            x, y = x.gathered(), y.gathered()
+        parts: dict[_Term, tuple[float, float]] = {}
+
+        def put(t: _Term, k: float, m: float) -> None:
+            j, n = parts.get(t, (0.0, 0.0))
+            parts[t] = (j + k, n + m)
+        (xc, xm), (yc, ym) = x.constant, y.constant
+        for t, (k, m) in x.parts.items():
+            for u, (j, n) in y.parts.items():
+                put(self.recipe.multiply(t, u), k * j, m * n)
+            put(t, k * yc, m * ym)
+        for u, (j, n) in y.parts.items():
+            put(u, j * xc, n * xm)
+        return _Sum(self.recipe, parts, (xc * yc, xm * ym))
 
     __rmul__ = __mul__
 
-    def gathered(self, whole: bool = False) -> _Sum:
-        """self as one term times a constant (itself where it has at most one term, and no
-        constant unless whole): what a product takes, lest it multiply out."""
-        if not self.parts or len(self.parts) == 1 and not (whole and self.constant):
+    def gathered(self, scale: float | None = None) -> _Sum:
+        """self as one term times a constant: `scale`, or (None) its largest coefficient, so
+        that a product of it costs one operation."""
+        if not self.parts or (scale is None and len(self.parts) == 1 and not self.constant[0]):
             return self
-        if self.atom is None:
-            pivot = next((t for t, k in self.parts.items() if abs(k) == 1.0),
-                         next(iter(self.parts)))
-            scale = self.parts[pivot]
-            self.atom = _Sum(self.recipe, {(self * (1.0 / scale)).term(): scale})
-        return self.atom
+        if scale not in self.atoms:
+            k = scale or max((k for k, _ in self.parts.values()), key=abs)
+            inner = _Sum(self.recipe, {t: (j / k, m / abs(k)) for t, (j, m) in self.parts.items()},
+                         (self.constant[0] / k, self.constant[1] / abs(k)))
+            self.atoms[scale] = _Sum(self.recipe, {inner.term(): (k, abs(k))})
+        return self.atoms[scale]
 
     def term(self) -> Any:
-        """The recipe's term (or a float) for the sum: each constant factor one operation, each
-        sum one."""
+        """The recipe's term (or a float) for the sum."""
         total: Any = 0.0
-        for t, k in self.parts.items():
+        for t, (k, _) in self.parts.items():
             total = total + t * k
-        return total + self.constant if type(total) is _Term else self.constant
+        return total + self.constant[0] if type(total) is _Term else self.constant[0]
 
 
 def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], q1: Any,
@@ -6634,13 +6646,13 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     """The spherical four-bar's answer as _reactions_arrays gives the others' (see the notes
     above): from the cosines and sines of phi and psi, psi' and psi''."""
     dims, w, al = setup.dims, setup.omega, setup.alpha
-    c, s, cq, sq, v1, v2 = (_Sum(recipe, {t: 1.0}) for t in (*cos_sin, q1, q2))
+    c, s, cq, sq, v1, v2 = (_Sum.of(recipe, t) for t in (*cos_sin, q1, q2))
     cb, sb, cd, sd, ca, sa = (dims[f"{f} {n}"] for n in "bda" for f in ("cos", "sin"))
     cc, sc = cos_sin_degrees(dims["c"])
     (m0, m1, m2), g = setup.masses, setup.gravity
 
-    def vec(*parts: tuple[Any, Vec3]) -> tuple[_Sum, _Sum, _Sum]:
-        return cast(Any, weighted_sum(*parts))
+    def vec(*parts: tuple[Any, Vec3]) -> Any:
+        return weighted_sum(*parts)
 
     def about_o(mass: BodyMass) -> list[list[float]]:
         """The body's inertia about O (its frame's origin), in its axes."""
@@ -6648,7 +6660,7 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
         return [[mass.inertia[i][j] + mass.mass * (rr * (i == j) - mass.centre[i] * mass.centre[j])
                  for j in range(3)] for i in range(3)]
 
-    def euler(inertia: list[list[float]], spin: Any, rate: Any) -> list[_Sum]:
+    def euler(inertia: list[list[float]], spin: Any, rate: Any) -> list[Any]:
         """I spin' + spin x I spin in the body's axes."""
         i_spin = [sum((row[j] * spin[j] for j in range(3)), 0.0) for row in inertia]
         turning = cross(spin, i_spin)
@@ -6658,12 +6670,22 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     def in_axes(v: Any, axes: Any) -> list[Any]:
         return [dot(v, axis) for axis in axes]
 
+    def one(v: Any) -> Any:
+        return v.gathered(1.0) if isinstance(v, _Sum) else v
+
+    def world(v: Any) -> Vec3:
+        """A vector on the output's side, given about axes turned by -a about y (where its axis
+        k is z), in the fixed axes: each component made one term first."""
+        return rotated_y(ca, sa, tuple(x.gathered() if isinstance(x, _Sum) else x for x in v))
+
     t, rate = v1 * w, v2 * (w * w) + v1 * al          # the output's speed psi' w and its rate
     a = vec((sb, (c, s, 0.0)), (1.0, (0.0, 0.0, cb)))
     k = setup.axes["output"][1]
-    x2 = vec((math.copysign(1.0, sd), rotated_y(ca, sa, (cq, sq, 0.0))))
-    y2 = cross(k, x2)
-    b = vec((cd, k), (abs(sd), x2))
+    # the output's axes and pin about k: x2, y2 = k x x2, b = B / r
+    x2, y2, k_ = vec((math.copysign(1.0, sd), (cq, sq, 0.0))), vec((math.copysign(1.0, sd), (
+        -1.0 * sq, cq, 0.0))), _EZ
+    b_ = vec((cd, k_), (abs(sd), x2))
+    b = rotated_y(ca, sa, b_)
     # the crank: spin w z about its axis z, its axes x0 = +-(cos phi, sin phi, 0), y0, z
     x0 = vec((math.copysign(1.0, sb), (c, s, 0.0)))
     crank_axes = (x0, cross(_EZ, x0), _EZ)
@@ -6671,68 +6693,72 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     t0 = weighted_sum(*zip(euler(about_o(m0), (0.0, 0.0, w), (0.0, 0.0, al)), crank_axes),
                       (-m0.mass, cross(rho0, g)))
     a_g0 = weighted_sum((-w * w, (rho0[0], rho0[1], 0.0)), (al, cross(_EZ, rho0)))
-    # the output: spin t k
-    out_axes = (x2, y2, k)
-    rho2 = weighted_sum(*zip(m2.centre, out_axes))
-    t2 = [x - y for x, y in zip(euler(about_o(m2), (0.0, 0.0, t), (0.0, 0.0, rate)),
-                               cross(m2.centre, in_axes(weighted_sum((m2.mass, g)), out_axes)))]
+    # the output: spin t k, about k's axes
+    rho2 = weighted_sum(*zip(m2.centre, (x2, y2, k_)))
+    t2 = [x - y for x, y in zip(euler(about_o(m2), (0.0, 0.0, t), (0.0, 0.0, rate)), cross(
+        m2.centre, in_axes(rotated_y(ca, -sa, weighted_sum((m2.mass, g))), (x2, y2, k_))))]
     t2[2] = t2[2] - setup.output_torque
     a_g2 = weighted_sum((-1.0 * (t * t), vec((m2.centre[0], x2), (m2.centre[1], y2))),
-                        (1.0, cross(vec((rate, k)), rho2)))
+                        (1.0, cross(vec((rate, k_)), rho2)))
     # the coupler: axes a, y, n; its spin (spin . a, w y_z, w n_z)
     y = vec((1.0 / abs(sc), b), (-cc / abs(sc), a))
     n = cross(a, y)
-    y_z, n_z = y[2].gathered(True), n[2].gathered(True)
-    q = (a[0] * sa + cb * ca - cd * cc).gathered(True)      # k . a - cos d cos c
-    along = (t * q + y_z * (cc * abs(sc) * w)) * (1.0 / (sc * sc))
+    y = (y[0], y[1], y[2].gathered(1.0))
+    n = (n[0], n[1], n[2].gathered(1.0))
+    q = (a[0] * sa + cb * ca - cd * cc).gathered(1.0)       # k . a - cos d cos c
+    along = ((t * q + y[2] * (cc * abs(sc) * w)) * (1.0 / (sc * sc))).gathered()
     turning = along - w * cb                            # l: its spin about a on the crank's
-    along_rate = (rate * q + y_z * (al * cc * abs(sc))
-                  + t * (w * sa) * (b[1] * cc - a[1])) * (1.0 / (sc * sc))
-    spin = (along, y_z * w, n_z * w)
-    spin_rate = (along_rate, y_z * al + turning * n_z * w, n_z * al - turning * y_z * w)
+    along_rate = ((rate * q + y[2] * (al * cc * abs(sc))
+                   + t * (w * sa) * (b[1] * cc - a[1])) * (1.0 / (sc * sc))).gathered()
+    spin = (along, y[2] * w, n[2] * w)
+    spin_rate = (along_rate, y[2] * al + turning * n[2] * w, n[2] * al - turning * y[2] * w)
     coupler_axes = (a, y, n)
     t1 = [x - z for x, z in zip(euler(about_o(m1), spin, spin_rate),
                                cross(m1.centre, in_axes(weighted_sum((m1.mass, g)),
                                                         coupler_axes)))]
-    a_g1 = weighted_sum((m1.centre[0] - m1.centre[1] * cc / abs(sc), (
-        (-w * w) * a[0] - al * a[1], (-w * w) * a[1] + al * a[0], 0.0)), (
-        m1.centre[1] / abs(sc), weighted_sum((t * t, difference(vec((cd, k)), b)),
-                                             (1.0, cross(vec((rate, k)), b)))))
+    # its centre (u, v, w) = (u - v cos c / |sin c|) a + v / |sin c| b (+ w n)
+    at_a, at_b = m1.centre[0] - m1.centre[1] * cc / abs(sc), m1.centre[1] / abs(sc)
+    a_g1 = weighted_sum((at_a, ((-w * w) * a[0] - al * a[1], (-w * w) * a[1] + al * a[0], 0.0)))
+    b2 = weighted_sum((t * t, difference(vec((cd, k_)), b_)), (1.0, cross(vec((rate, k_)), b_)))
     if m1.centre[2]:            # the coupler's centre off its arc: n'' on its axes
         turned = weighted_sum(*zip((spin_rate[1] + spin[0] * spin[2],
                                     spin[1] * spin[2] - spin_rate[0],
                                     -1.0 * (spin[0] * spin[0]) - spin[1] * spin[1]),
                                    coupler_axes))
         a_g1 = weighted_sum((1.0, a_g1), (m1.centre[2], turned))
-    net1 = weighted_sum((m1.mass, a_g1))
+    loads = weighted_sum((m0.mass + m1.mass + m2.mass, g))
     if setup.coupler_point is not None:
         t1 = [x - z for x, z in zip(t1, cross(setup.coupler_point, in_axes(
             setup.coupler_force, coupler_axes)))]
-        net1 = difference(net1, setup.coupler_force)
+        loads = weighted_sum((1.0, loads), (1.0, setup.coupler_force))
+    shaking_force = weighted_sum((-m0.mass, a_g0), (-m1.mass, a_g1), (1.0, loads), (1.0, world(
+        weighted_sum((-m1.mass * at_b, b2), (-m2.mass, a_g2)))))
     # the elimination
     divisor = dot(a, cross(k, b)).gathered()            # b . (a x k)
-    inverse = _Sum(recipe, {recipe.divide(1.0, divisor.term()): 1.0})
-    along_a, along_k = t1[0], t2[2]
-    m_b2 = along_k * (1.0 / abs(sd))
-    m_b1 = -1.0 * (along_a * abs(sd) + along_k * q * (1.0 / abs(sd))) * inverse
-    m_b = weighted_sum((m_b1, y2), (m_b2, vec((abs(sd), k), (-cd, x2))))
-    m_b0 = weighted_sum((t2[0] + m_b2 * cd, x2), (t2[1] - m_b1, y2))
-    across = t1[1] + along_a * (cc / abs(sc))           # M_A . y, M_A . n
-    up = t1[2] - (along_a * q + along_k * (sc * sc)) * inverse * (1.0 / abs(sc))
-    u1 = (-1.0 * s, c, 0.0)
-    u2 = (c * -cb, s * -cb, sb)
-    m_a = weighted_sum(((across * n_z - up * y_z) * (1.0 / sb), u1),
-                       ((across * y_z + up * n_z) * (1.0 / sb), u2))
-    v = weighted_sum((1.0, t0), (1.0, m_a))
-    shaking_moment = weighted_sum((-1.0, v), (-1.0, m_b0))
-    shaking_force = weighted_sum((-m0.mass, a_g0), (-1.0, net1), (-m2.mass, a_g2),
-                                 (m0.mass + m1.mass + m2.mass, g))
+    inverse = _Sum.of(recipe, recipe.divide(1.0, divisor.term()))
+    along_a, along_k = t1[0].gathered(), t2[2].gathered()
+    m_b1 = ((along_a * abs(sd) + along_k * q * (1.0 / abs(sd))).gathered() * inverse
+            * -1.0).gathered()
+    m_b2 = along_k * (cd / abs(sd))
+    m_b = world(weighted_sum((m_b1, y2), (-1.0 * m_b2, x2), (along_k, k_)))
+    p1, p2 = (t2[0] + t2[2] * (cd / abs(sd))).gathered(), (t2[1] - m_b1).gathered()
+    m_b0 = world(weighted_sum((p1, x2), (p2, y2)))
+    across = (t1[1] + t1[0] * (cc / abs(sc))).gathered()     # M_A . y, M_A . n
+    up = (t1[2] - (along_a * q + along_k * (sc * sc)).gathered() * inverse
+          * (1.0 / abs(sc))).gathered()
+    g1 = ((across * n[2] - up * y[2]) * (1.0 / sb)).gathered()
+    g2 = ((across * y[2] + up * n[2]) * (1.0 / sb)).gathered()
+    m_a = [x.gathered() if isinstance(x, _Sum) else x for x in weighted_sum(
+        (g1, (-1.0 * s, c, 0.0)), (g2, (c * -cb, s * -cb, sb)))]
+    v = [x.gathered() if isinstance(x, _Sum) else x for x in weighted_sum((1.0, t0), (1.0, m_a))]
     terms = [x.term() if isinstance(x, _Sum) else x for x in (
-        v[2], *m_a, *m_b, *m_b0, v[0], v[1], *shaking_force, *shaking_moment)]
+        v[2], *m_a, *m_b, *m_b0, v[0], v[1], *shaking_force)]
     joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
         "A0": (None, (terms[10], terms[11], 0.0)), "A": (None, tuple(terms[1:4])),
         "B": (None, tuple(terms[4:7])), "B0": (None, tuple(terms[7:10]))}
-    return (terms[0], joints, tuple(terms[12:15]), tuple(terms[15:18]),
+    shaking_moment = tuple(-1.0 * (x + y) for x, y in zip(
+        (terms[10], terms[11], terms[0]), terms[7:10]))
+    return (terms[0], joints, tuple(terms[12:15]), cast(Vec3, shaking_moment),
             recipe.abs(divisor.term()), 1.0)
 
 
