@@ -6633,10 +6633,15 @@ class _Sum:
         return self.atoms[scale]
 
     def term(self) -> Any:
-        """The recipe's term (or a float) for the sum."""
+        """The recipe's term (or a float) for the sum (its coefficients all of one size: their
+        sum times it)."""
+        sizes = {abs(k) for k, _ in self.parts.values()}
+        common = sizes.pop() if len(sizes) == 1 else 1.0
         total: Any = 0.0
         for t, (k, _) in self.parts.items():
-            total = total + t * k
+            k = k / common
+            total = total + t * (math.copysign(1.0, k) if abs(abs(k) - 1.0) < 4e-16 else k)
+        total = total * common
         return total + self.constant[0] if type(total) is _Term else self.constant[0]
 
 
@@ -6703,13 +6708,13 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     # the coupler: axes a, y, n; its spin (spin . a, w y_z, w n_z)
     y = vec((1.0 / abs(sc), b), (-cc / abs(sc), a))
     n = cross(a, y)
-    y = (y[0], y[1], y[2].gathered(1.0))
-    n = (n[0], n[1], n[2].gathered(1.0))
-    q = (a[0] * sa + cb * ca - cd * cc).gathered(1.0)       # k . a - cos d cos c
+    y = (y[0], y[1], y[2].gathered())
+    n = (n[0], n[1], n[2].gathered(next(iter(y[2].parts.values()))[0]))     # y_z's size
+    q = (a[0] * sa + cb * ca - cd * cc).gathered()          # k . a - cos d cos c
     along = ((t * q + y[2] * (cc * abs(sc) * w)) * (1.0 / (sc * sc))).gathered()
     turning = along - w * cb                            # l: its spin about a on the crank's
     along_rate = ((rate * q + y[2] * (al * cc * abs(sc))
-                   + t * (w * sa) * (b[1] * cc - a[1])) * (1.0 / (sc * sc))).gathered()
+                   + t * (w * sa) * (b[1] * cc - a[1]).gathered()) * (1.0 / (sc * sc))).gathered()
     spin = (along, y[2] * w, n[2] * w)
     spin_rate = (along_rate, y[2] * al + turning * n[2] * w, n[2] * al - turning * y[2] * w)
     coupler_axes = (a, y, n)
@@ -6734,23 +6739,31 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     shaking_force = weighted_sum((-m0.mass, a_g0), (-m1.mass, a_g1), (1.0, loads), (1.0, world(
         weighted_sum((-m1.mass * at_b, b2), (-m2.mass, a_g2)))))
     # the elimination
-    divisor = dot(a, cross(k, b)).gathered()            # b . (a x k)
-    inverse = _Sum.of(recipe, recipe.divide(1.0, divisor.term()))
-    along_a, along_k = t1[0].gathered(), t2[2].gathered()
-    m_b1 = ((along_a * abs(sd) + along_k * q * (1.0 / abs(sd))).gathered() * inverse
-            * -1.0).gathered()
+    # (each sum made one term at the size that makes the next sum of two products of them
+    # one operation: each constant factor a multiplication)
+    divisor = dot(a, cross(k, b)).gathered()            # b . (a x k), as d D'
+    (d_term, (d, _)), = divisor.parts.items()
+    inverse = _Sum(recipe, {recipe.divide(1.0, d_term): (1.0 / d, 1.0 / abs(d))})
+    along_a = t1[0].gathered()
+    (_, (x_size, _)), = along_a.parts.items()
+    b1_size = -abs(sd) * x_size / d                     # m_b1's
+    along_k = t2[2].gathered(-abs(sd) * b1_size / cd if cd else None)
+    m_b1 = ((along_a * abs(sd) + along_k * q * (1.0 / abs(sd))).gathered(abs(sd) * x_size)
+            * inverse * -1.0)
     m_b2 = along_k * (cd / abs(sd))
     m_b = world(weighted_sum((m_b1, y2), (-1.0 * m_b2, x2), (along_k, k_)))
-    p1, p2 = (t2[0] + t2[2] * (cd / abs(sd))).gathered(), (t2[1] - m_b1).gathered()
+    p1 = (t2[0] + t2[2] * (cd / abs(sd))).gathered()
+    p2 = (t2[1] - m_b1).gathered(next(iter(p1.parts.values()))[0])
     m_b0 = world(weighted_sum((p1, x2), (p2, y2)))
     across = (t1[1] + t1[0] * (cc / abs(sc))).gathered()     # M_A . y, M_A . n
     up = (t1[2] - (along_a * q + along_k * (sc * sc)).gathered() * inverse
-          * (1.0 / abs(sc))).gathered()
+          * (1.0 / abs(sc))).gathered(next(iter(across.parts.values()))[0])
     g1 = ((across * n[2] - up * y[2]) * (1.0 / sb)).gathered()
-    g2 = ((across * y[2] + up * n[2]) * (1.0 / sb)).gathered()
-    m_a = [x.gathered() if isinstance(x, _Sum) else x for x in weighted_sum(
-        (g1, (-1.0 * s, c, 0.0)), (g2, (c * -cb, s * -cb, sb)))]
-    v = [x.gathered() if isinstance(x, _Sum) else x for x in weighted_sum((1.0, t0), (1.0, m_a))]
+    g1_size = next(iter(g1.parts.values()))[0]
+    g2 = ((across * y[2] + up * n[2]) * (1.0 / sb)).gathered(g1_size / cb if cb else None)
+    m_a = weighted_sum((g1, (-1.0 * s, c, 0.0)), (g2, (c * -cb, s * -cb, sb)))
+    m_a = [x.gathered() if isinstance(x, _Sum) else x for x in m_a]
+    v = weighted_sum((1.0, t0), (1.0, m_a))
     terms = [x.term() if isinstance(x, _Sum) else x for x in (
         v[2], *m_a, *m_b, *m_b0, v[0], v[1], *shaking_force)]
     joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
@@ -6759,7 +6772,7 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     shaking_moment = tuple(-1.0 * (x + y) for x, y in zip(
         (terms[10], terms[11], terms[0]), terms[7:10]))
     return (terms[0], joints, tuple(terms[12:15]), cast(Vec3, shaking_moment),
-            recipe.abs(divisor.term()), 1.0)
+            recipe.abs(d_term), 1.0 / abs(d))
 
 
 class _ForcesTrace(NamedTuple):
