@@ -6700,9 +6700,8 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     a_g0 = weighted_sum((-w * w, (rho0[0], rho0[1], 0.0)), (al, cross(_EZ, rho0)))
     # the output: spin t k, about k's axes
     rho2 = weighted_sum(*zip(m2.centre, (x2, y2, k_)))
-    t2 = [x - y for x, y in zip(euler(about_o(m2), (0.0, 0.0, t), (0.0, 0.0, rate)), cross(
-        m2.centre, in_axes(rotated_y(ca, -sa, weighted_sum((m2.mass, g))), (x2, y2, k_))))]
-    t2[2] = t2[2] - setup.output_torque
+    t2 = weighted_sum(*zip(euler(about_o(m2), (0.0, 0.0, t), (0.0, 0.0, rate)), (x2, y2, k_)),
+                      (-m2.mass, cross(rho2, rotated_y(ca, -sa, g))), (-setup.output_torque, k_))
     a_g2 = weighted_sum((-1.0 * (t * t), vec((m2.centre[0], x2), (m2.centre[1], y2))),
                         (1.0, cross(vec((rate, k_)), rho2)))
     # the coupler: axes a, y, n; its spin (spin . a, w y_z, w n_z)
@@ -6751,10 +6750,9 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     m_b1 = ((along_a * abs(sd) + along_k * q * (1.0 / abs(sd))).gathered(abs(sd) * x_size)
             * inverse * -1.0)
     m_b2 = along_k * (cd / abs(sd))
-    m_b = world(weighted_sum((m_b1, y2), (-1.0 * m_b2, x2), (along_k, k_)))
-    p1 = (t2[0] + t2[2] * (cd / abs(sd))).gathered()
-    p2 = (t2[1] - m_b1).gathered(next(iter(p1.parts.values()))[0])
-    m_b0 = world(weighted_sum((p1, x2), (p2, y2)))
+    m_b = [x.gathered() for x in weighted_sum((m_b1, y2), (-1.0 * m_b2, x2))[:2]] + [along_k]
+    m_b0 = world((t2[0] - m_b[0], t2[1] - m_b[1], 0.0))      # T_2 - M_B, across k
+    m_b = world(m_b)
     across = (t1[1] + t1[0] * (cc / abs(sc))).gathered()     # M_A . y, M_A . n
     up = (t1[2] - (along_a * q + along_k * (sc * sc)).gathered() * inverse
           * (1.0 / abs(sc))).gathered(next(iter(across.parts.values()))[0])
