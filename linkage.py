@@ -6633,15 +6633,20 @@ class _Sum:
         return self.atoms[scale]
 
     def term(self) -> Any:
-        """The recipe's term (or a float) for the sum (its coefficients all of one size: their
-        sum times it)."""
-        sizes = {abs(k) for k, _ in self.parts.values()}
-        common = sizes.pop() if len(sizes) == 1 else 1.0
+        """The recipe's term (or a float) for the sum: the terms whose coefficients are of one
+        size summed first (in the order made: the same sum wherever it recurs), then times it;
+        a size within rounding of 1 is 1."""
+        groups: dict[float, list[tuple[_Term, float]]] = {}
+        for t, (k, _) in sorted(self.parts.items(), key=lambda p: p[0].index):
+            size = next((j for j in groups if abs(abs(k) / j - 1.0) < 4e-16), abs(k))
+            groups.setdefault(1.0 if abs(size - 1.0) < 4e-16 else size, []).append((t, k))
         total: Any = 0.0
-        for t, (k, _) in self.parts.items():
-            k = k / common
-            total = total + t * (math.copysign(1.0, k) if abs(abs(k) - 1.0) < 4e-16 else k)
-        total = total * common
+        for size, ts in groups.items():
+            sign = math.copysign(1.0, ts[0][1])
+            part: Any = 0.0
+            for t, k in ts:
+                part = part + t * (sign * math.copysign(1.0, k))
+            total = total + part * (sign * size)
         return total + self.constant[0] if type(total) is _Term else self.constant[0]
 
 
@@ -6678,6 +6683,20 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     def one(v: Any) -> Any:
         return v.gathered(1.0) if isinstance(v, _Sum) else v
 
+    def factored(z: _Sum, u: _Sum, u_sum: _Sum, v: _Sum) -> _Sum:
+        """z with its terms in u^2, u v and v^2 (u, v each one term; u_sum what u is made of)
+        as one product, a (u - r1 v)(u - r2 v), where the quadratic has two real roots."""
+        (ut, (uk, _)), = u.parts.items()
+        (vt, (vk, _)), = v.parts.items()
+        keys = (recipe.multiply(ut, ut), recipe.multiply(ut, vt), recipe.multiply(vt, vt))
+        a, b, c = (z.parts.get(key, (0.0, 0.0))[0] for key in keys)
+        a, b, c = a / (uk * uk), b / (uk * vk), c / (vk * vk)     # in u and v themselves
+        if not a or b * b <= 4.0 * a * c:
+            return z
+        h = -0.5 * (b + math.copysign(math.sqrt(b * b - 4.0 * a * c), b))
+        rest = _Sum(recipe, {t: km for t, km in z.parts.items() if t not in keys}, z.constant)
+        return rest + (u_sum - v * (h / a)) * (u_sum - v * (c / h)) * a
+
     def world(v: Any) -> Vec3:
         """A vector on the output's side, given about axes turned by -a about y (where its axis
         k is z), in the fixed axes: each component made one term first."""
@@ -6710,7 +6729,8 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     y = (y[0], y[1], y[2].gathered())
     n = (n[0], n[1], n[2].gathered(next(iter(y[2].parts.values()))[0]))     # y_z's size
     q = (a[0] * sa + cb * ca - cd * cc).gathered()          # k . a - cos d cos c
-    along = ((t * q + y[2] * (cc * abs(sc) * w)) * (1.0 / (sc * sc))).gathered()
+    along_sum = (t * q + y[2] * (cc * abs(sc) * w)) * (1.0 / (sc * sc))
+    along = along_sum.gathered()
     turning = along - w * cb                            # l: its spin about a on the crank's
     along_rate = ((rate * q + y[2] * (al * cc * abs(sc))
                    + t * (w * sa) * (b[1] * cc - a[1]).gathered()) * (1.0 / (sc * sc))).gathered()
@@ -6743,6 +6763,9 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     divisor = dot(a, cross(k, b)).gathered()            # b . (a x k), as d D'
     (d_term, (d, _)), = divisor.parts.items()
     inverse = _Sum(recipe, {recipe.divide(1.0, d_term): (1.0 / d, 1.0 / abs(d))})
+    # the coupler's z moment's quadratic form in its spin (spin . a, w y_z): I01 (. a)^2 + ... -
+    # I01 (w y_z)^2 for an arc, factored: one product
+    t1[2] = factored(t1[2], along, along_sum, y[2])
     along_a = t1[0].gathered()
     (_, (x_size, _)), = along_a.parts.items()
     b1_size = -abs(sd) * x_size / d                     # m_b1's
