@@ -6626,7 +6626,8 @@ class _Sum:
         if not self.parts or (scale is None and len(self.parts) == 1 and not self.constant[0]):
             return self
         if scale not in self.atoms:
-            k = scale or max((k for k, _ in self.parts.values()), key=abs)
+            big = max(abs(k) for k, _ in self.parts.values())
+            k = scale or max((k for k, _ in self.parts.values() if abs(k) >= big * (1 - 4e-16)))
             inner = _Sum(self.recipe, {t: (j / k, m / abs(k)) for t, (j, m) in self.parts.items()},
                          (self.constant[0] / k, self.constant[1] / abs(k)))
             self.atoms[scale] = _Sum(self.recipe, {inner.term(): (k, abs(k))})
@@ -6642,6 +6643,8 @@ class _Sum:
             groups.setdefault(1.0 if abs(size - 1.0) < 4e-16 else size, []).append((t, k))
         total: Any = 0.0
         for size, ts in groups.items():
+            if size == 1.0 and ts[0][1] < 0.0:      # a - b, not -(b - a)
+                ts.sort(key=lambda p: p[1] < 0.0)
             sign = math.copysign(1.0, ts[0][1])
             part: Any = 0.0
             for t, k in ts:
@@ -6776,12 +6779,13 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     m_b = [x.gathered() for x in weighted_sum((m_b1, y2), (-1.0 * m_b2, x2))[:2]] + [along_k]
     m_b0 = world((t2[0] - m_b[0], t2[1] - m_b[1], 0.0))      # T_2 - M_B, across k
     m_b = world(m_b)
-    across = (t1[1] + t1[0] * (cc / abs(sc))).gathered()     # M_A . y, M_A . n
+    # M_A . y and M_A . n at the size that makes M_A's x and y two products' sum
+    size = sb / next(iter(y[2].parts.values()))[0]
+    across = (t1[1] + t1[0] * (cc / abs(sc))).gathered(size)
     up = (t1[2] - (along_a * q + along_k * (sc * sc)).gathered() * inverse
-          * (1.0 / abs(sc))).gathered(next(iter(across.parts.values()))[0])
-    g1 = ((across * n[2] - up * y[2]) * (1.0 / sb)).gathered()
-    g1_size = next(iter(g1.parts.values()))[0]
-    g2 = ((across * y[2] + up * n[2]) * (1.0 / sb)).gathered(g1_size / cb if cb else None)
+          * (1.0 / abs(sc))).gathered(size)
+    g1 = ((across * n[2] - up * y[2]) * (1.0 / sb)).gathered(-1.0)     # M_A . u1, M_A . u2
+    g2 = ((across * y[2] + up * n[2]) * (1.0 / sb)).gathered(-1.0 / cb if cb else None)
     m_a = weighted_sum((g1, (-1.0 * s, c, 0.0)), (g2, (c * -cb, s * -cb, sb)))
     m_a = [x.gathered() if isinstance(x, _Sum) else x for x in m_a]
     v = weighted_sum((1.0, t0), (1.0, m_a))
