@@ -6633,6 +6633,10 @@ class _Sum:
             self.atoms[scale] = _Sum(self.recipe, {inner.term(): (k, abs(k))})
         return self.atoms[scale]
 
+    def size(self) -> float:
+        """Its one term's coefficient (1 where it has none, or more than one)."""
+        return next(iter(self.parts.values()))[0] if len(self.parts) == 1 else 1.0
+
     def term(self) -> Any:
         """The recipe's term (or a float) for the sum: the terms whose coefficients are of one
         size summed first (in the order made: the same sum wherever it recurs), then times it;
@@ -6689,6 +6693,8 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     def factored(z: _Sum, u: _Sum, u_sum: _Sum, v: _Sum) -> _Sum:
         """z with its terms in u^2, u v and v^2 (u, v each one term; u_sum what u is made of)
         as one product, a (u - r1 v)(u - r2 v), where the quadratic has two real roots."""
+        if len(u.parts) != 1 or len(v.parts) != 1 or u.constant[0] or v.constant[0]:
+            return z
         (ut, (uk, _)), = u.parts.items()
         (vt, (vk, _)), = v.parts.items()
         keys = (recipe.multiply(ut, ut), recipe.multiply(ut, vt), recipe.multiply(vt, vt))
@@ -6730,7 +6736,7 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     y = vec((1.0 / abs(sc), b), (-cc / abs(sc), a))
     n = cross(a, y)
     y = (y[0], y[1], y[2].gathered())
-    n = (n[0], n[1], n[2].gathered(next(iter(y[2].parts.values()))[0]))     # y_z's size
+    n = (n[0], n[1], n[2].gathered(y[2].size()))      # at y_z's size
     q = (a[0] * sa + cb * ca - cd * cc).gathered()          # k . a - cos d cos c
     along_sum = (t * q + y[2] * (cc * abs(sc) * w)) * (1.0 / (sc * sc))
     along = along_sum.gathered()
@@ -6764,13 +6770,14 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     # (each sum made one term at the size that makes the next sum of two products of them
     # one operation: each constant factor a multiplication)
     divisor = dot(a, cross(k, b)).gathered()            # b . (a x k), as d D'
-    (d_term, (d, _)), = divisor.parts.items()
-    inverse = _Sum(recipe, {recipe.divide(1.0, d_term): (1.0 / d, 1.0 / abs(d))})
+    d = divisor.size()
+    d_term = (divisor * (1.0 / d)).term()
+    inverse = _Sum.of(recipe, recipe.divide(1.0, d_term)) * (1.0 / d)
     # the coupler's z moment's quadratic form in its spin (spin . a, w y_z): I01 (. a)^2 + ... -
     # I01 (w y_z)^2 for an arc, factored: one product
     t1[2] = factored(t1[2], along, along_sum, y[2])
     along_a = t1[0].gathered()
-    (_, (x_size, _)), = along_a.parts.items()
+    x_size = along_a.size()
     b1_size = -abs(sd) * x_size / d                     # m_b1's
     along_k = t2[2].gathered(-abs(sd) * b1_size / cd if cd else None)
     m_b1 = ((along_a * abs(sd) + along_k * q * (1.0 / abs(sd))).gathered(abs(sd) * x_size)
@@ -6780,7 +6787,7 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     m_b0 = world((t2[0] - m_b[0], t2[1] - m_b[1], 0.0))      # T_2 - M_B, across k
     m_b = world(m_b)
     # M_A . y and M_A . n at the size that makes M_A's x and y two products' sum
-    size = sb / next(iter(y[2].parts.values()))[0]
+    size = sb / y[2].size()
     across = (t1[1] + t1[0] * (cc / abs(sc))).gathered(size)
     up = (t1[2] - (along_a * q + along_k * (sc * sc)).gathered() * inverse
           * (1.0 / abs(sc))).gathered(size)
