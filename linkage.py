@@ -6325,7 +6325,6 @@ class _BodyArrays(NamedTuple):
     axes_rates: tuple[Vec3 | None, Vec3 | None, Vec3 | None]
     axis: Vec3 | None = None
     rates: tuple[Any, Any] = (0.0, 0.0)
-    local: tuple[Vec3, Vec3] | None = None      # spin and spin rate in the body's axes
 
 
 def _inertia_times_arrays(axes: tuple[Vec3, Vec3, Vec3], inertia: Matrix, w: Vec3) -> Vec3:
@@ -6341,10 +6340,10 @@ def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], 
     """_states on arrays, from the cosines and sines of phi and the output angle (a four-bar's):
     the three bodies, the pins A and P, and P's derivative by the output (k x (B - B0), or the
     slider's guide). Where _states measures a length the linkage fixes
-    (|A - P| = c, the output's arm d, the spherical coupler's sin c), this takes the dimension."""
+    (|A - P| = c, the output's arm d), this takes the dimension (the spherical four-bar's:
+    _spherical_arrays)."""
     linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
     kind = linkage.kind
-    spherical = kind == SPHERICAL_FOUR_BAR
     a = PINS[kind].crank_pin(dims, *cos_sin[:2])
     cq, sq = cos_sin[2:] or (None, None)
     p = PINS[kind].output_pin(dims, cq, sq, out)
@@ -6353,59 +6352,29 @@ def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], 
         (r * w * w, a[2]), (r * al, a[1]))
     pp, vp, ap = weighted_sum((r, p[0])), weighted_sum((r * turn, p[1])), weighted_sum(
         (r * (turn * turn), p[2]), (r * turn_rate, p[1]))
-    arm = dims["sin b"] if spherical else dims["b"]
+    arm = dims["b"]
     x = (math.copysign(1.0, arm) * cos_sin[0], math.copysign(1.0, arm) * cos_sin[1], 0.0)
     x2 = weighted_sum((1.0 / abs(r * arm), (aa[0], aa[1], 0.0)))     # (A_x, A_y) = r b x
     crank = _BodyArrays(_ZERO3, (x, cross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
                         (0.0, 0.0, al), (x2, cross(_EZ, x2), _ZERO3), _EZ, (w, al))
-    if spherical:
-        # the coupler turns about OA on the crank and about OB on the output: its spin
-        # w z + l a = turn k + m b, whence (. k x b) l = -w (z . k x b) / (a . k x b) (the
-        # reactions' divisor), and its rate alpha z + l' a + l a' with a' = w z x a
-        a_, b_, k = weighted_sum((1.0 / r, pa)), weighted_sum((1.0 / r, pp)), \
-            setup.axes["output"][1]
-        a_k = cross(a_, k)
-        divisor = dot(b_, a_k)
-        f = k[0] * b_[1] - k[1] * b_[0]                         # z . k x b
-        turning = -w * f / divisor
-        a_dot, b_dot = weighted_sum((1.0 / r, va)), weighted_sum((1.0 / r, vp))
-        f_dot = k[0] * b_dot[1] - k[1] * b_dot[0]
-        divisor_dot = dot(b_dot, a_k) + dot(b_, cross(a_dot, k))
-        turning_rate = (-al * f - w * f_dot - turning * divisor_dot) / divisor
-        spin = weighted_sum((w, _EZ), (turning, a_))
-        rate = weighted_sum((al, _EZ), (turning_rate, a_), (turning, a_dot))
-        cc, sc = cos_sin_degrees(dims["c"])                     # a . b = cos c
-        y = weighted_sum((1.0 / abs(sc), b_), (-cc / abs(sc), a_))    # (a x b) x a / |a x b|
-        x2, z = weighted_sum((1.0 / r, aa)), cross(a_, y)
-        local = ((w * a_[2] + turning, w * y[2], w * z[2]),       # a . a' = 0, a . y = 0 ...
-                 (al * a_[2] + turning_rate, al * y[2] + turning * dot(y, a_dot),
-                  al * z[2] + turning * dot(z, a_dot)))
-        coupler = _BodyArrays(_ZERO3, (a_, y, z), a_, _ZERO3, spin, rate, (
-            x2, weighted_sum((1.0 / (r * abs(sc)), ap), (-cc / abs(sc), x2)), None),
-            local=local)
-    else:
-        ab, dv, da = difference(pp, pa), difference(vp, va), difference(ap, aa)
-        inverse = 1.0 / (dims["c"] * dims["c"])
-        spin = weighted_sum((inverse, cross(ab, dv)))
-        # _states' rate less its term in ab x (spin x dv) = spin (ab . dv) / |ab|^2: 0, the
-        # coupler rigid
-        rate = weighted_sum((inverse, cross(ab, da)))
-        x, x2 = weighted_sum((1.0 / abs(dims["c"]), ab)), weighted_sum((1.0 / abs(dims["c"]), da))
-        plane = PINS[kind].coupler == "plane"
-        coupler = _BodyArrays(pa, (x, cross(_EZ, x), _EZ) if plane else None, x, aa, spin, rate,
-                              (x2, cross(_EZ, x2) if plane else None, _ZERO3))
+    ab, dv, da = difference(pp, pa), difference(vp, va), difference(ap, aa)
+    inverse = 1.0 / (dims["c"] * dims["c"])
+    spin = weighted_sum((inverse, cross(ab, dv)))
+    # _states' rate less its term in ab x (spin x dv) = spin (ab . dv) / |ab|^2: 0, the
+    # coupler rigid
+    rate = weighted_sum((inverse, cross(ab, da)))
+    x, x2 = weighted_sum((1.0 / abs(dims["c"]), ab)), weighted_sum((1.0 / abs(dims["c"]), da))
+    plane = PINS[kind].coupler == "plane"
+    coupler = _BodyArrays(pa, (x, cross(_EZ, x), _EZ) if plane else None, x, aa, spin, rate,
+                          (x2, cross(_EZ, x2) if plane else None, _ZERO3))
     if linkage.is_slider:
         g = setup.axes["guide"][1]
         y = _EY if kind == PLANE_SLIDER_CRANK else _EX
         output = _BodyArrays(pp, (g, y, cross(g, y)), g, ap, _ZERO3, _ZERO3, (_ZERO3,) * 3)
     else:
         k = setup.axes["output"][1]
-        pivot = weighted_sum((r, setup.ground["B0"])) if not spherical else _ZERO3
-        arm = r * abs(dims["sin d"]) if spherical else abs(dims["d"])
-        if spherical:                   # B . k = cos d
-            x = weighted_sum((1.0 / arm, pp), (-dims["cos d"] / abs(dims["sin d"]), k))
-        else:                           # the arm B - B0 across k, of length d
-            x = weighted_sum((1.0 / arm, difference(pp, pivot)))
+        pivot, arm = weighted_sum((r, setup.ground["B0"])), abs(dims["d"])
+        x = weighted_sum((1.0 / arm, difference(pp, pivot)))     # the arm B - B0 across k
         x2 = weighted_sum((1.0 / arm, ap))
         output = _BodyArrays(pivot, (x, cross(k, x), k), x, _ZERO3, weighted_sum((turn, k)),
                              weighted_sum((turn_rate, k)), (x2, cross(k, x2), _ZERO3), k,
@@ -6423,11 +6392,7 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
         axes = body.axes or (body.line, _ZERO3, _ZERO3)
         rho = weighted_sum(*zip(mass.centre, axes))
         terms = [(u, rate) for u, rate in zip(mass.centre, body.axes_rates) if u]
-        if all(rate is not None for _, rate in terms):
-            a_g = weighted_sum((1.0, body.acceleration), *cast(list[tuple[Any, Vec3]], terms))
-        else:                           # the spherical coupler's centre off its plane
-            a_g = weighted_sum((1.0, body.acceleration), (1.0, cross(body.spin_rate, rho)),
-                               (1.0, cross(body.spin, cross(body.spin, rho))))
+        a_g = weighted_sum((1.0, body.acceleration), *cast(list[tuple[Any, Vec3]], terms))
         inertial: Vec3
         net = weighted_sum((mass.mass, a_g), (-mass.mass, setup.gravity))
         if body.axis is not None:       # spin = turn k, its rate turn_rate k; k the body's z
@@ -6450,13 +6415,6 @@ def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _
                 #                         line, where its inertia is the transverse moment
                 inertial = weighted_sum(((mass.inertia[1][1] + mass.inertia[2][2]) / 2.0,
                                          body.spin_rate))
-            elif body.local is not None:        # I spin' + spin x I spin in the body's axes
-                spin, rate = body.local
-                i_spin = [sum(row[j] * spin[j] for j in range(3)) for row in mass.inertia]
-                i_rate = [sum(row[j] * rate[j] for j in range(3)) for row in mass.inertia]
-                inertial = weighted_sum(*zip(weighted_sum(
-                    (1.0, cast(Vec3, tuple(i_rate))), (1.0, cross(spin, cast(Vec3, tuple(
-                        i_spin))))), body.axes))
             else:
                 inertial = weighted_sum(
                     (1.0, _inertia_times_arrays(body.axes, mass.inertia, body.spin_rate)),
@@ -6489,19 +6447,6 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
     out = PINS[kind].output_joint
     ground = "guide" if setup.linkage.is_slider else "B0"
     joints: dict[str, tuple[Vec3 | None, Vec3 | None]]
-    if kind == SPHERICAL_FOUR_BAR:      # every wrench about O
-        k = setup.axes["output"][1]
-        a, b = weighted_sum((1.0 / setup.radius, pa)), weighted_sum((1.0 / setup.radius, pp))
-        divisor = dot(b, cross(a, k))
-        m_b = weighted_sum((-dot(a, t1) / divisor, cross(k, b)),
-                           (dot(k, t2) / divisor, cross(b, a)))
-        m_a, m_b0 = weighted_sum((1.0, t1), (1.0, m_b)), difference(t2, m_b)
-        v = weighted_sum((1.0, t0), (1.0, m_a))
-        m_a0 = (v[0], v[1], 0.0)
-        shaking_force = weighted_sum((-1.0, n0), (-1.0, n1), (-1.0, n2))
-        shaking_moment = weighted_sum((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
-        joints = {"A0": (None, m_a0), "A": (None, m_a), out: (None, m_b), ground: (None, m_b0)}
-        return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor), 1.0
     plane = kind in (PLANE_FOUR_BAR, PLANE_SLIDER_CRANK)
     ab = difference(pp, pa)
     across = cross(ab, weighted_sum((1.0 / (dims["c"] * dims["c"]), t1)))   # t1 about A
