@@ -6622,18 +6622,15 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
         return [[mass.inertia[i][j] + mass.mass * (rr * (i == j) - mass.centre[i] * mass.centre[j])
                  for j in range(3)] for i in range(3)]
 
-    def euler(inertia: list[list[float]], spin: Any, rate: Any) -> list[Any]:
+    def euler(inertia: list[list[float]], spin: Any, rate: Any) -> Any:
         """I spin' + spin x I spin in the body's axes."""
-        i_spin = [sum((row[j] * spin[j] for j in range(3)), 0.0) for row in inertia]
+        i_spin: Any = [sum((row[j] * spin[j] for j in range(3)), 0.0) for row in inertia]
         turning = cross(spin, i_spin)
         return [sum((row[j] * rate[j] for j in range(3)), turning[i])
                 for i, row in enumerate(inertia)]
 
-    def in_axes(v: Any, axes: Any) -> list[Any]:
+    def in_axes(v: Any, axes: Any) -> Any:
         return [dot(v, axis) for axis in axes]
-
-    def one(v: Any) -> Any:
-        return v.gathered(1.0) if isinstance(v, _Sum) else v
 
     def factored(z: _Sum, u: _Sum, u_sum: _Sum, v: _Sum) -> _Sum:
         """z with its terms in u^2, u v and v^2 (u, v each one term; u_sum what u is made of)
@@ -6654,7 +6651,8 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     def world(v: Any) -> Vec3:
         """A vector on the output's side, given about axes turned by -a about y (where its axis
         k is z), in the fixed axes: each component made one term first."""
-        return rotated_y(ca, sa, tuple(x.gathered() if isinstance(x, _Sum) else x for x in v))
+        return rotated_y(ca, sa, cast(Vec3, tuple(x.gathered() if isinstance(x, _Sum) else x
+                                                  for x in v)))
 
     t, rate = v1 * w, v2 * (w * w) + v1 * al          # the output's speed psi' w and its rate
     a = vec((sb, (c, s, 0.0)), (1.0, (0.0, 0.0, cb)))
@@ -6728,9 +6726,8 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     m_b1 = ((along_a * abs(sd) + along_k * q * (1.0 / abs(sd))).gathered(abs(sd) * x_size)
             * inverse * -1.0)
     m_b2 = along_k * (cd / abs(sd))
-    m_b = [x.gathered() for x in weighted_sum((m_b1, y2), (-1.0 * m_b2, x2))[:2]] + [along_k]
-    m_b0 = world((t2[0] - m_b[0], t2[1] - m_b[1], 0.0))      # T_2 - M_B, across k
-    m_b = world(m_b)
+    m_b_ = [x.gathered() for x in weighted_sum((m_b1, y2), (-1.0 * m_b2, x2))[:2]]
+    m_b0, m_b = world((t2[0] - m_b_[0], t2[1] - m_b_[1], 0.0)), world((*m_b_, along_k))
     # M_A . y and M_A . n at the size that makes M_A's x and y two products' sum
     size = sb / y[2].size()
     across = (t1[1] + t1[0] * (cc / abs(sc))).gathered(size)
@@ -6738,8 +6735,8 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
           * (1.0 / abs(sc))).gathered(size)
     g1 = ((across * n[2] - up * y[2]) * (1.0 / sb)).gathered(-1.0)     # M_A . u1, M_A . u2
     g2 = ((across * y[2] + up * n[2]) * (1.0 / sb)).gathered(-1.0 / cb if cb else None)
-    m_a = weighted_sum((g1, (-1.0 * s, c, 0.0)), (g2, (c * -cb, s * -cb, sb)))
-    m_a = [x.gathered() if isinstance(x, _Sum) else x for x in m_a]
+    m_a: Any = [x.gathered() if isinstance(x, _Sum) else x for x in weighted_sum(
+        (g1, (-1.0 * s, c, 0.0)), (g2, (c * -cb, s * -cb, sb)))]
     v = weighted_sum((1.0, t0), (1.0, m_a))
     terms = [x.term() if isinstance(x, _Sum) else x for x in (
         v[2], *m_a, *m_b, *m_b0, v[0], v[1], *shaking_force)]
