@@ -6571,8 +6571,9 @@ class _Sum:
         if not self.parts or (scale is None and len(self.parts) == 1 and not self.constant[0]):
             return self
         if scale not in self.atoms:
-            big = max(abs(k) for k, _ in self.parts.values())
-            k = scale or max((k for k, _ in self.parts.values() if abs(k) >= big * (1 - 4e-16)))
+            big = max(abs(k) for k, _ in self.parts.values())       # the first of the largest
+            k = scale or next(k for _, (k, _) in sorted(self.parts.items(), key=lambda p: p[
+                0].index) if abs(k) >= big * (1 - 4e-16))
             inner = _Sum(self.recipe, {t: (j / k, m / abs(k)) for t, (j, m) in self.parts.items()},
                          (self.constant[0] / k, self.constant[1] / abs(k)))
             self.atoms[scale] = _Sum(self.recipe, {inner.term(): (k, abs(k))})
@@ -6735,8 +6736,7 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
           * (1.0 / abs(sc))).gathered(size)
     g1 = ((across * n[2] - up * y[2]) * (1.0 / sb)).gathered(-1.0)     # M_A . u1, M_A . u2
     g2 = ((across * y[2] + up * n[2]) * (1.0 / sb)).gathered(-1.0 / cb if cb else None)
-    m_a: Any = [x.gathered() if isinstance(x, _Sum) else x for x in weighted_sum(
-        (g1, (-1.0 * s, c, 0.0)), (g2, (c * -cb, s * -cb, sb)))]
+    m_a = weighted_sum((g1, (-1.0 * s, c, 0.0)), (g2, (c * -cb, s * -cb, sb)))
     v = weighted_sum((1.0, t0), (1.0, m_a))
     terms = [x.term() if isinstance(x, _Sum) else x for x in (
         v[2], *m_a, *m_b, *m_b0, v[0], v[1], *shaking_force)]
