@@ -6487,37 +6487,38 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
     return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
 
 
-# -- the spherical four-bar: scalars times known vectors --------------------------------------------
+# -- the spherical four-bar: scalars times known arrays ---------------------------------------------
 #
-# Every body of the spherical four-bar turns about O, and only moments about O enter (the notes
-# above), so its wrenches are worked out here as scalars, each a sum of known arrays (the
-# sweep's cosines and sines, psi' and psi'', and their products) times constants: _Sum gathers
-# like terms and folds the constants while tracing, so that an array operation is recorded only
-# where two arrays meet. Each body's moment about O is I spin' + spin x I spin, I its inertia
-# about O, in the body's own axes, where I is constant: the crank's and the output's spins are
-# their speeds about their axes; the coupler's (turning about a = OA on the crank, so spin =
-# w z + l a) has components (spin . a, w y_z, w n_z) on its axes a, y, n (y = (b - cos c a) /
-# |sin c|, n = a x y), spin . a = (psi' w Q + cos c w (b_z - cos b cos c)) / sin^2 c with
-# Q = k . a - cos d cos c (from a' and b', spin_about_centre), and its rate's components are
-# theirs differentiated (the axes turn with the body). The elimination as for the others, in
-# the bodies' own axes: M_B = m1 y2 + m2 (|sin d| k - cos d x2) on the output's axes (k . M_B =
-# k . T_2, a . M_B = -a . T_1), M_A = T_1 + M_B across a, turned onto the crank's axes at A
-# (u1 = (-sin phi, cos phi, 0), u2 = a x u1) by the angle whose cosine and sine are n_z and y_z
-# over sin b; the output's M_B0 = T_2 - M_B on x2 and y2; the shaking moment -(T_0 + T_1 + T_2).
+# Every body of the spherical four-bar turns about O, and only moments about O enter, so its
+# formulas are written here as scalars, each a sum of known arrays (the sweep's cosines and sines,
+# psi', psi'' and products of them) times constants: _Sum gathers like terms and folds the
+# constants while tracing, and makes a sum one term (one array) only where a product needs it,
+# at the size that spares the next sum a multiplication. A body's moment about O is I spin' +
+# spin x I spin in its own axes, I its inertia about O (constant there), less gravity's moment
+# and the loads'. The crank's and the output's spins are their speeds about their axes; the
+# coupler's (spin = w z + l a, turning about a = OA on the crank) has (spin . a, w y_z, w n_z) on
+# its axes a, y, n (y = (b - cos c a) / |sin c|, n = a x y), spin . a = (psi' w Q + cos c w
+# (b_z - cos b cos c)) / sin^2 c with Q = k . a - cos d cos c (a' and b' in spin_about_centre),
+# and its rate's the same differentiated (the axes turn with it). Its moment's quadratic in
+# (spin . a, w y_z) is factored (one product). The elimination: M_B = m1 y2 + m2 (|sin d| k -
+# cos d x2) on the output's axes x2, y2 = k x x2, k, fixed by k . M_B = k . T_2 and a . M_B =
+# -a . T_1 (the divisor D = a . (k x b)); M_A = T_1 + M_B across a, turned from the coupler's
+# y, n onto the crank's u1 = (-sin phi, cos phi, 0), u2 = a x u1 (by the angle of cosine n_z and
+# sine y_z over sin b); M_B0 = T_2 - M_B about the output's axes; the shaking moment
+# -(M_A0 + torque z + M_B0) = -(T_0 + T_1 + T_2), its force the bodies' m (g - a_G) and the loads.
 
 class _Sum:
-    """A number of the recipe as constants times known arrays (its terms), plus a constant:
-    like terms gathered while tracing, each product of two terms recorded once. Each
-    coefficient keeps the size of what made it up: one that rounding alone left (under 16
-    epsilons of that: I22 - I11 - I00 of a body in its xy plane) is 0."""
+    """A number of the recipe: its terms times constants, plus a constant, like terms gathered
+    while tracing. Each coefficient keeps the size of what made it up (the sum of its parts'
+    sizes): one that rounding alone left (under 16 epsilons of that, as I22 - I11 - I00 of an arc)
+    is 0."""
     __slots__ = ("recipe", "parts", "constant", "atoms")
 
     def __init__(self, recipe: _Recipe, parts: dict[_Term, tuple[float, float]],
                  constant: tuple[float, float] = (0.0, 0.0)) -> None:
-        self.recipe = recipe
+        self.recipe, self.atoms = recipe, cast(dict[float | None, _Sum], {})
         self.parts = {t: km for t, km in parts.items() if abs(km[0]) > 3.6e-15 * km[1]}
         self.constant = constant if abs(constant[0]) > 3.6e-15 * constant[1] else (0.0, 0.0)
-        self.atoms: dict[float | None, _Sum] = {}
 
     @staticmethod
     def of(recipe: _Recipe, term: _Term) -> _Sum:
@@ -6528,10 +6529,9 @@ class _Sum:
             other = _Sum(self.recipe, {}, (float(other), abs(other)))
         parts = dict(self.parts)
         for t, (k, m) in other.parts.items():
-            j, n = parts.get(t, (0.0, 0.0))
-            parts[t] = (j + k, n + m)
-        (k, m), (j, n) = self.constant, other.constant
-        return _Sum(self.recipe, parts, (k + j, m + n))
+            parts[t] = (parts.get(t, (0.0, 0.0))[0] + k, parts.get(t, (0.0, 0.0))[1] + m)
+        return _Sum(self.recipe, parts, (self.constant[0] + other.constant[0],
+                                         self.constant[1] + other.constant[1]))
 
     __radd__ = __add__
 
@@ -6546,37 +6546,29 @@ class _Sum:
             f = float(other)
             return _Sum(self.recipe, {t: (k * f, m * abs(f)) for t, (k, m) in self.parts.items()},
                         (self.constant[0] * f, self.constant[1] * abs(f)))
-        x, y = self, other
-        if len(x.parts) > 1 and len(y.parts) > 1:       # each one term, lest they multiply out
-            x, y = x.gathered(), y.gathered()
-        parts: dict[_Term, tuple[float, float]] = {}
-
-        def put(t: _Term, k: float, m: float) -> None:
-            j, n = parts.get(t, (0.0, 0.0))
-            parts[t] = (j + k, n + m)
+        x, y = (self.gathered(), other.gathered()) if len(self.parts) > 1 < len(other.parts) \
+            else (self, other)                  # two sums each one term, lest they multiply out
         (xc, xm), (yc, ym) = x.constant, y.constant
+        product = _Sum(self.recipe, {t: (k * yc, m * ym) for t, (k, m) in x.parts.items()},
+                       (xc * yc, xm * ym)) + _Sum(self.recipe, {
+                           u: (j * xc, n * xm) for u, (j, n) in y.parts.items()})
         for t, (k, m) in x.parts.items():
-            for u, (j, n) in y.parts.items():
-                put(self.recipe.multiply(t, u), k * j, m * n)
-            put(t, k * yc, m * ym)
-        for u, (j, n) in y.parts.items():
-            put(u, j * xc, n * xm)
-        return _Sum(self.recipe, parts, (xc * yc, xm * ym))
+            product = product + _Sum(self.recipe, {self.recipe.multiply(t, u): (k * j, m * n)
+                                                   for u, (j, n) in y.parts.items()})
+        return product
 
     __rmul__ = __mul__
 
     def gathered(self, scale: float | None = None) -> _Sum:
-        """self as one term times a constant: `scale`, or (None) its largest coefficient, so
-        that a product of it costs one operation."""
+        """self as one term times `scale` (None: its first largest coefficient, so that a sum
+        recurring is the same term)."""
         if not self.parts or (scale is None and len(self.parts) == 1 and not self.constant[0]):
             return self
         if scale not in self.atoms:
-            big = max(abs(k) for k, _ in self.parts.values())       # the first of the largest
+            big = max(abs(k) for k, _ in self.parts.values())
             k = scale or next(k for _, (k, _) in sorted(self.parts.items(), key=lambda p: p[
                 0].index) if abs(k) >= big * (1 - 4e-16))
-            inner = _Sum(self.recipe, {t: (j / k, m / abs(k)) for t, (j, m) in self.parts.items()},
-                         (self.constant[0] / k, self.constant[1] / abs(k)))
-            self.atoms[scale] = _Sum(self.recipe, {inner.term(): (k, abs(k))})
+            self.atoms[scale] = _Sum(self.recipe, {(self * (1.0 / k)).term(): (k, abs(k))})
         return self.atoms[scale]
 
     def size(self) -> float:
@@ -6585,18 +6577,17 @@ class _Sum:
 
     def term(self) -> Any:
         """The recipe's term (or a float) for the sum: the terms whose coefficients are of one
-        size summed first (in the order made: the same sum wherever it recurs), then times it;
-        a size within rounding of 1 is 1."""
+        size summed first (in the order made, the same sum wherever it recurs; where the size
+        is 1, a - b rather than -(b - a)), then times it."""
         groups: dict[float, list[tuple[_Term, float]]] = {}
         for t, (k, _) in sorted(self.parts.items(), key=lambda p: p[0].index):
-            size = next((j for j in groups if abs(abs(k) / j - 1.0) < 4e-16), abs(k))
-            groups.setdefault(1.0 if abs(size - 1.0) < 4e-16 else size, []).append((t, k))
+            size = next((j for j in groups if abs(abs(k) / j - 1.0) < 1e-15), abs(k))
+            groups.setdefault(1.0 if abs(size - 1.0) < 1e-15 else size, []).append((t, k))
         total: Any = 0.0
         for size, ts in groups.items():
-            if size == 1.0 and ts[0][1] < 0.0:      # a - b, not -(b - a)
+            if size == 1.0:
                 ts.sort(key=lambda p: p[1] < 0.0)
-            sign = math.copysign(1.0, ts[0][1])
-            part: Any = 0.0
+            sign, part = math.copysign(1.0, ts[0][1]), 0.0
             for t, k in ts:
                 part = part + t * (sign * math.copysign(1.0, k))
             total = total + part * (sign * size)
@@ -6607,133 +6598,113 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
                       q2: Any) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3,
                                         Vec3, Any, float]:
     """The spherical four-bar's answer as _reactions_arrays gives the others' (see the notes
-    above): from the cosines and sines of phi and psi, psi' and psi''."""
+    above), from the cosines and sines of phi and psi, psi' and psi''."""
     dims, w, al = setup.dims, setup.omega, setup.alpha
     c, s, cq, sq, v1, v2 = (_Sum.of(recipe, t) for t in (*cos_sin, q1, q2))
     cb, sb, cd, sd, ca, sa = (dims[f"{f} {n}"] for n in "bda" for f in ("cos", "sin"))
     cc, sc = cos_sin_degrees(dims["c"])
-    (m0, m1, m2), g = setup.masses, setup.gravity
+    (m0, m1, m2), g, sc_, sd_ = setup.masses, setup.gravity, abs(sc), abs(sd)
 
     def vec(*parts: tuple[Any, Vec3]) -> Any:
         return weighted_sum(*parts)
 
-    def about_o(mass: BodyMass) -> list[list[float]]:
-        """The body's inertia about O (its frame's origin), in its axes."""
+    def euler(mass: BodyMass, spin: Any, rate: Any) -> Any:
+        """I spin' + spin x I spin in the body's axes, I its inertia about O (its origin)."""
         rr = dot(mass.centre, mass.centre)
-        return [[mass.inertia[i][j] + mass.mass * (rr * (i == j) - mass.centre[i] * mass.centre[j])
-                 for j in range(3)] for i in range(3)]
-
-    def euler(inertia: list[list[float]], spin: Any, rate: Any) -> Any:
-        """I spin' + spin x I spin in the body's axes."""
-        i_spin: Any = [sum((row[j] * spin[j] for j in range(3)), 0.0) for row in inertia]
-        turning = cross(spin, i_spin)
-        return [sum((row[j] * rate[j] for j in range(3)), turning[i])
-                for i, row in enumerate(inertia)]
+        inertia = [cast(Vec3, tuple(mass.inertia[i][j] + mass.mass * (
+            rr * (i == j) - mass.centre[i] * mass.centre[j]) for j in range(3)))
+            for i in range(3)]
+        turning = cross(spin, cast(Vec3, [dot(row, spin) for row in inertia]))
+        return [dot(row, rate) + turning[i] for i, row in enumerate(inertia)]
 
     def in_axes(v: Any, axes: Any) -> Any:
         return [dot(v, axis) for axis in axes]
 
+    def world(v: Any) -> Vec3:
+        """A vector about the output's axes turned back by a about y (k its z), in the fixed
+        axes: each component made one term first."""
+        return rotated_y(ca, sa, cast(Vec3, [x.gathered() if isinstance(x, _Sum) else x
+                                             for x in v]))
+
     def factored(z: _Sum, u: _Sum, u_sum: _Sum, v: _Sum) -> _Sum:
-        """z with its terms in u^2, u v and v^2 (u, v each one term; u_sum what u is made of)
-        as one product, a (u - r1 v)(u - r2 v), where the quadratic has two real roots."""
+        """z with its terms in u^2, u v and v^2 (u, v each one term, u_sum what u is made of)
+        as one product, a (u - r1 v)(u - r2 v), where that quadratic has two real roots."""
         if len(u.parts) != 1 or len(v.parts) != 1 or u.constant[0] or v.constant[0]:
             return z
-        (ut, (uk, _)), = u.parts.items()
-        (vt, (vk, _)), = v.parts.items()
+        (ut, (uk, _)), (vt, (vk, _)) = *u.parts.items(), *v.parts.items()
         keys = (recipe.multiply(ut, ut), recipe.multiply(ut, vt), recipe.multiply(vt, vt))
-        a, b, c = (z.parts.get(key, (0.0, 0.0))[0] for key in keys)
-        a, b, c = a / (uk * uk), b / (uk * vk), c / (vk * vk)     # in u and v themselves
+        a, b, c = (z.parts.get(key, (0.0, 0.0))[0] / f for key, f in zip(
+            keys, (uk * uk, uk * vk, vk * vk)))
         if not a or b * b <= 4.0 * a * c:
             return z
         h = -0.5 * (b + math.copysign(math.sqrt(b * b - 4.0 * a * c), b))
         rest = _Sum(recipe, {t: km for t, km in z.parts.items() if t not in keys}, z.constant)
         return rest + (u_sum - v * (h / a)) * (u_sum - v * (c / h)) * a
 
-    def world(v: Any) -> Vec3:
-        """A vector on the output's side, given about axes turned by -a about y (where its axis
-        k is z), in the fixed axes: each component made one term first."""
-        return rotated_y(ca, sa, cast(Vec3, tuple(x.gathered() if isinstance(x, _Sum) else x
-                                                  for x in v)))
-
     t, rate = v1 * w, v2 * (w * w) + v1 * al          # the output's speed psi' w and its rate
-    a = vec((sb, (c, s, 0.0)), (1.0, (0.0, 0.0, cb)))
-    k = setup.axes["output"][1]
-    # the output's axes and pin about k: x2, y2 = k x x2, b = B / r
-    x2, y2, k_ = vec((math.copysign(1.0, sd), (cq, sq, 0.0))), vec((math.copysign(1.0, sd), (
-        -1.0 * sq, cq, 0.0))), _EZ
-    b_ = vec((cd, k_), (abs(sd), x2))
+    a, k = vec((sb, (c, s, 0.0)), (1.0, (0.0, 0.0, cb))), setup.axes["output"][1]
+    # the output's axes about k (turned back by a about y: k = z), and b = B / r
+    x2, y2 = vec((math.copysign(1.0, sd), (cq, sq, 0.0))), vec((math.copysign(1.0, sd), (
+        -1.0 * sq, cq, 0.0)))
+    b_ = vec((cd, _EZ), (sd_, x2))
     b = rotated_y(ca, sa, b_)
-    # the crank: spin w z about its axis z, its axes x0 = +-(cos phi, sin phi, 0), y0, z
-    x0 = vec((math.copysign(1.0, sb), (c, s, 0.0)))
+    x0 = vec((math.copysign(1.0, sb), (c, s, 0.0)))    # the crank's axes: x0, z x x0, z
     crank_axes = (x0, cross(_EZ, x0), _EZ)
     rho0 = weighted_sum(*zip(m0.centre, crank_axes))
-    t0 = weighted_sum(*zip(euler(about_o(m0), (0.0, 0.0, w), (0.0, 0.0, al)), crank_axes),
+    t0 = weighted_sum(*zip(euler(m0, (0.0, 0.0, w), (0.0, 0.0, al)), crank_axes),
                       (-m0.mass, cross(rho0, g)))
     a_g0 = weighted_sum((-w * w, (rho0[0], rho0[1], 0.0)), (al, cross(_EZ, rho0)))
-    # the output: spin t k, about k's axes
-    rho2 = weighted_sum(*zip(m2.centre, (x2, y2, k_)))
-    t2 = weighted_sum(*zip(euler(about_o(m2), (0.0, 0.0, t), (0.0, 0.0, rate)), (x2, y2, k_)),
-                      (-m2.mass, cross(rho2, rotated_y(ca, -sa, g))), (-setup.output_torque, k_))
+    rho2 = weighted_sum(*zip(m2.centre, (x2, y2, _EZ)))
+    t2 = weighted_sum(*zip(euler(m2, (0.0, 0.0, t), (0.0, 0.0, rate)), (x2, y2, _EZ)),
+                      (-m2.mass, cross(rho2, rotated_y(ca, -sa, g))), (-setup.output_torque, _EZ))
     a_g2 = weighted_sum((-1.0 * (t * t), vec((m2.centre[0], x2), (m2.centre[1], y2))),
-                        (1.0, cross(vec((rate, k_)), rho2)))
-    # the coupler: axes a, y, n; its spin (spin . a, w y_z, w n_z)
-    y = vec((1.0 / abs(sc), b), (-cc / abs(sc), a))
+                        (1.0, cross(vec((rate, _EZ)), rho2)))
+    # the coupler: axes a, y, n, spin (spin . a, w y_z, w n_z)
+    y = vec((1.0 / sc_, b), (-cc / sc_, a))
     n = cross(a, y)
     y = (y[0], y[1], y[2].gathered())
-    n = (n[0], n[1], n[2].gathered(y[2].size()))      # at y_z's size
-    q = (a[0] * sa + cb * ca - cd * cc).gathered()          # k . a - cos d cos c
-    along_sum = (t * q + y[2] * (cc * abs(sc) * w)) * (1.0 / (sc * sc))
+    n = (n[0], n[1], n[2].gathered(y[2].size()))       # at y_z's size
+    q = (a[0] * sa + cb * ca - cd * cc).gathered()      # k . a - cos d cos c
+    along_sum = (t * q + y[2] * (cc * sc_ * w)) * (1.0 / (sc * sc))
     along = along_sum.gathered()
-    turning = along - w * cb                            # l: its spin about a on the crank's
-    along_rate = ((rate * q + y[2] * (al * cc * abs(sc))
-                   + t * (w * sa) * (b[1] * cc - a[1]).gathered()) * (1.0 / (sc * sc))).gathered()
+    turning = along - w * cb                            # l, its spin about a on the crank
+    along_rate = ((rate * q + y[2] * (al * cc * sc_) + t * (w * sa) * (b[1] * cc - a[1])
+                   .gathered()) * (1.0 / (sc * sc))).gathered()
     spin = (along, y[2] * w, n[2] * w)
     spin_rate = (along_rate, y[2] * al + turning * n[2] * w, n[2] * al - turning * y[2] * w)
-    coupler_axes = (a, y, n)
-    t1 = [x - z for x, z in zip(euler(about_o(m1), spin, spin_rate),
-                               cross(m1.centre, in_axes(weighted_sum((m1.mass, g)),
-                                                        coupler_axes)))]
-    # its centre (u, v, w) = (u - v cos c / |sin c|) a + v / |sin c| b (+ w n)
-    at_a, at_b = m1.centre[0] - m1.centre[1] * cc / abs(sc), m1.centre[1] / abs(sc)
+    t1 = [x - z for x, z in zip(euler(m1, spin, spin_rate), cross(m1.centre, in_axes(
+        weighted_sum((m1.mass, g)), (a, y, n))))]
+    at_a, at_b = m1.centre[0] - m1.centre[1] * cc / sc_, m1.centre[1] / sc_   # its centre
     a_g1 = weighted_sum((at_a, ((-w * w) * a[0] - al * a[1], (-w * w) * a[1] + al * a[0], 0.0)))
-    b2 = weighted_sum((t * t, difference(vec((cd, k_)), b_)), (1.0, cross(vec((rate, k_)), b_)))
-    if m1.centre[2]:            # the coupler's centre off its arc: n'' on its axes
-        turned = weighted_sum(*zip((spin_rate[1] + spin[0] * spin[2],
-                                    spin[1] * spin[2] - spin_rate[0],
-                                    -1.0 * (spin[0] * spin[0]) - spin[1] * spin[1]),
-                                   coupler_axes))
-        a_g1 = weighted_sum((1.0, a_g1), (m1.centre[2], turned))
+    if m1.centre[2]:                                    # + w n: n'' on its axes
+        a_g1 = weighted_sum((1.0, a_g1), (m1.centre[2], weighted_sum(*zip((
+            spin_rate[1] + spin[0] * spin[2], spin[1] * spin[2] - spin_rate[0],
+            -1.0 * (spin[0] * spin[0]) - spin[1] * spin[1]), (a, y, n)))))
     loads = weighted_sum((m0.mass + m1.mass + m2.mass, g))
     if setup.coupler_point is not None:
         t1 = [x - z for x, z in zip(t1, cross(setup.coupler_point, in_axes(
-            setup.coupler_force, coupler_axes)))]
+            setup.coupler_force, (a, y, n))))]
         loads = weighted_sum((1.0, loads), (1.0, setup.coupler_force))
+    b2 = weighted_sum((t * t, difference(vec((cd, _EZ)), b_)), (1.0, cross(vec((rate, _EZ)), b_)))
     shaking_force = weighted_sum((-m0.mass, a_g0), (-m1.mass, a_g1), (1.0, loads), (1.0, world(
         weighted_sum((-m1.mass * at_b, b2), (-m2.mass, a_g2)))))
-    # the elimination
-    # (each sum made one term at the size that makes the next sum of two products of them
-    # one operation: each constant factor a multiplication)
-    divisor = dot(a, cross(k, b)).gathered()            # b . (a x k), as d D'
+    # the elimination, each sum at the size that spares the next a multiplication
+    divisor = dot(a, cross(k, b)).gathered()            # D, as d D'
     d = divisor.size()
     d_term = (divisor * (1.0 / d)).term()
     inverse = _Sum.of(recipe, recipe.divide(1.0, d_term)) * (1.0 / d)
-    # the coupler's z moment's quadratic form in its spin (spin . a, w y_z): I01 (. a)^2 + ... -
-    # I01 (w y_z)^2 for an arc, factored: one product
     t1[2] = factored(t1[2], along, along_sum, y[2])
     along_a = t1[0].gathered()
-    x_size = along_a.size()
-    b1_size = -abs(sd) * x_size / d                     # m_b1's
-    along_k = t2[2].gathered(-abs(sd) * b1_size / cd if cd else None)
-    m_b1 = ((along_a * abs(sd) + along_k * q * (1.0 / abs(sd))).gathered(abs(sd) * x_size)
+    b1_size = -sd_ * along_a.size() / d                 # m1's, and m2's at it
+    along_k = t2[2].gathered(-sd_ * b1_size / cd if cd else None)
+    m_b1 = ((along_a * sd_ + along_k * q * (1.0 / sd_)).gathered(sd_ * along_a.size())
             * inverse * -1.0)
-    m_b2 = along_k * (cd / abs(sd))
-    m_b_ = [x.gathered() for x in weighted_sum((m_b1, y2), (-1.0 * m_b2, x2))[:2]]
+    m_b_ = [x.gathered() for x in weighted_sum((m_b1, y2), (along_k * (-cd / sd_), x2))[:2]]
     m_b0, m_b = world((t2[0] - m_b_[0], t2[1] - m_b_[1], 0.0)), world((*m_b_, along_k))
-    # M_A . y and M_A . n at the size that makes M_A's x and y two products' sum
-    size = sb / y[2].size()
-    across = (t1[1] + t1[0] * (cc / abs(sc))).gathered(size)
+    size = sb / y[2].size()                             # M_A . y and M_A . n: M_A's x and y
+    across = (t1[1] + t1[0] * (cc / sc_)).gathered(size)        # two products' sum each
     up = (t1[2] - (along_a * q + along_k * (sc * sc)).gathered() * inverse
-          * (1.0 / abs(sc))).gathered(size)
+          * (1.0 / sc_)).gathered(size)
     g1 = ((across * n[2] - up * y[2]) * (1.0 / sb)).gathered(-1.0)     # M_A . u1, M_A . u2
     g2 = ((across * y[2] + up * n[2]) * (1.0 / sb)).gathered(-1.0 / cb if cb else None)
     m_a = weighted_sum((g1, (-1.0 * s, c, 0.0)), (g2, (c * -cb, s * -cb, sb)))
@@ -6743,10 +6714,9 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
         "A0": (None, (terms[10], terms[11], 0.0)), "A": (None, tuple(terms[1:4])),
         "B": (None, tuple(terms[4:7])), "B0": (None, tuple(terms[7:10]))}
-    shaking_moment = tuple(-1.0 * (x + y) for x, y in zip(
-        (terms[10], terms[11], terms[0]), terms[7:10]))
-    return (terms[0], joints, tuple(terms[12:15]), cast(Vec3, shaking_moment),
-            recipe.abs(d_term), 1.0 / abs(d))
+    moment = tuple(-1.0 * (x + y) for x, y in zip((terms[10], terms[11], terms[0]), terms[7:10]))
+    return (terms[0], joints, tuple(terms[12:15]), cast(Vec3, moment), recipe.abs(d_term),
+            1.0 / abs(d))
 
 
 class _ForcesTrace(NamedTuple):
