@@ -6031,22 +6031,18 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   guide g (a slider), fixes the rest: divided by h . e, h = dP/d(output) = k x (P - B0) or g;
 #   then the coupler's Newton gives R_A, the output's its ground reaction (force, and moment
 #   where it carries one), the crank's the torque about z and A0's reaction.
-# The spherical four-bar (moments about O only): M_B, perpendicular to its axis b, is fixed by
-#   what the two other bodies ask: a . M_A = 0 (M_A = T_1 + M_B) and k . M_B0 = 0 (M_B0 =
-#   T_2 - M_B), three equations in rows b, a, k, solved by Cramer's rule over b . (a x k); then
-#   M_A, M_B0, the torque and M_A0 as above.
+# The spherical four-bar (moments about O only) has formulas of its own: _spherical_arrays, below.
 # What _states measures that the linkage fixes, this takes from its dimensions (|e| = c, the
-#   output's arm, the spherical coupler's a . b = cos c), and what is zero by the motion it leaves
+#   output's arm), and what is zero by the motion it leaves
 #   out: a point of a body accelerates as its axes' second derivatives say (each a fixed
 #   combination of its pins' accelerations), so spin x (spin x rho) is not formed; the skew
 #   coupler's spin and rate are across its line, where its inertia is the transverse moment; the
-#   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler; the spherical coupler's
-#   spin is w z + l a = turn k + m b, its two joints' axes (l by the divisor above). The numbers
-#   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
+#   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler. The numbers are
+#   forces()' to the last few places (1e-14 of each position's largest on the bench's).
 # What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
 #   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.5 to 1.2
 #   ms, a later call skips it); each position takes 54 (slider), 85 (plane), 118 (skew slider-
-#   crank), 162 (skew) and 282 (spherical) operations on arrays, each about 0.37 ns an element here
+#   crank), 126 (spherical) and 162 (skew) operations on arrays, each about 0.37 ns an element here
 #   (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the answer's
 #   constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate of 0.51 to
 #   0.56 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.40 to 0.42 for the skew
