@@ -6046,9 +6046,10 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the answer's
 #   constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate of 0.51 to
 #   0.56 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.40 to 0.42 for the skew
-#   four-bar and 0.33 to 0.34 for the spherical (data/BENCHMARKS.md, 2026-11-28, round two).
-#   Where the operations go (plane, skew, spherical): the bodies' frames 27, 42, 97; their
-#   wrenches 20, 33, 118; the elimination and the answer 33, 79, 58; near's check 5, 8, 9. Tried
+#   four-bar (data/BENCHMARKS.md, 2026-11-28, round two), and 0.47 to 0.48 for the spherical
+#   (its own formulas, below; measured under a load of 4 to 5, where main's read 0.32 to 0.34).
+#   Where the operations go (plane, skew): the bodies' frames 27, 42; their wrenches 20, 33; the
+#   elimination and the answer 33, 79; near's check 5, 8. Tried
 #   and given up: constant factors carried through products to the sums (k u + m v pays one
 #   back, and so does each answer: 95 for the plane's 88), signs carried (-1 to +2 a kind), like
 #   terms gathered across nested sums (-2 to +1), blocks of 4,096 to 65,536 (16,384 the fastest).
@@ -6502,6 +6503,11 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
 # y, n onto the crank's u1 = (-sin phi, cos phi, 0), u2 = a x u1 (by the angle of cosine n_z and
 # sine y_z over sin b); M_B0 = T_2 - M_B about the output's axes; the shaking moment
 # -(M_A0 + torque z + M_B0) = -(T_0 + T_1 + T_2), its force the bodies' m (g - a_G) and the loads.
+# Its 126 operations (282 before): the coupler's spin and rate 21, the divisor 6, the products
+# the output and the shaking force share 7, the bodies' moments 7, the elimination 45, the
+# answer's rows 31, near's check 8 and the torque's copy of M_A's z 1. What the notes above gave
+# up for the other kinds (constant factors carried, like terms gathered) pays here, where the
+# sums are long and recur.
 
 class _Sum:
     """A number of the recipe: its terms times constants, plus a constant, like terms gathered
