@@ -6040,7 +6040,7 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler. The numbers are
 #   forces()' to the last few places (1e-14 of each position's largest on the bench's).
 # What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
-#   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.5 to 1.2
+#   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.5 to 1.4
 #   ms, a later call skips it); each position takes 54 (slider), 85 (plane), 118 (skew slider-
 #   crank), 126 (spherical) and 162 (skew) operations on arrays, each about 0.37 ns an element here
 #   (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the answer's
@@ -6518,7 +6518,8 @@ class _Sum:
 
     def __init__(self, recipe: _Recipe, parts: dict[_Term, tuple[float, float]],
                  constant: tuple[float, float] = (0.0, 0.0)) -> None:
-        self.recipe, self.atoms = recipe, cast(dict[float | None, _Sum], {})
+        self.recipe = recipe
+        self.atoms: dict[float | None, _Sum] = {}
         self.parts = {t: km for t, km in parts.items() if abs(km[0]) > 3.6e-15 * km[1]}
         self.constant = constant if abs(constant[0]) > 3.6e-15 * constant[1] else (0.0, 0.0)
 
@@ -6528,6 +6529,8 @@ class _Sum:
 
     def __add__(self, other: Any) -> _Sum:
         if not isinstance(other, _Sum):
+            if other == 0.0:
+                return self
             other = _Sum(self.recipe, {}, (float(other), abs(other)))
         parts = dict(self.parts)
         for t, (k, m) in other.parts.items():
@@ -6546,6 +6549,8 @@ class _Sum:
     def __mul__(self, other: Any) -> _Sum:
         if not isinstance(other, _Sum):
             f = float(other)
+            if f == 1.0 or not f:
+                return self if f else _Sum(self.recipe, {})
             return _Sum(self.recipe, {t: (k * f, m * abs(f)) for t, (k, m) in self.parts.items()},
                         (self.constant[0] * f, self.constant[1] * abs(f)))
         x, y = (self.gathered(), other.gathered()) if len(self.parts) > 1 < len(other.parts) \
@@ -6741,7 +6746,7 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
                   ) -> _ForcesTrace:
     """The formulas traced for forces_of_arrays: the same for every call with these (a linkage
     object's dimensions are fixed once it is made), so kept; the plan holds no array of a call.
-    Tracing took 0.5 to 1.2 ms a call (python3 linkage.py bench forces: 5 to 15% of the forces'
+    Tracing took 0.5 to 1.4 ms a call (python3 linkage.py bench forces: 5 to 15% of the forces'
     time at 100,001 angles)."""
     setup = forces_setup(linkage, bodies, effects, radius)
     recipe = _Recipe()
