@@ -6520,8 +6520,13 @@ class _Sum:
                  constant: tuple[float, float] = (0.0, 0.0)) -> None:
         self.recipe = recipe
         self.atoms: dict[float | None, _Sum] = {}
-        self.parts = {t: km for t, km in parts.items() if abs(km[0]) > 3.6e-15 * km[1]}
-        self.constant = constant if abs(constant[0]) > 3.6e-15 * constant[1] else (0.0, 0.0)
+        self.parts = {t: km for t, km in parts.items() if not _Sum.rounding(*km)}
+        self.constant = (0.0, 0.0) if _Sum.rounding(*constant) else constant
+
+    @staticmethod
+    def rounding(k: float, size: float) -> bool:
+        """Whether k is rounding's alone (an inf or a NaN is kept, to reach the check)."""
+        return abs(k) <= 3.6e-15 * size < math.inf
 
     @staticmethod
     def of(recipe: _Recipe, term: _Term) -> _Sum:
@@ -6572,10 +6577,13 @@ class _Sum:
         if not self.parts or (scale is None and len(self.parts) == 1 and not self.constant[0]):
             return self
         if scale not in self.atoms:
-            big = max(abs(k) for k, _ in self.parts.values())
-            k = scale or next(k for _, (k, _) in sorted(self.parts.items(), key=lambda p: p[
-                0].index) if abs(k) >= big * (1 - 4e-16))
-            self.atoms[scale] = _Sum(self.recipe, {(self * (1.0 / k)).term(): (k, abs(k))})
+            ks = [k for _, (k, _) in sorted(self.parts.items(), key=lambda p: p[0].index)]
+            big = max(map(abs, ks))                     # the first of the largest
+            k = scale or next((k for k in ks if abs(k) >= big * (1 - 4e-16)), ks[0])
+            inner = _Sum(self.recipe, {t: (j / k, m / abs(k)) for t, (j, m) in self.parts.items()},
+                         (self.constant[0] / k, self.constant[1] / abs(k))).term()
+            self.atoms[scale] = _Sum(self.recipe, {inner: (k, abs(k))}) if type(inner) is _Term \
+                else _Sum(self.recipe, {}, (inner * k, abs(inner * k)))
         return self.atoms[scale]
 
     def size(self) -> float:
