@@ -6503,11 +6503,8 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
 # y, n onto the crank's u1 = (-sin phi, cos phi, 0), u2 = a x u1 (by the angle of cosine n_z and
 # sine y_z over sin b); M_B0 = T_2 - M_B about the output's axes; the shaking moment
 # -(M_A0 + torque z + M_B0) = -(T_0 + T_1 + T_2), its force the bodies' m (g - a_G) and the loads.
-# Its 126 operations (282 before): the coupler's spin and rate 21, the divisor 6, the products
-# the output and the shaking force share 7, the bodies' moments 7, the elimination 45, the
-# answer's rows 31, near's check 8 and the torque's copy of M_A's z 1. What the notes above gave
-# up for the other kinds (constant factors carried, like terms gathered) pays here, where the
-# sums are long and recur.
+# 126 operations (282 before; where they go: data/BENCHMARKS.md, round three): what the notes
+# above gave up for the other kinds (factors carried, like terms gathered) pays here.
 
 class _Sum:
     """A number of the recipe: its terms times constants, plus a constant, like terms gathered
@@ -6518,19 +6515,12 @@ class _Sum:
 
     def __init__(self, recipe: _Recipe, parts: dict[_Term, tuple[float, float]],
                  constant: tuple[float, float] = (0.0, 0.0)) -> None:
-        self.recipe = recipe
+        self.recipe = recipe            # (an inf or a NaN is kept: it reaches near's check)
         self.atoms: dict[float | None, _Sum] = {}
-        self.parts = {t: km for t, km in parts.items() if not _Sum.rounding(*km)}
-        self.constant = (0.0, 0.0) if _Sum.rounding(*constant) else constant
-
-    @staticmethod
-    def rounding(k: float, size: float) -> bool:
-        """Whether k is rounding's alone (an inf or a NaN is kept, to reach the check)."""
-        return abs(k) <= 3.6e-15 * size < math.inf
-
-    @staticmethod
-    def of(recipe: _Recipe, term: _Term) -> _Sum:
-        return _Sum(recipe, {term: (1.0, 1.0)})
+        self.parts = {t: km for t, km in parts.items() if not abs(km[0]) <= 3.6e-15 * km[1]
+                      < math.inf}
+        self.constant = (0.0, 0.0) if abs(constant[0]) <= 3.6e-15 * constant[1] < math.inf \
+            else constant
 
     def __add__(self, other: Any) -> _Sum:
         if not isinstance(other, _Sum):
@@ -6615,7 +6605,7 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     """The spherical four-bar's answer as _reactions_arrays gives the others' (see the notes
     above), from the cosines and sines of phi and psi, psi' and psi''."""
     dims, w, al = setup.dims, setup.omega, setup.alpha
-    c, s, cq, sq, v1, v2 = (_Sum.of(recipe, t) for t in (*cos_sin, q1, q2))
+    c, s, cq, sq, v1, v2 = (_Sum(recipe, {t: (1.0, 1.0)}) for t in (*cos_sin, q1, q2))
     cb, sb, cd, sd, ca, sa = (dims[f"{f} {n}"] for n in "bda" for f in ("cos", "sin"))
     cc, sc = cos_sin_degrees(dims["c"])
     (m0, m1, m2), g, sc_, sd_ = setup.masses, setup.gravity, abs(sc), abs(sd)
@@ -6631,9 +6621,6 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
             for i in range(3)]
         turning = cross(spin, cast(Vec3, [dot(row, spin) for row in inertia]))
         return [dot(row, rate) + turning[i] for i, row in enumerate(inertia)]
-
-    def in_axes(v: Any, axes: Any) -> Any:
-        return [dot(v, axis) for axis in axes]
 
     def world(v: Any) -> Vec3:
         """A vector about the output's axes turned back by a about y (k its z), in the fixed
@@ -6661,8 +6648,7 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     # the output's axes about k (turned back by a about y: k = z), and b = B / r
     x2, y2 = vec((math.copysign(1.0, sd), (cq, sq, 0.0))), vec((math.copysign(1.0, sd), (
         -1.0 * sq, cq, 0.0)))
-    b_ = vec((cd, _EZ), (sd_, x2))
-    b = rotated_y(ca, sa, b_)
+    b = rotated_y(ca, sa, b_ := vec((cd, _EZ), (sd_, x2)))
     x0 = vec((math.copysign(1.0, sb), (c, s, 0.0)))    # the crank's axes: x0, z x x0, z
     crank_axes = (x0, cross(_EZ, x0), _EZ)
     rho0 = weighted_sum(*zip(m0.centre, crank_axes))
@@ -6687,8 +6673,8 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
                    .gathered()) * (1.0 / (sc * sc))).gathered()
     spin = (along, y[2] * w, n[2] * w)
     spin_rate = (along_rate, y[2] * al + turning * n[2] * w, n[2] * al - turning * y[2] * w)
-    t1 = [x - z for x, z in zip(euler(m1, spin, spin_rate), cross(m1.centre, in_axes(
-        weighted_sum((m1.mass, g)), (a, y, n))))]
+    t1 = [x - z for x, z in zip(euler(m1, spin, spin_rate), cross(m1.centre, cast(Vec3, [
+        dot(weighted_sum((m1.mass, g)), axis) for axis in (a, y, n)])))]
     at_a, at_b = m1.centre[0] - m1.centre[1] * cc / sc_, m1.centre[1] / sc_   # its centre
     a_g1 = weighted_sum((at_a, ((-w * w) * a[0] - al * a[1], (-w * w) * a[1] + al * a[0], 0.0)))
     if m1.centre[2]:                                    # + w n: n'' on its axes
@@ -6697,8 +6683,8 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
             -1.0 * (spin[0] * spin[0]) - spin[1] * spin[1]), (a, y, n)))))
     loads = weighted_sum((m0.mass + m1.mass + m2.mass, g))
     if setup.coupler_point is not None:
-        t1 = [x - z for x, z in zip(t1, cross(setup.coupler_point, in_axes(
-            setup.coupler_force, (a, y, n))))]
+        t1 = [x - z for x, z in zip(t1, cross(setup.coupler_point, cast(Vec3, [
+            dot(setup.coupler_force, axis) for axis in (a, y, n)])))]
         loads = weighted_sum((1.0, loads), (1.0, setup.coupler_force))
     b2 = weighted_sum((t * t, difference(vec((cd, _EZ)), b_)), (1.0, cross(vec((rate, _EZ)), b_)))
     shaking_force = weighted_sum((-m0.mass, a_g0), (-m1.mass, a_g1), (1.0, loads), (1.0, world(
@@ -6707,7 +6693,7 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     divisor = dot(a, cross(k, b)).gathered()            # D, as d D'
     d = divisor.size()
     d_term = (divisor * (1.0 / d)).term()
-    inverse = _Sum.of(recipe, recipe.divide(1.0, d_term)) * (1.0 / d)
+    inverse = _Sum(recipe, {recipe.divide(1.0, d_term): (1.0 / d, 1.0 / abs(d))})
     t1[2] = factored(t1[2], along, along_sum, y[2])
     along_a = t1[0].gathered()
     b1_size = -sd_ * along_a.size() / d                 # m1's, and m2's at it
