@@ -6619,8 +6619,8 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
         inertia = [cast(Vec3, tuple(mass.inertia[i][j] + mass.mass * (
             rr * (i == j) - mass.centre[i] * mass.centre[j]) for j in range(3)))
             for i in range(3)]
-        turning = cross(spin, cast(Vec3, [dot(row, spin) for row in inertia]))
-        return [dot(row, rate) + turning[i] for i, row in enumerate(inertia)]
+        gyroscopic = cross(spin, cast(Vec3, [dot(row, spin) for row in inertia]))
+        return [dot(row, rate) + gyroscopic[i] for i, row in enumerate(inertia)]
 
     def world(v: Any) -> Vec3:
         """A vector about the output's axes turned back by a about y (k its z), in the fixed
@@ -6666,13 +6666,13 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     y = (y[0], y[1], y[2].gathered())
     n = (n[0], n[1], n[2].gathered(y[2].size()))       # at y_z's size
     q = (a[0] * sa + cb * ca - cd * cc).gathered()      # k . a - cos d cos c
-    along_sum = (t * q + y[2] * (cc * sc_ * w)) * (1.0 / (sc * sc))
-    along = along_sum.gathered()
-    turning = along - w * cb                            # l, its spin about a on the crank
-    along_rate = ((rate * q + y[2] * (al * cc * sc_) + t * (w * sa) * (b[1] * cc - a[1])
+    spin_a_sum = (t * q + y[2] * (cc * sc_ * w)) * (1.0 / (sc * sc))
+    spin_a = spin_a_sum.gathered()
+    relative = spin_a - w * cb                          # l: its spin about a on the crank
+    spin_a_rate = ((rate * q + y[2] * (al * cc * sc_) + t * (w * sa) * (b[1] * cc - a[1])
                    .gathered()) * (1.0 / (sc * sc))).gathered()
-    spin = (along, y[2] * w, n[2] * w)
-    spin_rate = (along_rate, y[2] * al + turning * n[2] * w, n[2] * al - turning * y[2] * w)
+    spin = (spin_a, y[2] * w, n[2] * w)
+    spin_rate = (spin_a_rate, y[2] * al + relative * n[2] * w, n[2] * al - relative * y[2] * w)
     t1 = [x - z for x, z in zip(euler(m1, spin, spin_rate), cross(m1.centre, cast(Vec3, [
         dot(weighted_sum((m1.mass, g)), axis) for axis in (a, y, n)])))]
     at_a, at_b = m1.centre[0] - m1.centre[1] * cc / sc_, m1.centre[1] / sc_   # its centre
@@ -6694,21 +6694,21 @@ def _spherical_arrays(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, .
     d = divisor.size()
     d_term = (divisor * (1.0 / d)).term()
     inverse = _Sum(recipe, {recipe.divide(1.0, d_term): (1.0 / d, 1.0 / abs(d))})
-    t1[2] = factored(t1[2], along, along_sum, y[2])
-    along_a = t1[0].gathered()
-    b1_size = -sd_ * along_a.size() / d                 # m1's, and m2's at it
-    along_k = t2[2].gathered(-sd_ * b1_size / cd if cd else None)
-    m_b1 = ((along_a * sd_ + along_k * q * (1.0 / sd_)).gathered(sd_ * along_a.size())
+    t1[2] = factored(t1[2], spin_a, spin_a_sum, y[2])
+    moment_a = t1[0].gathered()
+    b1_size = -sd_ * moment_a.size() / d                # m1's, and m2's at it
+    moment_k = t2[2].gathered(-sd_ * b1_size / cd if cd else None)
+    m_b1 = ((moment_a * sd_ + moment_k * q * (1.0 / sd_)).gathered(sd_ * moment_a.size())
             * inverse * -1.0)
-    m_b_ = [x.gathered() for x in weighted_sum((m_b1, y2), (along_k * (-cd / sd_), x2))[:2]]
-    m_b0, m_b = world((t2[0] - m_b_[0], t2[1] - m_b_[1], 0.0)), world((*m_b_, along_k))
-    size = sb / y[2].size()                             # M_A . y and M_A . n: M_A's x and y
-    across = (t1[1] + t1[0] * (cc / sc_)).gathered(size)        # two products' sum each
-    up = (t1[2] - (along_a * q + along_k * (sc * sc)).gathered() * inverse
+    m_b_ = [x.gathered() for x in weighted_sum((m_b1, y2), (moment_k * (-cd / sd_), x2))[:2]]
+    m_b0, m_b = world((t2[0] - m_b_[0], t2[1] - m_b_[1], 0.0)), world((*m_b_, moment_k))
+    size = sb / y[2].size()             # M_A . y and M_A . n at the size that makes M_A's x and y
+    on_y = (t1[1] + t1[0] * (cc / sc_)).gathered(size)        # two products' sum each
+    on_n = (t1[2] - (moment_a * q + moment_k * (sc * sc)).gathered() * inverse
           * (1.0 / sc_)).gathered(size)
-    g1 = ((across * n[2] - up * y[2]) * (1.0 / sb)).gathered(-1.0)     # M_A . u1, M_A . u2
-    g2 = ((across * y[2] + up * n[2]) * (1.0 / sb)).gathered(-1.0 / cb if cb else None)
-    m_a = weighted_sum((g1, (-1.0 * s, c, 0.0)), (g2, (c * -cb, s * -cb, sb)))
+    on_u1 = ((on_y * n[2] - on_n * y[2]) * (1.0 / sb)).gathered(-1.0)     # M_A . u1, M_A . u2
+    on_u2 = ((on_y * y[2] + on_n * n[2]) * (1.0 / sb)).gathered(-1.0 / cb if cb else None)
+    m_a = weighted_sum((on_u1, (-1.0 * s, c, 0.0)), (on_u2, (c * -cb, s * -cb, sb)))
     v = weighted_sum((1.0, t0), (1.0, m_a))
     terms = [x.term() if isinstance(x, _Sum) else x for x in (
         v[2], *m_a, *m_b, *m_b0, v[0], v[1], *shaking_force)]
