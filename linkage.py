@@ -6484,7 +6484,7 @@ def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
     return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
 
 
-# -- the spherical four-bar: scalars times known arrays ---------------------------------------------
+# -- the spherical four-bar: scalars times known arrays --------------------------------------------
 #
 # Every body of the spherical four-bar turns about O, and only moments about O enter, so its
 # formulas are written here as scalars, each a sum of known arrays (the sweep's cosines and sines,
