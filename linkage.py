@@ -6046,8 +6046,8 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the answer's
 #   constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate of 0.51 to
 #   0.56 of sweep_arrays' for the plane kinds and the skew slider-crank, 0.40 to 0.42 for the skew
-#   four-bar (data/BENCHMARKS.md, 2026-11-28, round two), and 0.47 to 0.48 for the spherical
-#   (its own formulas, below; measured under a load of 4 to 5, where main's read 0.32 to 0.34).
+#   four-bar (data/BENCHMARKS.md, 2026-11-28, round two), and 0.47 to 0.50 for the spherical
+#   (its own formulas, below; under a load of 2 to 5, where main's read 0.32 to 0.34; round three).
 #   Where the operations go (plane, skew): the bodies' frames 27, 42; their wrenches 20, 33; the
 #   elimination and the answer 33, 79; near's check 5, 8. Tried
 #   and given up: constant factors carried through products to the sums (k u + m v pays one
