@@ -6033,12 +6033,12 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   where it carries one), the crank's the torque about z and A0's reaction.
 # The spherical four-bar (moments about O only) has formulas of its own: _spherical_arrays, below.
 # What _states measures that the linkage fixes, this takes from its dimensions (|e| = c, the
-#   output's arm), and what is zero by the motion it leaves
-#   out: a point of a body accelerates as its axes' second derivatives say (each a fixed
-#   combination of its pins' accelerations), so spin x (spin x rho) is not formed; the skew
-#   coupler's spin and rate are across its line, where its inertia is the transverse moment; the
-#   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler. The numbers are
-#   forces()' to the last few places (1e-14 of each position's largest on the bench's).
+#   output's arm), and what is zero by the motion it leaves out: a point of a body accelerates
+#   as its axes' second derivatives say (each a fixed combination of its pins' accelerations),
+#   so spin x (spin x rho) is not formed; the skew coupler's spin and rate are across its line,
+#   where its inertia is the transverse moment; the coupler's rate loses its term in
+#   e . (P' - A'), 0 for a rigid coupler. The numbers are forces()' to the last few places (1e-14
+#   of each position's largest on the bench's).
 # What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
 #   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.5 to 1.4
 #   ms, a later call skips it); each position takes 54 (slider), 85 (plane), 118 (skew slider-
@@ -6049,10 +6049,10 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   four-bar (data/BENCHMARKS.md, 2026-11-28, round two), and 0.47 to 0.50 for the spherical
 #   (its own formulas, below; under a load of 2 to 5, where main's read 0.32 to 0.34; round three).
 #   Where the operations go (plane, skew): the bodies' frames 27, 42; their wrenches 20, 33; the
-#   elimination and the answer 33, 79; near's check 5, 8. Tried
-#   and given up: constant factors carried through products to the sums (k u + m v pays one
-#   back, and so does each answer: 95 for the plane's 88), signs carried (-1 to +2 a kind), like
-#   terms gathered across nested sums (-2 to +1), blocks of 4,096 to 65,536 (16,384 the fastest).
+#   elimination and the answer 33, 79; near's check 5, 8. Tried and given up: constant factors
+#   carried through products to the sums (k u + m v pays one back, and so does each answer: 95
+#   for the plane's 88), signs carried (-1 to +2 a kind), like terms gathered across nested sums
+#   (-2 to +1), blocks of 4,096 to 65,536 (16,384 the fastest).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
