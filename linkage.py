@@ -27,18 +27,18 @@ precision; 4. the listing's computation; 5. the original program (screen, keys, 
 session); 6. the accurate engine (the closure solved, swept and followed); 7. what the engine
 derives (joints, coupler point, transmission angle); 8. the linkage analysed (analyse); 9.
 forces (driving torque, joint reactions, shaking); 10. the numpy path (the engine and what it
-derives, on arrays); 11. the numpy path: forces on arrays; 12. simulation: the equation of
-motion in its coordinates (through dead centres and change points); 13. simulation: the run,
-stepped in time and its events; 14. the linkage (Linkage, a method for each question); 15. DAT
-and CSV files; 16. the mechanism drawn; 17. the mechanism's renderers (terminal, SVG, PNG, DXF);
-18. synthesis: what a design is; 19. synthesis: the review's methods; 20. synthesis: designs
-measured and checked; 21. scenes (read and checked); 22. scenes computed (DAT files, forces,
-CSV); 23. plots; 24. simulation scenes (a run in time: its CSV, plots and motion); 25. the
-explorer (a dimension changed, the linkage watched in the terminal); 26. benchmarks of the
-program itself; 27. the speed table (every bench run, the README's figures); 28. commands run,
-analyse and forces (each command's one typed value, validated once, and its handler); 29.
-commands scene, plot, design, listing, explore and bench; 30. the command line (argparse, from
-the table of commands), last. The engine, the view and synthesis never use the original program.
+derives, on arrays); 11. the numpy path: formulas traced once, replayed on arrays; 12. the numpy
+path: forces on arrays; 13. simulation: the equation of motion in its coordinates (through dead
+centres and change points); 14. simulation: the run, stepped in time and its events; 15. the
+linkage (Linkage, a method for each question); 16. DAT and CSV files; 17. the mechanism drawn;
+18. the mechanism's renderers (terminal, SVG, PNG, DXF); 19. synthesis: what a design is; 20.
+synthesis: the review's methods; 21. synthesis: designs measured and checked; 22. scenes (read
+and checked); 23. scenes computed (DAT files, forces, CSV); 24. plots; 25. simulation scenes (a
+run in time: its CSV, plots and motion); 26. the explorer (a dimension changed, the linkage
+watched in the terminal); 27. benchmarks of the program itself; 28. the speed table (every bench
+run, the README's figures); 29. commands run, analyse and forces (each command's one typed value,
+validated once, and its handler); 30. commands scene, plot, design, listing, explore and bench;
+31. the command line (argparse, from the table of commands), last. The engine, the view and synthesis never use the original program.
 """
 
 from __future__ import annotations
@@ -6014,14 +6014,231 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
         yield from _lines(np, outputs)
 
 
-# ---- 11. The numpy path: forces on arrays --------------------------------------------------------
+# ---- 11. The numpy path: formulas traced once, replayed on arrays --------------------------------
+#
+# Holds: Term and Recipe, which record a formula's operations rather than do them, and Plan, the
+# record made into numpy calls (plan_recipe) that run_plan replays on each block of arrays: the
+# numpy forces' engine (the next section), a formula written once as plain arithmetic. numpy here
+# too (the plan's calls), as in the numpy path's other rooms.
+#
+# Uses: nothing.
+# Offers: Term, Recipe, Plan, plan_recipe, run_plan.
+
+
+# -- the recipe ------------------------------------------------------------------------------------
+#
+# forces_of_arrays runs its formulas once a call on Terms, which record each operation rather
+# than do it: a float stays a float (the constants fold, a term times 0.0 is 0.0 and drops out of
+# its sum, x * 1.0 is x, x - (-y) is x + y), and an operation already recorded is not recorded
+# again. plan_recipe makes the record into a Plan, which run_plan replays on each block of
+# angles, each operation one numpy call into a buffer kept from block to block (reused once its
+# value is no longer needed), the answers straight into the result's arrays: the work is the
+# formulas' operations, no more.
+
+class Term:
+    """A number of the recipe: an array of the block, known only when the plan runs."""
+    __slots__ = ("recipe", "index", "op", "args")
+
+    def __init__(self, recipe: Recipe, index: int, op: str, args: tuple[Any, ...]) -> None:
+        self.recipe, self.index, self.op, self.args = recipe, index, op, args
+
+    def __add__(self, other: Any) -> Any:
+        return self.recipe.add(self, other)
+
+    __radd__ = __add__
+
+    def __sub__(self, other: Any) -> Any:
+        return self.recipe.subtract(self, other)
+
+    def __rsub__(self, other: Any) -> Any:
+        return self.recipe.subtract(other, self)
+
+    def __mul__(self, other: Any) -> Any:
+        return self.recipe.multiply(self, other)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, other: Any) -> Any:
+        return self.recipe.divide(self, other)
+
+    def __rtruediv__(self, other: Any) -> Any:
+        return self.recipe.divide(other, self)
+
+    def __neg__(self) -> Any:
+        return self.recipe.multiply(self, -1.0)
+
+
+class Recipe:
+    """The operations on Terms in the order made (each one's arguments before it): term() records
+    one (or finds it recorded), input() a number given to the plan; add, subtract, multiply,
+    divide, sqrt and abs fold what is constant."""
+
+    def __init__(self) -> None:
+        self.terms: list[Term] = []
+        self.seen: dict[tuple[Any, ...], Term] = {}
+
+    def term(self, op: str, *args: Any) -> Term:
+        key = (op,) + args          # a Term is itself (its identity), a float its value
+        found = self.seen.get(key)
+        if found is None:
+            found = self.seen[key] = Term(self, len(self.terms), op, args)
+            self.terms.append(found)
+        return found
+
+    def input(self) -> Term:
+        self.terms.append(Term(self, len(self.terms), "input", ()))
+        return self.terms[-1]
+
+    def add(self, x: Any, y: Any) -> Any:
+        if type(x) is not Term:
+            x, y = y, x
+        if type(y) is not Term:
+            if x.op == "add" and type(x.args[1]) is not Term:      # (x + k) + h
+                return self.add(x.args[0], x.args[1] + y)
+            return x if y == 0.0 else self.term("add", x, float(y))
+        (u, j), (v, k) = _scaled(x), _scaled(y)
+        if u is v:                                                  # j u + k u
+            return self.multiply(u, j + k)
+        if y.op == "negative":
+            return self.subtract(x, y.args[0])
+        if x.op == "negative":
+            return self.subtract(y, x.args[0])
+        return self.term("add", *((x, y) if x.index < y.index else (y, x)))
+
+    def subtract(self, x: Any, y: Any) -> Any:
+        if type(y) is not Term:
+            return self.add(x, -float(y))
+        if type(x) is not Term:
+            return self.multiply(y, -1.0) if x == 0.0 else self.term("subtract", float(x), y)
+        (u, j), (v, k) = _scaled(x), _scaled(y)
+        if u is v:
+            return self.multiply(u, j - k)
+        if y.op == "negative":
+            return self.add(x, y.args[0])
+        return self.term("subtract", x, y)
+
+    def multiply(self, x: Any, y: Any) -> Any:
+        if type(x) is not Term:
+            x, y = y, x
+        if type(y) is Term:
+            return self.term("multiply", *((x, y) if x.index < y.index else (y, x)))
+        if y == 0.0:
+            return 0.0
+        if y == 1.0:
+            return x
+        if x.op == "negative" or (x.op == "multiply" and type(x.args[1]) is not Term):
+            return self.multiply(x.args[0], (-1.0 if x.op == "negative" else x.args[1]) * y)
+        return self.term("negative", x) if y == -1.0 else self.term("multiply", x, float(y))
+
+    def divide(self, x: Any, y: Any) -> Any:
+        if type(y) is not Term:
+            return self.multiply(x, 1.0 / y)
+        if type(x) is not Term and x == 0.0:
+            return 0.0
+        return self.term("divide", x if type(x) is Term else float(x), y)
+
+    def sqrt(self, x: Any) -> Any:
+        return self.term("sqrt", x) if type(x) is Term else math.sqrt(x)
+
+    def abs(self, x: Any) -> Any:
+        return self.term("absolute", x) if type(x) is Term else abs(x)
+
+
+def _scaled(x: Term) -> tuple[Term, float]:
+    """x as (term, k) with x = k term: a constant's multiple, or x itself times 1."""
+    if x.op == "negative":
+        return x.args[0], -1.0
+    if x.op == "multiply" and type(x.args[1]) is not Term:
+        return x.args[0], x.args[1]
+    return x, 1.0
+
+
+class Plan(NamedTuple):
+    """A recipe made into numpy calls: steps (ufunc, argument, argument or -1, result), each an
+    index into registers (the inputs', the buffers', the results', the constants' places: the
+    buffers' and those of inputs and results None, filled by each call)."""
+    steps: tuple[tuple[Any, int, int, int], ...]
+    registers: tuple[Any, ...]
+    inputs: range
+    results: range
+    buffers: tuple[int, ...]
+
+
+def plan_recipe(np: ModuleType, recipe: Recipe, inputs: Sequence[Term], results: Sequence[Term]
+          ) -> Plan:
+    """The steps that compute `results` (terms, each its own place) from `inputs`: only the
+    operations they need, each value's buffer free for another once its last use has run."""
+    terms = recipe.terms
+    needed = [False] * len(terms)
+    for term in results:
+        needed[term.index] = True
+    for term in reversed(terms):
+        if needed[term.index]:
+            for a in term.args:
+                if type(a) is Term:
+                    needed[a.index] = True
+    order = [term for term in terms if needed[term.index] and term.op != "input"]
+    last = [0] * len(terms)
+    for i, term in enumerate(order):
+        for a in term.args:
+            if type(a) is Term:
+                last[a.index] = i
+    fixed = len(inputs) + len(results)
+    place, owner = [-1] * len(terms), [-1] * len(terms)
+    for i, term in enumerate(inputs):
+        place[term.index] = i
+    for i in reversed(range(len(results))):
+        owner[results[i].index] = len(inputs) + i
+    registers: list[Any] = [None] * fixed
+    buffers: list[int] = []
+    free: list[int] = []
+    steps = []
+    for i, term in enumerate(order):
+        args = []
+        for a in term.args:
+            if type(a) is not Term:
+                registers.append(a)
+                args.append(len(registers) - 1)
+                continue
+            at = place[a.index]
+            args.append(at)
+            if last[a.index] == i and at >= fixed and at not in free:    # x * x: once
+                free.append(at)
+        if owner[term.index] >= 0:
+            place[term.index] = owner[term.index]
+        elif free:
+            place[term.index] = free.pop()
+        else:
+            registers.append(None)
+            buffers.append(len(registers) - 1)
+            place[term.index] = buffers[-1]
+        steps.append((getattr(np, term.op), args[0], args[1] if len(args) > 1 else -1,
+                      place[term.index]))
+    for i, term in enumerate(results):           # a result that is an input, or another's
+        if place[term.index] != len(inputs) + i:
+            steps.append((np.positive, place[term.index], -1, len(inputs) + i))
+    return Plan(tuple(steps), tuple(registers), range(len(inputs)), range(len(inputs), fixed),
+                 tuple(buffers))
+
+
+def run_plan(plan: Plan, registers: list[Any]) -> None:
+    """The plan's steps on registers (its own, with the inputs and the results in place)."""
+    for ufunc, a, b, out in plan.steps:
+        if b < 0:
+            ufunc(registers[a], out=registers[out])
+        else:
+            ufunc(registers[a], registers[b], out=registers[out])
+
+
+# ---- 12. The numpy path: forces on arrays --------------------------------------------------------
 #
 # Holds: the forces section's answer on numpy arrays, Linkage.forces_arrays' work: each body's
 # wrench as forces() finds it, the reactions by elimination along the chain in closed form, a
-# position near a dead centre handed to forces() itself. The numpy path's second room: numpy here
-# too, and nowhere else but section 10 (test_layout).
+# position near a dead centre handed to forces() itself, its formulas traced by section 11's
+# Recipe. The numpy path's third room: numpy here too, and nowhere else but sections 10 and 11
+# (test_layout).
 #
-# Uses: sections 2, 6, 7, 9 and 10.
+# Uses: sections 2, 6, 7, 9, 10 and 11.
 # Offers: FORCES_STATUS_CODES, FORCES_HANDOFF, ReactionArrays, ForcesArrays, forces_of_arrays.
 
 
@@ -6039,34 +6256,34 @@ def column_texts(block: SweepColumns, fields: Sequence[int], clipped: Sequence[b
 #   divided by h . e, h = dP/d(output) = k x (P - B0) or g; then the coupler's Newton gives R_A,
 #   the output's its ground reaction (force, and moment where it carries one), the crank's the
 #   torque about z and A0's reaction.
-#   The spherical four-bar (_body_frames, _needed_arrays, _reactions_arrays; moments about O
-#   only): M_B, perpendicular to its axis b, is fixed by what the two other bodies ask: a . M_A
-#   = 0 (M_A = T_1 + M_B, T_1 the coupler's wrench) and k . M_B0 = 0 (M_B0 = T_2 - M_B), three
-#   equations in rows b, a, k, solved by Cramer's rule over b . (a x k); then M_A, M_B0, the
-#   torque and M_A0 as above.
+#   The spherical four-bar (_spherical_arrays, "scalars times known arrays" below; moments
+#   about O only): M_B, perpendicular to its axis b, is fixed by what the two other bodies ask:
+#   a . M_A = 0 (M_A = T_1 + M_B, T_1 the coupler's wrench) and k . M_B0 = 0 (M_B0 = T_2 -
+#   M_B), solved over b . (a x k); then M_A, M_B0, the torque and M_A0 as above.
 # What _states measures that the linkage fixes, this takes from its dimensions (|e| = c, the
 #   output's arm, the spherical coupler's a . b = cos c), and what is zero by the motion it leaves
 #   out: a point of a body accelerates as its axes' second derivatives say (each a fixed
 #   combination of its pins' accelerations), so spin x (spin x rho) is not formed; the
-#   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler; the spherical coupler's
-#   spin is w z + l a = turn k + m b, its two joints' axes (l by the divisor above). The numbers
+#   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler; the skew coupler's
+#   spin and rate are across its line, where its inertia is the transverse moment. The numbers
 #   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
 # What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
-#   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.2 to 0.7
+#   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.2 to 1.4
 #   ms, a later call skips it); each position takes 45 (slider), 65 (plane), 74 (skew slider-
-#   crank), 101 (skew) and 281 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
+#   crank), 101 (skew) and 126 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
 #   element here (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the
 #   answer's constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate
 #   of 0.49 to 0.53 of sweep_arrays' for the skew four-bar, 0.59 to 0.62 for the skew slider-
-#   crank, 0.55 to 0.61 for the plane kinds and 0.31 to 0.35 for the spherical, under a load of
-#   1.7 to 4.4 on 2 cores (data/BENCHMARKS.md, 2026-11-28, round three).
-#   Where the operations go: the spherical's bodies' frames 97, their wrenches 118, the
-#   elimination and the answer 58, near's check 8; the skew four-bar's output's rates 7, its
-#   elimination 14, the pins' forces and the shaking force 43, B0's moment 9, A0's and the
-#   torque 9, the shaking moment 11, near's check 8. Tried and given up: constant factors
-#   carried through products to the sums (k u + m v pays one back, and so does each answer),
-#   signs carried (-1 to +2 a kind), like terms gathered across nested sums by the recipe (-2 to
-#   +1: _Forms gather them where written), blocks of 4,096 to 65,536 (16,384 the fastest).
+#   crank, 0.55 to 0.61 for the plane kinds and 0.47 to 0.50 for the spherical, under a load of
+#   1.7 to 5 on 2 cores (data/BENCHMARKS.md, 2026-11-28, round three, each kind's branch alone).
+#   Where the operations go: the skew four-bar's output's rates 7, its elimination 14, the pins'
+#   forces and the shaking force 43, B0's moment 9, A0's and the torque 9, the shaking moment
+#   11, near's check 8; the spherical's coupler's spin and rate 21, the divisor 6, the bodies'
+#   moments 7 (and 7 products the output and the shaking force share), the elimination 45, the
+#   answer's rows 31, near's check 8, a copy 1. Tried and given up: constant factors carried
+#   through products to the sums (k u + m v pays one back, and so does each answer), signs
+#   carried (-1 to +2 a kind), like terms gathered across nested sums by the recipe (-2 to +1:
+#   _Forms and _Sums gather them where written), blocks of 4,096 to 65,536 (16,384 the fastest).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
@@ -6116,355 +6333,6 @@ class ForcesArrays(NamedTuple):
             out.append(Forces(phi, torque, power, joints, vector(self.shaking_force, i),
                               vector(self.shaking_moment, i), status, self.speed_rpm))
         return out
-
-
-# -- the recipe: the formulas traced once, replayed a block at a time -----------------------------
-#
-# forces_of_arrays runs the formulas below once a call on _Terms, which record each operation
-# rather than do it: a float stays a float (the constants fold, a term times 0.0 is 0.0 and drops
-# out of its sum, x * 1.0 is x, x - (-y) is x + y), and an operation already recorded is not
-# recorded again. _Plan then replays the record on each block of angles, each operation one numpy
-# call into a buffer kept from block to block (reused once its value is no longer needed), the
-# answers straight into the result's arrays: the work is the formulas' operations, no more.
-
-class _Term:
-    """A number of the recipe: an array of the block, known only when the plan runs."""
-    __slots__ = ("recipe", "index", "op", "args")
-
-    def __init__(self, recipe: _Recipe, index: int, op: str, args: tuple[Any, ...]) -> None:
-        self.recipe, self.index, self.op, self.args = recipe, index, op, args
-
-    def __add__(self, other: Any) -> Any:
-        return self.recipe.add(self, other)
-
-    __radd__ = __add__
-
-    def __sub__(self, other: Any) -> Any:
-        return self.recipe.subtract(self, other)
-
-    def __rsub__(self, other: Any) -> Any:
-        return self.recipe.subtract(other, self)
-
-    def __mul__(self, other: Any) -> Any:
-        return self.recipe.multiply(self, other)
-
-    __rmul__ = __mul__
-
-    def __truediv__(self, other: Any) -> Any:
-        return self.recipe.divide(self, other)
-
-    def __rtruediv__(self, other: Any) -> Any:
-        return self.recipe.divide(other, self)
-
-    def __neg__(self) -> Any:
-        return self.recipe.multiply(self, -1.0)
-
-
-class _Recipe:
-    """The operations on _Terms in the order made (each one's arguments before it)."""
-
-    def __init__(self) -> None:
-        self.terms: list[_Term] = []
-        self.seen: dict[tuple[Any, ...], _Term] = {}
-
-    def term(self, op: str, *args: Any) -> _Term:
-        key = (op,) + args          # a _Term is itself (its identity), a float its value
-        found = self.seen.get(key)
-        if found is None:
-            found = self.seen[key] = _Term(self, len(self.terms), op, args)
-            self.terms.append(found)
-        return found
-
-    def input(self) -> _Term:
-        self.terms.append(_Term(self, len(self.terms), "input", ()))
-        return self.terms[-1]
-
-    def add(self, x: Any, y: Any) -> Any:
-        if type(x) is not _Term:
-            x, y = y, x
-        if type(y) is not _Term:
-            if x.op == "add" and type(x.args[1]) is not _Term:      # (x + k) + h
-                return self.add(x.args[0], x.args[1] + y)
-            return x if y == 0.0 else self.term("add", x, float(y))
-        (u, j), (v, k) = _scaled(x), _scaled(y)
-        if u is v:                                                  # j u + k u
-            return self.multiply(u, j + k)
-        if y.op == "negative":
-            return self.subtract(x, y.args[0])
-        if x.op == "negative":
-            return self.subtract(y, x.args[0])
-        return self.term("add", *((x, y) if x.index < y.index else (y, x)))
-
-    def subtract(self, x: Any, y: Any) -> Any:
-        if type(y) is not _Term:
-            return self.add(x, -float(y))
-        if type(x) is not _Term:
-            return self.multiply(y, -1.0) if x == 0.0 else self.term("subtract", float(x), y)
-        (u, j), (v, k) = _scaled(x), _scaled(y)
-        if u is v:
-            return self.multiply(u, j - k)
-        if y.op == "negative":
-            return self.add(x, y.args[0])
-        return self.term("subtract", x, y)
-
-    def multiply(self, x: Any, y: Any) -> Any:
-        if type(x) is not _Term:
-            x, y = y, x
-        if type(y) is _Term:
-            return self.term("multiply", *((x, y) if x.index < y.index else (y, x)))
-        if y == 0.0:
-            return 0.0
-        if y == 1.0:
-            return x
-        if x.op == "negative" or (x.op == "multiply" and type(x.args[1]) is not _Term):
-            return self.multiply(x.args[0], (-1.0 if x.op == "negative" else x.args[1]) * y)
-        return self.term("negative", x) if y == -1.0 else self.term("multiply", x, float(y))
-
-    def divide(self, x: Any, y: Any) -> Any:
-        if type(y) is not _Term:
-            return self.multiply(x, 1.0 / y)
-        if type(x) is not _Term and x == 0.0:
-            return 0.0
-        return self.term("divide", x if type(x) is _Term else float(x), y)
-
-    def sqrt(self, x: Any) -> Any:
-        return self.term("sqrt", x) if type(x) is _Term else math.sqrt(x)
-
-    def abs(self, x: Any) -> Any:
-        return self.term("absolute", x) if type(x) is _Term else abs(x)
-
-
-def _scaled(x: _Term) -> tuple[_Term, float]:
-    """x as (term, k) with x = k term: a constant's multiple, or x itself times 1."""
-    if x.op == "negative":
-        return x.args[0], -1.0
-    if x.op == "multiply" and type(x.args[1]) is not _Term:
-        return x.args[0], x.args[1]
-    return x, 1.0
-
-
-class _Plan(NamedTuple):
-    """A recipe made into numpy calls: steps (ufunc, argument, argument or -1, result), each an
-    index into registers (the inputs', the buffers', the results', the constants' places: the
-    buffers' and those of inputs and results None, filled by each call)."""
-    steps: tuple[tuple[Any, int, int, int], ...]
-    registers: tuple[Any, ...]
-    inputs: range
-    results: range
-    buffers: tuple[int, ...]
-
-
-def _plan(np: ModuleType, recipe: _Recipe, inputs: Sequence[_Term], results: Sequence[_Term]
-          ) -> _Plan:
-    """The steps that compute `results` (terms, each its own place) from `inputs`: only the
-    operations they need, each value's buffer free for another once its last use has run."""
-    terms = recipe.terms
-    needed = [False] * len(terms)
-    for term in results:
-        needed[term.index] = True
-    for term in reversed(terms):
-        if needed[term.index]:
-            for a in term.args:
-                if type(a) is _Term:
-                    needed[a.index] = True
-    order = [term for term in terms if needed[term.index] and term.op != "input"]
-    last = [0] * len(terms)
-    for i, term in enumerate(order):
-        for a in term.args:
-            if type(a) is _Term:
-                last[a.index] = i
-    fixed = len(inputs) + len(results)
-    place, owner = [-1] * len(terms), [-1] * len(terms)
-    for i, term in enumerate(inputs):
-        place[term.index] = i
-    for i in reversed(range(len(results))):
-        owner[results[i].index] = len(inputs) + i
-    registers: list[Any] = [None] * fixed
-    buffers: list[int] = []
-    free: list[int] = []
-    steps = []
-    for i, term in enumerate(order):
-        args = []
-        for a in term.args:
-            if type(a) is not _Term:
-                registers.append(a)
-                args.append(len(registers) - 1)
-                continue
-            at = place[a.index]
-            args.append(at)
-            if last[a.index] == i and at >= fixed and at not in free:    # x * x: once
-                free.append(at)
-        if owner[term.index] >= 0:
-            place[term.index] = owner[term.index]
-        elif free:
-            place[term.index] = free.pop()
-        else:
-            registers.append(None)
-            buffers.append(len(registers) - 1)
-            place[term.index] = buffers[-1]
-        steps.append((getattr(np, term.op), args[0], args[1] if len(args) > 1 else -1,
-                      place[term.index]))
-    for i, term in enumerate(results):           # a result that is an input, or another's
-        if place[term.index] != len(inputs) + i:
-            steps.append((np.positive, place[term.index], -1, len(inputs) + i))
-    return _Plan(tuple(steps), tuple(registers), range(len(inputs)), range(len(inputs), fixed),
-                 tuple(buffers))
-
-
-def _run(plan: _Plan, registers: list[Any]) -> None:
-    """The plan's steps on registers (its own, with the inputs and the results in place)."""
-    for ufunc, a, b, out in plan.steps:
-        if b < 0:
-            ufunc(registers[a], out=registers[out])
-        else:
-            ufunc(registers[a], registers[b], out=registers[out])
-
-
-class _BodyArrays(NamedTuple):
-    """A body of the spherical four-bar on a block of positions (forces()' _State): its frame's
-    origin, the point its wrench is taken about; its axes; its line (the x axis); the origin's
-    acceleration; its spin and spin rate; each axis's second derivative in time (a point
-    (u, v, w) of the body accelerates at the origin's plus u x'' + v y'' + w z''), None where it
-    is not known so simply; and for a body turning about a fixed axis (the crank, the output)
-    that axis and the two rates."""
-    origin: Vec3
-    axes: tuple[Vec3, Vec3, Vec3]
-    line: Vec3
-    acceleration: Vec3
-    spin: Vec3
-    spin_rate: Vec3
-    axes_rates: tuple[Vec3 | None, Vec3 | None, Vec3 | None]
-    axis: Vec3 | None = None
-    rates: tuple[Any, Any] = (0.0, 0.0)
-    local: tuple[Vec3, Vec3] | None = None      # spin and spin rate in the body's axes
-
-
-def _body_frames(recipe: _Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], out: Any,
-                 q1: Any, q2: Any
-                 ) -> tuple[tuple[_BodyArrays, _BodyArrays, _BodyArrays], Vec3, Vec3]:
-    """_states on arrays for the spherical four-bar, from the cosines and sines of phi and the
-    output angle: the three bodies and the pins A and B. Where _states measures a length the
-    linkage fixes (the output's arm, the coupler's sin c), this takes the dimension."""
-    linkage, dims, r, w, al = setup.linkage, setup.dims, setup.radius, setup.omega, setup.alpha
-    kind = linkage.kind
-    a = PINS[kind].crank_pin(dims, *cos_sin[:2])
-    cq, sq = cos_sin[2:]
-    p = PINS[kind].output_pin(dims, cq, sq, out)
-    turn, turn_rate = q1 * w, q2 * (w * w) + q1 * al        # the output's: psi' w, its rate
-    pa, va, aa = weighted_sum((r, a[0])), weighted_sum((r * w, a[1])), weighted_sum(
-        (r * w * w, a[2]), (r * al, a[1]))
-    pp, vp, ap = weighted_sum((r, p[0])), weighted_sum((r * turn, p[1])), weighted_sum(
-        (r * (turn * turn), p[2]), (r * turn_rate, p[1]))
-    arm = dims["sin b"]
-    x = (math.copysign(1.0, arm) * cos_sin[0], math.copysign(1.0, arm) * cos_sin[1], 0.0)
-    x2 = weighted_sum((1.0 / abs(r * arm), (aa[0], aa[1], 0.0)))     # (A_x, A_y) = r b x
-    crank = _BodyArrays(_ZERO3, (x, cross(_EZ, x), _EZ), x, _ZERO3, (0.0, 0.0, w),
-                        (0.0, 0.0, al), (x2, cross(_EZ, x2), _ZERO3), _EZ, (w, al))
-    # the coupler turns about OA on the crank and about OB on the output: its spin
-    # w z + l a = turn k + m b, whence (. k x b) l = -w (z . k x b) / (a . k x b) (the
-    # reactions' divisor), and its rate alpha z + l' a + l a' with a' = w z x a
-    a_, b_, k = weighted_sum((1.0 / r, pa)), weighted_sum((1.0 / r, pp)), \
-        setup.axes["output"][1]
-    a_k = cross(a_, k)
-    divisor = dot(b_, a_k)
-    f = k[0] * b_[1] - k[1] * b_[0]                         # z . k x b
-    turning = -w * f / divisor
-    a_dot, b_dot = weighted_sum((1.0 / r, va)), weighted_sum((1.0 / r, vp))
-    f_dot = k[0] * b_dot[1] - k[1] * b_dot[0]
-    divisor_dot = dot(b_dot, a_k) + dot(b_, cross(a_dot, k))
-    turning_rate = (-al * f - w * f_dot - turning * divisor_dot) / divisor
-    spin = weighted_sum((w, _EZ), (turning, a_))
-    rate = weighted_sum((al, _EZ), (turning_rate, a_), (turning, a_dot))
-    cc, sc = cos_sin_degrees(dims["c"])                     # a . b = cos c
-    y = weighted_sum((1.0 / abs(sc), b_), (-cc / abs(sc), a_))    # (a x b) x a / |a x b|
-    x2, z = weighted_sum((1.0 / r, aa)), cross(a_, y)
-    local = ((w * a_[2] + turning, w * y[2], w * z[2]),       # a . a' = 0, a . y = 0 ...
-             (al * a_[2] + turning_rate, al * y[2] + turning * dot(y, a_dot),
-              al * z[2] + turning * dot(z, a_dot)))
-    coupler = _BodyArrays(_ZERO3, (a_, y, z), a_, _ZERO3, spin, rate, (
-        x2, weighted_sum((1.0 / (r * abs(sc)), ap), (-cc / abs(sc), x2)), None),
-        local=local)
-    arm = r * abs(dims["sin d"])
-    x = weighted_sum((1.0 / arm, pp), (-dims["cos d"] / abs(dims["sin d"]), k))   # B . k = cos d
-    x2 = weighted_sum((1.0 / arm, ap))
-    output = _BodyArrays(_ZERO3, (x, cross(k, x), k), x, _ZERO3, weighted_sum((turn, k)),
-                         weighted_sum((turn_rate, k)), (x2, cross(k, x2), _ZERO3), k,
-                         (turn, turn_rate))
-    return (crank, coupler, output), pa, pp
-
-
-def _needed_arrays(setup: ForcesSetup, bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays]
-                   ) -> list[tuple[Vec3, Vec3]]:
-    """Each body's wrench about its frame's origin that the reactions and the torque make up
-    (as in _forces_at, which takes it about the fixed origin): the rate of its momenta less
-    gravity and the loads."""
-    needed = []
-    for i, (mass, body) in enumerate(zip(setup.masses, bodies)):
-        axes = body.axes
-        rho = weighted_sum(*zip(mass.centre, axes))
-        terms = [(u, rate) for u, rate in zip(mass.centre, body.axes_rates) if u]
-        if all(rate is not None for _, rate in terms):
-            a_g = weighted_sum((1.0, body.acceleration), *cast(list[tuple[Any, Vec3]], terms))
-        else:                           # the spherical coupler's centre off its plane
-            a_g = weighted_sum((1.0, body.acceleration), (1.0, cross(body.spin_rate, rho)),
-                               (1.0, cross(body.spin, cross(body.spin, rho))))
-        inertial: Vec3
-        net = weighted_sum((mass.mass, a_g), (-mass.mass, setup.gravity))
-        if body.axis is not None:       # spin = turn k, its rate turn_rate k; k the body's z
-            k, (turn, turn_rate) = body.axis, body.rates
-            i_k = weighted_sum(*zip([row[2] for row in mass.inertia], axes))
-            # rho x m a_g, a_g = turn_rate k x rho - turn^2 (rho - (k . rho) k), where
-            # |rho|^2 and k . rho are the centre's: the centripetal part has no moment but
-            # through the centre's height along k
-            along, squared = mass.centre[2], dot(mass.centre, mass.centre)
-            # (the rate's two parts, about the centre and of the centre about the axis, one
-            # sum: the plane kinds' a number, one multiple of the rate, not two)
-            turning = weighted_sum(
-                (turn_rate, weighted_sum((mass.mass * squared, k), (-mass.mass * along, rho),
-                                         (1.0, i_k))),
-                (mass.mass * along * (turn * turn), cross(rho, k)),
-                (-mass.mass, cross(rho, setup.gravity)),
-                (turn * turn, cross(k, i_k)))
-        else:
-            assert body.local is not None       # I spin' + spin x I spin in the body's axes
-            spin, rate = body.local
-            i_spin = [sum(row[j] * spin[j] for j in range(3)) for row in mass.inertia]
-            i_rate = [sum(row[j] * rate[j] for j in range(3)) for row in mass.inertia]
-            inertial = weighted_sum(*zip(weighted_sum(
-                (1.0, cast(Vec3, tuple(i_rate))), (1.0, cross(spin, cast(Vec3, tuple(
-                    i_spin))))), body.axes))
-            turning = weighted_sum((1.0, cross(rho, net)), (1.0, inertial))
-        if i == 1 and setup.coupler_point is not None:
-            at = weighted_sum(*zip(setup.coupler_point, axes))
-            net = difference(net, setup.coupler_force)
-            turning = difference(turning, cross(at, setup.coupler_force))
-        if i == 2 and setup.output_torque:
-            turning = weighted_sum((1.0, turning), (-setup.output_torque, body.axes[2]))
-        needed.append((net, turning))
-    return needed
-
-
-def _reactions_arrays(recipe: _Recipe, setup: ForcesSetup,
-                      bodies: tuple[_BodyArrays, _BodyArrays, _BodyArrays], pa: Vec3, pp: Vec3
-                      ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3,
-                                 Any, float]:
-    """The spherical four-bar's torque, each joint's moment about O, the shaking force and
-    moment, and how far each position is from the elimination's singularity: its divisor's
-    size, and the size it is measured against (see the notes above)."""
-    (n0, t0), (n1, t1), (n2, t2) = _needed_arrays(setup, bodies)
-    k = setup.axes["output"][1]         # every wrench about O
-    a, b = weighted_sum((1.0 / setup.radius, pa)), weighted_sum((1.0 / setup.radius, pp))
-    divisor = dot(b, cross(a, k))
-    m_b = weighted_sum((-dot(a, t1) / divisor, cross(k, b)),
-                       (dot(k, t2) / divisor, cross(b, a)))
-    m_a, m_b0 = weighted_sum((1.0, t1), (1.0, m_b)), difference(t2, m_b)
-    v = weighted_sum((1.0, t0), (1.0, m_a))
-    m_a0 = (v[0], v[1], 0.0)
-    shaking_force = weighted_sum((-1.0, n0), (-1.0, n1), (-1.0, n2))
-    shaking_moment = weighted_sum((1.0, (0.0, 0.0, -v[2])), (-1.0, m_a0), (-1.0, m_b0))
-    joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
-        "A0": (None, m_a0), "A": (None, m_a), "B": (None, m_b), "B0": (None, m_b0)}
-    return v[2], joints, shaking_force, shaking_moment, recipe.abs(divisor), 1.0
 
 
 # -- the plane and skew kinds in closed form -------------------------------------------------------
@@ -6542,11 +6410,12 @@ def _in_frame(v: _Forms, axes: tuple[Vec3, Vec3, Vec3]) -> _Forms:
     return x, y, z
 
 
-def _pin_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
+def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
                    ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any,
                               float]:
-    """What _reactions_arrays gives the spherical four-bar, for the plane and skew kinds (see
-    the notes above), from the inputs: the cosine and sine of phi, then the four-bar's cosine
+    """The plane and skew kinds' torque, joints' reactions, shaking force and moment, and the
+    elimination's divisor with the size it is measured against (see the notes above), from the
+    inputs: the cosine and sine of phi, then the four-bar's cosine
     and sine of psi and psi itself, or the slider's x; the output's first and second
     derivatives."""
     kind, slider = setup.linkage.kind, setup.linkage.is_slider
@@ -6565,7 +6434,7 @@ def _pin_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
     hat_s = _forms_sum((1.0, _arrays_along(("C", _EY))), (-1.0, _arrays_along(("S", _EX))))
     fixed_g, fixed_z = _arrays_along(("1", g)), _arrays_along(("1", _EZ))
     a2 = _forms_sum((-b * w * w, hat_c), (b * al, hat_s))                      # A''
-    # the crank: x = sb hat_c, y = sb hat_s; its wrench about A0 (_needed_arrays' turning)
+    # the crank: x = sb hat_c, y = sb hat_s; its wrench about A0 (the rate of its momenta less gravity's moment)
     rx, ry, rz = rho0
     p, q, r = i0[0][2] - m0 * rx * rz, i0[1][2] - m0 * ry * rz, i0[2][2] + m0 * (rx * rx + ry * ry)
     n0 = _forms_sum((m0 * sb * (-w * w * rx - al * ry), hat_c),
@@ -6674,6 +6543,242 @@ def _pin_reactions(recipe: _Recipe, setup: ForcesSetup, inputs: Sequence[_Term]
     return torque, joints, shaking_force, shaking_moment, recipe.abs(divisor), size
 
 
+# -- the spherical four-bar: scalars times known arrays --------------------------------------------
+#
+# Every body of the spherical four-bar turns about O, and only moments about O enter, so its
+# formulas are written here as scalars, each a sum of known arrays (the sweep's cosines and sines,
+# psi', psi'' and products of them) times constants: _Sum gathers like terms and folds the
+# constants while tracing, and makes a sum one term (one array) only where a product needs it,
+# at the size that spares the next sum a multiplication. A body's moment about O is I spin' +
+# spin x I spin in its own axes, I its inertia about O (constant there), less gravity's moment
+# and the loads'. The crank's and the output's spins are their speeds about their axes; the
+# coupler's (spin = w z + l a, turning about a = OA on the crank) has (spin . a, w y_z, w n_z) on
+# its axes a, y, n (y = (b - cos c a) / |sin c|, n = a x y), spin . a = (psi' w Q + cos c w
+# (b_z - cos b cos c)) / sin^2 c with Q = k . a - cos d cos c (a' and b' in spin_about_centre),
+# and its rate's the same differentiated (the axes turn with it). Its moment's quadratic in
+# (spin . a, w y_z) is factored (one product). The elimination: M_B = m1 y2 + m2 (|sin d| k -
+# cos d x2) on the output's axes x2, y2 = k x x2, k, fixed by k . M_B = k . T_2 and a . M_B =
+# -a . T_1 (the divisor D = a . (k x b)); M_A = T_1 + M_B across a, turned from the coupler's
+# y, n onto the crank's u1 = (-sin phi, cos phi, 0), u2 = a x u1 (by the angle of cosine n_z and
+# sine y_z over sin b); M_B0 = T_2 - M_B about the output's axes; the shaking moment
+# -(M_A0 + torque z + M_B0) = -(T_0 + T_1 + T_2), its force the bodies' m (g - a_G) and the loads.
+# 126 operations (282 before; where they go: data/BENCHMARKS.md, round three): what the notes
+# above gave up for the other kinds (factors carried, like terms gathered) pays here.
+
+class _Sum:
+    """A number of the recipe: its terms times constants, plus a constant, like terms gathered
+    while tracing. Each coefficient keeps the size of what made it up (the sum of its parts'
+    sizes): one that rounding alone left (under 16 epsilons of that, as I22 - I11 - I00 of an arc)
+    is 0."""
+    __slots__ = ("recipe", "parts", "constant", "atoms")
+
+    def __init__(self, recipe: Recipe, parts: dict[Term, tuple[float, float]],
+                 constant: tuple[float, float] = (0.0, 0.0)) -> None:
+        self.recipe = recipe            # (an inf or a NaN is kept: it reaches near's check)
+        self.atoms: dict[float | None, _Sum] = {}
+        self.parts = {t: km for t, km in parts.items() if not abs(km[0]) <= 3.6e-15 * km[1]
+                      < math.inf}
+        self.constant = (0.0, 0.0) if abs(constant[0]) <= 3.6e-15 * constant[1] < math.inf \
+            else constant
+
+    def __add__(self, other: Any) -> _Sum:
+        if not isinstance(other, _Sum):
+            if other == 0.0:
+                return self
+            other = _Sum(self.recipe, {}, (float(other), abs(other)))
+        parts = dict(self.parts)
+        for t, (k, m) in other.parts.items():
+            parts[t] = (parts.get(t, (0.0, 0.0))[0] + k, parts.get(t, (0.0, 0.0))[1] + m)
+        return _Sum(self.recipe, parts, (self.constant[0] + other.constant[0],
+                                         self.constant[1] + other.constant[1]))
+
+    __radd__ = __add__
+
+    def __sub__(self, other: Any) -> _Sum:
+        return self + other * -1.0
+
+    def __rsub__(self, other: Any) -> _Sum:
+        return self * -1.0 + other
+
+    def __mul__(self, other: Any) -> _Sum:
+        if not isinstance(other, _Sum):
+            f = float(other)
+            if f == 1.0 or not f:
+                return self if f else _Sum(self.recipe, {})
+            return _Sum(self.recipe, {t: (k * f, m * abs(f)) for t, (k, m) in self.parts.items()},
+                        (self.constant[0] * f, self.constant[1] * abs(f)))
+        x, y = (self.gathered(), other.gathered()) if len(self.parts) > 1 < len(other.parts) \
+            else (self, other)                  # two sums each one term, lest they multiply out
+        (xc, xm), (yc, ym) = x.constant, y.constant
+        product = _Sum(self.recipe, {t: (k * yc, m * ym) for t, (k, m) in x.parts.items()},
+                       (xc * yc, xm * ym)) + _Sum(self.recipe, {
+                           u: (j * xc, n * xm) for u, (j, n) in y.parts.items()})
+        for t, (k, m) in x.parts.items():
+            product = product + _Sum(self.recipe, {self.recipe.multiply(t, u): (k * j, m * n)
+                                                   for u, (j, n) in y.parts.items()})
+        return product
+
+    __rmul__ = __mul__
+
+    def gathered(self, scale: float | None = None) -> _Sum:
+        """self as one term times `scale` (None: its first largest coefficient, so that a sum
+        recurring is the same term)."""
+        if not self.parts or (scale is None and len(self.parts) == 1 and not self.constant[0]):
+            return self
+        if scale not in self.atoms:
+            ks = [k for _, (k, _) in sorted(self.parts.items(), key=lambda p: p[0].index)]
+            big = max(map(abs, ks))                     # the first of the largest
+            k = scale or next((k for k in ks if abs(k) >= big * (1 - 4e-16)), ks[0])
+            inner = _Sum(self.recipe, {t: (j / k, m / abs(k)) for t, (j, m) in self.parts.items()},
+                         (self.constant[0] / k, self.constant[1] / abs(k))).term()
+            self.atoms[scale] = _Sum(self.recipe, {inner: (k, abs(k))}) if type(inner) is Term \
+                else _Sum(self.recipe, {}, (inner * k, abs(inner * k)))
+        return self.atoms[scale]
+
+    def size(self) -> float:
+        """Its one term's coefficient (1 where it has none, or more than one)."""
+        return next(iter(self.parts.values()))[0] if len(self.parts) == 1 else 1.0
+
+    def term(self) -> Any:
+        """The recipe's term (or a float) for the sum: the terms whose coefficients are of one
+        size summed first (in the order made, the same sum wherever it recurs; where the size
+        is 1, a - b rather than -(b - a)), then times it."""
+        groups: dict[float, list[tuple[Term, float]]] = {}
+        for t, (k, _) in sorted(self.parts.items(), key=lambda p: p[0].index):
+            size = next((j for j in groups if abs(abs(k) / j - 1.0) < 1e-15), abs(k))
+            groups.setdefault(1.0 if abs(size - 1.0) < 1e-15 else size, []).append((t, k))
+        total: Any = 0.0
+        for size, ts in groups.items():
+            if size == 1.0:
+                ts.sort(key=lambda p: p[1] < 0.0)
+            sign, part = math.copysign(1.0, ts[0][1]), 0.0
+            for t, k in ts:
+                part = part + t * (sign * math.copysign(1.0, k))
+            total = total + part * (sign * size)
+        return total + self.constant[0] if type(total) is Term else self.constant[0]
+
+
+def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], q1: Any,
+                      q2: Any) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3,
+                                        Vec3, Any, float]:
+    """The spherical four-bar's answer as _pin_reactions gives the others' (see the notes
+    above), from the cosines and sines of phi and psi, psi' and psi''."""
+    dims, w, al = setup.dims, setup.omega, setup.alpha
+    c, s, cq, sq, v1, v2 = (_Sum(recipe, {t: (1.0, 1.0)}) for t in (*cos_sin, q1, q2))
+    cb, sb, cd, sd, ca, sa = (dims[f"{f} {n}"] for n in "bda" for f in ("cos", "sin"))
+    cc, sc = cos_sin_degrees(dims["c"])
+    (m0, m1, m2), g, sc_, sd_ = setup.masses, setup.gravity, abs(sc), abs(sd)
+
+    def vec(*parts: tuple[Any, Vec3]) -> Any:
+        return weighted_sum(*parts)
+
+    def euler(mass: BodyMass, spin: Any, rate: Any) -> Any:
+        """I spin' + spin x I spin in the body's axes, I its inertia about O (its origin)."""
+        rr = dot(mass.centre, mass.centre)
+        inertia = [cast(Vec3, tuple(mass.inertia[i][j] + mass.mass * (
+            rr * (i == j) - mass.centre[i] * mass.centre[j]) for j in range(3)))
+            for i in range(3)]
+        gyroscopic = cross(spin, cast(Vec3, [dot(row, spin) for row in inertia]))
+        return [dot(row, rate) + gyroscopic[i] for i, row in enumerate(inertia)]
+
+    def world(v: Any) -> Vec3:
+        """A vector about the output's axes turned back by a about y (k its z), in the fixed
+        axes: each component made one term first."""
+        return rotated_y(ca, sa, cast(Vec3, [x.gathered() if isinstance(x, _Sum) else x
+                                             for x in v]))
+
+    def factored(z: _Sum, u: _Sum, u_sum: _Sum, v: _Sum) -> _Sum:
+        """z with its terms in u^2, u v and v^2 (u, v each one term, u_sum what u is made of)
+        as one product, a (u - r1 v)(u - r2 v), where that quadratic has two real roots."""
+        if len(u.parts) != 1 or len(v.parts) != 1 or u.constant[0] or v.constant[0]:
+            return z
+        (ut, (uk, _)), (vt, (vk, _)) = *u.parts.items(), *v.parts.items()
+        keys = (recipe.multiply(ut, ut), recipe.multiply(ut, vt), recipe.multiply(vt, vt))
+        a, b, c = (z.parts.get(key, (0.0, 0.0))[0] / f for key, f in zip(
+            keys, (uk * uk, uk * vk, vk * vk)))
+        if not a or b * b <= 4.0 * a * c:
+            return z
+        h = -0.5 * (b + math.copysign(math.sqrt(b * b - 4.0 * a * c), b))
+        rest = _Sum(recipe, {t: km for t, km in z.parts.items() if t not in keys}, z.constant)
+        return rest + (u_sum - v * (h / a)) * (u_sum - v * (c / h)) * a
+
+    t, rate = v1 * w, v2 * (w * w) + v1 * al          # the output's speed psi' w and its rate
+    a, k = vec((sb, (c, s, 0.0)), (1.0, (0.0, 0.0, cb))), setup.axes["output"][1]
+    # the output's axes about k (turned back by a about y: k = z), and b = B / r
+    x2, y2 = vec((math.copysign(1.0, sd), (cq, sq, 0.0))), vec((math.copysign(1.0, sd), (
+        -1.0 * sq, cq, 0.0)))
+    b = rotated_y(ca, sa, b_ := vec((cd, _EZ), (sd_, x2)))
+    x0 = vec((math.copysign(1.0, sb), (c, s, 0.0)))    # the crank's axes: x0, z x x0, z
+    crank_axes = (x0, cross(_EZ, x0), _EZ)
+    rho0 = weighted_sum(*zip(m0.centre, crank_axes))
+    t0 = weighted_sum(*zip(euler(m0, (0.0, 0.0, w), (0.0, 0.0, al)), crank_axes),
+                      (-m0.mass, cross(rho0, g)))
+    a_g0 = weighted_sum((-w * w, (rho0[0], rho0[1], 0.0)), (al, cross(_EZ, rho0)))
+    rho2 = weighted_sum(*zip(m2.centre, (x2, y2, _EZ)))
+    t2 = weighted_sum(*zip(euler(m2, (0.0, 0.0, t), (0.0, 0.0, rate)), (x2, y2, _EZ)),
+                      (-m2.mass, cross(rho2, rotated_y(ca, -sa, g))), (-setup.output_torque, _EZ))
+    a_g2 = weighted_sum((-1.0 * (t * t), vec((m2.centre[0], x2), (m2.centre[1], y2))),
+                        (1.0, cross(vec((rate, _EZ)), rho2)))
+    # the coupler: axes a, y, n, spin (spin . a, w y_z, w n_z)
+    y = vec((1.0 / sc_, b), (-cc / sc_, a))
+    n = cross(a, y)
+    y = (y[0], y[1], y[2].gathered())
+    n = (n[0], n[1], n[2].gathered(y[2].size()))       # at y_z's size
+    q = (a[0] * sa + cb * ca - cd * cc).gathered()      # k . a - cos d cos c
+    spin_a_sum = (t * q + y[2] * (cc * sc_ * w)) * (1.0 / (sc * sc))
+    spin_a = spin_a_sum.gathered()
+    relative = spin_a - w * cb                          # l: its spin about a on the crank
+    spin_a_rate = ((rate * q + y[2] * (al * cc * sc_) + t * (w * sa) * (b[1] * cc - a[1])
+                   .gathered()) * (1.0 / (sc * sc))).gathered()
+    spin = (spin_a, y[2] * w, n[2] * w)
+    spin_rate = (spin_a_rate, y[2] * al + relative * n[2] * w, n[2] * al - relative * y[2] * w)
+    t1 = [x - z for x, z in zip(euler(m1, spin, spin_rate), cross(m1.centre, cast(Vec3, [
+        dot(weighted_sum((m1.mass, g)), axis) for axis in (a, y, n)])))]
+    at_a, at_b = m1.centre[0] - m1.centre[1] * cc / sc_, m1.centre[1] / sc_   # its centre
+    a_g1 = weighted_sum((at_a, ((-w * w) * a[0] - al * a[1], (-w * w) * a[1] + al * a[0], 0.0)))
+    if m1.centre[2]:                                    # + w n: n'' on its axes
+        a_g1 = weighted_sum((1.0, a_g1), (m1.centre[2], weighted_sum(*zip((
+            spin_rate[1] + spin[0] * spin[2], spin[1] * spin[2] - spin_rate[0],
+            -1.0 * (spin[0] * spin[0]) - spin[1] * spin[1]), (a, y, n)))))
+    loads = weighted_sum((m0.mass + m1.mass + m2.mass, g))
+    if setup.coupler_point is not None:
+        t1 = [x - z for x, z in zip(t1, cross(setup.coupler_point, cast(Vec3, [
+            dot(setup.coupler_force, axis) for axis in (a, y, n)])))]
+        loads = weighted_sum((1.0, loads), (1.0, setup.coupler_force))
+    b2 = weighted_sum((t * t, difference(vec((cd, _EZ)), b_)), (1.0, cross(vec((rate, _EZ)), b_)))
+    shaking_force = weighted_sum((-m0.mass, a_g0), (-m1.mass, a_g1), (1.0, loads), (1.0, world(
+        weighted_sum((-m1.mass * at_b, b2), (-m2.mass, a_g2)))))
+    # the elimination, each sum at the size that spares the next a multiplication
+    divisor = dot(a, cross(k, b)).gathered()            # D, as d D'
+    d = divisor.size()
+    d_term = (divisor * (1.0 / d)).term()
+    inverse = _Sum(recipe, {recipe.divide(1.0, d_term): (1.0 / d, 1.0 / abs(d))})
+    t1[2] = factored(t1[2], spin_a, spin_a_sum, y[2])
+    moment_a = t1[0].gathered()
+    b1_size = -sd_ * moment_a.size() / d                # m1's, and m2's at it
+    moment_k = t2[2].gathered(-sd_ * b1_size / cd if cd else None)
+    m_b1 = ((moment_a * sd_ + moment_k * q * (1.0 / sd_)).gathered(sd_ * moment_a.size())
+            * inverse * -1.0)
+    m_b_ = [x.gathered() for x in weighted_sum((m_b1, y2), (moment_k * (-cd / sd_), x2))[:2]]
+    m_b0, m_b = world((t2[0] - m_b_[0], t2[1] - m_b_[1], 0.0)), world((*m_b_, moment_k))
+    size = sb / y[2].size()             # M_A . y and M_A . n at the size that makes M_A's x and y
+    on_y = (t1[1] + t1[0] * (cc / sc_)).gathered(size)        # two products' sum each
+    on_n = (t1[2] - (moment_a * q + moment_k * (sc * sc)).gathered() * inverse
+          * (1.0 / sc_)).gathered(size)
+    on_u1 = ((on_y * n[2] - on_n * y[2]) * (1.0 / sb)).gathered(-1.0)     # M_A . u1, M_A . u2
+    on_u2 = ((on_y * y[2] + on_n * n[2]) * (1.0 / sb)).gathered(-1.0 / cb if cb else None)
+    m_a = weighted_sum((on_u1, (-1.0 * s, c, 0.0)), (on_u2, (c * -cb, s * -cb, sb)))
+    v = weighted_sum((1.0, t0), (1.0, m_a))
+    terms = [x.term() if isinstance(x, _Sum) else x for x in (
+        v[2], *m_a, *m_b, *m_b0, v[0], v[1], *shaking_force)]
+    joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
+        "A0": (None, (terms[10], terms[11], 0.0)), "A": (None, tuple(terms[1:4])),
+        "B": (None, tuple(terms[4:7])), "B0": (None, tuple(terms[7:10]))}
+    moment = tuple(-1.0 * (x + y) for x, y in zip((terms[10], terms[11], terms[0]), terms[7:10]))
+    return (terms[0], joints, tuple(terms[12:15]), cast(Vec3, moment), recipe.abs(d_term),
+            1.0 / abs(d))
+
+
 class _ForcesTrace(NamedTuple):
     """What forces_of_arrays records once for a linkage, its bodies and effects: the plan; the
     answer's rows (the torque, near, the shaking force's three and its moment's, then each
@@ -6681,7 +6786,7 @@ class _ForcesTrace(NamedTuple):
     computes it (its results in the rows' order); the joints, each with whether it carries a
     force and a moment; near's least to stay (FORCES_HANDOFF times the divisor's factors); the
     crank's speed (rad/s and rpm)."""
-    plan: _Plan
+    plan: Plan
     rows: tuple[float | None, ...]
     joints: tuple[tuple[str, bool, bool], ...]
     handoff: float
@@ -6694,27 +6799,27 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
                   ) -> _ForcesTrace:
     """The formulas traced for forces_of_arrays: the same for every call with these (a linkage
     object's dimensions are fixed once it is made), so kept; the plan holds no array of a call.
-    Tracing took 0.2 to 0.7 ms a call (bench forces' linkages, bodies and effects, best of 30
-    by CPU: 4 to 5% of the forces' time at 100,001 angles)."""
+    Tracing took 0.2 to 0.7 ms a call for the plane and skew kinds, 1.4 ms for the spherical
+    (bench forces' linkages, bodies and effects, best of 30 by CPU: 4 to 15% of the forces' time
+    at 100,001 angles)."""
     setup = forces_setup(linkage, bodies, effects, radius)
-    recipe = _Recipe()
+    recipe = Recipe()
     inputs = [recipe.input() for _ in range(5 if linkage.is_slider else 7)]
-    if linkage.kind != SPHERICAL_FOUR_BAR:
-        t, reactions, force, moment, apart, size = _pin_reactions(recipe, setup, inputs)
+    if linkage.kind == SPHERICAL_FOUR_BAR:
+        t, reactions, force, moment, apart, size = _spherical_arrays(
+            recipe, setup, tuple(inputs[:4]), *inputs[-2:])
     else:
-        states, pa, pp = _body_frames(recipe, setup, tuple(inputs[:-3]), *inputs[-3:])
-        t, reactions, force, moment, apart, size = _reactions_arrays(recipe, setup, states, pa,
-                                                                    pp)
+        t, reactions, force, moment, apart, size = _pin_reactions(recipe, setup, inputs)
     # every number the elimination makes reaches the shaking (an inf or a NaN carries through
     # + and x; the torque through the moment's z, less it): all are finite where these six
     # are, and there check - check is 0 (recorded as it is, not folded); NaN elsewhere, and
     # then so is near, which no number passes
     check = sum(force) + sum(moment)
-    near = apart + recipe.term("subtract", check, check) if type(check) is _Term else apart
+    near = apart + recipe.term("subtract", check, check) if type(check) is Term else apart
     values = [t, near, *force, *moment] + [x for pair in reactions.values()
                                            for v in pair if v is not None for x in v]
-    plan = _plan(numpy_module(), recipe, inputs, [v for v in values if type(v) is _Term])
-    return _ForcesTrace(plan, tuple(None if type(v) is _Term else float(v) for v in values),
+    plan = plan_recipe(numpy_module(), recipe, inputs, [v for v in values if type(v) is Term])
+    return _ForcesTrace(plan, tuple(None if type(v) is Term else float(v) for v in values),
                         tuple((name, f is not None, m is not None)
                               for name, (f, m) in reactions.items()),
                         FORCES_HANDOFF * size, setup.omega, setup.speed_rpm)
@@ -6775,7 +6880,7 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                 registers[i] = source[part]
             for i, row in zip(plan.results, results):
                 registers[i] = row[part]
-            _run(plan, registers)
+            run_plan(plan, registers)
     plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)
     unknown = plain != assembled
     redo = (unknown | ~(apart_of >= trace.handoff)) & (plain != STATUS_CODES.index(
@@ -6804,7 +6909,7 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                         trace.speed_rpm)
 
 
-# ---- 12. Simulation: the equation of motion in its coordinates -----------------------------------
+# ---- 13. Simulation: the equation of motion in its coordinates -----------------------------------
 #
 # The linkage has one degree of freedom; in a coordinate q (an angle, radians) every point moves
 # with X'(q) q_dot, and Lagrange's equation is
@@ -7401,7 +7506,7 @@ def state_at(run: SimModel, view: SimView, q: float, rate: float, near: _Near, l
                   energy, free * rate)
 
 
-# ---- 13. Simulation: the run, stepped in time and its events -------------------------------------
+# ---- 14. Simulation: the run, stepped in time and its events -------------------------------------
 #
 # The integrator: Dormand and Prince's embedded Runge-Kutta 5(4) with its 4th-order dense output
 # (Hairer, Norsett and Wanner, Solving ODE I, II.5 and II.6), on (q, q_dot, W), W the work of the
@@ -7414,7 +7519,7 @@ def state_at(run: SimModel, view: SimView, q: float, rate: float, near: _Near, l
 # springs, from the positions, is written along the run with W: E - W stays E(0) to the tolerance, a
 # check (Simulation.energy_error), not an assumption.
 #
-# Uses: sections 2, 6, 7, 9 and 12.
+# Uses: sections 2, 6, 7, 9 and 13.
 # Offers: REST, ANGLE_REACHED, COORDINATE, STUCK, END, SimRow, SimEvent, Simulation, simulate.
 
 
@@ -7772,13 +7877,13 @@ def _integrate(run: SimModel, first: SimPoint, time: float, step: float, toleran
     return Simulation(rows, events, steps, rejected, evaluations, worst)
 
 
-# ---- 14. The linkage: one class for all that can be asked of it ----------------------------------
+# ---- 15. The linkage: one class for all that can be asked of it ----------------------------------
 #
 # Holds: Linkage, the engine's Closure with a method for each question the sections before answer:
 # motion and sweep (the engine), coupler and transmission (what it derives), the same on numpy
 # arrays, and forces (what it takes to drive it).
 #
-# Uses: sections 6, 7, 9, 10 and 11.
+# Uses: sections 6, 7, 9, 10 and 12.
 # Offers: Linkage.
 
 
@@ -7849,7 +7954,7 @@ class Linkage(Closure):
                                 bodies, effects, radius=radius, trig=trig)
 
 
-# ---- 15. DAT and CSV files: the sweep's formats, written and read --------------------------------
+# ---- 16. DAT and CSV files: the sweep's formats, written and read --------------------------------
 #
 # Holds: the accurate engine's files: ANG.DAT, VEL.DAT, ACC.DAT (and MU.DAT) in the listing's format
 # ("phi,value" CR LF lines, the end byte 1A) at full precision, the CSV's columns, a sweep's angles,
@@ -8124,7 +8229,7 @@ def dat_precision(directory: str) -> str:
     return ""
 
 
-# ---- 16. The mechanism drawn: poses projected onto the page --------------------------------------
+# ---- 17. The mechanism drawn: poses projected onto the page --------------------------------------
 #
 # Holds: mechanism_drawing(), which projects the poses of a sweep onto the page - plane linkages as
 # they are, the spherical linkage on its sphere seen obliquely, the skew linkages in a fixed
@@ -8132,7 +8237,7 @@ def dat_precision(directory: str) -> str:
 # on the side the links cross least, axes), drawn once, and one Frame a pose with its letters. The
 # letters go where no mark, link, hatching or other letter covers them (place_labels).
 #
-# Uses: sections 2, 6, 7, 8 and 14.
+# Uses: sections 2, 6, 7, 8 and 15.
 # Offers: Point, Box, Stroke, Mark, Label, Letters, Layer, Frame, Drawing, MECHANISM_EXAMPLES,
 #   STROKE_STYLES, FAR_SIDE, VIEWS, project, Segment, stroke_segments, place_labels,
 #   mechanism_drawing, spread_indices, SVG_WIDTH, SVG_HEIGHT, SVG_MARGIN, SVG_LETTER, svg_scale,
@@ -8974,14 +9079,14 @@ def svg_letters(bounds: Box, size: float) -> Letters:
                    (svg_radius(size, scale) + 1.0) / scale, 1.6 / scale)
 
 
-# ---- 17. The mechanism's renderers: terminal, SVG, PNG and DXF -----------------------------------
+# ---- 18. The mechanism's renderers: terminal, SVG, PNG and DXF -----------------------------------
 #
 # Holds: what draws a Drawing: the terminal (Unicode braille, or ASCII; still or animated until a
 # key), an animated SVG, a PNG (matplotlib); and the DXF of its linkage for CAD (ezdxf). The SVG's
 # letters are those placed in the Drawing; the terminal and the PNG place them again for the sizes
 # they draw letters at.
 #
-# Uses: sections 1, 2, 6, 7, 8 and 16.
+# Uses: sections 1, 2, 6, 7, 8 and 17.
 # Offers: text_drawing, frame_seconds, show_drawing, svg_drawing, PlotUnavailable,
 #   matplotlib_canvas, png_drawing, DXF_LINKS, DXF_POSITIONS, dxf_module, dxf_drawing.
 
@@ -9740,7 +9845,7 @@ def dxf_drawing(drawing: Drawing, positions: int = DXF_POSITIONS) -> bytes:
     return text.getvalue().encode("utf-8")
 
 
-# ---- 18. Synthesis: what a design is, its data and its linkage -----------------------------------
+# ---- 19. Synthesis: what a design is, its data and its linkage -----------------------------------
 #
 # The classical analytical synthesis methods collected by E. Pennestrì and P. P. Valentini, "A
 # review of simple analytical methods for the kinematic synthesis of four-bar and slider-crank
@@ -10148,14 +10253,14 @@ def scaled_design(design: Design, factor: float) -> Design:
         positions=tuple((phi, x * factor) for phi, x in design.positions))
 
 
-# ---- 19. Synthesis: the review's methods ---------------------------------------------------------
+# ---- 20. Synthesis: the review's methods ---------------------------------------------------------
 #
 # Holds: the review's methods, each a function of its data returning a Synthesis: the crank-rockers
 # FOURB-CR-1..4 and Volmer's, the drag-links DRAGLINK-1 and -2, the function generators FOURB-FG2-1,
 # FOURB-FG3-1, SLID-FG2-1 and SLID-FG2-2. Corrections to the review are marked `# ERRATUM Sn` and
 # justified in data/SYNTHESIS_ERRATA.md.
 #
-# Uses: sections 2 and 18.
+# Uses: sections 2 and 19.
 # Offers: fourb_cr_1, fourb_cr_2, fourb_cr_3, fourb_cr_4, volmer_crank_rocker, draglink_1,
 #   draglink_2, limit_angles, fourb_fg2_1, fourb_fg3_1, slid_fg2_1, slid_fg2_2.
 
@@ -10896,7 +11001,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
     return _one(design)
 
 
-# ---- 20. Synthesis: designs measured and checked by the engine -----------------------------------
+# ---- 21. Synthesis: designs measured and checked by the engine -----------------------------------
 #
 # Holds: every design run through engine_outputs, the one adapter to the analysis (the accurate
 # engine, never the synthesis formulas); analyze_design measures on the analysed linkage what it
@@ -10904,7 +11009,7 @@ def slid_fg2_2(theta1: float, theta2: float, s1: float, s2: float, tolerance: fl
 # or missed, the transmission-angle extremes. METHODS, the table of the methods, and a design's
 # lines of text.
 #
-# Uses: sections 2, 8, 14, 18 and 19.
+# Uses: sections 2, 8, 15, 19 and 20.
 # Offers: engine_outputs, kind_and_dimensions, measured_transmission_angle, Measured, measure,
 #   output_change, velocity_ratio, Check, analyze_design, ANGLE_TOLERANCE, LENGTH_TOLERANCE,
 #   RATIO_TOLERANCE, conditioning, rounding_floor, misses, METHODS, ASKED_ANGLES, REVIEW_LETTERS,
@@ -11412,7 +11517,7 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
     return below + step / 2, above - step / 2, step
 
 
-# ---- 21. Scenes: a figure's data, read and checked -----------------------------------------------
+# ---- 22. Scenes: a figure's data, read and checked -----------------------------------------------
 #
 # A scene (data/scenes/*.toml) is one figure: a linkage's kind and its dimensions, the input range,
 # the branch(es), the precision and the panels. `scene` computes what the panels need, writes the
@@ -11420,10 +11525,10 @@ def whole_motion(design: Design, step: float = 5.0) -> tuple[float, float, float
 # acceleration against the input angle - as a plain-text plot (80 x 24, no dependency) or a PNG
 # (matplotlib, the `plot` extra). `plot` draws the same figure from DAT files already written.
 #
-# A scene with [simulation] is a run in time instead (section 24 runs it): its keys are read
+# A scene with [simulation] is a run in time instead (section 25 runs it): its keys are read
 # here, as [dynamics]' are, each value's shape checked where the file is read.
 #
-# Uses: sections 1, 2, 6, 7, 9, 14 and 15.
+# Uses: sections 1, 2, 6, 7, 9, 15 and 16.
 # Offers: SCENE_KEYS, REQUIRED_SCENE_KEYS, QUANTITIES, FORCE_QUANTITIES, QUANTITY_FILES,
 #   MECHANISM_PANEL, MAX_FRAMES, PRECISIONS, MAX_SCENE_POINTS, SCENE_LARGEST, AXIS_LABELS,
 #   INPUT_AXIS, DRAWN_UP_TO, DRAWN_DOWN_TO, DRAWN_CLOSEST, drawable_range, PanelSpec, Scene,
@@ -12137,9 +12242,9 @@ def _simulation_scene(path: str, data: dict[str, Any], kind_key: str) -> Scene:
                  simulation=settings)
 
 
-# ---- 22. Scenes computed: their DAT files, forces and CSV ----------------------------------------
+# ---- 23. Scenes computed: their DAT files, forces and CSV ----------------------------------------
 #
-# A scene read (section 21) computed: the DAT files its panels need, its forces along the sweep
+# A scene read (section 22) computed: the DAT files its panels need, its forces along the sweep
 # for [dynamics], and its numbers as one CSV.
 #
 # The numbers come from the two places that already make them, never from a copy of a formula:
@@ -12149,7 +12254,7 @@ def _simulation_scene(path: str, data: dict[str, Any], kind_key: str) -> Scene:
 # (sweep_points(..., derivatives=0)), and the engine's Linkage.sweep(..., derivatives=0); only
 # those files are written.
 #
-# Uses: sections 1, 2, 5, 6, 7, 9, 10, 14, 15 and 21.
+# Uses: sections 1, 2, 5, 6, 7, 9, 10, 15, 16 and 22.
 # Offers: check_assembles, Series, branch_text, compute_scene, scene_forces, forces_columns,
 #   FORCES_COLUMNS, forces_row, scene_csv, csv_forces_series.
 
@@ -12393,7 +12498,7 @@ def csv_forces_series(path: str) -> list[Series]:
     return series
 
 
-# ---- 23. Plots: a figure drawn as text or PNG ----------------------------------------------------
+# ---- 24. Plots: a figure drawn as text or PNG ----------------------------------------------------
 #
 # Holds: a figure built from DAT files (scene_figure, dat_figure: its panels and curves) and drawn
 # as a plain-text plot (80 x 24, no dependency) or a PNG (matplotlib, the `plot` extra); a mechanism
@@ -12406,7 +12511,7 @@ def csv_forces_series(path: str) -> list[Series]:
 # added so that a curve is continuous across +-180 degrees, and so that the curves of a panel lie
 # within half a turn of the first one.
 #
-# Uses: sections 1, 2, 6, 7, 9, 14, 15, 16, 17, 21 and 22.
+# Uses: sections 1, 2, 6, 7, 9, 15, 16, 17, 18, 22 and 23.
 # Offers: dat_series, Curve, Panel, Figure, PLOT_POINTS, PLOT_BINS, FORCE_LABELS, POLAR_MOMENTS,
 #   CLIPPED, build_figure, scene_figure, dat_figure, csv_figure, TEXT_WIDTH, TEXT_HEIGHT, MARKERS,
 #   OVERLAP, ANGLE_STEPS, text_figure, png_figure, force_arrows, scene_drawing, scene_text.
@@ -13164,7 +13269,7 @@ def scene_text(scene: Scene, comment: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-# ---- 24. Simulation scenes: a run written, plotted against time and drawn moving -----------------
+# ---- 25. Simulation scenes: a run written, plotted against time and drawn moving -----------------
 #
 # A scene with a [simulation] table (read by scene_simulation) is one run of simulate(): its
 # linkage and [dynamics] (bodies, gravity, the output's load, a coupler force; no speed: the motion
@@ -13184,12 +13289,12 @@ def scene_text(scene: Scene, comment: str = "") -> str:
 # The run's rows go to the CSV (SIMULATION_COLUMNS: phi and output in degrees as everywhere, or
 # the slider's x; the energy with the work done and the drift E - W - E0, the check that the
 # integrator kept to its tolerance), its events to the user in a few lines (simulation_report),
-# its quantities against time to a figure (a scene of curves: text or PNG, as section 23 draws),
+# its quantities against time to a figure (a scene of curves: text or PNG, as section 24 draws),
 # and its positions to a Drawing whose frames are the rows every 1/ANIMATION_FPS s or more
-# (a mechanism panel: the terminal, SVG and PNG of section 17), each shown for the time between
+# (a mechanism panel: the terminal, SVG and PNG of section 18), each shown for the time between
 # them: the linkage moves in real time.
 #
-# Uses: sections 1, 2, 7, 13, 14, 15, 16, 21 and 23.
+# Uses: sections 1, 2, 7, 14, 15, 16, 17, 22 and 24.
 # Offers: scene_run, SIMULATION_COLUMNS, simulation_rows, simulation_csv, EVENT_WORDS,
 #   simulation_report, SIMULATION_LABELS, simulation_figure, ANIMATION_FPS, simulation_drawing.
 
@@ -13333,7 +13438,7 @@ def simulation_drawing(scene: Scene, run: Simulation) -> Drawing:
     return drawing._replace(frames=frames, seconds=every * settings.step)
 
 
-# ---- 25. The explorer: a linkage changed and watched in the terminal -----------------------------
+# ---- 26. The explorer: a linkage changed and watched in the terminal -----------------------------
 #
 # Holds: `python3 linkage.py explore`: a full-screen view of the linkage moving, its coupler curve
 # traced, and beside it its dimensions and what analyse answers, all following each key. The
@@ -13348,7 +13453,7 @@ def simulation_drawing(scene: Scene, run: Simulation) -> Drawing:
 # A change that cannot be drawn (a length of 0, an arc of 180 degrees) is refused on the status
 # line, the state as it was.
 #
-# Uses: sections 1, 2, 6, 7, 8, 9, 14, 16, 17, 18, 21 and 23.
+# Uses: sections 1, 2, 6, 7, 8, 9, 15, 17, 18, 19, 22 and 24.
 # Offers: EXPLORE_HELP, EXPLORE_KEY_NAMES, EXPLORE_POSITIONS, EXPLORE_SPEEDS, Explorer, explorer_of,
 #   ExploreView, analysis_drawing, explore_view, explore_glance, ExploreViews, explore_steps,
 #   explore_key, explore_screen, explore_scene, terminal_keys, key_file, explore_saved,
@@ -14147,13 +14252,13 @@ def explore_terminal(state: Explorer, unicode: bool = True) -> Explorer:
     return state
 
 
-# ---- 26. Benchmarks of the program itself --------------------------------------------------------
+# ---- 27. Benchmarks of the program itself --------------------------------------------------------
 #
 # Holds: what `python3 linkage.py bench` measures, each bench a function of BENCHMARKS. What
 # accuracy costs is measured by tests/support/bench_accuracy.py, with the tests' instruments;
 # the engine beside other programs (a C loop, pylinkage) by tests/support/bench_peers.py.
 #
-# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 13, 14, 15, 16, 17, 21, 22, 23 and 25.
+# Uses: sections 1, 2, 3, 4, 5, 6, 7, 9, 10, 14, 15, 16, 17, 18, 22, 23, 24 and 26.
 # Offers: BENCH_KEYS, QUICK_KEYS, ONE_POINT_KEYS, bench_mbf, bench_scene, bench_port, bench_startup,
 #   ENGINE_TARGET, FAST_TARGETS, BENCH_LINKAGES, bench_engine, bench_coupler, FORCES_ARRAYS_TARGET,
 #   bench_forces, FILES_TARGET, bench_files, ACCURACY_POINTS, ACCURACY_SWEEP, ACCURACY_RUNGS, Rung,
@@ -14997,14 +15102,14 @@ def machine() -> str:
             f"{platform.python_implementation()} {platform.python_version()}{load}")
 
 
-# ---- 27. The speed table: every bench run, the README's figures beside the load ------------------
+# ---- 28. The speed table: every bench run, the README's figures beside the load ------------------
 #
 # Holds: `bench all` (run_benchmarks): every bench of BENCHMARKS run, each one's log, then the
 # README's speed table (data/BENCHMARKS.md, "Summary") from their figures, a row of SPEED_TABLE
 # each, with the load average before and after its bench; the rows the tests' scripts measure
 # (a C loop, pylinkage, mpmath) name their command.
 #
-# Uses: section 26.
+# Uses: section 27.
 # Offers: PEERS_COMMAND, ACCURACY_COMMAND, SPEED_TABLE, run_benchmarks.
 
 
@@ -15078,7 +15183,7 @@ def _load_average() -> str:
     return f"{os.getloadavg()[0]:.1f}" if hasattr(os, "getloadavg") else "?"
 
 
-# ---- 28. Commands run, analyse and forces: their typed values and handlers -----------------------
+# ---- 29. Commands run, analyse and forces: their typed values and handlers -----------------------
 #
 # Holds: the parsers of what is typed (numbers in each precision, kinds); what every command is
 # given (its one typed value, made of the parsed options once its "goes with" rules hold: Rule,
@@ -15086,7 +15191,7 @@ def _load_average() -> str:
 # command shares; then run, analyse and forces, each its typed value, the function that makes it
 # (run_options, ...) and its handler (run_command, ...), and the drawing every command shares.
 #
-# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 12, 14, 15, 16, 17, 21, 22, 23 and 25.
+# Uses: sections 1, 2, 4, 5, 6, 7, 8, 9, 10, 13, 15, 16, 17, 18, 22, 23, 24 and 26.
 # Offers: LONGEST_NUMBER, decimal_number, basic_answer, kind_named, UsageError, CommandError, Rule,
 #   goes_with, broken_rule, Pictures, pictures_typed, unwritten, reported, printed,
 #   dimensions_typed, typed_value, check_outputs, MADE_FOLDERS, output_folder, unmake_folders,
@@ -15732,12 +15837,12 @@ def drawing_command(args: Pictures, make_drawing: Callable[[], Drawing]) -> int:
     return reported(draw)
 
 
-# ---- 29. Commands scene, plot, design, listing, explore and bench --------------------------------
+# ---- 30. Commands scene, plot, design, listing, explore and bench --------------------------------
 #
 # Holds: the other commands, each as the last section's: its typed value, the function that makes
 # it, its handler.
 #
-# Uses: sections 1, 2, 6, 8, 13, 14, 15, 16, 17, 18, 20, 21, 22, 23, 24, 25, 26, 27 and 28.
+# Uses: sections 1, 2, 6, 8, 14, 15, 16, 17, 18, 19, 21, 22, 23, 24, 25, 26, 27, 28 and 29.
 # Offers: SceneOptions, scene_options, scene_command, PlotOptions, plot_options, plot_command,
 #   design_scene, DesignOptions, design_options, design_command, ERRATUM, KEPT_BUG, SCAN_LINE,
 #   scan_lines, erratum_reason, kept_bug_lines, annotated_listing, ListingOptions, listing_command,
@@ -16318,14 +16423,14 @@ def bench_command(args: BenchOptions) -> int:
     return 0
 
 
-# ---- 30. The command line: argparse from the table of commands -----------------------------------
+# ---- 31. The command line: argparse from the table of commands -----------------------------------
 #
 # Holds: the command line's words parsed (argparse): the parsers of what is typed in an option
 # (a number of a design's data, a kind, PNG sizes), the commands' help, and COMMANDS, the table of
 # every sub-command: its help, its options, its "goes with" rules and the functions that make its
-# typed value and do its work (sections 28 and 29); build_parser turns it into argparse; main() last.
+# typed value and do its work (sections 29 and 30); build_parser turns it into argparse; main() last.
 #
-# Uses: sections 1, 2, 5, 6, 15, 17, 18, 20, 25, 26, 28 and 29.
+# Uses: sections 1, 2, 5, 6, 16, 18, 19, 21, 26, 27, 29 and 30.
 # Offers: ANGLES_HELP, METHOD_HELP, DESIGN_OUTPUT_HELP, datum_help, HIDDEN, Option, option, Command,
 #   DIMENSION_HELP, KINDS_HELP, DIMENSIONS_HELP, DATUM_FLAGS, DXF_HELP, PNG_OPTIONS, COMMANDS,
 #   command_parser, add_options, build_parser, main.

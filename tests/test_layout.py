@@ -179,7 +179,7 @@ def test_the_files_and_messages_use_nothing_and_the_modern_program_never_the_ori
     assert files == 1 and used.get(files, {}) == {} and len(original) == 3
     modern = _section_numbers("The accurate engine", "What the engine derives", "The numpy path",
                               "The linkage", "DAT and CSV", "The mechanism", "Synthesis")
-    assert len(modern) == 12          # the numpy path in two rooms: sweeps, and forces
+    assert len(modern) == 13          # the numpy path in three rooms: sweeps, the recipe, forces
     for number in modern:
         assert not set(original) & set(used.get(number, {})), (number, used[number])
 
