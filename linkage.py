@@ -6353,61 +6353,20 @@ class ForcesArrays(NamedTuple):
 # turn^2 sin psi (B'' = d (-BX e1 + Bm m), its axes' second derivatives likewise). A sum of arrays'
 # constant multiples is a _Form, like terms gathered, made into operations once whole.
 
-_Form: TypeAlias = "dict[str, float]"     # each named array's multiple; "1" the constant
-_Forms: TypeAlias = "tuple[_Form, _Form, _Form]"
+def _term_of(x: Any) -> Any:
+    """A _Sum's term (see _Sum.term), or x itself (a term or a number)."""
+    return x.term() if isinstance(x, _Sum) else x
 
 
-def _form_sum(*pairs: tuple[float, _Form]) -> _Form:
-    """The sum of (coefficient, form) terms, each array's multiples gathered into one."""
-    out: _Form = {}
-    for k, form in pairs:
-        for name, x in form.items():
-            out[name] = out.get(name, 0.0) + k * x
-    return {name: x for name, x in out.items() if x}
-
-
-def _forms_sum(*pairs: tuple[float, _Forms]) -> _Forms:
-    """The sum of (coefficient, vector of forms) terms, componentwise."""
-    x, y, z = (_form_sum(*((k, v[i]) for k, v in pairs)) for i in range(3))
-    return x, y, z
-
-
-def _arrays_along(*pairs: tuple[str, Vec3]) -> _Forms:
-    """The sum of (array's name, fixed vector) products: each array times its vector."""
-    x, y, z = (_form_sum(*((v[i], {name: 1.0}) for name, v in pairs)) for i in range(3))
-    return x, y, z
-
-
-def _cross_fixed(u: _Forms, v: Vec3) -> _Forms:
-    """u x v, v a fixed vector."""
-    return (_form_sum((v[2], u[1]), (-v[1], u[2])), _form_sum((v[0], u[2]), (-v[2], u[0])),
-            _form_sum((v[1], u[0]), (-v[0], u[1])))
-
-
-def _dot_fixed(u: _Forms, v: Vec3) -> _Form:
-    """u . v, v a fixed vector."""
-    return _form_sum((v[0], u[0]), (v[1], u[1]), (v[2], u[2]))
-
-
-def _plus(x: Any, form: _Form, named: dict[str, Any]) -> Any:
-    """x + form, on the recipe's terms (x a term or a number)."""
-    for name, k in form.items():
-        x = x + (k if name == "1" else named[name] * k)
-    return x
-
-
-def _times_plus(named: dict[str, Any], name: str, y: Any, sign: float, form: _Form) -> Any:
-    """form + sign named[name] y, the form's own multiple of that array taken into the factor:
-    one product, not two (and k - y rather than -(y - k))."""
-    k = form.get(name, 0.0)
-    product = named[name] * (y + k if sign > 0 else k - y)
-    return _plus(product, {n: x for n, x in form.items() if n != name}, named)
-
-
-def _in_frame(v: _Forms, axes: tuple[Vec3, Vec3, Vec3]) -> _Forms:
-    """A vector given by its components along `axes`, in the frame's."""
-    x, y, z = (_form_sum(*((axes[j][i], v[j]) for j in range(3))) for i in range(3))
-    return x, y, z
+def _times_plus(x: Term, y: Any, sign: float, z: Any) -> Any:
+    """z + sign x y (z a _Sum or a number), z's own multiple of x taken into the factor: one
+    product, not two (and k - y rather than -(y - k))."""
+    if not isinstance(z, _Sum):
+        z = _Sum(x.recipe, {}, (float(z), abs(z)))
+    k = z.parts.get(x, (0.0, 0.0))[0]
+    product = x * (y + k if sign > 0 else k - y)
+    return product + _Sum(x.recipe, {t: km for t, km in z.parts.items() if t is not x},
+                          z.constant).term()
 
 
 def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
@@ -6429,19 +6388,25 @@ def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
         scale, s2, rate = w * w, q1 * q1, q2 + q1 * (al / (w * w))
     else:
         scale, s2, rate = al, 0.0, q1
-    named = {"C": c, "S": s, "rate": rate}
-    hat_c = _arrays_along(("C", _EX), ("S", _EY))                          # (cos phi, sin phi, 0)
-    hat_s = _forms_sum((1.0, _arrays_along(("C", _EY))), (-1.0, _arrays_along(("S", _EX))))
-    fixed_g, fixed_z = _arrays_along(("1", g)), _arrays_along(("1", _EZ))
-    a2 = _forms_sum((-b * w * w, hat_c), (b * al, hat_s))                      # A''
+
+    def known(t: Term) -> _Sum:
+        return _Sum(recipe, {t: (1.0, 1.0)})
+
+    def in_frame(v: Vec3, axes: tuple[Vec3, Vec3, Vec3]) -> Vec3:
+        """A vector given by its components along `axes`, in the frame's."""
+        return weighted_sum(*zip(v, axes))
+
+    cs, ss, rates = known(c), known(s), known(rate)
+    hat_c, hat_s = (cs, ss, 0.0), (ss * -1.0, cs, 0.0)                    # (cos phi, sin phi, 0)
+    a2 = weighted_sum((-b * w * w, hat_c), (b * al, hat_s))                   # A''
     # the crank: x = sb hat_c, y = sb hat_s; its wrench about A0 (the rate of its momenta less gravity's moment)
     rx, ry, rz = rho0
     p, q, r = i0[0][2] - m0 * rx * rz, i0[1][2] - m0 * ry * rz, i0[2][2] + m0 * (rx * rx + ry * ry)
-    n0 = _forms_sum((m0 * sb * (-w * w * rx - al * ry), hat_c),
-                    (m0 * sb * (al * rx - w * w * ry), hat_s), (-m0, fixed_g))
-    t0 = _forms_sum((sb * (al * p - w * w * q), hat_c), (sb * (al * q + w * w * p), hat_s),
-                    (al * r, fixed_z), (-m0, _cross_fixed(_forms_sum(
-                        (sb * rx, hat_c), (sb * ry, hat_s), (rz, fixed_z)), g)))
+    n0 = weighted_sum((m0 * sb * (-w * w * rx - al * ry), hat_c),
+                      (m0 * sb * (al * rx - w * w * ry), hat_s), (-m0, g))
+    t0 = weighted_sum((sb * (al * p - w * w * q), hat_c), (sb * (al * q + w * w * p), hat_s),
+                      (al * r, _EZ), (-m0, cross(weighted_sum(
+                          (sb * rx, hat_c), (sb * ry, hat_s), (rz, _EZ)), g)))
     # the coupler: its centre at A + lam e + nu z x e (nu: the plane kinds'), its wrench about A
     # is e x W, W = w_a A'' + w_b P'' + w_r z x A'' + w0, P the output's pin
     lam, nu = rho1[0] / length, rho1[1] / length
@@ -6457,80 +6422,71 @@ def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
     # along v), so that mu = c_g + ratio, ratio = (the rest) / (v . e)
     if slider:
         (x,), guide = output, setup.axes["guide"][1]
-        named["x"], gg = x, dot(guide, guide)
+        xs, gg = known(x), dot(guide, guide)
         start = PINS[kind].output_pin(dims, None, None, 0.0)[0]              # C at x = 0
-        pin = _forms_sum((1.0, _arrays_along(("1", start))), (1.0, _arrays_along(("x", guide))))
-        p2 = _arrays_along(("rate", weighted_sum((scale, guide))))
-        n2 = _forms_sum((m2, p2), (-m2, fixed_g), (-setup.output_force, _arrays_along(
-            ("1", guide))))
+        pin = weighted_sum((1.0, start), (xs, guide))
+        p2 = weighted_sum((rates * scale, guide))
+        n2 = weighted_sum((m2, p2), (-m2, g), (-setup.output_force, guide))
         across = _EY if kind == PLANE_SLIDER_CRANK else _EX
         centre = weighted_sum(*zip(rho2, (guide, across, cross(guide, across))))
-        t2 = _cross_fixed(_forms_sum((m2, p2), (-m2, fixed_g)), weighted_sum((-1.0, centre)))
-        divisor = _plus(0.0, _form_sum((1.0, {"x": gg, "1": dot(guide, start)}), (
-            -b, _dot_fixed(hat_c, guide))), named)                             # g . e
-        top = _form_sum((1.0, _dot_fixed(n2, guide)), (b * (w_a * al - w_r * w * w), _dot_fixed(
-            hat_s, guide)), (1.0, {"rate": w_b * scale * gg, "x": -c_g * gg,
-                                   "1": dot(guide, w0) - c_g * dot(guide, start)}))
+        t2 = cross(weighted_sum((m2, p2), (-m2, g)), weighted_sum((-1.0, centre)))
+        divisor = _term_of(xs * gg + dot(guide, start) - dot(hat_c, guide) * b)    # g . e
+        top = (dot(n2, guide) + dot(hat_s, guide) * (b * (w_a * al - w_r * w * w))
+               + rates * (w_b * scale * gg) + xs * (-c_g * gg)
+               + (dot(guide, w0) - c_g * dot(guide, start)))
         size = length
     else:
-        cq, sq, _ = output
         d, sd = dims["d"], math.copysign(1.0, dims["d"])
         e1, k, b0 = _EX, setup.axes["output"][1], setup.ground["B0"]
         m = (0.0, dims["cos ksi"], dims["sin ksi"]) if "ksi" in dims else _EY   # the plane's
         plane_axes = (e1, m, k)         # the output's axes: its vectors' components along them
-        named.update({"cq": cq, "sq": sq, "BX": s2 * cq + rate * sq, "Bm": rate * cq - s2 * sq})
-        u = _arrays_along(("cq", _EX), ("sq", _EY))                        # along e1, m, k
-        v = _forms_sum((1.0, _arrays_along(("cq", _EY))), (-1.0, _arrays_along(("sq", _EX))))
-        u2 = _forms_sum((1.0, _arrays_along(("Bm", _EY))), (-1.0, _arrays_along(("BX", _EX))))
-        v2 = _forms_sum((-1.0, _arrays_along(("Bm", _EX), ("BX", _EY))))     # u'', v'' / scale
-        pin = _forms_sum((1.0, _arrays_along(("1", b0))), (d, _in_frame(u, plane_axes)))   # B
-        p2 = _in_frame(_forms_sum((d * scale, u2)), plane_axes)                 # B''
+        cq, sq = output[:2]
+        cqs, sqs = known(cq), known(sq)
+        bx, bm = known(s2 * cq + rate * sq), known(rate * cq - s2 * sq)
+        u, v = (cqs, sqs, 0.0), (sqs * -1.0, cqs, 0.0)                      # along e1, m, k
+        u2, v2 = (bx * -1.0, bm, 0.0), (bm * -1.0, bx * -1.0, 0.0)           # u'', v'' / scale
+        pin = weighted_sum((1.0, b0), (d, in_frame(u, plane_axes)))                     # B
+        p2 = in_frame(weighted_sum((d * scale, u2)), plane_axes)                       # B''
         rx, ry, rz = rho2               # x = sd u, y = sd v, z = k; about B0, along e1, m, k
         p, q, r = (i2[0][2] - m2 * rx * rz, i2[1][2] - m2 * ry * rz,
                    i2[2][2] + m2 * (rx * rx + ry * ry))
-        n2 = _forms_sum((1.0, _in_frame(_forms_sum((m2 * sd * scale * rx, u2), (
-            m2 * sd * scale * ry, v2)), plane_axes)), (-m2, fixed_g))
-        t2 = _forms_sum((-sd * scale * p, v2), (sd * scale * q, u2), (scale * r, _arrays_along(
-            ("rate", _EZ))), (-m2, _cross_fixed(_forms_sum((sd * rx, u), (sd * ry, v), (
-                rz, fixed_z)), (dot(g, e1), dot(g, m), dot(g, k)))),
-            (-setup.output_torque, fixed_z))
-        named["H"] = cq * _plus(0.0, _dot_fixed(hat_s, m), named) - sq * _plus(
-            0.0, _dot_fixed(hat_s, e1), named)                                 # v . hat_s
-        divisor = cq * _plus(0.0, _form_sum((1.0, _dot_fixed(hat_c, m)), (-1.0 / b, {"1": dot(
-            m, b0)})), named) - sq * _plus(0.0, _form_sum((1.0, _dot_fixed(hat_c, e1)), (
-                -1.0 / b, {"1": dot(e1, b0)})), named)                         # v . e / -b
-        top = _form_sum((-1.0 / (b * d), t2[2]), (-1.0 / b, {
-            "H": b * (w_a * al - w_r * w * w), "rate": w_b * d * scale,
-            "cq": dot(m, w0) - c_g * dot(m, b0), "sq": c_g * dot(e1, b0) - dot(e1, w0)}))
+        n2 = weighted_sum((1.0, in_frame(weighted_sum((m2 * sd * scale * rx, u2), (
+            m2 * sd * scale * ry, v2)), plane_axes)), (-m2, g))
+        t2 = weighted_sum((-sd * scale * p, v2), (sd * scale * q, u2), (scale * r, (
+            0.0, 0.0, rates)), (-m2, cross(weighted_sum((sd * rx, u), (sd * ry, v), (
+                rz, _EZ)), (dot(g, e1), dot(g, m), dot(g, k)))), (-setup.output_torque, _EZ))
+        h = known(cq * _term_of(dot(hat_s, m)) - sq * _term_of(dot(hat_s, e1)))   # v . hat_s
+        divisor = cq * _term_of(dot(hat_c, m) - dot(m, b0) / b) - sq * _term_of(
+            dot(hat_c, e1) - dot(e1, b0) / b)                                 # v . e / -b
+        top = t2[2] * (-1.0 / (b * d)) + (
+            h * (b * (w_a * al - w_r * w * w)) + rates * (w_b * d * scale)
+            + cqs * (dot(m, w0) - c_g * dot(m, b0)) + sqs * (c_g * dot(e1, b0) - dot(e1, w0))
+        ) * (-1.0 / b)
         size = length / abs(b)
-    ratio = _plus(0.0, top, named) / divisor
+    ratio = _term_of(top) / divisor
     mu = ratio + c_g
     # R_B = mu e - W = mu P - b ratio hat_c - (W's other terms)
-    rest = _forms_sum((b * (w_a * al - w_r * w * w), hat_s), (w_b, p2), (1.0, _arrays_along(
-        ("1", w0))))
-    n1 = _forms_sum((m1 * (1.0 - lam), a2), (m1 * lam, p2), (-nu * m1, _cross_fixed(_forms_sum(
-        (1.0, p2), (-1.0, a2)), _EZ)), (-m1, fixed_g), (-1.0, _arrays_along(
-            ("1", setup.coupler_force))))                                       # z x (P'' - A'')
-    where = [_plus(0.0, pin[i], named) for i in range(3)]
+    rest = weighted_sum((b * (w_a * al - w_r * w * w), hat_s), (w_b, p2), (1.0, w0))
+    n1 = weighted_sum((m1 * (1.0 - lam), a2), (m1 * lam, p2), (-nu * m1, cross(weighted_sum(
+        (1.0, p2), (-1.0, a2)), _EZ)), (-m1, g), (-1.0, setup.coupler_force))   # z x (P'' - A'')
+    where = [_term_of(pin[i]) for i in range(3)]
     big = ratio * b
-    r_b = [_plus(mu * where[i] - big * _plus(0.0, hat_c[i], named),
-                 _form_sum((-1.0, rest[i])), named) for i in range(3)]
-    r_a = [_plus(r_b[i], n1[i], named) for i in range(3)]
-    r_a0 = [_plus(r_a[i], n0[i], named) for i in range(3)]
-    r_g = [_plus(0.0, n2[i], named) - r_b[i] for i in range(3)]
+    r_b = [mu * where[i] - big * _term_of(hat_c[i]) - _term_of(rest[i]) for i in range(3)]
+    r_a = [r_b[i] + _term_of(n1[i]) for i in range(3)]
+    r_a0 = [r_a[i] + _term_of(n0[i]) for i in range(3)]
+    r_g = [_term_of(n2[i]) - r_b[i] for i in range(3)]
     if slider:                          # the guide's moment at C: the slider's about C; its
-        m_g = cast(Vec3, tuple(_plus(0.0, t2[i], named) for i in range(3)))    # force along
+        m_g = cast(Vec3, tuple(_term_of(t2[i]) for i in range(3)))            # force along
         centred = cast(Vec3, tuple(where))                                     # it: 0
         r_g = [0.0 if abs(guide[i]) == 1.0 else r_g[i] for i in range(3)]
     else:                               # B0's: t2 - d u x R_B, along e1 and m (along k: 0)
         along = sum((r_b[i] * (d * k[i]) for i in range(3) if k[i]), 0.0)      # d k . R_B
-        m_g = weighted_sum((_times_plus(named, "sq", along, -1.0, t2[0]), e1),
-                           (_times_plus(named, "cq", along, 1.0, t2[1]), m))
+        m_g = weighted_sum((_times_plus(sq, along, -1.0, t2[0]), e1),
+                           (_times_plus(cq, along, 1.0, t2[1]), m))
         centred = b0
     arm = r_a[2] * b                                                          # A x R_A
-    torque = _plus((c * r_a[1] - s * r_a[0]) * b, t0[2], named)
-    m_a0 = (_times_plus(named, "S", arm, 1.0, t0[0]), _times_plus(named, "C", arm, -1.0, t0[1]),
-            0.0)
+    torque = (c * r_a[1] - s * r_a[0]) * b + _term_of(t0[2])
+    m_a0 = (_times_plus(s, arm, 1.0, t0[0]), _times_plus(c, arm, -1.0, t0[1]), 0.0)
     v_a0 = (m_a0[0], m_a0[1], torque)
     crossed = cross(cast(Vec3, tuple(r_g)), centred)
     shaking_force = cast(Vec3, tuple((0.0 - r_a0[i]) - r_g[i] for i in range(3)))  # 0, not -0
