@@ -6269,21 +6269,21 @@ def run_plan(plan: Plan, registers: list[Any]) -> None:
 #   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
 # What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
 #   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.2 to 1.4
-#   ms, a later call skips it); each position takes 45 (slider), 65 (plane), 74 (skew slider-
-#   crank), 101 (skew) and 126 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
+#   ms, a later call skips it); each position takes 44 (slider), 65 (plane), 74 (skew slider-
+#   crank), 100 (skew) and 126 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
 #   element here (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the
 #   answer's constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate
 #   of 0.49 to 0.53 of sweep_arrays' for the skew four-bar, 0.59 to 0.62 for the skew slider-
 #   crank, 0.55 to 0.61 for the plane kinds and 0.47 to 0.50 for the spherical, under a load of
 #   1.7 to 5 on 2 cores (data/BENCHMARKS.md, 2026-11-28, round three, each kind's branch alone).
 #   Where the operations go: the skew four-bar's output's rates 7, its elimination 14, the pins'
-#   forces and the shaking force 43, B0's moment 9, A0's and the torque 9, the shaking moment
+#   forces and the shaking force 42, B0's moment 9, A0's and the torque 9, the shaking moment
 #   11, near's check 8; the spherical's coupler's spin and rate 21, the divisor 6, the bodies'
 #   moments 7 (and 7 products the output and the shaking force share), the elimination 45, the
 #   answer's rows 31, near's check 8, a copy 1. Tried and given up: constant factors carried
 #   through products to the sums (k u + m v pays one back, and so does each answer), signs
 #   carried (-1 to +2 a kind), like terms gathered across nested sums by the recipe (-2 to +1:
-#   _Forms and _Sums gather them where written), blocks of 4,096 to 65,536 (16,384 the fastest).
+#   _Sum gathers them where written), blocks of 4,096 to 65,536 (16,384 the fastest).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
@@ -6335,6 +6335,112 @@ class ForcesArrays(NamedTuple):
         return out
 
 
+# -- sums of known arrays --------------------------------------------------------------------------
+#
+# Every kind's formulas are written on numbers of the recipe, each a sum of known arrays (the
+# sweep's cosines and sines, the output's rates and products of them) times constants, plus a
+# constant: _Sum gathers like terms and folds the constants while tracing, and makes a sum one
+# term (one array) only where it is needed whole (_Sum.term) or where a product needs it
+# (_Sum.gathered, at the size that spares the next sum a multiplication).
+
+class _Sum:
+    """A number of the recipe: its terms times constants, plus a constant, like terms gathered
+    while tracing. Each coefficient keeps the size of what made it up (the sum of its parts'
+    sizes): one that rounding alone left (under 16 epsilons of that, as I22 - I11 - I00 of an arc)
+    is 0."""
+    __slots__ = ("recipe", "parts", "constant", "atoms")
+
+    def __init__(self, recipe: Recipe, parts: dict[Term, tuple[float, float]],
+                 constant: tuple[float, float] = (0.0, 0.0)) -> None:
+        self.recipe = recipe            # (an inf or a NaN is kept: it reaches near's check)
+        self.atoms: dict[float | None, _Sum] = {}
+        self.parts = {t: km for t, km in parts.items() if not abs(km[0]) <= 3.6e-15 * km[1]
+                      < math.inf}
+        self.constant = (0.0, 0.0) if abs(constant[0]) <= 3.6e-15 * constant[1] < math.inf \
+            else constant
+
+    def __add__(self, other: Any) -> _Sum:
+        if not isinstance(other, _Sum):
+            if other == 0.0:
+                return self
+            other = _Sum(self.recipe, {}, (float(other), abs(other)))
+        parts = dict(self.parts)
+        for t, (k, m) in other.parts.items():
+            parts[t] = (parts.get(t, (0.0, 0.0))[0] + k, parts.get(t, (0.0, 0.0))[1] + m)
+        return _Sum(self.recipe, parts, (self.constant[0] + other.constant[0],
+                                         self.constant[1] + other.constant[1]))
+
+    __radd__ = __add__
+
+    def __sub__(self, other: Any) -> _Sum:
+        return self + other * -1.0
+
+    def __rsub__(self, other: Any) -> _Sum:
+        return self * -1.0 + other
+
+    def __mul__(self, other: Any) -> _Sum:
+        if not isinstance(other, _Sum):
+            f = float(other)
+            if f == 1.0 or not f:
+                return self if f else _Sum(self.recipe, {})
+            return _Sum(self.recipe, {t: (k * f, m * abs(f)) for t, (k, m) in self.parts.items()},
+                        (self.constant[0] * f, self.constant[1] * abs(f)))
+        x, y = (self.gathered(), other.gathered()) if len(self.parts) > 1 < len(other.parts) \
+            else (self, other)                  # two sums each one term, lest they multiply out
+        (xc, xm), (yc, ym) = x.constant, y.constant
+        product = _Sum(self.recipe, {t: (k * yc, m * ym) for t, (k, m) in x.parts.items()},
+                       (xc * yc, xm * ym)) + _Sum(self.recipe, {
+                           u: (j * xc, n * xm) for u, (j, n) in y.parts.items()})
+        for t, (k, m) in x.parts.items():
+            product = product + _Sum(self.recipe, {self.recipe.multiply(t, u): (k * j, m * n)
+                                                   for u, (j, n) in y.parts.items()})
+        return product
+
+    __rmul__ = __mul__
+
+    def gathered(self, scale: float | None = None) -> _Sum:
+        """self as one term times `scale` (None: its first largest coefficient, so that a sum
+        recurring is the same term)."""
+        if not self.parts or (scale is None and len(self.parts) == 1 and not self.constant[0]):
+            return self
+        if scale not in self.atoms:
+            ks = [k for _, (k, _) in sorted(self.parts.items(), key=lambda p: p[0].index)]
+            big = max(map(abs, ks))                     # the first of the largest
+            k = scale or next((k for k in ks if abs(k) >= big * (1 - 4e-16)), ks[0])
+            inner = _Sum(self.recipe, {t: (j / k, m / abs(k)) for t, (j, m) in self.parts.items()},
+                         (self.constant[0] / k, self.constant[1] / abs(k))).term()
+            self.atoms[scale] = _Sum(self.recipe, {inner: (k, abs(k))}) if type(inner) is Term \
+                else _Sum(self.recipe, {}, (inner * k, abs(inner * k)))
+        return self.atoms[scale]
+
+    def size(self) -> float:
+        """Its one term's coefficient (1 where it has none, or more than one)."""
+        return next(iter(self.parts.values()))[0] if len(self.parts) == 1 else 1.0
+
+    def term(self) -> Any:
+        """The recipe's term (or a float) for the sum: the terms whose coefficients are of one
+        size summed first (in the order made, the same sum wherever it recurs; where the size
+        is 1, a - b rather than -(b - a)), then times it."""
+        groups: dict[float, list[tuple[Term, float]]] = {}
+        for t, (k, _) in sorted(self.parts.items(), key=lambda p: p[0].index):
+            size = next((j for j in groups if abs(abs(k) / j - 1.0) < 1e-15), abs(k))
+            groups.setdefault(1.0 if abs(size - 1.0) < 1e-15 else size, []).append((t, k))
+        total: Any = 0.0
+        for size, ts in groups.items():
+            if size == 1.0:
+                ts.sort(key=lambda p: p[1] < 0.0)
+            sign, part = math.copysign(1.0, ts[0][1]), 0.0
+            for t, k in ts:
+                part = part + t * (sign * math.copysign(1.0, k))
+            total = total + part * (sign * size)
+        return total + self.constant[0] if type(total) is Term else self.constant[0]
+
+
+def _term_of(x: Any) -> Any:
+    """A _Sum's term (see _Sum.term), or x itself (a term or a number)."""
+    return x.term() if isinstance(x, _Sum) else x
+
+
 # -- the plane and skew kinds in closed form -------------------------------------------------------
 #
 # Their wrenches are written out rather than built from their bodies' frames: the crank turns about
@@ -6351,12 +6457,7 @@ class ForcesArrays(NamedTuple):
 # x, m = (0, cos ksi, sin ksi) and k (ksi = 0 in the plane), u = cos psi e1 + sin psi m; its rates
 # turn^2 and turn' enter only as BX = turn^2 cos psi + turn' sin psi and Bm = turn' cos psi -
 # turn^2 sin psi (B'' = d (-BX e1 + Bm m), its axes' second derivatives likewise). A sum of arrays'
-# constant multiples is a _Form, like terms gathered, made into operations once whole.
-
-def _term_of(x: Any) -> Any:
-    """A _Sum's term (see _Sum.term), or x itself (a term or a number)."""
-    return x.term() if isinstance(x, _Sum) else x
-
+# constant multiples is a _Sum, like terms gathered, made into operations once whole (_term_of).
 
 def _times_plus(x: Term, y: Any, sign: float, z: Any) -> Any:
     """z + sign x y (z a _Sum or a number), z's own multiple of x taken into the factor: one
@@ -6503,8 +6604,8 @@ def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
 #
 # Every body of the spherical four-bar turns about O, and only moments about O enter, so its
 # formulas are written here as scalars, each a sum of known arrays (the sweep's cosines and sines,
-# psi', psi'' and products of them) times constants: _Sum gathers like terms and folds the
-# constants while tracing, and makes a sum one term (one array) only where a product needs it,
+# psi', psi'' and products of them) times constants, a _Sum (above): like terms gathered and the
+# constants folded while tracing, a sum made one term (one array) only where a product needs it,
 # at the size that spares the next sum a multiplication. A body's moment about O is I spin' +
 # spin x I spin in its own axes, I its inertia about O (constant there), less gravity's moment
 # and the loads'. The crank's and the output's spins are their speeds about their axes; the
@@ -6520,99 +6621,6 @@ def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
 # -(M_A0 + torque z + M_B0) = -(T_0 + T_1 + T_2), its force the bodies' m (g - a_G) and the loads.
 # 126 operations (282 before; where they go: data/BENCHMARKS.md, round three): what the notes
 # above gave up for the other kinds (factors carried, like terms gathered) pays here.
-
-class _Sum:
-    """A number of the recipe: its terms times constants, plus a constant, like terms gathered
-    while tracing. Each coefficient keeps the size of what made it up (the sum of its parts'
-    sizes): one that rounding alone left (under 16 epsilons of that, as I22 - I11 - I00 of an arc)
-    is 0."""
-    __slots__ = ("recipe", "parts", "constant", "atoms")
-
-    def __init__(self, recipe: Recipe, parts: dict[Term, tuple[float, float]],
-                 constant: tuple[float, float] = (0.0, 0.0)) -> None:
-        self.recipe = recipe            # (an inf or a NaN is kept: it reaches near's check)
-        self.atoms: dict[float | None, _Sum] = {}
-        self.parts = {t: km for t, km in parts.items() if not abs(km[0]) <= 3.6e-15 * km[1]
-                      < math.inf}
-        self.constant = (0.0, 0.0) if abs(constant[0]) <= 3.6e-15 * constant[1] < math.inf \
-            else constant
-
-    def __add__(self, other: Any) -> _Sum:
-        if not isinstance(other, _Sum):
-            if other == 0.0:
-                return self
-            other = _Sum(self.recipe, {}, (float(other), abs(other)))
-        parts = dict(self.parts)
-        for t, (k, m) in other.parts.items():
-            parts[t] = (parts.get(t, (0.0, 0.0))[0] + k, parts.get(t, (0.0, 0.0))[1] + m)
-        return _Sum(self.recipe, parts, (self.constant[0] + other.constant[0],
-                                         self.constant[1] + other.constant[1]))
-
-    __radd__ = __add__
-
-    def __sub__(self, other: Any) -> _Sum:
-        return self + other * -1.0
-
-    def __rsub__(self, other: Any) -> _Sum:
-        return self * -1.0 + other
-
-    def __mul__(self, other: Any) -> _Sum:
-        if not isinstance(other, _Sum):
-            f = float(other)
-            if f == 1.0 or not f:
-                return self if f else _Sum(self.recipe, {})
-            return _Sum(self.recipe, {t: (k * f, m * abs(f)) for t, (k, m) in self.parts.items()},
-                        (self.constant[0] * f, self.constant[1] * abs(f)))
-        x, y = (self.gathered(), other.gathered()) if len(self.parts) > 1 < len(other.parts) \
-            else (self, other)                  # two sums each one term, lest they multiply out
-        (xc, xm), (yc, ym) = x.constant, y.constant
-        product = _Sum(self.recipe, {t: (k * yc, m * ym) for t, (k, m) in x.parts.items()},
-                       (xc * yc, xm * ym)) + _Sum(self.recipe, {
-                           u: (j * xc, n * xm) for u, (j, n) in y.parts.items()})
-        for t, (k, m) in x.parts.items():
-            product = product + _Sum(self.recipe, {self.recipe.multiply(t, u): (k * j, m * n)
-                                                   for u, (j, n) in y.parts.items()})
-        return product
-
-    __rmul__ = __mul__
-
-    def gathered(self, scale: float | None = None) -> _Sum:
-        """self as one term times `scale` (None: its first largest coefficient, so that a sum
-        recurring is the same term)."""
-        if not self.parts or (scale is None and len(self.parts) == 1 and not self.constant[0]):
-            return self
-        if scale not in self.atoms:
-            ks = [k for _, (k, _) in sorted(self.parts.items(), key=lambda p: p[0].index)]
-            big = max(map(abs, ks))                     # the first of the largest
-            k = scale or next((k for k in ks if abs(k) >= big * (1 - 4e-16)), ks[0])
-            inner = _Sum(self.recipe, {t: (j / k, m / abs(k)) for t, (j, m) in self.parts.items()},
-                         (self.constant[0] / k, self.constant[1] / abs(k))).term()
-            self.atoms[scale] = _Sum(self.recipe, {inner: (k, abs(k))}) if type(inner) is Term \
-                else _Sum(self.recipe, {}, (inner * k, abs(inner * k)))
-        return self.atoms[scale]
-
-    def size(self) -> float:
-        """Its one term's coefficient (1 where it has none, or more than one)."""
-        return next(iter(self.parts.values()))[0] if len(self.parts) == 1 else 1.0
-
-    def term(self) -> Any:
-        """The recipe's term (or a float) for the sum: the terms whose coefficients are of one
-        size summed first (in the order made, the same sum wherever it recurs; where the size
-        is 1, a - b rather than -(b - a)), then times it."""
-        groups: dict[float, list[tuple[Term, float]]] = {}
-        for t, (k, _) in sorted(self.parts.items(), key=lambda p: p[0].index):
-            size = next((j for j in groups if abs(abs(k) / j - 1.0) < 1e-15), abs(k))
-            groups.setdefault(1.0 if abs(size - 1.0) < 1e-15 else size, []).append((t, k))
-        total: Any = 0.0
-        for size, ts in groups.items():
-            if size == 1.0:
-                ts.sort(key=lambda p: p[1] < 0.0)
-            sign, part = math.copysign(1.0, ts[0][1]), 0.0
-            for t, k in ts:
-                part = part + t * (sign * math.copysign(1.0, k))
-            total = total + part * (sign * size)
-        return total + self.constant[0] if type(total) is Term else self.constant[0]
-
 
 def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], q1: Any,
                       q2: Any) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3,
@@ -6725,8 +6733,7 @@ def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ..
     on_u2 = ((on_y * y[2] + on_n * n[2]) * (1.0 / sb)).gathered(-1.0 / cb if cb else None)
     m_a = weighted_sum((on_u1, (-1.0 * s, c, 0.0)), (on_u2, (c * -cb, s * -cb, sb)))
     v = weighted_sum((1.0, t0), (1.0, m_a))
-    terms = [x.term() if isinstance(x, _Sum) else x for x in (
-        v[2], *m_a, *m_b, *m_b0, v[0], v[1], *shaking_force)]
+    terms = [_term_of(x) for x in (v[2], *m_a, *m_b, *m_b0, v[0], v[1], *shaking_force)]
     joints: dict[str, tuple[Vec3 | None, Vec3 | None]] = {
         "A0": (None, (terms[10], terms[11], 0.0)), "A": (None, tuple(terms[1:4])),
         "B": (None, tuple(terms[4:7])), "B0": (None, tuple(terms[7:10]))}
