@@ -101,7 +101,7 @@ def precise_once(monkeypatch):
     sweep_arrays hands a point to the scalar engine, the redo the scalar sweep already made is
     given back (the same arguments, the same answer) instead of made again. The catalogue and
     its neighbours ask for 108,000 redos a sweep, most of the time both paths take there.
-    Returns the original method with that cache."""
+    Returns the method with that cache (the one now in place)."""
     precise, answers = engine.Linkage._precise, {}
 
     def once(self, phi, sign, level, *contexts):
