@@ -139,6 +139,9 @@ def test_missing_mpmath_and_pcbasic_are_said(monkeypatch, capsys):
     assert "mpmath is not installed" in printed and "PC-BASIC is not installed" in printed
 
 
+QUICK_ARGS = ["bench", "all", "--quick"]     # the README's command (run here, not in test_readme)
+
+
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory):
     """`bench all --quick` as a user runs it, from linkage.py copied alone (with legacy_basic/ for
@@ -158,7 +161,7 @@ def quick_run(tmp_path_factory):
         sys.argv = ["linkage.py"] + sys.argv[1:]
         runpy.run_path("linkage.py", run_name="__main__")
     """)
-    run = subprocess.run([sys.executable, "-I", "-c", code, "bench", "all", "--quick"],
+    run = subprocess.run([sys.executable, "-I", "-c", code, *QUICK_ARGS],
                          capture_output=True, text=True, cwd=folder, timeout=300)
     assert run.returncode == 0 and "Traceback" not in run.stderr, run.stderr
     return run.stdout

@@ -12,6 +12,7 @@ import sys
 
 import pytest
 
+import test_bench
 from support.basic_runner import ROOT
 
 pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
@@ -42,13 +43,26 @@ def readme_commands(text: str) -> list[str]:
     return list(dict.fromkeys(commands))
 
 
-COMMANDS = list(dict.fromkeys(readme_commands(README) + readme_commands(PROOFS)))
+# A command another module runs as a program already, exit status and standard error checked as
+# here: `bench all --quick` is tests/test_bench.py's quick_run (linkage.py copied alone, nothing of
+# tests/ importable), not run a second time (8 s of CPU).
+RUN_ELSEWHERE = {"python3 linkage.py " + " ".join(test_bench.QUICK_ARGS): "test_bench.quick_run"}
+COMMANDS = [c for c in dict.fromkeys(readme_commands(README) + readme_commands(PROOFS))
+            if c not in RUN_ELSEWHERE]
 
 
 def test_the_readme_shows_the_commands_of_every_sub_command():
     shown = {c.split()[2] if len(c.split()) > 2 else "" for c in readme_commands(README)}
     assert {"", "run", "analyse", "scene", "plot", "design", "listing", "bench",
             "forces"} <= shown, shown
+
+
+def test_the_commands_run_elsewhere_are_the_readmes():
+    """Each command left to another module is one the README shows (an entry outlives no edit of
+    the README), and it is left out here."""
+    shown = readme_commands(README) + readme_commands(PROOFS)
+    for command in RUN_ELSEWHERE:
+        assert command in shown and command not in COMMANDS, command
 
 
 @pytest.mark.parametrize("command", COMMANDS)

@@ -17,6 +17,7 @@
 from __future__ import annotations
 
 import contextlib
+import functools
 import io
 import math
 import os
@@ -864,10 +865,15 @@ def test_data_outside_the_range_are_refused_naming_the_datum(method, units, draw
     #                                                                     range depends on it
 
 
+@functools.lru_cache(maxsize=None)
+def design_help(command: str) -> subprocess.CompletedProcess:
+    """`design COMMAND --help` as a program, once a process (two tests read each of the 11)."""
+    return subprocess.run(PROGRAM + ["design", command, "--help"], capture_output=True, text=True)
+
+
 def test_help_states_each_range_from_the_table():
     for command, (_, method) in s.METHODS.items():
-        done = subprocess.run(PROGRAM + ["design", command, "--help"], capture_output=True,
-                              text=True)
+        done = design_help(command)
         text = " ".join(done.stdout.split())
         for datum in s.DATA[method]:
             assert " ".join(s.datum_help(datum).split()) in text, (command, datum.name)
@@ -1340,8 +1346,7 @@ def test_every_method_has_help_that_stands_alone():
     """Each method's help says what it designs and what the answer's letters are, and points at
     nothing it does not show ("see the names above" had nothing above)."""
     for command, (_, method) in s.METHODS.items():
-        done = subprocess.run(PROGRAM + ["design", command, "--help"], capture_output=True,
-                              text=True)
+        done = design_help(command)
         text = re.sub(r"-\s+", "-", " ".join(done.stdout.split()))
         assert done.returncode == 0 and "above" not in text, (command, text)
         assert re.sub(r"-\s+", "-", s.METHOD_HELP[method]) in text, command
