@@ -6242,7 +6242,7 @@ def run_plan(plan: Plan, registers: list[Any]) -> None:
 # Offers: FORCES_STATUS_CODES, FORCES_HANDOFF, ReactionArrays, ForcesArrays, forces_of_arrays.
 
 
-# -- the forces on arrays ---------------------------------------------------------------------------
+# -- the forces on arrays --------------------------------------------------------------------------
 #
 # Linkage.forces_arrays is forces() on a sweep_arrays answer: each body's wrench as forces() finds
 # it (the same formulas, each body's frame as the forces section's notes give it), but the system
@@ -6270,7 +6270,7 @@ def run_plan(plan: Plan, registers: list[Any]) -> None:
 # What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
 #   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.2 to 1.4
 #   ms, a later call skips it); each position takes 44 (slider), 65 (plane), 74 (skew slider-
-#   crank), 100 (skew) and 126 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
+#   crank), 100 (skew) and 125 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
 #   element here (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the
 #   answer's constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate
 #   of 0.49 to 0.53 of sweep_arrays' for the skew four-bar, 0.59 to 0.62 for the skew slider-
@@ -6280,7 +6280,7 @@ def run_plan(plan: Plan, registers: list[Any]) -> None:
 #   forces and the shaking force 42, B0's moment 9, A0's and the torque 9, the shaking moment
 #   11, near's check 8; the spherical's coupler's spin and rate 21, the divisor 6, the bodies'
 #   moments 7 (and 7 products the output and the shaking force share), the elimination 45, the
-#   answer's rows 31, near's check 8, a copy 1. Tried and given up: constant factors carried
+#   answer's rows 31, near's check 7 (the torque left out of it), a copy 1. Tried and given up: constant factors carried
 #   through products to the sums (k u + m v pays one back, and so does each answer), signs
 #   carried (-1 to +2 a kind), like terms gathered across nested sums by the recipe (-2 to +1:
 #   _Sum gathers them where written), blocks of 4,096 to 65,536 (16,384 the fastest).
@@ -6619,7 +6619,7 @@ def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
 # y, n onto the crank's u1 = (-sin phi, cos phi, 0), u2 = a x u1 (by the angle of cosine n_z and
 # sine y_z over sin b); M_B0 = T_2 - M_B about the output's axes; the shaking moment
 # -(M_A0 + torque z + M_B0) = -(T_0 + T_1 + T_2), its force the bodies' m (g - a_G) and the loads.
-# 126 operations (282 before; where they go: data/BENCHMARKS.md, round three): what the notes
+# 125 operations (282 before; where they go: data/BENCHMARKS.md, round three): what the notes
 # above gave up for the other kinds (factors carried, like terms gathered) pays here.
 
 def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], q1: Any,
