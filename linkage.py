@@ -6844,13 +6844,15 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
             for i, row in zip(plan.results, results):
                 registers[i] = row[part]
             run_plan(plan, registers)
-    plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)
-    unknown = plain != assembled
-    redo = (unknown | ~(apart_of >= trace.handoff)) & (plain != STATUS_CODES.index(
-        NOT_ASSEMBLED))
+    with np.errstate(over="ignore", invalid="ignore"):
+        power = torque * trace.omega                # beyond the floats' range: forces() says
+    plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)     # overflow, as for any
+    unknown = plain != assembled                                         # other number
+    redo = (unknown | ~(apart_of >= trace.handoff) | ~np.isfinite(power)) & (
+        plain != STATUS_CODES.index(NOT_ASSEMBLED))
     status = plain.copy()
     if unknown.any():
-        torque[unknown] = math.nan
+        torque[unknown] = power[unknown] = math.nan
         for r in [shaking] + [v for r in joints.values() for v in r if v is not None]:
             r[..., unknown] = math.nan
     where = np.flatnonzero(redo)
@@ -6859,6 +6861,7 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                                                  bodies, effects, radius=radius)):
             status[i] = FORCES_STATUS_CODES.index(f.status)
             torque[i] = math.nan if f.torque is None else f.torque
+            power[i] = math.nan if f.power is None else f.power
             for name, arrays_of in joints.items():
                 reaction = f.joints[name] if f.joints is not None else Reaction(None, None)
                 for v, column in zip(reaction, arrays_of):
@@ -6866,7 +6869,7 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
                         column[:, i] = math.nan if v is None else v
             for v, r in zip((f.shaking_force, f.shaking_moment), shaking):
                 r[:, i] = math.nan if v is None else v
-    return ForcesArrays(arrays.phi, torque, torque * trace.omega,
+    return ForcesArrays(arrays.phi, torque, power,
                         {name: ReactionArrays(*(None if v is None else v.T for v in r))
                          for name, r in joints.items()}, shaking[0].T, shaking[1].T, status,
                         trace.speed_rpm)

@@ -144,6 +144,20 @@ def test_from_rest_the_crank_accelerating(kind):
     assert any(f.status == linkage.ASSEMBLED and f.torque for f in scalar)
 
 
+@pytest.mark.parametrize("kind", KINDS)
+def test_a_power_beyond_the_floats_is_the_scalar_forms_overflow(kind):
+    """At 1e150 rpm the torque is a number but the power (torque times the speed) is not: forces()
+    says overflow there, and so must forces_arrays (it said assembled, its power an inf, and
+    numpy warned), its numbers forces()' (none)."""
+    lk = Linkage(kind, **ROCKERS[kind])
+    scalar, arrays = check_alike(lk, [7.0 + 10.0 * i for i in range(36)], 1,
+                                 Bodies(Body(1.0), Body(2.0), Body(0.5)),
+                                 Effects(1e150, gravity=9.81))
+    statuses = {f.status for f in scalar}
+    assert linkage.OUT_OF_RANGE in statuses <= {linkage.OUT_OF_RANGE, linkage.NOT_ASSEMBLED}
+    assert np.isnan(arrays.power).all()
+
+
 def test_the_plane_slider_s_guide_pushes_across_it_only():
     """The plane slider-crank's guide (along x) carries no force along itself nor out of the
     plane: those parts of its reaction are 0 exactly, as in forces(), not 0 to rounding."""
