@@ -4768,7 +4768,8 @@ class ForcesSetup(NamedTuple):
     axes: dict[str, tuple[Vector, Vector]]
 
 
-RADIUS_RANGE = (1e-100, 1e100)      # metres: a sphere's radius whose powers the forces can take
+RADIUS_RANGE = (1e-50, 1e100)       # metres: a sphere's radius whose powers the forces can take
+#                                     (at 1e-99 a unit vector's length squared underflowed to 0)
 
 
 def forces_setup(linkage: Closure, bodies: Bodies, effects: Effects, radius: float

@@ -1069,8 +1069,19 @@ def test_a_sphere_too_small_for_the_forces_is_refused_in_one_line(tmp_path):
     assert "radius = 1e-300" in (tmp_path / "s.toml").read_text()
     result = run(["forces", "s.toml"], tmp_path)
     assert result.returncode == 1 and b"Traceback" not in result.stderr, result.stderr
-    assert b"radius must be 1e-100 to 1e+100 metres" in result.stderr
+    assert b"radius must be 1e-50 to 1e+100 metres" in result.stderr
     assert sorted(os.listdir(tmp_path)) == ["s.toml"]
+
+
+def test_the_sphere_s_radius_at_either_end_of_its_range_gives_the_forces():
+    """The radius range's ends are radii the forces can take: at 1e-99, inside the range that
+    was (1e-100), a unit vector's length squared underflowed to 0 (a traceback)."""
+    link = linkage.Linkage("spherical", a=60.0, b=70.0, c=30.0, d=50.0)
+    for radius in linkage.RADIUS_RANGE:
+        results = link.forces([10.0 * i for i in range(36)], 1,
+                              linkage.Bodies(*[linkage.Body(1.0)] * 3),
+                              linkage.Effects(100.0, gravity=9.8), radius=radius)
+        assert linkage.ASSEMBLED in {f.status for f in results}, radius
 
 
 def test_a_stroke_of_no_crank_turn_has_no_time_ratio():
