@@ -5735,7 +5735,8 @@ def transmission_of_arrays(linkage: Closure, arrays: MotionArrays,
                            trig: dict[str, numpy.ndarray] | None = None) -> numpy.ndarray:
     """transmission_of on a MotionArrays: a float64 array, NaN where there is no position.
     trig: what motion_arrays_of gave for these arrays, whose cosines and sines of phi are those
-    this would compute (the same function), but at a point handed to the scalar sweep (NaN)."""
+    this would compute (the same function), but at a point handed to the scalar sweep (NaN):
+    those are computed here, into trig's arrays."""
     np = numpy_module()
     if trig is None:
         c, s = cos_sin_degrees_array(np, arrays.phi)
