@@ -16949,10 +16949,14 @@ def main(argv: Iterable[str] | None = None) -> int:
     command line, the process the program's: what is alive now (the module and what it
     imported) lives to its end, so the cyclic collector is told not to walk it again (gc.freeze):
     Python's exit collects once more, and a collection of these 16,000 objects took a fifth of
-    `python3 -c pass`."""
+    `python3 -c pass`. And its numpy, if it imports one, starts no BLAS threads where the user
+    has not asked for them (OPENBLAS_NUM_THREADS): the program multiplies no matrices, and
+    OpenBLAS's pool of a thread a core cost 55 ms of CPU an import here (median of 25
+    alternated, a third of numpy's import)."""
     if argv is None:
         import gc
         gc.freeze()
+        os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     argv = sys.argv[1:] if argv is None else list(argv)
     _reopen_closed_streams()
     MADE_FOLDERS.clear()

@@ -490,3 +490,35 @@ def test_a_rule_broken_is_a_usage_error_before_any_work(argv, message, tmp_path)
     result = run(argv, tmp_path)
     assert result.returncode == 2 and message in result.stderr, result.stderr
     assert b"usage:" in result.stderr and os.listdir(tmp_path) == []
+
+
+_THREADS_AFTER_A_FAST_RUN = """
+import os, sys
+sys.path.insert(0, sys.argv[1])
+import linkage
+sys.argv = ["linkage.py", "run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9",
+            "--from", "0", "--to", "10", "--step", "1", "--branch", "1", "--precision", "double", "--fast",
+            "--dir", sys.argv[2]]
+status = linkage.main()
+print(status, "numpy" in sys.modules, len(os.listdir("/proc/self/task")),
+      os.environ.get("OPENBLAS_NUM_THREADS"))
+"""
+
+
+@pytest.mark.parametrize("given, threads", [(None, 1), ("2", 2)])
+def test_the_programs_numpy_starts_no_blas_threads_unless_asked(tmp_path, given, threads):
+    """The program's process (main with argv None, as `python3 linkage.py` runs it) imports
+    numpy for --fast with OpenBLAS held to the one thread (the program multiplies no matrices;
+    the pool's start cost a third of numpy's import); a user's OPENBLAS_NUM_THREADS is kept.
+    Counted as the process's threads after the run: OpenBLAS starts one a core (CI has two)."""
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS",
+                                                              "OMP_NUM_THREADS")}
+    if given:
+        env["OPENBLAS_NUM_THREADS"] = given
+    run = subprocess.run([sys.executable, "-c", _THREADS_AFTER_A_FAST_RUN,
+                          os.path.dirname(SCRIPT[1]), str(tmp_path)],
+                         capture_output=True, text=True, env=env, check=True)
+    status, imported, count, variable = run.stdout.split()
+    assert (status, imported) == ("0", "True"), run.stderr
+    assert (int(count), variable) == (threads, given or "1")
+    assert (tmp_path / "ANG.DAT").exists()
