@@ -45,13 +45,23 @@ def first_difference(name: str, want: bytes, got: bytes) -> str:
 # ---- the golden corpus ---------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
-def golden_run(request, tmp_path_factory):
+def golden_runs() -> dict:
+    """The golden cases' runs made so far in this process, by case name."""
+    return {}
+
+
+@pytest.fixture
+def golden_run(request, golden_runs, tmp_path_factory):
     """(case, the port's run of its keys, the DAT files it wrote): one run a case, which the
-    case's tests below share (pytest runs them one after another, scope="module")."""
+    case's tests below share. (A module-scoped fixture parametrized by each test's own list of
+    cases was made again for every test, its parameters told apart by their index in the list:
+    92 runs of the 33 cases.)"""
     case = request.param
-    folder = tmp_path_factory.mktemp(case["name"])
-    result = run_port((make_golden.GOLDEN / case["name"] / "keys.txt").read_bytes(), folder)
-    return case, result, dat_files(folder)
+    if case["name"] not in golden_runs:
+        folder = tmp_path_factory.mktemp(case["name"])
+        result = run_port((make_golden.GOLDEN / case["name"] / "keys.txt").read_bytes(), folder)
+        golden_runs[case["name"]] = case, result, dat_files(folder)
+    return golden_runs[case["name"]]
 
 
 # The golden cases --quick keeps: a short session of each mechanism and the menu's wrong keys;
@@ -174,8 +184,9 @@ def test_run_reports_an_illegal_linkage(tmp_path):
     (b"11\r1\r1\r20\r", "the keystrokes ended before the program did"),
 ])
 def test_the_port_stops_cleanly(keys, message, tmp_path):
-    """(Started as the user starts it, `python3 linkage.py`.)"""
-    result = run_port(keys, tmp_path, SCRIPT)
+    """(The first started as the user starts it, `python3 linkage.py`; the others by PROGRAM,
+    which test_command_line shows the same without compiling the script at each start.)"""
+    result = run_port(keys, tmp_path, SCRIPT if keys == b"12\r7\r9\r6\r0\r90\r0\r1" else PROGRAM)
     assert result.returncode == 1
     assert message in result.stderr.decode()
     assert "Traceback" not in result.stderr.decode()
