@@ -150,6 +150,40 @@ def test_the_tests_start_the_program_the_users_way(argv, keys, tmp_path):
     assert done[0][0] in (0, 2) and b"Traceback" not in done[0][2]
 
 
+def _parsed(parser, argv) -> tuple:
+    """What parser makes of argv: its values (the sub-command by its handler) or its exit
+    status, and what it printed."""
+    import contextlib
+    import io
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            given = vars(parser.parse_args(argv))
+            given.pop("parser", None)
+            given["command_row"] = given["command_row"].handler
+            got: object = given
+        except SystemExit as e:
+            got = e.code
+    return got, out.getvalue(), err.getvalue()
+
+
+def test_the_parser_made_for_a_command_line_parses_it_as_the_whole_parser():
+    """main builds the sub-parsers' options only for the sub-commands argv names (build_parser
+    (argv)): every command's help, its refusals and the top parser's (its usage lists every
+    command) are the whole parser's, word for word."""
+    whole = linkage.build_parser()
+    methods = list(linkage.METHODS)
+    cases = [["--help"], ["--version"], ["x"], ["design", "--help"], ["design", "nosuch"],
+             ["design", methods[0], "--help"], ["design", methods[-1], "--psi", "x"],
+             ["design", methods[1]]]
+    for name, command in linkage.COMMANDS.items():
+        cases += [[name, "--help"], ["--nosuch", name, "x"]] + [[a] for a in command.aliases]
+    cases += [["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
+               "--to", "90", "--step", "10", "--branch", "1"], ["scene", "fig3", "design"]]
+    for argv in cases:
+        assert _parsed(linkage.build_parser(argv), argv) == _parsed(whole, argv), argv
+
+
 def test_the_test_run_is_derandomized_unless_asked_to_explore():
     """The README's test command is CI's run: the same examples every time (LINKAGE_EXPLORE=1
     explores)."""
