@@ -214,18 +214,23 @@ def test_a_curve_under_another_stays_visible():
 
 
 @pytest.mark.slow          # --quick leaves it out: renders PNGs
-def test_png_size_and_dpi(tmp_path):
+def test_png_size_and_dpi(tmp_path, monkeypatch, capsys):
+    """(In this process: a PNG written by the program's process is test_scenes'
+    test_a_curve_scene_says_the_png_it_wrote, and the README's commands.)"""
+    monkeypatch.chdir(tmp_path)
     scene = str(SCENES / "fig3-plane-four-bar.toml")
-    run(["scene", scene, "--png", "a.png", "--size", "1200x900"], tmp_path)
-    run(["scene", scene, "--png", "b.png", "--dpi", "180"], tmp_path)
-    run(["scene", scene, "--png", "c.png"], tmp_path)
+    assert linkage.main(["scene", scene, "--png", "a.png", "--size", "1200x900"]) == 0
+    assert linkage.main(["scene", scene, "--png", "b.png", "--dpi", "180"]) == 0
+    assert linkage.main(["scene", scene, "--png", "c.png"]) == 0
     size = {n: struct.unpack(">II", (tmp_path / n).read_bytes()[16:24]) for n in
             ("a.png", "b.png", "c.png")}
     assert size["a.png"] == (1200, 900)
     assert size["c.png"][0] == 648 and size["b.png"] == (2 * size["c.png"][0],
                                                           2 * size["c.png"][1])
-    refused = run(["plot", ".", "--size", "10x10"], tmp_path)
-    assert refused.returncode == 2 and b"WIDTHxHEIGHT" in refused.stderr
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as refused:
+        linkage.main(["plot", ".", "--size", "10x10"])
+    assert refused.value.code == 2 and "WIDTHxHEIGHT" in capsys.readouterr().err
 
 
 def test_main_gives_back_the_signal_handlers_it_installed(tmp_path, capsys):
