@@ -19,6 +19,7 @@ import os
 import re
 import signal
 import stat
+import tempfile
 import threading
 import typing
 from xml.etree import ElementTree
@@ -54,6 +55,19 @@ def no_hang():
     yield lambda: signal.setitimer(signal.ITIMER_REAL, HANG)
     signal.setitimer(signal.ITIMER_REAL, 0)
     signal.signal(signal.SIGALRM, previous)
+
+
+EXAMPLES_FOLDER: dict[Path, Path] = {}       # the run's temporary folder: the examples' there
+
+
+def fresh(tmp_path_factory, name: str) -> Path:
+    """A new empty folder for one example, in one folder of the run's. (tmp_path_factory.mktemp
+    looks through every folder the run has made at each call: over the fuzzers' 2,500 examples,
+    2 s of CPU.)"""
+    base = tmp_path_factory.getbasetemp()
+    if base not in EXAMPLES_FOLDER:
+        EXAMPLES_FOLDER[base] = tmp_path_factory.mktemp("examples")
+    return Path(tempfile.mkdtemp(prefix=name, dir=EXAMPLES_FOLDER[base]))
 
 
 def fuzz(examples: int):
@@ -103,7 +117,7 @@ KEY_TOKENS = [b"1", b"2", b"3", b"4", b"5", b"6", b"0", b"\r", b"\n", b"\r\n", b
        .map(b"".join))
 def test_any_keys_through_the_menu(keys, tmp_path_factory, monkeypatch, no_hang):
     no_hang()
-    folder = tmp_path_factory.mktemp("menu")
+    folder = fresh(tmp_path_factory, "menu")
     monkeypatch.setattr(linkage.shutil, "disk_usage", lambda d: FreeSpace(300_000))  # <= 3k points
     status = linkage.redirected_program(io.BytesIO(keys), io.BytesIO(), str(folder))
     assert status in (0, 1)
@@ -246,7 +260,7 @@ def run_main(argv, folder: Path, capsys) -> int:
 
 def _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang):
     no_hang()
-    folder = tmp_path_factory.mktemp("argv")
+    folder = fresh(tmp_path_factory, "argv")
     (folder / "sub").mkdir()
     monkeypatch.chdir(folder)
     status = run_main(argv, folder, capsys)
@@ -308,7 +322,7 @@ def mutated_scene(draw):
               'input = { from = 0, to = 90, step = 5 }\nbranches = [1]\nprecision = {}\n'
               '[[panels]]\nquantities = ["displacement"]')
 def test_any_scene(text, tmp_path_factory, monkeypatch, capsys, signals_kept):
-    folder = tmp_path_factory.mktemp("scene")
+    folder = fresh(tmp_path_factory, "scene")
     monkeypatch.chdir(folder)
     (folder / "s.toml").write_text(text)
     status = run_main(["scene", "s.toml", "--dir", "out", "--text"], folder, capsys)
@@ -322,7 +336,7 @@ def test_any_scene(text, tmp_path_factory, monkeypatch, capsys, signals_kept):
                       st.integers(0, 10_000), st.binary(max_size=8), st.integers(0, 3)))
 def test_any_dat_file(data, tmp_path_factory, capsys, signals_kept):
     case, name, at, inserted, how = data
-    folder = tmp_path_factory.mktemp("dat")
+    folder = fresh(tmp_path_factory, "dat")
     for n in ("ANG.DAT", "VEL.DAT", "ACC.DAT"):
         original = (GOLDEN / case / n).read_bytes() if (GOLDEN / case / n).exists() else b""
         if n == name:
@@ -406,7 +420,7 @@ def test_any_output_path(writer, kinds, tmp_path_factory, monkeypatch, capsysbin
     never written through, /dev/null stays a device, the same file twice is refused before
     anything is written, no temporary is left; no traceback, no hang."""
     no_hang()
-    folder = tmp_path_factory.mktemp("out")
+    folder = fresh(tmp_path_factory, "out")
     monkeypatch.chdir(folder)
     outputs = Outputs(folder, kinds)
     try:
@@ -443,7 +457,7 @@ def test_any_output_path(writer, kinds, tmp_path_factory, monkeypatch, capsysbin
 @example(title="\x1b]0;pwned\x07\x1b[2J<&>", mechanism=True)               # issue 22, item 4
 def test_any_title_reaches_the_terminal_and_svg_printable(title, mechanism, tmp_path_factory,
                                                           monkeypatch, capsys, signals_kept):
-    folder = tmp_path_factory.mktemp("title")
+    folder = fresh(tmp_path_factory, "title")
     monkeypatch.chdir(folder)
     scene = SCENES[[p.stem for p in SCENES].index("fig1a-plane-four-bar" if mechanism
                                                   else "fig3-plane-four-bar")]
@@ -514,7 +528,7 @@ def test_any_dynamics_table(text, tmp_path_factory, monkeypatch, capsys, signals
     """Mutated [dynamics] tables through scene and forces: a message or a figure, never a
     traceback or a half-written set."""
     no_hang()
-    folder = tmp_path_factory.mktemp("dynamics")
+    folder = fresh(tmp_path_factory, "dynamics")
     monkeypatch.chdir(folder)
     _scene_and_forces(text, folder, capsys)
 
@@ -570,7 +584,7 @@ def test_any_simulation_table(data, scene, tmp_path_factory, monkeypatch, capsys
     """A simulation scene's [simulation] table with odd values: a message naming the file and
     nothing written, or its CSV whole; never a traceback."""
     no_hang()
-    folder = tmp_path_factory.mktemp("simulation")
+    folder = fresh(tmp_path_factory, "simulation")
     monkeypatch.chdir(folder)
     (folder / "s.toml").write_text(data.draw(simulation_table(scene)))
     status = run_main(["scene", "s.toml", "--csv", "out.csv", "--frames", "1"]
@@ -627,7 +641,7 @@ def test_any_dxf_output(writer, kinds, tmp_path_factory, monkeypatch, capsysbina
     folder, a FIFO whose reader left), and then no file of the set written (all or none); no
     traceback, no hang, no temporary left."""
     no_hang()
-    folder = tmp_path_factory.mktemp("dxf")
+    folder = fresh(tmp_path_factory, "dxf")
     monkeypatch.chdir(folder)
     outputs = DxfOutputs(folder, kinds)
     try:
@@ -680,7 +694,7 @@ def test_any_keys_through_the_explorer(keys, target, size, tmp_path_factory, mon
     long run's find: `s`, `Enter` wrote explore-plane.toml, as a user's keys would), and what
     it writes is a whole scene that loads."""
     no_hang()
-    folder = tmp_path_factory.mktemp("explore")
+    folder = fresh(tmp_path_factory, "explore")
     monkeypatch.chdir(folder)
     (folder / "keys.txt").write_text(keys, encoding="utf-8")
     status = run_main(["explore", *target, "--keys", "keys.txt", *size], folder, capsys)
