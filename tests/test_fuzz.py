@@ -57,17 +57,27 @@ def no_hang():
     signal.signal(signal.SIGALRM, previous)
 
 
-EXAMPLES_FOLDER: dict[Path, Path] = {}       # the run's temporary folder: the examples' there
+class ExampleFolders:
+    """tmp_path_factory for the fuzzers' examples: mktemp makes a new empty folder by
+    tempfile.mkdtemp in one folder of the run's. (pytest's looks through every folder the run
+    has made at each call: over the fuzzers' 2,500 examples, 2 s of CPU.) A fixture, not an
+    edit of the tests: hypothesis seeds each test's examples from its source."""
+
+    FOLDERS: dict[Path, Path] = {}          # the run's temporary folder: the examples' there
+
+    def __init__(self, factory: pytest.TempPathFactory):
+        self.factory = factory
+
+    def mktemp(self, name: str) -> Path:
+        base = self.factory.getbasetemp()
+        if base not in self.FOLDERS:
+            self.FOLDERS[base] = self.factory.mktemp("examples")
+        return Path(tempfile.mkdtemp(prefix=name, dir=self.FOLDERS[base]))
 
 
-def fresh(tmp_path_factory, name: str) -> Path:
-    """A new empty folder for one example, in one folder of the run's. (tmp_path_factory.mktemp
-    looks through every folder the run has made at each call: over the fuzzers' 2,500 examples,
-    2 s of CPU.)"""
-    base = tmp_path_factory.getbasetemp()
-    if base not in EXAMPLES_FOLDER:
-        EXAMPLES_FOLDER[base] = tmp_path_factory.mktemp("examples")
-    return Path(tempfile.mkdtemp(prefix=name, dir=EXAMPLES_FOLDER[base]))
+@pytest.fixture
+def tmp_path_factory(tmp_path_factory):
+    return ExampleFolders(tmp_path_factory)
 
 
 def fuzz(examples: int):
@@ -117,7 +127,7 @@ KEY_TOKENS = [b"1", b"2", b"3", b"4", b"5", b"6", b"0", b"\r", b"\n", b"\r\n", b
        .map(b"".join))
 def test_any_keys_through_the_menu(keys, tmp_path_factory, monkeypatch, no_hang):
     no_hang()
-    folder = fresh(tmp_path_factory, "menu")
+    folder = tmp_path_factory.mktemp("menu")
     monkeypatch.setattr(linkage.shutil, "disk_usage", lambda d: FreeSpace(300_000))  # <= 3k points
     status = linkage.redirected_program(io.BytesIO(keys), io.BytesIO(), str(folder))
     assert status in (0, 1)
@@ -260,7 +270,7 @@ def run_main(argv, folder: Path, capsys) -> int:
 
 def _any_command_line(argv, tmp_path_factory, monkeypatch, capsys, no_hang):
     no_hang()
-    folder = fresh(tmp_path_factory, "argv")
+    folder = tmp_path_factory.mktemp("argv")
     (folder / "sub").mkdir()
     monkeypatch.chdir(folder)
     status = run_main(argv, folder, capsys)
@@ -322,7 +332,7 @@ def mutated_scene(draw):
               'input = { from = 0, to = 90, step = 5 }\nbranches = [1]\nprecision = {}\n'
               '[[panels]]\nquantities = ["displacement"]')
 def test_any_scene(text, tmp_path_factory, monkeypatch, capsys, signals_kept):
-    folder = fresh(tmp_path_factory, "scene")
+    folder = tmp_path_factory.mktemp("scene")
     monkeypatch.chdir(folder)
     (folder / "s.toml").write_text(text)
     status = run_main(["scene", "s.toml", "--dir", "out", "--text"], folder, capsys)
@@ -336,7 +346,7 @@ def test_any_scene(text, tmp_path_factory, monkeypatch, capsys, signals_kept):
                       st.integers(0, 10_000), st.binary(max_size=8), st.integers(0, 3)))
 def test_any_dat_file(data, tmp_path_factory, capsys, signals_kept):
     case, name, at, inserted, how = data
-    folder = fresh(tmp_path_factory, "dat")
+    folder = tmp_path_factory.mktemp("dat")
     for n in ("ANG.DAT", "VEL.DAT", "ACC.DAT"):
         original = (GOLDEN / case / n).read_bytes() if (GOLDEN / case / n).exists() else b""
         if n == name:
@@ -420,7 +430,7 @@ def test_any_output_path(writer, kinds, tmp_path_factory, monkeypatch, capsysbin
     never written through, /dev/null stays a device, the same file twice is refused before
     anything is written, no temporary is left; no traceback, no hang."""
     no_hang()
-    folder = fresh(tmp_path_factory, "out")
+    folder = tmp_path_factory.mktemp("out")
     monkeypatch.chdir(folder)
     outputs = Outputs(folder, kinds)
     try:
@@ -457,7 +467,7 @@ def test_any_output_path(writer, kinds, tmp_path_factory, monkeypatch, capsysbin
 @example(title="\x1b]0;pwned\x07\x1b[2J<&>", mechanism=True)               # issue 22, item 4
 def test_any_title_reaches_the_terminal_and_svg_printable(title, mechanism, tmp_path_factory,
                                                           monkeypatch, capsys, signals_kept):
-    folder = fresh(tmp_path_factory, "title")
+    folder = tmp_path_factory.mktemp("title")
     monkeypatch.chdir(folder)
     scene = SCENES[[p.stem for p in SCENES].index("fig1a-plane-four-bar" if mechanism
                                                   else "fig3-plane-four-bar")]
@@ -528,7 +538,7 @@ def test_any_dynamics_table(text, tmp_path_factory, monkeypatch, capsys, signals
     """Mutated [dynamics] tables through scene and forces: a message or a figure, never a
     traceback or a half-written set."""
     no_hang()
-    folder = fresh(tmp_path_factory, "dynamics")
+    folder = tmp_path_factory.mktemp("dynamics")
     monkeypatch.chdir(folder)
     _scene_and_forces(text, folder, capsys)
 
@@ -584,7 +594,7 @@ def test_any_simulation_table(data, scene, tmp_path_factory, monkeypatch, capsys
     """A simulation scene's [simulation] table with odd values: a message naming the file and
     nothing written, or its CSV whole; never a traceback."""
     no_hang()
-    folder = fresh(tmp_path_factory, "simulation")
+    folder = tmp_path_factory.mktemp("simulation")
     monkeypatch.chdir(folder)
     (folder / "s.toml").write_text(data.draw(simulation_table(scene)))
     status = run_main(["scene", "s.toml", "--csv", "out.csv", "--frames", "1"]
@@ -641,7 +651,7 @@ def test_any_dxf_output(writer, kinds, tmp_path_factory, monkeypatch, capsysbina
     folder, a FIFO whose reader left), and then no file of the set written (all or none); no
     traceback, no hang, no temporary left."""
     no_hang()
-    folder = fresh(tmp_path_factory, "dxf")
+    folder = tmp_path_factory.mktemp("dxf")
     monkeypatch.chdir(folder)
     outputs = DxfOutputs(folder, kinds)
     try:
@@ -676,6 +686,30 @@ EXPLORE_TARGETS = [[], ["plane"], ["slider", "--b", "2", "--c", "5", "--e", "1"]
                                            "--d", "1"], ["x"], ["/dev/zero"]]
 
 
+EXPLORE_VIEW = linkage.explore_view
+SEEN_VIEWS: dict[tuple, linkage.ExploreView] = {}
+
+
+def seen_views(state: linkage.Explorer) -> linkage.ExploreView:
+    """explore_view, its answers kept across the examples by ExploreViews' own key (the kind,
+    dimensions, branch, follow, traced coupler point and dynamics: all it reads of the state),
+    as one long session keeps them (ExploreViews; test_explore's fuzz shares one across its
+    streams): the examples start from the same dozen linkages, and the first view of each
+    (analysed and its motion drawn) was most of an example's time (the fuzzer took 6.9 s of
+    CPU, 2.2 with the views kept)."""
+    key = linkage.ExploreViews._key(state)
+    if key not in SEEN_VIEWS:
+        SEEN_VIEWS[key] = EXPLORE_VIEW(state)
+    return SEEN_VIEWS[key]
+
+
+@pytest.fixture(autouse=True)
+def views_kept(request, monkeypatch):
+    """seen_views for the explorer's fuzzer (a fixture: its source seeds its examples)."""
+    if request.function.__name__ == "test_any_keys_through_the_explorer":
+        monkeypatch.setattr(linkage, "explore_view", seen_views)
+
+
 @fuzz(150)
 @given(keys=st.lists(st.sampled_from(EXPLORE_KEYS), max_size=80).map("\n".join)
        | st.lists(st.sampled_from(EXPLORE_KEYS + EXPLORE_JUNK) | st.text(max_size=3), max_size=40)
@@ -694,7 +728,7 @@ def test_any_keys_through_the_explorer(keys, target, size, tmp_path_factory, mon
     long run's find: `s`, `Enter` wrote explore-plane.toml, as a user's keys would), and what
     it writes is a whole scene that loads."""
     no_hang()
-    folder = fresh(tmp_path_factory, "explore")
+    folder = tmp_path_factory.mktemp("explore")
     monkeypatch.chdir(folder)
     (folder / "keys.txt").write_text(keys, encoding="utf-8")
     status = run_main(["explore", *target, "--keys", "keys.txt", *size], folder, capsys)
