@@ -21,6 +21,7 @@ import pytest
 
 import linkage
 import test_bench
+import test_scenes
 from support.basic_runner import ROOT
 from support.program import PROGRAM
 
@@ -55,7 +56,11 @@ def readme_commands(text: str) -> list[str]:
 # A command another module runs as a program already, exit status and standard error checked as
 # here: `bench all --quick` is tests/test_bench.py's quick_run (linkage.py copied alone, nothing of
 # tests/ importable), not run a second time (8 s of CPU).
-RUN_ELSEWHERE = {"python3 linkage.py " + " ".join(test_bench.QUICK_ARGS): "test_bench.quick_run"}
+# So is `scene fig3 --png fig3.png`, test_scenes.test_a_curve_scene_says_the_png_it_wrote's (a
+# PNG drawn by a process of its own, 0.9 s).
+RUN_ELSEWHERE = {"python3 linkage.py " + " ".join(test_bench.QUICK_ARGS): "test_bench.quick_run",
+                 "python3 linkage.py " + " ".join(test_scenes.CURVE_PNG):
+                     "test_scenes.test_a_curve_scene_says_the_png_it_wrote"}
 LONG = bool(os.environ.get("LINKAGE_LONG"))
 BENCH = re.compile(r"^python3 linkage\.py bench [a-z]+$")        # one bench at full size
 BY_SCRIPT = {"python3 linkage.py", "python3 linkage.py < data/golden/plane-b1/keys.txt"}
