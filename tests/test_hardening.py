@@ -1096,7 +1096,7 @@ def test_a_signal_in_numpys_import_is_not_lost(tmp_path):
     its nth module: each of the first 40 (numpy._core and its C extensions), then every sixth
     to the 100th. The run ends, 128 + SIGHUP, and the old files stand. (Each run is a process
     forked from one that has imported linkage, as `python3 linkage.py` has when its main
-    starts: 50 starts and imports of linkage cost 5 s of CPU.)"""
+    starts: 50 starts and imports of linkage cost 3.5 s of CPU.)"""
     argv = ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
             "--to", "360", "--branch", "1", "--precision", "double", "--step", "0.01"]
     jobs, befores = [], {}
