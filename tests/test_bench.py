@@ -240,13 +240,12 @@ def test_the_accuracy_script_runs_as_a_script():
 PORT_ROWS = ("python3 -m linkage", "python3 linkage.py", "in this process")
 
 
-def test_bench_port_runs_both_as_programs_and_compares_their_bytes():
+def test_bench_port_runs_both_as_programs_and_compares_their_bytes(quick_run):
     """bench port starts the port (as the module from cached bytecode and as the script) and
     PC-BASIC as programs on the same keys, reports the CPU ratio of the programs with the
-    in-process one beside it, and finds their DAT files and screens the same bytes."""
-    out = io.StringIO()
-    linkage.bench_port(out, quick=True)
-    text = out.getvalue()
+    in-process one beside it, and finds their DAT files and screens the same bytes. (Its part
+    of quick_run's `bench all --quick`, which runs bench_port(quick=True) as this test did.)"""
+    text = quick_run.split("\n== port: ", 1)[1].split("\n== ", 1)[0]
     assert "the DAT files and the screen are identical" in text, text
     assert "times faster than PC-BASIC by CPU time" in text and "in this process, " in text
     assert "user and system of the child process" in text

@@ -150,6 +150,40 @@ def test_the_tests_start_the_program_the_users_way(argv, keys, tmp_path):
     assert done[0][0] in (0, 2) and b"Traceback" not in done[0][2]
 
 
+def _parsed(parser, argv) -> tuple:
+    """What parser makes of argv: its values (the sub-command by its handler) or its exit
+    status, and what it printed."""
+    import contextlib
+    import io
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            given = vars(parser.parse_args(argv))
+            given.pop("parser", None)
+            given["command_row"] = given["command_row"].handler
+            got: object = given
+        except SystemExit as e:
+            got = e.code
+    return got, out.getvalue(), err.getvalue()
+
+
+def test_the_parser_made_for_a_command_line_parses_it_as_the_whole_parser():
+    """main builds the sub-parsers' options only for the sub-commands argv names (build_parser
+    (argv)): every command's help, its refusals and the top parser's (its usage lists every
+    command) are the whole parser's, word for word."""
+    whole = linkage.build_parser()
+    methods = list(linkage.METHODS)
+    cases = [["--help"], ["--version"], ["x"], ["design", "--help"], ["design", "nosuch"],
+             ["design", methods[0], "--help"], ["design", methods[-1], "--psi", "x"],
+             ["design", methods[1]]]
+    for name, command in linkage.COMMANDS.items():
+        cases += [[name, "--help"], ["--nosuch", name, "x"]] + [[a] for a in command.aliases]
+    cases += [["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
+               "--to", "90", "--step", "10", "--branch", "1"], ["scene", "fig3", "design"]]
+    for argv in cases:
+        assert _parsed(linkage.build_parser(argv), argv) == _parsed(whole, argv), argv
+
+
 def test_the_test_run_is_derandomized_unless_asked_to_explore():
     """The README's test command is CI's run: the same examples every time (LINKAGE_EXPLORE=1
     explores)."""
@@ -180,18 +214,23 @@ def test_a_curve_under_another_stays_visible():
 
 
 @pytest.mark.slow          # --quick leaves it out: renders PNGs
-def test_png_size_and_dpi(tmp_path):
+def test_png_size_and_dpi(tmp_path, monkeypatch, capsys):
+    """(In this process: a PNG written by the program's process is test_scenes'
+    test_a_curve_scene_says_the_png_it_wrote, and the README's commands.)"""
+    monkeypatch.chdir(tmp_path)
     scene = str(SCENES / "fig3-plane-four-bar.toml")
-    run(["scene", scene, "--png", "a.png", "--size", "1200x900"], tmp_path)
-    run(["scene", scene, "--png", "b.png", "--dpi", "180"], tmp_path)
-    run(["scene", scene, "--png", "c.png"], tmp_path)
+    assert linkage.main(["scene", scene, "--png", "a.png", "--size", "1200x900"]) == 0
+    assert linkage.main(["scene", scene, "--png", "b.png", "--dpi", "180"]) == 0
+    assert linkage.main(["scene", scene, "--png", "c.png"]) == 0
     size = {n: struct.unpack(">II", (tmp_path / n).read_bytes()[16:24]) for n in
             ("a.png", "b.png", "c.png")}
     assert size["a.png"] == (1200, 900)
     assert size["c.png"][0] == 648 and size["b.png"] == (2 * size["c.png"][0],
                                                           2 * size["c.png"][1])
-    refused = run(["plot", ".", "--size", "10x10"], tmp_path)
-    assert refused.returncode == 2 and b"WIDTHxHEIGHT" in refused.stderr
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as refused:
+        linkage.main(["plot", ".", "--size", "10x10"])
+    assert refused.value.code == 2 and "WIDTHxHEIGHT" in capsys.readouterr().err
 
 
 def test_main_gives_back_the_signal_handlers_it_installed(tmp_path, capsys):

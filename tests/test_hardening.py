@@ -9,6 +9,7 @@ temporary (.partial) file; every failure is a message on standard error, never a
 from __future__ import annotations
 
 import contextlib
+import json
 import math
 import os
 import random
@@ -17,6 +18,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 
@@ -67,12 +69,23 @@ def wait_for_partial(folder, proc, seconds=60) -> None:
         time.sleep(0.01)
 
 
-@pytest.fixture
-def old_set(tmp_path):
-    """A folder holding a complete set of DAT files from an earlier run, and its bytes."""
-    result = run(["run"] + SHORT, tmp_path)
+@pytest.fixture(scope="module")
+def an_earlier_run(tmp_path_factory) -> dict[str, bytes]:
+    """The complete set of DAT files of an earlier run, made once a module (21 tests start from
+    it)."""
+    folder = tmp_path_factory.mktemp("earlier")
+    result = run(["run"] + SHORT, folder)
     assert result.returncode == 0, result.stderr
-    return tmp_path, snapshot(tmp_path)
+    return snapshot(folder)
+
+
+@pytest.fixture
+def old_set(tmp_path, an_earlier_run):
+    """A folder holding a complete set of DAT files from an earlier run, and its bytes."""
+    for name, data in an_earlier_run.items():
+        (tmp_path / name).write_bytes(data)
+    assert snapshot(tmp_path) == an_earlier_run
+    return tmp_path, an_earlier_run
 
 
 # ---- the numbers a user types ------------------------------------------------------------------
@@ -87,14 +100,35 @@ def test_an_answer_of_4400_digits_is_refused_not_a_crash(tmp_path):
     assert result.returncode == 2 and "longer than the 255" in result.stderr.decode()
 
 
-@pytest.mark.parametrize("value", ["1D3", "", ".", "1e", "1#", "1!", "&H10", "--", "nan", "inf",
-                                   "1e999", "1_0", "0x10", "٣", "1" * 200])
-def test_double_precision_takes_ordinary_decimals_only(value, tmp_path):
-    result = run(["run", "slider", "--b", "2", "--c", f"{value}", "--e", "0", "--from", "0",
-                  "--to", "10", "--step", "5", "--branch", "1", "--precision", "double"],
-                 tmp_path)
-    assert_clean(result)
-    assert result.returncode == 2 and "--c:" in result.stderr.decode()
+def in_process(argv, directory, monkeypatch, capsys) -> tuple[int, str]:
+    """main(argv) in this process, in directory: its exit status (argparse's too) and what it
+    said on standard error. (For the cases of a test whose first case runs as a program.)"""
+    monkeypatch.chdir(directory)
+    capsys.readouterr()
+    try:
+        status = linkage.main(argv)
+    except SystemExit as e:
+        status = e.code
+    return status, capsys.readouterr().err
+
+
+DECIMALS_REFUSED = ["1D3", "", ".", "1e", "1#", "1!", "&H10", "--", "nan", "inf", "1e999", "1_0",
+                    "0x10", "٣", "1" * 200]
+
+
+@pytest.mark.parametrize("value", DECIMALS_REFUSED)
+def test_double_precision_takes_ordinary_decimals_only(value, tmp_path, monkeypatch, capsys):
+    """(The first as a program; the others in this process, main's same path to the refusal.)"""
+    argv = ["run", "slider", "--b", "2", "--c", f"{value}", "--e", "0", "--from", "0", "--to",
+            "10", "--step", "5", "--branch", "1", "--precision", "double"]
+    if value == DECIMALS_REFUSED[0]:
+        result = run(argv, tmp_path)
+        assert_clean(result)
+        status, said = result.returncode, result.stderr.decode()
+    else:
+        status, said = in_process(argv, tmp_path, monkeypatch, capsys)
+        assert "Traceback" not in said
+    assert status == 2 and "--c:" in said
     assert os.listdir(tmp_path) == []
 
 
@@ -418,13 +452,21 @@ def long_ang_dat(folder, lines: int, gap: tuple[float, float] = (100.0, 140.0)) 
         out.write(b"\x1a")
 
 
+@pytest.fixture(scope="module")
+def a_million_lines(tmp_path_factory) -> Path:
+    """An ANG.DAT of 10^6 lines (long_ang_dat), written once a module (0.8 s of CPU)."""
+    folder = tmp_path_factory.mktemp("million")
+    long_ang_dat(folder, 1_000_001)
+    return folder / "ANG.DAT"
+
+
 @pytest.mark.parametrize("png, bound", [(False, 150), (True, 200)])
-def test_plot_of_a_million_lines_stays_in_bounded_memory(png, bound, tmp_path):
+def test_plot_of_a_million_lines_stays_in_bounded_memory(png, bound, tmp_path, a_million_lines):
     """Issue 35, item 7: plot read its DAT files whole, at 19 times their size (a 10^7-line
     ANG.DAT took 2.9 GB). Read a chunk at a time and thinned to the figure's resolution, 10^6
     lines (28 MB) are drawn in under 150 MiB, a PNG under 200 MiB (seen: 95 and 144 MiB; before,
     305 and 401 MiB), whatever the file's length."""
-    long_ang_dat(tmp_path, 1_000_001)
+    os.link(a_million_lines, tmp_path / "ANG.DAT")
     result, mib = peak_run(["plot", "."] + (["--png", "p.png"] if png else []), tmp_path)
     assert result.returncode == 0, result.stderr
     assert mib < bound, mib
@@ -960,20 +1002,30 @@ def test_a_closed_reader_ends_every_command_alike(argv, unbuffered, tmp_path):
     ["design", "fourb-cr-4", "--psi", "60", "--mu-min", "40", "--dat", "new/sub", "--png",
      "new/sub"],                                                            # a folder in the way
 ])
-def test_a_failed_command_leaves_no_folder_it_made(argv, tmp_path):
+def test_a_failed_command_leaves_no_folder_it_made(argv, tmp_path, monkeypatch, capsys):
     """Issue 35, item 7: the output folder is made before the work (output_folder); a command
-    that then failed left it behind, empty. It is removed; a folder that was there stays."""
+    that then failed left it behind, empty. It is removed; a folder that was there stays. (The
+    first command as a program; the others in this process: main removes the folders.)"""
     (tmp_path / "bad.toml").write_text(    # a scene that loads, of a linkage never assembled
         'title = "t"\nmechanism = "plane"\ndimensions = { a = 20, b = 1, c = 1, d = 1 }\n'
         'input = { from = 0, to = 360, step = 10 }\nbranches = [1]\nprecision = "double"\n\n'
         '[[panels]]\nquantities = ["displacement"]\n')
     (tmp_path / "kept").mkdir()
-    result = run(argv, tmp_path)
-    assert_clean(result)
-    assert result.returncode != 0, result.stderr
+    if argv[:2] == ["run", "plane"] and "double" not in argv:
+        def started(argv):
+            result = run(argv, tmp_path)
+            assert_clean(result)
+            return result.returncode, result.stderr
+    else:
+        def started(argv):
+            status, said = in_process(argv, tmp_path, monkeypatch, capsys)
+            assert "Traceback" not in said
+            return status, said
+    status, said = started(argv)
+    assert status != 0, said
     assert sorted(os.listdir(tmp_path)) == ["bad.toml", "kept"]
-    result = run(argv[:-1] + ["kept"] if argv[-2] != "--png" else argv, tmp_path)
-    assert result.returncode != 0 and (tmp_path / "kept").is_dir()
+    status, _ = started(argv[:-1] + ["kept"] if argv[-2] != "--png" else argv)
+    assert status != 0 and (tmp_path / "kept").is_dir()
 
 
 def test_plot_refuses_to_write_over_what_it_draws(tmp_path):
@@ -995,45 +1047,77 @@ def test_plot_refuses_to_write_over_what_it_draws(tmp_path):
 
 
 SIGNALLED_IN_AN_IMPORT = """
-import os, signal, sys
+import json, os, signal, sys, traceback
 import linkage
 assert "numpy" not in sys.modules            # imported by the sweep's first full block
+argv, jobs = sys.argv[1:-1], json.loads(sys.argv[-1])
 seen = []
 class Signaller:                             # on the nth module numpy's import asks for
+    def __init__(self, nth):
+        self.nth = nth
     def find_spec(self, name, path=None, target=None):
         if name == "numpy" or "numpy" in sys.modules:
             seen.append(name)
-            if len(seen) == int(sys.argv[1]):
+            if len(seen) == self.nth:
                 sys.stderr.write(f"SIGHUP in the import of {name}\\n")
                 os.kill(os.getpid(), signal.SIGHUP)
         return None
-sys.meta_path.insert(0, Signaller())
-sys.exit(linkage.main(sys.argv[2:]))
+statuses = {}
+for nth, folder, said in jobs:               # a process each, forked with linkage imported
+    pid = os.fork()
+    if pid == 0:
+        status = 1
+        try:
+            out = os.open(said, os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
+            os.dup2(out, 1)
+            os.dup2(out, 2)
+            sys.meta_path.insert(0, Signaller(nth))
+            status = linkage.main(argv + ["--dir", folder])
+        except SystemExit as e:
+            status = e.code
+        except BaseException:
+            traceback.print_exc()
+        finally:
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(status)
+    statuses[nth] = os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1])
+print(json.dumps(statuses))
 """
+SIGNALLED_AT = [*range(1, 41), *range(41, 101, 6)]
 
 
-@pytest.mark.parametrize("nth", [*range(1, 41), *range(41, 101, 6)])
-def test_a_signal_in_numpys_import_is_not_lost(nth, tmp_path):
+def test_a_signal_in_numpys_import_is_not_lost(tmp_path):
     """Issue 35, item 8: a double run SIGHUP'd 24-41 ms after its first .partial file (7 of 270
     runs) finished its 3.6 million points, replaced the DAT files and exited 0. The signal came
     during `import numpy` (the sweep's first full block of rows is formatted by numpy), and the
     handler's exception, raised in numpy's C initialisation (its import of datetime), was
     cleared there. Here, in a process of its own, the signal comes as numpy's import asks for
     its nth module: each of the first 40 (numpy._core and its C extensions), then every sixth
-    to the 100th. The run ends, 128 + SIGHUP, and the old files stand."""
+    to the 100th. The run ends, 128 + SIGHUP, and the old files stand. (Each run is a process
+    forked from one that has imported linkage, as `python3 linkage.py` has when its main
+    starts: 50 starts and imports of linkage cost 3.5 s of CPU.)"""
     argv = ["run", "plane", "--a", "6", "--b", "2", "--c", "7", "--d", "9", "--from", "0",
-            "--to", "360", "--branch", "1", "--precision", "double", "--dir", str(tmp_path),
-            "--step"]
-    for name in ("ANG.DAT", "VEL.DAT", "ACC.DAT"):
-        (tmp_path / name).write_bytes(b"OLD " + name.encode())
-    before = snapshot(tmp_path)
-    done = subprocess.run([sys.executable, "-c", SIGNALLED_IN_AN_IMPORT, str(nth)] + argv
-                          + ["0.01"], cwd=basic_runner.ROOT, capture_output=True, text=True,
-                          timeout=120)
-    assert "SIGHUP in the import of" in done.stderr, done.stderr       # the moment came
-    assert done.returncode == 128 + signal.SIGHUP, done.stderr
-    assert "interrupted" in done.stderr and "Traceback" not in done.stderr
-    assert snapshot(tmp_path) == before
+            "--to", "360", "--branch", "1", "--precision", "double", "--step", "0.01"]
+    jobs, befores = [], {}
+    for nth in SIGNALLED_AT:
+        folder = tmp_path / str(nth)
+        folder.mkdir()
+        for name in ("ANG.DAT", "VEL.DAT", "ACC.DAT"):
+            (folder / name).write_bytes(b"OLD " + name.encode())
+        befores[nth] = snapshot(folder)
+        jobs.append((nth, str(folder), str(tmp_path / f"said-{nth}.txt")))
+    done = subprocess.run([sys.executable, "-c", SIGNALLED_IN_AN_IMPORT] + argv
+                          + [json.dumps(jobs)], cwd=basic_runner.ROOT, capture_output=True,
+                          text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    statuses = json.loads(done.stdout)
+    for nth, folder, said_in in jobs:
+        said = (tmp_path / said_in).read_text()
+        assert "SIGHUP in the import of" in said, (nth, said)       # the moment came
+        assert statuses[str(nth)] == 128 + signal.SIGHUP, (nth, said)
+        assert "interrupted" in said and "Traceback" not in said, (nth, said)
+        assert snapshot(tmp_path / folder) == befores[nth], nth
 
 
 def test_signals_held_within_signals_held_stay_held_until_the_outer_block_ends():

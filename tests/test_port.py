@@ -4,6 +4,7 @@ PC-BASIC 2.0.8, byte for byte, and stops cleanly where the original would hang o
 
 from __future__ import annotations
 
+import contextlib
 import io
 import os
 import re
@@ -45,19 +46,41 @@ def first_difference(name: str, want: bytes, got: bytes) -> str:
 # ---- the golden corpus ---------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
-def golden_run(request, tmp_path_factory):
-    """(case, the port's run of its keys, the DAT files it wrote): one run a case, which the
-    case's tests below share (pytest runs them one after another, scope="module")."""
-    case = request.param
-    folder = tmp_path_factory.mktemp(case["name"])
-    result = run_port((make_golden.GOLDEN / case["name"] / "keys.txt").read_bytes(), folder)
-    return case, result, dat_files(folder)
+def golden_runs() -> dict:
+    """The golden cases' runs made so far in this process, by case name."""
+    return {}
 
 
 # The golden cases --quick keeps: a short session of each mechanism and the menu's wrong keys;
-# the others are marked slow.
+# the others are marked slow. These run as programs (`python3 linkage.py < keys.txt`, by
+# PROGRAM); the others by the function the program hands redirected keys to (menu_program's
+# redirected_program), in this process: the same bytes, without a start of Python a case.
 QUICK_CASES = {"plane-b1", "spherical-b1", "skew-b1", "slider-b1", "skew-slider-b1",
                "menu-invalid-keys"}
+
+
+def run_in_process(keys: bytes, directory) -> subprocess.CompletedProcess:
+    """The menu program on keys in this process, as run_port's program runs it."""
+    screen, said = io.BytesIO(), io.StringIO()
+    with contextlib.redirect_stderr(said):
+        status = linkage.redirected_program(io.BytesIO(keys), screen, str(directory))
+    return subprocess.CompletedProcess(PROGRAM, status, screen.getvalue(),
+                                       said.getvalue().encode())
+
+
+@pytest.fixture
+def golden_run(request, golden_runs, tmp_path_factory):
+    """(case, the port's run of its keys, the DAT files it wrote): one run a case, which the
+    case's tests below share. (A module-scoped fixture parametrized by each test's own list of
+    cases was made again for every test, its parameters told apart by their index in the list:
+    92 runs of the 44 cases.)"""
+    case = request.param
+    if case["name"] not in golden_runs:
+        folder = tmp_path_factory.mktemp(case["name"])
+        start = run_port if case["name"] in QUICK_CASES else run_in_process
+        result = start((make_golden.GOLDEN / case["name"] / "keys.txt").read_bytes(), folder)
+        golden_runs[case["name"]] = case, result, dat_files(folder)
+    return golden_runs[case["name"]]
 
 
 def golden(cases):
@@ -122,8 +145,14 @@ def test_run_writes_what_the_menu_writes(golden_run, tmp_path):
     case, menu, menu_files = golden_run
     keys = (make_golden.GOLDEN / case["name"] / "keys.txt").read_bytes()
     assert menu.returncode == 0
-    result = subprocess.run(PROGRAM + ["run"] + run_options(keys) + ["--dir", str(tmp_path)],
-                            capture_output=True, timeout=300)
+    argv = ["run"] + run_options(keys) + ["--dir", str(tmp_path)]
+    if case["name"] in QUICK_CASES:            # as a program; the others by main in this process
+        result = subprocess.run(PROGRAM + argv, capture_output=True, timeout=300)
+    else:
+        said = io.StringIO()
+        with contextlib.redirect_stderr(said):
+            status = linkage.main(argv)
+        result = subprocess.CompletedProcess(argv, status, b"", said.getvalue().encode())
     if menu_files["ANG.DAT"] == b"\x1a":      # the menu's empty sweep (K14): run refuses
         assert result.returncode == 1 and b"has no point" in result.stderr
         assert os.listdir(tmp_path) == []
@@ -174,8 +203,9 @@ def test_run_reports_an_illegal_linkage(tmp_path):
     (b"11\r1\r1\r20\r", "the keystrokes ended before the program did"),
 ])
 def test_the_port_stops_cleanly(keys, message, tmp_path):
-    """(Started as the user starts it, `python3 linkage.py`.)"""
-    result = run_port(keys, tmp_path, SCRIPT)
+    """(The first started as the user starts it, `python3 linkage.py`; the others by PROGRAM,
+    which test_command_line shows the same without compiling the script at each start.)"""
+    result = run_port(keys, tmp_path, SCRIPT if keys == b"12\r7\r9\r6\r0\r90\r0\r1" else PROGRAM)
     assert result.returncode == 1
     assert message in result.stderr.decode()
     assert "Traceback" not in result.stderr.decode()

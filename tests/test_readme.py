@@ -1,7 +1,14 @@
 """The README as a newcomer uses it: every `python3 linkage.py …` command it shows - in its code
 blocks (continued lines joined) and in its tables - runs from a fresh folder and exits 0, as
 shown; so does every one of data/PROOFS.md, where the README's claims are proven. The folder has the repository's data/ and legacy_basic/ beside it (the README's paths
-are relative to the clone); the bare menu program is given the key 6 (Exit)."""
+are relative to the clone); the bare menu program is given the key 6 (Exit).
+
+Each command starts the program as the other modules do, by PROGRAM (this checkout's linkage.py
+from its compiled bytecode; test_command_line.test_the_tests_start_the_program_the_users_way shows
+it the same as the script), but for those in BY_SCRIPT, run as typed: compiling the script's
+350 kB at each of 35 starts cost 8 s of CPU. A `bench NAME` runs at full size with
+LINKAGE_LONG=1; the default run has every bench at --quick size in test_bench's quick_run
+(`bench all --quick`, every name of BENCHMARKS checked there)."""
 
 from __future__ import annotations
 
@@ -12,8 +19,11 @@ import sys
 
 import pytest
 
+import linkage
 import test_bench
+import test_scenes
 from support.basic_runner import ROOT
+from support.program import PROGRAM
 
 pytestmark = pytest.mark.slow       # --quick leaves the whole module out (conftest.py)
 
@@ -46,9 +56,16 @@ def readme_commands(text: str) -> list[str]:
 # A command another module runs as a program already, exit status and standard error checked as
 # here: `bench all --quick` is tests/test_bench.py's quick_run (linkage.py copied alone, nothing of
 # tests/ importable), not run a second time (8 s of CPU).
-RUN_ELSEWHERE = {"python3 linkage.py " + " ".join(test_bench.QUICK_ARGS): "test_bench.quick_run"}
+# So is `scene fig3 --png fig3.png`, test_scenes.test_a_curve_scene_says_the_png_it_wrote's (a
+# PNG drawn by a process of its own, 0.9 s).
+RUN_ELSEWHERE = {"python3 linkage.py " + " ".join(test_bench.QUICK_ARGS): "test_bench.quick_run",
+                 "python3 linkage.py " + " ".join(test_scenes.CURVE_PNG):
+                     "test_scenes.test_a_curve_scene_says_the_png_it_wrote"}
+LONG = bool(os.environ.get("LINKAGE_LONG"))
+BENCH = re.compile(r"^python3 linkage\.py bench [a-z]+$")        # one bench at full size
+BY_SCRIPT = {"python3 linkage.py", "python3 linkage.py < data/golden/plane-b1/keys.txt"}
 COMMANDS = [c for c in dict.fromkeys(readme_commands(README) + readme_commands(PROOFS))
-            if c not in RUN_ELSEWHERE]
+            if c not in RUN_ELSEWHERE and (LONG or not BENCH.match(c))]
 
 
 def test_the_readme_shows_the_commands_of_every_sub_command():
@@ -63,13 +80,18 @@ def test_the_commands_run_elsewhere_are_the_readmes():
     shown = readme_commands(README) + readme_commands(PROOFS)
     for command in RUN_ELSEWHERE:
         assert command in shown and command not in COMMANDS, command
+    for command in shown:                    # a bench left to quick_run is one it runs
+        if BENCH.match(command) and not LONG:
+            assert command not in COMMANDS and command.split()[-1] in linkage.BENCHMARKS
+    assert BY_SCRIPT <= set(COMMANDS)        # and the script's own start is still run here
 
 
 @pytest.mark.parametrize("command", COMMANDS)
 def test_a_readme_command_runs_as_shown(command, tmp_path):
     for name in ("data", "legacy_basic"):
         os.symlink(ROOT / name, tmp_path / name)
-    line = command.replace("python3 linkage.py", f'"{sys.executable}" "{ROOT / "linkage.py"}"', 1)
+    start = [sys.executable, str(ROOT / "linkage.py")] if command in BY_SCRIPT else PROGRAM
+    line = command.replace("python3 linkage.py", " ".join(f'"{a}"' for a in start), 1)
     keys = "6" if command == "python3 linkage.py" else None
     got = subprocess.run(["bash", "-c", line], cwd=tmp_path, capture_output=True, text=True,
                          input=keys, timeout=600)
