@@ -5612,12 +5612,18 @@ _FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "x
 
 
 def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
-                     derivatives: int, trig: dict[str, numpy.ndarray] | None = None
+                     derivatives: int, trig: dict[str, numpy.ndarray] | None = None,
+                     each_block: Callable[[int, int, list[Any], numpy.ndarray, list[Any]], object]
+                     | None = None
                      ) -> MotionArrays:
     """Linkage.sweep_arrays: see there. trig, where given, receives the cosines and sines the
     sweep computes on its way (for forces_of_arrays): "phi" the (2, n) cos and sin of the input
     angles, "output" a four-bar's of its output angles (derivatives 1 or 2); NaN at a point
-    handed to the scalar sweep."""
+    handed to the scalar sweep. each_block, where given, is called with each block's first
+    index, the count of angles, its arrays while they are in the cache (the cos and sin of phi, a four-bar's of psi,
+    then output, velocity and acceleration: derivatives 2), its points to be handed to the
+    scalar sweep (True; their numbers there not yet known) and the block's work arrays free
+    till the next (float64), for Linkage.forces_arrays."""
     np = numpy_module()
     if branch not in (1, 2):
         raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
@@ -5678,6 +5684,12 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
                 for key in ("output", "velocity", "acceleration"):
                     if part[key] is not None:
                         np.multiply(part[key], linkage.unit, out=part[key])
+            if each_block is not None:
+                given = [c, s] + ([] if linkage.is_slider else [work["cn"], work["sn"]])
+                each_block(start, count, given + [part["output"], part["velocity"],
+                                                  part["acceleration"]], again, [
+                    a for a in work.values() if a.dtype == np.float64 and not any(
+                        a is b for b in given)])
     where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
     if len(where):
         for pairs in (trig or {}).values():
@@ -6241,7 +6253,8 @@ def run_plan(plan: Plan, registers: list[Any]) -> None:
 # (test_layout).
 #
 # Uses: sections 2, 6, 7, 9, 10 and 11.
-# Offers: FORCES_STATUS_CODES, FORCES_HANDOFF, ReactionArrays, ForcesArrays, forces_of_arrays.
+# Offers: FORCES_STATUS_CODES, FORCES_HANDOFF, ReactionArrays, ForcesArrays, forces_of_arrays,
+#   forces_arrays_of.
 
 
 # -- the forces on arrays --------------------------------------------------------------------------
@@ -6775,19 +6788,121 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
             recipe, setup, tuple(inputs[:4]), *inputs[-2:])
     else:
         t, reactions, force, moment, apart, size = _pin_reactions(recipe, setup, inputs)
-    # every number the elimination makes reaches the shaking (an inf or a NaN carries through
-    # + and x; the torque through the moment's z, less it): all are finite where these six
-    # are, and there check - check is 0 (recorded as it is, not folded); NaN elsewhere, and
-    # then so is near, which no number passes
-    check = sum(force) + sum(moment)
-    near = apart + recipe.term("subtract", check, check) if type(check) is Term else apart
-    values = [t, near, *force, *moment] + [x for pair in reactions.values()
+    values = [t, apart, *force, *moment] + [x for pair in reactions.values()
                                            for v in pair if v is not None for x in v]
     plan = plan_recipe(numpy_module(), recipe, inputs, [v for v in values if type(v) is Term])
     return _ForcesTrace(plan, tuple(None if type(v) is Term else float(v) for v in values),
                         tuple((name, f is not None, m is not None)
                               for name, (f, m) in reactions.items()),
                         FORCES_HANDOFF * size, setup.omega, setup.speed_rpm)
+
+
+class _Answer:
+    """A forces_of_arrays answer in the making: the answer's arrays (one allocation: freed
+    whole, it is the allocator's to reuse at the next call; in parts, glibc gave them back to
+    the system and faulted in new pages, 16 MB of them a call, as much again as the forces'
+    work: python3 linkage.py bench forces), its constant rows filled, the plan's buffers kept
+    from block to block (each its own: freed and made again a call at a time, the allocator's
+    reuse, where one block of them all would be new pages, 3.5 MB, each call)."""
+
+    def __init__(self, np: ModuleType, trace: _ForcesTrace, count: int) -> None:
+        self.np, self.trace, self.plan = np, trace, trace.plan
+        self.whole = np.empty((len(trace.rows), count))
+        for row, value in zip(self.whole, trace.rows):
+            if value is not None:
+                row.fill(value)
+        self.results = [i for i, value in enumerate(trace.rows) if value is None]
+        self.registers = list(self.plan.registers)
+        self.block = min(FAST_BLOCK, max(count, 1))
+        for at in self.plan.buffers:
+            self.registers[at] = np.empty(self.block)
+
+    def run(self, start: int, sources: Sequence[Any], spare: Sequence[Any] = (),
+            whole: Any = None) -> None:
+        """The plan on one block (its first index, then the plan's inputs for it): its columns
+        of the answer (`whole`, if not the answer's own); spare: arrays of the block's length
+        for its buffers, if enough. Every number the elimination makes reaches the shaking (an
+        inf or a NaN carries through + and x; the torque through the moment's z, less it): all
+        are finite where its six are, and near is made NaN where they are not, which no number
+        passes (their sum over the block is finite where all are)."""
+        plan, registers, n = self.plan, self.registers, len(sources[0])
+        whole = self.whole if whole is None else whole
+        if len(spare) >= len(plan.buffers):
+            registers = list(registers)
+            for at, array in zip(plan.buffers, spare):
+                registers[at] = array
+        elif n != self.block:                   # a shorter block, the last
+            registers = [r[:n] if i in plan.buffers else r for i, r in enumerate(registers)]
+        for i, source in zip(plan.inputs, sources):
+            registers[i] = source
+        for i, row in zip(plan.results, self.results):
+            registers[i] = whole[row, start:start + n]
+        with self.np.errstate(all="ignore"):
+            run_plan(plan, registers)
+            shaking = whole[2:8, start:start + n]
+            if not math.isfinite(self.np.add.reduce(shaking, axis=None)):
+                whole[1, start:start + n][~self.np.isfinite(shaking).all(axis=0)] = math.nan
+
+    def run_at(self, where: Any, sources: Sequence[Any]) -> None:
+        """The plan at the points `where` (indices; sources the plan's inputs there), in blocks
+        of the answer's."""
+        np = self.np
+        for start in range(0, len(where), self.block):
+            at = where[start:start + self.block]
+            part = np.empty((len(self.whole), len(at)))
+            part[:] = self.whole[:, :1]                 # the constant rows (the rest made)
+            self.run(0, [source[start:start + len(at)] for source in sources], whole=part)
+            self.whole[:, at] = part
+
+    def finished(self, linkage: Closure, arrays: MotionArrays, branch: int, bodies: Bodies,
+                 effects: Effects, radius: float) -> ForcesArrays:
+        """The answer, each position that is not plainly assembled, or near the output's dead
+        centre, or whose numbers are not all finite, handed to forces() (see the notes above)."""
+        np, trace, whole = self.np, self.trace, self.whole
+        count = whole.shape[1]
+        torque, apart_of, shaking = whole[0], whole[1], whole[2:8].reshape(2, 3, count)
+        parts = iter(range(8, len(whole), 3))
+        joints = {name: ReactionArrays(*(whole[(i := next(parts)):i + 3] if kept else None
+                                         for kept in pair)) for name, *pair in trace.joints}
+        with np.errstate(over="ignore", invalid="ignore"):
+            power = torque * trace.omega            # beyond the floats' range: forces() says
+        plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)     # overflow, as for
+        unknown = plain != assembled                                         # any other number
+        redo = (unknown | ~(apart_of >= trace.handoff) | ~np.isfinite(power)) & (
+            plain != STATUS_CODES.index(NOT_ASSEMBLED))
+        status = plain.copy()
+        if unknown.any():
+            torque[unknown] = power[unknown] = math.nan
+            for r in [shaking] + [v for r in joints.values() for v in r if v is not None]:
+                r[..., unknown] = math.nan
+        where = np.flatnonzero(redo)
+        if len(where):
+            for i, f in zip(where.tolist(), forces(linkage, arrays.phi[where].tolist(), branch,
+                                                     bodies, effects, radius=radius)):
+                status[i] = FORCES_STATUS_CODES.index(f.status)
+                torque[i] = math.nan if f.torque is None else f.torque
+                power[i] = math.nan if f.power is None else f.power
+                for name, arrays_of in joints.items():
+                    reaction = f.joints[name] if f.joints is not None else Reaction(None, None)
+                    for v, column in zip(reaction, arrays_of):
+                        if column is not None:
+                            column[:, i] = math.nan if v is None else v
+                for v, r in zip((f.shaking_force, f.shaking_moment), shaking):
+                    r[:, i] = math.nan if v is None else v
+        return ForcesArrays(arrays.phi, torque, power,
+                            {name: ReactionArrays(*(None if v is None else v.T for v in r))
+                             for name, r in joints.items()}, shaking[0].T, shaking[1].T, status,
+                            trace.speed_rpm)
+
+
+def _kept_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: float
+                ) -> _ForcesTrace:
+    """_forces_trace's, kept where bodies and effects can be (not where one holds a list)."""
+    try:
+        hash((bodies, effects, radius))
+    except TypeError:                   # a body's or an effect's list: not to be kept
+        return _forces_trace.__wrapped__(linkage, bodies, effects, radius)
+    return _forces_trace(linkage, bodies, effects, radius)
 
 
 def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
@@ -6797,12 +6912,7 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
     answer): a ForcesArrays (see Linkage.forces_arrays). trig: the sweep's cosines and sines
     (motion_arrays_of's), computed here where not given."""
     np = numpy_module()
-    try:
-        hash((bodies, effects, radius))
-    except TypeError:                   # a body's or an effect's list: not to be kept
-        trace = _forces_trace.__wrapped__(linkage, bodies, effects, radius)
-    else:
-        trace = _forces_trace(linkage, bodies, effects, radius)
+    trace = _kept_trace(linkage, bodies, effects, radius)
     if arrays.velocity is None or arrays.acceleration is None:
         raise ValueError("the forces need the sweep's velocity and acceleration (derivatives 2)")
     trig = dict(trig or {})
@@ -6817,64 +6927,43 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
             trig[key][0][stale], trig[key][1][stale] = cos_sin_degrees_array(np, angles[stale])
     sources = [trig[key][j] for key, _ in keys for j in (0, 1)] + [
         arrays.output, arrays.velocity, arrays.acceleration]
-    count = len(arrays.phi)
-    # one allocation for the answer's arrays: freed whole, it is the allocator's to reuse at
-    # the next call (in parts, glibc gave them back to the system and faulted in new pages, 16
-    # MB of them a call, as much again as the forces' work: python3 linkage.py bench forces)
-    whole = np.empty((len(trace.rows), count))
-    torque, apart_of, shaking = whole[0], whole[1], whole[2:8].reshape(2, 3, count)
-    parts = iter(range(8, len(whole), 3))
-    joints = {name: ReactionArrays(*(whole[(i := next(parts)):i + 3] if kept else None
-                                     for kept in pair)) for name, *pair in trace.joints}
-    for row, value in zip(whole, trace.rows):
-        if value is not None:
-            row.fill(value)
-    results = [row for row, value in zip(whole, trace.rows) if value is None]
-    block, plan = min(FAST_BLOCK, max(count, 1)), trace.plan
-    registers = list(plan.registers)
-    for at in plan.buffers:         # each its own: freed and made again a call at a time, the
-        registers[at] = np.empty(block)     # allocator's reuse, where one block of them all
-        #                                     would be new pages (3.5 MB) each call
-    with np.errstate(all="ignore"):
-        for start in range(0, count, block):
-            part = slice(start, min(start + block, count))
-            if part.stop - start < block:           # the last block, shorter
-                registers = [registers[i][:part.stop - start] if i in plan.buffers else r
-                             for i, r in enumerate(registers)]
-            for i, source in zip(plan.inputs, sources):
-                registers[i] = source[part]
-            for i, row in zip(plan.results, results):
-                registers[i] = row[part]
-            run_plan(plan, registers)
-    with np.errstate(over="ignore", invalid="ignore"):
-        power = torque * trace.omega                # beyond the floats' range: forces() says
-    plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)     # overflow, as for any
-    unknown = plain != assembled                                         # other number
-    redo = (unknown | ~(apart_of >= trace.handoff) | ~np.isfinite(power)) & (
-        plain != STATUS_CODES.index(NOT_ASSEMBLED))
-    status = plain.copy()
-    if unknown.any():
-        torque[unknown] = power[unknown] = math.nan
-        for r in [shaking] + [v for r in joints.values() for v in r if v is not None]:
-            r[..., unknown] = math.nan
-    where = np.flatnonzero(redo)
+    answer = _Answer(np, trace, len(arrays.phi))
+    for start in range(0, len(arrays.phi), answer.block):
+        answer.run(start, [source[start:start + answer.block] for source in sources])
+    return answer.finished(linkage, arrays, branch, bodies, effects, radius)
+
+
+def forces_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
+                     bodies: Bodies, effects: Effects, radius: float) -> ForcesArrays:
+    """Linkage.forces_arrays: the sweep (motion_arrays_of) and the forces together, each block
+    of the forces computed as the sweep leaves it, its arrays still in the cache (rather than
+    the sweep's cosines and sines kept whole and read again); the points the sweep hands to its
+    scalar engine computed after it, as forces_of_arrays computes them."""
+    np = numpy_module()
+    trace = _kept_trace(linkage, bodies, effects, radius)
+    handed: list[Any] = []
+    answer: _Answer | None = None
+
+    def each_block(start: int, count: int, sources: list[Any], again: Any, spare: list[Any]
+                   ) -> None:
+        nonlocal answer
+        if answer is None:
+            answer = _Answer(np, trace, count)
+        answer.run(start, sources, spare)
+        if again.any():
+            handed.append(np.flatnonzero(again) + start)
+
+    arrays = motion_arrays_of(linkage, phis, branch, 2, each_block=each_block)
+    if answer is None:                  # no angles
+        answer = _Answer(np, trace, len(arrays.phi))
+    where = np.concatenate(handed) if handed else np.empty(0, dtype=np.intp)
+    where = where[arrays.status[where] == STATUS_CODES.index(ASSEMBLED)]
     if len(where):
-        for i, f in zip(where.tolist(), forces(linkage, arrays.phi[where].tolist(), branch,
-                                                 bodies, effects, radius=radius)):
-            status[i] = FORCES_STATUS_CODES.index(f.status)
-            torque[i] = math.nan if f.torque is None else f.torque
-            power[i] = math.nan if f.power is None else f.power
-            for name, arrays_of in joints.items():
-                reaction = f.joints[name] if f.joints is not None else Reaction(None, None)
-                for v, column in zip(reaction, arrays_of):
-                    if column is not None:
-                        column[:, i] = math.nan if v is None else v
-            for v, r in zip((f.shaking_force, f.shaking_moment), shaking):
-                r[:, i] = math.nan if v is None else v
-    return ForcesArrays(arrays.phi, torque, power,
-                        {name: ReactionArrays(*(None if v is None else v.T for v in r))
-                         for name, r in joints.items()}, shaking[0].T, shaking[1].T, status,
-                        trace.speed_rpm)
+        assert arrays.velocity is not None and arrays.acceleration is not None
+        angles = [arrays.phi[where]] + ([] if linkage.is_slider else [arrays.output[where]])
+        answer.run_at(where, [x for a in angles for x in cos_sin_degrees_array(np, a)] + [
+            arrays.output[where], arrays.velocity[where], arrays.acceleration[where]])
+    return answer.finished(linkage, arrays, branch, bodies, effects, radius)
 
 
 # ---- 13. Simulation: the equation of motion in its coordinates -----------------------------------
@@ -7917,9 +8006,7 @@ class Linkage(Closure):
         power, each joint's reaction and the shaking, NaN where unknown, with status codes; the
         same numbers as forces to rounding and the same statuses (tests/test_forces_numpy.py): a
         position near a dead centre is computed by forces itself."""
-        trig: dict[str, numpy.ndarray] = {}
-        return forces_of_arrays(self, motion_arrays_of(self, phis, branch, 2, trig), branch,
-                                bodies, effects, radius=radius, trig=trig)
+        return forces_arrays_of(self, phis, branch, bodies, effects, radius)
 
 
 # ---- 16. DAT and CSV files: the sweep's formats, written and read --------------------------------
