@@ -5609,6 +5609,7 @@ _FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "x
               "q", "sv", "rr", "root", "sn", "cn", "r2", "dp", "dq", "ds", "e", "fp", "xm", "xk",
               "m", "u", "v", "dist", "big", "dm", "dk", "ax", "ay", "hi", "lo", "t", "t2", "csum",
               "f1", "f2", "disc", "h2")
+_FAST_SPARE = tuple(key for key in _FAST_WORK if key not in ("c", "s", "cy", "sy", "cn", "sn"))
 
 
 def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
@@ -5687,9 +5688,8 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
             if each_block is not None:
                 given = [c, s] + ([] if linkage.is_slider else [work["cn"], work["sn"]])
                 each_block(start, count, given + [part["output"], part["velocity"],
-                                                  part["acceleration"]], again, [
-                    a for a in work.values() if a.dtype == np.float64 and not any(
-                        a is b for b in given)])
+                                                  part["acceleration"]], again,
+                           [work[key] for key in _FAST_SPARE])
     where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
     if len(where):
         for pairs in (trig or {}).values():
@@ -6759,16 +6759,15 @@ def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ..
 
 class _ForcesTrace(NamedTuple):
     """What forces_of_arrays records once for a linkage, its bodies and effects: the plan; the
-    answer's rows (the torque, near, the shaking force's three and its moment's, then each
-    joint's force and moment where it carries one), each a constant or None where the plan
+    answer's rows (the torque, near, the power, the shaking force's three and its moment's, then
+    each joint's force and moment where it carries one), each a constant or None where the plan
     computes it (its results in the rows' order); the joints, each with whether it carries a
     force and a moment; near's least to stay (FORCES_HANDOFF times the divisor's factors); the
-    crank's speed (rad/s and rpm)."""
+    crank's speed in rpm."""
     plan: Plan
     rows: tuple[float | None, ...]
     joints: tuple[tuple[str, bool, bool], ...]
     handoff: float
-    omega: float
     speed_rpm: float
 
 
@@ -6788,13 +6787,13 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
             recipe, setup, tuple(inputs[:4]), *inputs[-2:])
     else:
         t, reactions, force, moment, apart, size = _pin_reactions(recipe, setup, inputs)
-    values = [t, apart, *force, *moment] + [x for pair in reactions.values()
+    values = [t, apart, t * setup.omega, *force, *moment] + [x for pair in reactions.values()
                                            for v in pair if v is not None for x in v]
     plan = plan_recipe(numpy_module(), recipe, inputs, [v for v in values if type(v) is Term])
     return _ForcesTrace(plan, tuple(None if type(v) is Term else float(v) for v in values),
                         tuple((name, f is not None, m is not None)
                               for name, (f, m) in reactions.items()),
-                        FORCES_HANDOFF * size, setup.omega, setup.speed_rpm)
+                        FORCES_HANDOFF * size, setup.speed_rpm)
 
 
 class _Answer:
@@ -6839,9 +6838,9 @@ class _Answer:
             registers[i] = whole[row, start:start + n]
         with self.np.errstate(all="ignore"):
             run_plan(plan, registers)
-            shaking = whole[2:8, start:start + n]
-            if not math.isfinite(self.np.add.reduce(shaking, axis=None)):
-                whole[1, start:start + n][~self.np.isfinite(shaking).all(axis=0)] = math.nan
+            checked = whole[2:9, start:start + n]          # the power and the shaking
+            if not math.isfinite(self.np.add.reduce(checked, axis=None)):
+                whole[1, start:start + n][~self.np.isfinite(checked).all(axis=0)] = math.nan
 
     def run_at(self, where: Any, sources: Sequence[Any]) -> None:
         """The plan at the points `where` (indices; sources the plan's inputs there), in blocks
@@ -6860,15 +6859,14 @@ class _Answer:
         centre, or whose numbers are not all finite, handed to forces() (see the notes above)."""
         np, trace, whole = self.np, self.trace, self.whole
         count = whole.shape[1]
-        torque, apart_of, shaking = whole[0], whole[1], whole[2:8].reshape(2, 3, count)
-        parts = iter(range(8, len(whole), 3))
+        torque, apart_of, power = whole[:3]
+        shaking = whole[3:9].reshape(2, 3, count)
+        parts = iter(range(9, len(whole), 3))
         joints = {name: ReactionArrays(*(whole[(i := next(parts)):i + 3] if kept else None
                                          for kept in pair)) for name, *pair in trace.joints}
-        with np.errstate(over="ignore", invalid="ignore"):
-            power = torque * trace.omega            # beyond the floats' range: forces() says
-        plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)     # overflow, as for
-        unknown = plain != assembled                                         # any other number
-        redo = (unknown | ~(apart_of >= trace.handoff) | ~np.isfinite(power)) & (
+        plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)
+        unknown = plain != assembled
+        redo = (unknown | ~(apart_of >= trace.handoff)) & (
             plain != STATUS_CODES.index(NOT_ASSEMBLED))
         status = plain.copy()
         if unknown.any():
