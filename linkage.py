@@ -5609,7 +5609,8 @@ _FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "x
               "q", "sv", "rr", "root", "sn", "cn", "r2", "dp", "dq", "ds", "e", "fp", "xm", "xk",
               "m", "u", "v", "dist", "big", "dm", "dk", "ax", "ay", "hi", "lo", "t", "t2", "csum",
               "f1", "f2", "disc", "h2")
-_FAST_SPARE = tuple(key for key in _FAST_WORK if key not in ("c", "s", "cy", "sy", "cn", "sn"))
+_FAST_SPARE = tuple(key for key in _FAST_WORK
+                    if key not in ("c", "s", "cy", "sy", "cn", "sn", "root"))
 
 
 def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
@@ -5688,7 +5689,7 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
             if each_block is not None:
                 given = [c, s] + ([] if linkage.is_slider else [work["cn"], work["sn"]])
                 each_block(start, count, given + [part["output"], part["velocity"],
-                                                  part["acceleration"]], again,
+                                                  part["acceleration"], work["root"]], again,
                            [work[key] for key in _FAST_SPARE])
     where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
     if len(where):
@@ -6456,6 +6457,74 @@ def _term_of(x: Any) -> Any:
     return x.term() if isinstance(x, _Sum) else x
 
 
+# -- what the sweep hands over ---------------------------------------------------------------------
+#
+# The four-bar's sweep solves its closure F = p cos psi + q sin psi + sv = 0 (p, q and sv fixed
+# combinations of cos phi and sin phi: the linkage's constants), and on its way has root, the
+# square root of its discriminant: F's derivative in psi is sign root (sign the branch's), and
+# psi' = -F_phi / F_psi. The forces' divisor (a . (k x b) for the spherical, v . e for the skew
+# and plane) is a constant times F_psi, so it is taken as that constant times sign root, an
+# input of the plan, rather than made again from the cosines (4 to 6 operations a position);
+# the spherical coupler's n_z, a constant times F_phi = -sign psi' root, as one product rather
+# than 7. Each constant is found by evaluating the formula and F's derivatives at _PROBES, and
+# kept only where the ratio is the same at all of them; the formula's own is traced elsewhere.
+
+_PROBES = ((0.3, 1.1), (2.0, -0.7), (-1.3, 2.9), (0.9, 0.2))    # (phi, psi), radians
+
+
+class _Sweep:
+    """The sweep's closure for a four-bar's trace: its constants, the branch's sign, and the
+    plan's inputs (the cosines and sines, psi', root) as terms of the recipe."""
+
+    def __init__(self, recipe: Recipe, constants: tuple[float, ...], sign: float,
+                 cos_sin: Sequence[Term], rate: Term, root: Term) -> None:
+        self.recipe, self.constants, self.sign = recipe, constants, sign
+        self.cos_sin, self.rate, self.root = cos_sin, rate, root
+
+    def value(self, x: Any, phi: float, psi: float) -> float:
+        """x (a term, a _Sum or a number) where phi and psi are these (psi', psi'' and root
+        numbers of no meaning: a formula that is F's derivative uses none of them)."""
+        given = dict(zip([t.index for t in self.cos_sin], (
+            math.cos(phi), math.sin(phi), math.cos(psi), math.sin(psi))))
+        values: dict[int, float] = {}
+
+        def of(a: Any) -> float:
+            if type(a) is not Term:
+                return float(a)
+            if a.index not in values:
+                if a.op == "input":
+                    values[a.index] = given.get(a.index, 0.37)
+                else:
+                    u, *v = [of(b) for b in a.args]
+                    values[a.index] = {
+                        "add": lambda: u + v[0], "subtract": lambda: u - v[0],
+                        "multiply": lambda: u * v[0], "divide": lambda: u / v[0],
+                        "negative": lambda: -u, "sqrt": lambda: math.sqrt(abs(u)),
+                        "absolute": lambda: abs(u)}[a.op]()
+            return values[a.index]
+        if isinstance(x, _Sum):
+            return sum(k * of(t) for t, (k, _) in x.parts.items()) + x.constant[0]
+        return of(x)
+
+    def partials(self, phi: float, psi: float) -> tuple[float, float]:
+        """F's derivatives in psi and in phi there."""
+        p0, pc, ps, q0, qc, qs, _, sc, ss = self.constants
+        c, s, cq, sq = math.cos(phi), math.sin(phi), math.cos(psi), math.sin(psi)
+        return (-(p0 + pc * c + ps * s) * sq + (q0 + qc * c + qs * s) * cq,
+                (ps * c - pc * s) * cq + (qs * c - qc * s) * sq + ss * c - sc * s)
+
+    def ratio(self, x: Any, which: int) -> float | None:
+        """k where x is k times F's derivative in psi (which 0) or phi (1) at every probe."""
+        ks = []
+        for phi, psi in _PROBES:
+            f = self.partials(phi, psi)[which]
+            if abs(f) < 1e-3 * (sum(map(abs, self.constants)) or 1.0):
+                return None
+            ks.append(self.value(x, phi, psi) / f)
+        k = ks[0]
+        return k if k and all(abs(j - k) <= 1e-12 * abs(k) for j in ks) else None
+
+
 # -- the plane and skew kinds in closed form -------------------------------------------------------
 #
 # Their wrenches are written out rather than built from their bodies' frames: the crank turns about
@@ -6485,8 +6554,8 @@ def _times_plus(x: Term, y: Any, sign: float, z: Any) -> Any:
                           z.constant).term()
 
 
-def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
-                   ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any,
+def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term],
+                   sweep: _Sweep | None) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any,
                               float]:
     """The plane and skew kinds' torque, joints' reactions, shaking force and moment, and the
     elimination's divisor with the size it is measured against (see the notes above), from the
@@ -6579,6 +6648,8 @@ def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
             + cqs * (dot(m, w0) - c_g * dot(m, b0)) + sqs * (c_g * dot(e1, b0) - dot(e1, w0))
         ) * (-1.0 / b)
         size = length / abs(b)
+        if sweep is not None and (f := sweep.ratio(divisor, 0)) is not None:
+            divisor, top, size = sweep.root, top * (1.0 / (f * sweep.sign)), size / abs(f)
     ratio = _term_of(top) / divisor
     mu = ratio + c_g
     # R_B = mu e - W = mu P - b ratio hat_c - (W's other terms)
@@ -6638,10 +6709,12 @@ def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
 # above gave up for the other kinds (factors carried, like terms gathered) pays here.
 
 def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], q1: Any,
-                      q2: Any) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3,
-                                        Vec3, Any, float]:
+                      q2: Any, sweep: _Sweep) -> tuple[Any, dict[str, tuple[Vec3 | None,
+                                                                         Vec3 | None]], Vec3,
+                                                        Vec3, Any, float]:
     """The spherical four-bar's answer as _pin_reactions gives the others' (see the notes
-    above), from the cosines and sines of phi and psi, psi' and psi''."""
+    above), from the cosines and sines of phi and psi, psi' and psi'' (and what the sweep hands
+    over)."""
     dims, w, al = setup.dims, setup.omega, setup.alpha
     c, s, cq, sq, v1, v2 = (_Sum(recipe, {t: (1.0, 1.0)}) for t in (*cos_sin, q1, q2))
     cb, sb, cd, sd, ca, sa = (dims[f"{f} {n}"] for n in "bda" for f in ("cos", "sin"))
@@ -6702,6 +6775,9 @@ def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ..
     y = vec((1.0 / sc_, b), (-cc / sc_, a))
     n = cross(a, y)
     y = (y[0], y[1], y[2].gathered())
+    if (f := sweep.ratio(n[2], 1)) is not None:        # n_z = f F_phi = -f sign psi' root
+        n = (n[0], n[1], _Sum(recipe, {recipe.multiply(q1, sweep.root): (
+            -f * sweep.sign, abs(f))}))
     n = (n[0], n[1], n[2].gathered(y[2].size()))       # at y_z's size
     q = (a[0] * sa + cb * ca - cd * cc).gathered()      # k . a - cos d cos c
     spin_a_sum = (t * q + y[2] * (cc * sc_ * w)) * (1.0 / (sc * sc))
@@ -6729,6 +6805,8 @@ def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ..
         weighted_sum((-m1.mass * at_b, b2), (-m2.mass, a_g2)))))
     # the elimination, each sum at the size that spares the next a multiplication
     divisor = dot(a, cross(k, b)).gathered()            # D, as d D'
+    if (f := sweep.ratio(divisor, 0)) is not None:      # f F_psi = f sign root
+        divisor = _Sum(recipe, {sweep.root: (f * sweep.sign, abs(f))})
     d = divisor.size()
     d_term = (divisor * (1.0 / d)).term()
     inverse = _Sum(recipe, {recipe.divide(1.0, d_term): (1.0 / d, 1.0 / abs(d))})
@@ -6772,8 +6850,8 @@ class _ForcesTrace(NamedTuple):
 
 
 @functools.lru_cache(maxsize=16)
-def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: float
-                  ) -> _ForcesTrace:
+def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: float,
+                  branch: int) -> _ForcesTrace:
     """The formulas traced for forces_of_arrays: the same for every call with these (a linkage
     object's dimensions are fixed once it is made), so kept; the plan holds no array of a call.
     Tracing took 0.2 to 0.7 ms a call for the plane and skew kinds, 1.4 ms for the spherical
@@ -6781,12 +6859,15 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
     at 100,001 angles)."""
     setup = forces_setup(linkage, bodies, effects, radius)
     recipe = Recipe()
-    inputs = [recipe.input() for _ in range(5 if linkage.is_slider else 7)]
-    if linkage.kind == SPHERICAL_FOUR_BAR:
+    inputs = [recipe.input() for _ in range(5 if linkage.is_slider else 8)]
+    sweep = None if linkage.is_slider else _Sweep(
+        recipe, linkage.constants, 1.0 if branch == 1 else -1.0, inputs[:4], inputs[5], inputs[7])
+    if sweep is not None and linkage.kind == SPHERICAL_FOUR_BAR:
         t, reactions, force, moment, apart, size = _spherical_arrays(
-            recipe, setup, tuple(inputs[:4]), *inputs[-2:])
+            recipe, setup, tuple(inputs[:4]), inputs[5], inputs[6], sweep)
     else:
-        t, reactions, force, moment, apart, size = _pin_reactions(recipe, setup, inputs)
+        t, reactions, force, moment, apart, size = _pin_reactions(recipe, setup, inputs[:7],
+                                                                  sweep)
     values = [t, apart, t * setup.omega, *force, *moment] + [x for pair in reactions.values()
                                            for v in pair if v is not None for x in v]
     plan = plan_recipe(numpy_module(), recipe, inputs, [v for v in values if type(v) is Term])
@@ -6893,14 +6974,23 @@ class _Answer:
                             trace.speed_rpm)
 
 
-def _kept_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: float
-                ) -> _ForcesTrace:
+def _kept_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: float,
+                branch: int) -> _ForcesTrace:
     """_forces_trace's, kept where bodies and effects can be (not where one holds a list)."""
     try:
         hash((bodies, effects, radius))
     except TypeError:                   # a body's or an effect's list: not to be kept
-        return _forces_trace.__wrapped__(linkage, bodies, effects, radius)
-    return _forces_trace(linkage, bodies, effects, radius)
+        return _forces_trace.__wrapped__(linkage, bodies, effects, radius, branch)
+    return _forces_trace(linkage, bodies, effects, radius, branch)
+
+
+def _roots(np: ModuleType, linkage: Closure, branch: int, cos_sin: Sequence[Any]) -> Any:
+    """The sweep's root where its cosines and sines are these (a four-bar's; see _Sweep): sign
+    F_psi, F = p cos psi + q sin psi + sv, as the sweep's own to rounding."""
+    p0, pc, ps, q0, qc, qs, *_ = linkage.constants
+    c, s, cq, sq = cos_sin
+    return ((q0 + qc * c + qs * s) * cq - (p0 + pc * c + ps * s) * sq) * (
+        1.0 if branch == 1 else -1.0)
 
 
 def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
@@ -6910,7 +7000,7 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
     answer): a ForcesArrays (see Linkage.forces_arrays). trig: the sweep's cosines and sines
     (motion_arrays_of's), computed here where not given."""
     np = numpy_module()
-    trace = _kept_trace(linkage, bodies, effects, radius)
+    trace = _kept_trace(linkage, bodies, effects, radius, branch)
     if arrays.velocity is None or arrays.acceleration is None:
         raise ValueError("the forces need the sweep's velocity and acceleration (derivatives 2)")
     trig = dict(trig or {})
@@ -6925,6 +7015,9 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
             trig[key][0][stale], trig[key][1][stale] = cos_sin_degrees_array(np, angles[stale])
     sources = [trig[key][j] for key, _ in keys for j in (0, 1)] + [
         arrays.output, arrays.velocity, arrays.acceleration]
+    if not linkage.is_slider:
+        with np.errstate(invalid="ignore"):
+            sources.append(_roots(np, linkage, branch, sources[:4]))
     answer = _Answer(np, trace, len(arrays.phi))
     for start in range(0, len(arrays.phi), answer.block):
         answer.run(start, [source[start:start + answer.block] for source in sources])
@@ -6938,7 +7031,7 @@ def forces_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
     the sweep's cosines and sines kept whole and read again); the points the sweep hands to its
     scalar engine computed after it, as forces_of_arrays computes them."""
     np = numpy_module()
-    trace = _kept_trace(linkage, bodies, effects, radius)
+    trace = _kept_trace(linkage, bodies, effects, radius, branch)
     handed: list[Any] = []
     answer: _Answer | None = None
 
@@ -6959,8 +7052,10 @@ def forces_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
     if len(where):
         assert arrays.velocity is not None and arrays.acceleration is not None
         angles = [arrays.phi[where]] + ([] if linkage.is_slider else [arrays.output[where]])
-        answer.run_at(where, [x for a in angles for x in cos_sin_degrees_array(np, a)] + [
-            arrays.output[where], arrays.velocity[where], arrays.acceleration[where]])
+        cos_sin = [x for a in angles for x in cos_sin_degrees_array(np, a)]
+        answer.run_at(where, cos_sin + [arrays.output[where], arrays.velocity[where],
+                                         arrays.acceleration[where]] + (
+            [] if linkage.is_slider else [_roots(np, linkage, branch, cos_sin)]))
     return answer.finished(linkage, arrays, branch, bodies, effects, radius)
 
 

@@ -27,35 +27,33 @@ def numbers_of(f):
 
 
 def check_alike(lk, phis, branch, b, e, well=(5.0, 175.0)):
-    """forces_arrays against forces at `phis`: statuses identical; numbers to 1e-10 of each
-    position's largest where mu is inside `well` (1e-6 elsewhere: near a dead centre both are
-    the same ill-conditioned answer, each to its own rounding)."""
+    """forces_arrays, and forces_of_arrays on the sweep made whole first, against forces at
+    `phis`: statuses identical; numbers to 1e-10 of each position's largest where mu is inside
+    `well` (1e-6 elsewhere: near a dead centre both are the same ill-conditioned answer, each
+    to its own rounding)."""
     radius = radius_of(lk.kind)
     scalar = linkage.forces(lk, phis, branch, b, e, radius=radius)
     arrays = lk.forces_arrays(np.array(phis), branch, b, e, radius=radius)
-    assert arrays.speed_rpm == e.speed_rpm
-    trig = {}                   # the sweep whole, then the forces: the same numbers to the bit
+    trig = {}
     apart = linkage.forces_of_arrays(lk, linkage.motion_arrays_of(lk, phis, branch, 2, trig),
                                      branch, b, e, radius=radius, trig=trig)
-    for x, y in zip(arrays[1:7] + (arrays.status,), apart[1:7] + (apart.status,)):
-        for u, v in ([(x[k][i], y[k][i]) for k in x for i in (0, 1) if x[k][i] is not None]
-                     if isinstance(x, dict) else [(x, y)]):
-            assert np.array_equal(u, v, equal_nan=True)
     mus = lk.transmission(phis, branch)
-    for s, a, mu in zip(scalar, arrays.forces(), mus):
-        assert a.status == s.status, (s.phi, s.status, a.status)
-        assert a.phi == s.phi and a.speed_rpm == s.speed_rpm
-        if s.torque is None:
-            assert a[1:6] == (None,) * 5, a
-            continue
-        assert list(a.joints) == list(s.joints)
-        assert [[p is None for p in r] for r in a.joints.values()] == \
-            [[p is None for p in r] for r in s.joints.values()]
-        want, got = numbers_of(s), numbers_of(a)
-        scale = max(map(abs, want)) or 1.0
-        tolerance = 1e-10 if mu is not None and well[0] < mu < well[1] else 1e-6
-        worst = max(abs(x - y) for x, y in zip(want, got)) / scale
-        assert worst <= tolerance, (s.phi, mu, worst)
+    for answer in (arrays, apart):
+        assert answer.speed_rpm == e.speed_rpm
+        for s, a, mu in zip(scalar, answer.forces(), mus):
+            assert a.status == s.status, (s.phi, s.status, a.status)
+            assert a.phi == s.phi and a.speed_rpm == s.speed_rpm
+            if s.torque is None:
+                assert a[1:6] == (None,) * 5, a
+                continue
+            assert list(a.joints) == list(s.joints)
+            assert [[p is None for p in r] for r in a.joints.values()] == \
+                [[p is None for p in r] for r in s.joints.values()]
+            want, got = numbers_of(s), numbers_of(a)
+            scale = max(map(abs, want)) or 1.0
+            tolerance = 1e-10 if mu is not None and well[0] < mu < well[1] else 1e-6
+            worst = max(abs(x - y) for x, y in zip(want, got)) / scale
+            assert worst <= tolerance, (s.phi, mu, worst)
     return scalar, arrays
 
 
