@@ -6840,12 +6840,14 @@ class _ForcesTrace(NamedTuple):
     answer's rows (the torque, near, the power, the shaking force's three and its moment's, then
     each joint's force and moment where it carries one), each a constant or None where the plan
     computes it (its results in the rows' order); the joints, each with whether it carries a
-    force and a moment; near's least to stay (FORCES_HANDOFF times the divisor's factors); the
-    crank's speed in rpm."""
+    force and a moment; near's least to stay (FORCES_HANDOFF times the divisor's factors), and
+    the plan's input that is near where one is (the sweep's root: its row then left unmade),
+    else -1; the crank's speed in rpm."""
     plan: Plan
     rows: tuple[float | None, ...]
     joints: tuple[tuple[str, bool, bool], ...]
     handoff: float
+    near: int
     speed_rpm: float
 
 
@@ -6868,13 +6870,16 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
     else:
         t, reactions, force, moment, apart, size = _pin_reactions(recipe, setup, inputs[:7],
                                                                   sweep)
+    near = -1           # |root| is root: compared as it is, the plan's input
+    if type(apart) is Term and apart.op == "absolute" and apart.args[0] in inputs:
+        near, apart = inputs.index(apart.args[0]), 0.0
     values = [t, apart, t * setup.omega, *force, *moment] + [x for pair in reactions.values()
                                            for v in pair if v is not None for x in v]
     plan = plan_recipe(numpy_module(), recipe, inputs, [v for v in values if type(v) is Term])
     return _ForcesTrace(plan, tuple(None if type(v) is Term else float(v) for v in values),
                         tuple((name, f is not None, m is not None)
                               for name, (f, m) in reactions.items()),
-                        FORCES_HANDOFF * size, setup.speed_rpm)
+                        FORCES_HANDOFF * size, near, setup.speed_rpm)
 
 
 class _Answer:
@@ -6888,9 +6893,10 @@ class _Answer:
     def __init__(self, np: ModuleType, trace: _ForcesTrace, count: int) -> None:
         self.np, self.trace, self.plan = np, trace, trace.plan
         self.whole = np.empty((len(trace.rows), count))
-        for row, value in zip(self.whole, trace.rows):
-            if value is not None:
-                row.fill(value)
+        for i, value in enumerate(trace.rows):
+            if value is not None and i != 1:        # near's row: the plan's, or not used
+                self.whole[i].fill(value)
+        self.unsure = np.empty(count, dtype=bool)       # near's, or a number not finite
         self.results = [i for i, value in enumerate(trace.rows) if value is None]
         self.registers = list(self.plan.registers)
         self.block = min(FAST_BLOCK, max(count, 1))
@@ -6898,15 +6904,17 @@ class _Answer:
             self.registers[at] = np.empty(self.block)
 
     def run(self, start: int, sources: Sequence[Any], spare: Sequence[Any] = (),
-            whole: Any = None) -> None:
+            whole: Any = None, unsure: Any = None) -> None:
         """The plan on one block (its first index, then the plan's inputs for it): its columns
-        of the answer (`whole`, if not the answer's own); spare: arrays of the block's length
-        for its buffers, if enough. Every number the elimination makes reaches the shaking (an
-        inf or a NaN carries through + and x; the torque through the moment's z, less it): all
-        are finite where its six are, and near is made NaN where they are not, which no number
-        passes (their sum over the block is finite where all are)."""
-        plan, registers, n = self.plan, self.registers, len(sources[0])
+        of the answer and of unsure (`whole` and `unsure`, if not the answer's own); spare:
+        arrays of the block's length for its buffers, if enough. Unsure: near under the
+        trace's handoff (or NaN), or a number not finite: every number the elimination makes
+        reaches the power and the shaking (an inf or a NaN carries through + and x; the torque
+        through the moment's z, less it), so all are finite where those seven are (their sum
+        over the block is finite where all are)."""
+        np, plan, registers, n = self.np, self.plan, self.registers, len(sources[0])
         whole = self.whole if whole is None else whole
+        unsure = self.unsure[start:start + n] if unsure is None else unsure
         if len(spare) >= len(plan.buffers):
             registers = list(registers)
             for at, array in zip(plan.buffers, spare):
@@ -6917,11 +6925,13 @@ class _Answer:
             registers[i] = source
         for i, row in zip(plan.results, self.results):
             registers[i] = whole[row, start:start + n]
-        with self.np.errstate(all="ignore"):
+        with np.errstate(all="ignore"):
             run_plan(plan, registers)
+            near = whole[1, start:start + n] if self.trace.near < 0 else sources[self.trace.near]
+            np.logical_not(np.greater_equal(near, self.trace.handoff, out=unsure), out=unsure)
             checked = whole[2:9, start:start + n]          # the power and the shaking
-            if not math.isfinite(self.np.add.reduce(checked, axis=None)):
-                whole[1, start:start + n][~self.np.isfinite(checked).all(axis=0)] = math.nan
+            if not math.isfinite(np.add.reduce(checked, axis=None)):
+                unsure |= ~np.isfinite(checked).all(axis=0)
 
     def run_at(self, where: Any, sources: Sequence[Any]) -> None:
         """The plan at the points `where` (indices; sources the plan's inputs there), in blocks
@@ -6929,10 +6939,11 @@ class _Answer:
         np = self.np
         for start in range(0, len(where), self.block):
             at = where[start:start + self.block]
-            part = np.empty((len(self.whole), len(at)))
+            part, unsure = np.empty((len(self.whole), len(at))), np.empty(len(at), dtype=bool)
             part[:] = self.whole[:, :1]                 # the constant rows (the rest made)
-            self.run(0, [source[start:start + len(at)] for source in sources], whole=part)
-            self.whole[:, at] = part
+            self.run(0, [source[start:start + len(at)] for source in sources], whole=part,
+                     unsure=unsure)
+            self.whole[:, at], self.unsure[at] = part, unsure
 
     def finished(self, linkage: Closure, arrays: MotionArrays, branch: int, bodies: Bodies,
                  effects: Effects, radius: float) -> ForcesArrays:
@@ -6940,15 +6951,14 @@ class _Answer:
         centre, or whose numbers are not all finite, handed to forces() (see the notes above)."""
         np, trace, whole = self.np, self.trace, self.whole
         count = whole.shape[1]
-        torque, apart_of, power = whole[:3]
+        torque, power = whole[0], whole[2]
         shaking = whole[3:9].reshape(2, 3, count)
         parts = iter(range(9, len(whole), 3))
         joints = {name: ReactionArrays(*(whole[(i := next(parts)):i + 3] if kept else None
                                          for kept in pair)) for name, *pair in trace.joints}
         plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)
         unknown = plain != assembled
-        redo = (unknown | ~(apart_of >= trace.handoff)) & (
-            plain != STATUS_CODES.index(NOT_ASSEMBLED))
+        redo = (unknown | self.unsure) & (plain != STATUS_CODES.index(NOT_ASSEMBLED))
         status = plain.copy()
         if unknown.any():
             torque[unknown] = power[unknown] = math.nan
