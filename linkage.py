@@ -6842,12 +6842,14 @@ class _ForcesTrace(NamedTuple):
     computes it (its results in the rows' order); the joints, each with whether it carries a
     force and a moment; near's least to stay (FORCES_HANDOFF times the divisor's factors), and
     the plan's input that is near where one is (the sweep's root: its row then left unmade),
-    else -1; the crank's speed in rpm."""
+    else -1; the rows of the power and the shaking that the plan makes, as runs (first, end);
+    the crank's speed in rpm."""
     plan: Plan
     rows: tuple[float | None, ...]
     joints: tuple[tuple[str, bool, bool], ...]
     handoff: float
     near: int
+    checked: tuple[tuple[int, int], ...]
     speed_rpm: float
 
 
@@ -6876,10 +6878,15 @@ def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: fl
     values = [t, apart, t * setup.omega, *force, *moment] + [x for pair in reactions.values()
                                            for v in pair if v is not None for x in v]
     plan = plan_recipe(numpy_module(), recipe, inputs, [v for v in values if type(v) is Term])
+    made = [i for i in range(2, 9) if type(values[i]) is Term]
+    runs = tuple((i, j + 1) for i, j in zip([i for i in made if i - 1 not in made],
+                                            [j for j in made if j + 1 not in made]))
+    handoff = FORCES_HANDOFF * size if all(
+        math.isfinite(v) for v in values[2:9] if type(v) is not Term) else math.inf
     return _ForcesTrace(plan, tuple(None if type(v) is Term else float(v) for v in values),
                         tuple((name, f is not None, m is not None)
                               for name, (f, m) in reactions.items()),
-                        FORCES_HANDOFF * size, near, setup.speed_rpm)
+                        handoff, near, runs, setup.speed_rpm)
 
 
 class _Answer:
@@ -6929,9 +6936,10 @@ class _Answer:
             run_plan(plan, registers)
             near = whole[1, start:start + n] if self.trace.near < 0 else sources[self.trace.near]
             np.logical_not(np.greater_equal(near, self.trace.handoff, out=unsure), out=unsure)
-            checked = whole[2:9, start:start + n]          # the power and the shaking
-            if not math.isfinite(np.add.reduce(checked, axis=None)):
-                unsure |= ~np.isfinite(checked).all(axis=0)
+            for first, end in self.trace.checked:      # the power's and the shaking's
+                checked = whole[first:end, start:start + n]
+                if not math.isfinite(np.add.reduce(checked, axis=None)):
+                    unsure |= ~np.isfinite(checked).all(axis=0)
 
     def run_at(self, where: Any, sources: Sequence[Any]) -> None:
         """The plan at the points `where` (indices; sources the plan's inputs there), in blocks
