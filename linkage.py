@@ -5622,10 +5622,11 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
     sweep computes on its way (for forces_of_arrays): "phi" the (2, n) cos and sin of the input
     angles, "output" a four-bar's of its output angles (derivatives 1 or 2); NaN at a point
     handed to the scalar sweep. each_block, where given, is called with each block's first
-    index, the count of angles, its arrays while they are in the cache (the cos and sin of phi, a four-bar's of psi,
-    then output, velocity and acceleration: derivatives 2), its points to be handed to the
-    scalar sweep (True; their numbers there not yet known) and the block's work arrays free
-    till the next (float64), for Linkage.forces_arrays."""
+    index, the count of angles, its arrays while they are in the cache (the cos and sin of
+    phi, a four-bar's of psi, then output, velocity, acceleration (derivatives 2) and the
+    square root of the discriminant), its points to be handed to the scalar sweep (True;
+    their numbers there not yet known) and the block's work arrays free till the next
+    (float64), for Linkage.forces_arrays (forces_arrays_of)."""
     np = numpy_module()
     if branch not in (1, 2):
         raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
@@ -6250,8 +6251,8 @@ def run_plan(plan: Plan, registers: list[Any]) -> None:
 # Holds: the forces section's answer on numpy arrays, Linkage.forces_arrays' work: each body's
 # wrench as forces() finds it, the reactions by elimination along the chain in closed form, a
 # position near a dead centre handed to forces() itself, its formulas traced by section 11's
-# Recipe. The numpy path's third room: numpy here too, and nowhere else but sections 10 and 11
-# (test_layout).
+# Recipe and run beside the sweep, a block at a time. The numpy path's third room: numpy here
+# too, and nowhere else but sections 10 and 11 (test_layout).
 #
 # Uses: sections 2, 6, 7, 9, 10 and 11.
 # Offers: FORCES_STATUS_CODES, FORCES_HANDOFF, ReactionArrays, ForcesArrays, forces_of_arrays,
@@ -6283,23 +6284,29 @@ def run_plan(plan: Plan, registers: list[Any]) -> None:
 #   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler; the skew coupler's
 #   spin and rate are across its line, where its inertia is the transverse moment. The numbers
 #   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
-# What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
-#   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.2 to 1.4
-#   ms, a later call skips it); each position takes 44 (slider), 65 (plane), 74 (skew slider-
-#   crank), 100 (skew) and 125 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
-#   element here (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the
-#   answer's constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate
-#   of 0.49 to 0.53 of sweep_arrays' for the skew four-bar, 0.59 to 0.62 for the skew slider-
-#   crank, 0.55 to 0.61 for the plane kinds and 0.47 to 0.50 for the spherical, under a load of
-#   1.7 to 5 on 2 cores (data/BENCHMARKS.md, 2026-11-28, round three, each kind's branch alone).
-#   Where the operations go: the skew four-bar's output's rates 7, its elimination 14, the pins'
-#   forces and the shaking force 42, B0's moment 9, A0's and the torque 9, the shaking moment
-#   11, near's check 8; the spherical's coupler's spin and rate 21, the divisor 6, the bodies'
+# What it costs (bench forces): Linkage.forces_arrays (forces_arrays_of) runs the forces a block
+#   at a time as the sweep leaves it (motion_arrays_of's each_block): the sweep's arrays still in
+#   the cache, its free work arrays the plan's buffers, nothing of it kept whole and read again
+#   (forces_of_arrays, on a sweep already made, reads its trig); the formulas are traced once for
+#   a linkage, its bodies, effects and branch (_forces_trace: 0.2 to 1.4 ms, a later call skips
+#   it); each position takes 41 (slider), 57 (plane), 68 (skew slider-crank), 87 (skew) and 109
+#   (spherical) operations on arrays (the power among them), about 0.2 to 0.3 ns an element
+#   where the plan's arrays stay in the cache and 0.5 to 0.8 where it writes an answer's row (a
+#   numpy call on a block of 16,384), then a sum a block of the power's and the shaking's rows
+#   (their finite check), and the answer's constant rows 0.015 ms each. With the sweep, at
+#   100,001 points, a rate of 0.50 to 0.55 of sweep_arrays' for the spherical four-bar, 0.51 to
+#   0.55 for the skew, 0.56 to 0.62 for the plane kinds and 0.60 to 0.63 for the skew slider-
+#   crank under a load of 2.8 to 3.3 on 2 cores (main then: 0.48 to 0.49, 0.50 to 0.52; data/
+#   BENCHMARKS.md, 2026-11-28, round four). Where the operations go: the skew four-bar's
+#   output's rates 7, its elimination 8 (its divisor the sweep's root), the pins' forces and the
+#   shaking force 43, B0's moment 9, A0's and the torque 9, the shaking moment 11; the
+#   spherical's coupler's spin and rate 16 (n_z one product of psi' and root), the bodies'
 #   moments 7 (and 7 products the output and the shaking force share), the elimination 45, the
-#   answer's rows 31, near's check 7 (the torque left out of it), a copy 1. Tried and given up: constant factors carried
-#   through products to the sums (k u + m v pays one back, and so does each answer), signs
-#   carried (-1 to +2 a kind), like terms gathered across nested sums by the recipe (-2 to +1:
-#   _Sum gathers them where written), blocks of 4,096 to 65,536 (16,384 the fastest).
+#   answer's rows 32, a copy 1. Tried and given up: constant factors carried through products to
+#   the sums (k u + m v pays one back, and so does each answer), signs carried (-1 to +2 a kind),
+#   like terms gathered across nested sums by the recipe (-2 to +1: _Sum gathers them where
+#   written), blocks of 4,096 to 65,536 (16,384 the fastest), the finite check as operations of
+#   the plan (7 a position; the block's sum reads the rows once).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
@@ -6368,7 +6375,7 @@ class _Sum:
 
     def __init__(self, recipe: Recipe, parts: dict[Term, tuple[float, float]],
                  constant: tuple[float, float] = (0.0, 0.0)) -> None:
-        self.recipe = recipe            # (an inf or a NaN is kept: it reaches near's check)
+        self.recipe = recipe            # (an inf or a NaN is kept: the finite check finds it)
         self.atoms: dict[float | None, _Sum] = {}
         self.parts = {t: km for t, km in parts.items() if not abs(km[0]) <= 3.6e-15 * km[1]
                       < math.inf}
@@ -6555,8 +6562,9 @@ def _times_plus(x: Term, y: Any, sign: float, z: Any) -> Any:
 
 
 def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term],
-                   sweep: _Sweep | None) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any,
-                              float]:
+                   sweep: _Sweep | None) -> tuple[Any, dict[str, tuple[Vec3 | None,
+                                                                      Vec3 | None]], Vec3,
+                                                     Vec3, Any, float]:
     """The plane and skew kinds' torque, joints' reactions, shaking force and moment, and the
     elimination's divisor with the size it is measured against (see the notes above), from the
     inputs: the cosine and sine of phi, then the four-bar's cosine
@@ -6705,8 +6713,10 @@ def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term],
 # y, n onto the crank's u1 = (-sin phi, cos phi, 0), u2 = a x u1 (by the angle of cosine n_z and
 # sine y_z over sin b); M_B0 = T_2 - M_B about the output's axes; the shaking moment
 # -(M_A0 + torque z + M_B0) = -(T_0 + T_1 + T_2), its force the bodies' m (g - a_G) and the loads.
-# 125 operations (282 before; where they go: data/BENCHMARKS.md, round three): what the notes
-# above gave up for the other kinds (factors carried, like terms gathered) pays here.
+# The divisor D and n_z are the sweep's (_Sweep: D a constant times root, n_z times psi' root).
+# 109 operations, the power among them (282 before round three, 125 before round four: data/
+# BENCHMARKS.md): what the notes above gave up for the other kinds (factors carried, like terms
+# gathered) pays here.
 
 def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], q1: Any,
                       q2: Any, sweep: _Sweep) -> tuple[Any, dict[str, tuple[Vec3 | None,
@@ -6857,7 +6867,8 @@ class _ForcesTrace(NamedTuple):
 def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: float,
                   branch: int) -> _ForcesTrace:
     """The formulas traced for forces_of_arrays: the same for every call with these (a linkage
-    object's dimensions are fixed once it is made), so kept; the plan holds no array of a call.
+    object's dimensions are fixed once it is made; the branch gives the sweep's root its sign),
+    so kept; the plan holds no array of a call.
     Tracing took 0.2 to 0.7 ms a call for the plane and skew kinds, 1.4 ms for the spherical
     (bench forces' linkages, bodies and effects, best of 30 by CPU: 4 to 15% of the forces' time
     at 100,001 angles)."""
