@@ -6284,10 +6284,11 @@ def run_plan(plan: Plan, registers: list[Any]) -> None:
 #   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler; the skew coupler's
 #   spin and rate are across its line, where its inertia is the transverse moment. The numbers
 #   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
-# What it costs (bench forces): Linkage.forces_arrays (forces_arrays_of) runs the forces a block
-#   at a time as the sweep leaves it (motion_arrays_of's each_block): the sweep's arrays still in
-#   the cache, its free work arrays the plan's buffers, nothing of it kept whole and read again
-#   (forces_of_arrays, on a sweep already made, reads its trig); the formulas are traced once for
+# What it costs (bench forces): Linkage.forces_arrays (forces_arrays_of) runs a four-bar's forces
+#   a block at a time as the sweep leaves it (motion_arrays_of's each_block): the sweep's arrays
+#   still in the cache, its free work arrays the plan's buffers, nothing of it kept whole and
+#   read again (forces_of_arrays, on a sweep already made, reads its trig: the slider-cranks',
+#   whose sweep is light, measured faster so); the formulas are traced once for
 #   a linkage, its bodies, effects and branch (_forces_trace: 0.2 to 1.4 ms, a later call skips
 #   it); each position takes 41 (slider), 57 (plane), 68 (skew slider-crank), 87 (skew) and 109
 #   (spherical) operations on arrays (the power among them), about 0.2 to 0.3 ns an element
@@ -7055,10 +7056,17 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
 
 def forces_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
                      bodies: Bodies, effects: Effects, radius: float) -> ForcesArrays:
-    """Linkage.forces_arrays: the sweep (motion_arrays_of) and the forces together, each block
-    of the forces computed as the sweep leaves it, its arrays still in the cache (rather than
-    the sweep's cosines and sines kept whole and read again); the points the sweep hands to its
-    scalar engine computed after it, as forces_of_arrays computes them."""
+    """Linkage.forces_arrays: the sweep (motion_arrays_of) and the four-bar's forces together,
+    each block of the forces computed as the sweep leaves it, its arrays still in the cache
+    (rather than the sweep's cosines and sines kept whole and read again); the points the sweep
+    hands to its scalar engine computed after it, as forces_of_arrays computes them. A
+    slider-crank's sweep is made whole first (forces_of_arrays): beside it, the skew
+    slider-crank's forces measured at 0.55-0.61 of the sweep's rate, so at 0.61-0.64 (bench
+    forces, load 2.5-3.6)."""
+    if linkage.is_slider:
+        trig: dict[str, Any] = {}
+        return forces_of_arrays(linkage, motion_arrays_of(linkage, phis, branch, 2, trig),
+                                branch, bodies, effects, radius=radius, trig=trig)
     np = numpy_module()
     trace = _kept_trace(linkage, bodies, effects, radius, branch)
     handed: list[Any] = []
