@@ -6295,15 +6295,16 @@ def run_plan(plan: Plan, registers: list[Any]) -> None:
 #   where the plan's arrays stay in the cache and 0.5 to 0.8 where it writes an answer's row (a
 #   numpy call on a block of 16,384), then a sum a block of the power's and the shaking's rows
 #   (their finite check), and the answer's constant rows 0.015 ms each. With the sweep, at
-#   100,001 points, a rate of 0.50 to 0.55 of sweep_arrays' for the spherical four-bar, 0.51 to
-#   0.55 for the skew, 0.56 to 0.62 for the plane kinds and 0.60 to 0.63 for the skew slider-
-#   crank under a load of 2.8 to 3.3 on 2 cores (main then: 0.48 to 0.49, 0.50 to 0.52; data/
+#   100,001 points, a rate of 0.50 to 0.53 of sweep_arrays' for the spherical four-bar, 0.52 to
+#   0.56 for the skew, 0.58 to 0.62 for the plane kinds and 0.57 to 0.60 for the skew slider-
+#   crank under a load of 2.5 to 2.9 on 2 cores (main then: 0.46 to 0.49, 0.47 to 0.50; data/
 #   BENCHMARKS.md, 2026-11-28, round four). Where the operations go: the skew four-bar's
 #   output's rates 7, its elimination 8 (its divisor the sweep's root), the pins' forces and the
-#   shaking force 43, B0's moment 9, A0's and the torque 9, the shaking moment 11; the
-#   spherical's coupler's spin and rate 16 (n_z one product of psi' and root), the bodies'
-#   moments 7 (and 7 products the output and the shaking force share), the elimination 45, the
-#   answer's rows 32, a copy 1. Tried and given up: constant factors carried through products to
+#   shaking force 42, B0's moment 9, A0's and the torque 9, the shaking moment 11, the power 1;
+#   the spherical's as round three counted them (coupler's spin and rate 21, the divisor 6, the
+#   bodies' moments 7 and 7 shared, the elimination 45, the answer's rows 31, near's check 7, a
+#   copy 1) less near's check, the divisor 6 -> 1 (its reciprocal) and n_z, in the spin, 7 -> 2
+#   (psi' root, a scale), with the power 1. Tried and given up: constant factors carried through products to
 #   the sums (k u + m v pays one back, and so does each answer), signs carried (-1 to +2 a kind),
 #   like terms gathered across nested sums by the recipe (-2 to +1: _Sum gathers them where
 #   written), blocks of 4,096 to 65,536 (16,384 the fastest), the finite check as operations of
