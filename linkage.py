@@ -6285,30 +6285,20 @@ def run_plan(plan: Plan, registers: list[Any]) -> None:
 #   spin and rate are across its line, where its inertia is the transverse moment. The numbers
 #   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
 # What it costs (bench forces): Linkage.forces_arrays (forces_arrays_of) runs a four-bar's forces
-#   a block at a time as the sweep leaves it (motion_arrays_of's each_block): the sweep's arrays
-#   still in the cache, its free work arrays the plan's buffers, nothing of it kept whole and
-#   read again (forces_of_arrays, on a sweep already made, reads its trig: the slider-cranks',
-#   whose sweep is light, measured faster so); the formulas are traced once for
-#   a linkage, its bodies, effects and branch (_forces_trace: 0.2 to 1.4 ms, a later call skips
-#   it); each position takes 41 (slider), 57 (plane), 68 (skew slider-crank), 87 (skew) and 109
-#   (spherical) operations on arrays (the power among them), about 0.2 to 0.3 ns an element
-#   where the plan's arrays stay in the cache and 0.5 to 0.8 where it writes an answer's row (a
-#   numpy call on a block of 16,384), then a sum a block of the power's and the shaking's rows
-#   (their finite check), and the answer's constant rows 0.015 ms each. With the sweep, at
-#   100,001 points, a rate of 0.50 to 0.53 of sweep_arrays' for the spherical four-bar, 0.52 to
-#   0.56 for the skew, 0.58 to 0.62 for the plane kinds and 0.57 to 0.60 for the skew slider-
-#   crank under a load of 2.5 to 2.9 on 2 cores (main then: 0.46 to 0.49, 0.47 to 0.50; data/
-#   BENCHMARKS.md, 2026-11-28, round four). Where the operations go: the skew four-bar's
-#   output's rates 7, its elimination 8 (its divisor the sweep's root), the pins' forces and the
-#   shaking force 42, B0's moment 9, A0's and the torque 9, the shaking moment 11, the power 1;
-#   the spherical's as round three counted them (coupler's spin and rate 21, the divisor 6, the
-#   bodies' moments 7 and 7 shared, the elimination 45, the answer's rows 31, near's check 7, a
-#   copy 1) less near's check, the divisor 6 -> 1 (its reciprocal) and n_z, in the spin, 7 -> 2
-#   (psi' root, a scale), with the power 1. Tried and given up: constant factors carried through products to
-#   the sums (k u + m v pays one back, and so does each answer), signs carried (-1 to +2 a kind),
-#   like terms gathered across nested sums by the recipe (-2 to +1: _Sum gathers them where
-#   written), blocks of 4,096 to 65,536 (16,384 the fastest), the finite check as operations of
-#   the plan (7 a position; the block's sum reads the rows once).
+#   a block at a time as the sweep leaves it (motion_arrays_of's each_block: its arrays in the
+#   cache, its free work arrays the plan's buffers; the slider-cranks' on their sweep made whole,
+#   measured faster so); the formulas are traced once for a linkage, its bodies, effects and
+#   branch (_forces_trace: 0.2 to 1.4 ms); each position takes 41 (slider), 57 (plane), 68 (skew
+#   slider-crank), 87 (skew) and 109 (spherical) operations on arrays (the power among them),
+#   0.2 to 0.3 ns an element in the cache, 0.5 to 0.8 where one writes an answer's row (blocks
+#   of 16,384), then a sum a block of the power's and the shaking's rows (their finite check).
+#   With the sweep, at 100,001 points, a rate of 0.50 to 0.53 of sweep_arrays' for the spherical
+#   four-bar, 0.52 to 0.56 for the skew, 0.58 to 0.62 for the plane kinds and 0.57 to 0.60 for
+#   the skew slider-crank under a load of 2.5 to 2.9 on 2 cores (main then: 0.46 to 0.49, 0.47
+#   to 0.50; data/BENCHMARKS.md, 2026-11-28, round four, with where the operations go). Tried
+#   and given up: constant factors carried through products to the sums, signs carried, like
+#   terms gathered across nested sums by the recipe, blocks of 4,096 to 65,536, the finite
+#   check as operations of the plan (7 a position; the block's sum reads the rows once).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
