@@ -5609,15 +5609,24 @@ _FAST_WORK = ("r", "n", "y", "cy", "sy", "tc", "ts", "c", "s", "spare", "xp", "x
               "q", "sv", "rr", "root", "sn", "cn", "r2", "dp", "dq", "ds", "e", "fp", "xm", "xk",
               "m", "u", "v", "dist", "big", "dm", "dk", "ax", "ay", "hi", "lo", "t", "t2", "csum",
               "f1", "f2", "disc", "h2")
+_FAST_SPARE = tuple(key for key in _FAST_WORK
+                    if key not in ("c", "s", "cy", "sy", "cn", "sn", "root"))
 
 
 def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
-                     derivatives: int, trig: dict[str, numpy.ndarray] | None = None
+                     derivatives: int, trig: dict[str, numpy.ndarray] | None = None,
+                     each_block: Callable[[int, int, list[Any], numpy.ndarray, list[Any]], object]
+                     | None = None
                      ) -> MotionArrays:
     """Linkage.sweep_arrays: see there. trig, where given, receives the cosines and sines the
     sweep computes on its way (for forces_of_arrays): "phi" the (2, n) cos and sin of the input
     angles, "output" a four-bar's of its output angles (derivatives 1 or 2); NaN at a point
-    handed to the scalar sweep."""
+    handed to the scalar sweep. each_block, where given, is called with each block's first
+    index, the count of angles, its arrays while they are in the cache (the cos and sin of
+    phi, a four-bar's of psi, then output, velocity, acceleration (derivatives 2) and the
+    square root of the discriminant), its points to be handed to the scalar sweep (True;
+    their numbers there not yet known) and the block's work arrays free till the next
+    (float64), for Linkage.forces_arrays (forces_arrays_of)."""
     np = numpy_module()
     if branch not in (1, 2):
         raise ValueError("branch is 1 (the listing's A+B) or 2 (A-B)")
@@ -5678,6 +5687,11 @@ def motion_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, br
                 for key in ("output", "velocity", "acceleration"):
                     if part[key] is not None:
                         np.multiply(part[key], linkage.unit, out=part[key])
+            if each_block is not None:
+                given = [c, s] + ([] if linkage.is_slider else [work["cn"], work["sn"]])
+                each_block(start, count, given + [part["output"], part["velocity"],
+                                                  part["acceleration"], work["root"]], again,
+                           [work[key] for key in _FAST_SPARE])
     where = np.concatenate(redo) if redo else np.empty(0, dtype=np.intp)
     if len(where):
         for pairs in (trig or {}).values():
@@ -6237,11 +6251,12 @@ def run_plan(plan: Plan, registers: list[Any]) -> None:
 # Holds: the forces section's answer on numpy arrays, Linkage.forces_arrays' work: each body's
 # wrench as forces() finds it, the reactions by elimination along the chain in closed form, a
 # position near a dead centre handed to forces() itself, its formulas traced by section 11's
-# Recipe. The numpy path's third room: numpy here too, and nowhere else but sections 10 and 11
-# (test_layout).
+# Recipe and run beside the sweep, a block at a time. The numpy path's third room: numpy here
+# too, and nowhere else but sections 10 and 11 (test_layout).
 #
 # Uses: sections 2, 6, 7, 9, 10 and 11.
-# Offers: FORCES_STATUS_CODES, FORCES_HANDOFF, ReactionArrays, ForcesArrays, forces_of_arrays.
+# Offers: FORCES_STATUS_CODES, FORCES_HANDOFF, ReactionArrays, ForcesArrays, forces_of_arrays,
+#   forces_arrays_of.
 
 
 # -- the forces on arrays --------------------------------------------------------------------------
@@ -6269,23 +6284,21 @@ def run_plan(plan: Plan, registers: list[Any]) -> None:
 #   coupler's rate loses its term in e . (P' - A'), 0 for a rigid coupler; the skew coupler's
 #   spin and rate are across its line, where its inertia is the transverse moment. The numbers
 #   are forces()' to the last few places (1e-14 of each position's largest on the bench's).
-# What it costs (bench forces): the sweep's cosines and sines are reused (motion_arrays_of's trig);
-#   the formulas are traced once for a linkage, its bodies and effects (_forces_trace: 0.2 to 1.4
-#   ms, a later call skips it); each position takes 44 (slider), 65 (plane), 74 (skew slider-
-#   crank), 100 (skew) and 125 (spherical) operations on arrays, each about 0.31 to 0.37 ns an
-#   element here (a numpy call on a block of 16,384; 8,192 and 32,768 measured slower), and the
-#   answer's constant rows (its zeros) 0.015 ms each. With the sweep, at 100,001 points, a rate
-#   of 0.49 to 0.53 of sweep_arrays' for the skew four-bar, 0.59 to 0.62 for the skew slider-
-#   crank, 0.55 to 0.61 for the plane kinds and 0.47 to 0.50 for the spherical, under a load of
-#   1.7 to 5 on 2 cores (data/BENCHMARKS.md, 2026-11-28, round three, each kind's branch alone).
-#   Where the operations go: the skew four-bar's output's rates 7, its elimination 14, the pins'
-#   forces and the shaking force 42, B0's moment 9, A0's and the torque 9, the shaking moment
-#   11, near's check 8; the spherical's coupler's spin and rate 21, the divisor 6, the bodies'
-#   moments 7 (and 7 products the output and the shaking force share), the elimination 45, the
-#   answer's rows 31, near's check 7 (the torque left out of it), a copy 1. Tried and given up: constant factors carried
-#   through products to the sums (k u + m v pays one back, and so does each answer), signs
-#   carried (-1 to +2 a kind), like terms gathered across nested sums by the recipe (-2 to +1:
-#   _Sum gathers them where written), blocks of 4,096 to 65,536 (16,384 the fastest).
+# What it costs (bench forces): Linkage.forces_arrays (forces_arrays_of) runs a four-bar's forces
+#   a block at a time as the sweep leaves it (motion_arrays_of's each_block: its arrays in the
+#   cache, its free work arrays the plan's buffers; the slider-cranks' on their sweep made whole,
+#   measured faster so); the formulas are traced once for a linkage, its bodies, effects and
+#   branch (_forces_trace: 0.2 to 1.4 ms); each position takes 41 (slider), 57 (plane), 68 (skew
+#   slider-crank), 87 (skew) and 109 (spherical) operations on arrays (the power among them),
+#   0.2 to 0.3 ns an element in the cache, 0.5 to 0.8 where one writes an answer's row (blocks
+#   of 16,384), then a sum a block of the power's and the shaking's rows (their finite check).
+#   With the sweep, at 100,001 points, a rate of 0.50 to 0.53 of sweep_arrays' for the spherical
+#   four-bar, 0.52 to 0.56 for the skew, 0.58 to 0.62 for the plane kinds and 0.57 to 0.60 for
+#   the skew slider-crank under a load of 2.5 to 2.9 on 2 cores (main then: 0.46 to 0.49, 0.47
+#   to 0.50; data/BENCHMARKS.md, 2026-11-28, round four, with where the operations go). Tried
+#   and given up: constant factors carried through products to the sums, signs carried, like
+#   terms gathered across nested sums by the recipe, blocks of 4,096 to 65,536, the finite
+#   check as operations of the plan (7 a position; the block's sum reads the rows once).
 # A position whose divisor is small beside its factors (|h . e| under FORCES_HANDOFF |h| |e|:
 # near the output's dead centre, where forces() may find its system singular), whose numbers are
 # not all finite, or whose motion is neither plainly assembled nor plainly not, is handed to
@@ -6354,7 +6367,7 @@ class _Sum:
 
     def __init__(self, recipe: Recipe, parts: dict[Term, tuple[float, float]],
                  constant: tuple[float, float] = (0.0, 0.0)) -> None:
-        self.recipe = recipe            # (an inf or a NaN is kept: it reaches near's check)
+        self.recipe = recipe            # (an inf or a NaN is kept: the finite check finds it)
         self.atoms: dict[float | None, _Sum] = {}
         self.parts = {t: km for t, km in parts.items() if not abs(km[0]) <= 3.6e-15 * km[1]
                       < math.inf}
@@ -6443,6 +6456,74 @@ def _term_of(x: Any) -> Any:
     return x.term() if isinstance(x, _Sum) else x
 
 
+# -- what the sweep hands over ---------------------------------------------------------------------
+#
+# The four-bar's sweep solves its closure F = p cos psi + q sin psi + sv = 0 (p, q and sv fixed
+# combinations of cos phi and sin phi: the linkage's constants), and on its way has root, the
+# square root of its discriminant: F's derivative in psi is sign root (sign the branch's), and
+# psi' = -F_phi / F_psi. The forces' divisor (a . (k x b) for the spherical, v . e for the skew
+# and plane) is a constant times F_psi, so it is taken as that constant times sign root, an
+# input of the plan, rather than made again from the cosines (4 to 6 operations a position);
+# the spherical coupler's n_z, a constant times F_phi = -sign psi' root, as one product rather
+# than 7. Each constant is found by evaluating the formula and F's derivatives at _PROBES, and
+# kept only where the ratio is the same at all of them; the formula's own is traced elsewhere.
+
+_PROBES = ((0.3, 1.1), (2.0, -0.7), (-1.3, 2.9), (0.9, 0.2))    # (phi, psi), radians
+
+
+class _Sweep:
+    """The sweep's closure for a four-bar's trace: its constants, the branch's sign, and the
+    plan's inputs (the cosines and sines, psi', root) as terms of the recipe."""
+
+    def __init__(self, recipe: Recipe, constants: tuple[float, ...], sign: float,
+                 cos_sin: Sequence[Term], rate: Term, root: Term) -> None:
+        self.recipe, self.constants, self.sign = recipe, constants, sign
+        self.cos_sin, self.rate, self.root = cos_sin, rate, root
+
+    def value(self, x: Any, phi: float, psi: float) -> float:
+        """x (a term, a _Sum or a number) where phi and psi are these (psi', psi'' and root
+        numbers of no meaning: a formula that is F's derivative uses none of them)."""
+        given = dict(zip([t.index for t in self.cos_sin], (
+            math.cos(phi), math.sin(phi), math.cos(psi), math.sin(psi))))
+        values: dict[int, float] = {}
+
+        def of(a: Any) -> float:
+            if type(a) is not Term:
+                return float(a)
+            if a.index not in values:
+                if a.op == "input":
+                    values[a.index] = given.get(a.index, 0.37)
+                else:
+                    u, *v = [of(b) for b in a.args]
+                    values[a.index] = {
+                        "add": lambda: u + v[0], "subtract": lambda: u - v[0],
+                        "multiply": lambda: u * v[0], "divide": lambda: u / v[0],
+                        "negative": lambda: -u, "sqrt": lambda: math.sqrt(abs(u)),
+                        "absolute": lambda: abs(u)}[a.op]()
+            return values[a.index]
+        if isinstance(x, _Sum):
+            return sum(k * of(t) for t, (k, _) in x.parts.items()) + x.constant[0]
+        return of(x)
+
+    def partials(self, phi: float, psi: float) -> tuple[float, float]:
+        """F's derivatives in psi and in phi there."""
+        p0, pc, ps, q0, qc, qs, _, sc, ss = self.constants
+        c, s, cq, sq = math.cos(phi), math.sin(phi), math.cos(psi), math.sin(psi)
+        return (-(p0 + pc * c + ps * s) * sq + (q0 + qc * c + qs * s) * cq,
+                (ps * c - pc * s) * cq + (qs * c - qc * s) * sq + ss * c - sc * s)
+
+    def ratio(self, x: Any, which: int) -> float | None:
+        """k where x is k times F's derivative in psi (which 0) or phi (1) at every probe."""
+        ks = []
+        for phi, psi in _PROBES:
+            f = self.partials(phi, psi)[which]
+            if abs(f) < 1e-3 * (sum(map(abs, self.constants)) or 1.0):
+                return None
+            ks.append(self.value(x, phi, psi) / f)
+        k = ks[0]
+        return k if k and all(abs(j - k) <= 1e-12 * abs(k) for j in ks) else None
+
+
 # -- the plane and skew kinds in closed form -------------------------------------------------------
 #
 # Their wrenches are written out rather than built from their bodies' frames: the crank turns about
@@ -6472,9 +6553,10 @@ def _times_plus(x: Term, y: Any, sign: float, z: Any) -> Any:
                           z.constant).term()
 
 
-def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
-                   ) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3, Vec3, Any,
-                              float]:
+def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term],
+                   sweep: _Sweep | None) -> tuple[Any, dict[str, tuple[Vec3 | None,
+                                                                      Vec3 | None]], Vec3,
+                                                     Vec3, Any, float]:
     """The plane and skew kinds' torque, joints' reactions, shaking force and moment, and the
     elimination's divisor with the size it is measured against (see the notes above), from the
     inputs: the cosine and sine of phi, then the four-bar's cosine
@@ -6566,6 +6648,8 @@ def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
             + cqs * (dot(m, w0) - c_g * dot(m, b0)) + sqs * (c_g * dot(e1, b0) - dot(e1, w0))
         ) * (-1.0 / b)
         size = length / abs(b)
+        if sweep is not None and (f := sweep.ratio(divisor, 0)) is not None:
+            divisor, top, size = sweep.root, top * (1.0 / (f * sweep.sign)), size / abs(f)
     ratio = _term_of(top) / divisor
     mu = ratio + c_g
     # R_B = mu e - W = mu P - b ratio hat_c - (W's other terms)
@@ -6621,14 +6705,18 @@ def _pin_reactions(recipe: Recipe, setup: ForcesSetup, inputs: Sequence[Term]
 # y, n onto the crank's u1 = (-sin phi, cos phi, 0), u2 = a x u1 (by the angle of cosine n_z and
 # sine y_z over sin b); M_B0 = T_2 - M_B about the output's axes; the shaking moment
 # -(M_A0 + torque z + M_B0) = -(T_0 + T_1 + T_2), its force the bodies' m (g - a_G) and the loads.
-# 125 operations (282 before; where they go: data/BENCHMARKS.md, round three): what the notes
-# above gave up for the other kinds (factors carried, like terms gathered) pays here.
+# The divisor D and n_z are the sweep's (_Sweep: D a constant times root, n_z times psi' root).
+# 109 operations, the power among them (282 before round three, 125 before round four: data/
+# BENCHMARKS.md): what the notes above gave up for the other kinds (factors carried, like terms
+# gathered) pays here.
 
 def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ...], q1: Any,
-                      q2: Any) -> tuple[Any, dict[str, tuple[Vec3 | None, Vec3 | None]], Vec3,
-                                        Vec3, Any, float]:
+                      q2: Any, sweep: _Sweep) -> tuple[Any, dict[str, tuple[Vec3 | None,
+                                                                         Vec3 | None]], Vec3,
+                                                        Vec3, Any, float]:
     """The spherical four-bar's answer as _pin_reactions gives the others' (see the notes
-    above), from the cosines and sines of phi and psi, psi' and psi''."""
+    above), from the cosines and sines of phi and psi, psi' and psi'' (and what the sweep hands
+    over)."""
     dims, w, al = setup.dims, setup.omega, setup.alpha
     c, s, cq, sq, v1, v2 = (_Sum(recipe, {t: (1.0, 1.0)}) for t in (*cos_sin, q1, q2))
     cb, sb, cd, sd, ca, sa = (dims[f"{f} {n}"] for n in "bda" for f in ("cos", "sin"))
@@ -6689,6 +6777,9 @@ def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ..
     y = vec((1.0 / sc_, b), (-cc / sc_, a))
     n = cross(a, y)
     y = (y[0], y[1], y[2].gathered())
+    if (f := sweep.ratio(n[2], 1)) is not None:        # n_z = f F_phi = -f sign psi' root
+        n = (n[0], n[1], _Sum(recipe, {recipe.multiply(q1, sweep.root): (
+            -f * sweep.sign, abs(f))}))
     n = (n[0], n[1], n[2].gathered(y[2].size()))       # at y_z's size
     q = (a[0] * sa + cb * ca - cd * cc).gathered()      # k . a - cos d cos c
     spin_a_sum = (t * q + y[2] * (cc * sc_ * w)) * (1.0 / (sc * sc))
@@ -6716,6 +6807,8 @@ def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ..
         weighted_sum((-m1.mass * at_b, b2), (-m2.mass, a_g2)))))
     # the elimination, each sum at the size that spares the next a multiplication
     divisor = dot(a, cross(k, b)).gathered()            # D, as d D'
+    if (f := sweep.ratio(divisor, 0)) is not None:      # f F_psi = f sign root
+        divisor = _Sum(recipe, {sweep.root: (f * sweep.sign, abs(f))})
     d = divisor.size()
     d_term = (divisor * (1.0 / d)).term()
     inverse = _Sum(recipe, {recipe.divide(1.0, d_term): (1.0 / d, 1.0 / abs(d))})
@@ -6746,48 +6839,179 @@ def _spherical_arrays(recipe: Recipe, setup: ForcesSetup, cos_sin: tuple[Any, ..
 
 class _ForcesTrace(NamedTuple):
     """What forces_of_arrays records once for a linkage, its bodies and effects: the plan; the
-    answer's rows (the torque, near, the shaking force's three and its moment's, then each
-    joint's force and moment where it carries one), each a constant or None where the plan
+    answer's rows (the torque, near, the power, the shaking force's three and its moment's, then
+    each joint's force and moment where it carries one), each a constant or None where the plan
     computes it (its results in the rows' order); the joints, each with whether it carries a
-    force and a moment; near's least to stay (FORCES_HANDOFF times the divisor's factors); the
-    crank's speed (rad/s and rpm)."""
+    force and a moment; near's least to stay (FORCES_HANDOFF times the divisor's factors), and
+    the plan's input that is near where one is (the sweep's root: its row then left unmade),
+    else -1; the rows of the power and the shaking that the plan makes, as runs (first, end);
+    the crank's speed in rpm."""
     plan: Plan
     rows: tuple[float | None, ...]
     joints: tuple[tuple[str, bool, bool], ...]
     handoff: float
-    omega: float
+    near: int
+    checked: tuple[tuple[int, int], ...]
     speed_rpm: float
 
 
 @functools.lru_cache(maxsize=16)
-def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: float
-                  ) -> _ForcesTrace:
+def _forces_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: float,
+                  branch: int) -> _ForcesTrace:
     """The formulas traced for forces_of_arrays: the same for every call with these (a linkage
-    object's dimensions are fixed once it is made), so kept; the plan holds no array of a call.
+    object's dimensions are fixed once it is made; the branch gives the sweep's root its sign),
+    so kept; the plan holds no array of a call.
     Tracing took 0.2 to 0.7 ms a call for the plane and skew kinds, 1.4 ms for the spherical
     (bench forces' linkages, bodies and effects, best of 30 by CPU: 4 to 15% of the forces' time
     at 100,001 angles)."""
     setup = forces_setup(linkage, bodies, effects, radius)
     recipe = Recipe()
-    inputs = [recipe.input() for _ in range(5 if linkage.is_slider else 7)]
-    if linkage.kind == SPHERICAL_FOUR_BAR:
+    inputs = [recipe.input() for _ in range(5 if linkage.is_slider else 8)]
+    sweep = None if linkage.is_slider else _Sweep(
+        recipe, linkage.constants, 1.0 if branch == 1 else -1.0, inputs[:4], inputs[5], inputs[7])
+    if sweep is not None and linkage.kind == SPHERICAL_FOUR_BAR:
         t, reactions, force, moment, apart, size = _spherical_arrays(
-            recipe, setup, tuple(inputs[:4]), *inputs[-2:])
+            recipe, setup, tuple(inputs[:4]), inputs[5], inputs[6], sweep)
     else:
-        t, reactions, force, moment, apart, size = _pin_reactions(recipe, setup, inputs)
-    # every number the elimination makes reaches the shaking (an inf or a NaN carries through
-    # + and x; the torque through the moment's z, less it): all are finite where these six
-    # are, and there check - check is 0 (recorded as it is, not folded); NaN elsewhere, and
-    # then so is near, which no number passes
-    check = sum(force) + sum(moment)
-    near = apart + recipe.term("subtract", check, check) if type(check) is Term else apart
-    values = [t, near, *force, *moment] + [x for pair in reactions.values()
+        t, reactions, force, moment, apart, size = _pin_reactions(recipe, setup, inputs[:7],
+                                                                  sweep)
+    near = -1           # |root| is root: compared as it is, the plan's input
+    if type(apart) is Term and apart.op == "absolute" and apart.args[0] in inputs:
+        near, apart = inputs.index(apart.args[0]), 0.0
+    values = [t, apart, t * setup.omega, *force, *moment] + [x for pair in reactions.values()
                                            for v in pair if v is not None for x in v]
     plan = plan_recipe(numpy_module(), recipe, inputs, [v for v in values if type(v) is Term])
+    made = [i for i in range(2, 9) if type(values[i]) is Term]
+    runs = tuple((i, j + 1) for i, j in zip([i for i in made if i - 1 not in made],
+                                            [j for j in made if j + 1 not in made]))
+    handoff = FORCES_HANDOFF * size if all(
+        math.isfinite(v) for v in values[2:9] if type(v) is not Term) else math.inf
     return _ForcesTrace(plan, tuple(None if type(v) is Term else float(v) for v in values),
                         tuple((name, f is not None, m is not None)
                               for name, (f, m) in reactions.items()),
-                        FORCES_HANDOFF * size, setup.omega, setup.speed_rpm)
+                        handoff, near, runs, setup.speed_rpm)
+
+
+class _Answer:
+    """A forces_of_arrays answer in the making: the answer's arrays (one allocation: freed
+    whole, it is the allocator's to reuse at the next call; in parts, glibc gave them back to
+    the system and faulted in new pages, 16 MB of them a call, as much again as the forces'
+    work: python3 linkage.py bench forces), its constant rows filled, the plan's buffers kept
+    from block to block (each its own: freed and made again a call at a time, the allocator's
+    reuse, where one block of them all would be new pages, 3.5 MB, each call)."""
+
+    def __init__(self, np: ModuleType, trace: _ForcesTrace, count: int) -> None:
+        self.np, self.trace, self.plan = np, trace, trace.plan
+        self.whole = np.empty((len(trace.rows), count))
+        for i, value in enumerate(trace.rows):
+            if value is not None and i != 1:        # near's row: the plan's, or not used
+                self.whole[i].fill(value)
+        self.unsure = np.empty(count, dtype=bool)       # near's, or a number not finite
+        self.results = [i for i, value in enumerate(trace.rows) if value is None]
+        self.registers = list(self.plan.registers)
+        self.block = min(FAST_BLOCK, max(count, 1))
+        for at in self.plan.buffers:
+            self.registers[at] = np.empty(self.block)
+
+    def run(self, start: int, sources: Sequence[Any], spare: Sequence[Any] = (),
+            whole: Any = None, unsure: Any = None) -> None:
+        """The plan on one block (its first index, then the plan's inputs for it): its columns
+        of the answer and of unsure (`whole` and `unsure`, if not the answer's own); spare:
+        arrays of the block's length for its buffers, if enough. Unsure: near under the
+        trace's handoff (or NaN), or a number not finite: every number the elimination makes
+        reaches the power and the shaking (an inf or a NaN carries through + and x; the torque
+        through the moment's z, less it), so all are finite where those seven are (their sum
+        over the block is finite where all are)."""
+        np, plan, registers, n = self.np, self.plan, self.registers, len(sources[0])
+        whole = self.whole if whole is None else whole
+        unsure = self.unsure[start:start + n] if unsure is None else unsure
+        if len(spare) >= len(plan.buffers):
+            registers = list(registers)
+            for at, array in zip(plan.buffers, spare):
+                registers[at] = array
+        elif n != self.block:                   # a shorter block, the last
+            registers = [r[:n] if i in plan.buffers else r for i, r in enumerate(registers)]
+        for i, source in zip(plan.inputs, sources):
+            registers[i] = source
+        for i, row in zip(plan.results, self.results):
+            registers[i] = whole[row, start:start + n]
+        with np.errstate(all="ignore"):
+            run_plan(plan, registers)
+            near = whole[1, start:start + n] if self.trace.near < 0 else sources[self.trace.near]
+            np.logical_not(np.greater_equal(near, self.trace.handoff, out=unsure), out=unsure)
+            for first, end in self.trace.checked:      # the power's and the shaking's
+                checked = whole[first:end, start:start + n]
+                if not math.isfinite(np.add.reduce(checked, axis=None)):
+                    unsure |= ~np.isfinite(checked).all(axis=0)
+
+    def run_at(self, where: Any, sources: Sequence[Any]) -> None:
+        """The plan at the points `where` (indices; sources the plan's inputs there), in blocks
+        of the answer's."""
+        np = self.np
+        for start in range(0, len(where), self.block):
+            at = where[start:start + self.block]
+            part, unsure = np.empty((len(self.whole), len(at))), np.empty(len(at), dtype=bool)
+            part[:] = self.whole[:, :1]                 # the constant rows (the rest made)
+            self.run(0, [source[start:start + len(at)] for source in sources], whole=part,
+                     unsure=unsure)
+            self.whole[:, at], self.unsure[at] = part, unsure
+
+    def finished(self, linkage: Closure, arrays: MotionArrays, branch: int, bodies: Bodies,
+                 effects: Effects, radius: float) -> ForcesArrays:
+        """The answer, each position that is not plainly assembled, or near the output's dead
+        centre, or whose numbers are not all finite, handed to forces() (see the notes above)."""
+        np, trace, whole = self.np, self.trace, self.whole
+        count = whole.shape[1]
+        torque, power = whole[0], whole[2]
+        shaking = whole[3:9].reshape(2, 3, count)
+        parts = iter(range(9, len(whole), 3))
+        joints = {name: ReactionArrays(*(whole[(i := next(parts)):i + 3] if kept else None
+                                         for kept in pair)) for name, *pair in trace.joints}
+        plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)
+        unknown = plain != assembled
+        redo = (unknown | self.unsure) & (plain != STATUS_CODES.index(NOT_ASSEMBLED))
+        status = plain.copy()
+        if unknown.any():
+            torque[unknown] = power[unknown] = math.nan
+            for r in [shaking] + [v for r in joints.values() for v in r if v is not None]:
+                r[..., unknown] = math.nan
+        where = np.flatnonzero(redo)
+        if len(where):
+            for i, f in zip(where.tolist(), forces(linkage, arrays.phi[where].tolist(), branch,
+                                                     bodies, effects, radius=radius)):
+                status[i] = FORCES_STATUS_CODES.index(f.status)
+                torque[i] = math.nan if f.torque is None else f.torque
+                power[i] = math.nan if f.power is None else f.power
+                for name, arrays_of in joints.items():
+                    reaction = f.joints[name] if f.joints is not None else Reaction(None, None)
+                    for v, column in zip(reaction, arrays_of):
+                        if column is not None:
+                            column[:, i] = math.nan if v is None else v
+                for v, r in zip((f.shaking_force, f.shaking_moment), shaking):
+                    r[:, i] = math.nan if v is None else v
+        return ForcesArrays(arrays.phi, torque, power,
+                            {name: ReactionArrays(*(None if v is None else v.T for v in r))
+                             for name, r in joints.items()}, shaking[0].T, shaking[1].T, status,
+                            trace.speed_rpm)
+
+
+def _kept_trace(linkage: Closure, bodies: Bodies, effects: Effects, radius: float,
+                branch: int) -> _ForcesTrace:
+    """_forces_trace's, kept where bodies and effects can be (not where one holds a list)."""
+    try:
+        hash((bodies, effects, radius))
+    except TypeError:                   # a body's or an effect's list: not to be kept
+        return _forces_trace.__wrapped__(linkage, bodies, effects, radius, branch)
+    return _forces_trace(linkage, bodies, effects, radius, branch)
+
+
+def _roots(np: ModuleType, linkage: Closure, branch: int, cos_sin: Sequence[Any]) -> Any:
+    """The sweep's root where its cosines and sines are these (a four-bar's; see _Sweep): sign
+    F_psi, F = p cos psi + q sin psi + sv, as the sweep's own to rounding."""
+    p0, pc, ps, q0, qc, qs, *_ = linkage.constants
+    c, s, cq, sq = cos_sin
+    return ((q0 + qc * c + qs * s) * cq - (p0 + pc * c + ps * s) * sq) * (
+        1.0 if branch == 1 else -1.0)
 
 
 def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
@@ -6797,12 +7021,7 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
     answer): a ForcesArrays (see Linkage.forces_arrays). trig: the sweep's cosines and sines
     (motion_arrays_of's), computed here where not given."""
     np = numpy_module()
-    try:
-        hash((bodies, effects, radius))
-    except TypeError:                   # a body's or an effect's list: not to be kept
-        trace = _forces_trace.__wrapped__(linkage, bodies, effects, radius)
-    else:
-        trace = _forces_trace(linkage, bodies, effects, radius)
+    trace = _kept_trace(linkage, bodies, effects, radius, branch)
     if arrays.velocity is None or arrays.acceleration is None:
         raise ValueError("the forces need the sweep's velocity and acceleration (derivatives 2)")
     trig = dict(trig or {})
@@ -6817,64 +7036,55 @@ def forces_of_arrays(linkage: Closure, arrays: MotionArrays, branch: int = 1,
             trig[key][0][stale], trig[key][1][stale] = cos_sin_degrees_array(np, angles[stale])
     sources = [trig[key][j] for key, _ in keys for j in (0, 1)] + [
         arrays.output, arrays.velocity, arrays.acceleration]
-    count = len(arrays.phi)
-    # one allocation for the answer's arrays: freed whole, it is the allocator's to reuse at
-    # the next call (in parts, glibc gave them back to the system and faulted in new pages, 16
-    # MB of them a call, as much again as the forces' work: python3 linkage.py bench forces)
-    whole = np.empty((len(trace.rows), count))
-    torque, apart_of, shaking = whole[0], whole[1], whole[2:8].reshape(2, 3, count)
-    parts = iter(range(8, len(whole), 3))
-    joints = {name: ReactionArrays(*(whole[(i := next(parts)):i + 3] if kept else None
-                                     for kept in pair)) for name, *pair in trace.joints}
-    for row, value in zip(whole, trace.rows):
-        if value is not None:
-            row.fill(value)
-    results = [row for row, value in zip(whole, trace.rows) if value is None]
-    block, plan = min(FAST_BLOCK, max(count, 1)), trace.plan
-    registers = list(plan.registers)
-    for at in plan.buffers:         # each its own: freed and made again a call at a time, the
-        registers[at] = np.empty(block)     # allocator's reuse, where one block of them all
-        #                                     would be new pages (3.5 MB) each call
-    with np.errstate(all="ignore"):
-        for start in range(0, count, block):
-            part = slice(start, min(start + block, count))
-            if part.stop - start < block:           # the last block, shorter
-                registers = [registers[i][:part.stop - start] if i in plan.buffers else r
-                             for i, r in enumerate(registers)]
-            for i, source in zip(plan.inputs, sources):
-                registers[i] = source[part]
-            for i, row in zip(plan.results, results):
-                registers[i] = row[part]
-            run_plan(plan, registers)
-    with np.errstate(over="ignore", invalid="ignore"):
-        power = torque * trace.omega                # beyond the floats' range: forces() says
-    plain, assembled = arrays.status, STATUS_CODES.index(ASSEMBLED)     # overflow, as for any
-    unknown = plain != assembled                                         # other number
-    redo = (unknown | ~(apart_of >= trace.handoff) | ~np.isfinite(power)) & (
-        plain != STATUS_CODES.index(NOT_ASSEMBLED))
-    status = plain.copy()
-    if unknown.any():
-        torque[unknown] = power[unknown] = math.nan
-        for r in [shaking] + [v for r in joints.values() for v in r if v is not None]:
-            r[..., unknown] = math.nan
-    where = np.flatnonzero(redo)
+    if not linkage.is_slider:
+        with np.errstate(invalid="ignore"):
+            sources.append(_roots(np, linkage, branch, sources[:4]))
+    answer = _Answer(np, trace, len(arrays.phi))
+    for start in range(0, len(arrays.phi), answer.block):
+        answer.run(start, [source[start:start + answer.block] for source in sources])
+    return answer.finished(linkage, arrays, branch, bodies, effects, radius)
+
+
+def forces_arrays_of(linkage: Closure, phis: Sequence[float] | numpy.ndarray, branch: int,
+                     bodies: Bodies, effects: Effects, radius: float) -> ForcesArrays:
+    """Linkage.forces_arrays: the sweep (motion_arrays_of) and the four-bar's forces together,
+    each block of the forces computed as the sweep leaves it, its arrays still in the cache
+    (rather than the sweep's cosines and sines kept whole and read again); the points the sweep
+    hands to its scalar engine computed after it, as forces_of_arrays computes them. A
+    slider-crank's sweep is made whole first (forces_of_arrays): beside it, the skew
+    slider-crank's forces measured at 0.55-0.61 of the sweep's rate, so at 0.61-0.64 (bench
+    forces, load 2.5-3.6)."""
+    if linkage.is_slider:
+        trig: dict[str, Any] = {}
+        return forces_of_arrays(linkage, motion_arrays_of(linkage, phis, branch, 2, trig),
+                                branch, bodies, effects, radius=radius, trig=trig)
+    np = numpy_module()
+    trace = _kept_trace(linkage, bodies, effects, radius, branch)
+    handed: list[Any] = []
+    answer: _Answer | None = None
+
+    def each_block(start: int, count: int, sources: list[Any], again: Any, spare: list[Any]
+                   ) -> None:
+        nonlocal answer
+        if answer is None:
+            answer = _Answer(np, trace, count)
+        answer.run(start, sources, spare)
+        if again.any():
+            handed.append(np.flatnonzero(again) + start)
+
+    arrays = motion_arrays_of(linkage, phis, branch, 2, each_block=each_block)
+    if answer is None:                  # no angles
+        answer = _Answer(np, trace, len(arrays.phi))
+    where = np.concatenate(handed) if handed else np.empty(0, dtype=np.intp)
+    where = where[arrays.status[where] == STATUS_CODES.index(ASSEMBLED)]
     if len(where):
-        for i, f in zip(where.tolist(), forces(linkage, arrays.phi[where].tolist(), branch,
-                                                 bodies, effects, radius=radius)):
-            status[i] = FORCES_STATUS_CODES.index(f.status)
-            torque[i] = math.nan if f.torque is None else f.torque
-            power[i] = math.nan if f.power is None else f.power
-            for name, arrays_of in joints.items():
-                reaction = f.joints[name] if f.joints is not None else Reaction(None, None)
-                for v, column in zip(reaction, arrays_of):
-                    if column is not None:
-                        column[:, i] = math.nan if v is None else v
-            for v, r in zip((f.shaking_force, f.shaking_moment), shaking):
-                r[:, i] = math.nan if v is None else v
-    return ForcesArrays(arrays.phi, torque, power,
-                        {name: ReactionArrays(*(None if v is None else v.T for v in r))
-                         for name, r in joints.items()}, shaking[0].T, shaking[1].T, status,
-                        trace.speed_rpm)
+        assert arrays.velocity is not None and arrays.acceleration is not None
+        angles = [arrays.phi[where]] + ([] if linkage.is_slider else [arrays.output[where]])
+        cos_sin = [x for a in angles for x in cos_sin_degrees_array(np, a)]
+        answer.run_at(where, cos_sin + [arrays.output[where], arrays.velocity[where],
+                                         arrays.acceleration[where]] + (
+            [] if linkage.is_slider else [_roots(np, linkage, branch, cos_sin)]))
+    return answer.finished(linkage, arrays, branch, bodies, effects, radius)
 
 
 # ---- 13. Simulation: the equation of motion in its coordinates -----------------------------------
@@ -7917,9 +8127,7 @@ class Linkage(Closure):
         power, each joint's reaction and the shaking, NaN where unknown, with status codes; the
         same numbers as forces to rounding and the same statuses (tests/test_forces_numpy.py): a
         position near a dead centre is computed by forces itself."""
-        trig: dict[str, numpy.ndarray] = {}
-        return forces_of_arrays(self, motion_arrays_of(self, phis, branch, 2, trig), branch,
-                                bodies, effects, radius=radius, trig=trig)
+        return forces_arrays_of(self, phis, branch, bodies, effects, radius)
 
 
 # ---- 16. DAT and CSV files: the sweep's formats, written and read --------------------------------
