@@ -168,10 +168,9 @@ def test_points_the_scalar_engine_redoes_in_decimal_are_handed_to_it(monkeypatch
 
     def recording_precise(self, phi, sign, level):
         # which points are redone is decided before the redo, point by point, and neither path
-        # decides anything from the redo's answer: it is not computed here (the catalogue's test
-        # computes it and holds both paths to it), a dead centre given instead
+        # decides anything from the redo's answer: it is not computed here (see unanswered)
         redone.append((id(self), sign, phi))
-        return engine.Motion(phi, None, None, None, engine.DEAD_CENTRE)
+        return unanswered(self, phi, sign, level)
 
     def recording_sweep(self, phis, branch=1, derivatives=2):
         phis = list(phis)
