@@ -18,6 +18,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 import pytest
@@ -109,7 +110,15 @@ def output_link_held(kind, dims, phi, least=0.02):
 def independent_roots(kind, dims, phi_deg):
     """Both branches' outputs at phi_deg by bisection on test_physics's closure, in double:
     {branch: psi radians or x}. Branch 1 is where kappa * d(closure)/d(output) > 0 (the listing's
-    dF/du = +sqrt(D)); roots closer together than the grid are not seen (near dead-centre)."""
+    dF/du = +sqrt(D)); roots closer together than the grid are not seen (near dead-centre).
+    Remembered (a copy given): both branches' motions, and the check of a random point, solve
+    at the same angles."""
+    return dict(_independent_roots(kind, tuple(dims.items()), phi_deg))
+
+
+@functools.lru_cache(maxsize=4096)
+def _independent_roots(kind, dims_items, phi_deg):
+    dims = dict(dims_items)
     closure = test_physics.MECHANISMS[kind].closure
     phi = math.radians(phi_deg)
 

@@ -286,7 +286,7 @@ def closest_approach(kind, link, lo, hi):
     closest = math.inf
     for _ in range(9):
         angles = [lo + (hi - lo) * k / 200 for k in range(201)]
-        pairs = [(link.motion(p, 1, 0), link.motion(p, 2, 0)) for p in angles]
+        pairs = list(zip(link.sweep(angles, 1, 0), link.sweep(angles, 2, 0)))   # motion's, each
         if any(m.status in (engine.NOT_ASSEMBLED, engine.INDETERMINATE)
                for pair in pairs for m in pair):
             return closest, False

@@ -392,8 +392,17 @@ def spatial_output_motion(kind, dims, masses, phi0, near, gravity, radius=1.0):
     y0 = mp.findroot(lambda y: closure(rad(phi0), y), mp.mpf(near))
     side = min((1, -1), key=lambda s: abs(mp.sin((crank_angle(y0, s) - rad(phi0)) / 2)))
 
+    known = {}
+
     def state(y):
-        """Each point's position and derivative by y, and phi and phi'."""
+        """Each point's position and derivative by y, and phi and phi' (remembered by y and the
+        precision: the quadrature asks for inertia and potential at each node)."""
+        key = (y, mpmath.mp.prec)
+        if key not in known:
+            known[key] = _state(y)
+        return known[key]
+
+    def _state(y):
         pb, pb1 = output(y)
         phi = crank_angle(y, side)
         pa, pa_phi = [arm * mp.cos(phi), arm * mp.sin(phi), rise], \
@@ -647,7 +656,17 @@ def output_angle_motion(dims, masses, phi0, psi_near):
         roots.append(mpmath.atan2(p[1], p[0]))
     psi0 = min(roots, key=lambda r: abs(mpmath.degrees(r) - psi_near))
 
+    known = {}
+
     def joints(psi, side):
+        """A and B at psi, remembered by angle and precision: the four derivatives of inertia
+        take them at the same two angles, potential at the third."""
+        key = (psi, side, mpmath.mp.prec)
+        if key not in known:
+            known[key] = _joints(psi, side)
+        return known[key]
+
+    def _joints(psi, side):
         bb = mpmath.matrix([a + d * mpmath.cos(psi), d * mpmath.sin(psi)])
         length = mpmath.norm(bb)
         x = (b * b - c * c + length * length) / (2 * length)

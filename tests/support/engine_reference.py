@@ -23,58 +23,78 @@ from __future__ import annotations
 import dataclasses
 
 from mpmath import mp
+from mpmath.libmp import mpf_cos_sin
 
 KAPPA = {"plane": 1, "spherical": -1, "skew": 1, "slider": 1, "skew-slider": 1}
 SLIDERS = ("slider", "skew-slider")
 
 
 def _closure(kind: str, dims: dict):
-    """The loop closure g(phi, y) in mpmath (phi radians; y = psi radians, or the slider's x)."""
+    """The loop closure g(phi, y) in mpmath (phi radians; y = psi radians, or the slider's x).
+
+    Its cosines and sines are remembered by argument and working precision (cos, sin below):
+    the value is the one mp.cos and mp.sin give at that precision, computed once. The angles
+    of the links and the input angle recur at every step of the root finding (mp.diff raises
+    the precision, so each of its precisions is a value of its own)."""
     D = {k: mp.mpf(v) for k, v in dims.items()}
     rad = mp.pi / 180
+    known = {}
+
+    def cos_sin(x):
+        x = mp.convert(x)._mpf_
+        key = (x, mp.prec)
+        if key not in known:           # libmp's cos and sin of one argument (mp.cos and mp.sin)
+            known[key] = tuple(mp.make_mpf(v) for v in mpf_cos_sin(x, mp.prec, "n"))
+        return known[key]
+
+    def cos(x):
+        return cos_sin(x)[0]
+
+    def sin(x):
+        return cos_sin(x)[1]
     if kind == "plane":
         a, b, c, d = D["a"], D["b"], D["c"], D["d"]
 
         def g(phi, psi):
-            bx, by = b * mp.cos(phi), b * mp.sin(phi)
-            dx, dy = a + d * mp.cos(psi), d * mp.sin(psi)
+            bx, by = b * cos(phi), b * sin(phi)
+            dx, dy = a + d * cos(psi), d * sin(psi)
             return (bx - dx) ** 2 + (by - dy) ** 2 - c ** 2
         scale = max(abs(a), abs(b), abs(c), abs(d)) ** 2
     elif kind == "spherical":
         a, b, c, d = (D[k] * rad for k in "abcd")
-        ca, sa = mp.cos(a), mp.sin(a)
+        ca, sa = cos(a), sin(a)
 
         def g(phi, psi):
-            tb = (mp.sin(b) * mp.cos(phi), mp.sin(b) * mp.sin(phi), mp.cos(b))
-            v = (mp.sin(d) * mp.cos(psi), mp.sin(d) * mp.sin(psi), mp.cos(d))
+            tb = (sin(b) * cos(phi), sin(b) * sin(phi), cos(b))
+            v = (sin(d) * cos(psi), sin(d) * sin(psi), cos(d))
             td = (ca * v[0] + sa * v[2], v[1], -sa * v[0] + ca * v[2])   # rotation about y by a
-            return tb[0] * td[0] + tb[1] * td[1] + tb[2] * td[2] - mp.cos(c)
+            return tb[0] * td[0] + tb[1] * td[1] + tb[2] * td[2] - cos(c)
         scale = mp.mpf(1)
     elif kind == "skew":
         a, b, c, d, f = D["a"], D["b"], D["c"], D["d"], D["f"]
         xi = D["ksi"] * rad
-        gg = f / mp.cos(xi)
-        q = (a, gg * mp.sin(xi), f - gg * mp.cos(xi))
-        e1, e2 = (1, 0, 0), (0, mp.cos(xi), mp.sin(xi))
+        gg = f / cos(xi)
+        q = (a, gg * sin(xi), f - gg * cos(xi))
+        e1, e2 = (1, 0, 0), (0, cos(xi), sin(xi))
 
         def g(phi, psi):
-            tb = (b * mp.cos(phi), b * mp.sin(phi), 0)
-            td = [q[i] + d * (mp.cos(psi) * e1[i] + mp.sin(psi) * e2[i]) for i in range(3)]
+            tb = (b * cos(phi), b * sin(phi), 0)
+            td = [q[i] + d * (cos(psi) * e1[i] + sin(psi) * e2[i]) for i in range(3)]
             return sum((tb[i] - td[i]) ** 2 for i in range(3)) - c ** 2
         scale = max(abs(a), abs(b), abs(c), abs(d), abs(f), abs(q[1])) ** 2
     elif kind == "slider":
         b, c, e = D["b"], D["c"], D["e"]
 
         def g(phi, x):
-            return (b * mp.cos(phi) - x) ** 2 + (b * mp.sin(phi) - e) ** 2 - c ** 2
+            return (b * cos(phi) - x) ** 2 + (b * sin(phi) - e) ** 2 - c ** 2
         scale = max(abs(b), abs(c), abs(e)) ** 2
     elif kind == "skew-slider":
         a, b, c, f = D["a"], D["b"], D["c"], D["f"]
         xi = D["ksi"] * rad
-        s = (0, mp.sin(xi), -mp.cos(xi))
+        s = (0, sin(xi), -cos(xi))
 
         def g(phi, x):
-            tb = (b * mp.cos(phi), b * mp.sin(phi), 0)
+            tb = (b * cos(phi), b * sin(phi), 0)
             td = (a, x * s[1], f + x * s[2])
             return sum((tb[i] - td[i]) ** 2 for i in range(3)) - c ** 2
         scale = max(abs(a), abs(b), abs(c), abs(f)) ** 2

@@ -275,15 +275,20 @@ def _energy(motion, kind, bodies, gravity):
     return kinetic, potential
 
 
+def arc_means(arc):
+    """The means of cos^2, sin^2, cos sin, cos and sin over [0, arc] ("cc", "ss", "cs", "c",
+    "s"): their integrals in closed form (tests/test_forces.py holds them to mpmath.quad)."""
+    c, s = mpmath.cos(arc), mpmath.sin(arc)
+    return {"cc": (arc + s * c) / 2 / arc, "ss": (arc - s * c) / 2 / arc, "cs": s * s / 2 / arc,
+            "c": s / arc, "s": (1 - c) / arc}
+
+
 def _arc_energy(motion, m, one, two, gravity):
     """A uniform rod along the shorter great-circle arc between two joints of the sphere:
     KE = m/2 mean |v|^2 and PE = -m g . mean position, the means along the arc by quadrature."""
     ends = list(zip(motion.series(one), motion.series(two)))
     u0, u1 = (unit(x) for x in ends[4])
-    arc = mpmath.acos(dotp(u0, u1))
-    mean = {k: mpmath.quad(f, [0, arc]) / arc for k, f in (
-        ("cc", lambda t: mpmath.cos(t) ** 2), ("ss", lambda t: mpmath.sin(t) ** 2),
-        ("cs", lambda t: mpmath.cos(t) * mpmath.sin(t)), ("c", mpmath.cos), ("s", mpmath.sin))}
+    mean = arc_means(mpmath.acos(dotp(u0, u1)))
     radius = motion.g.radius
 
     def basis(pose_ends):
