@@ -14772,7 +14772,7 @@ def bench_coupler(out: TextIO, quick: bool = False, points: int = 100_001) -> st
     to a sweep with velocity and acceleration, scalar and numpy: the time of the sweep with them
     over the sweep alone."""
     if quick:
-        points = 1001
+        points = 101
     angles, array = _bench_angles(points)
     print(f"{points:,} input angles, 0 to 360 degrees, branch 1, velocity and acceleration; the "
           "time with the coupler point (u = c/2, v = c/4: the skew kinds v = 0) and mu over the "
@@ -15162,7 +15162,9 @@ def bench_explore(out: TextIO, quick: bool = False) -> str:
     drawn); for each kind's example, and each scene with [dynamics] (data/scenes/forces-*:
     the torque now at each key, its peak in the view made whole)."""
     import time
-    keys = ["Right", "Left", "S-Right", "S-Left", "Tab"] * (1 if quick else 4) + ["b", "c"]
+    # --quick: one dimension key, then the branch and the coupler (each view made whole costs
+    # 30-130 ms, nine linkages)
+    keys = (["Right"] if quick else ["Right", "Left", "S-Right", "S-Left", "Tab"] * 4) + ["b", "c"]
     print(f"the explorer, {len(keys)} keys a kind (a dimension changed, the next one selected, "
           "the branch, the coupler), the 80 x 24 frame drawn after each; milliseconds; target: "
           f"a key to its frame under {1e3 * EXPLORE_TARGET:.0f} ms", file=out)
