@@ -341,7 +341,7 @@ def test_the_followed_motion_changes_label_only_where_the_branches_meet(linkage,
 @settings(max_examples=60, deadline=None)
 def test_long_steps_follow_the_same_motion_as_short_ones(linkage, phi0, step, start, boundary):
     """From an angle where the linkage assembles, a sweep by 5 to 30 degrees gives, at its
-    angles, what a sweep 100 times finer gives: the long steps are halved where they must be,
+    angles, what a sweep 20 times finer gives: the long steps are halved where they must be,
     and a dead centre between two angles is found. With `boundary`, a plane linkage on
     Grashof's boundary (quarters, a + b = c + d), whose change point the long steps jump.
     Linkages within rounding of a change point are left out: a + d = b + c typed as 0.5, 0.4,
@@ -363,9 +363,11 @@ def test_long_steps_follow_the_same_motion_as_short_ones(linkage, phi0, step, st
     assume(link.motion(phi0, start).status == engine.ASSEMBLED)
     count = round(360 / abs(step))
     coarse = [phi0 + i * step for i in range(count + 1)]
-    fine = [phi0 + j * step / 100 for j in range(100 * count + 1)]
+    # the fine sweep 20 times finer (0.25 to 1.5 degrees): 100 times cost 1.6 s more of CPU and
+    # caught no mutation of _follow_step more (11 tried: 6 caught by both, 5 by neither)
+    fine = [phi0 + j * step / 20 for j in range(20 * count + 1)]
     long = link.sweep(coarse, engine.FOLLOW, start=start)
-    short = link.sweep(fine, engine.FOLLOW, start=start)[::100]
+    short = link.sweep(fine, engine.FOLLOW, start=start)[::20]
     for x, y in zip(long, short):
         assert x.status == y.status, (x, y)
         if x.output is not None:
