@@ -15162,8 +15162,6 @@ def bench_explore(out: TextIO, quick: bool = False) -> str:
     drawn); for each kind's example, and each scene with [dynamics] (data/scenes/forces-*:
     the torque now at each key, its peak in the view made whole)."""
     import time
-    # --quick: one dimension key, then the branch and the coupler (each view made whole costs
-    # 30-130 ms, nine linkages)
     keys = (["Right"] if quick else ["Right", "Left", "S-Right", "S-Left", "Tab"] * 4) + ["b", "c"]
     print(f"the explorer, {len(keys)} keys a kind (a dimension changed, the next one selected, "
           "the branch, the coupler), the 80 x 24 frame drawn after each; milliseconds; target: "
