@@ -472,12 +472,28 @@ def test_plot_of_a_million_lines_stays_in_bounded_memory(png, bound, tmp_path, a
     assert mib < bound, mib
 
 
+# The thinning tests below run at an eighth of the program's scale (issue 36: 6 s of CPU at full
+# scale): PLOT_POINTS and PLOT_BINS an eighth, and so the file, each bin as many points as at full
+# scale. LINKAGE_LONG=1: the program's own PLOT_POINTS and PLOT_BINS and files 8 times as long.
+THIN_SCALE = 1 if os.environ.get("LINKAGE_LONG") else 8
+
+
+@pytest.fixture
+def thinned_scale(monkeypatch) -> int:
+    """PLOT_POINTS and PLOT_BINS divided by THIN_SCALE (the program's own under LINKAGE_LONG=1);
+    the number to divide a full-scale file's length by."""
+    monkeypatch.setattr(linkage, "PLOT_POINTS", linkage.PLOT_POINTS // THIN_SCALE)
+    monkeypatch.setattr(linkage, "PLOT_BINS", linkage.PLOT_BINS // THIN_SCALE)
+    return THIN_SCALE
+
+
 @pytest.mark.parametrize("gap", [(100.0, 140.0), (400.0, 400.0)])
-def test_a_thinned_curve_draws_the_whole_files_text_plot(gap, tmp_path, monkeypatch):
-    """The curve of 300,000 points, thinned to PLOT_BINS bins, draws the text plot its every
-    point draws: its break where the linkage cannot be assembled and its unwrapping across
-    +-180 degrees kept."""
-    long_ang_dat(tmp_path, 300_001, gap)
+def test_a_thinned_curve_draws_the_whole_files_text_plot(gap, tmp_path, monkeypatch,
+                                                         thinned_scale):
+    """The curve of 300,000 points (at full scale), thinned to PLOT_BINS bins, draws the text
+    plot its every point draws: its break where the linkage cannot be assembled and its
+    unwrapping across +-180 degrees kept."""
+    long_ang_dat(tmp_path, 300_000 // thinned_scale + 1, gap)
     thinned = linkage.text_figure(linkage.dat_figure(str(tmp_path)))
     monkeypatch.setattr(linkage, "PLOT_POINTS", 10 ** 9)
     whole = linkage.text_figure(linkage.dat_figure(str(tmp_path)))
@@ -485,12 +501,12 @@ def test_a_thinned_curve_draws_the_whole_files_text_plot(gap, tmp_path, monkeypa
     assert "*" in whole
 
 
-def test_a_thinned_curve_keeps_its_extremes_where_x_turns_back(tmp_path):
+def test_a_thinned_curve_keeps_its_extremes_where_x_turns_back(tmp_path, thinned_scale):
     """A DAT file whose x rocks back and forth (its points in no order of x) at one y: a bin that
     kept only its first, lowest, highest and last point lost the x where the rocking turned, so
     the thinned curve fell short of the file's range in x. Each bin keeps its leftmost and
     rightmost point too: every turn's x is drawn as far as it goes."""
-    lines = 300_001
+    lines = 300_000 // thinned_scale + 1
     xs = [90.0 + 80.0 * math.sin(2.0 * math.pi * i / 997.3 + 0.3) for i in range(lines)]
     with open(tmp_path / "VEL.DAT", "wb") as out:
         out.write("".join(f"{x!r},0.5\r\n" for x in xs).encode() + b"\x1a")
@@ -498,7 +514,7 @@ def test_a_thinned_curve_keeps_its_extremes_where_x_turns_back(tmp_path):
             for curve in panel.curves for run in curve.runs]
     drawn = {x for run in runs for x, _ in run}         # no two turns share an x
     assert len(drawn) < lines // 4                      # it was thinned
-    for turn in range(1, 300):                          # every turn, each way
+    for turn in range(1, 300 // thinned_scale):         # every turn, each way
         left, right = round(997.3 * turn) + 249, round(997.3 * turn) + 748
         piece = xs[left - 300:left + 300], xs[right - 300:right + 300]
         assert max(piece[0]) in drawn and min(piece[1]) in drawn, turn
