@@ -16,6 +16,7 @@ import contextlib
 import io
 import json
 import os
+import pickle
 import re
 import signal
 import stat
@@ -84,6 +85,29 @@ def fuzz(examples: int):
     """The seeded run of `examples` (LINKAGE_FUZZ: that many new ones, unseeded)."""
     return settings(max_examples=LONG_RUN or examples, derandomize=not LONG_RUN, deadline=None,
                     database=None, suppress_health_check=list(HealthCheck))
+
+
+PNG_DRAWING = linkage.png_drawing
+DRAWN_PNGS: dict[bytes, bytes] = {}
+PNG_KEPT = ("test_any_output_path", "test_any_dxf_output")
+
+
+def drawn_png(*args, **kwargs) -> bytes:
+    """png_drawing, its answers (bytes, a function of its arguments alone) kept across the
+    examples by its arguments pickled: the output fuzzers name a few fixed linkages, whose PNG
+    (matplotlib's drawing, 0.33 s of CPU) was most of an example's time; what they fuzz, where
+    the bytes go, is done every example (issue 36: 6 s of CPU)."""
+    key = pickle.dumps((args, kwargs))
+    if key not in DRAWN_PNGS:
+        DRAWN_PNGS[key] = PNG_DRAWING(*args, **kwargs)
+    return DRAWN_PNGS[key]
+
+
+@pytest.fixture(autouse=True)
+def pngs_kept(request, monkeypatch):
+    """drawn_png for the output fuzzers (a fixture: a test's source seeds its examples)."""
+    if request.function.__name__ in PNG_KEPT:
+        monkeypatch.setattr(linkage, "png_drawing", drawn_png)
 
 
 class FreeSpace(typing.NamedTuple):
