@@ -87,27 +87,32 @@ def fuzz(examples: int):
                     database=None, suppress_health_check=list(HealthCheck))
 
 
-PNG_DRAWING = linkage.png_drawing
-DRAWN_PNGS: dict[bytes, bytes] = {}
-PNG_KEPT = ("test_any_output_path", "test_any_dxf_output")
+def kept(name: str):
+    """linkage's function `name`, its answers (a function of its arguments alone) kept across
+    the examples by its arguments pickled."""
+    function, answers = getattr(linkage, name), {}
+
+    def answer(*args, **kwargs):
+        key = pickle.dumps((args, kwargs))
+        if key not in answers:
+            answers[key] = function(*args, **kwargs)
+        return answers[key]
+    return answer
 
 
-def drawn_png(*args, **kwargs) -> bytes:
-    """png_drawing, its answers (bytes, a function of its arguments alone) kept across the
-    examples by its arguments pickled: the output fuzzers name a few fixed linkages, whose PNG
-    (matplotlib's drawing, 0.33 s of CPU) was most of an example's time; what they fuzz, where
-    the bytes go, is done every example (issue 36: 6 s of CPU)."""
-    key = pickle.dumps((args, kwargs))
-    if key not in DRAWN_PNGS:
-        DRAWN_PNGS[key] = PNG_DRAWING(*args, **kwargs)
-    return DRAWN_PNGS[key]
+# The answers a fuzzer keeps across its examples (issue 36): the output fuzzers name a few fixed
+# linkages, whose PNG (matplotlib's drawing, 0.33 s of CPU) was most of an example's time, and
+# what they fuzz, where the bytes go, is done every example (6 s of CPU); the dynamics fuzzer's
+# scene and forces commands computed the same scene's forces, one after the other (2 s).
+KEPT = {"test_any_output_path": ["png_drawing"], "test_any_dxf_output": ["png_drawing"],
+        "test_any_dynamics_table": ["scene_forces"]}
 
 
 @pytest.fixture(autouse=True)
-def pngs_kept(request, monkeypatch):
-    """drawn_png for the output fuzzers (a fixture: a test's source seeds its examples)."""
-    if request.function.__name__ in PNG_KEPT:
-        monkeypatch.setattr(linkage, "png_drawing", drawn_png)
+def answers_kept(request, monkeypatch):
+    """KEPT, a test's answers kept (a fixture: a test's source seeds its examples)."""
+    for name in KEPT.get(request.function.__name__, []):
+        monkeypatch.setattr(linkage, name, kept(name))
 
 
 class FreeSpace(typing.NamedTuple):
