@@ -86,6 +86,55 @@ def fuzz(examples: int):
                     database=None, suppress_health_check=list(HealthCheck))
 
 
+def kept(name: str):
+    """linkage's function `name`, its answers (a function of its arguments alone) kept across
+    the examples by its arguments' repr (named tuples of numbers and text, each shown whole;
+    not pickled: pickling a class sets its __slotnames__, which test_layout's look at the named
+    tuples sees, in the same worker)."""
+    function, answers = getattr(linkage, name), {}
+
+    def answer(*args, **kwargs):
+        key = repr((args, sorted(kwargs.items())))
+        if key not in answers:
+            answers[key] = function(*args, **kwargs)
+        return answers[key]
+    return answer
+
+
+# The answers a fuzzer keeps across its examples (issue 36): the output fuzzers name a few fixed
+# linkages, whose PNG (matplotlib's drawing, 0.33 s of CPU) was most of an example's time, and
+# what they fuzz, where the bytes go, is done every example (6 s of CPU); the dynamics fuzzer's
+# scene and forces commands computed the same scene's forces, one after the other (2 s).
+KEPT = {"test_any_output_path": ["png_drawing"], "test_any_dxf_output": ["png_drawing"],
+        "test_any_dynamics_table": ["scene_forces"]}
+
+
+BUILD_PARSER = linkage.build_parser
+PARSER_WORDS = {*linkage.COMMANDS, *linkage.METHODS,
+                *(alias for command in linkage.COMMANDS.values() for alias in command.aliases)}
+PARSERS: dict[frozenset[str] | None, typing.Any] = {}
+
+
+def built_parser(argv=None):
+    """build_parser, its parsers kept across the examples by what of argv it reads (which
+    command and design method names are words of it): argparse parses with a parser and leaves
+    it as it was, and building one was half of what main did for a fuzzed command line (issue
+    36: 4 s of CPU over the fuzzers' 1,750 command lines). Every command line is still parsed."""
+    key = None if argv is None else frozenset(PARSER_WORDS.intersection(argv))
+    if key not in PARSERS:
+        PARSERS[key] = BUILD_PARSER(argv)
+    return PARSERS[key]
+
+
+@pytest.fixture(autouse=True)
+def answers_kept(request, monkeypatch):
+    """KEPT, a test's answers kept, and every fuzzer's parsers (built_parser) (a fixture: a
+    test's source seeds its examples)."""
+    monkeypatch.setattr(linkage, "build_parser", built_parser)
+    for name in KEPT.get(request.function.__name__, []):
+        monkeypatch.setattr(linkage, name, kept(name))
+
+
 class FreeSpace(typing.NamedTuple):
     free: int
 
