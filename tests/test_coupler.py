@@ -226,23 +226,23 @@ def test_at_a_dead_centre_the_point_stands_and_mu_is_0_or_180(kind, dims, phi, m
 
 # -- 2. velocity and acceleration against 40-digit differences --------------------------------
 
-@functools.lru_cache(maxsize=4096)
-def _mp_trig(name, value, prec):
-    return getattr(mpmath, name)(mpmath.mp.make_mpf(value))
+reference = Peer("support.engine_reference")     # the 50-digit reference needs mpmath
 
 
-def mp_sin(x):
-    """mpmath.sin(x) (cos, tan below) at the working precision, remembered: the stencil's
-    solves take the sines of the same link angles and input angle at every step."""
-    return _mp_trig("sin", mpmath.mp.convert(x)._mpf_, mpmath.mp.prec)
+@functools.cache
+def _trig():
+    """mpmath's cos and sin at the working precision, the last 4,096 remembered (the
+    reference's remembered_trig): the stencil's solves take those of the same link angles and
+    input angle at every step."""
+    return reference.remembered_trig(4096)
 
 
 def mp_cos(x):
-    return _mp_trig("cos", mpmath.mp.convert(x)._mpf_, mpmath.mp.prec)
+    return _trig()[0](x)
 
 
-def mp_tan(x):
-    return _mp_trig("tan", mpmath.mp.convert(x)._mpf_, mpmath.mp.prec)
+def mp_sin(x):
+    return _trig()[1](x)
 
 
 def mp_rad(x):
@@ -278,7 +278,7 @@ def mp_output_pin(kind, dims, q):
         # w = (0, -sin ksi, cos ksi), from x toward w x x = (0, cos ksi, sin ksi)
         a, d, f, ksi = (mpmath.mpf(dims["a"]), mpmath.mpf(dims["d"]), mpmath.mpf(dims["f"]),
                         mp_rad(dims["ksi"]))
-        b0 = (a, f * mp_tan(ksi), zero)
+        b0 = (a, f * mpmath.tan(ksi), zero)
         return add((1, b0), (d * mp_cos(q), (1, 0, 0)),
                    (d * mp_sin(q), (zero, mp_cos(ksi), mp_sin(ksi))))
     if kind == "slider":

@@ -86,19 +86,24 @@ def fuzz(examples: int):
                     database=None, suppress_health_check=list(HealthCheck))
 
 
-def kept(name: str):
-    """linkage's function `name`, its answers (a function of its arguments alone) kept across
-    the examples by its arguments' repr (named tuples of numbers and text, each shown whole;
-    not pickled: pickling a class sets its __slotnames__, which test_layout's look at the named
-    tuples sees, in the same worker)."""
-    function, answers = getattr(linkage, name), {}
+def kept(function, key):
+    """function (its answer a function of what key reads of its arguments alone), its answers
+    kept across the examples by key(its arguments)."""
+    answers = {}
 
     def answer(*args, **kwargs):
-        key = repr((args, sorted(kwargs.items())))
-        if key not in answers:
-            answers[key] = function(*args, **kwargs)
-        return answers[key]
+        k = key(*args, **kwargs)
+        if k not in answers:
+            answers[k] = function(*args, **kwargs)
+        return answers[k]
     return answer
+
+
+def shown(*args, **kwargs):
+    """The arguments' repr (named tuples of numbers and text, each shown whole; not pickled:
+    pickling a class sets its __slotnames__, which test_layout's look at the named tuples
+    sees, in the same worker)."""
+    return repr((args, sorted(kwargs.items())))
 
 
 # The answers a fuzzer keeps across its examples (issue 36): the output fuzzers name a few fixed
@@ -109,21 +114,19 @@ KEPT = {"test_any_output_path": ["png_drawing"], "test_any_dxf_output": ["png_dr
         "test_any_dynamics_table": ["scene_forces"]}
 
 
-BUILD_PARSER = linkage.build_parser
 PARSER_WORDS = {*linkage.COMMANDS, *linkage.METHODS,
                 *(alias for command in linkage.COMMANDS.values() for alias in command.aliases)}
-PARSERS: dict[frozenset[str] | None, typing.Any] = {}
 
 
-def built_parser(argv=None):
-    """build_parser, its parsers kept across the examples by what of argv it reads (which
-    command and design method names are words of it): argparse parses with a parser and leaves
-    it as it was, and building one was half of what main did for a fuzzed command line (issue
-    36: 4 s of CPU over the fuzzers' 1,750 command lines). Every command line is still parsed."""
-    key = None if argv is None else frozenset(PARSER_WORDS.intersection(argv))
-    if key not in PARSERS:
-        PARSERS[key] = BUILD_PARSER(argv)
-    return PARSERS[key]
+def parser_words(argv=None):
+    """What build_parser reads of argv: which command and design method names are words of it."""
+    return None if argv is None else frozenset(PARSER_WORDS.intersection(argv))
+
+
+# build_parser, its parsers kept across the examples: argparse parses with a parser and leaves
+# it as it was, and building one was half of what main did for a fuzzed command line (issue 36:
+# 4 s of CPU over the fuzzers' 1,750 command lines). Every command line is still parsed.
+built_parser = kept(linkage.build_parser, parser_words)
 
 
 @pytest.fixture(autouse=True)
@@ -132,7 +135,7 @@ def answers_kept(request, monkeypatch):
     test's source seeds its examples)."""
     monkeypatch.setattr(linkage, "build_parser", built_parser)
     for name in KEPT.get(request.function.__name__, []):
-        monkeypatch.setattr(linkage, name, kept(name))
+        monkeypatch.setattr(linkage, name, kept(getattr(linkage, name), shown))
 
 
 class FreeSpace(typing.NamedTuple):
@@ -735,21 +738,13 @@ EXPLORE_TARGETS = [[], ["plane"], ["slider", "--b", "2", "--c", "5", "--e", "1"]
                                            "--d", "1"], ["x"], ["/dev/zero"]]
 
 
-EXPLORE_VIEW = linkage.explore_view
-SEEN_VIEWS: dict[tuple, linkage.ExploreView] = {}
-
-
-def seen_views(state: linkage.Explorer) -> linkage.ExploreView:
-    """explore_view, its answers kept across the examples by ExploreViews' own key (the kind,
-    dimensions, branch, follow, traced coupler point and dynamics: all it reads of the state),
-    as one long session keeps them (ExploreViews; test_explore's fuzz shares one across its
-    streams): the examples start from the same dozen linkages, and the first view of each
-    (analysed and its motion drawn) was most of an example's time (the fuzzer took 6.9 s of
-    CPU, 2.2 with the views kept)."""
-    key = linkage.ExploreViews._key(state)
-    if key not in SEEN_VIEWS:
-        SEEN_VIEWS[key] = EXPLORE_VIEW(state)
-    return SEEN_VIEWS[key]
+# explore_view, its answers kept across the examples by ExploreViews' own key (the kind,
+# dimensions, branch, follow, traced coupler point and dynamics: all it reads of the state), as
+# one long session keeps them (ExploreViews; test_explore's fuzz shares one across its streams):
+# the examples start from the same dozen linkages, and the first view of each (analysed and its
+# motion drawn) was most of an example's time (the fuzzer took 6.9 s of CPU, 2.2 with the views
+# kept).
+seen_views = kept(linkage.explore_view, linkage.ExploreViews._key)
 
 
 @pytest.fixture(autouse=True)

@@ -21,6 +21,7 @@ past the point in 4 dps digits - no formula of the engine's second-order expansi
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 from mpmath import mp
 from mpmath.libmp import mpf_cos_sin
@@ -29,29 +30,30 @@ KAPPA = {"plane": 1, "spherical": -1, "skew": 1, "slider": 1, "skew-slider": 1}
 SLIDERS = ("slider", "skew-slider")
 
 
-def _closure(kind: str, dims: dict):
-    """The loop closure g(phi, y) in mpmath (phi radians; y = psi radians, or the slider's x).
-
-    Its cosines and sines are remembered by argument and working precision (cos, sin below):
-    the value is the one mp.cos and mp.sin give at that precision, computed once. The angles
-    of the links and the input angle recur at every step of the root finding (mp.diff raises
-    the precision, so each of its precisions is a value of its own)."""
-    D = {k: mp.mpf(v) for k, v in dims.items()}
-    rad = mp.pi / 180
-    known = {}
-
-    def cos_sin(x):
-        x = mp.convert(x)._mpf_
-        key = (x, mp.prec)
-        if key not in known:           # libmp's cos and sin of one argument (mp.cos and mp.sin)
-            known[key] = tuple(mp.make_mpf(v) for v in mpf_cos_sin(x, mp.prec, "n"))
-        return known[key]
+def remembered_trig(size: int | None = None):
+    """cos and sin at the working precision, remembered by argument and precision in a table of
+    their own (the last `size` pairs, or all): the values mp.cos and mp.sin give there (libmp's
+    cos and sin of one argument at once), each computed once. A closure's link angles and input
+    angle recur at every step of its root finding (mp.diff raises the precision, so each of its
+    precisions is a value of its own); tests/test_coupler.py's 40-digit positions likewise."""
+    @functools.lru_cache(maxsize=size)
+    def pair(x, prec):
+        return tuple(mp.make_mpf(v) for v in mpf_cos_sin(x, prec, "n"))
 
     def cos(x):
-        return cos_sin(x)[0]
+        return pair(mp.convert(x)._mpf_, mp.prec)[0]
 
     def sin(x):
-        return cos_sin(x)[1]
+        return pair(mp.convert(x)._mpf_, mp.prec)[1]
+    return cos, sin
+
+
+def _closure(kind: str, dims: dict):
+    """The loop closure g(phi, y) in mpmath (phi radians; y = psi radians, or the slider's x),
+    its cosines and sines remembered (remembered_trig)."""
+    D = {k: mp.mpf(v) for k, v in dims.items()}
+    rad = mp.pi / 180
+    cos, sin = remembered_trig()
     if kind == "plane":
         a, b, c, d = D["a"], D["b"], D["c"], D["d"]
 
